@@ -1,0 +1,60 @@
+"""Figures 2 and 4 from the command line, as a user runs them."""
+
+import json
+
+import numpy as np
+import pytest
+
+from neurowalk.cli import main
+
+
+@pytest.fixture(scope="module")
+def fig4(tmp_path_factory):
+    out = tmp_path_factory.mktemp("fig4")
+    assert main(["figure", "fig4", "--out", str(out), "--quick"]) == 0
+    return out
+
+
+def test_fig4_writes_files_and_converges_from_every_start(fig4):
+    assert (fig4 / "fig4.png").stat().st_size > 10_000
+    s = json.loads((fig4 / "fig4.json").read_text())
+    assert len(s["panel_a"]["starts"]) >= 4
+    for run in s["panel_a"]["starts"]:
+        assert run["b1"] == pytest.approx(s["fixed_points"]["b"], rel=0.01)
+        assert run["q1"] == pytest.approx(s["fixed_points"]["q"], rel=0.01)
+    assert s["fixed_points"]["b"] == pytest.approx(4.63, abs=0.01)
+    # Panel B: growth while the reflex is on is much faster than decay after it.
+    assert s["panel_b"]["growth_to_decay_ratio"] > 5
+
+
+def test_fig4_replot_and_seed_determinism(fig4, tmp_path):
+    before = (fig4 / "fig4.json").read_text()
+    assert main(["figure", "fig4", "--out", str(fig4), "--replot"]) == 0
+    assert (fig4 / "fig4.json").read_text() == before
+    assert main(["figure", "fig4", "--out", str(tmp_path), "--quick"]) == 0
+    assert (tmp_path / "fig4.json").read_text() == before
+
+
+def test_fig2_thresholds_and_widths(tmp_path):
+    assert main(["figure", "fig2", "--out", str(tmp_path), "--quick"]) == 0
+    s = json.loads((tmp_path / "fig2.json").read_text())
+    rows = s["single_neuron"]
+    small = [r for r in rows if r["b"] <= 1.0]
+    assert small and all(r["width"] < 0.01 for r in small)
+    growing = [r["width"] for r in rows if r["b"] >= 1.25 and r["width"] is not None]
+    assert bool(np.all(np.diff(growing) > 0))
+    assert any(r["switch_on"] is None for r in rows if r["b"] >= 6.0) or max(r["b"] for r in rows) < 6.5
+    assert (tmp_path / "fig2.png").exists()
+
+
+def test_unknown_figure_exits_2_with_one_line(capsys, tmp_path):
+    assert main(["figure", "fig99", "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "fig99" in err[0]
+    assert not any(tmp_path.iterdir())
+
+
+def test_bad_arguments_exit_2(capsys):
+    assert main(["figure"]) == 2
+    assert main(["figure", "fig2", "--seed", "-3"]) == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 2
