@@ -1,0 +1,57 @@
+"""Named arenas: a registry of factories ``name(**options) -> ArenaSpec``.
+
+Options are the factories' keyword arguments (metres and degrees), listed by ``neurowalk arenas``.
+"""
+
+from __future__ import annotations
+
+import inspect
+from collections.abc import Callable
+
+from neurowalk.arenas.spec import ArenaSpec, Box
+
+ArenaFactory = Callable[..., ArenaSpec]
+ARENAS: dict[str, ArenaFactory] = {}
+
+
+def arena(name: str) -> Callable[[ArenaFactory], ArenaFactory]:
+    """Register an arena factory under ``name``."""
+
+    def deco(fn: ArenaFactory) -> ArenaFactory:
+        ARENAS[name] = fn
+        return fn
+
+    return deco
+
+
+def arena_options(name: str) -> dict[str, float]:
+    """Options of arena ``name`` with their defaults."""
+    fn = _factory(name)
+    return {k: p.default for k, p in inspect.signature(fn).parameters.items()}
+
+
+def _factory(name: str) -> ArenaFactory:
+    if name not in ARENAS:
+        raise ValueError(f"unknown arena {name!r}; available: {', '.join(sorted(ARENAS))}")
+    return ARENAS[name]
+
+
+def make_arena(name: str, **options: object) -> ArenaSpec:
+    """Build arena ``name``; unknown options or impossible geometry raise ValueError naming them."""
+    known = arena_options(name)
+    for key in options:
+        if key not in known:
+            raise ValueError(f"arena {name!r} has no option {key!r}; options: {', '.join(known) or 'none'}")
+    values = {}
+    for key, value in options.items():
+        try:
+            values[key] = type(known[key])(value)
+        except (TypeError, ValueError):
+            raise ValueError(f"arena {name!r}: option {key}={value!r} is not a {type(known[key]).__name__}") from None
+    spec = _factory(name)(**values)
+    return ArenaSpec(**{**spec.__dict__, "options": {**known, **values}})
+
+
+from neurowalk.arenas import basic  # noqa: E402, F401  (fills the registry)
+
+__all__ = ["ARENAS", "ArenaSpec", "Box", "arena", "arena_options", "make_arena"]

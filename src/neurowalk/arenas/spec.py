@@ -1,0 +1,98 @@
+"""Arena descriptions: boxes on a flat floor, a start pose, the free area and an exit region.
+
+An :class:`ArenaSpec` is a concrete, hashable layout (SI units, angles in rad). It writes the MJCF
+elements that the robot's model places in its world body, and serves the 2-D geometry used by
+metrics and the planar surrogate.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Box:
+    """A box standing on the floor: centre (x, y) in m, yaw in rad, full sizes sx, sy, h in m."""
+
+    x: float
+    y: float
+    yaw: float
+    sx: float
+    sy: float
+    h: float = 0.10
+
+    def __post_init__(self) -> None:
+        if not all(math.isfinite(v) for v in (self.x, self.y, self.yaw, self.sx, self.sy, self.h)):
+            raise ValueError(f"box values must be finite, got {self}")
+        if min(self.sx, self.sy, self.h) <= 0:
+            raise ValueError(f"box sizes must be > 0, got sx={self.sx}, sy={self.sy}, h={self.h}")
+
+    def corners(self) -> np.ndarray:
+        """(4, 2) corners of the footprint in the world frame (m), counter-clockwise."""
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        local = np.array([[1, 1], [-1, 1], [-1, -1], [1, -1]]) * [self.sx / 2, self.sy / 2]
+        return local @ np.array([[c, s], [-s, c]]) + [self.x, self.y]
+
+    def contains(self, points: np.ndarray, margin: float = 0.0) -> np.ndarray:
+        """Whether each of (n, 2) points lies inside the footprint grown by ``margin`` (m)."""
+        p = np.atleast_2d(points) - [self.x, self.y]
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        u = p[:, 0] * c + p[:, 1] * s
+        v = -p[:, 0] * s + p[:, 1] * c
+        return (np.abs(u) <= self.sx / 2 + margin) & (np.abs(v) <= self.sy / 2 + margin)
+
+
+@dataclass(frozen=True, kw_only=True)
+class ArenaSpec:
+    """A concrete arena.
+
+    Attributes:
+        name: registry name.
+        boxes: the obstacles (walls are long boxes).
+        start: robot start pose (x m, y m, yaw rad).
+        bounds: free area (xmin, xmax, ymin, ymax) in m, or None for an unbounded floor.
+        exit_region: (xmin, xmax, ymin, ymax) in m that counts as escaped, or None.
+        options: the options it was built with (for the record).
+    """
+
+    name: str
+    boxes: tuple[Box, ...] = ()
+    start: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    bounds: tuple[float, float, float, float] | None = None
+    exit_region: tuple[float, float, float, float] | None = None
+    options: dict = field(default_factory=dict, compare=False, hash=False)
+
+    ROBOT_RADIUS = 0.25  # m: start must be at least this far from every box
+
+    def __post_init__(self) -> None:
+        start = np.array(self.start[:2])
+        for b in self.boxes:
+            if b.contains(start, margin=self.ROBOT_RADIUS)[0]:
+                raise ValueError(f"arena {self.name!r}: the start {self.start[:2]} overlaps the box at ({b.x}, {b.y})")
+
+    def to_mjcf(self) -> str:
+        """MJCF ``<geom>`` elements of the boxes (default collision settings)."""
+        lines = []
+        for i, b in enumerate(self.boxes):
+            lines.append(
+                f'    <geom name="obstacle_{i}" type="box" size="{b.sx / 2:.6g} {b.sy / 2:.6g} {b.h / 2:.6g}" '
+                f'pos="{b.x:.6g} {b.y:.6g} {b.h / 2:.6g}" euler="0 0 {b.yaw:.9g}" rgba="0.55 0.45 0.35 1" '
+                f'friction="0.4"/>'
+            )
+        return "\n".join(lines)
+
+    def free_cells(self, cell: float = 0.25) -> np.ndarray:
+        """(n, 2) centres of the ``cell``-sized grid cells of the free area not covered by a box."""
+        if self.bounds is None:
+            raise ValueError(f"arena {self.name!r} is unbounded: it has no free cells")
+        x0, x1, y0, y1 = self.bounds
+        xs = np.arange(x0 + cell / 2, x1, cell)
+        ys = np.arange(y0 + cell / 2, y1, cell)
+        pts = np.stack(np.meshgrid(xs, ys, indexing="ij"), axis=-1).reshape(-1, 2)
+        covered = np.zeros(len(pts), dtype=bool)
+        for b in self.boxes:
+            covered |= b.contains(pts)
+        return pts[~covered]

@@ -1,0 +1,119 @@
+"""AMOSII in MuJoCo as a body of the control loop: reset in an arena, observe, act, advance.
+
+One control step = ``n_substeps`` physics steps (checked to be a whole number once, at build).
+Observations are copies; sensor noise (the original's coloured noise, on the ultrasonic signal,
+joint angles and foot contacts) comes from the run's Generator. The ultrasonic noise acts on the
+normalised signal US = max(0, 1 - d/range) as in the original, so a little of it reaches the
+network even with nothing in range.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+
+from neurowalk.arenas.spec import ArenaSpec
+from neurowalk.body.amosii import (
+    BodyParams,
+    amosii_xml,
+    foot_contacts,
+    joint_qpos_indices,
+    obstacle_height,
+    read_us,
+    trunk_pose,
+    up_z,
+)
+from neurowalk.body.amosii_params import STAND_KEY
+from neurowalk.body.noise import ColoredNoise
+from neurowalk.observation import Observation
+
+
+def n_substeps(control_hz: float, timestep: float) -> int:
+    """Physics steps per control step; raises unless 1/control_hz is a whole multiple of timestep."""
+    if not control_hz > 0:
+        raise ValueError(f"control_hz must be > 0, got {control_hz!r}")
+    ratio = 1.0 / (control_hz * timestep)
+    n = round(ratio)
+    if n < 1 or abs(ratio - n) > 1e-9 * ratio:
+        raise ValueError(f"control period 1/{control_hz} s is not a whole number of {timestep} s physics steps")
+    return n
+
+
+class AmosII:
+    """The simulated robot in an arena.
+
+    Args:
+        arena: where it walks.
+        params: body parameters.
+        control_hz: control rate (Hz).
+        noise: strength of the coloured sensor noise (0 switches it off).
+        scan_obstacles: read the obstacle-height sensor every step (costs about 25 µs).
+    """
+
+    name = "amosii"
+
+    def __init__(self, arena: ArenaSpec, params: BodyParams | None = None, *, control_hz: float = 10.0,
+                 noise: float = 0.02, scan_obstacles: bool = False) -> None:  # fmt: skip
+        self.arena = arena
+        self.params = params or BodyParams()
+        self.model = mujoco.MjModel.from_xml_string(amosii_xml(self.params, world=arena.to_mjcf()))
+        self.data = mujoco.MjData(self.model)
+        self.control_hz = control_hz
+        self.n_substeps = n_substeps(control_hz, self.model.opt.timestep)
+        self.scan_obstacles = scan_obstacles
+        self._qidx = joint_qpos_indices(self.model)
+        self._us_range = self.params.us_range
+        self._noise = ColoredNoise(2 + len(self._qidx) + 6, strength=noise)
+        self._key = self.model.key(STAND_KEY).id
+
+    def reset(self, rng: np.random.Generator) -> None:
+        """Standing pose at the arena's start pose, at rest; noise drawn from ``rng`` from now on."""
+        m, d = self.model, self.data
+        mujoco.mj_resetDataKeyframe(m, d, self._key)
+        x, y, yaw = self.arena.start
+        d.qpos[0], d.qpos[1] = x, y
+        d.qpos[3:7] = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
+        mujoco.mj_forward(m, d)
+        self._noise.reset(rng)
+
+    def observe(self) -> Observation:
+        """Sensor readings now (copies, noisy)."""
+        m, d = self.model, self.data
+        n = self._noise.step()
+        us = np.maximum(0.0, 1.0 - read_us(m, d) / self._us_range) + n[0:2]  # inf distance -> 0
+        dist = np.where(us > 0.0, self._us_range * (1.0 - us), np.inf)
+        nj = len(self._qidx)
+        return Observation(
+            us_distance=dist,
+            foot_contact=np.clip(foot_contacts(m, d) + n[2 + nj :], 0.0, 1.0),
+            joint_angles=d.qpos[self._qidx] + n[2 : 2 + nj],
+            obstacle_height=obstacle_height(m, d) if self.scan_obstacles else 0.0,
+            pose=trunk_pose(m, d),
+            time=d.time,
+        )
+
+    def apply(self, targets: np.ndarray) -> None:
+        """Set the 19 joint targets (rad, actuator order)."""
+        self.data.ctrl[:] = targets
+
+    def advance(self) -> None:
+        """One control step of physics."""
+        mujoco.mj_step(self.model, self.data, nstep=self.n_substeps)
+
+    def up_z(self) -> float:
+        """z component of the trunk's up vector (1 = upright)."""
+        return up_z(self.model, self.data)
+
+    def true_joint_angles(self) -> np.ndarray:
+        """(19,) joint angles without noise (rad, actuator order)."""
+        return self.data.qpos[self._qidx].copy()
+
+    def warnings(self) -> dict[str, int]:
+        """MuJoCo warnings raised so far, by name (empty when none)."""
+        out = {}
+        for i, w in enumerate(self.data.warning):
+            if w.number:
+                out[mujoco.mjtWarning(i).name] = int(w.number)
+        return out

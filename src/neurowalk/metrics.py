@@ -1,0 +1,57 @@
+"""Behaviour metrics: pure functions of a trajectory's arrays (poses in m and rad, one row per step)."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from neurowalk.arenas.spec import ArenaSpec
+
+
+def path_length(pose: np.ndarray) -> float:
+    """Length (m) of the trunk centre's path, pose (T, 3)."""
+    return float(np.sum(np.linalg.norm(np.diff(pose[:, :2], axis=0), axis=1)))
+
+
+def heading_change(pose: np.ndarray, start_yaw: float | None = None) -> float:
+    """Net change of heading (rad, counter-clockwise positive), unwrapped over the whole path."""
+    yaw = np.unwrap(np.concatenate([[pose[0, 2] if start_yaw is None else start_yaw], pose[:, 2]]))
+    return float(yaw[-1] - yaw[0])
+
+
+def forward_displacement(pose: np.ndarray, start: tuple[float, float, float]) -> float:
+    """Displacement (m) along the start heading: positive forward, negative backward."""
+    d = pose[-1, :2] - np.asarray(start[:2])
+    return float(d @ np.array([np.cos(start[2]), np.sin(start[2])]))
+
+
+def trapped(pose: np.ndarray, *, window: int = 3000, radius: float = 0.5) -> bool:
+    """True if the last ``window`` steps stayed within a disc of ``radius`` (m) around their mean.
+
+    False when the trajectory is shorter than the window (too short to tell).
+    """
+    if pose.shape[0] < window:
+        return False
+    tail = pose[-window:, :2]
+    return bool(np.max(np.linalg.norm(tail - tail.mean(axis=0), axis=1)) <= radius)
+
+
+def coverage(pose: np.ndarray, arena: ArenaSpec, cell: float = 0.25) -> float | None:
+    """Fraction of the arena's free ``cell``-sized cells the trunk centre visited (None if unbounded)."""
+    if arena.bounds is None:
+        return None
+    free = arena.free_cells(cell)
+    if len(free) == 0:
+        return None
+    x0, _, y0, _ = arena.bounds
+    key = lambda p: np.floor((p - [x0, y0]) / cell).astype(np.int64)  # noqa: E731
+    visited = {tuple(k) for k in key(pose[:, :2])}
+    return float(np.mean([tuple(k) in visited for k in key(free)]))
+
+
+def escaped(pose: np.ndarray, arena: ArenaSpec) -> bool | None:
+    """Whether the trunk centre ever entered the arena's exit region (None if it has none)."""
+    if arena.exit_region is None:
+        return None
+    x0, x1, y0, y1 = arena.exit_region
+    x, y = pose[:, 0], pose[:, 1]
+    return bool(np.any((x >= x0) & (x <= x1) & (y >= y0) & (y <= y1)))

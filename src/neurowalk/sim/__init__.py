@@ -1,0 +1,1 @@
+"""The control loop (episode.py) and what it records (trajectory.py)."""

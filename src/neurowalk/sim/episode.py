@@ -1,0 +1,174 @@
+"""The one control loop: observe → controller → joint targets → physics, at ``control_hz``.
+
+.. code-block:: text
+
+    body.reset(rng); controller.reset(rng)
+    for each control step:
+        obs = body.observe()              # copies; sensor noise from the run's Generator
+        targets = controller.act(obs)     # 19 joint targets (rad)
+        body.apply(targets); body.advance()   # n_substeps physics steps
+        record
+
+Every random draw comes from Generators spawned from one seed (``SeedSequence(seed).spawn``), so
+the same seed gives the same trajectory, bit for bit.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+import neurowalk
+from neurowalk import metrics
+from neurowalk.arenas import ArenaSpec, make_arena
+from neurowalk.body.physics import AmosII
+from neurowalk.controller import CONTROLLERS, Controller, make_controller
+from neurowalk.sim.trajectory import Trajectory
+
+BODIES: tuple[str, ...] = ("amosii",)
+
+
+@dataclass(frozen=True, kw_only=True)
+class EpisodeConfig:
+    """One run: where, with which controller and body, how long, which seed."""
+
+    arena: str = "open"
+    arena_opts: dict[str, Any] = field(default_factory=dict)
+    controller: str = "plastic"
+    steer: tuple[float, float] | None = None  # for controller "fixed": (O1, O2)
+    body: str = "amosii"
+    steps: int = 1000  # control steps
+    seed: int = 0
+    control_hz: float = 10.0
+    noise: float = 0.02  # strength of the coloured sensor noise
+
+    def __post_init__(self) -> None:
+        if self.controller not in CONTROLLERS:
+            raise ValueError(f"unknown controller {self.controller!r}; expected one of {', '.join(CONTROLLERS)}")
+        if self.body not in BODIES:
+            raise ValueError(f"unknown body {self.body!r}; expected one of {', '.join(BODIES)}")
+        if int(self.steps) != self.steps or self.steps < 1:
+            raise ValueError(f"steps must be a positive integer, got {self.steps!r}")
+        if int(self.seed) != self.seed or self.seed < 0:
+            raise ValueError(f"seed must be a non-negative integer, got {self.seed!r}")
+        if (self.controller == "fixed") != (self.steer is not None):
+            raise ValueError("--steer O1,O2 goes with controller 'fixed' (and only with it)")
+
+
+@dataclass
+class Episode:
+    """A finished run: its config, arena, trajectory and summary (DESIGN §5 keys)."""
+
+    config: EpisodeConfig
+    arena: ArenaSpec
+    trajectory: Trajectory
+    summary: dict[str, Any]
+
+
+def build(cfg: EpisodeConfig) -> tuple[ArenaSpec, AmosII, Controller]:
+    """Arena, body and controller of a config (raises ValueError on bad input)."""
+    arena = make_arena(cfg.arena, **cfg.arena_opts)
+    body = AmosII(arena, control_hz=cfg.control_hz, noise=cfg.noise)
+    controller = make_controller(cfg.controller, steer=cfg.steer)
+    return arena, body, controller
+
+
+def run_episode(cfg: EpisodeConfig, *, progress: bool = False) -> Episode:
+    """Run one episode and summarise it."""
+    arena, body, ctrl = build(cfg)
+    body_rng, ctrl_rng = (np.random.default_rng(s) for s in np.random.SeedSequence(cfg.seed).spawn(2))
+    body.reset(body_rng)
+    ctrl.reset(ctrl_rng)
+    tr = Trajectory.empty(cfg.steps, body.model.nq)
+    has_weights = hasattr(ctrl, "b")
+    bar = _progress(cfg.steps, progress)
+    t0 = time.perf_counter()
+    d = body.data
+    for k in range(cfg.steps):
+        obs = body.observe()
+        targets = ctrl.act(obs)
+        body.apply(targets)
+        body.advance()
+        tr.t[k] = d.time
+        tr.pose[k] = obs.pose
+        tr.inputs[k] = ctrl.inputs
+        tr.outputs[k] = ctrl.steering
+        if has_weights:
+            tr.b[k] = ctrl.b  # type: ignore[attr-defined]
+            tr.q[k] = ctrl.q  # type: ignore[attr-defined]
+        tr.targets[k] = targets
+        tr.us_distance[k] = obs.us_distance
+        tr.foot_contact[k] = obs.foot_contact
+        tr.qpos[k] = d.qpos
+        if bar is not None and k % 100 == 99:
+            bar.update(100)
+    wall = time.perf_counter() - t0
+    if bar is not None:
+        bar.close()
+    # Pose and derived quantities after the last step (rows are "after step k").
+    tr.pose = _poses_from_qpos(tr.qpos)
+    tr.joint_angles = tr.qpos[:, 7:][:, _joint_order(body)]
+    tr.up_z = _up_z_from_qpos(tr.qpos)
+    return Episode(cfg, arena, tr, summarize(cfg, arena, tr, wall, body.warnings()))
+
+
+def _progress(total: int, on: bool) -> Any:
+    if not on:
+        return None
+    from tqdm import tqdm
+
+    return tqdm(total=total, unit="step", desc="episode", mininterval=0.5, smoothing=0.1)
+
+
+def _joint_order(body: AmosII) -> np.ndarray:
+    return body._qidx - 7
+
+
+def _poses_from_qpos(qpos: np.ndarray) -> np.ndarray:
+    w, x, y, z = qpos[:, 3], qpos[:, 4], qpos[:, 5], qpos[:, 6]
+    yaw = np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+    return np.column_stack([qpos[:, 0], qpos[:, 1], yaw])
+
+
+def _up_z_from_qpos(qpos: np.ndarray) -> np.ndarray:
+    x, y = qpos[:, 4], qpos[:, 5]
+    return 1 - 2 * (x * x + y * y)
+
+
+def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory, wall_time_s: float,
+              warnings: dict[str, int]) -> dict[str, Any]:  # fmt: skip
+    """summary.json of DESIGN §5, plus steering-run figures."""
+    pose = tr.pose
+    sim_time = cfg.steps / cfg.control_hz
+    weights = None
+    if not np.isnan(tr.b[-1]).any():
+        c = -0.5 * float(tr.q[-1].sum())
+        weights = {"b": tr.b[-1].tolist(), "q": tr.q[-1].tolist(), "c": c}
+    return {
+        "arena": cfg.arena,
+        "arena_opts": arena.options,
+        "controller": cfg.controller,
+        "steer": list(cfg.steer) if cfg.steer is not None else None,
+        "body": cfg.body,
+        "steps": cfg.steps,
+        "seed": cfg.seed,
+        "control_hz": cfg.control_hz,
+        "noise": cfg.noise,
+        "escaped": metrics.escaped(pose, arena),
+        "trapped": metrics.trapped(pose),
+        "coverage": metrics.coverage(pose, arena),
+        "path_length_m": metrics.path_length(pose),
+        "forward_displacement_m": metrics.forward_displacement(pose, arena.start),
+        "net_displacement_m": float(np.linalg.norm(pose[-1, :2] - np.asarray(arena.start[:2]))),
+        "heading_change_deg": float(np.degrees(metrics.heading_change(pose, arena.start[2]))),
+        "min_up_z": float(np.min(tr.up_z)),
+        "final_pose": pose[-1].tolist(),
+        "final_weights": weights,
+        "simulation_warnings": warnings,
+        "wall_time_s": wall_time_s,
+        "real_time_factor": sim_time / wall_time_s if wall_time_s > 0 else None,
+        "neurowalk_version": neurowalk.__version__,
+    }

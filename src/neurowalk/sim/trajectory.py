@@ -1,0 +1,66 @@
+"""What an episode records, one row per control step, and its file format (``trajectory.npz``)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields
+from pathlib import Path
+
+import numpy as np
+
+from neurowalk import anatomy
+
+
+@dataclass
+class Trajectory:
+    """Per-step records (row k = after control step k).
+
+    Attributes:
+        t: (T,) time in s. pose: (T, 3) x m, y m, yaw rad. inputs: (T, 2) network inputs (I1, I2).
+        outputs: (T, 2) steering (O1, O2). b, q: (T, 2) sensory weights (NaN for a fixed controller).
+        targets: (T, 19) commanded joint angles, rad, actuator order. joint_angles: (T, 19) measured
+        (noise-free) joint angles. us_distance: (T, 2) ultrasonic readings as the controller saw
+        them (m, inf = no echo). foot_contact: (T, 6). up_z: (T,) trunk up-vector z. qpos: (T, nq)
+        full physics state positions (for replay and video).
+    """
+
+    t: np.ndarray
+    pose: np.ndarray
+    inputs: np.ndarray
+    outputs: np.ndarray
+    b: np.ndarray
+    q: np.ndarray
+    targets: np.ndarray
+    joint_angles: np.ndarray
+    us_distance: np.ndarray
+    foot_contact: np.ndarray
+    up_z: np.ndarray
+    qpos: np.ndarray
+
+    @classmethod
+    def empty(cls, steps: int, nq: int) -> Trajectory:
+        """Preallocated arrays for ``steps`` rows."""
+        n = anatomy.N_ACTUATORS
+        shapes = {"t": (), "pose": (3,), "inputs": (2,), "outputs": (2,), "b": (2,), "q": (2,),
+                  "targets": (n,), "joint_angles": (n,), "us_distance": (2,), "foot_contact": (6,),
+                  "up_z": (), "qpos": (nq,)}  # fmt: skip
+        return cls(**{k: np.full((steps, *s), np.nan) for k, s in shapes.items()})
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    def head(self, n: int) -> Trajectory:
+        """The first ``n`` rows (views)."""
+        return Trajectory(**{f.name: getattr(self, f.name)[:n] for f in fields(self)})
+
+    def save(self, path: str | Path) -> None:
+        """Write ``trajectory.npz`` (compressed) atomically."""
+        from neurowalk.fileio import atomic_write
+
+        arrays = {f.name: getattr(self, f.name) for f in fields(self)}
+        atomic_write(Path(path), lambda tmp: np.savez_compressed(Path(tmp), **arrays))
+
+    @classmethod
+    def load(cls, path: str | Path) -> Trajectory:
+        """Read a ``trajectory.npz``."""
+        with np.load(path) as z:
+            return cls(**{f.name: z[f.name] for f in fields(cls)})
