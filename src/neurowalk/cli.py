@@ -33,7 +33,150 @@ def _parser() -> argparse.ArgumentParser:
     f.add_argument("--quick", action="store_true", help="shorter runs, coarser grids")
     f.add_argument("--seed", type=int, default=0, help="seed of every random draw (default 0)")
     f.add_argument("--replot", action="store_true", help="redraw from DIR/NAME.json and .npz without rerunning")
+
+    r = sub.add_parser("run", help="one closed-loop run: writes DIR/summary.json, trajectory.npz, run.png")
+    _episode_args(r)
+    r.add_argument("--out", type=Path, default=Path("out/run"), help="output folder (default out/run)")
+    r.add_argument("--video", action="store_true", help="also render DIR/video.mp4 (headless)")
+    r.add_argument("--quiet", action="store_true", help="no progress bar")
+
+    v = sub.add_parser("view", help="watch a closed-loop run live in MuJoCo's viewer (needs a display)")
+    _episode_args(v)
+
+    sub.add_parser("arenas", help="list the arenas and their options")
+    e = sub.add_parser("export-model", help="write the robot (and an arena) as a self-contained MJCF file")
+    e.add_argument("--out", type=Path, required=True, help="MJCF file to write")
+    e.add_argument("--arena", default="open", help="arena to include (default open)")
+    e.add_argument("--arena-opt", action="append", default=[], metavar="KEY=VALUE", help="arena option")
     return p
+
+
+def _episode_args(p: argparse.ArgumentParser) -> None:
+    p.add_argument("--arena", default="open", help="arena name (see `neurowalk arenas`)")
+    p.add_argument("--arena-opt", action="append", default=[], metavar="KEY=VALUE", help="arena option, repeatable")
+    p.add_argument("--controller", default="plastic", help="plastic | static | braitenberg | fixed")
+    p.add_argument("--steer", default=None, metavar="O1,O2", help="steering of controller 'fixed', e.g. -1,-1")
+    p.add_argument("--body", default="amosii", help="amosii")
+    p.add_argument("--steps", type=int, default=1000, help="control steps (10 Hz: 1000 = 100 s)")
+    p.add_argument("--seed", type=int, default=0, help="seed of every random draw")
+
+
+def _arena_opts(items: list[str]) -> dict[str, str]:
+    opts = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep or not key:
+            raise UsageError(f"--arena-opt expects KEY=VALUE, got {item!r}")
+        opts[key] = value
+    return opts
+
+
+def _steer(text: str | None) -> tuple[float, float] | None:
+    if text is None:
+        return None
+    try:
+        o1, o2 = (float(x) for x in text.split(","))
+    except ValueError:
+        raise UsageError(f"--steer expects two numbers O1,O2 in [-1, 1], got {text!r}") from None
+    if not all(-1.0 <= v <= 1.0 for v in (o1, o2)):
+        raise UsageError(f"--steer values must lie in [-1, 1], got {text!r}")
+    return (o1, o2)
+
+
+def _episode_config(args: argparse.Namespace) -> object:
+    from neurowalk.arenas import make_arena
+    from neurowalk.sim.episode import EpisodeConfig
+
+    try:
+        cfg = EpisodeConfig(arena=args.arena, arena_opts=_arena_opts(args.arena_opt), controller=args.controller,
+                            steer=_steer(args.steer), body=args.body, steps=args.steps, seed=args.seed)  # fmt: skip
+        make_arena(cfg.arena, **cfg.arena_opts)  # validate the arena before any work
+    except ValueError as e:
+        raise UsageError(str(e)) from None
+    return cfg
+
+
+def _run(args: argparse.Namespace) -> int:
+    if args.video:
+        from neurowalk.render import use_headless_gl
+
+        use_headless_gl()
+    cfg = _episode_config(args)
+    from neurowalk.fileio import atomic_write, write_json
+    from neurowalk.plotting import plot_run
+    from neurowalk.sim.episode import build, run_episode
+
+    ep = run_episode(cfg, progress=not args.quiet)  # type: ignore[arg-type]
+    out: Path = args.out
+    out.mkdir(parents=True, exist_ok=True)
+    ep.trajectory.save(out / "trajectory.npz")
+    write_json(out / "summary.json", ep.summary)
+    fig = plot_run(ep.trajectory, ep.arena, ep.summary)
+    atomic_write(out / "run.png", lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
+    written = ["summary.json", "trajectory.npz", "run.png"]
+    if args.video:
+        from neurowalk.render import render_video
+
+        _, body, _ = build(cfg)  # type: ignore[arg-type]
+        render_video(body.model, ep.trajectory.qpos, out / "video.mp4", progress=not args.quiet)
+        written.append("video.mp4")
+    s = ep.summary
+    print(
+        f"{cfg.arena}/{cfg.controller}: {s['steps']} steps in {s['wall_time_s']:.1f} s "  # type: ignore[attr-defined]
+        f"({s['real_time_factor']:.0f}x real time); moved {s['forward_displacement_m']:+.2f} m, "
+        f"turned {s['heading_change_deg']:+.0f} deg; wrote {', '.join(str(out / w) for w in written)}"
+    )
+    return 0
+
+
+def _view(args: argparse.Namespace) -> int:
+    from neurowalk.render import has_display, view
+
+    cfg = _episode_config(args)
+    if not has_display():
+        print("neurowalk view: no display here (DISPLAY is not set); use `neurowalk run --video` for a headless video",
+              file=sys.stderr)  # fmt: skip
+        return 1
+    import numpy as np
+
+    from neurowalk.sim.episode import build
+
+    _, body, ctrl = build(cfg)  # type: ignore[arg-type]
+    rngs = [np.random.default_rng(s) for s in np.random.SeedSequence(cfg.seed).spawn(2)]  # type: ignore[attr-defined]
+    body.reset(rngs[0])
+    ctrl.reset(rngs[1])
+
+    def step() -> None:
+        body.apply(ctrl.act(body.observe()))
+        body.advance()
+
+    view(body.model, body.data, step)
+    return 0
+
+
+def _arenas(args: argparse.Namespace) -> int:
+    import inspect
+
+    from neurowalk.arenas import ARENAS, arena_options
+
+    for name in sorted(ARENAS):
+        doc = (inspect.getdoc(ARENAS[name]) or "").split("\n")[0]
+        opts = ", ".join(f"{k}={v}" for k, v in arena_options(name).items()) or "no options"
+        print(f"{name:16s} {doc}\n{'':16s} options: {opts}")
+    return 0
+
+
+def _export(args: argparse.Namespace) -> int:
+    from neurowalk.arenas import make_arena
+    from neurowalk.body.amosii import export_model
+
+    try:
+        arena = make_arena(args.arena, **_arena_opts(args.arena_opt))
+    except ValueError as e:
+        raise UsageError(str(e)) from None
+    path = export_model(args.out, world=arena.to_mjcf())
+    print(f"wrote {path}")
+    return 0
 
 
 def _figure(args: argparse.Namespace) -> int:
@@ -65,9 +208,16 @@ def _figure(args: argparse.Namespace) -> int:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``neurowalk`` command; returns the exit status."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    # `--steer -1,-1` would read as an option: glue the value on (`--steer=-1,-1`).
+    for i, a in enumerate(argv[:-1]):
+        if a == "--steer":
+            argv[i : i + 2] = [f"--steer={argv[i + 1]}"]
+            break
     try:
         args = _parser().parse_args(argv)
-        return {"figure": _figure}[args.command](args)
+        commands = {"figure": _figure, "run": _run, "view": _view, "arenas": _arenas, "export-model": _export}
+        return commands[args.command](args)
     except UsageError as e:
         print(f"neurowalk: error: {e}", file=sys.stderr)
         return 2

@@ -27,6 +27,28 @@ def swing_mask(angles: np.ndarray, margin_rad: float = 0.001) -> np.ndarray:
     return ctr > stance + margin_rad
 
 
+def swing_mask_hysteresis(angles: np.ndarray, low: float = 0.10, high: float = 0.30) -> np.ndarray:
+    """(T, 6) swing phases of measured CTr angles, robust to small bumps during stance.
+
+    A swing is a run of steps with the CTr elevated above stance by more than ``low`` of its
+    stroke (stance level to peak, per leg) that somewhere rises above ``high`` of it.
+    """
+    ctr = np.asarray(angles)[:, CTR]
+    stance = np.percentile(ctr, 5, axis=0)
+    stroke = np.maximum(np.percentile(ctr, 99, axis=0) - stance, 1e-9)
+    elev = (ctr - stance) / stroke
+    out = np.zeros(ctr.shape, dtype=bool)
+    for i in range(ctr.shape[1]):
+        above = elev[:, i] > low
+        run_id = np.cumsum(np.concatenate([[above[0]], above[1:] & ~above[:-1]])) * above
+        peaks = np.zeros(run_id.max() + 1)
+        np.maximum.at(peaks, run_id, elev[:, i])
+        keep = peaks > high
+        keep[0] = False
+        out[:, i] = keep[run_id]
+    return out
+
+
 def swing_onsets(swing: np.ndarray) -> list[np.ndarray]:
     """Per leg (LEGS order), the step indices where a swing phase begins."""
     return [np.flatnonzero(~swing[:-1, i] & swing[1:, i]) + 1 for i in range(swing.shape[1])]

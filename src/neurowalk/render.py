@@ -1,0 +1,93 @@
+"""Video of a recorded run (headless) and MuJoCo's interactive viewer.
+
+Rendering replays recorded physics positions (``trajectory.qpos``) after the run, so it never
+slows the simulation. Headless rendering needs ``MUJOCO_GL=egl`` (or ``osmesa``) set before MuJoCo
+is imported; :func:`use_headless_gl` does that where no display exists.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+
+
+def has_display() -> bool:
+    """Whether an interactive window can be opened (X11/Wayland display, or macOS/Windows)."""
+    return sys.platform in ("darwin", "win32") or bool(os.environ.get("DISPLAY") or os.environ.get("WAYLAND_DISPLAY"))
+
+
+def use_headless_gl() -> None:
+    """Choose EGL for offscreen rendering unless a backend is already chosen (call before importing mujoco)."""
+    if "mujoco" in sys.modules and "MUJOCO_GL" not in os.environ:
+        return  # too late to choose; MuJoCo picked its default
+    os.environ.setdefault("MUJOCO_GL", "egl")
+
+
+def render_video(model: object, qpos: np.ndarray, path: str | Path, *, fps: float = 15.0, width: int = 640,
+                 height: int = 480, every: int = 2, distance: float = 1.3, progress: bool = False) -> Path:  # fmt: skip
+    """Render frames of recorded positions ``qpos`` (T, nq) to an mp4 at ``path`` (atomically).
+
+    Args:
+        model: the run's ``mujoco.MjModel``.
+        qpos: recorded positions, one row per control step.
+        fps: playback frame rate; with 10 Hz control and ``every`` = 2, 15 fps plays at 3x real time.
+        every: render every ``every``-th row.
+        distance: camera distance (m) from the trunk it tracks.
+    """
+    import imageio_ffmpeg
+    import mujoco
+
+    from neurowalk.body.amosii_params import TRUNK_BODY
+    from neurowalk.fileio import atomic_write
+
+    path = Path(path)
+    data = mujoco.MjData(model)
+    cam = mujoco.MjvCamera()
+    cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
+    cam.trackbodyid = model.body(TRUNK_BODY).id
+    cam.distance, cam.elevation, cam.azimuth = distance, -30.0, 135.0
+    rows = range(0, len(qpos), every)
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(rows), unit="frame", desc="video", mininterval=0.5)
+
+    def write(tmp: str) -> None:
+        renderer = mujoco.Renderer(model, height, width)
+        try:
+            writer = imageio_ffmpeg.write_frames(tmp, (width, height), fps=fps, quality=7, macro_block_size=8)
+            writer.send(None)
+            for k in rows:
+                data.qpos[:] = qpos[k]
+                mujoco.mj_forward(model, data)
+                renderer.update_scene(data, camera=cam)
+                writer.send(np.ascontiguousarray(renderer.render()))
+                if bar is not None:
+                    bar.update(1)
+            writer.close()
+        finally:
+            renderer.close()
+            if bar is not None:
+                bar.close()
+
+    atomic_write(path, write)
+    return path
+
+
+def view(model: object, data: object, step: object) -> None:
+    """Open MuJoCo's passive viewer and call ``step()`` (one control step) until the window closes."""
+    import time
+
+    import mujoco.viewer
+
+    with mujoco.viewer.launch_passive(model, data) as v:
+        period = 1.0 / 10.0
+        while v.is_running():
+            t0 = time.perf_counter()
+            step()
+            v.sync()
+            time.sleep(max(0.0, period - (time.perf_counter() - t0)))

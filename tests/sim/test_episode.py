@@ -1,0 +1,85 @@
+"""AMOSII walks and steers in physics (issue 3 acceptance): 1000 control steps = 100 s at 10 Hz."""
+
+import numpy as np
+import pytest
+
+from neurowalk.body.physics import n_substeps
+from neurowalk.sim.episode import EpisodeConfig, run_episode
+
+STEPS = 1000
+
+
+@pytest.fixture(scope="module")
+def walks():
+    steers = {"forward": (-1, -1), "backward": (1, 1), "left": (-1, 1), "right": (1, -1), "stop": (0, 0),
+              "half": (-0.5, -0.5)}  # fmt: skip
+    return {k: run_episode(EpisodeConfig(controller="fixed", steer=s, steps=STEPS)) for k, s in steers.items()}
+
+
+def test_forward_walks_straight_upright_without_warnings(walks):
+    s = walks["forward"].summary
+    assert s["forward_displacement_m"] >= 0.5
+    assert abs(s["heading_change_deg"]) < 15
+    assert s["min_up_z"] >= 0.8
+    assert s["simulation_warnings"] == {}
+
+
+def test_backward(walks):
+    assert walks["backward"].summary["forward_displacement_m"] <= -0.3
+    assert walks["backward"].summary["min_up_z"] >= 0.8
+
+
+def test_turns_on_the_spot_both_ways_at_similar_rates(walks):
+    left, right = walks["left"].summary, walks["right"].summary
+    assert left["heading_change_deg"] >= 45 and right["heading_change_deg"] <= -45
+    assert left["net_displacement_m"] < 0.3 and right["net_displacement_m"] < 0.3
+    ratio = left["heading_change_deg"] / -right["heading_change_deg"]
+    assert 1 / 1.25 <= ratio <= 1.25
+
+
+def test_stop_and_half_amplitude(walks):
+    assert walks["stop"].summary["net_displacement_m"] < 0.05
+    assert 0 < walks["half"].summary["forward_displacement_m"] < walks["forward"].summary["forward_displacement_m"]
+
+
+def test_trajectory_contract(walks):
+    tr = walks["forward"].trajectory
+    assert len(tr) == STEPS
+    for name, shape in {"t": (), "pose": (3,), "inputs": (2,), "outputs": (2,), "b": (2,), "q": (2,),
+                        "targets": (19,), "joint_angles": (19,)}.items():  # fmt: skip
+        assert getattr(tr, name).shape == (STEPS, *shape)
+    assert np.allclose(np.diff(tr.t), 0.1)
+    # Measured joint angles follow the commanded targets (servo tracking, same sign convention).
+    err = np.abs(tr.joint_angles[300:, :18] - tr.targets[300:, :18])
+    assert np.median(err) < np.deg2rad(5)
+
+
+def test_same_seed_same_trajectory_bit_for_bit_and_seeds_differ():
+    cfg = {"arena": "box", "arena_opts": {"distance": 0.6}, "controller": "plastic", "steps": 400}
+    a = run_episode(EpisodeConfig(**cfg, seed=3)).trajectory
+    b = run_episode(EpisodeConfig(**cfg, seed=3)).trajectory
+    c = run_episode(EpisodeConfig(**cfg, seed=4)).trajectory
+    np.testing.assert_array_equal(a.qpos, b.qpos)
+    np.testing.assert_array_equal(a.outputs, b.outputs)
+    assert not np.array_equal(a.qpos, c.qpos)  # sensor noise differs
+
+
+def test_neural_controllers_turn_away_from_a_box_on_the_left():
+    for mode in ("plastic", "static", "braitenberg"):
+        ep = run_episode(EpisodeConfig(arena="box", arena_opts={"distance": 0.6, "offset": 0.35, "width": 0.5},
+                                       controller=mode, steps=500))  # fmt: skip
+        assert ep.summary["heading_change_deg"] < -10, mode  # obstacle on the left: turn right
+        assert np.max(ep.trajectory.outputs[:, 0]) > 0.9, mode  # O1 (left neuron) switched on
+        assert np.max(ep.trajectory.outputs[:, 1]) < 0, mode  # O2 stayed off
+
+
+def test_bad_config_raises():
+    with pytest.raises(ValueError, match="steps"):
+        EpisodeConfig(steps=0)
+    with pytest.raises(ValueError, match="controller"):
+        EpisodeConfig(controller="wheeled")
+    with pytest.raises(ValueError, match="steer"):
+        EpisodeConfig(controller="fixed")
+    with pytest.raises(ValueError, match="whole number"):
+        n_substeps(7.0, 0.005)
+    assert n_substeps(10.0, 0.005) == 20

@@ -1,0 +1,64 @@
+"""`neurowalk run`, `export-model`, `arenas`, `view` as a user runs them."""
+
+import json
+
+import mujoco
+import numpy as np
+import pytest
+
+from neurowalk.cli import main
+
+
+def test_run_fixed_writes_summary_trajectory_and_picture(tmp_path, capsys):
+    assert main(["run", "--arena", "open", "--controller", "fixed", "--steer", "-1,-1", "--steps", "200",
+                 "--out", str(tmp_path), "--quiet"]) == 0  # fmt: skip
+    s = json.loads((tmp_path / "summary.json").read_text())
+    keys = "arena arena_opts controller body steps seed control_hz escaped trapped coverage path_length_m final_pose"
+    for key in (*keys.split(), "final_weights", "wall_time_s", "neurowalk_version"):
+        assert key in s
+    assert s["steps"] == 200 and s["steer"] == [-1, -1] and s["forward_displacement_m"] > 0
+    with np.load(tmp_path / "trajectory.npz") as z:
+        assert z["targets"].shape == (200, 19) and z["pose"].shape == (200, 3)
+    assert (tmp_path / "run.png").stat().st_size > 10_000
+
+
+@pytest.mark.parametrize(
+    "args,word",
+    [
+        (["--arena", "maze"], "maze"),
+        (["--controller", "wheeled"], "wheeled"),
+        (["--controller", "fixed", "--steer", "1"], "--steer"),
+        (["--controller", "fixed", "--steer", "2,0"], "--steer"),
+        (["--steps", "0"], "steps"),
+        (["--steps", "-5"], "steps"),
+        (["--arena", "box", "--arena-opt", "gap=1"], "gap"),
+        (["--arena-opt", "novalue"], "KEY=VALUE"),
+        (["--body", "wheels"], "wheels"),
+    ],
+)
+def test_bad_input_exits_2_with_one_line(args, word, tmp_path, capsys):
+    assert main(["run", *args, "--out", str(tmp_path / "x")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and word in err[0]
+    assert not (tmp_path / "x").exists()
+
+
+def test_export_model_loads_in_plain_mujoco(tmp_path):
+    path = tmp_path / "amosii.xml"
+    assert main(["export-model", "--out", str(path), "--arena", "box"]) == 0
+    m = mujoco.MjModel.from_xml_path(str(path))
+    assert m.nu == 19
+    assert int(np.sum(m.sensor_type == mujoco.mjtSensor.mjSENS_RANGEFINDER)) == 2
+
+
+def test_arenas_lists_options(capsys):
+    assert main(["arenas"]) == 0
+    out = capsys.readouterr().out
+    assert "open" in out and "distance=1.0" in out
+
+
+def test_view_without_display_says_so(monkeypatch, capsys):
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    assert main(["view", "--steps", "10"]) == 1
+    assert "no display" in capsys.readouterr().err
