@@ -52,6 +52,6 @@ def make_arena(name: str, **options: object) -> ArenaSpec:
     return ArenaSpec(**{**spec.__dict__, "options": {**known, **values}})
 
 
-from neurowalk.arenas import basic  # noqa: E402, F401  (fills the registry)
+from neurowalk.arenas import basic, deadlocks  # noqa: E402, F401  (fill the registry)
 
 __all__ = ["ARENAS", "ArenaSpec", "Box", "arena", "arena_options", "make_arena"]
