@@ -62,3 +62,14 @@ def test_view_without_display_says_so(monkeypatch, capsys):
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
     assert main(["view", "--steps", "10"]) == 1
     assert "no display" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("opt", ["gap=0", "gap=-1", "width=0.1", "funnel=80"])
+def test_unbuildable_arena_exits_2(opt, tmp_path, capsys):
+    assert main(["run", "--arena", "narrow-passage", "--arena-opt", opt, "--out", str(tmp_path / "x")]) == 2
+    assert len(capsys.readouterr().err.strip().splitlines()) == 1
+
+
+def test_figure_seeds_only_where_it_applies(capsys):
+    assert main(["figure", "fig2", "--seeds", "3"]) == 2
+    assert "no --seeds" in capsys.readouterr().err

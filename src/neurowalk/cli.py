@@ -32,6 +32,9 @@ def _parser() -> argparse.ArgumentParser:
     f.add_argument("--out", type=Path, default=None, help="output folder (default: out/NAME)")
     f.add_argument("--quick", action="store_true", help="shorter runs, coarser grids")
     f.add_argument("--seed", type=int, default=0, help="seed of every random draw (default 0)")
+    f.add_argument(
+        "--seeds", type=int, default=None, help="number of seeds per condition (figures with outcome tables)"
+    )
     f.add_argument("--replot", action="store_true", help="redraw from DIR/NAME.json and .npz without rerunning")
 
     r = sub.add_parser("run", help="one closed-loop run: writes DIR/summary.json, trajectory.npz, run.png")
@@ -90,7 +93,7 @@ def _episode_config(args: argparse.Namespace) -> object:
     try:
         cfg = EpisodeConfig(arena=args.arena, arena_opts=_arena_opts(args.arena_opt), controller=args.controller,
                             steer=_steer(args.steer), body=args.body, steps=args.steps, seed=args.seed)  # fmt: skip
-        make_arena(cfg.arena, **cfg.arena_opts)  # validate the arena before any work
+        make_arena(cfg.arena, **cfg.arena_opts)  # validate the arena's options before any work
     except ValueError as e:
         raise UsageError(str(e)) from None
     return cfg
@@ -137,14 +140,12 @@ def _view(args: argparse.Namespace) -> int:
         print("neurowalk view: no display here (DISPLAY is not set); use `neurowalk run --video` for a headless video",
               file=sys.stderr)  # fmt: skip
         return 1
-    import numpy as np
-
-    from neurowalk.sim.episode import build
+    from neurowalk.sim.episode import build, seeds
 
     _, body, ctrl = build(cfg)  # type: ignore[arg-type]
-    rngs = [np.random.default_rng(s) for s in np.random.SeedSequence(cfg.seed).spawn(2)]  # type: ignore[attr-defined]
-    body.reset(rngs[0])
-    ctrl.reset(rngs[1])
+    body_rng, ctrl_rng, _ = seeds(cfg)  # type: ignore[arg-type]
+    body.reset(body_rng)
+    ctrl.reset(ctrl_rng)
 
     def step() -> None:
         body.apply(ctrl.act(body.observe()))
@@ -200,7 +201,16 @@ def _figure(args: argparse.Namespace) -> int:
             raise UsageError(f"--replot: no {args.name}.json in {str(out)!r}")
         result = output.load(args.name, out)
     else:
-        result = exp.run(quick=args.quick, seed=args.seed)
+        import inspect
+
+        kwargs = {"quick": args.quick, "seed": args.seed}
+        if args.seeds is not None:
+            if "seeds" not in inspect.signature(exp.run).parameters:
+                raise UsageError(f"figure {args.name!r} takes no --seeds")
+            if args.seeds < 1:
+                raise UsageError(f"--seeds must be >= 1, got {args.seeds}")
+            kwargs["seeds"] = args.seeds
+        result = exp.run(**kwargs)
     paths = output.save(result, exp.plot(result), out)
     print(f"{args.name}: wrote {', '.join(str(p) for p in paths.values())} in {time.perf_counter() - t0:.1f} s")
     return 0

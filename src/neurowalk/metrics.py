@@ -55,3 +55,46 @@ def escaped(pose: np.ndarray, arena: ArenaSpec) -> bool | None:
     x0, x1, y0, y1 = arena.exit_region
     x, y = pose[:, 0], pose[:, 1]
     return bool(np.any((x >= x0) & (x <= x1) & (y >= y0) & (y <= y1)))
+
+
+def turn_state(outputs: np.ndarray, threshold: float = 1.0) -> np.ndarray:
+    """(T,) commanded turn per step from steering (O1, O2): +1 right (O1 - O2 > threshold), -1 left, 0 none."""
+    d = outputs[:, 0] - outputs[:, 1]
+    return np.where(d > threshold, 1, np.where(d < -threshold, -1, 0))
+
+
+def direction_switches(outputs: np.ndarray, threshold: float = 1.0) -> int:
+    """Number of reversals of the commanded turn (right ↔ left), ignoring steps with no turn.
+
+    Many switches in a short time are the oscillation between two obstacles of paper Fig. 3B.
+    """
+    s = turn_state(outputs, threshold)
+    s = s[s != 0]
+    return int(np.count_nonzero(s[1:] != s[:-1])) if s.size else 0
+
+
+def avoidance_episodes(outputs: np.ndarray, pose: np.ndarray, *, threshold: float = 1.0,
+                       max_gap: int = 5) -> list[dict]:  # fmt: skip
+    """Turning episodes: runs of a commanded turn in one direction (gaps up to ``max_gap`` steps bridged).
+
+    Returns one dict per episode: ``start``, ``end`` (step indices), ``direction`` (+1 right, -1
+    left) and ``turn_deg`` (the heading change over the episode, degrees, counter-clockwise +).
+    """
+    s = turn_state(outputs, threshold)
+    yaw = np.unwrap(pose[:, 2])
+    episodes: list[dict] = []
+    k, n = 0, len(s)
+    while k < n:
+        if s[k] == 0:
+            k += 1
+            continue
+        direction, start, end = int(s[k]), k, k
+        j = k + 1
+        while j < n and (s[j] == direction or (s[j] == 0 and j - end <= max_gap)):
+            if s[j] == direction:
+                end = j
+            j += 1
+        episodes.append({"start": start, "end": end, "direction": direction,
+                         "turn_deg": float(np.degrees(yaw[end] - yaw[max(start - 1, 0)]))})  # fmt: skip
+        k = end + 1
+    return episodes

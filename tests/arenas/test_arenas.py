@@ -32,3 +32,37 @@ def test_box_geometry():
     (box,) = spec.boxes
     assert box.x - box.sx / 2 == pytest.approx(1.0)
     assert box.contains(np.array([[1.1, 0.39]]))[0] and not box.contains(np.array([[1.1, 0.41]]))[0]
+
+
+def test_random_layout_comes_from_the_generator_and_spares_the_start():
+    a = make_arena("random", rng=np.random.default_rng(1), n_boxes=20)
+    b = make_arena("random", rng=np.random.default_rng(1), n_boxes=20)
+    c = make_arena("random", rng=np.random.default_rng(2), n_boxes=20)
+    assert a == b and a != c
+    assert len(a.boxes) == 4 + 20
+    assert not any(box.contains(np.zeros((1, 2)), margin=0.25)[0] for box in a.boxes)
+
+
+@pytest.mark.parametrize(
+    "name,opts,word",
+    [
+        ("narrow-passage", {"gap": 0}, "gap"),
+        ("narrow-passage", {"gap": -0.1}, "gap"),
+        ("narrow-passage", {"gap": 2.0}, "gap"),
+        ("simple-deadlock", {"width": 0.2}, "width"),
+        ("narrow-passage", {"funnel": 40}, "funnel"),
+        ("corner", {"angle": 5}, "angle"),
+        ("random", {"n_boxes": 500}, "n_boxes"),
+        ("box", {"distance": 0.2}, "distance"),
+    ],
+)
+def test_geometry_that_cannot_be_built_is_refused(name, opts, word):
+    with pytest.raises(ValueError, match=word):
+        make_arena(name, **opts)
+
+
+def test_dead_ends_have_exit_regions_behind_the_start():
+    for name in ("simple-deadlock", "narrow-passage", "corner"):
+        spec = make_arena(name)
+        x0, x1, _, _ = spec.exit_region
+        assert x1 < spec.start[0] - 0.5

@@ -8,6 +8,8 @@ from __future__ import annotations
 import inspect
 from collections.abc import Callable
 
+import numpy as np
+
 from neurowalk.arenas.spec import ArenaSpec, Box
 
 ArenaFactory = Callable[..., ArenaSpec]
@@ -27,7 +29,7 @@ def arena(name: str) -> Callable[[ArenaFactory], ArenaFactory]:
 def arena_options(name: str) -> dict[str, float]:
     """Options of arena ``name`` with their defaults."""
     fn = _factory(name)
-    return {k: p.default for k, p in inspect.signature(fn).parameters.items()}
+    return {k: p.default for k, p in inspect.signature(fn).parameters.items() if k != "rng"}
 
 
 def _factory(name: str) -> ArenaFactory:
@@ -36,8 +38,11 @@ def _factory(name: str) -> ArenaFactory:
     return ARENAS[name]
 
 
-def make_arena(name: str, **options: object) -> ArenaSpec:
-    """Build arena ``name``; unknown options or impossible geometry raise ValueError naming them."""
+def make_arena(name: str, *, rng: np.random.Generator | None = None, **options: object) -> ArenaSpec:
+    """Build arena ``name``; unknown options or impossible geometry raise ValueError naming them.
+
+    Arenas drawn at random (e.g. ``random``) take their layout from ``rng``.
+    """
     known = arena_options(name)
     for key in options:
         if key not in known:
@@ -48,10 +53,15 @@ def make_arena(name: str, **options: object) -> ArenaSpec:
             values[key] = type(known[key])(value)
         except (TypeError, ValueError):
             raise ValueError(f"arena {name!r}: option {key}={value!r} is not a {type(known[key]).__name__}") from None
-    spec = _factory(name)(**values)
+    fn = _factory(name)
+    if "rng" in inspect.signature(fn).parameters:
+        values_rng = {**values, "rng": rng if rng is not None else np.random.default_rng(0)}
+        spec = fn(**values_rng)
+    else:
+        spec = fn(**values)
     return ArenaSpec(**{**spec.__dict__, "options": {**known, **values}})
 
 
-from neurowalk.arenas import basic, deadlocks  # noqa: E402, F401  (fill the registry)
+from neurowalk.arenas import basic, deadlocks, generated, original  # noqa: E402, F401  (fill the registry)
 
 __all__ = ["ARENAS", "ArenaSpec", "Box", "arena", "arena_options", "make_arena"]

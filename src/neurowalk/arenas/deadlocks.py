@@ -38,7 +38,9 @@ def _dead_end(name: str, width: float, depth: float, gap: float, funnel: float) 
     x_end = MOUTH_X + depth
     half_end = width / 2 - depth * math.tan(math.radians(funnel))
     if half_end <= 0.15:
-        raise ValueError(f"arena {name!r}: funnel {funnel}° closes the trap before its end (width {width}, depth {depth})")
+        raise ValueError(
+            f"arena {name!r}: funnel {funnel}° closes the trap before its end (width {width}, depth {depth})"
+        )
     if not 0 <= gap < 2 * half_end - 0.1:
         raise ValueError(f"arena {name!r}: gap must be in [0, {2 * half_end - 0.1:.2f}) m, got {gap}")
     boxes = [
@@ -67,7 +69,7 @@ def simple_deadlock(width: float = 1.0, depth: float = 1.5) -> ArenaSpec:
 
 
 @arena("narrow-passage")
-def narrow_passage(width: float = 1.6, depth: float = 1.5, gap: float = 0.25, funnel: float = 10.0) -> ArenaSpec:
+def narrow_passage(width: float = 1.6, depth: float = 1.5, gap: float = 0.30, funnel: float = 10.0) -> ArenaSpec:
     """A dead end whose end is two obstacles with a gap narrower than the robot, behind a funnel.
 
     Options: ``width`` (m) at the mouth, ``depth`` (m), ``gap`` (m) between the two end
@@ -91,14 +93,12 @@ def corner(angle: float = 60.0, length: float = 2.0) -> ArenaSpec:
     apex = 1.0
     half = math.radians(angle) / 2
     boxes = []
-    for s in (1, -1):
-        # The wall's inner face passes through the apex; its centre line is offset by half a wall.
-        dx, dy = -math.cos(half), s * math.sin(half)
-        nx, ny = -dy * s, dx * s  # outward normal of each wall side (away from the bisector)
-        off = WALL / 2
-        x0, y0 = apex + s * 0 + nx * off * s, ny * off * s
-        boxes.append(_wall(x0, y0, x0 + dx * length, y0 + dy * length))
+    for side in (1, -1):
+        d = (-math.cos(half), side * math.sin(half))  # along the wall, away from the apex
+        n = (math.sin(half), side * math.cos(half))  # outward normal (away from the robot)
+        x0, y0 = apex + n[0] * WALL / 2, n[1] * WALL / 2  # centre line: inner face through the apex
+        boxes.append(_wall(x0, y0, x0 + d[0] * length, y0 + d[1] * length))
     exit_d = 1.5
-    exit_region = (-10.0, apex - length * math.cos(half) - exit_d, -10.0, 10.0)
+    exit_region = (-10.0, apex - length * math.cos(half) - exit_d, -10.0, 10.0)  # beyond the walls' ends
     return ArenaSpec(name="corner", boxes=tuple(boxes), exit_region=exit_region,
                      bounds=(apex - length - 1.0, apex + 0.5, -length - 0.5, length + 0.5))  # fmt: skip

@@ -44,6 +44,8 @@ class EpisodeConfig:
     seed: int = 0
     control_hz: float = 10.0
     noise: float = 0.02  # strength of the coloured sensor noise
+    b0: float | None = None  # plastic controller: start self weights (default 0)
+    q0: float | None = None  # plastic controller: start inhibition magnitudes (default 0)
 
     def __post_init__(self) -> None:
         if self.controller not in CONTROLLERS:
@@ -54,6 +56,8 @@ class EpisodeConfig:
             raise ValueError(f"steps must be a positive integer, got {self.steps!r}")
         if int(self.seed) != self.seed or self.seed < 0:
             raise ValueError(f"seed must be a non-negative integer, got {self.seed!r}")
+        if (self.b0 is not None or self.q0 is not None) and self.controller != "plastic":
+            raise ValueError("start weights b0/q0 go with controller 'plastic' only")
         if (self.controller == "fixed") != (self.steer is not None):
             raise ValueError("--steer O1,O2 goes with controller 'fixed' (and only with it)")
 
@@ -68,18 +72,25 @@ class Episode:
     summary: dict[str, Any]
 
 
+def seeds(cfg: EpisodeConfig) -> tuple[np.random.Generator, np.random.Generator, np.random.Generator]:
+    """Generators of the body (sensor noise), the controller and the arena layout, from the run's seed."""
+    body, ctrl, arena = (np.random.default_rng(s) for s in np.random.SeedSequence(cfg.seed).spawn(3))
+    return body, ctrl, arena
+
+
 def build(cfg: EpisodeConfig) -> tuple[ArenaSpec, AmosII, Controller]:
     """Arena, body and controller of a config (raises ValueError on bad input)."""
-    arena = make_arena(cfg.arena, **cfg.arena_opts)
+    arena = make_arena(cfg.arena, rng=seeds(cfg)[2], **cfg.arena_opts)
     body = AmosII(arena, control_hz=cfg.control_hz, noise=cfg.noise)
-    controller = make_controller(cfg.controller, steer=cfg.steer)
+    weights = {k: v for k, v in (("b0", cfg.b0), ("q0", cfg.q0)) if v is not None}
+    controller = make_controller(cfg.controller, steer=cfg.steer, **weights)
     return arena, body, controller
 
 
 def run_episode(cfg: EpisodeConfig, *, progress: bool = False) -> Episode:
     """Run one episode and summarise it."""
     arena, body, ctrl = build(cfg)
-    body_rng, ctrl_rng = (np.random.default_rng(s) for s in np.random.SeedSequence(cfg.seed).spawn(2))
+    body_rng, ctrl_rng, _ = seeds(cfg)
     body.reset(body_rng)
     ctrl.reset(ctrl_rng)
     tr = Trajectory.empty(cfg.steps, body.model.nq)
@@ -157,6 +168,7 @@ def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory, wall_time_s:
         "seed": cfg.seed,
         "control_hz": cfg.control_hz,
         "noise": cfg.noise,
+        "start_weights": {"b0": cfg.b0, "q0": cfg.q0} if cfg.controller == "plastic" else None,
         "escaped": metrics.escaped(pose, arena),
         "trapped": metrics.trapped(pose),
         "coverage": metrics.coverage(pose, arena),

@@ -1,0 +1,86 @@
+"""Shared machinery of Fig. 3 (static network) and Fig. 5 (plastic network): dead ends and long runs.
+
+* Outcome table: every network (plastic from zero and from the paper's Fig. 4 start, static,
+  Braitenberg) in the simple deadlock and in the narrow passage (default geometry, and gap and
+  funnel angle changed by ±20%), ``seeds`` seeds each, 5000 control steps.
+* Example runs (seed 0): the figure's network in both dead ends, with neural traces.
+* Long runs in the original arenas (``cluttered``, ``difficult``): trajectories, trapping, coverage.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from neurowalk import metrics
+from neurowalk.arenas import arena_options
+from neurowalk.runners.local import run_many
+from neurowalk.sim.episode import Episode, EpisodeConfig
+
+NETWORKS: dict[str, dict[str, Any]] = {
+    "plastic": {"controller": "plastic"},
+    "plastic, start b=2.4 q=3.5": {"controller": "plastic", "b0": 2.4, "q0": 3.5},
+    "static": {"controller": "static"},
+    "braitenberg": {"controller": "braitenberg"},
+}
+_NP = arena_options("narrow-passage")
+VARIANTS: dict[str, tuple[str, dict[str, float]]] = {
+    "simple-deadlock": ("simple-deadlock", {}),
+    "narrow-passage": ("narrow-passage", {}),
+    **{f"narrow-passage {k} {sign}20%": ("narrow-passage", {k: round(_NP[k] * f, 6)})
+       for k in ("gap", "funnel") for sign, f in (("-", 0.8), ("+", 1.2))},
+}  # fmt: skip
+TRAP_STEPS = 5000  # control steps in a dead end (paper: 5000 time steps)
+
+
+def keep_traces(ep: Episode) -> dict[str, Any]:
+    """Summary plus the traces a figure draws (pose, inputs, outputs, b, q)."""
+    tr = ep.trajectory
+    return {"summary": ep.summary, "pose": tr.pose, "inputs": tr.inputs, "outputs": tr.outputs, "b": tr.b, "q": tr.q}
+
+
+def keep_outcome(ep: Episode) -> dict[str, Any]:
+    """Outcome of a dead-end run: escaped, trapped, direction switches, turning episodes."""
+    tr = ep.trajectory
+    eps = metrics.avoidance_episodes(tr.outputs, tr.pose)
+    return {"escaped": ep.summary["escaped"], "trapped": ep.summary["trapped"],
+            "direction_switches": metrics.direction_switches(tr.outputs),
+            "max_turn_deg": max((abs(e["turn_deg"]) for e in eps), default=0.0)}  # fmt: skip
+
+
+def outcome_table(seeds: int, *, variants: dict | None = None, workers: int = 2, progress: bool = True) -> dict:
+    """Escape counts per variant and network over ``seeds`` seeds (the json's table)."""
+    variants = variants or VARIANTS
+    keys, configs = [], []
+    for vname, (arena, opts) in variants.items():
+        for nname, net in NETWORKS.items():
+            for seed in range(seeds):
+                keys.append((vname, nname))
+                configs.append(EpisodeConfig(arena=arena, arena_opts=opts, steps=TRAP_STEPS, seed=seed, **net))
+    results = run_many(configs, workers=workers, progress=progress, keep=keep_outcome, desc="dead ends")
+    table: dict[str, dict[str, dict[str, Any]]] = {}
+    for (vname, nname), r in zip(keys, results, strict=True):
+        cell = table.setdefault(vname, {}).setdefault(nname, {"runs": 0, "escaped": 0, "trapped": 0, "switches": []})
+        cell["runs"] += 1
+        cell["escaped"] += int(bool(r["escaped"]))
+        cell["trapped"] += int(r["trapped"])
+        cell["switches"].append(r["direction_switches"])
+    for row in table.values():
+        for cell in row.values():
+            cell["median_direction_switches"] = float(np.median(cell.pop("switches")))
+    return {"seeds": seeds, "steps": TRAP_STEPS, "variants": {k: {"arena": a, "options": o} for k, (a, o) in
+            variants.items()}, "counts": table,
+            "rule": "escaped: the trunk centre reached the exit region behind the trap's mouth within the steps; "
+                    "trapped: the last 3000 steps stayed within a disc of radius 0.5 m"}  # fmt: skip
+
+
+def example_and_long_runs(network: str, long_runs: dict[str, dict[str, Any]], long_steps: int, *,
+                          workers: int = 2, progress: bool = True) -> dict[str, dict[str, Any]]:  # fmt: skip
+    """Seed-0 traces of ``network`` in both dead ends, and the long runs {name: config kwargs}."""
+    net = NETWORKS[network]
+    runs = {"simple-deadlock": EpisodeConfig(arena="simple-deadlock", steps=TRAP_STEPS, **net),
+            "narrow-passage": EpisodeConfig(arena="narrow-passage", steps=TRAP_STEPS, **net)}  # fmt: skip
+    runs.update({k: EpisodeConfig(steps=long_steps, **v) for k, v in long_runs.items()})
+    out = run_many(list(runs.values()), workers=workers, progress=progress, keep=keep_traces, desc="example runs")
+    return dict(zip(runs, out, strict=True))

@@ -1,0 +1,66 @@
+"""The picture of Fig. 3 and Fig. 5: dead-end trajectories, neural traces, input-output loops, long runs."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from neurowalk.arenas import make_arena
+from neurowalk.experiments import Result
+from neurowalk.plotting import draw_arena, pyplot
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+
+def _io_loop(ax: Axes, x: np.ndarray, y: np.ndarray, title: str) -> None:
+    """Input against output, coloured by time from dark blue to dark red (paper Fig. 3D-E)."""
+    ax.scatter(x, y, c=np.linspace(0, 1, len(x)), cmap="jet", s=2, lw=0)
+    ax.set(xlim=(-1.05, 1.05), ylim=(-1.05, 1.05), xlabel="input", ylabel="output", title=title)
+
+
+def plot(res: Result, network: str, long_keys: list[str]) -> Figure:
+    """Eight panels A-H for the figure's ``network``."""
+    plt = pyplot()
+    s, a = res.summary, res.arrays
+    fig = plt.figure(figsize=(18, 11), constrained_layout=True)
+    gs = fig.add_gridspec(3, 4, height_ratios=[1, 1, 0.28])
+    runs = s["runs"]
+    for i, name in enumerate(("simple-deadlock", "narrow-passage")):
+        ax = fig.add_subplot(gs[0, i])
+        draw_arena(ax, make_arena(runs[name]["arena"], **runs[name]["arena_opts"]), a[f"{name}/pose"])
+        outcome = "escaped" if runs[name]["escaped"] else ("trapped" if runs[name]["trapped"] else "not out")
+        ax.set_title(f"{'AB'[i]}  {name}, {network}: {outcome}")
+    ax = fig.add_subplot(gs[0, 2:])
+    t = np.arange(len(a["narrow-passage/inputs"])) / 10.0
+    ax.plot(t, a["narrow-passage/inputs"][:, 0] + 2.5, "C0", lw=0.6, label="I1 (left)")
+    ax.plot(t, a["narrow-passage/inputs"][:, 1] + 2.5, "C1", lw=0.6, label="I2 (right)")
+    ax.plot(t, a["narrow-passage/outputs"][:, 0], "C0", lw=1.0, label="O1")
+    ax.plot(t, a["narrow-passage/outputs"][:, 1], "C1", lw=1.0, label="O2")
+    if np.isfinite(a["narrow-passage/b"]).all() and np.ptp(a["narrow-passage/b"]) > 0:
+        ax.plot(t, a["narrow-passage/b"][:, 0] / 2 - 4, "C0--", lw=1, label="b1/2")
+        ax.plot(t, a["narrow-passage/b"][:, 1] / 2 - 4, "C1--", lw=1, label="b2/2")
+        ax.plot(t, -a["narrow-passage/q"].sum(axis=1) / 4 - 4, "k--", lw=1, label="c/2")
+    ax.set(xlabel="time (s)", yticks=[], title="C  narrow passage: inputs (top), outputs, weights (bottom)")
+    ax.legend(loc="upper right", ncol=7, fontsize=7)
+    _io_loop(fig.add_subplot(gs[1, 0]), a["narrow-passage/inputs"][:, 0], a["narrow-passage/outputs"][:, 0],
+             "D  left: I1 vs O1 (time: blue → red)")  # fmt: skip
+    _io_loop(fig.add_subplot(gs[1, 1]), a["narrow-passage/inputs"][:, 1], a["narrow-passage/outputs"][:, 1],
+             "E  right: I2 vs O2")  # fmt: skip
+    for j, key in enumerate(long_keys[:2]):
+        ax = fig.add_subplot(gs[1, 2 + j])
+        r = runs[key]
+        draw_arena(ax, make_arena(r["arena"]), a[f"{key}/pose"])
+        cov = r["coverage"]
+        ax.set_title(f"{'FG'[j]}  {key}: {r['steps']} steps, {'trapped' if r['trapped'] else 'not trapped'}, "
+                     f"coverage {cov:.0%}", fontsize=9)  # fmt: skip
+    counts = s["table"]["counts"]
+    lines = ["escaped / runs (seeds " + str(s["table"]["seeds"]) + ", 5000 steps):"]
+    for v, row in counts.items():
+        lines.append(f"{v}: " + ", ".join(f"{n} {c['escaped']}/{c['runs']}" for n, c in row.items()))
+    ax = fig.add_subplot(gs[2, :])
+    ax.axis("off")
+    ax.text(0, 1, "\n".join(lines), fontsize=8, family="monospace", va="top", transform=ax.transAxes)
+    return fig

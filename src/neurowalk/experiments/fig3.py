@@ -1,0 +1,50 @@
+"""Fig. 3: the static network (b = 2.4, c = -3.5) in dead ends and in the original arenas.
+
+A. Simple deadlock: escaped. B. Narrow passage (a gap between the end obstacles): trapped,
+oscillating. C. Neural activations in the narrow passage. D-E. Input against output, coloured by
+time: the hysteresis loops. F. The cluttered arena: explored without getting trapped. G. The
+difficult arena (sharp corners, narrow passages): trapped. The json holds the escape counts of all
+networks (Braitenberg beside static and plastic) over ``--seeds`` seeds and ±20% geometry changes.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from neurowalk.experiments import Result, register
+from neurowalk.experiments.deadlock import example_and_long_runs, outcome_table
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+NAME = "fig3"
+NETWORK = "static"
+LONG = {"cluttered (static)": {"arena": "cluttered", "controller": "static"},
+        "difficult (static)": {"arena": "difficult", "controller": "static"}}  # fmt: skip
+
+
+def build(name: str, network: str, long_runs: dict, *, quick: bool, seed: int, seeds: int | None) -> Result:
+    """Shared by Fig. 3 and Fig. 5: outcome table, example runs, long runs."""
+    n_seeds = seeds if seeds is not None else (3 if quick else 10)
+    if n_seeds < 1:
+        raise ValueError(f"seeds must be >= 1, got {n_seeds}")
+    long_steps = 10000 if quick else 30000
+    table = outcome_table(n_seeds)
+    runs = example_and_long_runs(network, long_runs, long_steps)
+    arrays = {f"{k}/{field}": v[field] for k, v in runs.items() for field in ("pose", "inputs", "outputs", "b", "q")}
+    summary = {"network": network, "table": table, "long_steps": long_steps,
+               "runs": {k: v["summary"] for k, v in runs.items()}}  # fmt: skip
+    return Result(name, summary, arrays)
+
+
+@register(NAME, "static network: dead ends, hysteresis, cluttered and difficult arenas")
+def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None) -> Result:
+    """Outcome table over ``seeds`` seeds (default 10; 3 with ``quick``), example and long runs."""
+    return build(NAME, NETWORK, LONG, quick=quick, seed=seed, seeds=seeds)
+
+
+def plot(res: Result) -> Figure:
+    """Panels A-G; the counts table printed below."""
+    from neurowalk.experiments.deadlock_plot import plot as draw
+
+    return draw(res, NETWORK, list(LONG))

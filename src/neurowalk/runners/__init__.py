@@ -1,0 +1,1 @@
+"""Running many episodes: a local process pool (default)."""

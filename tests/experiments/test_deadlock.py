@@ -1,0 +1,19 @@
+"""The paper's result in physics, on a smaller count than `neurowalk figure fig5 --seeds 10`."""
+
+import pytest
+
+from neurowalk.experiments.deadlock import VARIANTS, outcome_table
+
+
+@pytest.mark.slow
+def test_plastic_escapes_the_narrow_passage_static_does_not_both_escape_simple_deadlock():
+    variants = {k: VARIANTS[k] for k in ("simple-deadlock", "narrow-passage")}
+    counts = outcome_table(4, variants=variants, progress=False)["counts"]
+    narrow, simple = counts["narrow-passage"], counts["simple-deadlock"]
+    assert narrow["plastic"]["escaped"] >= 3
+    assert narrow["static"]["escaped"] <= 1
+    assert narrow["static"]["trapped"] >= 3
+    assert simple["plastic"]["escaped"] >= 3 and simple["static"]["escaped"] >= 3
+    # The trapped static robot oscillates: it reverses its turn far more often than the plastic one.
+    assert narrow["static"]["median_direction_switches"] > narrow["plastic"]["median_direction_switches"]
+    assert set(narrow) == {"plastic", "plastic, start b=2.4 q=3.5", "static", "braitenberg"}
