@@ -107,13 +107,30 @@ def _run(args: argparse.Namespace) -> int:
     cfg = _episode_config(args)
     from neurowalk.fileio import atomic_write, write_json
     from neurowalk.plotting import plot_run
-    from neurowalk.sim.episode import build, run_episode
+    from neurowalk.sim.episode import RunInterruptedError, build, run_episode
+    from neurowalk.sim.trajectory import PartWriter
 
-    ep = run_episode(cfg, progress=not args.quiet)  # type: ignore[arg-type]
     out: Path = args.out
     out.mkdir(parents=True, exist_ok=True)
+    parts = PartWriter(out / "trajectory.parts")
+    import signal
+
+    def _stop(signum: int, frame: object) -> None:
+        raise KeyboardInterrupt  # a killed job (SIGTERM) keeps what it finished, like Ctrl-C
+
+    signal.signal(signal.SIGTERM, _stop)
+    try:
+        ep = run_episode(cfg, progress=not args.quiet, sink=parts.write)  # type: ignore[arg-type]
+    except RunInterruptedError as stop:
+        ep = stop.episode
+        ep.trajectory.save(out / "trajectory.npz")
+        write_json(out / "summary.json", ep.summary)
+        parts.remove()
+        print(f"neurowalk: interrupted: kept the {len(ep.trajectory)} completed steps in {out}", file=sys.stderr)
+        return 130
     ep.trajectory.save(out / "trajectory.npz")
     write_json(out / "summary.json", ep.summary)
+    parts.remove()
     fig = plot_run(ep.trajectory, ep.arena, ep.summary)
     atomic_write(out / "run.png", lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
     written = ["summary.json", "trajectory.npz", "run.png"]

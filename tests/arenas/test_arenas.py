@@ -64,5 +64,5 @@ def test_geometry_that_cannot_be_built_is_refused(name, opts, word):
 def test_dead_ends_have_exit_regions_behind_the_start():
     for name in ("simple-deadlock", "narrow-passage", "corner"):
         spec = make_arena(name)
-        x0, x1, _, _ = spec.exit_region
+        _, x1, _, _ = spec.exit_region
         assert x1 < spec.start[0] - 0.5

@@ -83,3 +83,30 @@ def test_bad_config_raises():
     with pytest.raises(ValueError, match="whole number"):
         n_substeps(7.0, 0.005)
     assert n_substeps(10.0, 0.005) == 20
+
+
+def test_long_runs_stream_chunks_and_keep_completed_steps_when_stopped(tmp_path):
+    from neurowalk.sim.episode import RunInterruptedError
+    from neurowalk.sim.trajectory import PartWriter
+
+    cfg = EpisodeConfig(controller="plastic", arena="box", arena_opts={"distance": 0.6}, steps=250)
+    whole = run_episode(cfg).trajectory
+    parts = PartWriter(tmp_path / "parts")
+    run_episode(cfg, sink=parts.write, chunk=100)
+    streamed = parts.read()
+    np.testing.assert_array_equal(streamed.qpos, whole.qpos)
+    np.testing.assert_array_equal(streamed.pose, whole.pose)
+    parts.remove()
+
+    calls = []
+
+    def stop_on_second(tr, start, stop):
+        calls.append((start, stop))
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(RunInterruptedError) as info:
+        run_episode(cfg, sink=stop_on_second, chunk=100)
+    ep = info.value.episode
+    assert ep.summary["completed"] is False and ep.summary["steps"] == 200 == len(ep.trajectory)
+    np.testing.assert_array_equal(ep.trajectory.qpos, whole.qpos[:200])

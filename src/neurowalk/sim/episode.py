@@ -16,7 +16,7 @@ the same seed gives the same trajectory, bit for bit.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -87,8 +87,28 @@ def build(cfg: EpisodeConfig) -> tuple[ArenaSpec, AmosII, Controller]:
     return arena, body, controller
 
 
-def run_episode(cfg: EpisodeConfig, *, progress: bool = False) -> Episode:
-    """Run one episode and summarise it."""
+class RunInterruptedError(Exception):
+    """A run stopped part-way (e.g. Ctrl-C); ``episode`` holds the steps it completed."""
+
+    def __init__(self, episode: Episode) -> None:
+        super().__init__(f"run stopped after {episode.summary['steps']} of {episode.config.steps} steps")
+        self.episode = episode
+
+
+def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None, chunk: int = 10_000) -> Episode:
+    """Run one episode and summarise it.
+
+    Args:
+        cfg: the run.
+        progress: show a progress bar (rate, time left).
+        sink: if given, called as ``sink(trajectory, start, stop)`` after every ``chunk`` steps and at
+            the end, so that a long run can write its rows as it goes.
+        chunk: rows per sink call.
+
+    Raises:
+        RunInterruptedError: on KeyboardInterrupt; it carries the episode of the completed steps (the sink
+            has received all of them).
+    """
     arena, body, ctrl = build(cfg)
     body_rng, ctrl_rng, _ = seeds(cfg)
     body.reset(body_rng)
@@ -97,14 +117,31 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False) -> Episode:
     has_weights = hasattr(ctrl, "b")
     bar = _progress(cfg.steps, progress)
     t0 = time.perf_counter()
+    done = 0
+    try:
+        done = _loop(cfg, body, ctrl, tr, has_weights, bar, sink, chunk)
+    except KeyboardInterrupt:
+        done = int(np.count_nonzero(~np.isnan(tr.t)))
+    wall = time.perf_counter() - t0
+    if bar is not None:
+        bar.close()
+    if sink is not None and done % chunk:
+        sink(_finish(tr, body, done - done % chunk, done), done - done % chunk, done)
+    ep = _episode(cfg, arena, body, tr, done, wall)
+    if done < cfg.steps:
+        raise RunInterruptedError(ep)
+    return ep
+
+
+def _loop(cfg: EpisodeConfig, body: AmosII, ctrl: Controller, tr: Trajectory, has_weights: bool, bar: Any,
+          sink: Any, chunk: int) -> int:  # fmt: skip
+    """The control loop proper; returns the number of completed steps."""
     d = body.data
     for k in range(cfg.steps):
         obs = body.observe()
         targets = ctrl.act(obs)
         body.apply(targets)
         body.advance()
-        tr.t[k] = d.time
-        tr.pose[k] = obs.pose
         tr.inputs[k] = ctrl.inputs
         tr.outputs[k] = ctrl.steering
         if has_weights:
@@ -114,16 +151,30 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False) -> Episode:
         tr.us_distance[k] = obs.us_distance
         tr.foot_contact[k] = obs.foot_contact
         tr.qpos[k] = d.qpos
+        tr.t[k] = d.time  # last: a row with a time is complete
         if bar is not None and k % 100 == 99:
             bar.update(100)
-    wall = time.perf_counter() - t0
-    if bar is not None:
-        bar.close()
-    # Pose and derived quantities after the last step (rows are "after step k").
-    tr.pose = _poses_from_qpos(tr.qpos)
-    tr.joint_angles = tr.qpos[:, 7:][:, _joint_order(body)]
-    tr.up_z = _up_z_from_qpos(tr.qpos)
-    return Episode(cfg, arena, tr, summarize(cfg, arena, tr, wall, body.warnings()))
+        if sink is not None and (k + 1) % chunk == 0:
+            sink(_finish(tr, body, k + 1 - chunk, k + 1), k + 1 - chunk, k + 1)
+    return cfg.steps
+
+
+def _finish(tr: Trajectory, body: AmosII, start: int, stop: int) -> Trajectory:
+    """Fill the derived arrays (pose, joint angles, up_z) of rows [start, stop) from qpos; return ``tr``."""
+    q = tr.qpos[start:stop]
+    tr.pose[start:stop] = _poses_from_qpos(q)
+    tr.joint_angles[start:stop] = q[:, 7:][:, _joint_order(body)]
+    tr.up_z[start:stop] = _up_z_from_qpos(q)
+    return tr
+
+
+def _episode(cfg: EpisodeConfig, arena: ArenaSpec, body: AmosII, tr: Trajectory, done: int, wall: float) -> Episode:
+    tr = _finish(tr, body, 0, done).head(done)
+    run_cfg = cfg if done == cfg.steps else replace(cfg, steps=max(done, 1))
+    summary = summarize(run_cfg, arena, tr, wall, body.warnings()) if done else {"steps": 0}
+    summary["completed"] = done == cfg.steps
+    summary["steps_requested"] = cfg.steps
+    return Episode(cfg, arena, tr, summary)
 
 
 def _progress(total: int, on: bool) -> Any:

@@ -64,3 +64,34 @@ class Trajectory:
         """Read a ``trajectory.npz``."""
         with np.load(path) as z:
             return cls(**{f.name: z[f.name] for f in fields(cls)})
+
+
+class PartWriter:
+    """Writes a running episode's rows to numbered part files, so a killed run keeps what it did.
+
+    ``write(trajectory, start, stop)`` saves rows [start, stop) as ``part-<start>.npz`` in
+    ``folder``; :meth:`read` concatenates the parts back into one :class:`Trajectory`.
+    """
+
+    def __init__(self, folder: str | Path) -> None:
+        self.folder = Path(folder)
+
+    def write(self, tr: Trajectory, start: int, stop: int) -> None:
+        """Save rows [start, stop) of ``tr``."""
+        self.folder.mkdir(parents=True, exist_ok=True)
+        part = Trajectory(**{f.name: getattr(tr, f.name)[start:stop] for f in fields(tr)})
+        part.save(self.folder / f"part-{start:010d}.npz")
+
+    def read(self) -> Trajectory:
+        """All parts, in order, as one trajectory."""
+        parts = [Trajectory.load(p) for p in sorted(self.folder.glob("part-*.npz"))]
+        if not parts:
+            raise ValueError(f"no trajectory parts in {str(self.folder)!r}")
+        return Trajectory(**{f.name: np.concatenate([getattr(p, f.name) for p in parts]) for f in fields(Trajectory)})
+
+    def remove(self) -> None:
+        """Delete the parts (once the whole trajectory is saved)."""
+        for p in self.folder.glob("part-*.npz"):
+            p.unlink()
+        if self.folder.exists():
+            self.folder.rmdir()
