@@ -69,7 +69,7 @@ def simple_deadlock(width: float = 1.0, depth: float = 1.5) -> ArenaSpec:
 
 
 @arena("narrow-passage")
-def narrow_passage(width: float = 1.6, depth: float = 1.5, gap: float = 0.30, funnel: float = 10.0) -> ArenaSpec:
+def narrow_passage(width: float = 1.6, depth: float = 1.5, gap: float = 0.28, funnel: float = 10.0) -> ArenaSpec:
     """A dead end whose end is two obstacles with a gap narrower than the robot, behind a funnel.
 
     Options: ``width`` (m) at the mouth, ``depth`` (m), ``gap`` (m) between the two end
