@@ -228,7 +228,8 @@ def _figure(args: argparse.Namespace) -> int:
                 raise UsageError(f"--seeds must be >= 1, got {args.seeds}")
             kwargs["seeds"] = args.seeds
         result = exp.run(**kwargs)
-    paths = output.save(result, exp.plot(result), out)
+    paths = {} if args.replot else output.save_data(result, out)  # the numbers first: a plot error loses nothing
+    paths = {"png": output.save_figure(result, exp.plot(result), out), **paths}
     print(f"{args.name}: wrote {', '.join(str(p) for p in paths.values())} in {time.perf_counter() - t0:.1f} s")
     return 0
 

@@ -21,8 +21,8 @@ def _io_loop(ax: Axes, x: np.ndarray, y: np.ndarray, title: str) -> None:
     ax.set(xlim=(-1.05, 1.05), ylim=(-1.05, 1.05), xlabel="input", ylabel="output", title=title)
 
 
-def plot(res: Result, network: str, long_keys: list[str]) -> Figure:
-    """Eight panels A-H for the figure's ``network``."""
+def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool = False) -> Figure:
+    """Panels A-G for the figure's ``network`` and the outcome table; ``weights_panel``: G shows weights."""
     plt = pyplot()
     s, a = res.summary, res.arrays
     fig = plt.figure(figsize=(18, 11), constrained_layout=True)
@@ -52,6 +52,15 @@ def plot(res: Result, network: str, long_keys: list[str]) -> Figure:
     for j, key in enumerate(long_keys[:2]):
         ax = fig.add_subplot(gs[1, 2 + j])
         r = runs[key]
+        if weights_panel and j == 1:  # paper Fig. 5G: the weights of the long run over time
+            key0 = long_keys[0]
+            tl = np.arange(len(a[f"{key0}/b"])) / 10.0
+            ax.plot(tl, a[f"{key0}/b"][:, 0], "C0", lw=0.8, label="b1")
+            ax.plot(tl, a[f"{key0}/b"][:, 1], "C1", lw=0.8, label="b2")
+            ax.plot(tl, -0.5 * a[f"{key0}/q"].sum(axis=1), "k", lw=0.8, label="c")
+            ax.set(xlabel="time (s)", ylabel="weight", title=f"G  {key0}: weights over time")
+            ax.legend(fontsize=7, ncol=3)
+            continue
         draw_arena(ax, make_arena(r["arena"]), a[f"{key}/pose"])
         cov = r["coverage"]
         ax.set_title(f"{'FG'[j]}  {key}: {r['steps']} steps, {'trapped' if r['trapped'] else 'not trapped'}, "

@@ -3,10 +3,10 @@
 A. Simple deadlock and B. narrow passage: escaped, by a long turn in one direction once the
 weights have grown. C. Neural activations and weights in the narrow passage. D-E. Input against
 output, coloured by time: switching between hysteresis and single-attractor states. F. The
-difficult arena: plastic explores where static gets trapped (G), with a higher coverage over the
-same number of steps. The json holds the escape counts of every network over ``--seeds`` seeds and
-±20% geometry changes, with the plastic network started from zero (as in the paper's exploration
-experiment) and from b = 2.4, q = 3.5 (its Fig. 4 start).
+difficult arena: plastic explores. G. Its weights over time. The json compares it with static and
+Braitenberg over the same number of steps (trapping, coverage) and holds the escape counts of every
+network over ``--seeds`` seeds and ±20% geometry changes, the plastic network started from zero (as
+in the paper's exploration experiment) and from b = 2.4, q = 3.5 (its Fig. 4 start).
 """
 
 from __future__ import annotations
@@ -46,4 +46,4 @@ def plot(res: Result) -> Figure:
     """Panels A-G; the counts table printed below."""
     from neurowalk.experiments.deadlock_plot import plot as draw
 
-    return draw(res, NETWORK, list(LONG))
+    return draw(res, NETWORK, list(LONG), weights_panel=True)

@@ -15,17 +15,28 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 
-def save(result: Result, fig: Figure, out_dir: str | Path) -> dict[str, Path]:
-    """Write NAME.png, NAME.json and NAME.npz (if there are arrays) into ``out_dir``."""
+def save_data(result: Result, out_dir: str | Path) -> dict[str, Path]:
+    """Write NAME.json and NAME.npz (if there are arrays) into ``out_dir``: all a redraw needs."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    paths = {"png": out / f"{result.name}.png", "json": out / f"{result.name}.json"}
+    paths = {"json": out / f"{result.name}.json"}
     if result.arrays:
         paths["npz"] = out / f"{result.name}.npz"
         atomic_write(paths["npz"], lambda tmp: np.savez_compressed(Path(tmp), **result.arrays))
     write_json(paths["json"], result.summary)
-    atomic_write(paths["png"], lambda tmp: fig.savefig(tmp, dpi=120, format="png"))
     return paths
+
+
+def save_figure(result: Result, fig: Figure, out_dir: str | Path) -> Path:
+    """Write NAME.png into ``out_dir``."""
+    path = Path(out_dir) / f"{result.name}.png"
+    atomic_write(path, lambda tmp: fig.savefig(tmp, dpi=120, format="png"))
+    return path
+
+
+def save(result: Result, fig: Figure, out_dir: str | Path) -> dict[str, Path]:
+    """Write NAME.png, NAME.json and NAME.npz (if there are arrays) into ``out_dir``."""
+    return {"png": save_figure(result, fig, out_dir), **save_data(result, out_dir)}
 
 
 def load(name: str, out_dir: str | Path) -> Result:
