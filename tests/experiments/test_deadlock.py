@@ -17,3 +17,17 @@ def test_plastic_escapes_the_narrow_passage_static_does_not_both_escape_simple_d
     # The trapped static robot oscillates: it reverses its turn far more often than the plastic one.
     assert narrow["static"]["median_direction_switches"] > narrow["plastic"]["median_direction_switches"]
     assert set(narrow) == {"plastic", "plastic, start b=2.4 q=3.5", "static", "braitenberg"}
+
+
+@pytest.mark.slow
+def test_long_runs_static_explores_cluttered_trapped_in_difficult_plastic_explores_difficult():
+    from neurowalk.runners.local import run_many
+    from neurowalk.sim.episode import EpisodeConfig
+
+    cfgs = [EpisodeConfig(arena="cluttered", controller="static", steps=30000),
+            EpisodeConfig(arena="difficult", controller="static", steps=30000),
+            EpisodeConfig(arena="difficult", controller="plastic", steps=30000)]  # fmt: skip
+    clut_static, diff_static, diff_plastic = run_many(cfgs, progress=False)
+    assert not clut_static["trapped"]
+    assert diff_static["trapped"] and not diff_plastic["trapped"]
+    assert diff_plastic["coverage"] > diff_static["coverage"]

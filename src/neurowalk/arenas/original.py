@@ -1,7 +1,8 @@
 """The authors' 9 x 9 m arena with 1 x 1 m boxes (reference/original_code_facts.md §8).
 
-``cluttered``: the surrounding walls and the first set of 11 boxes: obstacles but no sharp
-corners or narrow passages (paper Fig. 3F). ``difficult``: both sets, 22 boxes, the original's
+``cluttered``: the surrounding walls and the first set of boxes without the two, (6, -2) and
+(5, -3), that close a sharp pocket with (5, -1) right ahead of the start: 9 boxes, obstacles but
+no sharp corners or narrow passages (paper Fig. 3F). ``difficult``: both sets, 22 boxes, the original's
 default arena: sharp corners and narrow passages (paper Fig. 3G, 5F). Boxes are 0.10 m high, their
 yaw a multiple of 1 rad. The robot starts at (3, -1) facing -0.38 rad, as in the original.
 """
@@ -16,6 +17,7 @@ _BASIC = ((0, 0, 3), (1, 1, 2), (2, 2, 4), (3, -2, 2), (5, -1, 1), (6, -2, 1), (
           (3, 4, 0), (7, 0.5, 0), (-1, -4, 0))  # fmt: skip
 _DIFFICULT = ((0, 3, 3), (0, -2, 2), (-1.5, -2, 4), (1.5, -4, 2), (7, -4, 3), (3.2, 0, 2), (1.5, -1, 4),
               (5.2, 3.8, 3), (7, 4, 2), (5.8, 2, 2), (3.5, -4, 1))  # fmt: skip
+_POCKET = ((6, -2), (5, -3))  # with (5, -1) they form a sharp corner ahead of the start
 _ANGLE = 1.0  # rad per yaw unit
 _HEIGHT = 0.10
 _BOUNDS = (-1.5, 7.5, -4.5, 4.5)
@@ -30,8 +32,8 @@ def _arena(name: str, boxes: tuple, height: float) -> ArenaSpec:
 
 @arena("cluttered")
 def cluttered(height: float = _HEIGHT) -> ArenaSpec:
-    """The original 9 x 9 m arena with 11 boxes: obstacles, no sharp corners. Option ``height`` (m)."""
-    return _arena("cluttered", _BASIC, height)
+    """The original 9 x 9 m arena with 9 of its boxes: obstacles, no sharp corners. Option ``height`` (m)."""
+    return _arena("cluttered", tuple(b for b in _BASIC if b[:2] not in _POCKET), height)
 
 
 @arena("difficult")
