@@ -49,13 +49,14 @@ def keep_outcome(ep: Episode) -> dict[str, Any]:
             "max_turn_deg": max((abs(e["turn_deg"]) for e in eps), default=0.0)}  # fmt: skip
 
 
-def outcome_table(seeds: int, *, variants: dict | None = None, workers: int = 2, progress: bool = True) -> dict:
-    """Escape counts per variant and network over ``seeds`` seeds (the json's table)."""
+def outcome_table(seeds: int, *, first_seed: int = 0, variants: dict | None = None, workers: int = 2,
+                  progress: bool = True) -> dict:  # fmt: skip
+    """Escape counts per variant and network over seeds ``first_seed`` ... ``first_seed + seeds - 1``."""
     variants = variants or VARIANTS
     keys, configs = [], []
     for vname, (arena, opts) in variants.items():
         for nname, net in NETWORKS.items():
-            for seed in range(seeds):
+            for seed in range(first_seed, first_seed + seeds):
                 keys.append((vname, nname))
                 configs.append(EpisodeConfig(arena=arena, arena_opts=opts, steps=TRAP_STEPS, seed=seed, **net))
     results = run_many(configs, workers=workers, progress=progress, keep=keep_outcome, desc="dead ends")
@@ -69,18 +70,18 @@ def outcome_table(seeds: int, *, variants: dict | None = None, workers: int = 2,
     for row in table.values():
         for cell in row.values():
             cell["median_direction_switches"] = float(np.median(cell.pop("switches")))
-    return {"seeds": seeds, "steps": TRAP_STEPS, "variants": {k: {"arena": a, "options": o} for k, (a, o) in
+    return {"seeds": seeds, "first_seed": first_seed, "steps": TRAP_STEPS, "variants": {k: {"arena": a, "options": o} for k, (a, o) in
             variants.items()}, "counts": table,
             "rule": "escaped: the trunk centre reached the exit region behind the trap's mouth within the steps; "
                     "trapped: the last 3000 steps stayed within a disc of radius 0.5 m"}  # fmt: skip
 
 
-def example_and_long_runs(network: str, long_runs: dict[str, dict[str, Any]], long_steps: int, *,
+def example_and_long_runs(network: str, long_runs: dict[str, dict[str, Any]], long_steps: int, *, seed: int = 0,
                           workers: int = 2, progress: bool = True) -> dict[str, dict[str, Any]]:  # fmt: skip
-    """Seed-0 traces of ``network`` in both dead ends, and the long runs {name: config kwargs}."""
+    """Traces of ``network`` in both dead ends, and the long runs {name: config kwargs}, all with ``seed``."""
     net = NETWORKS[network]
-    runs = {"simple-deadlock": EpisodeConfig(arena="simple-deadlock", steps=TRAP_STEPS, **net),
-            "narrow-passage": EpisodeConfig(arena="narrow-passage", steps=TRAP_STEPS, **net)}  # fmt: skip
-    runs.update({k: EpisodeConfig(steps=long_steps, **v) for k, v in long_runs.items()})
+    runs = {"simple-deadlock": EpisodeConfig(arena="simple-deadlock", steps=TRAP_STEPS, seed=seed, **net),
+            "narrow-passage": EpisodeConfig(arena="narrow-passage", steps=TRAP_STEPS, seed=seed, **net)}  # fmt: skip
+    runs.update({k: EpisodeConfig(steps=long_steps, seed=seed, **v) for k, v in long_runs.items()})
     out = run_many(list(runs.values()), workers=workers, progress=progress, keep=keep_traces, desc="example runs")
     return dict(zip(runs, out, strict=True))

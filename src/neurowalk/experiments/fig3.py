@@ -29,10 +29,10 @@ def build(name: str, network: str, long_runs: dict, *, quick: bool, seed: int, s
     if n_seeds < 1:
         raise ValueError(f"seeds must be >= 1, got {n_seeds}")
     long_steps = 10000 if quick else 30000
-    table = outcome_table(n_seeds)
-    runs = example_and_long_runs(network, long_runs, long_steps)
+    table = outcome_table(n_seeds, first_seed=seed)
+    runs = example_and_long_runs(network, long_runs, long_steps, seed=seed)
     arrays = {f"{k}/{field}": v[field] for k, v in runs.items() for field in ("pose", "inputs", "outputs", "b", "q")}
-    summary = {"network": network, "table": table, "long_steps": long_steps,
+    summary = {"network": network, "seed": seed, "table": table, "long_steps": long_steps,
                "runs": {k: v["summary"] for k, v in runs.items()}}  # fmt: skip
     return Result(name, summary, arrays)
 
