@@ -70,8 +70,8 @@ def outcome_table(seeds: int, *, first_seed: int = 0, variants: dict | None = No
     for row in table.values():
         for cell in row.values():
             cell["median_direction_switches"] = float(np.median(cell.pop("switches")))
-    return {"seeds": seeds, "first_seed": first_seed, "steps": TRAP_STEPS, "variants": {k: {"arena": a, "options": o} for k, (a, o) in
-            variants.items()}, "counts": table,
+    described = {k: {"arena": a, "options": o} for k, (a, o) in variants.items()}
+    return {"seeds": seeds, "first_seed": first_seed, "steps": TRAP_STEPS, "variants": described, "counts": table,
             "rule": "escaped: the trunk centre reached the exit region behind the trap's mouth within the steps; "
                     "trapped: the last 3000 steps stayed within a disc of radius 0.5 m"}  # fmt: skip
 
