@@ -168,7 +168,7 @@ def _view(args: argparse.Namespace) -> int:
         body.apply(ctrl.act(body.observe()))
         body.advance()
 
-    view(body.model, body.data, step)
+    view(body.model, body.data, step, control_hz=body.control_hz)
     return 0
 
 

@@ -78,14 +78,14 @@ def render_video(model: object, qpos: np.ndarray, path: str | Path, *, fps: floa
     return path
 
 
-def view(model: object, data: object, step: object) -> None:
-    """Open MuJoCo's passive viewer and call ``step()`` (one control step) until the window closes."""
+def view(model: object, data: object, step: object, control_hz: float = 10.0) -> None:
+    """Open MuJoCo's passive viewer and call ``step()`` (one control step) in real time until it closes."""
     import time
 
     import mujoco.viewer
 
     with mujoco.viewer.launch_passive(model, data) as v:
-        period = 1.0 / 10.0
+        period = 1.0 / control_hz
         while v.is_running():
             t0 = time.perf_counter()
             step()

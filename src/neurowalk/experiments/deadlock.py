@@ -15,6 +15,7 @@ import numpy as np
 
 from neurowalk import metrics
 from neurowalk.arenas import arena_options
+from neurowalk.experiments import Result
 from neurowalk.runners.local import run_many
 from neurowalk.sim.episode import Episode, EpisodeConfig
 
@@ -85,3 +86,17 @@ def example_and_long_runs(network: str, long_runs: dict[str, dict[str, Any]], lo
     runs.update({k: EpisodeConfig(steps=long_steps, seed=seed, **v) for k, v in long_runs.items()})
     out = run_many(list(runs.values()), workers=workers, progress=progress, keep=keep_traces, desc="example runs")
     return dict(zip(runs, out, strict=True))
+
+
+def build(name: str, network: str, long_runs: dict, *, quick: bool, seed: int, seeds: int | None) -> Result:
+    """Shared by Fig. 3 and Fig. 5: outcome table, example runs, long runs."""
+    n_seeds = seeds if seeds is not None else (3 if quick else 10)
+    if n_seeds < 1:
+        raise ValueError(f"seeds must be >= 1, got {n_seeds}")
+    long_steps = 10000 if quick else 30000
+    table = outcome_table(n_seeds, first_seed=seed)
+    runs = example_and_long_runs(network, long_runs, long_steps, seed=seed)
+    arrays = {f"{k}/{field}": v[field] for k, v in runs.items() for field in ("pose", "inputs", "outputs", "b", "q")}
+    summary = {"network": network, "seed": seed, "table": table, "long_steps": long_steps,
+               "runs": {k: v["summary"] for k, v in runs.items()}}  # fmt: skip
+    return Result(name, summary, arrays)

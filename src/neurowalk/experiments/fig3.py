@@ -12,7 +12,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from neurowalk.experiments import Result, register
-from neurowalk.experiments.deadlock import example_and_long_runs, outcome_table
+from neurowalk.experiments.deadlock import build
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -21,20 +21,6 @@ NAME = "fig3"
 NETWORK = "static"
 LONG = {"cluttered (static)": {"arena": "cluttered", "controller": "static"},
         "difficult (static)": {"arena": "difficult", "controller": "static"}}  # fmt: skip
-
-
-def build(name: str, network: str, long_runs: dict, *, quick: bool, seed: int, seeds: int | None) -> Result:
-    """Shared by Fig. 3 and Fig. 5: outcome table, example runs, long runs."""
-    n_seeds = seeds if seeds is not None else (3 if quick else 10)
-    if n_seeds < 1:
-        raise ValueError(f"seeds must be >= 1, got {n_seeds}")
-    long_steps = 10000 if quick else 30000
-    table = outcome_table(n_seeds, first_seed=seed)
-    runs = example_and_long_runs(network, long_runs, long_steps, seed=seed)
-    arrays = {f"{k}/{field}": v[field] for k, v in runs.items() for field in ("pose", "inputs", "outputs", "b", "q")}
-    summary = {"network": network, "seed": seed, "table": table, "long_steps": long_steps,
-               "runs": {k: v["summary"] for k, v in runs.items()}}  # fmt: skip
-    return Result(name, summary, arrays)
 
 
 @register(NAME, "static network: dead ends, hysteresis, cluttered and difficult arenas")

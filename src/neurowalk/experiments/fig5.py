@@ -14,7 +14,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from neurowalk.experiments import Result, register
-from neurowalk.experiments.fig3 import build
+from neurowalk.experiments.deadlock import build
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -106,11 +106,12 @@ def initial_weights(
 
 
 def _pair(name: str, value: object) -> np.ndarray:
-    arr = np.broadcast_to(np.asarray(value, dtype=float), (2,)).copy() if np.ndim(value) == 0 else None
-    if arr is None:
-        arr = np.asarray(value, dtype=float)
-        if arr.shape != (2,):
-            raise ValueError(f"{name} must be a number or have shape (2,), got shape {arr.shape}")
+    """``value`` (a number or two) as a (2,) float array; raises ValueError naming ``name``."""
+    arr = np.asarray(value, dtype=float)
+    if arr.ndim == 0:
+        arr = np.full(2, float(arr))
+    if arr.shape != (2,):
+        raise ValueError(f"{name} must be a number or have shape (2,), got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} must be finite, got {arr.tolist()}")
     return arr
