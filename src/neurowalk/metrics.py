@@ -35,6 +35,23 @@ def trapped(pose: np.ndarray, *, window: int = 3000, radius: float = 0.5) -> boo
     return bool(np.max(np.linalg.norm(tail - tail.mean(axis=0), axis=1)) <= radius)
 
 
+def ever_trapped(pose: np.ndarray, *, window: int = 3000, radius: float = 0.5, stride: int = 100) -> bool:
+    """True if any ``window`` steps (starting every ``stride`` steps) stayed within ``radius`` m of their mean.
+
+    :func:`trapped` asks this of the last window only; a robot that got stuck for ``window`` steps and
+    then got out counts here.
+    """
+    xy = pose[:, :2]
+    starts = list(range(0, xy.shape[0] - window + 1, stride))
+    if xy.shape[0] >= window and starts[-1] != xy.shape[0] - window:
+        starts.append(xy.shape[0] - window)
+    for s in starts:
+        seg = xy[s : s + window]
+        if np.max(np.sum((seg - seg.mean(axis=0)) ** 2, axis=1)) <= radius * radius:
+            return True
+    return False
+
+
 def coverage(pose: np.ndarray, arena: ArenaSpec, cell: float = 0.25) -> float | None:
     """Fraction of the arena's free ``cell``-sized cells the trunk centre visited (None if unbounded)."""
     if arena.bounds is None:

@@ -280,6 +280,11 @@ class SensoryNetwork:
         return self.state[0], self.state[1]
 
     @property
+    def packed_params(self) -> np.ndarray:
+        """The params array of :func:`sensory_step` (for compiled loops that step :attr:`state` in place)."""
+        return self._p
+
+    @property
     def b(self) -> np.ndarray:
         """(2,) current self weights."""
         return self.state[4:6].copy()

@@ -1,0 +1,211 @@
+"""The planar surrogate of AMOSII: pose (x, y, yaw), the same two ultrasonic rays, the same sensory network.
+
+The legs are not simulated. Each control step the steering (O1, O2) is turned into a body velocity
+(forward m/s, lateral m/s, yaw rate rad/s) by bilinear look-up in a table measured on the physics
+robot (``neurowalk calibrate``, stored in ``body/data/calibration.json``), delayed and low-passed by
+the measured response lag, and integrated; the footprint (circles for trunk and legs, measured from
+the MJCF) is pushed out of every box it would enter, so the body slides along walls and never passes
+through them. Box heights are ignored: every box is a wall to the surrogate.
+
+The surrogate reads only that data file; :mod:`neurowalk.body.calibration` measures and writes it.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass, field
+from functools import cache
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from neurowalk.arenas.spec import ArenaSpec
+from neurowalk.body import surrogate_kernel as kern
+
+CALIBRATION_FILE = Path(__file__).with_name("data") / "calibration.json"
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """What the surrogate knows of the physics robot.
+
+    Attributes:
+        grid: (g,) steering values at which the velocity was measured (same for O1 and O2).
+        velocity: (g, g, 3) body velocity at steering (grid[i], grid[j]) = (O1, O2): forward m/s, lateral
+            m/s (left +), yaw rate rad/s (left +), steady state over whole gait cycles.
+        tau_s: first-order lag of the velocity after a steering change (s).
+        delay_steps: pure delay of the response (control steps).
+        startup_steps: control steps after reset before the legs move the body.
+        control_hz: control rate of the measurement (Hz).
+        circles: (k, 3) footprint circles (x, y, r) in the trunk frame (m).
+        rays: (2, 4) ultrasonic rays (left, right): origin x, y and unit direction in the trunk frame.
+        us_range: ultrasonic range (m).
+        meta: how it was measured (command, version, seeds, steps, validation errors).
+    """
+
+    grid: np.ndarray
+    velocity: np.ndarray
+    tau_s: float
+    delay_steps: int
+    startup_steps: int
+    control_hz: float
+    circles: np.ndarray
+    rays: np.ndarray
+    us_range: float
+    meta: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        g = len(self.grid)
+        if g < 2 or np.any(np.diff(self.grid) <= 0):
+            raise ValueError("calibration grid must be increasing with at least 2 values")
+        if self.velocity.shape != (g, g, 3):
+            raise ValueError(f"calibration velocity must have shape ({g}, {g}, 3), got {self.velocity.shape}")
+        if self.tau_s < 0 or self.delay_steps < 0 or self.startup_steps < 0:
+            raise ValueError("calibration lag, delay and startup must be >= 0")
+
+    def alpha(self) -> float:
+        """Low-pass gain per control step for the lag ``tau_s``."""
+        return 1.0 if self.tau_s <= 0 else 1.0 - math.exp(-1.0 / (self.control_hz * self.tau_s))
+
+    def to_json(self) -> dict[str, Any]:
+        """Plain-JSON form (what ``calibration.json`` holds)."""
+        return {
+            "grid": self.grid.tolist(),
+            "velocity": self.velocity.tolist(),
+            "velocity_units": ["m/s forward", "m/s left", "rad/s left"],
+            "tau_s": self.tau_s,
+            "delay_steps": self.delay_steps,
+            "startup_steps": self.startup_steps,
+            "control_hz": self.control_hz,
+            "circles": self.circles.tolist(),
+            "rays": self.rays.tolist(),
+            "us_range": self.us_range,
+            "meta": self.meta,
+        }
+
+    @classmethod
+    def from_json(cls, d: dict[str, Any]) -> Calibration:
+        """Inverse of :meth:`to_json`."""
+        return cls(
+            grid=np.asarray(d["grid"], float),
+            velocity=np.asarray(d["velocity"], float),
+            tau_s=float(d["tau_s"]),
+            delay_steps=int(d["delay_steps"]),
+            startup_steps=int(d["startup_steps"]),
+            control_hz=float(d["control_hz"]),
+            circles=np.asarray(d["circles"], float).reshape(-1, 3),
+            rays=np.asarray(d["rays"], float).reshape(2, 4),
+            us_range=float(d["us_range"]),
+            meta=dict(d.get("meta", {})),
+        )
+
+
+def load_calibration(path: str | Path | None = None) -> Calibration:
+    """Read a calibration file (default: the one shipped in the package)."""
+    if path is None:
+        return _shipped()
+    p = Path(path)
+    try:
+        return Calibration.from_json(json.loads(p.read_text()))
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        raise ValueError(f"cannot read calibration file {p}: {e}") from e
+
+
+@cache
+def _shipped() -> Calibration:
+    return load_calibration(CALIBRATION_FILE)
+
+
+def box_rows(arena: ArenaSpec) -> np.ndarray:
+    """The arena's boxes as kernel rows (m, 6): cx, cy, cos(yaw), sin(yaw), half x, half y."""
+    rows = [(b.x, b.y, math.cos(b.yaw), math.sin(b.yaw), b.sx / 2, b.sy / 2) for b in arena.boxes]
+    return np.asarray(rows, dtype=float).reshape(-1, 6)
+
+
+@dataclass
+class SurrogateRun:
+    """Arrays of one surrogate run, row k after control step k (see :class:`~neurowalk.sim.trajectory.Trajectory`).
+
+    pose (T, 3), inputs (T, 2), outputs (T, 2), weights (T, 4) b1 b2 q1 q2, us (T, 2) m, ``contacts`` the
+    number of collision overlaps resolved.
+    """
+
+    pose: np.ndarray
+    inputs: np.ndarray
+    outputs: np.ndarray
+    weights: np.ndarray
+    us: np.ndarray
+    contacts: int = 0
+    done: int = 0
+
+
+def empty_run(steps: int) -> SurrogateRun:
+    """NaN-filled arrays for ``steps`` rows."""
+    return SurrogateRun(*(np.full((steps, n), np.nan) for n in (3, 2, 2, 4, 2)))
+
+
+class Surrogate:
+    """One surrogate robot in an arena, stepped in compiled chunks.
+
+    Args:
+        arena: where it walks (boxes are walls; heights are ignored).
+        calibration: the measured motion model (default: the shipped file).
+        noise: strength of the coloured ultrasonic noise (as the physics body).
+    """
+
+    name = "surrogate"
+
+    def __init__(self, arena: ArenaSpec, calibration: Calibration | None = None, *, noise: float = 0.02,
+                 noise_tau: float = 0.05) -> None:  # fmt: skip
+        if noise < 0 or not 0 < noise_tau <= 1:
+            raise ValueError(f"noise needs strength >= 0 and 0 < tau <= 1, got {noise}, {noise_tau}")
+        self.arena = arena
+        self.cal = calibration or load_calibration()
+        self.control_hz = self.cal.control_hz
+        self.noise, self.noise_tau = noise, noise_tau
+        self._boxes = box_rows(arena)
+
+    def run(self, steps: int, rng: np.random.Generator, sens_state: np.ndarray | None, sens_p: np.ndarray | None,
+            steer: tuple[float, float] | None = None, chunk: int | None = None, on_chunk: Any = None,
+            out: SurrogateRun | None = None) -> SurrogateRun:  # fmt: skip
+        """Run ``steps`` control steps from the arena's start pose.
+
+        Args:
+            steps: control steps.
+            rng: the body's Generator (ultrasonic noise).
+            sens_state, sens_p: the sensory network's (8,) state (advanced in place) and params array;
+                ``None`` with ``steer`` for constant steering.
+            steer: constant (O1, O2) instead of the network.
+            chunk, on_chunk: if given, ``on_chunk(stop)`` is called after every ``chunk`` steps.
+            out: arrays to write into (default: new ones, see :func:`empty_run`).
+
+        A KeyboardInterrupt stops the run between chunks; ``done`` tells how many rows are complete.
+        """
+        cal = self.cal
+        fixed = steer is not None
+        if fixed:
+            sens_state, sens_p = np.zeros(8), np.zeros(10)
+        state = np.zeros(kern.RUN_STATE)
+        state[kern.X], state[kern.Y], state[kern.YAW] = self.arena.start
+        ring = np.zeros((cal.delay_steps + 1, 3))
+        noise_u = rng.uniform(-1.0, 1.0, size=(steps, 2))
+        out = out if out is not None else empty_run(steps)
+        st = np.asarray(steer if fixed else (0.0, 0.0), dtype=float)
+        size = chunk or steps
+        try:
+            for k0 in range(0, steps, size):
+                k1 = min(steps, k0 + size)
+                out.contacts += kern.rollout(
+                    k0, k1, state, ring, sens_state, sens_p, fixed, st, self._boxes, cal.circles, cal.rays,
+                    cal.us_range, cal.grid, cal.velocity, cal.alpha(), cal.startup_steps, 1.0 / cal.control_hz,
+                    noise_u, math.sqrt(self.noise_tau) * self.noise, self.noise_tau,
+                    out.pose, out.inputs, out.outputs, out.weights, out.us,
+                )  # fmt: skip
+                out.done = k1
+                if on_chunk is not None:
+                    on_chunk(k1)
+        except KeyboardInterrupt:
+            pass
+        return out

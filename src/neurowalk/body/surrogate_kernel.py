@@ -1,0 +1,194 @@
+"""Compiled hot loop of the planar surrogate: rays, sensory network, calibrated motion, collisions.
+
+Everything here is plain arrays and numba; :mod:`neurowalk.body.surrogate` holds the Python side.
+Geometry (m, rad): a box row is ``(cx, cy, cos(yaw), sin(yaw), half_x, half_y)``; the footprint is a
+set of circles ``(x, y, r)`` in the trunk frame (x forward, y left); each ultrasonic ray is an origin
+``(x, y)`` and a unit direction in the trunk frame.
+
+Run state (one row, float64): ``x, y, yaw, vx, vy, w, n1, n2`` (pose, lagged body-frame velocity m/s,
+m/s, rad/s, ultrasonic noise); the command delay line is a separate ``(delay + 1, 3)`` ring.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from neurowalk.neural.sensory import US_NEAR_M, US_RANGE_M, sensory_step
+
+X, Y, YAW, VX, VY, W, N1, N2 = range(8)
+RUN_STATE = 8
+PUSH_PASSES = 3  # collision resolution passes per step
+
+
+@njit(cache=True)
+def ray_boxes(ox: float, oy: float, dx: float, dy: float, boxes: np.ndarray, max_range: float) -> float:
+    """Distance (m) along the unit ray (o, d) to the nearest box, ``inf`` if none within ``max_range``."""
+    best = math.inf
+    for i in range(boxes.shape[0]):
+        cx, cy, c, s, hx, hy = boxes[i, 0], boxes[i, 1], boxes[i, 2], boxes[i, 3], boxes[i, 4], boxes[i, 5]
+        rx, ry = ox - cx, oy - cy
+        if rx * rx + ry * ry > (max_range + hx + hy) ** 2:
+            continue
+        px, py = c * rx + s * ry, -s * rx + c * ry
+        ux, uy = c * dx + s * dy, -s * dx + c * dy
+        t0, t1 = -math.inf, math.inf
+        hit = True
+        for p, u, h in ((px, ux, hx), (py, uy, hy)):
+            if abs(u) < 1e-12:
+                if abs(p) > h:
+                    hit = False
+            else:
+                a, b = (-h - p) / u, (h - p) / u
+                if a > b:
+                    a, b = b, a
+                t0, t1 = max(t0, a), min(t1, b)
+        if hit and t0 <= t1 and t1 >= 0.0:
+            t = max(t0, 0.0)
+            if t < best:
+                best = t
+    return best if best <= max_range else math.inf
+
+
+@njit(cache=True)
+def push_out(state: np.ndarray, circles: np.ndarray, boxes: np.ndarray, reach: float) -> int:
+    """Translate the body out of every box it overlaps (``PUSH_PASSES`` passes); returns the overlaps seen."""
+    hits = 0
+    for _ in range(PUSH_PASSES):
+        moved = False
+        c, s = math.cos(state[YAW]), math.sin(state[YAW])
+        for i in range(boxes.shape[0]):
+            cx, cy, bc, bs, hx, hy = boxes[i, 0], boxes[i, 1], boxes[i, 2], boxes[i, 3], boxes[i, 4], boxes[i, 5]
+            if (state[X] - cx) ** 2 + (state[Y] - cy) ** 2 > (reach + hx + hy) ** 2:
+                continue
+            for j in range(circles.shape[0]):
+                wx = state[X] + c * circles[j, 0] - s * circles[j, 1] - cx
+                wy = state[Y] + s * circles[j, 0] + c * circles[j, 1] - cy
+                r = circles[j, 2]
+                px, py = bc * wx + bs * wy, -bs * wx + bc * wy  # circle centre in the box frame
+                qx, qy = min(max(px, -hx), hx), min(max(py, -hy), hy)
+                ex, ey = px - qx, py - qy
+                d2 = ex * ex + ey * ey
+                if d2 >= r * r:
+                    continue
+                if d2 > 0.0:
+                    d = math.sqrt(d2)
+                    mx, my = ex / d * (r - d), ey / d * (r - d)
+                elif hx - abs(px) < hy - abs(py):  # centre inside: leave by the nearest face
+                    mx, my = math.copysign(hx - abs(px) + r, px), 0.0
+                else:
+                    mx, my = 0.0, math.copysign(hy - abs(py) + r, py)
+                state[X] += bc * mx - bs * my
+                state[Y] += bs * mx + bc * my
+                hits += 1
+                moved = True
+        if not moved:
+            break
+    return hits
+
+
+@njit(cache=True)
+def velocity_command(grid: np.ndarray, table: np.ndarray, o1: float, o2: float, out: np.ndarray) -> None:
+    """Bilinear look-up of the calibrated body velocity (vx, vy, w) at steering (o1, o2) into ``out`` (3,)."""
+    g = grid.shape[0]
+    a = min(max(o1, grid[0]), grid[g - 1])
+    b = min(max(o2, grid[0]), grid[g - 1])
+    i = 0
+    while i < g - 2 and a > grid[i + 1]:
+        i += 1
+    j = 0
+    while j < g - 2 and b > grid[j + 1]:
+        j += 1
+    fa = (a - grid[i]) / (grid[i + 1] - grid[i])
+    fb = (b - grid[j]) / (grid[j + 1] - grid[j])
+    for k in range(3):
+        lo = table[i, j, k] * (1.0 - fb) + table[i, j + 1, k] * fb
+        hi = table[i + 1, j, k] * (1.0 - fb) + table[i + 1, j + 1, k] * fb
+        out[k] = lo * (1.0 - fa) + hi * fa
+
+
+@njit(cache=True)
+def _input(distance: float) -> float:
+    if not (distance >= 0.0) or math.isinf(distance):
+        return -1.0
+    x = 1.0 - 2.0 * (distance - US_NEAR_M) / (US_RANGE_M - US_NEAR_M)
+    return min(1.0, max(-1.0, x))
+
+
+@njit(cache=True)
+def move(state: np.ndarray, ring: np.ndarray, k: int, cmd: np.ndarray, alpha: float, dt: float) -> None:
+    """Delay the command through ``ring``, low-pass it into the velocity (gain ``alpha``), integrate the pose."""
+    slot = k % ring.shape[0]
+    for m in range(3):
+        ring[slot, m] = cmd[m]
+    old = ring[(k + 1) % ring.shape[0]]  # the command of ``delay`` steps ago (zeros at first)
+    for m in range(3):
+        state[VX + m] += alpha * (old[m] - state[VX + m])
+    mid = state[YAW] + 0.5 * state[W] * dt
+    c, s = math.cos(mid), math.sin(mid)
+    state[X] += (c * state[VX] - s * state[VY]) * dt
+    state[Y] += (s * state[VX] + c * state[VY]) * dt
+    yaw = state[YAW] + state[W] * dt
+    state[YAW] = math.atan2(math.sin(yaw), math.cos(yaw))
+
+
+@njit(cache=True)
+def rollout(
+    k0: int, k1: int, state: np.ndarray, ring: np.ndarray, sens: np.ndarray, sens_p: np.ndarray,
+    fixed: bool, steer: np.ndarray, boxes: np.ndarray, circles: np.ndarray, rays: np.ndarray,
+    us_range: float, grid: np.ndarray, table: np.ndarray, alpha: float, startup: int, dt: float,
+    noise_u: np.ndarray, noise_gain: float, noise_tau: float,
+    out_pose: np.ndarray, out_in: np.ndarray, out_out: np.ndarray, out_w: np.ndarray, out_us: np.ndarray,
+) -> int:  # fmt: skip
+    """Control steps k0..k1-1 of one run, in place; row k of the outputs is after step k.
+
+    Args:
+        state: (8,) run state; ring: (delay + 1, 3) command delay line; sens: (8,) sensory network state
+            (``sensory_step`` layout); sens_p: its params; fixed/steer: constant steering (2,) instead.
+        boxes: (m, 6) obstacles; circles: (k, 3) footprint; rays: (2, 4) ultrasonic origin and direction
+            (left, right); grid (g,), table (g, g, 3): calibrated velocity; alpha: lag gain per step;
+            startup: steps before the legs move; dt: control period (s).
+        noise_u: (steps, 2) uniform(-1, 1) draws of the coloured ultrasonic noise.
+        out_pose (steps, 3), out_in (steps, 2), out_out (steps, 2), out_w (steps, 4) b1 b2 q1 q2,
+            out_us (steps, 2) distances as the network saw them (m, inf = no echo).
+
+    Returns:
+        The number of collision overlaps resolved.
+    """
+    reach = 0.0
+    for j in range(circles.shape[0]):
+        reach = max(reach, math.hypot(circles[j, 0], circles[j, 1]) + circles[j, 2])
+    cmd = np.zeros(3)
+    inp = np.zeros(2)
+    hits = 0
+    for k in range(k0, k1):
+        c, s = math.cos(state[YAW]), math.sin(state[YAW])
+        for r in range(2):
+            ox = state[X] + c * rays[r, 0] - s * rays[r, 1]
+            oy = state[Y] + s * rays[r, 0] + c * rays[r, 1]
+            d = ray_boxes(ox, oy, c * rays[r, 2] - s * rays[r, 3], s * rays[r, 2] + c * rays[r, 3], boxes, us_range)
+            state[N1 + r] += noise_gain * noise_u[k, r] - noise_tau * state[N1 + r]
+            u = max(0.0, 1.0 - d / us_range) + state[N1 + r]
+            seen = us_range * (1.0 - u) if u > 0.0 else math.inf
+            out_us[k, r] = seen
+            inp[r] = _input(seen)
+        if fixed:
+            o1, o2 = steer[0], steer[1]
+            inp[0], inp[1] = -1.0, -1.0
+        else:
+            sensory_step(sens, inp[0], inp[1], sens_p)
+            o1, o2 = sens[0], sens[1]
+        if k < startup:
+            cmd[:] = 0.0
+        else:
+            velocity_command(grid, table, o1, o2, cmd)
+        move(state, ring, k, cmd, alpha, dt)
+        hits += push_out(state, circles, boxes, reach)
+        out_pose[k, 0], out_pose[k, 1], out_pose[k, 2] = state[X], state[Y], state[YAW]
+        out_in[k, 0], out_in[k, 1] = inp[0], inp[1]
+        out_out[k, 0], out_out[k, 1] = o1, o2
+        for m in range(4):
+            out_w[k, m] = sens[4 + m]
+    return hits
