@@ -51,7 +51,28 @@ def _parser() -> argparse.ArgumentParser:
     e.add_argument("--out", type=Path, required=True, help="MJCF file to write")
     e.add_argument("--arena", default="open", help="arena to include (default open)")
     e.add_argument("--arena-opt", action="append", default=[], metavar="KEY=VALUE", help="arena option")
+    _sweep_parser(sub)
     return p
+
+
+def _sweep_parser(sub: argparse._SubParsersAction) -> None:
+    s = sub.add_parser("sweep", help="many runs (a grid, or specs from a file), resumable, into DIR/results.sqlite")
+    s.add_argument("--arena", default=None, metavar="NAME[,NAME...]", help="arenas (default open)")
+    s.add_argument("--controller", default=None, metavar="NAME[,NAME...]", help="controllers (default plastic)")
+    s.add_argument("--body", default=None, metavar="NAME[,NAME...]", help="bodies (default amosii)")
+    s.add_argument("--seeds", type=int, default=None, help="seeds per condition (default 1)")
+    s.add_argument("--seed-start", type=int, default=None, help="first seed (default 0): seeds S, S+1, ...")
+    s.add_argument("--steps", type=int, default=None, help="control steps per run (default 1000)")
+    s.add_argument("--arena-opt", action="append", default=[], metavar="KEY=V1[,V2...]",
+                   help="arena option; a comma list adds a grid axis (repeatable)")  # fmt: skip
+    s.add_argument("--specs", type=Path, default=None, metavar="FILE.jsonl",
+                   help="one run spec (JSON object of EpisodeConfig fields) per line, instead of the grid")  # fmt: skip
+    s.add_argument("--backend", choices=("local", "ray"), default="local", help="local process pool or Ray")
+    s.add_argument("--address", default=None, help="Ray cluster to join (backend ray; default: a local instance)")
+    s.add_argument("--workers", type=int, default=2, help="processes, or CPUs of a local Ray instance (default 2)")
+    s.add_argument("--out", type=Path, required=True, help="output folder (the store; resumes what is there)")
+    s.add_argument("--export", choices=("parquet", "csv"), default=None, help="also write DIR/results.parquet|csv")
+    s.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def _episode_args(p: argparse.ArgumentParser) -> None:
@@ -234,6 +255,102 @@ def _figure(args: argparse.Namespace) -> int:
     return 0
 
 
+_GRID_FLAGS = ("arena", "controller", "body", "seeds", "seed_start", "steps", "arena_opt")
+
+
+def _sweep_specs(args: argparse.Namespace) -> list[dict]:
+    """The run specs of `neurowalk sweep`: from --specs, or the grid of the other options."""
+    from neurowalk.runners.specs import grid, read_jsonl
+
+    if args.specs is not None:
+        given = [f"--{f.replace('_', '-')}" for f in _GRID_FLAGS if getattr(args, f) not in (None, [])]
+        if given:
+            raise UsageError(f"--specs replaces the grid options; drop {', '.join(given)}")
+        try:
+            specs = read_jsonl(args.specs)
+        except ValueError as e:
+            raise UsageError(str(e)) from None
+        if not specs:
+            raise UsageError(f"no run specs in {str(args.specs)!r}")
+        return specs
+    seeds, start = args.seeds if args.seeds is not None else 1, args.seed_start or 0
+    if seeds < 1:
+        raise UsageError(f"--seeds must be >= 1, got {seeds}")
+    if start < 0:
+        raise UsageError(f"--seed-start must be >= 0, got {start}")
+    axes: dict[str, list] = {}
+    for flag, default in (("arena", "open"), ("controller", "plastic"), ("body", "amosii")):
+        text = getattr(args, flag) or default
+        axes[flag] = [v.strip() for v in text.split(",")]
+        if not all(axes[flag]):
+            raise UsageError(f"--{flag} expects NAME[,NAME...], got {text!r}")
+    for key, values in _arena_opts(args.arena_opt).items():
+        axes[f"arena_opts.{key}"] = values.split(",")
+    axes["seed"] = list(range(start, start + seeds))
+    return grid({} if args.steps is None else {"steps": args.steps}, **axes)
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    import importlib.util
+
+    from neurowalk.fileio import write_json
+    from neurowalk.runners import ray_backend
+    from neurowalk.runners.specs import check_specs
+    from neurowalk.runners.store import ResultStore, StoreError
+    from neurowalk.runners.sweep import run_sweep
+
+    if args.workers < 1:
+        raise UsageError(f"--workers must be >= 1, got {args.workers}")
+    if args.address and args.backend != "ray":
+        raise UsageError(f"--address {args.address!r} goes with --backend ray")
+    specs = _sweep_specs(args)
+    try:
+        check_specs(specs)  # every bad name or value exits here, before any work
+        if args.backend == "ray":
+            ray_backend.import_ray()  # a missing ray is bad input; a broken ray install raises as it is
+    except (ValueError, ray_backend.RayMissingError) as e:
+        raise UsageError(str(e)) from None
+    if args.export == "parquet" and importlib.util.find_spec("pyarrow") is None:
+        raise UsageError("--export parquet needs `pip install neurowalk[parquet]`")
+    out: Path = args.out
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise UsageError(f"cannot make the output folder {str(out)!r}: {e.strerror}") from None
+    settings = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items() if k != "command"}
+    info: dict = {"command": "sweep", "settings": settings, "finished": False}
+    try:
+        store = ResultStore(out / "results.sqlite")
+    except StoreError as e:
+        raise UsageError(str(e)) from None
+    with store:
+        write_json(out / "sweep.json", info)
+        try:
+            report = run_sweep(specs, store, backend=args.backend, workers=args.workers, address=args.address,
+                               progress=not args.quiet)  # fmt: skip
+        except ray_backend.RayStartError as e:
+            raise UsageError(str(e)) from None
+        written = [out / "results.sqlite", out / "sweep.json"]
+        if args.export and not report.interrupted:
+            written.append(store.export(out / f"results.{args.export}", args.export))
+        failures = [{"key": f.key, "spec": f.spec, "error": f.error} for f in report.failures]
+        info.update(finished=not report.interrupted, counts=report.counts(), store=store.counts(), failures=failures)
+        write_json(out / "sweep.json", info)
+    for f in report.failures[:50]:
+        print(f"neurowalk: run failed: {f.line()}", file=sys.stderr)
+    if len(report.failures) > 50:
+        print(f"neurowalk: ... and {len(report.failures) - 50} more failed runs (all in {out / 'sweep.json'})",
+              file=sys.stderr)  # fmt: skip
+    r = report
+    print(f"sweep: {r.unique} runs: {r.skipped} already done, {r.ok} ok, {r.error} failed, in {r.wall_time_s:.1f} s; "
+          f"wrote {', '.join(str(p) for p in written)}")  # fmt: skip
+    if r.interrupted:
+        print(f"neurowalk: sweep interrupted; the finished runs are in {out / 'results.sqlite'}: run the same command "
+              "again to resume", file=sys.stderr)  # fmt: skip
+        return 130
+    return 1 if r.error else 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``neurowalk`` command; returns the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -245,6 +362,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         args = _parser().parse_args(argv)
         commands = {"figure": _figure, "run": _run, "view": _view, "arenas": _arenas, "export-model": _export}
+        commands["sweep"] = _sweep
         return commands[args.command](args)
     except UsageError as e:
         print(f"neurowalk: error: {e}", file=sys.stderr)

@@ -1,12 +1,103 @@
-"""Run many episodes on a local process pool, with a progress bar; results in input order."""
+"""Run many jobs on a local process pool: results as they finish, a crashed worker costs only its own job.
+
+:func:`run_unordered` is the engine (the sweep stores each result as it arrives); :func:`run_many` keeps the
+simple form the experiments use (episode configs in, results in input order).
+"""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
-from concurrent.futures import ProcessPoolExecutor
+import time
+from collections import deque
+from collections.abc import Callable, Generator, Sequence
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass
 from typing import Any
 
 from neurowalk.sim.episode import Episode, EpisodeConfig, run_episode
+
+
+class WorkerDiedError(RuntimeError):
+    """The process running a job died (killed, segfault, ``os._exit``) before returning."""
+
+
+@dataclass
+class Done:
+    """One finished job: ``value`` or ``error`` (the exception it raised, or a WorkerDiedError)."""
+
+    index: int  # position of the job in the input
+    value: Any = None
+    error: BaseException | None = None
+    wall_time_s: float | None = None  # time the job took on its worker, s (None if the worker died)
+
+
+def call_timed(fn: Callable[[Any], Any], item: Any) -> tuple[Any, BaseException | None, float]:
+    """``fn(item)`` with the exception it raises caught: (value, error, wall time in s). Runs on the worker."""
+    t0 = time.perf_counter()
+    try:
+        value, error = fn(item), None
+    except Exception as e:
+        value, error = None, e
+    return value, error, time.perf_counter() - t0
+
+
+def run_unordered(fn: Callable[[Any], Any], items: Sequence[Any], *, workers: int = 2) -> Generator[Done, None, None]:
+    """Yield a :class:`Done` for every ``fn(item)`` as it finishes (in finishing order).
+
+    Args:
+        fn: a module-level function (pickled by reference into the workers).
+        items: its arguments, one per job.
+        workers: processes; 1 runs the jobs here, one after the other (so a crash would end this process).
+
+    A job that raises gives a Done with that exception. A worker that dies breaks the pool: the jobs it may have
+    taken down are rerun one at a time in a fresh single-worker pool, so only the job that kills its worker again
+    is reported (as :class:`WorkerDiedError`); then the sweep goes on with a new pool.
+    """
+    if workers < 1:
+        raise ValueError(f"workers must be >= 1, got {workers}")
+    if workers == 1:
+        for i, item in enumerate(items):
+            yield Done(i, *call_timed(fn, item))
+        return
+    todo = deque(range(len(items)))
+    while todo:
+        suspects = yield from _pool_pass(fn, items, todo, workers)
+        for i in suspects:  # alone in its own pool, a second death names the job
+            if (yield from _pool_pass(fn, items, deque([i]), 1)):
+                yield Done(i, error=WorkerDiedError("the worker process died while running this job"))
+
+
+def _pool_pass(fn: Callable[[Any], Any], items: Sequence[Any], todo: deque[int], workers: int
+               ) -> Generator[Done, None, list[int]]:  # fmt: skip
+    """Run jobs from ``todo`` on a new pool until it is empty or the pool breaks; return the jobs lost in a break.
+
+    At most ``2 * workers`` jobs are in flight, so a break loses few and results stream back as they finish.
+    """
+    pool = ProcessPoolExecutor(max_workers=workers)
+    running: dict[Future, int] = {}
+    lost: list[int] = []
+    try:
+        while todo or running:
+            while todo and len(running) < 2 * workers and not lost:
+                i = todo.popleft()
+                running[pool.submit(call_timed, fn, items[i])] = i
+            if not running:
+                break
+            finished, _ = wait(running, return_when=FIRST_COMPLETED)
+            for fut in finished:
+                i = running.pop(fut)
+                try:
+                    value, error, wall = fut.result()
+                except BrokenProcessPool:
+                    lost.append(i)
+                    continue
+                except Exception as e:  # e.g. a result that cannot be pickled
+                    value, error, wall = None, e, None
+                yield Done(i, value, error, wall)
+        return sorted(lost)
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+        todo.extendleft(reversed([i for i in running.values() if i not in lost]))  # on early exit keep the rest
 
 
 def summary_only(ep: Episode) -> dict[str, Any]:
@@ -28,22 +119,24 @@ def run_many(configs: Sequence[EpisodeConfig], *, workers: int = 2, progress: bo
         workers: processes (1 runs them here, one after the other).
         progress: show a progress bar with rate and time left.
         keep: what to keep of each episode (a module-level function, so it can be pickled).
+
+    Raises:
+        the first error of a run as soon as it arrives (a worker that died: WorkerDiedError).
     """
     if workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")
     from tqdm import tqdm
 
     jobs = [(c, keep) for c in configs]
+    out: list[Any] = [None] * len(jobs)
     with tqdm(total=len(jobs), unit="run", desc=desc, disable=not progress, mininterval=0.5) as bar:
-        if workers == 1 or len(jobs) <= 1:
-            out = []
-            for job in jobs:
-                out.append(_one(job))
+        results = run_unordered(_one, jobs, workers=1 if len(jobs) <= 1 else workers)
+        try:
+            for d in results:
+                if d.error is not None:
+                    raise d.error
+                out[d.index] = d.value
                 bar.update(1)
-            return out
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            out = []
-            for r in pool.map(_one, jobs):
-                out.append(r)
-                bar.update(1)
-            return out
+        finally:
+            results.close()  # stops the pool at once on an error
+    return out

@@ -1,0 +1,114 @@
+"""Run many jobs on Ray: a local Ray instance, or a cluster joined by address (``--backend ray --address ...``).
+
+``ray`` is imported only here, only when this backend is chosen (it is the optional extra ``neurowalk[ray]``).
+Each job is a Ray task of one CPU; the driver collects results with ``ray.wait`` as they finish, so the sweep
+stores them as they arrive. A job that raises comes back as an error; a task whose worker died (crash,
+``os._exit``, lost node) is reported as :class:`~neurowalk.runners.local.WorkerDiedError` and not retried.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Generator, Sequence
+from typing import Any
+
+from neurowalk.runners.local import Done, WorkerDiedError, call_timed
+
+INSTALL_HINT = "the ray backend needs `pip install neurowalk[ray]`"
+
+
+class RayMissingError(ImportError):
+    """Ray is not installed."""
+
+
+class RayStartError(RuntimeError):
+    """Ray could not be started, or the cluster could not be joined."""
+
+
+def import_ray() -> Any:
+    """``import ray``, or raise :class:`RayMissingError` with the install hint if ray itself is missing.
+
+    Other import errors (a broken ray install) propagate unchanged.
+    """
+    try:
+        import ray
+    except ModuleNotFoundError as e:
+        if e.name != "ray":
+            raise
+        raise RayMissingError(INSTALL_HINT) from None
+    return ray
+
+
+def start(*, workers: int = 2, address: str | None = None) -> bool:
+    """Connect to Ray unless already connected; return True if this call started it (then :func:`stop` it).
+
+    With ``address`` join that cluster (``ray.init(address=...)``), else start a local instance of ``workers``
+    CPUs without dashboard.
+    """
+    ray = import_ray()
+    if ray.is_initialized():
+        return False
+    try:
+        if address:
+            ray.init(address=address)
+        else:
+            ray.init(num_cpus=workers, include_dashboard=False, log_to_driver=False)
+    except (ConnectionError, ValueError, RuntimeError, TimeoutError) as e:
+        where = f"join the Ray cluster at {address!r}" if address else "start a local Ray instance"
+        raise RayStartError(f"cannot {where}: {str(e).strip().splitlines()[0] if str(e).strip() else e!r}") from None
+    return True
+
+
+def stop() -> None:
+    """Shut Ray down (only call it if :func:`start` returned True)."""
+    import_ray().shutdown()
+
+
+def run_unordered(fn: Callable[[Any], Any], items: Sequence[Any], *, workers: int = 2, address: str | None = None
+                  ) -> Generator[Done, None, None]:  # fmt: skip
+    """Yield a :class:`Done` for every ``fn(item)`` as it finishes, computed as Ray tasks.
+
+    Args:
+        fn: a module-level function, importable on the workers.
+        items: its arguments, one per job.
+        workers: CPUs of the local instance (ignored when joining a cluster or when Ray is already running).
+        address: the cluster to join (e.g. ``"auto"`` or ``"10.0.0.1:6379"``); None starts a local instance.
+
+    At most twice the cluster's CPUs are in flight, so results stream back and an interrupt cancels few jobs.
+    """
+    ray = import_ray()
+    started = start(workers=workers, address=address)
+    task = ray.remote(num_cpus=1, max_retries=0)(call_timed)
+    window = 2 * max(1, int(ray.cluster_resources().get("CPU", workers)))
+    fn_ref = ray.put(fn)
+    pending: dict[Any, int] = {}
+    next_i = 0
+    try:
+        while next_i < len(items) or pending:
+            while next_i < len(items) and len(pending) < window:
+                pending[task.remote(fn_ref, items[next_i])] = next_i
+                next_i += 1
+            ready, _ = ray.wait(list(pending), num_returns=1)
+            for ref in ready:
+                yield _collect(ray, ref, pending.pop(ref))
+    finally:
+        for ref in pending:
+            ray.cancel(ref, force=True)
+        if started:
+            stop()
+
+
+def _collect(ray: Any, ref: Any, i: int) -> Done:
+    """The Done of a finished task (its value, its caught exception, or the Ray error that ended it)."""
+    try:
+        value, error, wall = ray.get(ref)
+    except ray.exceptions.RayTaskError as e:  # raised outside fn, e.g. fn could not be unpickled on the worker
+        cause = getattr(e, "cause", None)
+        return Done(i, error=cause if isinstance(cause, Exception) else RuntimeError(_first_line(e)))
+    except ray.exceptions.RayError as e:  # WorkerCrashedError, NodeDiedError, ObjectLostError, OutOfMemoryError...
+        return Done(i, error=WorkerDiedError(f"the Ray worker died while running this job ({type(e).__name__})"))
+    return Done(i, value, error, wall)
+
+
+def _first_line(e: BaseException) -> str:
+    text = str(e).strip()
+    return text.splitlines()[0] if text else type(e).__name__

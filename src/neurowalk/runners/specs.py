@@ -1,0 +1,181 @@
+"""Run specs: one run as a JSON-able dict of :class:`~neurowalk.sim.episode.EpisodeConfig` fields.
+
+A spec names only what differs from the defaults, e.g. ``{"arena": "box", "controller": "static", "seed": 3}``.
+:func:`normalize` fills in every default (the config's and the arena's options) and converts the values to their
+canonical types, so that equal runs get equal keys (:func:`spec_key`) whatever the dict order, the omitted defaults
+or the spelling of a number (``"0.3"``, ``0.3``; ``2``, ``2.0``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import itertools
+import json
+from pathlib import Path
+from typing import Any
+
+from neurowalk.fileio import to_jsonable
+from neurowalk.sim.episode import EpisodeConfig, RunInterruptedError, run_episode
+
+Spec = dict[str, Any]
+
+#: Spec fields, in EpisodeConfig order.
+FIELDS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(EpisodeConfig))
+#: Summary keys that depend on the machine, not on the run: kept out of the compared result.
+MACHINE_KEYS: tuple[str, ...] = ("wall_time_s", "real_time_factor")
+
+_DEFAULTS: Spec = {f: getattr(EpisodeConfig(), f) for f in FIELDS}
+
+
+def normalize(spec: Spec) -> Spec:
+    """The canonical form of ``spec``: every field, defaults filled in, values of canonical type.
+
+    Raises:
+        ValueError: unknown field, unknown arena/option/controller/body, or a value of the wrong kind (the
+            message names it).
+    """
+    from neurowalk.arenas import arena_options
+
+    if not isinstance(spec, dict):
+        raise ValueError(f"a run spec is a JSON object of {', '.join(FIELDS)}; got {spec!r}")
+    unknown = sorted(set(spec) - set(FIELDS))
+    if unknown:
+        raise ValueError(f"unknown spec field {unknown[0]!r}; fields: {', '.join(FIELDS)}")
+    s = {**_DEFAULTS, **spec}
+    try:
+        out: Spec = {
+            "arena": str(s["arena"]),
+            "arena_opts": {},
+            "controller": str(s["controller"]),
+            "steer": None if s["steer"] is None else [float(v) for v in s["steer"]],
+            "body": str(s["body"]),
+            "steps": _whole(s["steps"], "steps"),
+            "seed": _whole(s["seed"], "seed"),
+            "control_hz": float(s["control_hz"]),
+            "noise": float(s["noise"]),
+            "b0": None if s["b0"] is None else float(s["b0"]),
+            "q0": None if s["q0"] is None else float(s["q0"]),
+        }
+    except (TypeError, ValueError) as e:
+        raise ValueError(f"bad run spec {spec!r}: {e}") from None
+    if not isinstance(s["arena_opts"], dict):
+        raise ValueError(f"arena_opts must be an object of option values, got {s['arena_opts']!r}")
+    known = arena_options(out["arena"])  # raises on an unknown arena
+    opts = dict(known)
+    for key, value in s["arena_opts"].items():
+        if key not in known:
+            raise ValueError(f"arena {out['arena']!r} has no option {key!r}; options: {', '.join(known) or 'none'}")
+        try:
+            opts[key] = type(known[key])(value)
+        except (TypeError, ValueError):
+            raise ValueError(
+                f"arena {out['arena']!r}: option {key}={value!r} is not a {type(known[key]).__name__}"
+            ) from None
+    out["arena_opts"] = to_jsonable(opts)
+    to_config(out)  # the config's own checks (controller, body, steps, seed, steer, b0/q0)
+    return out
+
+
+def _whole(value: Any, name: str) -> int:
+    if isinstance(value, bool) or float(value) != int(float(value)):
+        raise ValueError(f"{name} must be a whole number, got {value!r}")
+    return int(float(value))
+
+
+def to_config(spec: Spec) -> EpisodeConfig:
+    """The EpisodeConfig of a (normalised) spec; raises ValueError on bad values."""
+    s = dict(spec)
+    if s.get("steer") is not None:
+        s["steer"] = tuple(s["steer"])
+    return EpisodeConfig(**s)
+
+
+def spec_key(spec: Spec) -> str:
+    """Key of a run: SHA-256 (64 hex digits) of the canonical JSON of :func:`normalize` (spec)."""
+    text = json.dumps(normalize(spec), sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def run_spec(spec: Spec) -> dict[str, Any]:
+    """Run one spec to the end and return its summary (JSON-safe, without :data:`MACHINE_KEYS`).
+
+    The result depends only on the spec (every random draw comes from its seed), so it is the same on every
+    backend and worker count; the sweep measures the wall time itself and stores it beside the result.
+    """
+    try:
+        ep = run_episode(to_config(normalize(spec)))
+    except RunInterruptedError:
+        raise KeyboardInterrupt from None  # Ctrl-C stops the sweep; a half run is not a result
+    summary = to_jsonable(ep.summary)
+    for k in MACHINE_KEYS:
+        summary.pop(k, None)
+    return summary
+
+
+def grid(base: Spec, **axes: list[Any]) -> list[Spec]:
+    """Cartesian product of ``axes`` over ``base``: one spec per combination, the last axis varying fastest.
+
+    An axis named ``arena_opts.KEY`` sets one arena option, e.g.
+    ``grid({"arena": "box"}, seed=[0, 1], **{"arena_opts.gap": [0.3, 0.4]})`` gives 4 specs.
+    """
+    names = list(axes)
+    out = []
+    for values in itertools.product(*(axes[n] for n in names)):
+        s = {**base, "arena_opts": dict(base.get("arena_opts", {}))}
+        for name, value in zip(names, values, strict=True):
+            if name.startswith("arena_opts."):
+                s["arena_opts"][name.removeprefix("arena_opts.")] = value
+            else:
+                s[name] = value
+        out.append(s)
+    return out
+
+
+def read_jsonl(path: Path) -> list[Spec]:
+    """Specs from a JSON-lines file (one object per line; blank lines and ``#`` lines skipped).
+
+    Raises:
+        ValueError: unreadable file or a line that is not a JSON object (names the file and line).
+    """
+    try:
+        lines = Path(path).read_text().splitlines()
+    except (OSError, UnicodeDecodeError) as e:
+        raise ValueError(f"cannot read specs file {str(path)!r}: {e}") from None
+    specs = []
+    for n, line in enumerate(lines, 1):
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        try:
+            spec = json.loads(line)
+        except json.JSONDecodeError as e:
+            raise ValueError(f"{path}:{n}: not JSON ({e.msg})") from None
+        if not isinstance(spec, dict):
+            raise ValueError(f"{path}:{n}: a spec is a JSON object, got {line.strip()[:60]!r}")
+        specs.append(spec)
+    return specs
+
+
+def describe(spec: Spec) -> str:
+    """A short human description of a spec, e.g. ``box gap=0.3 plastic amosii seed=3 steps=300``."""
+    from neurowalk.arenas import ARENAS, arena_options
+
+    s = {**_DEFAULTS, **spec}
+    defaults = arena_options(s["arena"]) if s["arena"] in ARENAS else {}
+    given = {k: v for k, v in (spec.get("arena_opts") or {}).items() if k not in defaults or defaults[k] != v}
+    opts = " ".join(f"{k}={v}" for k, v in given.items())
+    parts = [s["arena"], opts, s["controller"], s["body"], f"seed={s['seed']}", f"steps={s['steps']}"]
+    return " ".join(p for p in parts if p)
+
+
+def check_specs(specs: list[Spec]) -> None:
+    """:func:`check_spec` every spec, building each distinct arena once; raises ValueError on the first bad one."""
+    from neurowalk.arenas import make_arena
+
+    built: set[str] = set()
+    for spec in specs:
+        s = normalize(spec)
+        arena = json.dumps([s["arena"], s["arena_opts"]], sort_keys=True)
+        if arena not in built:
+            make_arena(s["arena"], **s["arena_opts"])
+            built.add(arena)

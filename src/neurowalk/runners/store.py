@@ -1,0 +1,246 @@
+"""The result store of a sweep: one SQLite file (``DIR/results.sqlite``), one row per run, keyed by its spec.
+
+.. code-block:: text
+
+    runs(key TEXT PRIMARY KEY,   -- spec_key(spec): SHA-256 of the canonical spec
+         spec TEXT,              -- the normalised spec, JSON
+         status TEXT,            -- 'ok' | 'error'
+         result TEXT,            -- the run's summary, JSON (NULL on error)
+         error TEXT,             -- one line (NULL when ok)
+         wall_time_s REAL,       -- seconds the run took on its worker (machine-dependent, so not in `result`)
+         finished_at TEXT)       -- ISO 8601, UTC
+    meta(name TEXT PRIMARY KEY, value TEXT)   -- schema_version, created_at, neurowalk_version
+
+Only the driver process writes; each finished run is its own transaction, so a sweep killed at any moment
+(even ``kill -9``) leaves every finished run in a readable store (write-ahead log, replayed on the next open).
+"""
+
+from __future__ import annotations
+
+import csv
+import datetime
+import json
+import sqlite3
+from pathlib import Path
+from typing import Any
+
+from neurowalk.fileio import atomic_write, to_jsonable
+
+SCHEMA_VERSION = 1
+RUN_COLUMNS = ("key", "spec", "status", "result", "error", "wall_time_s", "finished_at")
+#: Columns of an export before the spec fields and the summary keys.
+EXPORT_META = ("key", "status", "error", "wall_time_s", "finished_at")
+
+_SCHEMA = """
+CREATE TABLE IF NOT EXISTS meta (name TEXT PRIMARY KEY, value TEXT);
+CREATE TABLE IF NOT EXISTS runs (
+    key TEXT PRIMARY KEY,
+    spec TEXT NOT NULL,
+    status TEXT NOT NULL CHECK (status IN ('ok', 'error')),
+    result TEXT,
+    error TEXT,
+    wall_time_s REAL,
+    finished_at TEXT NOT NULL
+);
+"""
+
+
+class StoreError(Exception):
+    """The store file cannot be used (not SQLite, corrupt, another schema); the message names the path."""
+
+
+class ResultStore:
+    """SQLite result store at ``path`` (created if missing). Use as a context manager, or call :meth:`close`."""
+
+    def __init__(self, path: Path | str) -> None:
+        self.path = Path(path)
+        try:
+            self._db = sqlite3.connect(self.path, timeout=30.0, isolation_level=None)  # autocommit; explicit txns
+        except sqlite3.Error as e:
+            raise StoreError(f"cannot open result store {str(self.path)!r}: {e}") from None
+        try:
+            self._open()
+        except sqlite3.Error as e:
+            self._db.close()
+            raise StoreError(f"{str(self.path)!r} is not a readable result store ({e})") from None
+        except StoreError:
+            self._db.close()
+            raise
+
+    def _open(self) -> None:
+        db = self._db
+        tables = {r[0] for r in db.execute("SELECT name FROM sqlite_master WHERE type = 'table'")}
+        if tables and "meta" not in tables:
+            raise StoreError(f"{str(self.path)!r} is an SQLite file but not a neurowalk result store")
+        db.execute("PRAGMA journal_mode = WAL")
+        db.execute("PRAGMA synchronous = NORMAL")  # WAL + NORMAL: a killed process loses no committed run
+        if not tables:
+            import neurowalk
+
+            meta = {
+                "schema_version": str(SCHEMA_VERSION),
+                "created_at": _now(),
+                "neurowalk_version": neurowalk.__version__,
+            }
+            with self._txn():
+                for statement in _SCHEMA.split(";"):
+                    if statement.strip():
+                        db.execute(statement)
+                db.executemany("INSERT INTO meta VALUES (?, ?)", meta.items())
+        row = db.execute("SELECT value FROM meta WHERE name = 'schema_version'").fetchone()
+        if row is None or row[0] != str(SCHEMA_VERSION):
+            found = "none" if row is None else row[0]
+            raise StoreError(f"result store {str(self.path)!r} has schema version {found}, expected {SCHEMA_VERSION}")
+        cols = tuple(r[1] for r in db.execute("PRAGMA table_info(runs)"))
+        if cols != RUN_COLUMNS:
+            raise StoreError(f"result store {str(self.path)!r}: table runs has columns {cols}, expected {RUN_COLUMNS}")
+        db.execute("SELECT count(*) FROM runs").fetchone()
+
+    def _txn(self) -> _Txn:
+        return _Txn(self._db)
+
+    # -- writing (driver only) --------------------------------------------------------------------------------
+    def put(self, key: str, spec: dict[str, Any], *, result: dict[str, Any] | None = None, error: str | None = None,
+            wall_time_s: float | None = None) -> str:  # fmt: skip
+        """Store one finished run (replacing an earlier row of the same key); returns its ``finished_at``.
+
+        Exactly one of ``result`` (status 'ok') and ``error`` (status 'error', one line) is given.
+        """
+        if (result is None) == (error is None):
+            raise ValueError("give either a result or an error")
+        status = "ok" if error is None else "error"
+        res = None if result is None else _dumps(result)
+        finished = _now()
+        with self._txn():
+            self._db.execute(
+                "INSERT OR REPLACE INTO runs VALUES (?, ?, ?, ?, ?, ?, ?)",
+                (key, _dumps(spec), status, res, error, wall_time_s, finished),
+            )
+        return finished
+
+    # -- reading ----------------------------------------------------------------------------------------------
+    def done_keys(self) -> set[str]:
+        """Keys of the runs that finished without error (a sweep skips them)."""
+        return {r[0] for r in self._db.execute("SELECT key FROM runs WHERE status = 'ok'")}
+
+    def counts(self) -> dict[str, int]:
+        """Rows per status, e.g. ``{"ok": 10, "error": 1}``."""
+        out = {"ok": 0, "error": 0}
+        out.update(dict(self._db.execute("SELECT status, count(*) FROM runs GROUP BY status").fetchall()))
+        return out
+
+    def __len__(self) -> int:
+        return int(self._db.execute("SELECT count(*) FROM runs").fetchone()[0])
+
+    def rows(self, status: str | None = None) -> list[dict[str, Any]]:
+        """Every row (or those of one status) ordered by key, with ``spec`` and ``result`` parsed from JSON."""
+        sql = "SELECT * FROM runs" + (" WHERE status = ?" if status else "") + " ORDER BY key"
+        out = []
+        for r in self._db.execute(sql, (status,) if status else ()):
+            row = dict(zip(RUN_COLUMNS, r, strict=True))
+            row["spec"] = json.loads(row["spec"])
+            row["result"] = None if row["result"] is None else json.loads(row["result"])
+            out.append(row)
+        return out
+
+    def results(self, status: str = "ok") -> dict[str, dict[str, Any]]:
+        """``{key: result}`` of the runs with ``status`` (results of errored runs are None)."""
+        return {r["key"]: r["result"] for r in self.rows(status)}
+
+    def meta(self) -> dict[str, str]:
+        """The store's meta table (schema_version, created_at, neurowalk_version)."""
+        return dict(self._db.execute("SELECT name, value FROM meta").fetchall())
+
+    # -- export -----------------------------------------------------------------------------------------------
+    def table(self) -> tuple[list[str], list[list[Any]]]:
+        """Flat table of every row: meta columns, one column per spec field, one per summary key.
+
+        Summary keys that repeat a spec field are left out (the spec column holds the value); nested values
+        (dicts, lists) are JSON strings. Returns (column names, rows).
+        """
+        from neurowalk.runners.specs import FIELDS
+
+        rows = self.rows()
+        extra: dict[str, None] = {}
+        for r in rows:
+            for k in r["result"] or {}:
+                if k not in FIELDS and k not in EXPORT_META:
+                    extra[k] = None
+        columns = [*EXPORT_META, *FIELDS, *extra]
+        data = []
+        for r in rows:
+            res = r["result"] or {}
+            line = [r[c] for c in EXPORT_META]
+            line += [_flat(r["spec"].get(f)) for f in FIELDS]
+            line += [_flat(res.get(k)) for k in extra]
+            data.append(line)
+        return columns, data
+
+    def export(self, path: Path | str, fmt: str = "parquet") -> Path:
+        """Write the flat :meth:`table` to ``path`` as 'parquet' or 'csv', atomically; return the path."""
+        path = Path(path)
+        columns, data = self.table()
+        if fmt == "parquet":
+            import pyarrow as pa
+            import pyarrow.parquet as pq
+
+            arrays = [_arrow_column(pa, [row[i] for row in data]) for i in range(len(columns))]
+            tab = pa.Table.from_arrays(arrays, names=columns)
+            tab = tab.replace_schema_metadata({"neurowalk": json.dumps(self.meta())})
+            atomic_write(path, lambda tmp: pq.write_table(tab, tmp))
+        elif fmt == "csv":
+
+            def w(tmp: str) -> None:
+                with open(tmp, "w", newline="") as f:
+                    out = csv.writer(f)
+                    out.writerow(columns)
+                    out.writerows(["" if v is None else v for v in row] for row in data)
+
+            atomic_write(path, w)
+        else:
+            raise ValueError(f"unknown export format {fmt!r}; expected parquet or csv")
+        return path
+
+    def close(self) -> None:
+        """Close the file (a clean close folds the write-ahead log back into it)."""
+        self._db.close()
+
+    def __enter__(self) -> ResultStore:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+class _Txn:
+    """``BEGIN IMMEDIATE`` … ``COMMIT`` (``ROLLBACK`` on error) on an autocommit connection."""
+
+    def __init__(self, db: sqlite3.Connection) -> None:
+        self.db = db
+
+    def __enter__(self) -> None:
+        self.db.execute("BEGIN IMMEDIATE")
+
+    def __exit__(self, exc_type: object, *rest: object) -> None:
+        self.db.execute("ROLLBACK" if exc_type else "COMMIT")
+
+
+def _dumps(x: Any) -> str:
+    return json.dumps(to_jsonable(x), separators=(",", ":"))  # key order kept: export columns follow it
+
+
+def _now() -> str:
+    return datetime.datetime.now(datetime.UTC).isoformat(timespec="microseconds")
+
+
+def _flat(v: Any) -> Any:
+    """A table cell: scalars as they are, nested values as JSON text."""
+    return json.dumps(v, sort_keys=True) if isinstance(v, dict | list) else v
+
+
+def _arrow_column(pa: Any, values: list[Any]) -> Any:
+    """An Arrow array of ``values``; a column of mixed types becomes JSON text."""
+    try:
+        return pa.array(values)
+    except (pa.ArrowInvalid, pa.ArrowTypeError, TypeError, OverflowError):
+        return pa.array([None if v is None else json.dumps(v) for v in values], type=pa.string())

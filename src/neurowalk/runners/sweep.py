@@ -1,0 +1,155 @@
+"""Resumable sweeps: many run specs into one :class:`~neurowalk.runners.store.ResultStore`.
+
+.. code-block:: text
+
+    specs ─ normalise, dedup by key ─ drop keys already 'ok' in the store (resume) ─► backend (local | ray)
+                                                                                        │ results as they finish
+    store ◄── one transaction per run (driver only) ◄────────────────────────────────────┘
+
+A run that raises is stored with status 'error' and its one-line message, and the sweep goes on; so is a run
+whose worker process died. Rerunning the same sweep recomputes only what is missing or failed. Each run is
+seeded by its own spec, so the stored results do not depend on the backend or the number of workers.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field
+from typing import Any
+
+from neurowalk.runners.local import Done
+from neurowalk.runners.specs import Spec, describe, normalize, run_spec, spec_key
+from neurowalk.runners.store import ResultStore
+
+BACKENDS = ("local", "ray")
+
+
+@dataclass
+class Failure:
+    """A run that ended in an error."""
+
+    key: str
+    spec: Spec
+    error: str  # one line: "ExceptionType: message"
+
+    def line(self) -> str:
+        """``3f2a9c1b0d4e box gap=0.3 plastic amosii seed=3 steps=300: ValueError: ...``"""
+        return f"{self.key[:12]} {describe(self.spec)}: {self.error}"
+
+
+@dataclass
+class SweepReport:
+    """What a sweep did: counts of this invocation, and the store's totals afterwards."""
+
+    total: int = 0  # specs given
+    unique: int = 0  # distinct runs among them
+    duplicates: int = 0  # specs that repeated another one (run once)
+    skipped: int = 0  # already 'ok' in the store: not recomputed
+    ok: int = 0  # run now, without error
+    error: int = 0  # run now, with an error (see failures)
+    failures: list[Failure] = field(default_factory=list)
+    wall_time_s: float = 0.0  # of the whole sweep
+    interrupted: bool = False  # stopped early (Ctrl-C); the finished runs are stored
+
+    def counts(self) -> dict[str, Any]:
+        """The numbers (no failure details), for sweep.json."""
+        keys = ("total", "unique", "duplicates", "skipped", "ok", "error", "wall_time_s", "interrupted")
+        return {k: getattr(self, k) for k in keys}
+
+
+def prepare(specs: Iterable[Spec]) -> tuple[list[tuple[str, Spec]], int]:
+    """Normalise and key the specs, dropping repeats (first one kept): ([(key, spec)], number of specs given).
+
+    Raises ValueError (naming the value) on a bad spec, before any run.
+    """
+    seen: dict[str, Spec] = {}
+    n = 0
+    for spec in specs:
+        n += 1
+        s = normalize(spec)
+        seen.setdefault(spec_key(s), s)
+    return list(seen.items()), n
+
+
+def run_sweep(specs: Iterable[Spec], store: ResultStore, *, backend: str = "local", workers: int = 2,
+              address: str | None = None, progress: bool = True, fn: Callable[[Spec], Any] = run_spec
+              ) -> SweepReport:  # fmt: skip
+    """Run every spec not yet done into ``store``; return the counts.
+
+    Args:
+        specs: run specs (dicts of EpisodeConfig fields; see :mod:`neurowalk.runners.specs`).
+        store: where each result is written as soon as it arrives (this process writes, workers only compute).
+        backend: 'local' (process pool; workers=1 runs here) or 'ray'.
+        workers: processes (local) or CPUs of the local Ray instance.
+        address: Ray cluster to join (backend 'ray' only).
+        progress: show a progress bar (unit "run", with rate and time left) on stderr.
+        fn: computes one run's result (a JSON-able dict) from its normalised spec; a module-level function.
+
+    Raises:
+        ValueError: bad spec, backend or worker count (before any run).
+        RayMissingError, RayStartError: backend 'ray' without ray installed, or Ray failing to start.
+    """
+    import time
+
+    from tqdm import tqdm
+
+    if backend not in BACKENDS:
+        raise ValueError(f"unknown backend {backend!r}; expected one of {', '.join(BACKENDS)}")
+    if int(workers) != workers or workers < 1:
+        raise ValueError(f"workers must be a positive integer, got {workers!r}")
+    if address and backend != "ray":
+        raise ValueError("an address goes with backend 'ray'")
+    t0 = time.perf_counter()
+    keyed, total = prepare(specs)
+    done = store.done_keys()
+    todo = [(k, s) for k, s in keyed if k not in done]
+    report = SweepReport(total=total, unique=len(keyed), duplicates=total - len(keyed), skipped=len(keyed) - len(todo))
+    if todo:
+        results = _backend(backend, fn, [s for _, s in todo], workers, address)
+        bar = tqdm(total=len(todo), unit="run", desc="sweep", disable=not progress, mininterval=0.5, file=sys.stderr)
+        try:
+            for d in results:
+                key, spec = todo[d.index]
+                _store(store, key, spec, d, report)
+                bar.update(1)
+                if report.error:
+                    bar.set_postfix(errors=report.error, refresh=False)
+        except KeyboardInterrupt:
+            report.interrupted = True
+        finally:
+            results.close()
+            bar.close()
+    report.wall_time_s = time.perf_counter() - t0
+    return report
+
+
+def _backend(backend: str, fn: Callable[[Spec], Any], items: list[Spec], workers: int, address: str | None) -> Any:
+    if backend == "ray":
+        from neurowalk.runners import ray_backend
+
+        ray_backend.import_ray()  # the install hint now, not at the first result
+        return ray_backend.run_unordered(fn, items, workers=workers, address=address)
+    from neurowalk.runners.local import run_unordered
+
+    return run_unordered(fn, items, workers=workers)
+
+
+def _store(store: ResultStore, key: str, spec: Spec, d: Done, report: SweepReport) -> None:
+    """Write one finished run and count it."""
+    if d.error is None and not isinstance(d.value, dict):
+        d = Done(d.index, error=TypeError(f"a run's result must be a dict, got {type(d.value).__name__}"))
+    if d.error is None:
+        store.put(key, spec, result=d.value, wall_time_s=d.wall_time_s)
+        report.ok += 1
+        return
+    message = one_line(d.error)
+    store.put(key, spec, error=message, wall_time_s=d.wall_time_s)
+    report.error += 1
+    report.failures.append(Failure(key, spec, message))
+
+
+def one_line(e: BaseException) -> str:
+    """``"ExceptionType: first line of the message"``."""
+    text = str(e).strip()
+    return f"{type(e).__name__}: {text.splitlines()[0]}" if text else type(e).__name__
