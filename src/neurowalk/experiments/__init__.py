@@ -55,7 +55,7 @@ def register(name: str, title: str) -> Callable[[Callable[..., Result]], Callabl
 
 def _load() -> None:
     # Importing the modules fills the registry.
-    from neurowalk.experiments import escape_map, fig2, fig3, fig4, fig5, fig7  # noqa: F401
+    from neurowalk.experiments import escape_map, fig2, fig3, fig4, fig5, fig6, fig7, surrogate_check, table2  # noqa: F401
 
 
 _load()

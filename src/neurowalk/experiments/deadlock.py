@@ -51,18 +51,24 @@ def keep_outcome(ep: Episode) -> dict[str, Any]:
 
 
 def outcome_table(seeds: int, *, first_seed: int = 0, variants: dict | None = None, workers: int = 2,
-                  progress: bool = True) -> dict:  # fmt: skip
-    """Escape counts per variant and network over seeds ``first_seed`` ... ``first_seed + seeds - 1``."""
+                  progress: bool = True, body: str = "amosii") -> dict:  # fmt: skip
+    """Escape counts per variant and network over seeds ``first_seed`` ... ``first_seed + seeds - 1``.
+
+    ``runs`` lists every run as [variant, network, seed, escaped, trapped].
+    """
     variants = variants or VARIANTS
     keys, configs = [], []
     for vname, (arena, opts) in variants.items():
         for nname, net in NETWORKS.items():
             for seed in range(first_seed, first_seed + seeds):
                 keys.append((vname, nname))
-                configs.append(EpisodeConfig(arena=arena, arena_opts=opts, steps=TRAP_STEPS, seed=seed, **net))
-    results = run_many(configs, workers=workers, progress=progress, keep=keep_outcome, desc="dead ends")
+                configs.append(EpisodeConfig(arena=arena, arena_opts=opts, steps=TRAP_STEPS, seed=seed, body=body,
+                                             **net))  # fmt: skip
+    results = run_many(configs, workers=workers, progress=progress, keep=keep_outcome, desc=f"dead ends ({body})")
     table: dict[str, dict[str, dict[str, Any]]] = {}
-    for (vname, nname), r in zip(keys, results, strict=True):
+    runs = []
+    for (vname, nname), r, cfg in zip(keys, results, configs, strict=True):
+        runs.append([vname, nname, cfg.seed, bool(r["escaped"]), bool(r["trapped"])])
         cell = table.setdefault(vname, {}).setdefault(nname, {"runs": 0, "escaped": 0, "trapped": 0, "switches": []})
         cell["runs"] += 1
         cell["escaped"] += int(bool(r["escaped"]))
@@ -72,7 +78,8 @@ def outcome_table(seeds: int, *, first_seed: int = 0, variants: dict | None = No
         for cell in row.values():
             cell["median_direction_switches"] = float(np.median(cell.pop("switches")))
     described = {k: {"arena": a, "options": o} for k, (a, o) in variants.items()}
-    return {"seeds": seeds, "first_seed": first_seed, "steps": TRAP_STEPS, "variants": described, "counts": table,
+    return {"seeds": seeds, "first_seed": first_seed, "steps": TRAP_STEPS, "body": body, "variants": described,
+            "counts": table, "runs": runs,
             "rule": "escaped: the trunk centre reached the exit region behind the trap's mouth within the steps; "
                     "trapped: the last 3000 steps stayed within a disc of radius 0.5 m"}  # fmt: skip
 

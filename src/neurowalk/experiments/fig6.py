@@ -1,0 +1,60 @@
+"""Fig. 6: the plastic network in sixteen random environments (the first 16 of Table 2)."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any
+
+from neurowalk.experiments import Result, register
+from neurowalk.experiments.random_envs import QUICK_STEPS, RULE, STEPS, environments, spec
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+
+def _keep_path(ep: Any) -> dict[str, Any]:
+    return {"summary": ep.summary, "pose": ep.trajectory.pose[::10].copy()}
+
+
+@register("fig6", "sixteen random environments: trajectories, start and end, failures marked (paper Fig. 6)")
+def run(*, quick: bool = False, seed: int = 0, body: str = "surrogate", workers: int = 2) -> Result:
+    """The plastic network in the first 16 environments of Table 2 (same seeds), whole paths."""
+    from neurowalk.runners.local import run_many
+    from neurowalk.runners.specs import normalize, to_config
+
+    steps = QUICK_STEPS if quick else STEPS
+    envs = environments(16, seed)
+    cfgs = [to_config(normalize(spec(e, "plastic", steps, body))) for e in envs]
+    runs = run_many(cfgs, workers=workers, keep=_keep_path, desc="fig6")
+    arrays = {f"env{i}/pose": r["pose"] for i, r in enumerate(runs)}
+    rows = [{**e, "success": not r["summary"]["ever_trapped"], "coverage": r["summary"]["coverage"],
+             "final_pose": r["summary"]["final_pose"]} for e, r in zip(envs, runs, strict=True)]  # fmt: skip
+    summary = {"body": body, "steps": steps, "seed": seed, "rule": RULE, "environments": rows,
+               "success": sum(r["success"] for r in rows), "pose_stride": 10}  # fmt: skip
+    return Result("fig6", summary, arrays)
+
+
+def plot(res: Result) -> Figure:
+    """4 x 4 panels: arena, path, start (red) and end (green) dots; a failure framed in red."""
+    from neurowalk.arenas import make_arena
+    from neurowalk.plotting import draw_arena, pyplot
+
+    plt = pyplot()
+    s = res.summary
+    fig, axes = plt.subplots(4, 4, figsize=(12, 12))
+    from neurowalk.sim.episode import EpisodeConfig, seeds
+
+    for i, (ax, env) in enumerate(zip(axes.flat, s["environments"], strict=False)):
+        arena = make_arena("random", rng=seeds(EpisodeConfig(seed=env["seed"]))[2], n_boxes=env["n_boxes"])
+        pose = res.arrays[f"env{i}/pose"]
+        draw_arena(ax, arena, pose, margin=0.2)
+        ax.set_title(f"{env['n_boxes']} boxes, seed {env['seed']}", fontsize=8)
+        ax.set_xticks([])
+        ax.set_yticks([])
+        if not env["success"]:
+            for side in ax.spines.values():
+                side.set_edgecolor("red")
+                side.set_linewidth(3)
+    fig.suptitle(f"Fig. 6: plastic network in 16 random environments ({s['body']}, {s['steps']} steps): "
+                 f"{s['success']}/16 explored; failures framed red", fontsize=11)  # fmt: skip
+    fig.tight_layout()
+    return fig
