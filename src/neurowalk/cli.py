@@ -36,6 +36,7 @@ def _parser() -> argparse.ArgumentParser:
         "--seeds", type=int, default=None, help="number of seeds per condition (figures with outcome tables)"
     )
     f.add_argument("--replot", action="store_true", help="redraw from DIR/NAME.json and .npz without rerunning")
+    f.add_argument("--body", default=None, help="amosii | surrogate (figures that run on either; default per figure)")
 
     r = sub.add_parser("run", help="one closed-loop run: writes DIR/summary.json, trajectory.npz, run.png")
     _episode_args(r)
@@ -45,6 +46,11 @@ def _parser() -> argparse.ArgumentParser:
 
     v = sub.add_parser("view", help="watch a closed-loop run live in MuJoCo's viewer (needs a display)")
     _episode_args(v)
+
+    c = sub.add_parser("calibrate", help="measure the physics robot for the planar surrogate (writes a JSON file)")
+    c.add_argument("--out", type=Path, default=Path("out/calibration/calibration.json"), help="file to write")
+    c.add_argument("--workers", type=int, default=2, help="processes (default 2)")
+    c.add_argument("--quick", action="store_true", help="coarse grid (for a smoke test; not for shipping)")
 
     sub.add_parser("arenas", help="list the arenas and their options")
     e = sub.add_parser("export-model", help="write the robot (and an arena) as a self-contained MJCF file")
@@ -80,7 +86,7 @@ def _episode_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--arena-opt", action="append", default=[], metavar="KEY=VALUE", help="arena option, repeatable")
     p.add_argument("--controller", default="plastic", help="plastic | static | braitenberg | fixed")
     p.add_argument("--steer", default=None, metavar="O1,O2", help="steering of controller 'fixed', e.g. -1,-1")
-    p.add_argument("--body", default="amosii", help="amosii")
+    p.add_argument("--body", default="amosii", help="amosii (MuJoCo physics) | surrogate (planar, calibrated)")
     p.add_argument("--steps", type=int, default=1000, help="control steps (10 Hz: 1000 = 100 s)")
     p.add_argument("--seed", type=int, default=0, help="seed of every random draw")
 
@@ -121,6 +127,8 @@ def _episode_config(args: argparse.Namespace) -> object:
 
 
 def _run(args: argparse.Namespace) -> int:
+    if args.video and args.body != "amosii":
+        raise UsageError(f"--video needs --body amosii (the {args.body!r} body has no 3-D state to render)")
     if args.video:
         from neurowalk.render import use_headless_gl
 
@@ -174,6 +182,8 @@ def _view(args: argparse.Namespace) -> int:
     from neurowalk.render import has_display, view
 
     cfg = _episode_config(args)
+    if args.body != "amosii":
+        raise UsageError(f"view needs --body amosii, got {args.body!r}")
     if not has_display():
         print("neurowalk view: no display here (DISPLAY is not set); use `neurowalk run --video` for a headless video",
               file=sys.stderr)  # fmt: skip
@@ -190,6 +200,26 @@ def _view(args: argparse.Namespace) -> int:
         body.advance()
 
     view(body.model, body.data, step, control_hz=body.control_hz)
+    return 0
+
+
+def _calibrate(args: argparse.Namespace) -> int:
+    if args.workers < 1:
+        raise UsageError(f"--workers must be >= 1, got {args.workers}")
+    from neurowalk.body.calibration import calibrate, plot_calibration
+    from neurowalk.fileio import atomic_write, write_json
+
+    grid = {"grid": (-1.0, -0.3, 0.0, 0.3, 1.0), "held_out": (-0.6, 0.6)} if args.quick else {}
+    cal = calibrate(**grid, workers=args.workers)  # type: ignore[arg-type]
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    write_json(args.out, cal.to_json())
+    fig = plot_calibration(cal)
+    png = args.out.with_suffix(".png")
+    atomic_write(png, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
+    v = cal.meta["validation"]
+    print(f"calibration: lag {cal.tau_s} s + {cal.delay_steps} steps, start-up {cal.startup_steps} steps; "
+          f"held-out error max {v['speed_error_max']:.1%} (speed), {v['yaw_rate_error_max']:.1%} (turning); "
+          f"wrote {args.out}, {png}")  # fmt: skip
     return 0
 
 
@@ -248,6 +278,18 @@ def _figure(args: argparse.Namespace) -> int:
             if args.seeds < 1:
                 raise UsageError(f"--seeds must be >= 1, got {args.seeds}")
             kwargs["seeds"] = args.seeds
+        params = inspect.signature(exp.run).parameters
+        if args.body is not None:
+            from neurowalk.sim.episode import BODIES
+
+            if "body" not in params:
+                raise UsageError(f"figure {args.name!r} takes no --body")
+            if args.body not in BODIES:
+                raise UsageError(f"unknown body {args.body!r}; expected one of {', '.join(BODIES)}")
+            kwargs["body"] = args.body
+        if "out" in params:
+            kwargs["out"] = out  # the figure keeps a resumable result store there
+        out.mkdir(parents=True, exist_ok=True)
         result = exp.run(**kwargs)
     paths = {} if args.replot else output.save_data(result, out)  # the numbers first: a plot error loses nothing
     paths = {"png": output.save_figure(result, exp.plot(result), out), **paths}
@@ -361,7 +403,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             break
     try:
         args = _parser().parse_args(argv)
-        commands = {"figure": _figure, "run": _run, "view": _view, "arenas": _arenas, "export-model": _export}
+        commands = {"figure": _figure, "run": _run, "view": _view, "arenas": _arenas, "export-model": _export,
+                    "calibrate": _calibrate}  # fmt: skip
         commands["sweep"] = _sweep
         return commands[args.command](args)
     except UsageError as e:
