@@ -78,10 +78,14 @@ def seeds(cfg: EpisodeConfig) -> tuple[np.random.Generator, np.random.Generator,
     return body, ctrl, arena
 
 
-def build(cfg: EpisodeConfig) -> tuple[ArenaSpec, AmosII, Controller]:
-    """Arena, body and controller of a config (raises ValueError on bad input)."""
+def build(cfg: EpisodeConfig, *, pad_boxes: int | None = None) -> tuple[ArenaSpec, AmosII, Controller]:
+    """Arena, body and controller of a config (raises ValueError on bad input).
+
+    ``pad_boxes``: build AMOSII's model with that many obstacle slots (``AmosII(pad_boxes=...)``), the model
+    :mod:`neurowalk.sim.batch` runs; None (default) for the plain model.
+    """
     arena = make_arena(cfg.arena, rng=seeds(cfg)[2], **cfg.arena_opts)
-    body = AmosII(arena, control_hz=cfg.control_hz, noise=cfg.noise)
+    body = AmosII(arena, control_hz=cfg.control_hz, noise=cfg.noise, pad_boxes=pad_boxes)
     weights = {k: v for k, v in (("b0", cfg.b0), ("q0", cfg.q0)) if v is not None}
     controller = make_controller(cfg.controller, steer=cfg.steer, **weights)
     return arena, body, controller
@@ -95,7 +99,8 @@ class RunInterruptedError(Exception):
         self.episode = episode
 
 
-def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None, chunk: int = 10_000) -> Episode:
+def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None, chunk: int = 10_000,
+                pad_boxes: int | None = None) -> Episode:  # fmt: skip
     """Run one episode and summarise it.
 
     Args:
@@ -104,12 +109,13 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
         sink: if given, called as ``sink(trajectory, start, stop)`` after every ``chunk`` steps and at
             the end, so that a long run can write its rows as it goes.
         chunk: rows per sink call.
+        pad_boxes: run AMOSII on the model with that many obstacle slots, as :mod:`neurowalk.sim.batch` does.
 
     Raises:
         RunInterruptedError: on KeyboardInterrupt; it carries the episode of the completed steps (the sink
             has received all of them).
     """
-    arena, body, ctrl = build(cfg)
+    arena, body, ctrl = build(cfg, pad_boxes=pad_boxes)
     body_rng, ctrl_rng, _ = seeds(cfg)
     body.reset(body_rng)
     ctrl.reset(ctrl_rng)

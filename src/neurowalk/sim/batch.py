@@ -1,0 +1,271 @@
+"""Many runs at once: one padded AMOSII model, stepped for every arena together by ``mujoco.batch``.
+
+.. code-block:: text
+
+    model   = AMOSII + max_boxes obstacle slots (body/obstacle_slots.py), compiled once
+    batch   = mujoco.batch.Batch(model, n, nthread); slot geometry per copy (expand + set_const)
+    reset:  stand keyframe at each arena's start pose; noise and controllers from each run's seeds()
+    each control step:
+        read sensordata of all copies -> noisy ultrasonic distances (n, 2)   # as AmosII.observe
+        controllers: one compiled call for all copies                       # sim/batch_control.py
+        ctrl[:] = targets; batch.step(nstep=n_substeps)                     # on nthread threads
+        record
+
+Copy i gives exactly (bit for bit) the trajectory of ``run_episode(configs[i])``: the same model numbers
+(the padded model equals the plain one, see ``obstacle_slots``), the same reset, the same noise draws from
+the same Generators in the same order, the same controller kernels, and MuJoCo's batch is bit-identical to a
+loop over one ``MjData`` per copy. tests/sim/test_batch.py checks it.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from typing import Any
+
+import mujoco
+import mujoco.batch
+import numpy as np
+
+from neurowalk.arenas import ArenaSpec
+from neurowalk.body.amosii import amosii_xml, joint_qpos_indices
+from neurowalk.body.amosii_params import STAND_KEY, BodyParams
+from neurowalk.body.amosii_sensors import _layout as sensor_layout
+from neurowalk.body.noise import ColoredNoise
+from neurowalk.body.obstacle_slots import GEOM_FIELDS, model_slot_values, slot_layout, slots_mjcf, write_slots
+from neurowalk.body.physics import AmosII, n_substeps
+from neurowalk.observation import Observation
+from neurowalk.sim.batch_control import BatchControllers
+from neurowalk.sim.episode import Episode, EpisodeConfig, _poses_from_qpos, _up_z_from_qpos, build, seeds, summarize
+from neurowalk.sim.trajectory import Trajectory
+
+__all__ = ["BatchEpisodes", "measure_throughput", "run_batch"]
+
+
+class BatchEpisodes:
+    """n runs of AMOSII (one per config) in one ``mujoco.batch.Batch``.
+
+    Args:
+        configs: the runs; same body (``amosii``), ``control_hz`` and ``steps``; arenas, seeds, controllers,
+            noise and start weights may differ.
+        nthread: physics threads (the calling thread is one of them).
+        max_boxes: obstacle slots of the shared model (default: the most boxes of any arena).
+        persistent: keep one ``MjData`` per copy inside the batch (more memory; the same numbers).
+        compiled: step the controllers in one compiled call (else each controller's ``act``).
+
+    Attributes:
+        arenas: the arena of each run. model: the shared padded model (its slots parked).
+        batch: the ``mujoco.batch.Batch``. n_substeps: physics steps per control step.
+        timing: seconds spent so far in ``physics`` (batch.step) and in ``control`` (sensing, controllers,
+            recording).
+    """
+
+    def __init__(self, configs: Sequence[EpisodeConfig], *, nthread: int = 2, max_boxes: int | None = None,
+                 persistent: bool = False, compiled: bool = True) -> None:  # fmt: skip
+        self.configs = list(configs)
+        _check(self.configs)
+        n = len(self.configs)
+        parts = [build(cfg) for cfg in self.configs]
+        self.arenas: list[ArenaSpec] = [p[0] for p in parts]
+        bodies = [p[1] for p in parts]
+        assert all(isinstance(b, AmosII) for b in bodies)
+        values = [model_slot_values(b.model) for b in bodies]
+        n_boxes = max(len(v["geom_pos"]) for v in values)
+        self.max_boxes = n_boxes if max_boxes is None else max_boxes
+        if self.max_boxes < n_boxes:
+            raise ValueError(f"max_boxes={self.max_boxes} but an arena has {n_boxes} boxes")
+        self.params: BodyParams = bodies[0].params
+        self.model = mujoco.MjModel.from_xml_string(amosii_xml(self.params, world=slots_mjcf(self.max_boxes)))
+        layout = slot_layout(self.model)
+        self.batch = mujoco.batch.Batch(self.model, n, nthread, persistent)
+        expanded = {f: self.batch.expand(f) for f in GEOM_FIELDS}
+        for i, v in enumerate(values):
+            write_slots({f: a[i] for f, a in expanded.items()}, layout, v)
+        self.batch.set_const()
+        self.n_substeps = n_substeps(self.configs[0].control_hz, self.model.opt.timestep)
+        self.controllers = BatchControllers([p[2] for p in parts], compiled=compiled)
+        # the bodies' own noise sources, so that the draws are the single loop's (the bodies are dropped)
+        self._noise: list[ColoredNoise] = [b._noise for b in bodies]
+        lay = sensor_layout(self.model)
+        self._us_adr, self._touch_adr, self._force_full, self._us_max = lay.us, lay.touch, lay.force_full, lay.us_range
+        self._us_range = self.params.us_range
+        self._qidx = joint_qpos_indices(self.model)
+        self._trunk = lay.trunk
+        self._key = self.model.key(STAND_KEY).id
+        self._qpos, self._ctrl = self.batch.bind("qpos"), self.batch.bind("ctrl")
+        self._sensordata, self._time = self.batch.bind("sensordata"), self.batch.bind("time")
+        if not self.controllers.compiled:  # act() needs the pose; bound now, as outputs fill only after a call
+            self._xpos, self._xmat = self.batch.bind("xpos"), self.batch.bind("xmat")
+        self._n_noise = 2 + len(self._qidx) + 6
+        self._noise_now = np.zeros((n, self._n_noise))
+        self.timing = {"physics": 0.0, "control": 0.0}
+
+    @property
+    def n(self) -> int:
+        """Number of runs."""
+        return len(self.configs)
+
+    def reset(self) -> None:
+        """Every copy standing at its arena's start pose, at rest; noise and controllers from each run's seeds."""
+        self.batch.reset(keyframe=self._key, stage=mujoco.mjtStage.mjSTAGE_NONE)
+        for i, arena in enumerate(self.arenas):
+            x, y, yaw = arena.start
+            self._qpos[i, 0], self._qpos[i, 1] = x, y
+            self._qpos[i, 3:7] = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
+        self.batch.forward()
+        rngs = [seeds(cfg) for cfg in self.configs]
+        for noise, (body_rng, _, _) in zip(self._noise, rngs, strict=True):
+            noise.reset(body_rng)
+        self.controllers.reset([ctrl_rng for _, ctrl_rng, _ in rngs])
+
+    def sense(self) -> tuple[np.ndarray, np.ndarray]:
+        """Noisy ultrasonic distances (n, 2) in m (inf = no echo) and foot contacts (n, 6), as AmosII.observe.
+
+        Advances every copy's sensor noise by one control step (kept, with the readings, for :meth:`observation`).
+        """
+        noise = self._noise_now
+        for i, source in enumerate(self._noise):
+            noise[i] = source.step()
+        sd = self._sensordata
+        d = sd[:, self._us_adr]
+        raw = np.where((d < 0.0) | (d > self._us_max), np.inf, d)  # read_us
+        us = np.maximum(0.0, 1.0 - raw / self._us_range) + noise[:, 0:2]
+        dist = np.where(us > 0.0, self._us_range * (1.0 - us), np.inf)
+        contact = np.minimum(sd[:, self._touch_adr] / self._force_full, 1.0)  # foot_contacts
+        foot = np.clip(contact + noise[:, 2 + len(self._qidx) :], 0.0, 1.0)
+        self._sensed = (dist, foot)
+        return dist, foot
+
+    def observation(self, i: int) -> Observation:
+        """Copy i's full observation of this step (after :meth:`sense`), for controllers stepped by ``act``."""
+        nj = len(self._qidx)
+        dist, foot = self._sensed
+        xpos, xmat = self._xpos[i, self._trunk], self._xmat[i, self._trunk]
+        return Observation(us_distance=dist[i].copy(), foot_contact=foot[i].copy(),
+                           joint_angles=self._qpos[i, self._qidx] + self._noise_now[i, 2 : 2 + nj],
+                           pose=np.array([xpos[0], xpos[1], math.atan2(xmat[3], xmat[0])]),
+                           time=float(self._time[i]))  # fmt: skip
+
+    def run(self, *, progress: bool = False) -> list[Episode]:
+        """Reset, run every copy for its config's steps, and return one :class:`Episode` per config.
+
+        Each episode's ``wall_time_s`` is the batch's wall time divided by the number of runs.
+        """
+        steps, n = self.configs[0].steps, self.n
+        shapes = {"t": (), "inputs": (2,), "outputs": (2,), "b": (2,), "q": (2,), "targets": (self.model.nu,),
+                  "us_distance": (2,), "foot_contact": (6,), "qpos": (self.model.nq,)}  # fmt: skip
+        rec = {name: np.full((steps, n, *shape), np.nan) for name, shape in shapes.items()}
+        bar = _progress(steps, n, progress)
+        t0 = time.perf_counter()
+        self.reset()
+        ctl = self.controllers
+        for k in range(steps):
+            tc = time.perf_counter()
+            dist, foot = self.sense()
+            targets = ctl.step(dist, self.observation)
+            self._ctrl[:] = targets
+            tp = time.perf_counter()
+            self.batch.step(nstep=self.n_substeps)
+            tr = time.perf_counter()
+            rec["inputs"][k], rec["outputs"][k], rec["b"][k], rec["q"][k] = ctl.inputs, ctl.outputs, ctl.b, ctl.q
+            rec["targets"][k], rec["us_distance"][k], rec["foot_contact"][k] = targets, dist, foot
+            rec["qpos"][k], rec["t"][k] = self._qpos, self._time
+            self.timing["physics"] += tr - tp
+            self.timing["control"] += (tp - tc) + (time.perf_counter() - tr)
+            if bar is not None and k % 10 == 9:
+                bar.update(10 * n)
+        if bar is not None:
+            bar.close()
+        wall = (time.perf_counter() - t0) / n
+        return [self._episode(i, rec, wall) for i in range(n)]
+
+    def warnings(self, i: int) -> dict[str, int]:
+        """MuJoCo warnings of copy i so far, by name (empty when none)."""
+        counts = self.batch.warning[i, :, 1]
+        return {mujoco.mjtWarning(w).name: int(c) for w, c in enumerate(counts) if c}
+
+    def _episode(self, i: int, rec: dict[str, np.ndarray], wall: float) -> Episode:
+        cfg, arena = self.configs[i], self.arenas[i]
+        cols = {name: np.ascontiguousarray(a[:, i]) for name, a in rec.items()}
+        q = cols["qpos"]
+        tr = Trajectory(pose=_poses_from_qpos(q), joint_angles=np.ascontiguousarray(q[:, self._qidx]),
+                        up_z=_up_z_from_qpos(q), **cols)  # fmt: skip
+        summary = summarize(cfg, arena, tr, wall, self.warnings(i))
+        summary["completed"] = True
+        summary["steps_requested"] = cfg.steps
+        return Episode(cfg, arena, tr, summary)
+
+
+def _check(configs: list[EpisodeConfig]) -> None:
+    if not configs:
+        raise ValueError("a batch needs at least one config")
+    bad = [c.body for c in configs if c.body != "amosii"]
+    if bad:
+        raise ValueError(f"a physics batch runs body 'amosii' only, got {bad[0]!r}")
+    for name in ("control_hz", "steps"):
+        values = sorted({getattr(c, name) for c in configs})
+        if len(values) > 1:
+            raise ValueError(f"every config of a batch needs the same {name}, got {values}")
+
+
+def _progress(steps: int, n: int, on: bool) -> Any:
+    if not on:
+        return None
+    from tqdm import tqdm
+
+    return tqdm(total=steps * n, unit="step", desc=f"batch of {n}", mininterval=0.5, smoothing=0.1)
+
+
+def run_batch(configs: Sequence[EpisodeConfig], *, nthread: int = 2, progress: bool = True,
+              max_boxes: int | None = None) -> list[Episode]:  # fmt: skip
+    """Run the configs together in one physics batch; episode i is that of ``run_episode(configs[i])``.
+
+    Args:
+        configs: the runs (same body ``amosii``, ``control_hz`` and ``steps``).
+        nthread: physics threads.
+        progress: show a progress bar (control steps of all runs).
+        max_boxes: obstacle slots of the shared model (default: the most boxes of any arena).
+
+    Returns:
+        One :class:`~neurowalk.sim.episode.Episode` per config, in order, with the summary of ``run_episode``
+        (``wall_time_s``: the batch's wall time divided by the number of runs).
+    """
+    return BatchEpisodes(configs, nthread=nthread, max_boxes=max_boxes).run(progress=progress)
+
+
+def measure_throughput(n_copies: int = 8, steps: int = 300, nthread: int = 2, *, arena: str = "random",
+                       controller: str = "plastic", baseline: bool = True) -> dict[str, Any]:  # fmt: skip
+    """Physics throughput of a batch against the single loop on the same runs, measured side by side.
+
+    Runs ``n_copies`` configs (seeds 0, 1, ...) of ``arena`` and ``controller`` for ``steps`` control steps
+    as one batch on ``nthread`` threads and, if ``baseline``, one after another with ``run_episode``. Wall
+    times exclude building (model compilation, arenas); the first batch call also compiles the controller
+    kernels if numba's cache is cold, so call it once before timing anything that matters.
+
+    Returns:
+        A JSON-able dict: ``n_copies``, ``steps``, ``nthread``, ``n_substeps``, ``physics_steps`` (all copies),
+        ``batch_wall_s``, ``batch_build_s``, ``batch_physics_s`` / ``batch_control_s`` (time in
+        ``Batch.step`` / in sensing, controllers and recording), ``batch_physics_steps_per_s`` (aggregate,
+        whole loop), and with the baseline ``single_wall_s``, ``single_physics_steps_per_s`` and
+        ``speedup`` (single wall time / batch wall time).
+    """
+    configs = [EpisodeConfig(arena=arena, controller=controller, steps=steps, seed=s) for s in range(n_copies)]
+    t0 = time.perf_counter()
+    be = BatchEpisodes(configs, nthread=nthread)
+    t1 = time.perf_counter()
+    be.run()
+    wall = time.perf_counter() - t1
+    physics_steps = n_copies * steps * be.n_substeps
+    out: dict[str, Any] = {
+        "n_copies": n_copies, "steps": steps, "nthread": nthread, "arena": arena, "controller": controller,
+        "n_substeps": be.n_substeps, "physics_steps": physics_steps, "batch_wall_s": wall,
+        "batch_build_s": t1 - t0, "batch_physics_s": be.timing["physics"], "batch_control_s": be.timing["control"],
+        "batch_physics_steps_per_s": physics_steps / wall,
+    }  # fmt: skip
+    if baseline:
+        from neurowalk.sim.episode import run_episode
+
+        single = sum(run_episode(cfg).summary["wall_time_s"] for cfg in configs)
+        out.update(single_wall_s=single, single_physics_steps_per_s=physics_steps / single, speedup=single / wall)
+    return out

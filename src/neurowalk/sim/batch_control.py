@@ -1,0 +1,133 @@
+"""The controllers of many runs, stepped together: one compiled call per control step for all copies.
+
+:class:`BatchControllers` packs the state of each copy's :class:`~neurowalk.controller.NeuralController` or
+:class:`~neurowalk.controller.FixedController` into ``(n, ...)`` arrays and steps them all in one numba loop
+that calls the single loop's own kernels (:func:`~neurowalk.neural.sensory.sensory_step`,
+:func:`~neurowalk.neural.motor.locomotion_step`), so copy i computes exactly what its controller's ``act``
+would, bit for bit. Any other controller (or copies whose delay lines differ in length) goes through its
+own ``act``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+
+import numpy as np
+from numba import njit
+
+from neurowalk import anatomy
+from neurowalk.controller import Controller, FixedController, NeuralController
+from neurowalk.neural.motor import locomotion_step
+from neurowalk.neural.sensory import US_NEAR_M, US_RANGE_M, sensory_step
+from neurowalk.observation import Observation
+
+FIXED, NEURAL = 0, 1  # kinds of copy in the compiled step
+
+
+@njit(cache=True)
+def _input(distance_m: float) -> float:
+    """Compiled twin of ``neurowalk.controller._input``: distance (m) -> network input in [-1, 1]."""
+    if not (distance_m >= 0.0) or math.isinf(distance_m):
+        return -1.0
+    x = 1.0 - 2.0 * (distance_m - US_NEAR_M) / (US_RANGE_M - US_NEAR_M)
+    return min(1.0, max(-1.0, x))
+
+
+@njit(cache=True)
+def control_step(kind: np.ndarray, dist: np.ndarray, sens: np.ndarray, sens_p: np.ndarray, loc: np.ndarray,
+                 buf: np.ndarray, loc_p: np.ndarray, inputs: np.ndarray, outputs: np.ndarray,
+                 targets: np.ndarray) -> None:  # fmt: skip
+    """One control step of n controllers, in place.
+
+    Args:
+        kind: (n,) FIXED or NEURAL. dist: (n, 2) ultrasonic distances (m, inf = no echo).
+        sens: (n, 8) sensory network states. sens_p: (n, P) their packed params.
+        loc: (n, S) locomotion network states. buf: (n, L, 5) their delay lines. loc_p: (n, 7) packed params.
+        inputs: (n, 2) out, network inputs (I1, I2). outputs: (n, 2) steering (O1, O2); for FIXED copies it is
+            read (the fixed steering). targets: (n, 19) out, joint targets (rad, actuator order; BJ stays as is).
+    """
+    for i in range(kind.shape[0]):
+        if kind[i] == NEURAL:
+            i1 = _input(dist[i, 0])
+            i2 = _input(dist[i, 1])
+            sensory_step(sens[i], i1, i2, sens_p[i])
+            inputs[i, 0], inputs[i, 1] = i1, i2
+            outputs[i, 0], outputs[i, 1] = sens[i, 0], sens[i, 1]
+        locomotion_step(loc[i], buf[i], outputs[i, 0], outputs[i, 1], loc_p[i], targets[i])
+
+
+class BatchControllers:
+    """n controllers behind one step call.
+
+    Attributes:
+        inputs: (n, 2) last network inputs (I1, I2); -1 for a fixed controller.
+        outputs: (n, 2) last steering (O1, O2).
+        b, q: (n, 2) sensory weights after the last step (NaN for a fixed controller).
+        targets: (n, 19) last joint targets (rad, actuator order).
+        compiled: whether the compiled step serves every copy (else each controller's ``act``).
+    """
+
+    def __init__(self, controllers: Sequence[Controller], *, compiled: bool = True) -> None:
+        self.controllers = list(controllers)
+        n = len(self.controllers)
+        known = all(isinstance(c, NeuralController | FixedController) for c in self.controllers)
+        lengths = {c.locomotion.params.buffer_length for c in self.controllers} if known else set()  # type: ignore[attr-defined]
+        self.compiled = compiled and known and len(lengths) == 1
+        self.has_weights = np.array([hasattr(c, "b") for c in self.controllers])
+        self.inputs = np.zeros((n, 2))
+        self.outputs = np.zeros((n, 2))
+        self.b = np.full((n, 2), np.nan)
+        self.q = np.full((n, 2), np.nan)
+        self.targets = np.zeros((n, anatomy.N_ACTUATORS))
+
+    def reset(self, rngs: Sequence[np.random.Generator]) -> None:
+        """Reset every controller with its run's Generator, then pack the start states."""
+        for c, rng in zip(self.controllers, rngs, strict=True):
+            c.reset(rng)
+        self.targets[:] = 0.0
+        for i, c in enumerate(self.controllers):
+            self.inputs[i] = getattr(c, "inputs", np.zeros(2))
+            self.outputs[i] = c.steering
+        if not self.compiled:
+            return
+        neural = [c for c in self.controllers if isinstance(c, NeuralController)]
+        width = len(neural[0].sensory.state) if neural else 8
+        n_p = len(neural[0].sensory.params.as_array(True)) if neural else 1
+        n = len(self.controllers)
+        self._kind = np.array([NEURAL if isinstance(c, NeuralController) else FIXED for c in self.controllers])
+        self._sens = np.zeros((n, width))
+        self._sens_p = np.zeros((n, n_p))
+        for i, c in enumerate(self.controllers):
+            if isinstance(c, NeuralController):
+                self._sens[i] = c.sensory.state
+                self._sens_p[i] = c.sensory.params.as_array(c.sensory.mode == "plastic")
+        locs = [c.locomotion for c in self.controllers]  # type: ignore[attr-defined]
+        self._loc = np.stack([net.state for net in locs])
+        self._buf = np.stack([net.buffer for net in locs])
+        self._loc_p = np.stack([net.params.as_array() for net in locs])
+
+    def step(self, dist: np.ndarray, observe: Callable[[int], Observation] | None = None) -> np.ndarray:
+        """One control step of every copy; returns the (n, 19) targets (the internal buffer).
+
+        Args:
+            dist: (n, 2) ultrasonic distances the controllers see (m, inf = no echo).
+            observe: ``observe(i)`` -> copy i's full observation, for controllers stepped by ``act``.
+        """
+        if self.compiled:
+            control_step(self._kind, dist, self._sens, self._sens_p, self._loc, self._buf, self._loc_p,
+                         self.inputs, self.outputs, self.targets)  # fmt: skip
+            neural = self._kind == NEURAL
+            self.b[neural] = self._sens[neural, 4:6]
+            self.q[neural] = self._sens[neural, 6:8]
+            return self.targets
+        if observe is None:
+            raise ValueError("controllers stepped by act() need the full observations")
+        for i, c in enumerate(self.controllers):
+            self.targets[i] = c.act(observe(i))
+            self.inputs[i] = getattr(c, "inputs", np.full(2, np.nan))
+            self.outputs[i] = c.steering
+            if self.has_weights[i]:
+                self.b[i] = c.b  # type: ignore[attr-defined]
+                self.q[i] = c.q  # type: ignore[attr-defined]
+        return self.targets

@@ -1,0 +1,139 @@
+"""Many runs in one mujoco.batch: copy i is bit for bit the single loop's run of config i."""
+
+import mujoco
+import numpy as np
+import pytest
+
+from neurowalk.arenas import make_arena
+from neurowalk.body.amosii import amosii_xml
+from neurowalk.body.obstacle_slots import PARK_Z, arena_slot_values, put_arena, slot_layout, slots_mjcf
+from neurowalk.sim.batch import BatchEpisodes, measure_throughput, run_batch
+from neurowalk.sim.episode import EpisodeConfig, build, run_episode, seeds
+
+STEPS = 100
+FIELDS = ("t", "qpos", "pose", "inputs", "outputs", "b", "q", "targets", "joint_angles", "us_distance",
+          "foot_contact", "up_z")  # fmt: skip
+MACHINE = ("wall_time_s", "real_time_factor")
+# The robot walks into these boxes within STEPS (first box contact at control step 94 and 71).
+INTO_BOX = EpisodeConfig(arena="box", arena_opts={"distance": 0.3}, controller="fixed", steer=(-1, -1), steps=STEPS)
+INTO_TILTED_BOX = EpisodeConfig(arena="box", arena_opts={"distance": 0.38, "angle": 30.0}, controller="fixed",
+                                steer=(-1, -1), steps=STEPS, seed=7)  # fmt: skip
+RANDOM = {"arena": "random", "steps": STEPS}
+CONFIGS = [  # different seeds, box counts and controllers; one without sensor noise
+    EpisodeConfig(**RANDOM, arena_opts={"n_boxes": 12, "extent": 3.0}, controller="plastic", seed=1),
+    EpisodeConfig(**RANDOM, arena_opts={"n_boxes": 3}, controller="static", seed=2),
+    EpisodeConfig(**RANDOM, arena_opts={"n_boxes": 20, "extent": 2.5}, controller="braitenberg", seed=3, noise=0.0),
+    INTO_TILTED_BOX,
+]
+
+
+def assert_same_run(a, b):
+    for f in FIELDS:
+        np.testing.assert_array_equal(getattr(a.trajectory, f), getattr(b.trajectory, f), err_msg=f)
+    strip = lambda s: {k: v for k, v in s.items() if k not in MACHINE}  # noqa: E731
+    assert strip(a.summary) == strip(b.summary)
+
+
+@pytest.fixture(scope="module")
+def singles():
+    return [run_episode(cfg) for cfg in CONFIGS]
+
+
+@pytest.fixture(scope="module")
+def batch():
+    be = BatchEpisodes(CONFIGS, nthread=2)
+    return be, be.run()
+
+
+@pytest.mark.parametrize("cfg", [INTO_BOX, INTO_TILTED_BOX, CONFIGS[0]], ids=["box", "tilted-box", "random"])
+def test_padded_model_runs_bit_for_bit_like_the_plain_model(cfg):
+    plain = run_episode(cfg)
+    n = len(plain.arena.boxes)
+    assert_same_run(plain, run_episode(cfg, pad_boxes=n))
+    assert_same_run(plain, run_episode(cfg, pad_boxes=n + 6))
+
+
+def first_box_contact(cfg):
+    """Control step at which the robot first touches ``obstacle_0`` (None: never within cfg.steps)."""
+    _, body, ctrl = build(cfg)
+    body.reset(seeds(cfg)[0])
+    ctrl.reset(seeds(cfg)[1])
+    box = body.model.geom("obstacle_0").id
+    for k in range(cfg.steps):
+        body.apply(ctrl.act(body.observe()))
+        for _ in range(body.n_substeps):
+            mujoco.mj_step(body.model, body.data)
+            if any(box in c.geom for c in body.data.contact[: body.data.ncon]):
+                return k
+    return None
+
+
+def test_robot_touches_the_box_in_the_collision_runs():
+    # the contact must really happen within the compared steps, or the collision checks prove nothing
+    assert first_box_contact(INTO_BOX) < STEPS - 5
+    assert first_box_contact(INTO_TILTED_BOX) < STEPS - 20
+
+
+def test_each_copy_equals_the_single_loop_bit_for_bit(singles, batch):
+    be, episodes = batch
+    assert be.controllers.compiled
+    assert be.max_boxes == max(len(s.arena.boxes) for s in singles)
+    for single, ep in zip(singles, episodes, strict=True):
+        assert ep.config == single.config and ep.arena == single.arena
+        assert_same_run(single, ep)
+        assert ep.summary["completed"] is True and ep.summary["steps_requested"] == STEPS
+
+
+def test_copies_differ(batch):
+    _, episodes = batch
+    finals = {tuple(ep.trajectory.qpos[-1]) for ep in episodes}
+    assert len(finals) == len(episodes)
+    assert np.isnan(episodes[3].trajectory.b).all() and not np.isnan(episodes[0].trajectory.b).any()
+
+
+@pytest.mark.parametrize("opts", [{"nthread": 1}, {"nthread": 2, "persistent": True}, {"compiled": False},
+                                  {"max_boxes": 30}])  # fmt: skip
+def test_threads_memory_controller_path_and_padding_do_not_change_a_bit(batch, opts):
+    _, ref = batch
+    configs = CONFIGS[:2]
+    other = BatchEpisodes(configs, **opts)
+    for a, b in zip(ref[:2], other.run(), strict=True):
+        assert_same_run(a, b)
+    if "compiled" in opts:
+        assert not other.controllers.compiled
+
+
+def test_slots_park_out_of_reach_and_take_the_arena_boxes_exactly():
+    arena = make_arena("random", n_boxes=4)
+    plain = mujoco.MjModel.from_xml_string(amosii_xml(world=arena.to_mjcf()))
+    padded = mujoco.MjModel.from_xml_string(amosii_xml(world=slots_mjcf(len(arena.boxes) + 3)))
+    layout = slot_layout(padded)
+    assert np.all(layout.parked["geom_pos"][:, 2] == PARK_Z)
+    assert np.all(layout.parked["geom_rgba"][:, 3] == 0)
+    put_arena(padded, arena_slot_values(arena))
+    n = len(arena.boxes)
+    for f in ("geom_pos", "geom_quat", "geom_size", "geom_rbound", "geom_aabb", "geom_friction"):
+        ids = [plain.geom(f"obstacle_{k}").id for k in range(n)]
+        np.testing.assert_array_equal(getattr(padded, f)[layout.geoms[:n]], getattr(plain, f)[ids], err_msg=f)
+    np.testing.assert_array_equal(padded.geom_pos[layout.geoms[n:], 2], PARK_Z)
+
+
+def test_bad_batches_raise():
+    with pytest.raises(ValueError, match="at least one"):
+        BatchEpisodes([])
+    with pytest.raises(ValueError, match="steps"):
+        BatchEpisodes([CONFIGS[0], EpisodeConfig(steps=STEPS + 1)])
+    with pytest.raises(ValueError, match="control_hz"):
+        BatchEpisodes([CONFIGS[0], EpisodeConfig(steps=STEPS, control_hz=20.0)])
+    with pytest.raises(ValueError, match="max_boxes"):
+        BatchEpisodes(CONFIGS[:1], max_boxes=3)
+    with pytest.raises(ValueError, match="slots"):
+        run_episode(CONFIGS[0], pad_boxes=2)
+
+
+def test_run_batch_and_throughput_report():
+    episodes = run_batch([EpisodeConfig(steps=5, seed=s) for s in range(2)], nthread=2, progress=False)
+    assert [len(ep.trajectory) for ep in episodes] == [5, 5]
+    r = measure_throughput(n_copies=2, steps=5, nthread=2)
+    assert r["physics_steps"] == 2 * 5 * r["n_substeps"]
+    assert r["batch_physics_steps_per_s"] > 0 and r["single_physics_steps_per_s"] > 0 and r["speedup"] > 0
