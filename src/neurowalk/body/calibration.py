@@ -80,12 +80,35 @@ def body_velocity(poses: np.ndarray, control_hz: float) -> np.ndarray:
     return np.array([fwd.sum(), left.sum(), yaw[-1] - yaw[0]]) * control_hz / n
 
 
-def steady_table(grid: Sequence[float], workers: int = 2, progress: bool = True) -> np.ndarray:
-    """Steady velocity (g, g, 3) at every steering pair of ``grid`` (see :func:`body_velocity`)."""
+def yaw_sway(poses: np.ndarray) -> np.ndarray:
+    """Yaw (T,) about its straight-line trend (rad): the trunk's rocking with the gait."""
+    yaw = np.unwrap(poses[:, 2])
+    k = np.arange(len(yaw))
+    return yaw - np.polyval(np.polyfit(k, yaw, 1), k)
+
+
+def sway_fit(residual: np.ndarray, first_step: int) -> tuple[float, float]:
+    """Period (steps) and phase (rad at step 0) of the sinusoid that best fits a yaw residual from ``first_step``."""
+    k = first_step + np.arange(len(residual))
+    best = (0.0, 0.0, 0.0)
+    for period in np.arange(80.0, 95.0, 0.05):
+        z = np.sum(residual * np.exp(-2j * np.pi * k / period))
+        if abs(z) > best[0]:
+            best = (abs(z), float(period), float(np.angle(z) + np.pi / 2))  # r ~ A sin(wk + phase)
+    return best[1], float(np.angle(np.exp(1j * best[2])))
+
+
+def steady_table(grid: Sequence[float], workers: int = 2, progress: bool = True) -> tuple[np.ndarray, np.ndarray,
+                                                                                           float, float]:  # fmt: skip
+    """Steady velocity (g, g, 3), sway amplitude (g, g) rad, sway period (steps) and phase at ``grid`` pairs."""
     pairs = [(a, b) for a in grid for b in grid]
     poses = _map(_drive_const, [(a, b, WARMUP + WINDOW) for a, b in pairs], workers, progress, "steady")
     v = np.array([body_velocity(p[WARMUP:], CONTROL_HZ) for p in poses])
-    return v.reshape(len(grid), len(grid), 3)
+    sway = np.array([math.sqrt(2.0) * np.std(yaw_sway(p[WARMUP:])) for p in poses])
+    fwd = pairs.index(FORWARD)
+    period, phase = sway_fit(yaw_sway(poses[fwd][WARMUP:]), WARMUP + 1)
+    g = len(grid)
+    return v.reshape(g, g, 3), sway.reshape(g, g), period, phase
 
 
 def _map(fn: Any, jobs: list[Any], workers: int, progress: bool, desc: str) -> list[Any]:
@@ -266,10 +289,11 @@ def calibrate(grid: Sequence[float] = GRID, held_out: Sequence[float] = HELD_OUT
     t0 = time.perf_counter()
     circles, rays, us_range = geometry()
     g = np.asarray(grid, dtype=float)
-    table = steady_table(g, workers, progress)
-    cal = Calibration(g, table, 0.0, 0, 0, CONTROL_HZ, circles, rays, us_range)
+    table, sway, period, phase = steady_table(g, workers, progress)
+    motion = (g, table, sway, period, phase)
+    cal = Calibration(*motion, 0.0, 0, 0, CONTROL_HZ, circles, rays, us_range)
     delay, tau, lag_err = fit_lag(step_runs(cal), CONTROL_HZ)
-    cal = Calibration(g, table, tau, delay, 0, CONTROL_HZ, circles, rays, us_range)
+    cal = Calibration(*motion, tau, delay, 0, CONTROL_HZ, circles, rays, us_range)
     startup = fit_startup(cal)
     meta = {
         "command": "neurowalk calibrate",
@@ -279,13 +303,14 @@ def calibrate(grid: Sequence[float] = GRID, held_out: Sequence[float] = HELD_OUT
         f"velocity = mean body-frame velocity over {WINDOW} control steps (7 gait cycles) after {WARMUP} steps; "
         f"lag = delay + first-order lag fitted to {len(STEP_CHANGES)} step changes of the steering "
         f"({STEPS_AFTER} steps each; mean error {lag_err:.3f} m); start-up fitted on a forward run from reset; "
-        "footprint and rays from the MJCF in the standing pose.",
+        "footprint and rays from the MJCF in the standing pose; yaw sway = sqrt(2) x std of the detrended yaw over "
+        "the same window, its period and phase fitted on the forward run.",
         "warmup_steps": WARMUP,
         "window_steps": WINDOW,
         "step_changes": [list(map(list, sc)) for sc in STEP_CHANGES],
         "lag_fit_error_m": lag_err,
     }
-    cal = Calibration(g, table, tau, delay, startup, CONTROL_HZ, circles, rays, us_range, meta)
+    cal = Calibration(*motion, tau, delay, startup, CONTROL_HZ, circles, rays, us_range, meta)
     meta["validation"] = validation(cal, held_out, workers, progress)
     meta["wall_time_s"] = time.perf_counter() - t0
     return cal

@@ -35,6 +35,8 @@ class Calibration:
         grid: (g,) steering values at which the velocity was measured (same for O1 and O2).
         velocity: (g, g, 3) body velocity at steering (grid[i], grid[j]) = (O1, O2): forward m/s, lateral
             m/s (left +), yaw rate rad/s (left +), steady state over whole gait cycles.
+        sway: (g, g) amplitude of the trunk's yaw rocking with the gait (rad), at the same steering pairs.
+        sway_period_steps, sway_phase: period (control steps) and phase (rad, at step 0 after reset) of it.
         tau_s: first-order lag of the velocity after a steering change (s).
         delay_steps: pure delay of the response (control steps).
         startup_steps: control steps after reset before the legs move the body.
@@ -47,6 +49,9 @@ class Calibration:
 
     grid: np.ndarray
     velocity: np.ndarray
+    sway: np.ndarray
+    sway_period_steps: float
+    sway_phase: float
     tau_s: float
     delay_steps: int
     startup_steps: int
@@ -62,8 +67,14 @@ class Calibration:
             raise ValueError("calibration grid must be increasing with at least 2 values")
         if self.velocity.shape != (g, g, 3):
             raise ValueError(f"calibration velocity must have shape ({g}, {g}, 3), got {self.velocity.shape}")
+        if self.sway.shape != (g, g) or not self.sway_period_steps > 0:
+            raise ValueError(f"calibration sway must have shape ({g}, {g}) and a period > 0")
         if self.tau_s < 0 or self.delay_steps < 0 or self.startup_steps < 0:
             raise ValueError("calibration lag, delay and startup must be >= 0")
+
+    def motion(self) -> np.ndarray:
+        """The kernel's motion table (g, g, 4): forward, lateral, yaw rate, sway amplitude."""
+        return np.concatenate([self.velocity, self.sway[:, :, None]], axis=2)
 
     def alpha(self) -> float:
         """Low-pass gain per control step for the lag ``tau_s``."""
@@ -75,6 +86,9 @@ class Calibration:
             "grid": self.grid.tolist(),
             "velocity": self.velocity.tolist(),
             "velocity_units": ["m/s forward", "m/s left", "rad/s left"],
+            "sway_rad": self.sway.tolist(),
+            "sway_period_steps": self.sway_period_steps,
+            "sway_phase_rad": self.sway_phase,
             "tau_s": self.tau_s,
             "delay_steps": self.delay_steps,
             "startup_steps": self.startup_steps,
@@ -91,6 +105,9 @@ class Calibration:
         return cls(
             grid=np.asarray(d["grid"], float),
             velocity=np.asarray(d["velocity"], float),
+            sway=np.asarray(d["sway_rad"], float),
+            sway_period_steps=float(d["sway_period_steps"]),
+            sway_phase=float(d["sway_phase_rad"]),
             tau_s=float(d["tau_s"]),
             delay_steps=int(d["delay_steps"]),
             startup_steps=int(d["startup_steps"]),
@@ -189,7 +206,9 @@ class Surrogate:
             sens_state, sens_p = np.zeros(8), np.zeros(10)
         state = np.zeros(kern.RUN_STATE)
         state[kern.X], state[kern.Y], state[kern.YAW] = self.arena.start
-        ring = np.zeros((cal.delay_steps + 1, 3))
+        motion = cal.motion()
+        gain = math.sqrt(self.noise_tau) * self.noise
+        ring = np.zeros((cal.delay_steps + 1, motion.shape[2]))
         noise_u = rng.uniform(-1.0, 1.0, size=(steps, 2))
         out = out if out is not None else empty_run(steps)
         st = np.asarray(steer if fixed else (0.0, 0.0), dtype=float)
@@ -199,8 +218,8 @@ class Surrogate:
                 k1 = min(steps, k0 + size)
                 out.contacts += kern.rollout(
                     k0, k1, state, ring, sens_state, sens_p, fixed, st, self._boxes, cal.circles, cal.rays,
-                    cal.us_range, cal.grid, cal.velocity, cal.alpha(), cal.startup_steps, 1.0 / cal.control_hz,
-                    noise_u, math.sqrt(self.noise_tau) * self.noise, self.noise_tau,
+                    cal.us_range, cal.grid, motion, cal.alpha(), cal.startup_steps, 1.0 / cal.control_hz,
+                    cal.sway_period_steps, cal.sway_phase, noise_u, gain, self.noise_tau,
                     out.pose, out.inputs, out.outputs, out.weights, out.us,
                 )  # fmt: skip
                 out.done = k1

@@ -5,8 +5,11 @@ Geometry (m, rad): a box row is ``(cx, cy, cos(yaw), sin(yaw), half_x, half_y)``
 set of circles ``(x, y, r)`` in the trunk frame (x forward, y left); each ultrasonic ray is an origin
 ``(x, y)`` and a unit direction in the trunk frame.
 
-Run state (one row, float64): ``x, y, yaw, vx, vy, w, n1, n2`` (pose, lagged body-frame velocity m/s,
-m/s, rad/s, ultrasonic noise); the command delay line is a separate ``(delay + 1, 3)`` ring.
+Run state (one row, float64): ``x, y, yaw, vx, vy, w, sway, n1, n2`` (mean pose, lagged body-frame
+velocity m/s, m/s, rad/s, lagged amplitude of the gait's yaw sway rad, ultrasonic noise); the motion
+table has one channel per lagged quantity (vx, vy, w, sway) and the command delay line is a separate
+``(delay + 1, channels)`` ring. The body's yaw is the mean yaw plus ``sway * sin(2 pi k / period +
+phase)``: the trunk rocks with the gait, and the rays scan with it.
 """
 
 from __future__ import annotations
@@ -18,9 +21,9 @@ from numba import njit
 
 from neurowalk.neural.sensory import US_NEAR_M, US_RANGE_M, sensory_step
 
-X, Y, YAW, VX, VY, W, N1, N2 = range(8)
-RUN_STATE = 8
-PUSH_PASSES = 3  # collision resolution passes per step
+X, Y, YAW, VX, VY, W, SWAY, N1, N2 = range(9)
+RUN_STATE = 9
+PUSH_PASSES = 8  # collision resolution passes per step (at most; stops when nothing overlaps)
 
 
 @njit(cache=True)
@@ -53,12 +56,12 @@ def ray_boxes(ox: float, oy: float, dx: float, dy: float, boxes: np.ndarray, max
 
 
 @njit(cache=True)
-def push_out(state: np.ndarray, circles: np.ndarray, boxes: np.ndarray, reach: float) -> int:
-    """Translate the body out of every box it overlaps (``PUSH_PASSES`` passes); returns the overlaps seen."""
+def push_out(state: np.ndarray, yaw: float, circles: np.ndarray, boxes: np.ndarray, reach: float) -> int:
+    """Translate the body (heading ``yaw``) out of every box it overlaps; returns the overlaps seen."""
     hits = 0
+    c, s = math.cos(yaw), math.sin(yaw)
     for _ in range(PUSH_PASSES):
         moved = False
-        c, s = math.cos(state[YAW]), math.sin(state[YAW])
         for i in range(boxes.shape[0]):
             cx, cy, bc, bs, hx, hy = boxes[i, 0], boxes[i, 1], boxes[i, 2], boxes[i, 3], boxes[i, 4], boxes[i, 5]
             if (state[X] - cx) ** 2 + (state[Y] - cy) ** 2 > (reach + hx + hy) ** 2:
@@ -91,7 +94,7 @@ def push_out(state: np.ndarray, circles: np.ndarray, boxes: np.ndarray, reach: f
 
 @njit(cache=True)
 def velocity_command(grid: np.ndarray, table: np.ndarray, o1: float, o2: float, out: np.ndarray) -> None:
-    """Bilinear look-up of the calibrated body velocity (vx, vy, w) at steering (o1, o2) into ``out`` (3,)."""
+    """Bilinear look-up of the motion table (g, g, n) at steering (o1, o2) into ``out`` (n,)."""
     g = grid.shape[0]
     a = min(max(o1, grid[0]), grid[g - 1])
     b = min(max(o2, grid[0]), grid[g - 1])
@@ -103,7 +106,7 @@ def velocity_command(grid: np.ndarray, table: np.ndarray, o1: float, o2: float, 
         j += 1
     fa = (a - grid[i]) / (grid[i + 1] - grid[i])
     fb = (b - grid[j]) / (grid[j + 1] - grid[j])
-    for k in range(3):
+    for k in range(table.shape[2]):
         lo = table[i, j, k] * (1.0 - fb) + table[i, j + 1, k] * fb
         hi = table[i + 1, j, k] * (1.0 - fb) + table[i + 1, j + 1, k] * fb
         out[k] = lo * (1.0 - fa) + hi * fa
@@ -119,12 +122,12 @@ def _input(distance: float) -> float:
 
 @njit(cache=True)
 def move(state: np.ndarray, ring: np.ndarray, k: int, cmd: np.ndarray, alpha: float, dt: float) -> None:
-    """Delay the command through ``ring``, low-pass it into the velocity (gain ``alpha``), integrate the pose."""
+    """Delay the command (n,) through ``ring``, low-pass it into the state (gain ``alpha``), integrate the pose."""
     slot = k % ring.shape[0]
-    for m in range(3):
+    for m in range(ring.shape[1]):
         ring[slot, m] = cmd[m]
     old = ring[(k + 1) % ring.shape[0]]  # the command of ``delay`` steps ago (zeros at first)
-    for m in range(3):
+    for m in range(ring.shape[1]):
         state[VX + m] += alpha * (old[m] - state[VX + m])
     mid = state[YAW] + 0.5 * state[W] * dt
     c, s = math.cos(mid), math.sin(mid)
@@ -139,7 +142,7 @@ def rollout(
     k0: int, k1: int, state: np.ndarray, ring: np.ndarray, sens: np.ndarray, sens_p: np.ndarray,
     fixed: bool, steer: np.ndarray, boxes: np.ndarray, circles: np.ndarray, rays: np.ndarray,
     us_range: float, grid: np.ndarray, table: np.ndarray, alpha: float, startup: int, dt: float,
-    noise_u: np.ndarray, noise_gain: float, noise_tau: float,
+    sway_period: float, sway_phase: float, noise_u: np.ndarray, noise_gain: float, noise_tau: float,
     out_pose: np.ndarray, out_in: np.ndarray, out_out: np.ndarray, out_w: np.ndarray, out_us: np.ndarray,
 ) -> int:  # fmt: skip
     """Control steps k0..k1-1 of one run, in place; row k of the outputs is after step k.
@@ -148,8 +151,8 @@ def rollout(
         state: (8,) run state; ring: (delay + 1, 3) command delay line; sens: (8,) sensory network state
             (``sensory_step`` layout); sens_p: its params; fixed/steer: constant steering (2,) instead.
         boxes: (m, 6) obstacles; circles: (k, 3) footprint; rays: (2, 4) ultrasonic origin and direction
-            (left, right); grid (g,), table (g, g, 3): calibrated velocity; alpha: lag gain per step;
-            startup: steps before the legs move; dt: control period (s).
+            (left, right); grid (g,), table (g, g, 4): calibrated vx, vy, w, sway; alpha: lag gain per step;
+            startup: steps before the legs move; dt: control period (s); sway_period (steps), sway_phase (rad).
         noise_u: (steps, 2) uniform(-1, 1) draws of the coloured ultrasonic noise.
         out_pose (steps, 3), out_in (steps, 2), out_out (steps, 2), out_w (steps, 4) b1 b2 q1 q2,
             out_us (steps, 2) distances as the network saw them (m, inf = no echo).
@@ -160,11 +163,13 @@ def rollout(
     reach = 0.0
     for j in range(circles.shape[0]):
         reach = max(reach, math.hypot(circles[j, 0], circles[j, 1]) + circles[j, 2])
-    cmd = np.zeros(3)
+    cmd = np.zeros(table.shape[2])
     inp = np.zeros(2)
     hits = 0
+    omega = 2.0 * math.pi / sway_period
     for k in range(k0, k1):
-        c, s = math.cos(state[YAW]), math.sin(state[YAW])
+        yaw = state[YAW] + state[SWAY] * math.sin(omega * k + sway_phase)
+        c, s = math.cos(yaw), math.sin(yaw)
         for r in range(2):
             ox = state[X] + c * rays[r, 0] - s * rays[r, 1]
             oy = state[Y] + s * rays[r, 0] + c * rays[r, 1]
@@ -185,8 +190,9 @@ def rollout(
         else:
             velocity_command(grid, table, o1, o2, cmd)
         move(state, ring, k, cmd, alpha, dt)
-        hits += push_out(state, circles, boxes, reach)
-        out_pose[k, 0], out_pose[k, 1], out_pose[k, 2] = state[X], state[Y], state[YAW]
+        yaw = state[YAW] + state[SWAY] * math.sin(omega * (k + 1) + sway_phase)
+        hits += push_out(state, yaw, circles, boxes, reach)
+        out_pose[k, 0], out_pose[k, 1], out_pose[k, 2] = state[X], state[Y], math.atan2(math.sin(yaw), math.cos(yaw))
         out_in[k, 0], out_in[k, 1] = inp[0], inp[1]
         out_out[k, 0], out_out[k, 1] = o1, o2
         for m in range(4):

@@ -26,7 +26,7 @@ def run(*, quick: bool = False, seed: int = 0, body: str = "surrogate", workers:
     cfgs = [to_config(normalize(spec(e, "plastic", steps, body))) for e in envs]
     runs = run_many(cfgs, workers=workers, keep=_keep_path, desc="fig6")
     arrays = {f"env{i}/pose": r["pose"] for i, r in enumerate(runs)}
-    rows = [{**e, "success": not r["summary"]["ever_trapped"], "coverage": r["summary"]["coverage"],
+    rows = [{**e, "success": not r["summary"]["trapped"], "coverage": r["summary"]["coverage"],
              "final_pose": r["summary"]["final_pose"]} for e, r in zip(envs, runs, strict=True)]  # fmt: skip
     summary = {"body": body, "steps": steps, "seed": seed, "rule": RULE, "environments": rows,
                "success": sum(r["success"] for r in rows), "pose_stride": 10}  # fmt: skip
@@ -44,7 +44,8 @@ def plot(res: Result) -> Figure:
     from neurowalk.sim.episode import EpisodeConfig, seeds
 
     for i, (ax, env) in enumerate(zip(axes.flat, s["environments"], strict=False)):
-        arena = make_arena("random", rng=seeds(EpisodeConfig(seed=env["seed"]))[2], n_boxes=env["n_boxes"])
+        opts = spec(env, "plastic", 1, "surrogate")["arena_opts"]
+        arena = make_arena("random", rng=seeds(EpisodeConfig(seed=env["seed"]))[2], **opts)
         pose = res.arrays[f"env{i}/pose"]
         draw_arena(ax, arena, pose, margin=0.2)
         ax.set_title(f"{env['n_boxes']} boxes, seed {env['seed']}", fontsize=8)

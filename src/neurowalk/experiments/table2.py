@@ -43,14 +43,16 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
         row = {**e}
         for c in NETWORKS:
             r = results[spec_key(spec(e, c, steps, body))]
-            row[c] = {"success": not r["ever_trapped"], "coverage": r["coverage"], "path_length_m": r["path_length_m"]}
+            row[c] = {"success": not r["trapped"], "ever_trapped": r["ever_trapped"], "coverage": r["coverage"],
+                      "path_length_m": r["path_length_m"]}  # fmt: skip
         rows.append(row)
     for c in NETWORKS:
         ok = sum(r[c]["success"] for r in rows)
         lo, hi = wilson(ok, n)
         cov = float(np.median([r[c]["coverage"] for r in rows]))
         counts[c] = {"environments": n, "success": ok, "failure": n - ok, "success_rate": ok / n,
-                     "success_rate_95ci": [lo, hi], "median_coverage": cov}  # fmt: skip
+                     "success_rate_95ci": [lo, hi], "median_coverage": cov,
+                     "ever_held_up_300s": sum(r[c]["ever_trapped"] for r in rows)}  # fmt: skip
     summary = {"body": body, "steps": steps, "seed": seed, "boxes": list(BOXES), "rule": RULE,
                "interval": "Wilson score interval, 95%", "counts": counts, "environments": rows,
                "paper": {"environments": 50, "success": 49, "failure": 1},

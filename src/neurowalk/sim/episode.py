@@ -25,10 +25,11 @@ import neurowalk
 from neurowalk import metrics
 from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.body.physics import AmosII
+from neurowalk.body.surrogate import Surrogate
 from neurowalk.controller import CONTROLLERS, Controller, make_controller
 from neurowalk.sim.trajectory import Trajectory
 
-BODIES: tuple[str, ...] = ("amosii",)
+BODIES: tuple[str, ...] = ("amosii", "surrogate")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -78,14 +79,20 @@ def seeds(cfg: EpisodeConfig) -> tuple[np.random.Generator, np.random.Generator,
     return body, ctrl, arena
 
 
-def build(cfg: EpisodeConfig, *, pad_boxes: int | None = None) -> tuple[ArenaSpec, AmosII, Controller]:
+def build(cfg: EpisodeConfig, *, pad_boxes: int | None = None) -> tuple[ArenaSpec, AmosII | Surrogate, Controller]:
     """Arena, body and controller of a config (raises ValueError on bad input).
 
     ``pad_boxes``: build AMOSII's model with that many obstacle slots (``AmosII(pad_boxes=...)``), the model
     :mod:`neurowalk.sim.batch` runs; None (default) for the plain model.
     """
     arena = make_arena(cfg.arena, rng=seeds(cfg)[2], **cfg.arena_opts)
-    body = AmosII(arena, control_hz=cfg.control_hz, noise=cfg.noise, pad_boxes=pad_boxes)
+    body: AmosII | Surrogate
+    if cfg.body == "surrogate":
+        body = Surrogate(arena, noise=cfg.noise)
+        if cfg.control_hz != body.control_hz:
+            raise ValueError(f"body 'surrogate' is calibrated at {body.control_hz} Hz, got control_hz {cfg.control_hz}")
+    else:
+        body = AmosII(arena, control_hz=cfg.control_hz, noise=cfg.noise, pad_boxes=pad_boxes)
     weights = {k: v for k, v in (("b0", cfg.b0), ("q0", cfg.q0)) if v is not None}
     controller = make_controller(cfg.controller, steer=cfg.steer, **weights)
     return arena, body, controller
@@ -115,7 +122,12 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
         RunInterruptedError: on KeyboardInterrupt; it carries the episode of the completed steps (the sink
             has received all of them).
     """
+    if cfg.body == "surrogate":
+        from neurowalk.sim.surrogate_episode import run_surrogate_episode
+
+        return run_surrogate_episode(cfg, progress=progress, sink=sink, chunk=chunk)
     arena, body, ctrl = build(cfg, pad_boxes=pad_boxes)
+    assert isinstance(body, AmosII)
     body_rng, ctrl_rng, _ = seeds(cfg)
     body.reset(body_rng)
     ctrl.reset(ctrl_rng)
@@ -228,6 +240,7 @@ def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory, wall_time_s:
         "start_weights": {"b0": cfg.b0, "q0": cfg.q0} if cfg.controller == "plastic" else None,
         "escaped": metrics.escaped(pose, arena),
         "trapped": metrics.trapped(pose),
+        "ever_trapped": metrics.ever_trapped(pose),
         "coverage": metrics.coverage(pose, arena),
         "path_length_m": metrics.path_length(pose),
         "forward_displacement_m": metrics.forward_displacement(pose, arena.start),
