@@ -52,6 +52,11 @@ def _parser() -> argparse.ArgumentParser:
     c.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     c.add_argument("--quick", action="store_true", help="coarse grid (for a smoke test; not for shipping)")
 
+    b = sub.add_parser("bench", help="measure the performance figures side by side: writes DIR/bench.json")
+    b.add_argument("--out", type=Path, default=Path("out/bench"), help="output folder (default out/bench)")
+    b.add_argument("--quick", action="store_true", help="short measurements (a smoke test)")
+    b.add_argument("--workers", type=int, default=None, help="processes / threads (default: the cores, up to 8)")
+
     sub.add_parser("arenas", help="list the arenas and their options")
     e = sub.add_parser("export-model", help="write the robot (and an arena) as a self-contained MJCF file")
     e.add_argument("--out", type=Path, required=True, help="MJCF file to write")
@@ -220,6 +225,25 @@ def _calibrate(args: argparse.Namespace) -> int:
     print(f"calibration: lag {cal.tau_s} s + {cal.delay_steps} steps, start-up {cal.startup_steps} steps; "
           f"held-out error max {v['speed_error_max']:.1%} (speed), {v['yaw_rate_error_max']:.1%} (turning); "
           f"wrote {args.out}, {png}")  # fmt: skip
+    return 0
+
+
+def _bench(args: argparse.Namespace) -> int:
+    if args.workers is not None and args.workers < 1:
+        raise UsageError(f"--workers must be >= 1, got {args.workers}")
+    from neurowalk.bench import run_bench
+    from neurowalk.fileio import write_json
+
+    args.out.mkdir(parents=True, exist_ok=True)
+    r = run_bench(quick=args.quick, workers=args.workers)
+    write_json(args.out / "bench.json", r)
+    b = r["batch_physics"]["speedup_vs_single_loop"]
+    line = (f"physics {r['physics']['control_steps_per_s']:.0f} control steps/s; surrogate "
+            f"{r['surrogate']['env_steps_per_s_pool']:.3g} env steps/s ({r['surrogate_vs_physics']['pool']:.0f}x); "
+            f"mujoco.batch speed-up {', '.join(f'{k} {v:.2f}x' for k, v in b.items())}")  # fmt: skip
+    if "table2_surrogate" in r:
+        line += f"; Table 2 (50 environments, surrogate) {r['table2_surrogate']['wall_s']:.1f} s"
+    print(f"{line}; wrote {args.out / 'bench.json'}")
     return 0
 
 
@@ -404,7 +428,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         args = _parser().parse_args(argv)
         commands = {"figure": _figure, "run": _run, "view": _view, "arenas": _arenas, "export-model": _export,
-                    "calibrate": _calibrate}  # fmt: skip
+                    "calibrate": _calibrate, "bench": _bench}  # fmt: skip
         commands["sweep"] = _sweep
         return commands[args.command](args)
     except UsageError as e:

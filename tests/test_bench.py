@@ -1,0 +1,43 @@
+"""``neurowalk bench``: every figure is a measured rate or a ratio to a baseline of the same run."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from neurowalk.cli import main
+
+
+def test_bench_writes_rates_and_ratios(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["bench", "--quick", "--workers", "2", "--out", str(tmp_path)]) == 0
+    b = json.loads((tmp_path / "bench.json").read_text())
+    phys, sur = b["physics"], b["surrogate"]
+    assert phys["control_steps_per_s"] > 0 and phys["bare_mj_step_per_s"] > phys["control_steps_per_s"]
+    ratio = b["surrogate_vs_physics"]["one_process"]
+    assert ratio == pytest.approx(sur["env_steps_per_s_one_process"] / phys["control_steps_per_s"])
+    assert ratio > 10  # a planar body with a compiled loop must be far faster than physics
+    for k in ("nthread_1", "nthread_2"):
+        assert b["batch_physics"][k]["batch_physics_steps_per_s"] > 0 and b["batch_physics"][k]["speedup"] > 0
+    assert "bench.json" in capsys.readouterr().out
+
+
+def test_bench_rejects_zero_workers(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["bench", "--workers", "0", "--out", "/tmp/never"]) == 2
+    assert capsys.readouterr().err.count("\n") == 1
+
+
+def test_run_on_the_surrogate_writes_the_same_files(tmp_path: Path) -> None:
+    args = ["run", "--arena", "narrow-passage", "--body", "surrogate", "--steps", "5000", "--quiet", "--out"]
+    assert main([*args, str(tmp_path)]) == 0
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert s["body"] == "surrogate" and s["escaped"] is True
+    assert (tmp_path / "run.png").is_file() and (tmp_path / "trajectory.npz").is_file()
+
+
+def test_surrogate_has_no_video_and_calibrate_needs_a_worker(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["run", "--body", "surrogate", "--video", "--out", "/tmp/never"]) == 2
+    assert main(["calibrate", "--workers", "0"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 2 and "--video needs --body amosii" in err[0] and "--workers" in err[1]
