@@ -13,20 +13,13 @@ The backbone target stays 0 until climbing is built.
 
 from __future__ import annotations
 
-import math
 from typing import Protocol, runtime_checkable
 
 import numpy as np
 
 from neurowalk import anatomy
 from neurowalk.neural.motor import LocomotionNetwork, LocomotionParams
-from neurowalk.neural.sensory import (
-    US_NEAR_M,
-    US_RANGE_M,
-    Mode,
-    SensoryNetwork,
-    SensoryParams,
-)
+from neurowalk.neural.sensory import Mode, SensoryNetwork, SensoryParams, distance_input
 from neurowalk.observation import Observation
 
 CONTROLLERS: tuple[str, ...] = ("plastic", "static", "braitenberg", "fixed")
@@ -45,14 +38,6 @@ class Controller(Protocol):
     def act(self, observation: Observation) -> np.ndarray:
         """Return (19,) joint targets in rad, actuator order (anatomy.ACTUATORS)."""
         ...
-
-
-def _input(distance_m: float) -> float:
-    """Scalar form of :func:`neurowalk.neural.sensory.distance_to_input` (hot path)."""
-    if not (distance_m >= 0.0) or math.isinf(distance_m):  # NaN, negative, inf: no echo
-        return -1.0
-    x = 1.0 - 2.0 * (distance_m - US_NEAR_M) / (US_RANGE_M - US_NEAR_M)
-    return min(1.0, max(-1.0, x))
 
 
 class NeuralController:
@@ -91,7 +76,7 @@ class NeuralController:
     def act(self, observation: Observation) -> np.ndarray:
         """One control step: (19,) joint targets in rad, actuator order (a fresh array)."""
         d = observation.us_distance
-        i1, i2 = _input(float(d[0])), _input(float(d[1]))
+        i1, i2 = distance_input(float(d[0])), distance_input(float(d[1]))
         o1, o2 = self.sensory.step(i1, i2)
         self.inputs[0], self.inputs[1] = i1, i2
         self.steering[0], self.steering[1] = o1, o2

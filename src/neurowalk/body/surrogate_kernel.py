@@ -19,7 +19,7 @@ import math
 import numpy as np
 from numba import njit
 
-from neurowalk.neural.sensory import US_NEAR_M, US_RANGE_M, sensory_step
+from neurowalk.neural.sensory import distance_input, sensory_step
 
 X, Y, YAW, VX, VY, W, SWAY, N1, N2 = range(9)
 RUN_STATE = 9
@@ -113,14 +113,6 @@ def velocity_command(grid: np.ndarray, table: np.ndarray, o1: float, o2: float, 
 
 
 @njit(cache=True)
-def _input(distance: float) -> float:
-    if not (distance >= 0.0) or math.isinf(distance):
-        return -1.0
-    x = 1.0 - 2.0 * (distance - US_NEAR_M) / (US_RANGE_M - US_NEAR_M)
-    return min(1.0, max(-1.0, x))
-
-
-@njit(cache=True)
 def move(state: np.ndarray, ring: np.ndarray, k: int, cmd: np.ndarray, alpha: float, dt: float) -> None:
     """Delay the command (n,) through ``ring``, low-pass it into the state (gain ``alpha``), integrate the pose."""
     slot = k % ring.shape[0]
@@ -178,7 +170,7 @@ def rollout(
             u = max(0.0, 1.0 - d / us_range) + state[N1 + r]
             seen = us_range * (1.0 - u) if u > 0.0 else math.inf
             out_us[k, r] = seen
-            inp[r] = _input(seen)
+            inp[r] = distance_input(seen)
         if fixed:
             o1, o2 = steer[0], steer[1]
             inp[0], inp[1] = -1.0, -1.0

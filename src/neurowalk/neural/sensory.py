@@ -128,6 +128,15 @@ def distance_to_input(distance_m: np.ndarray | float) -> np.ndarray:
     return np.clip(x, -1.0, 1.0)
 
 
+@njit(cache=True)
+def distance_input(distance_m: float) -> float:
+    """Scalar, compiled :func:`distance_to_input` (the one used in every control loop)."""
+    if not (distance_m >= 0.0) or math.isinf(distance_m):  # NaN, negative, inf: no echo
+        return -1.0
+    x = 1.0 - 2.0 * (distance_m - US_NEAR_M) / (US_RANGE_M - US_NEAR_M)
+    return min(1.0, max(-1.0, x))
+
+
 # State layout of one network: (o1, o2, o1(t-1), o2(t-1), b1, b2, q1, q2).
 STATE_SIZE = 8
 

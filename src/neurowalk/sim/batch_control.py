@@ -10,7 +10,6 @@ own ``act``.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 
 import numpy as np
@@ -19,19 +18,11 @@ from numba import njit
 from neurowalk import anatomy
 from neurowalk.controller import Controller, FixedController, NeuralController
 from neurowalk.neural.motor import locomotion_step
-from neurowalk.neural.sensory import US_NEAR_M, US_RANGE_M, sensory_step
+from neurowalk.neural.sensory import distance_input as _input
+from neurowalk.neural.sensory import sensory_step
 from neurowalk.observation import Observation
 
 FIXED, NEURAL = 0, 1  # kinds of copy in the compiled step
-
-
-@njit(cache=True)
-def _input(distance_m: float) -> float:
-    """Compiled twin of ``neurowalk.controller._input``: distance (m) -> network input in [-1, 1]."""
-    if not (distance_m >= 0.0) or math.isinf(distance_m):
-        return -1.0
-    x = 1.0 - 2.0 * (distance_m - US_NEAR_M) / (US_RANGE_M - US_NEAR_M)
-    return min(1.0, max(-1.0, x))
 
 
 @njit(cache=True)
