@@ -4,9 +4,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from neurowalk.arenas import make_arena
-from neurowalk.body.amosii import amosii_xml
-from neurowalk.body.obstacle_slots import PARK_Z, arena_slot_values, put_arena, slot_layout, slots_mjcf
+from neurowalk.body.obstacle_slots import PARK_Z, PARKING_BODY
 from neurowalk.sim.batch import BatchEpisodes, measure_throughput, run_batch
 from neurowalk.sim.episode import EpisodeConfig, build, run_episode, seeds
 
@@ -103,19 +101,17 @@ def test_threads_memory_controller_path_and_padding_do_not_change_a_bit(batch, o
         assert not other.controllers.compiled
 
 
-def test_slots_park_out_of_reach_and_take_the_arena_boxes_exactly():
-    arena = make_arena("random", n_boxes=4)
-    plain = mujoco.MjModel.from_xml_string(amosii_xml(world=arena.to_mjcf()))
-    padded = mujoco.MjModel.from_xml_string(amosii_xml(world=slots_mjcf(len(arena.boxes) + 3)))
-    layout = slot_layout(padded)
-    assert np.all(layout.parked["geom_pos"][:, 2] == PARK_Z)
-    assert np.all(layout.parked["geom_rgba"][:, 3] == 0)
-    put_arena(padded, arena_slot_values(arena))
-    n = len(arena.boxes)
-    for f in ("geom_pos", "geom_quat", "geom_size", "geom_rbound", "geom_aabb", "geom_friction"):
-        ids = [plain.geom(f"obstacle_{k}").id for k in range(n)]
-        np.testing.assert_array_equal(getattr(padded, f)[layout.geoms[:n]], getattr(plain, f)[ids], err_msg=f)
-    np.testing.assert_array_equal(padded.geom_pos[layout.geoms[n:], 2], PARK_Z)
+def test_padded_models_share_sizes_and_park_out_of_reach(batch):
+    be, _ = batch
+    sizes = {(m.nbody, m.ngeom, m.nbvh, m.nbvhstatic, m.nq, m.nsensordata) for m in be.models}
+    assert len(sizes) == 1  # what set_models needs: one MjData layout
+    for m, arena in zip(be.models, be.arenas, strict=True):
+        park = m.body(PARKING_BODY).id
+        assert m.body_weldid[park] == 0 and m.body_pos[park][2] == PARK_Z  # welded to the world, far below
+        geoms = np.flatnonzero(m.geom_bodyid == park)
+        assert len(geoms) == be.max_boxes - len(arena.boxes) + 1
+        assert np.all(m.geom_rgba[geoms, 3] == 0)
+        assert park == m.nbody - 1 and geoms[0] == m.ngeom - len(geoms)  # after the robot: ids as in the plain model
 
 
 def test_bad_batches_raise():
@@ -125,7 +121,7 @@ def test_bad_batches_raise():
         BatchEpisodes([CONFIGS[0], EpisodeConfig(steps=STEPS + 1)])
     with pytest.raises(ValueError, match="control_hz"):
         BatchEpisodes([CONFIGS[0], EpisodeConfig(steps=STEPS, control_hz=20.0)])
-    with pytest.raises(ValueError, match="max_boxes"):
+    with pytest.raises(ValueError, match="obstacle slots"):
         BatchEpisodes(CONFIGS[:1], max_boxes=3)
     with pytest.raises(ValueError, match="slots"):
         run_episode(CONFIGS[0], pad_boxes=2)

@@ -27,7 +27,7 @@ from neurowalk.body.amosii import (
 )
 from neurowalk.body.amosii_params import STAND_KEY
 from neurowalk.body.noise import ColoredNoise
-from neurowalk.body.obstacle_slots import arena_slot_values, put_arena, slots_mjcf
+from neurowalk.body.obstacle_slots import padded_world
 from neurowalk.observation import Observation
 
 
@@ -51,9 +51,9 @@ class AmosII:
         control_hz: control rate (Hz).
         noise: strength of the coloured sensor noise (0 switches it off).
         scan_obstacles: read the obstacle-height sensor every step (costs about 25 µs).
-        pad_boxes: if given, build the model with this many obstacle slots (see
-            :mod:`~neurowalk.body.obstacle_slots`) and put the arena's boxes into them: the model that
-            :mod:`neurowalk.sim.batch` runs for this arena. None: the arena's boxes as plain geoms.
+        pad_boxes: if given, build the arena's padded model with room for this many boxes (see
+            :mod:`~neurowalk.body.obstacle_slots`): the model :mod:`neurowalk.sim.batch` runs for this
+            arena, bit for bit the same physics. None: the plain model.
     """
 
     name = "amosii"
@@ -62,10 +62,8 @@ class AmosII:
                  noise: float = 0.02, scan_obstacles: bool = False, pad_boxes: int | None = None) -> None:  # fmt: skip
         self.arena = arena
         self.params = params or BodyParams()
-        world = arena.to_mjcf() if pad_boxes is None else slots_mjcf(pad_boxes)
+        world = arena.to_mjcf() if pad_boxes is None else padded_world(arena, pad_boxes)
         self.model = mujoco.MjModel.from_xml_string(amosii_xml(self.params, world=world))
-        if pad_boxes is not None:
-            put_arena(self.model, arena_slot_values(arena, self.params))
         self.data = mujoco.MjData(self.model)
         self.control_hz = control_hz
         self.n_substeps = n_substeps(control_hz, self.model.opt.timestep)

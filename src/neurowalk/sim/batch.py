@@ -1,9 +1,9 @@
-"""Many runs at once: one padded AMOSII model, stepped for every arena together by ``mujoco.batch``.
+"""Many runs at once: one padded AMOSII model per arena, all stepped together by ``mujoco.batch``.
 
 .. code-block:: text
 
-    model   = AMOSII + max_boxes obstacle slots (body/obstacle_slots.py), compiled once
-    batch   = mujoco.batch.Batch(model, n, nthread); slot geometry per copy (expand + set_const)
+    models  = AmosII(arena_i, pad_boxes=max_boxes).model   # same sizes for all (body/obstacle_slots.py)
+    batch   = mujoco.batch.Batch(models[0], n, nthread); batch.set_models(models)
     reset:  stand keyframe at each arena's start pose; noise and controllers from each run's seeds()
     each control step:
         read sensordata of all copies -> noisy ultrasonic distances (n, 2)   # as AmosII.observe
@@ -11,9 +11,9 @@
         ctrl[:] = targets; batch.step(nstep=n_substeps)                     # on nthread threads
         record
 
-Copy i gives exactly (bit for bit) the trajectory of ``run_episode(configs[i])``: the same model numbers
-(the padded model equals the plain one, see ``obstacle_slots``), the same reset, the same noise draws from
-the same Generators in the same order, the same controller kernels, and MuJoCo's batch is bit-identical to a
+Copy i gives exactly (bit for bit) the trajectory of ``run_episode(configs[i])``: the padded model's physics
+is the plain model's (see ``obstacle_slots``), the reset is AmosII.reset's, the noise draws come from the same
+Generators in the same order, the controllers run the same kernels, and MuJoCo's batch is bit-identical to a
 loop over one ``MjData`` per copy. tests/sim/test_batch.py checks it.
 """
 
@@ -28,13 +28,12 @@ import mujoco
 import mujoco.batch
 import numpy as np
 
-from neurowalk.arenas import ArenaSpec
-from neurowalk.body.amosii import amosii_xml, joint_qpos_indices
+from neurowalk.arenas import ArenaSpec, make_arena
+from neurowalk.body.amosii import joint_qpos_indices
 from neurowalk.body.amosii_params import STAND_KEY, BodyParams
 from neurowalk.body.amosii_sensors import _layout as sensor_layout
 from neurowalk.body.noise import ColoredNoise
-from neurowalk.body.obstacle_slots import GEOM_FIELDS, model_slot_values, slot_layout, slots_mjcf, write_slots
-from neurowalk.body.physics import AmosII, n_substeps
+from neurowalk.body.physics import AmosII
 from neurowalk.observation import Observation
 from neurowalk.sim.batch_control import BatchControllers
 from neurowalk.sim.episode import Episode, EpisodeConfig, _poses_from_qpos, _up_z_from_qpos, build, seeds, summarize
@@ -50,12 +49,12 @@ class BatchEpisodes:
         configs: the runs; same body (``amosii``), ``control_hz`` and ``steps``; arenas, seeds, controllers,
             noise and start weights may differ.
         nthread: physics threads (the calling thread is one of them).
-        max_boxes: obstacle slots of the shared model (default: the most boxes of any arena).
+        max_boxes: boxes the padded models have room for (default: the most boxes of any arena).
         persistent: keep one ``MjData`` per copy inside the batch (more memory; the same numbers).
         compiled: step the controllers in one compiled call (else each controller's ``act``).
 
     Attributes:
-        arenas: the arena of each run. model: the shared padded model (its slots parked).
+        arenas: the arena of each run. models: the padded model of each run (``model``: the first).
         batch: the ``mujoco.batch.Batch``. n_substeps: physics steps per control step.
         timing: seconds spent so far in ``physics`` (batch.step) and in ``control`` (sensing, controllers,
             recording).
@@ -66,26 +65,21 @@ class BatchEpisodes:
         self.configs = list(configs)
         _check(self.configs)
         n = len(self.configs)
-        parts = [build(cfg) for cfg in self.configs]
+        if max_boxes is None:  # the arenas alone, as build() makes them, to size the padding
+            max_boxes = max(len(make_arena(c.arena, rng=seeds(c)[2], **c.arena_opts).boxes) for c in self.configs)
+        self.max_boxes = max_boxes
+        parts = [build(cfg, pad_boxes=max_boxes) for cfg in self.configs]
         self.arenas: list[ArenaSpec] = [p[0] for p in parts]
         bodies = [p[1] for p in parts]
         assert all(isinstance(b, AmosII) for b in bodies)
-        values = [model_slot_values(b.model) for b in bodies]
-        n_boxes = max(len(v["geom_pos"]) for v in values)
-        self.max_boxes = n_boxes if max_boxes is None else max_boxes
-        if self.max_boxes < n_boxes:
-            raise ValueError(f"max_boxes={self.max_boxes} but an arena has {n_boxes} boxes")
+        self.models: list[mujoco.MjModel] = [b.model for b in bodies]
+        self.model = self.models[0]
         self.params: BodyParams = bodies[0].params
-        self.model = mujoco.MjModel.from_xml_string(amosii_xml(self.params, world=slots_mjcf(self.max_boxes)))
-        layout = slot_layout(self.model)
         self.batch = mujoco.batch.Batch(self.model, n, nthread, persistent)
-        expanded = {f: self.batch.expand(f) for f in GEOM_FIELDS}
-        for i, v in enumerate(values):
-            write_slots({f: a[i] for f, a in expanded.items()}, layout, v)
-        self.batch.set_const()
-        self.n_substeps = n_substeps(self.configs[0].control_hz, self.model.opt.timestep)
+        self.batch.set_models(self.models)
+        self.n_substeps = bodies[0].n_substeps
         self.controllers = BatchControllers([p[2] for p in parts], compiled=compiled)
-        # the bodies' own noise sources, so that the draws are the single loop's (the bodies are dropped)
+        # the bodies' own noise sources, so that the draws are the single loop's (their MjData are dropped)
         self._noise: list[ColoredNoise] = [b._noise for b in bodies]
         lay = sensor_layout(self.model)
         self._us_adr, self._touch_adr, self._force_full, self._us_max = lay.us, lay.touch, lay.force_full, lay.us_range
@@ -225,7 +219,7 @@ def run_batch(configs: Sequence[EpisodeConfig], *, nthread: int = 2, progress: b
         configs: the runs (same body ``amosii``, ``control_hz`` and ``steps``).
         nthread: physics threads.
         progress: show a progress bar (control steps of all runs).
-        max_boxes: obstacle slots of the shared model (default: the most boxes of any arena).
+        max_boxes: boxes the padded models have room for (default: the most boxes of any arena).
 
     Returns:
         One :class:`~neurowalk.sim.episode.Episode` per config, in order, with the summary of ``run_episode``
