@@ -90,11 +90,13 @@ def yaw_sway(poses: np.ndarray) -> np.ndarray:
 def sway_fit(residual: np.ndarray, first_step: int) -> tuple[float, float]:
     """Period (steps) and phase (rad at step 0) of the sinusoid that best fits a yaw residual from ``first_step``."""
     k = first_step + np.arange(len(residual))
-    best = (0.0, 0.0, 0.0)
+    best = (math.inf, 0.0, 0.0)
     for period in np.arange(80.0, 95.0, 0.05):
-        z = np.sum(residual * np.exp(-2j * np.pi * k / period))
-        if abs(z) > best[0]:
-            best = (abs(z), float(period), float(np.angle(z) + np.pi / 2))  # r ~ A sin(wk + phase)
+        basis = np.column_stack([np.sin(2 * np.pi * k / period), np.cos(2 * np.pi * k / period)])
+        (a, b), *_ = np.linalg.lstsq(basis, residual, rcond=None)  # r ~ a sin + b cos = A sin(wk + phase)
+        err = float(np.sum((basis @ (a, b) - residual) ** 2))
+        if err < best[0]:
+            best = (err, float(period), math.atan2(b, a))
     return best[1], float(np.angle(np.exp(1j * best[2])))
 
 
@@ -112,23 +114,19 @@ def steady_table(grid: Sequence[float], workers: int = 2, progress: bool = True)
 
 
 def _map(fn: Any, jobs: list[Any], workers: int, progress: bool, desc: str) -> list[Any]:
-    from concurrent.futures import ProcessPoolExecutor
-
+    """``[fn(j) for j in jobs]`` on the project's process pool, with a progress bar; the first error is raised."""
     from tqdm import tqdm
 
+    from neurowalk.runners.local import run_unordered
+
+    out: list[Any] = [None] * len(jobs)
     with tqdm(total=len(jobs), unit="run", desc=desc, disable=not progress, mininterval=0.5) as bar:
-        if workers <= 1:
-            out = []
-            for j in jobs:
-                out.append(fn(j))
-                bar.update(1)
-            return out
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            out = []
-            for r in pool.map(fn, jobs):
-                out.append(r)
-                bar.update(1)
-            return out
+        for d in run_unordered(fn, jobs, workers=workers):
+            if d.error is not None:
+                raise d.error
+            out[d.index] = d.value
+            bar.update(1)
+    return out
 
 
 def predict(pose0: np.ndarray, vel0: np.ndarray, commands: np.ndarray, delay: int, alpha: float,
