@@ -33,7 +33,7 @@ def physics_rates(steps: int, seeds: int) -> dict[str, float]:
     from neurowalk.sim.episode import EpisodeConfig, build, run_episode
 
     cfgs = [EpisodeConfig(arena="random", arena_opts=ARENA_OPTS, steps=steps, seed=s) for s in range(seeds)]
-    run_episode(cfgs[0].__class__(arena="open", steps=5))  # warm the compiled kernels
+    run_episode(EpisodeConfig(arena="open", steps=5))  # warm the compiled kernels
     wall = sum(run_episode(c).summary["wall_time_s"] for c in cfgs)
     _, body, _ = build(cfgs[0])
     m, d = body.model, body.data  # type: ignore[union-attr]
