@@ -31,6 +31,8 @@ class Observation:
         foot_contact: (6,) foot contact signal in [0, 1], order ``anatomy.LEGS``.
         joint_angles: (19,) measured joint angles in rad, actuator order, controller sign.
         obstacle_height: height in m of the obstacle ahead (0 when none is seen).
+        ground_height: (2,) height in m of the terrain under the front tip and under the trunk
+            centre, above the lowest sole (0 on flat ground).
         pose: (3,) trunk pose (x m, y m, yaw rad) in the world frame.
         time: simulated time in s.
     """
@@ -39,5 +41,6 @@ class Observation:
     foot_contact: np.ndarray = field(default_factory=lambda: _zeros(len(anatomy.LEGS)))
     joint_angles: np.ndarray = field(default_factory=lambda: _zeros(anatomy.N_ACTUATORS))
     obstacle_height: float = 0.0
+    ground_height: np.ndarray = field(default_factory=lambda: _zeros(2))
     pose: np.ndarray = field(default_factory=lambda: _zeros(3))
     time: float = 0.0

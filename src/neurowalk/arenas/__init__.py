@@ -62,6 +62,6 @@ def make_arena(name: str, *, rng: np.random.Generator | None = None, **options: 
     return ArenaSpec(**{**spec.__dict__, "options": {**known, **values}})
 
 
-from neurowalk.arenas import basic, deadlocks, generated, original  # noqa: E402, F401  (fill the registry)
+from neurowalk.arenas import basic, climbing, deadlocks, generated, original  # noqa: E402, F401  (fill the registry)
 
 __all__ = ["ARENAS", "ArenaSpec", "Box", "arena", "arena_options", "make_arena"]

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 
 from neurowalk.arenas import arena
-from neurowalk.arenas.spec import ArenaSpec, Box
+from neurowalk.arenas.spec import WALL_HEIGHT, ArenaSpec, Box
 
 
 @arena("open")
@@ -16,7 +16,7 @@ def open_floor() -> ArenaSpec:
 
 @arena("box")
 def box_ahead(distance: float = 1.0, offset: float = 0.0, width: float = 1.0, angle: float = 0.0,
-              height: float = 0.10) -> ArenaSpec:  # fmt: skip
+              height: float = WALL_HEIGHT) -> ArenaSpec:  # fmt: skip
     """One box ahead of the robot.
 
     Options: ``distance`` (m) from the start to the box's near face, ``offset`` (m) of its centre to

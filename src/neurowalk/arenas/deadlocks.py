@@ -1,6 +1,6 @@
 """Dead ends: the simple deadlock, the narrow passage and the sharp corner (paper Fig. 3A-B, 5A-B).
 
-The robot starts at the origin facing +x, inside the trap. Walls are 0.10 m high boxes, 0.10 m
+The robot starts at the origin facing +x, inside the trap. Walls are 0.20 m high boxes (``WALL_HEIGHT``), 0.10 m
 thick. The exit region lies behind the start, outside the trap's mouth: reaching it means the robot
 turned around and walked out.
 """
@@ -10,10 +10,10 @@ from __future__ import annotations
 import math
 
 from neurowalk.arenas import arena
-from neurowalk.arenas.spec import ArenaSpec, Box
+from neurowalk.arenas.spec import WALL_HEIGHT, ArenaSpec, Box
 
 WALL = 0.10  # wall thickness (m)
-HEIGHT = 0.10  # wall and box height (m), as in the original simulation
+HEIGHT = WALL_HEIGHT  # wall and box height (m); the original used 0.10
 MOUTH_X = -0.5  # x of the trap's open end (m)
 EXIT_MARGIN = 0.3  # the exit region starts this far outside the mouth (m)
 

@@ -12,6 +12,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+WALL_HEIGHT = 0.20
+"""Height (m) of walls and avoidance obstacles: above what the climbing controller treats as a step
+(``BackboneParams.climbable`` = 0.12 m), so that they stay obstacles with climbing switched on. The
+original simulation used 0.10 m; the robot's ultrasonic rays (about 0.04 m up) see both alike."""
+
 
 @dataclass(frozen=True)
 class Box:
@@ -22,7 +27,7 @@ class Box:
     yaw: float
     sx: float
     sy: float
-    h: float = 0.10
+    h: float = WALL_HEIGHT
 
     def __post_init__(self) -> None:
         if not all(math.isfinite(v) for v in (self.x, self.y, self.yaw, self.sx, self.sy, self.h)):

@@ -45,6 +45,7 @@ from neurowalk.body.amosii_params import (
 )
 from neurowalk.body.amosii_sensors import (
     foot_contacts,
+    ground_heights,
     joint_qpos_indices,
     obstacle_height,
     read_us,
@@ -57,6 +58,7 @@ __all__ = [
     "amosii_xml",
     "export_model",
     "foot_contacts",
+    "ground_heights",
     "joint_qpos_indices",
     "obstacle_height",
     "read_us",

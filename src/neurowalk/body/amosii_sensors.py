@@ -13,6 +13,10 @@ reading is the largest such height (0 when nothing rises above the ground): exac
 a step lower than the scanner; for a face taller than the rays reach (about 0.25-0.3 m at a
 0.25 m distance) it is a lower bound. Robot geoms are never hit (rays stay in the trunk's
 sagittal plane, and the front segment is excluded).
+
+Ground heights (the same scanner looking straight down, world -z): the height of the terrain under
+the front tip and under the trunk centre above the lowest sole. They tell a climbing controller
+whether its front, then its middle, is already over a step.
 """
 
 from __future__ import annotations
@@ -36,6 +40,7 @@ from neurowalk.body.amosii_params import (
 
 __all__ = [
     "foot_contacts",
+    "ground_heights",
     "joint_qpos_indices",
     "obstacle_height",
     "read_us",
@@ -156,3 +161,21 @@ def obstacle_height(model: mujoco.MjModel, data: mujoco.MjData) -> float:
         return 0.0
     ground = data.geom_xpos[lay.feet, 2].min() - lay.foot_radius
     return max(0.0, float(points[near, 2].max() - ground))
+
+
+def _down_height(model: mujoco.MjModel, data: mujoco.MjData, origin: np.ndarray, exclude: int, ground: float) -> float:
+    down = np.array([0.0, 0.0, -1.0])
+    geomid = np.zeros(1, dtype=np.int32)
+    dist = mujoco.mj_ray(model, data, origin, down, None, 1, exclude, geomid)
+    if dist < 0.0:
+        return 0.0
+    return max(0.0, float(origin[2] - dist - ground))
+
+
+def ground_heights(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
+    """(2,) heights in m of the terrain under the front tip and under the trunk centre, above the lowest sole."""
+    lay = _layout(model)
+    ground = data.geom_xpos[lay.feet, 2].min() - lay.foot_radius
+    front = _down_height(model, data, data.site_xpos[lay.scanner[0]].copy(), lay.front, ground)
+    centre = _down_height(model, data, data.xpos[lay.trunk].copy(), lay.trunk, ground)
+    return np.array([front, centre])

@@ -19,6 +19,7 @@ from neurowalk.body.amosii import (
     BodyParams,
     amosii_xml,
     foot_contacts,
+    ground_heights,
     joint_qpos_indices,
     obstacle_height,
     read_us,
@@ -95,6 +96,7 @@ class AmosII:
             foot_contact=np.clip(foot_contacts(m, d) + n[2 + nj :], 0.0, 1.0),
             joint_angles=d.qpos[self._qidx] + n[2 : 2 + nj],
             obstacle_height=obstacle_height(m, d) if self.scan_obstacles else 0.0,
+            ground_height=ground_heights(m, d) if self.scan_obstacles else np.zeros(2),
             pose=trunk_pose(m, d),
             time=d.time,
         )

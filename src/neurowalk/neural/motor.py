@@ -131,14 +131,16 @@ def _vrn(old: np.ndarray, new: np.ndarray, base: int, x_in: float, y_in: float) 
 
 
 @njit(cache=True)
-def locomotion_step(x: np.ndarray, buf: np.ndarray, s_right: float, s_left: float, p: np.ndarray,
-                    targets: np.ndarray) -> None:  # fmt: skip
-    """Advance one network one control step in place and write 18 leg targets (rad).
+def presignal_step(x: np.ndarray, buf: np.ndarray, s_right: float, s_left: float, p: np.ndarray,
+                   pre: np.ndarray) -> None:  # fmt: skip
+    """Advance one network one control step in place and write the delayed pre-motor signals.
 
     Args:
         x: (STATE_SIZE,) network state. buf: (L, 5) delay-line ring buffer of PMN outputs.
         s_right: steering of the right legs (O1). s_left: steering of the left legs (O2).
-        p: packed :class:`LocomotionParams`. targets: (>= 18,) output, actuator order.
+        p: packed :class:`LocomotionParams`.
+        pre: (3, 6) output: TC, CTr and FTi pre-signals (dimensionless, about [-1, 1]), LEGS order;
+            :func:`motor_map` turns them into joint angles. A CTr value of -1 means stance.
     """
     old = x.copy()
     # CPG and its post-processing (PCPG reads the previous CPG output).
@@ -176,9 +178,7 @@ def locomotion_step(x: np.ndarray, buf: np.ndarray, s_right: float, s_left: floa
     buf[t % n, :] = x[PMN : PMN + N_PMN]
     tau, tau_l = int(p[3]), int(p[4])
     g, g_mid = p[5], p[6]
-    tc = np.empty(6)
-    ctr = np.empty(6)
-    fti = np.empty(6)
+    tc, ctr, fti = pre[0], pre[1], pre[2]
     # LEGS order R1 R2 R3 L1 L2 L3; k = 2 (front), 1 (middle), 0 (hind) neighbours from the hind leg.
     for leg in range(6):
         right = leg < 3
@@ -196,7 +196,18 @@ def locomotion_step(x: np.ndarray, buf: np.ndarray, s_right: float, s_left: floa
         else:
             fti[leg] = buf[(t - base) % n, 3] * (-g * s)
     x[STEP] = t + 1
-    motor_map(tc, ctr, fti, targets)
+
+
+@njit(cache=True)
+def locomotion_step(x: np.ndarray, buf: np.ndarray, s_right: float, s_left: float, p: np.ndarray,
+                    targets: np.ndarray) -> None:  # fmt: skip
+    """Advance one network one control step in place and write 18 leg targets (rad).
+
+    :func:`presignal_step` followed by :func:`motor_map`; ``targets``: (>= 18,) output, actuator order.
+    """
+    pre = np.empty((3, 6))
+    presignal_step(x, buf, s_right, s_left, p, pre)
+    motor_map(pre[0], pre[1], pre[2], targets)
 
 
 def initial_state(params: LocomotionParams) -> tuple[np.ndarray, np.ndarray]:
@@ -213,6 +224,7 @@ class LocomotionNetwork:
         self.params = params or LocomotionParams()
         self._p = self.params.as_array()
         self.targets = np.zeros(anatomy.N_ACTUATORS)
+        self.pre = np.zeros((3, 6))
         self.reset()
 
     def reset(self) -> None:
@@ -226,6 +238,15 @@ class LocomotionNetwork:
         """
         locomotion_step(self.state, self.buffer, o1, o2, self._p, self.targets)
         return self.targets
+
+    def step_presignals(self, o1: float, o2: float) -> np.ndarray:
+        """One control step from steering (O1, O2); returns the (3, 6) TC/CTr/FTi pre-signals.
+
+        For controllers that shape the pre-signals (local leg control) before :func:`motor_map`.
+        The returned array is the network's own buffer, overwritten next step.
+        """
+        presignal_step(self.state, self.buffer, o1, o2, self._p, self.pre)
+        return self.pre
 
     @property
     def cpg(self) -> np.ndarray:

@@ -47,6 +47,8 @@ class EpisodeConfig:
     noise: float = 0.02  # strength of the coloured sensor noise
     b0: float | None = None  # plastic controller: start self weights (default 0)
     q0: float | None = None  # plastic controller: start inhibition magnitudes (default 0)
+    reflexes: bool = False  # local leg control: forward models, searching and elevation reflexes
+    backbone: bool = False  # backbone joint control and the climbable-step decision (obstacle-height sensor)
 
     def __post_init__(self) -> None:
         if self.controller not in CONTROLLERS:
@@ -61,6 +63,8 @@ class EpisodeConfig:
             raise ValueError("start weights b0/q0 go with controller 'plastic' only")
         if (self.controller == "fixed") != (self.steer is not None):
             raise ValueError("--steer O1,O2 goes with controller 'fixed' (and only with it)")
+        if (self.reflexes or self.backbone) and self.body != "amosii":
+            raise ValueError(f"reflexes and backbone control need body 'amosii' (legs and terrain), got {self.body!r}")
 
 
 @dataclass
@@ -92,9 +96,11 @@ def build(cfg: EpisodeConfig, *, pad_boxes: int | None = None) -> tuple[ArenaSpe
         if cfg.control_hz != body.control_hz:
             raise ValueError(f"body 'surrogate' is calibrated at {body.control_hz} Hz, got control_hz {cfg.control_hz}")
     else:
-        body = AmosII(arena, control_hz=cfg.control_hz, noise=cfg.noise, pad_boxes=pad_boxes)
+        body = AmosII(arena, control_hz=cfg.control_hz, noise=cfg.noise, pad_boxes=pad_boxes,
+                      scan_obstacles=cfg.backbone)  # fmt: skip
     weights = {k: v for k, v in (("b0", cfg.b0), ("q0", cfg.q0)) if v is not None}
-    controller = make_controller(cfg.controller, steer=cfg.steer, **weights)
+    climbing = {k: True for k in ("reflexes", "backbone") if getattr(cfg, k)}
+    controller = make_controller(cfg.controller, steer=cfg.steer, **weights, **climbing)
     return arena, body, controller
 
 
@@ -238,6 +244,9 @@ def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory, wall_time_s:
         "control_hz": cfg.control_hz,
         "noise": cfg.noise,
         "start_weights": {"b0": cfg.b0, "q0": cfg.q0} if cfg.controller == "plastic" else None,
+        "reflexes": cfg.reflexes,
+        "backbone": cfg.backbone,
+        "final_z_m": float(tr.qpos[-1, 2]),
         "escaped": metrics.escaped(pose, arena),
         "trapped": metrics.trapped(pose),
         "ever_trapped": metrics.ever_trapped(pose),
