@@ -94,6 +94,9 @@ def _episode_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--body", default="amosii", help="amosii (MuJoCo physics) | surrogate (planar, calibrated)")
     p.add_argument("--steps", type=int, default=1000, help="control steps (10 Hz: 1000 = 100 s)")
     p.add_argument("--seed", type=int, default=0, help="seed of every random draw")
+    p.add_argument("--reflexes", action="store_true", help="local leg control: searching and elevation reflexes")
+    p.add_argument("--backbone", action="store_true", help="backbone joint control and climbable-step detection")
+    p.add_argument("--climb", action="store_true", help="both --reflexes and --backbone (climbing)")
 
 
 def _arena_opts(items: list[str]) -> dict[str, str]:
@@ -124,7 +127,8 @@ def _episode_config(args: argparse.Namespace) -> object:
 
     try:
         cfg = EpisodeConfig(arena=args.arena, arena_opts=_arena_opts(args.arena_opt), controller=args.controller,
-                            steer=_steer(args.steer), body=args.body, steps=args.steps, seed=args.seed)  # fmt: skip
+                            steer=_steer(args.steer), body=args.body, steps=args.steps, seed=args.seed,
+                            reflexes=args.reflexes or args.climb, backbone=args.backbone or args.climb)  # fmt: skip
         make_arena(cfg.arena, **cfg.arena_opts)  # validate the arena's options before any work
     except ValueError as e:
         raise UsageError(str(e)) from None
@@ -273,6 +277,10 @@ def _export(args: argparse.Namespace) -> int:
 
 
 def _figure(args: argparse.Namespace) -> int:
+    from neurowalk.render import has_display, use_headless_gl
+
+    if not has_display():
+        use_headless_gl()  # before MuJoCo is imported: figures with rendered snapshots (fig10)
     from neurowalk.experiments import FIGURES
 
     if args.name == "list":

@@ -74,6 +74,16 @@ def escaped(pose: np.ndarray, arena: ArenaSpec) -> bool | None:
     return bool(np.any((x >= x0) & (x <= x1) & (y >= y0) & (y <= y1)))
 
 
+def exit_step(pose: np.ndarray, arena: ArenaSpec) -> int | None:
+    """First control step (row index) at which the trunk centre is in the exit region; None if never or none."""
+    if arena.exit_region is None:
+        return None
+    x0, x1, y0, y1 = arena.exit_region
+    x, y = pose[:, 0], pose[:, 1]
+    inside = np.flatnonzero((x >= x0) & (x <= x1) & (y >= y0) & (y <= y1))
+    return int(inside[0]) if len(inside) else None
+
+
 def turn_state(outputs: np.ndarray, threshold: float = 1.0) -> np.ndarray:
     """(T,) commanded turn per step from steering (O1, O2): +1 right (O1 - O2 > threshold), -1 left, 0 none."""
     d = outputs[:, 0] - outputs[:, 1]

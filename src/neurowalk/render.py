@@ -91,3 +91,28 @@ def view(model: object, data: object, step: object, control_hz: float = 10.0) ->
             step()
             v.sync()
             time.sleep(max(0.0, period - (time.perf_counter() - t0)))
+
+
+def render_frames(model: object, qpos: np.ndarray, *, width: int = 400, height: int = 300, distance: float = 1.2,
+                  azimuth: float = 135.0, elevation: float = -25.0) -> np.ndarray:  # fmt: skip
+    """Render frames of positions ``qpos`` (n, nq), camera tracking the trunk: (n, height, width, 3) uint8."""
+    import mujoco
+
+    from neurowalk.body.amosii_params import TRUNK_BODY
+
+    data = mujoco.MjData(model)
+    cam = mujoco.MjvCamera()
+    cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
+    cam.trackbodyid = model.body(TRUNK_BODY).id
+    cam.distance, cam.elevation, cam.azimuth = distance, elevation, azimuth
+    out = np.zeros((len(qpos), height, width, 3), dtype=np.uint8)
+    renderer = mujoco.Renderer(model, height, width)
+    try:
+        for i, q in enumerate(qpos):
+            data.qpos[:] = q
+            mujoco.mj_forward(model, data)
+            renderer.update_scene(data, camera=cam)
+            out[i] = renderer.render()
+    finally:
+        renderer.close()
+    return out

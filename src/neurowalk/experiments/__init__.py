@@ -55,7 +55,19 @@ def register(name: str, title: str) -> Callable[[Callable[..., Result]], Callabl
 
 def _load() -> None:
     # Importing the modules fills the registry.
-    from neurowalk.experiments import escape_map, fig2, fig3, fig4, fig5, fig6, fig7, surrogate_check, table2  # noqa: F401
+    from neurowalk.experiments import (  # noqa: F401
+        escape_map,
+        fig2,
+        fig3,
+        fig4,
+        fig5,
+        fig6,
+        fig7,
+        fig10,
+        steps,
+        surrogate_check,
+        table2,
+    )
 
 
 _load()

@@ -6,9 +6,9 @@ down. Here the trigger is the obstacle-height sensor (the stand-in for the paper
 finder), which also decides what is climbable:
 
 * **climbable step ahead**: ``min_height < h_ahead <= climbable`` (m). Higher obstacles are walls:
-  the sensory network avoids them as before. While a climbable step is ahead, or the front is over
-  one, the ultrasonic inputs are masked (read as "no echo"), so that the robot walks onto the step
-  instead of turning away from it.
+  the sensory network avoids them as before. While a climbable step is ahead (and no wall), the
+  ultrasonic inputs are masked (read as "no echo"), so that the robot walks onto the step instead
+  of turning away from it.
 * **lean up** (``+lean_per_m · h`` rad, at most ``max_lean``) while a climbable step is ahead and the
   front tip is not yet over it: the front segment and front legs rise over the edge.
 * **lean down** (``down`` rad) once the front tip is over the step (terrain under it higher than
@@ -84,6 +84,6 @@ class BackboneControl:
             self.phase, target = 1, min(p.max_lean, p.lean_per_m * height_ahead)
         else:
             self.phase, target = 0, 0.0
-        self.climbing = ahead or front_over
+        self.climbing = ahead
         self.command += p.smoothing * (target - self.command)
         return self.command

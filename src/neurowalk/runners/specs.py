@@ -3,7 +3,8 @@
 A spec names only what differs from the defaults, e.g. ``{"arena": "box", "controller": "static", "seed": 3}``.
 :func:`normalize` fills in every default (the config's and the arena's options) and converts the values to their
 canonical types, so that equal runs get equal keys (:func:`spec_key`) whatever the dict order, the omitted defaults
-or the spelling of a number (``"0.3"``, ``0.3``; ``2``, ``2.0``).
+or the spelling of a number (``"0.3"``, ``0.3``; ``2``, ``2.0``). The switches added later (:data:`LATER`:
+``reflexes``, ``backbone``) appear in the canonical form only when on, so the keys of earlier stores stay valid.
 """
 
 from __future__ import annotations
@@ -26,6 +27,8 @@ FIELDS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(EpisodeConfig
 MACHINE_KEYS: tuple[str, ...] = ("wall_time_s", "real_time_factor")
 
 _DEFAULTS: Spec = {f: getattr(EpisodeConfig(), f) for f in FIELDS}
+#: Boolean switches kept out of the canonical form while off (they came after stores were written).
+LATER: tuple[str, ...] = ("reflexes", "backbone")
 
 
 def normalize(spec: Spec) -> Spec:
@@ -73,6 +76,11 @@ def normalize(spec: Spec) -> Spec:
                 f"arena {out['arena']!r}: option {key}={value!r} is not a {type(known[key]).__name__}"
             ) from None
     out["arena_opts"] = to_jsonable(opts)
+    for key in LATER:
+        if not isinstance(s[key], bool):
+            raise ValueError(f"{key} must be true or false, got {s[key]!r}")
+        if s[key]:
+            out[key] = True
     to_config(out)  # the config's own checks (controller, body, steps, seed, steer, b0/q0)
     return out
 

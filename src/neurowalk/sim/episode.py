@@ -247,6 +247,8 @@ def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory, wall_time_s:
         "reflexes": cfg.reflexes,
         "backbone": cfg.backbone,
         "final_z_m": float(tr.qpos[-1, 2]),
+        "max_z_m": float(np.max(tr.qpos[:, 2])),
+        "exit_step": metrics.exit_step(pose, arena),
         "escaped": metrics.escaped(pose, arena),
         "trapped": metrics.trapped(pose),
         "ever_trapped": metrics.ever_trapped(pose),
