@@ -73,3 +73,16 @@ def test_unbuildable_arena_exits_2(opt, tmp_path, capsys):
 def test_figure_seeds_only_where_it_applies(capsys):
     assert main(["figure", "fig2", "--seeds", "3"]) == 2
     assert "no --seeds" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("opt", ["height=-0.1", "height=0", "height=1.0", "height=nan"])
+def test_step_height_the_arena_cannot_build_exits_2(opt, tmp_path, capsys):
+    assert main(["run", "--arena", "steps", "--arena-opt", opt, "--climb", "--out", str(tmp_path / "x")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "height" in err[0]
+    assert not (tmp_path / "x").exists()
+
+
+def test_climbing_needs_the_physics_body(tmp_path, capsys):
+    assert main(["run", "--body", "surrogate", "--climb", "--out", str(tmp_path / "x")]) == 2
+    assert "amosii" in capsys.readouterr().err

@@ -51,8 +51,10 @@ def keep_outcome(ep: Episode) -> dict[str, Any]:
 
 
 def outcome_table(seeds: int, *, first_seed: int = 0, variants: dict | None = None, workers: int = 2,
-                  progress: bool = True, body: str = "amosii") -> dict:  # fmt: skip
+                  progress: bool = True, body: str = "amosii", climbing: bool = False) -> dict:  # fmt: skip
     """Escape counts per variant and network over seeds ``first_seed`` ... ``first_seed + seeds - 1``.
+
+    ``climbing``: run with the leg reflexes and backbone control switched on.
 
     ``runs`` lists every run as [variant, network, seed, escaped, trapped].
     """
@@ -63,7 +65,7 @@ def outcome_table(seeds: int, *, first_seed: int = 0, variants: dict | None = No
             for seed in range(first_seed, first_seed + seeds):
                 keys.append((vname, nname))
                 configs.append(EpisodeConfig(arena=arena, arena_opts=opts, steps=TRAP_STEPS, seed=seed, body=body,
-                                             **net))  # fmt: skip
+                                             reflexes=climbing, backbone=climbing, **net))  # fmt: skip
     results = run_many(configs, workers=workers, progress=progress, keep=keep_outcome, desc=f"dead ends ({body})")
     table: dict[str, dict[str, dict[str, Any]]] = {}
     runs = []
