@@ -12,7 +12,8 @@ before the motor map; a CTr pre-signal of -1 is the stance command):
 * **Searching reflex**: during stance, a missing contact accumulates into an offset ``E`` that
   lowers the CTr pre-signal (depresses the leg, the foot reaches further down) until the foot
   touches; it is held while the foot stands and decays during swing.
-* **Elevation reflex**: a contact during swing (the foot hit the face of a step) lifts the leg for
+* **Elevation reflex**: a contact during swing where the forward model expects none (``m`` below
+  ``elevation_expected``: the foot hit the face of a step, not just left the ground late) lifts the leg for
   ``elevation_steps``: TC pulled back by 0.8, CTr to its top (1.0), FTi to 0.7, the original's
   numbers in pre-signal units, so that the next swing clears the edge.
 
@@ -33,11 +34,13 @@ STANCE_LEVEL = -0.99  # CTr pre-signal at or below which a leg is commanded to s
 class LegControlParams:
     """Parameters of the local leg control (pre-signal units are dimensionless, about [-1, 1])."""
 
-    contact_threshold: float = 0.5  # foot contact signal (0..1) above which the foot counts as down
+    contact_threshold: float = 0.1  # foot contact signal (0..1) above which the foot counts as down (1 N)
     model_weight: float = 0.6  # forward model's recurrent weight (lag of the expected contact)
+    search_expected: float = 0.9  # a missing contact counts only where the forward model is this sure
     search_gain: float = 0.15  # CTr depression added per stance step of missing contact
     search_max: float = 3.0  # largest CTr depression (3 ≈ 45° lower)
     search_decay: float = 0.9  # per swing step
+    elevation_expected: float = 0.15  # a contact triggers the elevation reflex only where m is below this
     elevation_steps: int = 5  # control steps an elevation reflex lasts
     elevation_tc: float = -0.8  # TC pre-signal change while elevating (back)
     elevation_ctr: float = 1.0  # CTr pre-signal while elevating (top)
@@ -86,12 +89,12 @@ class LegControl:
         self.expected = p.model_weight * self.expected + (1.0 - p.model_weight) * stance
         self.error = self.expected - down
         if p.searching:
-            missing = np.maximum(self.error, 0.0) * ~down
+            missing = np.maximum(self.error, 0.0) * ~down * (self.expected > p.search_expected)
             grown = np.minimum(self.search + p.search_gain * missing, p.search_max)
             self.search = np.where(stance, grown, self.search * p.search_decay)
             pre[1] -= self.search
         if p.elevation:
-            hit = ~stance & down
+            hit = ~stance & down & (self.expected < p.elevation_expected)
             self.elevating = np.where(hit, p.elevation_steps, np.maximum(self.elevating - 1, 0))
             on = self.elevating > 0
             pre[0] = np.where(on, pre[0] + p.elevation_tc, pre[0])
