@@ -4,7 +4,7 @@ import json
 
 import pytest
 
-from neurowalk.runners.specs import FIELDS, check_specs, describe, grid, normalize, read_jsonl, spec_key
+from neurowalk.runners.specs import FIELDS, LATER, check_specs, describe, grid, normalize, read_jsonl, spec_key
 
 
 def test_key_ignores_dict_order_omitted_defaults_and_number_spelling():
@@ -25,7 +25,10 @@ def test_key_changes_with_the_run(change):
 
 def test_normalize_fills_every_field_and_arena_default():
     s = normalize({"arena": "box"})
-    assert tuple(s) == FIELDS
+    assert tuple(s) == tuple(f for f in FIELDS if f not in LATER)  # later switches appear only when on
+    on = normalize({"arena": "box", "reflexes": True, "backbone": True})
+    assert on["reflexes"] is True and on["backbone"] is True and spec_key(on) != spec_key(s)
+    assert spec_key({"arena": "box", "reflexes": False}) == spec_key(s)
     assert s["arena_opts"]["distance"] == 1.0 and s["steps"] == 1000 and s["controller"] == "plastic"
     assert json.loads(json.dumps(s)) == s  # JSON-able
     fixed = normalize({"controller": "fixed", "steer": (-1, -1)})

@@ -228,6 +228,7 @@ def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory, wall_time_s:
               warnings: dict[str, int]) -> dict[str, Any]:  # fmt: skip
     """summary.json of DESIGN §5, plus steering-run figures."""
     pose = tr.pose
+    has_z = tr.qpos.shape[1] > 2
     sim_time = cfg.steps / cfg.control_hz
     weights = None
     if not np.isnan(tr.b[-1]).any():
@@ -246,8 +247,8 @@ def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory, wall_time_s:
         "start_weights": {"b0": cfg.b0, "q0": cfg.q0} if cfg.controller == "plastic" else None,
         "reflexes": cfg.reflexes,
         "backbone": cfg.backbone,
-        "final_z_m": float(tr.qpos[-1, 2]),
-        "max_z_m": float(np.max(tr.qpos[:, 2])),
+        "final_z_m": float(tr.qpos[-1, 2]) if has_z else None,  # trunk height (None: planar body)
+        "max_z_m": float(np.max(tr.qpos[:, 2])) if has_z else None,
         "exit_step": metrics.exit_step(pose, arena),
         "escaped": metrics.escaped(pose, arena),
         "trapped": metrics.trapped(pose),
