@@ -3,14 +3,15 @@
 ``cluttered``: the surrounding walls and the first set of boxes without the two, (6, -2) and
 (5, -3), that close a sharp pocket with (5, -1) right ahead of the start: 9 boxes, obstacles but
 no sharp corners or narrow passages (paper Fig. 3F). ``difficult``: both sets, 22 boxes, the original's
-default arena: sharp corners and narrow passages (paper Fig. 3G, 5F). Boxes are 0.20 m high (the
-original: 0.10 m), their yaw a multiple of 1 rad. The robot starts at (3, -1) facing -0.38 rad, as in the original.
+default arena: sharp corners and narrow passages (paper Fig. 3G, 5F). Boxes are 0.10 m high as in the
+original (option ``height``; with climbing on they are steps), their yaw a multiple of 1 rad.
+The robot starts at (3, -1) facing -0.38 rad, as in the original.
 """
 
 from __future__ import annotations
 
 from neurowalk.arenas import arena
-from neurowalk.arenas.spec import WALL_HEIGHT, ArenaSpec, Box
+from neurowalk.arenas.spec import ArenaSpec, Box
 
 _WALLS = ((10, 1, 3, 5), (10, 1, 3, -5), (1, 10, -2, 0), (1, 10, 8, 0))  # (sx, sy, x, y)
 _BASIC = ((0, 0, 3), (1, 1, 2), (2, 2, 4), (3, -2, 2), (5, -1, 1), (6, -2, 1), (4, 2, 5), (5, -3, 3),
@@ -19,7 +20,7 @@ _DIFFICULT = ((0, 3, 3), (0, -2, 2), (-1.5, -2, 4), (1.5, -4, 2), (7, -4, 3), (3
               (5.2, 3.8, 3), (7, 4, 2), (5.8, 2, 2), (3.5, -4, 1))  # fmt: skip
 _POCKET = ((6, -2), (5, -3))  # with (5, -1) they form a sharp corner ahead of the start
 _ANGLE = 1.0  # rad per yaw unit
-_HEIGHT = WALL_HEIGHT  # the original: 0.10 m (a step for the climbing controller)
+_HEIGHT = 0.10  # as in the original; with climbing on, pass height=0.2 (0.10 m boxes are steps then)
 _BOUNDS = (-1.5, 7.5, -4.5, 4.5)
 _START = (3.0, -1.0, -0.38)
 
