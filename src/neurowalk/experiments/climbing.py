@@ -67,8 +67,8 @@ def highest_reliable(rates: dict[float, float]) -> float | None:
     return best
 
 
-def run_store(specs: list[dict[str, Any]], folder: Path, workers: int) -> dict[str, dict[str, Any]]:
-    """Run ``specs`` through the resumable store ``folder/results.sqlite``; return results by spec key."""
+def run_store(specs: list[dict[str, Any]], folder: Path, workers: int) -> tuple[dict[str, dict[str, Any]], Any]:
+    """Run ``specs`` through the resumable store ``folder/results.sqlite``; return (results by spec key, report)."""
     from neurowalk.runners.specs import spec_key
     from neurowalk.runners.store import ResultStore
     from neurowalk.runners.sweep import run_sweep
@@ -82,4 +82,4 @@ def run_store(specs: list[dict[str, Any]], folder: Path, workers: int) -> dict[s
     missing = [s for s in specs if spec_key(s) not in results]
     if missing:
         raise RuntimeError(f"{len(missing)} runs failed (see {folder / 'results.sqlite'}); rerun to retry them")
-    return {spec_key(s): results[spec_key(s)] for s in specs}
+    return {spec_key(s): results[spec_key(s)] for s in specs}, report

@@ -65,7 +65,7 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
     model = AmosII(ep.arena).model
     frames = render_frames(model, tr.qpos[rows], distance=1.4, elevation=-50.0)
     specs = [track_spec(h, seed + k) for h in TRACK_HEIGHTS for k in range(n)]
-    results = run_store(specs, Path(out) if out is not None else Path("out/fig10"), workers)
+    results, _ = run_store(specs, Path(out) if out is not None else Path("out/fig10"), workers)
     table = {}
     for h in TRACK_HEIGHTS:
         runs = [results[spec_key(track_spec(h, seed + k))] for k in range(n)]

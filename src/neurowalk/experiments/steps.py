@@ -42,7 +42,7 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
         raise ValueError(f"seeds must be >= 1, got {n}")
     heights = QUICK_SWEEP_HEIGHTS if quick else SWEEP_HEIGHTS
     specs = [step_spec(h, v, seed + k) for v in VARIANTS for h in heights for k in range(n)]
-    results = run_store(specs, Path(out) if out is not None else Path("out/steps"), workers)
+    results, _ = run_store(specs, Path(out) if out is not None else Path("out/steps"), workers)
     variants = {}
     for v in VARIANTS:
         rates, times = {}, {}

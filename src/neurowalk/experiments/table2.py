@@ -18,9 +18,8 @@ if TYPE_CHECKING:
 def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: str = "surrogate",
                out: Path | None = None, workers: int = 2) -> Result:  # fmt: skip
     """``seeds`` environments (default 50; 10 with ``quick``) x 3 networks, through a resumable store in ``out``."""
+    from neurowalk.experiments.climbing import run_store
     from neurowalk.runners.specs import spec_key
-    from neurowalk.runners.store import ResultStore
-    from neurowalk.runners.sweep import run_sweep
 
     n = seeds if seeds is not None else (10 if quick else 50)
     if n < 1:
@@ -30,14 +29,7 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
     specs = [spec(e, c, steps, body) for e in envs for c in NETWORKS]
     folder = Path(out) if out is not None else Path("out/table2")
     folder.mkdir(parents=True, exist_ok=True)
-    with ResultStore(folder / "results.sqlite") as store:
-        report = run_sweep(specs, store, workers=workers)
-        results = store.results()
-    if report.interrupted:
-        raise KeyboardInterrupt
-    missing = [s for s in specs if spec_key(s) not in results]
-    if missing:
-        raise RuntimeError(f"{len(missing)} runs failed (see {folder / 'results.sqlite'}); rerun to retry them")
+    results, report = run_store(specs, folder, workers)
     rows, counts = [], {}
     for e in envs:
         row = {**e}
