@@ -75,6 +75,15 @@ def test_figure_seeds_only_where_it_applies(capsys):
     assert "no --seeds" in capsys.readouterr().err
 
 
+def test_figure_climb_only_where_it_applies(capsys):
+    assert main(["figure", "fig4", "--climb"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "no --climb" in err[0]
+    assert main(["figure", "table2", "--climb", "--body", "surrogate"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "amosii" in err[0]
+
+
 @pytest.mark.parametrize("opt", ["height=-0.1", "height=0", "height=1.0", "height=nan"])
 def test_step_height_the_arena_cannot_build_exits_2(opt, tmp_path, capsys):
     assert main(["run", "--arena", "steps", "--arena-opt", opt, "--climb", "--out", str(tmp_path / "x")]) == 2

@@ -37,6 +37,8 @@ def _parser() -> argparse.ArgumentParser:
     )
     f.add_argument("--replot", action="store_true", help="redraw from DIR/NAME.json and .npz without rerunning")
     f.add_argument("--body", default=None, help="amosii | surrogate (figures that run on either; default per figure)")
+    climb = "leg reflexes and backbone control on (fig3 fig5 escape-map table2; default out: out/NAME-climb)"
+    f.add_argument("--climb", action="store_true", help=climb)
 
     r = sub.add_parser("run", help="one closed-loop run: writes DIR/summary.json, trajectory.npz, run.png")
     _episode_args(r)
@@ -294,7 +296,7 @@ def _figure(args: argparse.Namespace) -> int:
     from neurowalk.experiments import output
 
     exp = FIGURES[args.name]
-    out = args.out or Path("out") / args.name
+    out = args.out or Path("out") / (f"{args.name}-climb" if args.climb else args.name)
     t0 = time.perf_counter()
     if args.replot:
         if not (out / f"{args.name}.json").is_file():
@@ -319,6 +321,14 @@ def _figure(args: argparse.Namespace) -> int:
             if args.body not in BODIES:
                 raise UsageError(f"unknown body {args.body!r}; expected one of {', '.join(BODIES)}")
             kwargs["body"] = args.body
+        if args.climb:
+            if "climbing" not in params:
+                raise UsageError(f"figure {args.name!r} takes no --climb")
+            if kwargs.get("body", "amosii") != "amosii":
+                raise UsageError(f"--climb needs --body amosii (the {args.body!r} body has no legs)")
+            kwargs["climbing"] = True
+            if "body" in params:
+                kwargs["body"] = "amosii"
         if "out" in params:
             kwargs["out"] = out  # the figure keeps a resumable result store there
         out.mkdir(parents=True, exist_ok=True)

@@ -15,6 +15,7 @@ import numpy as np
 
 from neurowalk import metrics
 from neurowalk.arenas import arena_options
+from neurowalk.arenas.spec import WALL_HEIGHT
 from neurowalk.experiments import Result
 from neurowalk.runners.local import run_many
 from neurowalk.sim.episode import Episode, EpisodeConfig
@@ -80,32 +81,42 @@ def outcome_table(seeds: int, *, first_seed: int = 0, variants: dict | None = No
         for cell in row.values():
             cell["median_direction_switches"] = float(np.median(cell.pop("switches")))
     described = {k: {"arena": a, "options": o} for k, (a, o) in variants.items()}
-    return {"seeds": seeds, "first_seed": first_seed, "steps": TRAP_STEPS, "body": body, "variants": described,
+    return {"seeds": seeds, "first_seed": first_seed, "steps": TRAP_STEPS, "body": body, "climbing": climbing,
+            "variants": described,
             "counts": table, "runs": runs,
             "rule": "escaped: the trunk centre reached the exit region behind the trap's mouth within the steps; "
                     "trapped: the last 3000 steps stayed within a disc of radius 0.5 m"}  # fmt: skip
 
 
 def example_and_long_runs(network: str, long_runs: dict[str, dict[str, Any]], long_steps: int, *, seed: int = 0,
-                          workers: int = 2, progress: bool = True) -> dict[str, dict[str, Any]]:  # fmt: skip
-    """Traces of ``network`` in both dead ends, and the long runs {name: config kwargs}, all with ``seed``."""
-    net = NETWORKS[network]
+                          workers: int = 2, progress: bool = True,
+                          climbing: bool = False) -> dict[str, dict[str, Any]]:  # fmt: skip
+    """Traces of ``network`` in both dead ends, and the long runs {name: config kwargs}, all with ``seed``.
+
+    ``climbing``: leg reflexes and backbone control on; the original arenas' boxes are then raised to
+    :data:`~neurowalk.arenas.spec.WALL_HEIGHT` (their 0.10 m boxes would be climbable steps).
+    """
+    net = {**NETWORKS[network], "reflexes": climbing, "backbone": climbing}
     runs = {"simple-deadlock": EpisodeConfig(arena="simple-deadlock", steps=TRAP_STEPS, seed=seed, **net),
             "narrow-passage": EpisodeConfig(arena="narrow-passage", steps=TRAP_STEPS, seed=seed, **net)}  # fmt: skip
-    runs.update({k: EpisodeConfig(steps=long_steps, seed=seed, **v) for k, v in long_runs.items()})
+    for k, v in long_runs.items():
+        opts = {"height": WALL_HEIGHT} if climbing else {}
+        runs[k] = EpisodeConfig(steps=long_steps, seed=seed, arena_opts=opts, reflexes=climbing, backbone=climbing,
+                                **v)  # fmt: skip
     out = run_many(list(runs.values()), workers=workers, progress=progress, keep=keep_traces, desc="example runs")
     return dict(zip(runs, out, strict=True))
 
 
-def build(name: str, network: str, long_runs: dict, *, quick: bool, seed: int, seeds: int | None) -> Result:
-    """Shared by Fig. 3 and Fig. 5: outcome table, example runs, long runs."""
+def build(name: str, network: str, long_runs: dict, *, quick: bool, seed: int, seeds: int | None,
+          climbing: bool = False) -> Result:  # fmt: skip
+    """Shared by Fig. 3 and Fig. 5: outcome table, example runs, long runs (``climbing``: modules of Fig. 10 on)."""
     n_seeds = seeds if seeds is not None else (3 if quick else 10)
     if n_seeds < 1:
         raise ValueError(f"seeds must be >= 1, got {n_seeds}")
     long_steps = 10000 if quick else 30000
-    table = outcome_table(n_seeds, first_seed=seed)
-    runs = example_and_long_runs(network, long_runs, long_steps, seed=seed)
+    table = outcome_table(n_seeds, first_seed=seed, climbing=climbing)
+    runs = example_and_long_runs(network, long_runs, long_steps, seed=seed, climbing=climbing)
     arrays = {f"{k}/{field}": v[field] for k, v in runs.items() for field in ("pose", "inputs", "outputs", "b", "q")}
-    summary = {"network": network, "seed": seed, "table": table, "long_steps": long_steps,
+    summary = {"network": network, "seed": seed, "climbing": climbing, "table": table, "long_steps": long_steps,
                "runs": {k: v["summary"] for k, v in runs.items()}}  # fmt: skip
     return Result(name, summary, arrays)

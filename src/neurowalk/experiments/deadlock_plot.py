@@ -28,6 +28,8 @@ def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool
     fig = plt.figure(figsize=(18, 11), constrained_layout=True)
     gs = fig.add_gridspec(3, 4, height_ratios=[1, 1, 0.28])
     runs = s["runs"]
+    if s.get("climbing"):
+        fig.suptitle("with leg reflexes and backbone joint control switched on (Fig. 10's modules)")
     for i, name in enumerate(("simple-deadlock", "narrow-passage")):
         ax = fig.add_subplot(gs[0, i])
         draw_arena(ax, make_arena(runs[name]["arena"], **runs[name]["arena_opts"]), a[f"{name}/pose"])
@@ -61,7 +63,7 @@ def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool
             ax.set(xlabel="time (s)", ylabel="weight", title=f"G  {key0}: weights over time")
             ax.legend(fontsize=7, ncol=3)
             continue
-        draw_arena(ax, make_arena(r["arena"]), a[f"{key}/pose"])
+        draw_arena(ax, make_arena(r["arena"], **r["arena_opts"]), a[f"{key}/pose"])
         cov = r["coverage"]
         ax.set_title(f"{'FG'[j]}  {key}: {r['steps']} steps, {'trapped' if r['trapped'] else 'not trapped'}, "
                      f"coverage {cov:.0%}", fontsize=9)  # fmt: skip

@@ -24,9 +24,12 @@ LONG = {"cluttered (static)": {"arena": "cluttered", "controller": "static"},
 
 
 @register(NAME, "static network: dead ends, hysteresis, cluttered and difficult arenas")
-def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None) -> Result:
-    """Outcome table over ``seeds`` seeds (default 10; 3 with ``quick``), example and long runs."""
-    return build(NAME, NETWORK, LONG, quick=quick, seed=seed, seeds=seeds)
+def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, climbing: bool = False) -> Result:
+    """Outcome table over ``seeds`` seeds (default 10; 3 with ``quick``), example and long runs.
+
+    ``climbing``: with the leg reflexes and backbone control of Fig. 10 switched on.
+    """
+    return build(NAME, NETWORK, LONG, quick=quick, seed=seed, seeds=seeds, climbing=climbing)
 
 
 def plot(res: Result) -> Figure:

@@ -37,11 +37,11 @@ def environments(n: int, seed: int) -> list[dict[str, Any]]:
     return out
 
 
-def spec(env: dict[str, Any], controller: str, steps: int, body: str) -> dict[str, Any]:
-    """The run spec of one network in one environment."""
-    return {"arena": "random", "arena_opts": {"n_boxes": env["n_boxes"], "extent": EXTENT, "size": SIZE},
-            "controller": controller,
-            "body": body, "steps": steps, "seed": env["seed"]}  # fmt: skip
+def spec(env: dict[str, Any], controller: str, steps: int, body: str, climbing: bool = False) -> dict[str, Any]:
+    """The run spec of one network in one environment (``climbing``: leg reflexes and backbone control on)."""
+    out = {"arena": "random", "arena_opts": {"n_boxes": env["n_boxes"], "extent": EXTENT, "size": SIZE},
+           "controller": controller, "body": body, "steps": steps, "seed": env["seed"]}  # fmt: skip
+    return {**out, "reflexes": True, "backbone": True} if climbing else out
 
 
 def wilson(successes: int, n: int, z: float = 1.959964) -> tuple[float, float]:

@@ -16,17 +16,22 @@ if TYPE_CHECKING:
 
 @register("table2", "random environments: success and failure counts per network (paper Table 2)")
 def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: str = "surrogate",
-               out: Path | None = None, workers: int = 2) -> Result:  # fmt: skip
-    """``seeds`` environments (default 50; 10 with ``quick``) x 3 networks, through a resumable store in ``out``."""
+        out: Path | None = None, workers: int = 2, climbing: bool = False) -> Result:  # fmt: skip
+    """``seeds`` environments (default 50; 10 with ``quick``) x 3 networks, through a resumable store in ``out``.
+
+    ``climbing``: leg reflexes and backbone control on (physics body only).
+    """
     from neurowalk.experiments.climbing import run_store
     from neurowalk.runners.specs import spec_key
 
     n = seeds if seeds is not None else (10 if quick else 50)
     if n < 1:
         raise ValueError(f"seeds (environments) must be >= 1, got {n}")
+    if climbing and body != "amosii":
+        raise ValueError(f"climbing needs body 'amosii' (the surrogate has no legs), got body {body!r}")
     steps = QUICK_STEPS if quick else STEPS
     envs = environments(n, seed)
-    specs = [spec(e, c, steps, body) for e in envs for c in NETWORKS]
+    specs = [spec(e, c, steps, body, climbing) for e in envs for c in NETWORKS]
     folder = Path(out) if out is not None else Path("out/table2")
     folder.mkdir(parents=True, exist_ok=True)
     results, report = run_store(specs, folder, workers)
@@ -34,7 +39,7 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
     for e in envs:
         row = {**e}
         for c in NETWORKS:
-            r = results[spec_key(spec(e, c, steps, body))]
+            r = results[spec_key(spec(e, c, steps, body, climbing))]
             row[c] = {"success": not r["trapped"], "ever_trapped": r["ever_trapped"], "coverage": r["coverage"],
                       "path_length_m": r["path_length_m"]}  # fmt: skip
         rows.append(row)
@@ -45,7 +50,7 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
         counts[c] = {"environments": n, "success": ok, "failure": n - ok, "success_rate": ok / n,
                      "success_rate_95ci": [lo, hi], "median_coverage": cov,
                      "ever_held_up_300s": sum(r[c]["ever_trapped"] for r in rows)}  # fmt: skip
-    summary = {"body": body, "steps": steps, "seed": seed, "boxes": list(BOXES), "rule": RULE,
+    summary = {"body": body, "climbing": climbing, "steps": steps, "seed": seed, "boxes": list(BOXES), "rule": RULE,
                "interval": "Wilson score interval, 95%", "counts": counts, "environments": rows,
                "paper": {"environments": 50, "success": 49, "failure": 1},
                "store": str(folder / "results.sqlite"), "sweep": report.counts()}  # fmt: skip
@@ -70,7 +75,8 @@ def plot(res: Result) -> Figure:
         ax[0].text(i, 0.03, f"{k['success']}/{k['environments']}", ha="center", fontsize=10)
     ax[0].set_ylim(0, 1.05)
     ax[0].set_ylabel("success rate (95% interval)")
-    ax[0].set_title(f"Table 2 on {s['body']}: {s['counts'][names[0]]['environments']} random environments, "
+    on = " with climbing modules" if s.get("climbing") else ""
+    ax[0].set_title(f"Table 2 on {s['body']}{on}: {s['counts'][names[0]]['environments']} random environments, "
                     f"{s['steps']} steps (paper: plastic 49/50)", fontsize=9)  # fmt: skip
     boxes = np.arange(s["boxes"][0], s["boxes"][1] + 1)
     for i, c in enumerate(names):
