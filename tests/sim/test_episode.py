@@ -1,4 +1,8 @@
-"""AMOSII walks and steers in physics (issue 3 acceptance): 1000 control steps = 100 s at 10 Hz."""
+"""AMOSII walks and steers in physics (issue 3 acceptance): 1000 control steps = 100 s at 10 Hz.
+
+The walking tests run twice: as built in issue 3, and with the leg reflexes and backbone joint
+control of Fig. 10 switched on (they must not change walking on flat ground).
+"""
 
 import numpy as np
 import pytest
@@ -9,11 +13,13 @@ from neurowalk.sim.episode import EpisodeConfig, run_episode
 STEPS = 1000
 
 
-@pytest.fixture(scope="module")
-def walks():
+@pytest.fixture(scope="module", params=[False, True], ids=["modules off", "reflexes and backbone on"])
+def walks(request):
     steers = {"forward": (-1, -1), "backward": (1, 1), "left": (-1, 1), "right": (1, -1), "stop": (0, 0),
               "half": (-0.5, -0.5)}  # fmt: skip
-    return {k: run_episode(EpisodeConfig(controller="fixed", steer=s, steps=STEPS)) for k, s in steers.items()}
+    on = request.param
+    return {k: run_episode(EpisodeConfig(controller="fixed", steer=s, steps=STEPS, reflexes=on, backbone=on))
+            for k, s in steers.items()}  # fmt: skip
 
 
 def test_forward_walks_straight_upright_without_warnings(walks):
