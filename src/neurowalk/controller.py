@@ -74,7 +74,7 @@ class _Climbing:
     def targets(self, loc: LocomotionNetwork, o1: float, o2: float, obs: Observation, out: np.ndarray) -> np.ndarray:
         pre = loc.step_presignals(o1, o2)
         if self.legs is not None:
-            self.legs.step(pre, obs.foot_contact)
+            self.legs.step(pre, obs.foot_contact, self.legs.uneven(obs.obstacle_height, obs.ground_height))
         motor_map(pre[0], pre[1], pre[2], out)
         out[anatomy.N_ACTUATORS - 1] = self.backbone.command if self.backbone is not None else 0.0
         return out

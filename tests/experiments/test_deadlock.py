@@ -20,13 +20,17 @@ def test_plastic_escapes_the_narrow_passage_static_does_not_both_escape_simple_d
 
 
 @pytest.mark.slow
-def test_long_runs_static_explores_cluttered_trapped_in_difficult_plastic_explores_difficult():
+@pytest.mark.parametrize("climbing", [False, True], ids=["modules off", "reflexes and backbone on"])
+def test_long_runs_static_explores_cluttered_trapped_in_difficult_plastic_explores_difficult(climbing):
+    from neurowalk.arenas.spec import WALL_HEIGHT
     from neurowalk.runners.local import run_many
     from neurowalk.sim.episode import EpisodeConfig
 
-    cfgs = [EpisodeConfig(arena="cluttered", controller="static", steps=30000),
-            EpisodeConfig(arena="difficult", controller="static", steps=30000),
-            EpisodeConfig(arena="difficult", controller="plastic", steps=30000)]  # fmt: skip
+    # With climbing on, the original 0.10 m boxes would be steps: they are raised to wall height.
+    on = {"reflexes": True, "backbone": True, "arena_opts": {"height": WALL_HEIGHT}} if climbing else {}
+    cfgs = [EpisodeConfig(arena="cluttered", controller="static", steps=30000, **on),
+            EpisodeConfig(arena="difficult", controller="static", steps=30000, **on),
+            EpisodeConfig(arena="difficult", controller="plastic", steps=30000, **on)]  # fmt: skip
     clut_static, diff_static, diff_plastic = run_many(cfgs, progress=False)
     assert not clut_static["trapped"]
     assert diff_static["trapped"] and not diff_plastic["trapped"]

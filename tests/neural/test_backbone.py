@@ -52,3 +52,15 @@ def test_command_is_smoothed():
 def test_bad_thresholds_are_refused():
     with pytest.raises(ValueError, match="min_height"):
         BackboneParams(min_height=0.2, climbable=0.1)
+
+
+def test_a_front_stuck_at_the_edge_presses_down_then_leans_up_again():
+    p = BackboneParams(stall_steps=100, press_steps=20)
+    bc = BackboneControl(p)
+    phases = []
+    for _ in range(160):
+        bc.step(0.08, FLAT)  # a step ahead, the front never gets over it
+        phases.append(PHASES[bc.phase])
+    assert phases[:100] == ["up"] * 100
+    assert phases[101:121] == ["down"] * 20  # the press-down after the stall
+    assert phases[121:] == ["up"] * 39

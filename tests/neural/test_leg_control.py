@@ -76,3 +76,31 @@ def test_switched_off_reflexes_change_nothing():
 def test_bad_parameters_are_named(field, value):
     with pytest.raises(ValueError, match=field):
         LegControlParams(**{field: value})
+
+
+def _early_swing_touch(uneven: bool, elevation: bool) -> tuple[int, float]:
+    """Stance, then a swing whose foot is still on the ground while the CTr command is barely up."""
+    lc = LegControl(LegControlParams(elevation=elevation))
+    contact = np.ones(6)
+    contact[0] = 0.0  # R1 searches in stance (a hole), building up a depression
+    for _ in range(30):
+        lc.step(_pre(STANCE), contact, uneven)
+    for _ in range(8):
+        pre = lc.step(_pre(-0.9), np.ones(6), uneven)  # swing command, feet still touching
+    return int(lc.elevating.max()), float(-0.9 - pre[1, 0])
+
+
+def test_on_flat_ground_a_foot_leaving_late_does_not_trip_the_elevation_reflex_and_search_is_released():
+    assert _early_swing_touch(uneven=False, elevation=True)[0] == 0
+    assert _early_swing_touch(uneven=True, elevation=True)[0] > 0  # near a step any swing contact lifts the leg
+    assert _early_swing_touch(uneven=False, elevation=False)[1] == pytest.approx(0.0)
+    assert _early_swing_touch(uneven=True, elevation=False)[1] > 0.0  # the search depth fades over the swing
+
+
+def test_uneven_terrain_is_remembered_for_terrain_hold_steps():
+    lc = LegControl(LegControlParams(terrain_hold=10))
+    assert not lc.uneven(0.0, np.zeros(2))
+    assert lc.uneven(0.05, np.zeros(2))  # a step ahead
+    held = [lc.uneven(0.0, np.zeros(2)) for _ in range(12)]
+    assert held[:9] == [True] * 9 and not any(held[9:])  # true for 10 steps in all
+    assert lc.uneven(0.0, np.array([0.0, 0.06]))  # the body is over a step

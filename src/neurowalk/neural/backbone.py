@@ -15,6 +15,9 @@ finder), which also decides what is climbable:
   ``min_height``) and the trunk centre is not: with the front legs on the step this lifts the rear
   segment's front end over the edge.
 * **level** (0) otherwise, in particular once the trunk centre is over the step.
+* **press down** (``down`` rad for ``press_steps``) after ``stall_steps`` of leaning up without the
+  front getting over: the front is caught at the edge (3 of 10 seeds at 0.08 m without it); pressing
+  down pulls it over, then the lean up resumes if needed.
 
 The command is low-pass filtered (rate ``smoothing`` per control step), like the original's output
 neuron. Heights are relative to the lowest sole, so once all feet are up the step reads flat.
@@ -40,6 +43,8 @@ class BackboneParams:
     max_lean: float = math.radians(45.0)  # the joint's limit
     down: float = math.radians(-30.0)  # lean while the front is over the step and the centre is not
     smoothing: float = 0.2  # low-pass rate of the command per control step
+    stall_steps: int = 150  # control steps of leaning up without the front getting over before a press-down
+    press_steps: int = 50  # control steps of a press-down (lean down) after a stall
 
     def __post_init__(self) -> None:
         if not 0.0 <= self.min_height < self.climbable:
@@ -66,6 +71,8 @@ class BackboneControl:
         self.command = 0.0
         self.phase = 0
         self.climbing = False
+        self.up_for = 0  # control steps since the front last was over a step or level ground ahead
+        self.pressing = 0  # control steps left of a press-down
 
     def climbable_ahead(self, height_ahead: float) -> bool:
         """Whether an obstacle of ``height_ahead`` m is a step to climb (not a wall, not flat)."""
@@ -80,10 +87,17 @@ class BackboneControl:
         ahead = self.climbable_ahead(height_ahead)
         if front_over and not centre_over:
             self.phase, target = 2, p.down
+        elif self.pressing > 0:
+            self.pressing -= 1
+            self.phase, target = 2, p.down
         elif ahead and not front_over:
             self.phase, target = 1, min(p.max_lean, p.lean_per_m * height_ahead)
         else:
             self.phase, target = 0, 0.0
+        # Leaning up for long without the front getting over: the front is stuck at the edge; press down.
+        self.up_for = self.up_for + 1 if ahead and not front_over else 0
+        if self.up_for > p.stall_steps:
+            self.pressing, self.up_for = p.press_steps, 0
         self.climbing = ahead
         self.command += p.smoothing * (target - self.command)
         return self.command

@@ -17,6 +17,14 @@ before the motor map; a CTr pre-signal of -1 is the stance command):
   ``elevation_steps``: TC pulled back by 0.8, CTr to its top (1.0), FTi to 0.7, the original's
   numbers in pre-signal units, so that the next swing clears the edge.
 
+* **Terrain gain**: the reflexes work at full gain only on uneven terrain (the obstacle-height
+  sensor sees a step ahead, or the ground under the front tip or trunk centre is higher than the
+  lowest sole, by more than ``terrain_min``; remembered for ``terrain_hold`` steps). On flat ground
+  the searching depression is released at lift-off and a swing contact lifts a leg only once its
+  CTr command is up (above ``flat_elevation_lift``): otherwise a foot that leaves the ground late
+  would trip the elevation reflex at every step, slow the gait and jolt the body (measured: 57
+  elevations in 150 s of flat walking, a static robot in the cluttered arena trapped by the jolts).
+
 The original switches these reflexes off for obstacle avoidance; here they are an option of the
 controller (``--reflexes``), used for climbing.
 """
@@ -45,13 +53,17 @@ class LegControlParams:
     elevation_tc: float = -0.8  # TC pre-signal change while elevating (back)
     elevation_ctr: float = 1.0  # CTr pre-signal while elevating (top)
     elevation_fti: float = 0.7  # FTi pre-signal while elevating
+    terrain_min: float = 0.02  # m: terrain ahead or under the body higher than this makes the reflexes climb
+    terrain_hold: int = 50  # control steps the terrain stays "uneven" after the last reading above terrain_min
+    flat_search_decay: float = 0.0  # per swing step on flat ground (the depression is released at lift-off)
+    flat_elevation_lift: float = -0.5  # on flat ground the elevation reflex needs the CTr pre-signal above this
     searching: bool = True  # switch the searching reflex
     elevation: bool = True  # switch the elevation reflex
 
     def __post_init__(self) -> None:
         if not 0.0 < self.contact_threshold < 1.0:
             raise ValueError(f"LegControlParams.contact_threshold must be in (0, 1), got {self.contact_threshold!r}")
-        for name in ("model_weight", "search_decay"):
+        for name in ("model_weight", "search_decay", "flat_search_decay"):
             if not 0.0 <= getattr(self, name) < 1.0:
                 raise ValueError(f"LegControlParams.{name} must be in [0, 1), got {getattr(self, name)!r}")
         if self.search_gain < 0 or self.search_max < 0:
@@ -80,9 +92,15 @@ class LegControl:
         self.error = np.zeros(6)
         self.search = np.zeros(6)
         self.elevating = np.zeros(6, dtype=int)
+        self.terrain_left = 0
 
-    def step(self, pre: np.ndarray, contact: np.ndarray) -> np.ndarray:
-        """Shape the (3, 6) TC/CTr/FTi pre-signals in place from the (6,) foot contacts; returns ``pre``."""
+    def step(self, pre: np.ndarray, contact: np.ndarray, uneven: bool = True) -> np.ndarray:
+        """Shape the (3, 6) TC/CTr/FTi pre-signals in place from the (6,) foot contacts; returns ``pre``.
+
+        ``uneven``: the terrain sensor sees a step ahead of or under the body (see :meth:`uneven`). On flat
+        ground the searching depression is released at lift-off and a swing contact lifts the leg only
+        once it is commanded up, so that a foot still leaving the ground does not trip the reflex.
+        """
         p = self.params
         stance = pre[1] <= STANCE_LEVEL
         down = np.asarray(contact) > p.contact_threshold
@@ -91,13 +109,27 @@ class LegControl:
         if p.searching:
             missing = np.maximum(self.error, 0.0) * ~down * (self.expected > p.search_expected)
             grown = np.minimum(self.search + p.search_gain * missing, p.search_max)
-            self.search = np.where(stance, grown, self.search * p.search_decay)
+            self.search = np.where(stance, grown, self.search * (p.search_decay if uneven else p.flat_search_decay))
             pre[1] -= self.search
         if p.elevation:
             hit = ~stance & down & (self.expected < p.elevation_expected)
+            if not uneven:
+                hit &= pre[1] > p.flat_elevation_lift
             self.elevating = np.where(hit, p.elevation_steps, np.maximum(self.elevating - 1, 0))
             on = self.elevating > 0
             pre[0] = np.where(on, pre[0] + p.elevation_tc, pre[0])
             pre[1] = np.where(on, p.elevation_ctr, pre[1])
             pre[2] = np.where(on, p.elevation_fti, pre[2])
         return pre
+
+    def uneven(self, obstacle_height: float, ground_height: np.ndarray) -> bool:
+        """Whether the terrain (m: height ahead, (2,) heights under front tip and centre) is a step to climb.
+
+        Call once per control step: true on a reading above ``terrain_min`` and the ``terrain_hold - 1`` steps after.
+        """
+        p = self.params
+        if obstacle_height > p.terrain_min or bool(np.any(ground_height > p.terrain_min)):
+            self.terrain_left = max(p.terrain_hold, 1)
+        else:
+            self.terrain_left = max(self.terrain_left - 1, 0)
+        return self.terrain_left > 0

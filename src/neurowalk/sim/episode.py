@@ -97,7 +97,7 @@ def build(cfg: EpisodeConfig, *, pad_boxes: int | None = None) -> tuple[ArenaSpe
             raise ValueError(f"body 'surrogate' is calibrated at {body.control_hz} Hz, got control_hz {cfg.control_hz}")
     else:
         body = AmosII(arena, control_hz=cfg.control_hz, noise=cfg.noise, pad_boxes=pad_boxes,
-                      scan_obstacles=cfg.backbone)  # fmt: skip
+                      scan_obstacles=cfg.backbone or cfg.reflexes)  # fmt: skip
     weights = {k: v for k, v in (("b0", cfg.b0), ("q0", cfg.q0)) if v is not None}
     climbing = {k: True for k in ("reflexes", "backbone") if getattr(cfg, k)}
     controller = make_controller(cfg.controller, steer=cfg.steer, **weights, **climbing)
