@@ -14,11 +14,16 @@ def _climbs(height: float, variant: str, seed: int = 0) -> bool:
 
 
 @pytest.mark.slow
-def test_an_8_cm_step_needs_both_backbone_control_and_reflexes():
-    assert _climbs(0.08, "reflexes + backbone", 0) and _climbs(0.08, "reflexes + backbone", 1)
-    assert not _climbs(0.08, "backbone only")
-    assert not _climbs(0.08, "reflexes only")
-    assert not _climbs(0.08, "neither")
+def test_a_10_cm_step_needs_both_backbone_control_and_reflexes():
+    assert _climbs(0.10, "reflexes + backbone", 0) and _climbs(0.10, "reflexes + backbone", 1)
+    assert not _climbs(0.10, "backbone only")
+    assert not _climbs(0.10, "reflexes only")
+    assert not _climbs(0.10, "neither")
+
+
+@pytest.mark.slow
+def test_backbone_control_alone_climbs_higher_than_the_reflexes_alone():
+    assert _climbs(0.08, "backbone only") and not _climbs(0.08, "reflexes only")
 
 
 @pytest.mark.slow
