@@ -40,7 +40,7 @@ def test_climbing_track_climb_avoid_the_wall_climb_again():
     assert m["first climb"] is not None and m["wall avoidance"] is not None and m["second climb"] is not None
     assert m["first climb"] < m["wall avoidance"] < m["second climb"] < ep.summary["exit_step"]
     z = ep.trajectory.qpos[:, 2]
-    assert z[-1] > z[0] + 0.10  # two 6 cm steps up
+    assert z[ep.summary["exit_step"]] > z[0] + 0.10  # two 6 cm steps up (it may walk back down later)
 
 
 @pytest.mark.slow
