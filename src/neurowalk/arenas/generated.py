@@ -7,34 +7,81 @@ import math
 import numpy as np
 
 from neurowalk.arenas import arena
-from neurowalk.arenas.deadlocks import HEIGHT, WALL, _wall
+from neurowalk.arenas.deadlocks import EXIT_MARGIN, HEIGHT, WALL, _wall
 from neurowalk.arenas.spec import ArenaSpec, Box
+from neurowalk.body.amosii_params import BodyParams
+
+_BODY = BodyParams()
+
+# Geometry of the complex path (paper Fig. 9). The paper's text gives the layout ("side walls on the right,
+# small obstacles on the left, and deadlock at the end of the path"; the robot enters the path, turns right at
+# an obstacle on its left, walks to the end, turns left away from the dead end and goes out of the path); its
+# numbers below come from the robot's sensor and leg geometry (``BodyParams``), none from run outcomes.
+# * Sensor reach. Each ultrasonic ray starts us_y = 0.0175 m off the trunk axis, 1 mm ahead of the front face,
+#   and is yawed us_yaw = 35° outward; echoes farther than us_range = 0.40 m read as none. A side parallel to
+#   the path, d m from the robot's axis, meets its ray at r = (d - us_y) / sin(us_yaw): it is seen while
+#   d < us_y + us_range sin(us_yaw) = 0.247 m (US_REACH).
+# * Leg reach. Walking straight or turning on the spot, the feet reach 0.200 m to either side of the trunk
+#   axis (foot centres, measured on the MuJoCo model), 0.215 m with the 0.015 m foot radius (FOOT_REACH), and
+#   0.33 m from the trunk centre in any direction (TURN_RADIUS, the circle it needs to turn on the spot).
+# * width = 0.46 m: the right wall's face and the left obstacles' faces 0.23 m either side of the centre line,
+#   the middle of [FOOT_REACH, US_REACH]: the feet clear each side by 1.5 cm and the rays meet both sides at
+#   0.37 m (93% of their range), so walking down the centre line the robot senses both. Wider than 2 x 0.247 m
+#   and a side leaves the rays' reach; narrower than 2 x 0.215 m and the feet rub both sides.
+# * obstacle = 0.20 m: "small" obstacles, half the robot's 0.43 m width and length.
+# * spacing = 0.40 m (centre to centre): gaps as wide as the obstacles, so the left ray meets an obstacle on half
+#   of the path (the right wall: all of it), and the 0.20 m gaps are narrower than the robot (0.43 m across the
+#   feet): it cannot walk out between two obstacles.
+# * The dead end: the end wall closes the path; the obstacle row stops OPENING = 0.70 m (2 x TURN_RADIUS,
+#   rounded up) before it, so the end is a corner of the right wall and the end wall with room on the left to
+#   turn away from it, as the paper's robot did before it went out of the path.
+# * The robot starts on the centre line MOUTH = 0.30 m before the path's open end (the paper: it "first
+#   entered the path" at 0:00): every box must stay ROBOT_RADIUS = 0.25 m clear of the start.
+# * length = 3.0 m, the open end to the end wall (the paper gives none): six obstacles line the left side
+#   before the opening at the default spacing.
+
+#: Lateral reach (m) of the ultrasonic rays from the trunk axis: us_y + us_range sin(us_yaw) = 0.247 m.
+US_REACH = _BODY.us_y + _BODY.us_range * math.sin(_BODY.us_yaw)
+FOOT_REACH = 0.215  # m, feet to either side of the trunk axis while walking or turning (measured, foot radius incl.)
+TURN_RADIUS = 0.33  # m, the feet's reach from the trunk centre while turning on the spot (measured)
+MOUTH = 0.30  # m, from the start to the path's open end
+OPENING = 0.70  # m, free left side between the last obstacle and the end wall
 
 
 @arena("complex-path")
-def complex_path(length: float = 4.0, width: float = 1.2, obstacle: float = 0.2) -> ArenaSpec:
+def complex_path(length: float = 3.0, width: float = 0.46, obstacle: float = 0.2, spacing: float = 0.4) -> ArenaSpec:
     """A path with a wall on the right, small obstacles on the left and a dead end (paper Fig. 9).
 
-    The robot enters at the origin facing +x. The right wall runs the whole ``length`` (m); small
-    boxes of side ``obstacle`` (m) line the left side, ``width`` (m) from the right wall, with gaps
-    the robot can see through but is meant to avoid; the path ends in a closed corner. It has
-    left the path when its trunk centre is beyond the left row of obstacles.
+    The robot starts on the path's centre line (y = 0) facing +x, :data:`MOUTH` m before its open end.
+    Options (m): ``length`` from the open end to the end wall; ``width`` between the right wall's face
+    (y = -width/2) and the left obstacles' faces (y = +width/2); ``obstacle`` the side of the square left
+    obstacles; ``spacing`` their centre-to-centre distance along the path. The obstacle row stops
+    :data:`OPENING` m before the end wall. Walking down the centre line, the rays see both sides at the
+    default width (see the comment block above for the reasons of every number).
+
+    Exit region: the trunk centre more than ``EXIT_MARGIN`` (0.3 m) beyond the obstacle row's outer edge
+    (the robot went out of the path on the left).
     """
-    if length < 2.0:
-        raise ValueError(f"arena 'complex-path': length must be >= 2 m, got {length}")
-    if not 0.6 <= width <= 3.0:
-        raise ValueError(f"arena 'complex-path': width must be in [0.6, 3] m, got {width}")
+    if not 0.3 <= width <= 2.0:
+        raise ValueError(f"arena 'complex-path': width must be in [0.3, 2] m, got {width}")
     if not 0.05 <= obstacle <= 0.5:
         raise ValueError(f"arena 'complex-path': obstacle must be in [0.05, 0.5] m, got {obstacle}")
-    y_right = -0.45
-    y_left = y_right + width
-    boxes = [_wall(-0.5, y_right - WALL / 2, length, y_right - WALL / 2),
-             _wall(length + WALL / 2, y_right - WALL, length + WALL / 2, y_left + 0.6)]  # fmt: skip
-    for x in np.arange(0.6, length - 0.6, 0.7):
-        boxes.append(Box(x=float(x), y=y_left + obstacle / 2, yaw=0.0, sx=obstacle, sy=obstacle, h=HEIGHT))
-    exit_region = (-1.0, length + 1.0, y_left + obstacle + 0.3, y_left + 5.0)
-    return ArenaSpec(name="complex-path", boxes=tuple(boxes), exit_region=exit_region,
-                     bounds=(-0.5, length, y_right, y_left + 1.5))  # fmt: skip
+    if not obstacle < spacing <= 2.0:
+        raise ValueError(f"arena 'complex-path': spacing must be in (obstacle = {obstacle}, 2] m, got {spacing}")
+    if not OPENING + obstacle <= length <= 20.0:
+        raise ValueError(f"arena 'complex-path': length must be in [{OPENING + obstacle:g}, 20] m, got {length}")
+    x_end = MOUTH + length  # inner face of the end wall
+    y_right, y_left = -width / 2, width / 2  # faces of the right wall and of the left obstacles
+    y_outer = y_left + obstacle  # outer edge of the obstacle row
+    boxes = [_wall(MOUTH, y_right - WALL / 2, x_end + WALL, y_right - WALL / 2),
+             _wall(x_end + WALL / 2, y_right - WALL, x_end + WALL / 2, y_outer + EXIT_MARGIN)]  # fmt: skip
+    n = math.floor((length - OPENING - obstacle) / spacing + 1e-9) + 1
+    for k in range(n):
+        x = MOUTH + k * spacing + obstacle / 2
+        boxes.append(Box(x=x, y=y_left + obstacle / 2, yaw=0.0, sx=obstacle, sy=obstacle, h=HEIGHT))
+    exit_region = (-5.0, x_end + 5.0, y_outer + EXIT_MARGIN, y_outer + 5.0)
+    bounds = (-EXIT_MARGIN - 0.3, x_end + WALL + 0.3, y_right - WALL - EXIT_MARGIN - 0.3, y_outer + EXIT_MARGIN + 0.5)
+    return ArenaSpec(name="complex-path", boxes=tuple(boxes), exit_region=exit_region, bounds=bounds)
 
 
 @arena("random")
