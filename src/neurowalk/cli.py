@@ -39,6 +39,9 @@ def _parser() -> argparse.ArgumentParser:
     f.add_argument("--body", default=None, help="amosii | surrogate (figures that run on either; default per figure)")
     climb = "leg reflexes and backbone control on (fig3 fig5 escape-map table2; default out: out/NAME-climb)"
     f.add_argument("--climb", action="store_true", help=climb)
+    _variant_args(f)
+    f.add_argument("--arena-opt", action="append", default=[], metavar="size=M",
+                   help="box side of the random environments (table2, fig6; default 1 m, the authors')")  # fmt: skip
 
     r = sub.add_parser("run", help="one closed-loop run: writes DIR/summary.json, trajectory.npz, run.png")
     _episode_args(r)
@@ -86,6 +89,7 @@ def _sweep_parser(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--out", type=Path, required=True, help="output folder (the store; resumes what is there)")
     s.add_argument("--export", choices=("parquet", "csv"), default=None, help="also write DIR/results.parquet|csv")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
+    _variant_args(s, many=True)
 
 
 def _episode_args(p: argparse.ArgumentParser) -> None:
@@ -99,6 +103,34 @@ def _episode_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--reflexes", action="store_true", help="local leg control: searching and elevation reflexes")
     p.add_argument("--backbone", action="store_true", help="backbone joint control and climbable-step detection")
     p.add_argument("--climb", action="store_true", help="both --reflexes and --backbone (climbing)")
+    _variant_args(p)
+
+
+def _variant_args(p: argparse.ArgumentParser, many: bool = False) -> None:
+    names = "paper | original | tuned"
+    p.add_argument("--variant", default=None, metavar="NAME[,NAME...]" if many else "NAME",
+                   help=f"the network: {names} (default paper: Eq. 1-6 as printed; original: the authors' code; "
+                   "see docs/paper-vs-code.md)")  # fmt: skip
+    p.add_argument("--params", type=Path, default=None, metavar="FILE.json",
+                   help="SensoryParams fields on top of the variant, e.g. an `optimize` best.json")  # fmt: skip
+
+
+def _variant(args: argparse.Namespace) -> tuple[str, dict | None]:
+    """(variant, params overrides) of --variant/--params; a params file names its own base variant."""
+    from neurowalk.neural.variants import get_variant, read_params_file
+
+    params = None
+    variant = args.variant
+    try:
+        if args.params is not None:
+            data = read_params_file(args.params)
+            params = data["params"]
+            variant = variant or data["variant"]
+        variant = variant or "paper"
+        get_variant(variant, params)
+    except ValueError as e:
+        raise UsageError(str(e)) from None
+    return variant, params
 
 
 def _arena_opts(items: list[str]) -> dict[str, str]:
@@ -127,10 +159,12 @@ def _episode_config(args: argparse.Namespace) -> object:
     from neurowalk.arenas import make_arena
     from neurowalk.sim.episode import EpisodeConfig
 
+    variant, params = _variant(args)
     try:
         cfg = EpisodeConfig(arena=args.arena, arena_opts=_arena_opts(args.arena_opt), controller=args.controller,
                             steer=_steer(args.steer), body=args.body, steps=args.steps, seed=args.seed,
-                            reflexes=args.reflexes or args.climb, backbone=args.backbone or args.climb)  # fmt: skip
+                            reflexes=args.reflexes or args.climb, backbone=args.backbone or args.climb,
+                            variant=variant, params=params)  # fmt: skip
         make_arena(cfg.arena, **cfg.arena_opts)  # validate the arena's options before any work
     except ValueError as e:
         raise UsageError(str(e)) from None
@@ -329,6 +363,24 @@ def _figure(args: argparse.Namespace) -> int:
             kwargs["climbing"] = True
             if "body" in params:
                 kwargs["body"] = "amosii"
+        if args.variant is not None or args.params is not None:
+            if "variant" not in params:
+                raise UsageError(f"figure {args.name!r} takes no --variant/--params (it runs every variant or none)")
+            kwargs["variant"], overrides = _variant(args)
+            if overrides:
+                kwargs["params"] = overrides
+        if args.arena_opt:
+            opts = _arena_opts(args.arena_opt)
+            if "size" not in params or set(opts) != {"size"}:
+                raise UsageError(f"figure {args.name!r} takes no --arena-opt {', '.join(args.arena_opt)} "
+                                 "(table2 and fig6 take size=M)")  # fmt: skip
+            from neurowalk.arenas import make_arena
+
+            try:
+                kwargs["size"] = float(opts["size"])
+                make_arena("random", size=kwargs["size"], n_boxes=0)  # the arena's own range check
+            except ValueError as e:
+                raise UsageError(f"--arena-opt size={opts['size']}: {e}") from None
         if "out" in params:
             kwargs["out"] = out  # the figure keeps a resumable result store there
         out.mkdir(parents=True, exist_ok=True)
@@ -339,7 +391,7 @@ def _figure(args: argparse.Namespace) -> int:
     return 0
 
 
-_GRID_FLAGS = ("arena", "controller", "body", "seeds", "seed_start", "steps", "arena_opt")
+_GRID_FLAGS = ("arena", "controller", "body", "seeds", "seed_start", "steps", "arena_opt", "variant", "params")
 
 
 def _sweep_specs(args: argparse.Namespace) -> list[dict]:
@@ -370,8 +422,15 @@ def _sweep_specs(args: argparse.Namespace) -> list[dict]:
             raise UsageError(f"--{flag} expects NAME[,NAME...], got {text!r}")
     for key, values in _arena_opts(args.arena_opt).items():
         axes[f"arena_opts.{key}"] = values.split(",")
+    base: dict = {} if args.steps is None else {"steps": args.steps}
+    variants = [v.strip() for v in args.variant.split(",")] if args.variant else []
+    if args.params is not None:  # the file's own base variant unless --variant names others
+        file_variant, base["params"] = _variant(argparse.Namespace(variant=None, params=args.params))
+        variants = variants or [file_variant]
+    if variants:
+        axes["variant"] = variants
     axes["seed"] = list(range(start, start + seeds))
-    return grid({} if args.steps is None else {"steps": args.steps}, **axes)
+    return grid(base, **axes)
 
 
 def _sweep(args: argparse.Namespace) -> int:

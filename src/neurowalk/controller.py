@@ -25,7 +25,7 @@ from neurowalk import anatomy
 from neurowalk.neural.backbone import BackboneControl, BackboneParams
 from neurowalk.neural.leg_control import LegControl, LegControlParams
 from neurowalk.neural.motor import LocomotionNetwork, LocomotionParams, motor_map
-from neurowalk.neural.sensory import Mode, SensoryNetwork, SensoryParams, distance_input
+from neurowalk.neural.sensory import Mode, SensoryNetwork, SensoryParams
 from neurowalk.observation import Observation
 
 CONTROLLERS: tuple[str, ...] = ("plastic", "static", "braitenberg", "fixed")
@@ -123,7 +123,7 @@ class NeuralController:
     def act(self, observation: Observation) -> np.ndarray:
         """One control step: (19,) joint targets in rad, actuator order (a fresh array)."""
         d = observation.us_distance
-        i1, i2 = distance_input(float(d[0])), distance_input(float(d[1]))
+        i1, i2 = self.sensory.input(float(d[0])), self.sensory.input(float(d[1]))
         if self.climbing.masks_us(observation):
             i1 = i2 = -1.0  # a climbable step ahead: not an obstacle to avoid
         o1, o2 = self.sensory.step(i1, i2)

@@ -23,6 +23,7 @@ import numpy as np
 
 from neurowalk.arenas.spec import ArenaSpec
 from neurowalk.body import surrogate_kernel as kern
+from neurowalk.neural.sensory import PARAMS_SIZE, STATE_SIZE
 
 CALIBRATION_FILE = Path(__file__).with_name("data") / "calibration.json"
 
@@ -192,7 +193,7 @@ class Surrogate:
         Args:
             steps: control steps.
             rng: the body's Generator (ultrasonic noise).
-            sens_state, sens_p: the sensory network's (8,) state (advanced in place) and params array;
+            sens_state, sens_p: the sensory network's (STATE_SIZE,) state (advanced in place) and params array;
                 ``None`` with ``steer`` for constant steering.
             steer: constant (O1, O2) instead of the network.
             chunk, on_chunk: if given, ``on_chunk(stop)`` is called after every ``chunk`` steps.
@@ -203,7 +204,7 @@ class Surrogate:
         cal = self.cal
         fixed = steer is not None
         if fixed:
-            sens_state, sens_p = np.zeros(8), np.zeros(10)
+            sens_state, sens_p = np.zeros(STATE_SIZE), np.zeros(PARAMS_SIZE)
         state = np.zeros(kern.RUN_STATE)
         state[kern.X], state[kern.Y], state[kern.YAW] = self.arena.start
         motion = cal.motion()

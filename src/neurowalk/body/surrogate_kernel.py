@@ -19,7 +19,7 @@ import math
 import numpy as np
 from numba import njit
 
-from neurowalk.neural.sensory import distance_input, sensory_step
+from neurowalk.neural.sensory import STEER, sensory_input, sensory_step
 
 X, Y, YAW, VX, VY, W, SWAY, N1, N2 = range(9)
 RUN_STATE = 9
@@ -170,13 +170,13 @@ def rollout(
             u = max(0.0, 1.0 - d / us_range) + state[N1 + r]
             seen = us_range * (1.0 - u) if u > 0.0 else math.inf
             out_us[k, r] = seen
-            inp[r] = distance_input(seen)
+            inp[r] = sensory_input(seen, sens_p)
         if fixed:
             o1, o2 = steer[0], steer[1]
             inp[0], inp[1] = -1.0, -1.0
         else:
             sensory_step(sens, inp[0], inp[1], sens_p)
-            o1, o2 = sens[0], sens[1]
+            o1, o2 = sens[STEER], sens[STEER + 1]
         if k < startup:
             cmd[:] = 0.0
         else:

@@ -5,7 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Any
 
 from neurowalk.experiments import Result, register
-from neurowalk.experiments.random_envs import QUICK_STEPS, RULE, STEPS, environments, spec
+from neurowalk.experiments.random_envs import QUICK_STEPS, RULE, SIZE, STEPS, environments, spec
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -16,19 +16,22 @@ def _keep_path(ep: Any) -> dict[str, Any]:
 
 
 @register("fig6", "sixteen random environments: trajectories, start and end, failures marked (paper Fig. 6)")
-def run(*, quick: bool = False, seed: int = 0, body: str = "surrogate", workers: int = 2) -> Result:
-    """The plastic network in the first 16 environments of Table 2 (same seeds), whole paths."""
+def run(*, quick: bool = False, seed: int = 0, body: str = "surrogate", workers: int = 2, size: float = SIZE,
+        variant: str = "paper", params: dict[str, float] | None = None) -> Result:  # fmt: skip
+    """The plastic network (``variant``) in the first 16 environments of Table 2 (same seeds), whole paths."""
     from neurowalk.runners.local import run_many
     from neurowalk.runners.specs import normalize, to_config
 
     steps = QUICK_STEPS if quick else STEPS
     envs = environments(16, seed)
-    cfgs = [to_config(normalize(spec(e, "plastic", steps, body))) for e in envs]
+    cfgs = [to_config(normalize(spec(e, "plastic", steps, body, variant=variant, size=size, params=params)))
+            for e in envs]  # fmt: skip
     runs = run_many(cfgs, workers=workers, keep=_keep_path, desc="fig6")
     arrays = {f"env{i}/pose": r["pose"] for i, r in enumerate(runs)}
     rows = [{**e, "success": not r["summary"]["trapped"], "coverage": r["summary"]["coverage"],
              "final_pose": r["summary"]["final_pose"]} for e, r in zip(envs, runs, strict=True)]  # fmt: skip
-    summary = {"body": body, "steps": steps, "seed": seed, "rule": RULE, "environments": rows,
+    summary = {"body": body, "steps": steps, "seed": seed, "rule": RULE, "environments": rows, "variant": variant,
+               "params": params, "box_size_m": size,
                "success": sum(r["success"] for r in rows), "pose_stride": 10}  # fmt: skip
     return Result("fig6", summary, arrays)
 
@@ -44,7 +47,7 @@ def plot(res: Result) -> Figure:
     from neurowalk.sim.episode import EpisodeConfig, seeds
 
     for i, (ax, env) in enumerate(zip(axes.flat, s["environments"], strict=False)):
-        opts = spec(env, "plastic", 1, "surrogate")["arena_opts"]
+        opts = spec(env, "plastic", 1, "surrogate", size=s.get("box_size_m", 0.6))["arena_opts"]
         arena = make_arena("random", rng=seeds(EpisodeConfig(seed=env["seed"]))[2], **opts)
         pose = res.arrays[f"env{i}/pose"]
         draw_arena(ax, arena, pose, margin=0.2)
@@ -55,7 +58,8 @@ def plot(res: Result) -> Figure:
             for side in ax.spines.values():
                 side.set_edgecolor("red")
                 side.set_linewidth(3)
-    fig.suptitle(f"Fig. 6: plastic network in 16 random environments ({s['body']}, {s['steps']} steps): "
+    fig.suptitle(f"Fig. 6: plastic network ({s.get('variant', 'paper')}) in 16 random environments ({s['body']}, "
+                 f"{s['steps']} steps): "
                  f"{s['success']}/16 explored; failures framed red", fontsize=11)  # fmt: skip
     fig.tight_layout()
     return fig

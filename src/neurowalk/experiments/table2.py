@@ -1,25 +1,62 @@
-"""Table 2: success and failure counts in random environments, per network (see :mod:`.random_envs`)."""
+"""Table 2: success and failure counts in random environments, per network (see :mod:`.random_envs`).
+
+Rows: the plastic network as the paper's Eq. 1-6 read (``plastic-paper``) and as the authors' code runs it
+(``plastic-original``), beside the static and Braitenberg networks (``plastic-tuned`` too where the tuned
+variant is shipped, ``plastic-params`` for a ``--params`` file). Each row: successes, environments, rate
+and Wilson 95% interval; the paper's 49/50 with its own interval; each failure's class.
+"""
 
 from __future__ import annotations
 
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from neurowalk.experiments import Result, register
-from neurowalk.experiments.random_envs import BOXES, NETWORKS, QUICK_STEPS, RULE, STEPS, environments, spec, wilson
+from neurowalk.experiments.random_envs import (
+    BOXES,
+    FAILURE_RULE,
+    QUICK_STEPS,
+    ROWS,
+    RULE,
+    SIZE,
+    STEPS,
+    environments,
+    failure_class,
+    spec,
+    wilson,
+)
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
+PAPER = {"environments": 50, "success": 49, "failure": 1}
+CLASSES = ("latched spin", "wedged", "other")
+
+
+def rows(variant: str | None = None, params: dict[str, float] | None = None) -> dict[str, dict[str, Any]]:
+    """Table rows: name -> {"controller", "variant", "params"}; extra rows for a named variant or a params file."""
+    from neurowalk.neural.variants import variant_names
+
+    out = {name: {"controller": c, "variant": v, "params": None} for name, (c, v) in ROWS.items()}
+    if "tuned" in variant_names():
+        out["plastic-tuned"] = {"controller": "plastic", "variant": "tuned", "params": None}
+    if params:
+        out["plastic-params"] = {"controller": "plastic", "variant": variant or "original", "params": params}
+    elif variant is not None and f"plastic-{variant}" not in out:
+        raise ValueError(f"unknown variant {variant!r}; expected one of {', '.join(variant_names())}")
+    return out
+
 
 @register("table2", "random environments: success and failure counts per network (paper Table 2)")
 def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: str = "surrogate",
-        out: Path | None = None, workers: int = 2, climbing: bool = False) -> Result:  # fmt: skip
-    """``seeds`` environments (default 50; 10 with ``quick``) x 3 networks, through a resumable store in ``out``.
+        out: Path | None = None, workers: int = 2, climbing: bool = False, size: float = SIZE,
+        variant: str | None = None, params: dict[str, float] | None = None) -> Result:  # fmt: skip
+    """``seeds`` environments (default 50; 10 with ``quick``) x the rows, through a resumable store in ``out``.
 
-    ``climbing``: leg reflexes and backbone control on (physics body only).
+    ``size``: box side (m; the authors' 1 m by default). ``climbing``: leg reflexes and backbone control on
+    (physics body only). ``variant``/``params``: an extra plastic row (``--params FILE``).
     """
     from neurowalk.experiments.climbing import run_store
     from neurowalk.runners.specs import spec_key
@@ -30,62 +67,93 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
     if climbing and body != "amosii":
         raise ValueError(f"climbing needs body 'amosii' (the surrogate has no legs), got body {body!r}")
     steps = QUICK_STEPS if quick else STEPS
+    table = rows(variant, params)
     envs = environments(n, seed)
-    specs = [spec(e, c, steps, body, climbing) for e in envs for c in NETWORKS]
+
+    def spec_of(e: dict[str, Any], r: dict[str, Any]) -> dict[str, Any]:
+        return spec(e, r["controller"], steps, body, climbing, variant=r["variant"], size=size, params=r["params"])
+
+    specs = [spec_of(e, r) for e in envs for r in table.values()]
     folder = Path(out) if out is not None else Path("out/table2")
     folder.mkdir(parents=True, exist_ok=True)
     results, report = run_store(specs, folder, workers)
-    rows, counts = [], {}
+    env_rows, counts = [], {}
     for e in envs:
         row = {**e}
-        for c in NETWORKS:
-            r = results[spec_key(spec(e, c, steps, body, climbing))]
-            row[c] = {"success": not r["trapped"], "ever_trapped": r["ever_trapped"], "coverage": r["coverage"],
-                      "path_length_m": r["path_length_m"]}  # fmt: skip
-        rows.append(row)
-    for c in NETWORKS:
-        ok = sum(r[c]["success"] for r in rows)
+        for name, r in table.items():
+            res = results[spec_key(spec_of(e, r))]
+            row[name] = {"success": not res["trapped"], "failure_class": failure_class(res),
+                         "ever_held_up_300s": res["ever_trapped"], "ever_held_up_1000s": res["ever_held_up_1000s"],
+                         "coverage": res["coverage"], "path_length_m": res["path_length_m"],
+                         "end_turn_share": res["end_turn_share"],
+                         "end_blind_share": res["end_blind_share"]}  # fmt: skip
+        env_rows.append(row)
+    for name, r in table.items():
+        ok = sum(x[name]["success"] for x in env_rows)
         lo, hi = wilson(ok, n)
-        cov = float(np.median([r[c]["coverage"] for r in rows]))
-        counts[c] = {"environments": n, "success": ok, "failure": n - ok, "success_rate": ok / n,
-                     "success_rate_95ci": [lo, hi], "median_coverage": cov,
-                     "ever_held_up_300s": sum(r[c]["ever_trapped"] for r in rows)}  # fmt: skip
-    summary = {"body": body, "climbing": climbing, "steps": steps, "seed": seed, "boxes": list(BOXES), "rule": RULE,
-               "interval": "Wilson score interval, 95%", "counts": counts, "environments": rows,
-               "paper": {"environments": 50, "success": 49, "failure": 1},
-               "store": str(folder / "results.sqlite"), "sweep": report.counts()}  # fmt: skip
+        classes = {c: sum(x[name]["failure_class"] == c for x in env_rows) for c in CLASSES}
+        counts[name] = {
+            **r, "environments": n, "success": ok, "failure": n - ok, "success_rate": ok / n,
+            "success_rate_95ci": [lo, hi], "failure_classes": classes,
+            "median_coverage": float(np.median([x[name]["coverage"] for x in env_rows])),
+            "ever_held_up_300s": sum(x[name]["ever_held_up_300s"] for x in env_rows),
+            "ever_held_up_1000s": sum(x[name]["ever_held_up_1000s"] for x in env_rows),
+        }  # fmt: skip
+    paper = {**PAPER, "success_rate": PAPER["success"] / PAPER["environments"],
+             "success_rate_95ci": list(wilson(PAPER["success"], PAPER["environments"]))}  # fmt: skip
+    summary = {"body": body, "climbing": climbing, "steps": steps, "seed": seed, "boxes": list(BOXES),
+               "box_size_m": size, "rule": RULE, "failure_rule": FAILURE_RULE,
+               "interval": "Wilson score interval, 95%", "counts": counts, "environments": env_rows,
+               "paper": paper, "store": str(folder / "results.sqlite"), "sweep": report.counts()}  # fmt: skip
     return Result("table2", summary)
 
 
 def plot(res: Result) -> Figure:
-    """Success counts per network with 95% intervals, and the failures by number of boxes."""
+    """Success rates with 95% intervals beside the paper's; failures by clutter and by class."""
     from neurowalk.plotting import pyplot
 
     plt = pyplot()
     s = res.summary
-    fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
+    fig, ax = plt.subplots(1, 3, figsize=(16, 4.8), gridspec_kw={"width_ratios": [1.4, 1, 1]})
     names = list(s["counts"])
-    rate = [s["counts"][c]["success_rate"] for c in names]
+    rate = np.array([s["counts"][c]["success_rate"] for c in names])
     ci = np.array([s["counts"][c]["success_rate_95ci"] for c in names])
-    ax[0].bar(names, rate, color=["C0", "C1", "C2"][: len(names)], alpha=0.7)
-    err = np.maximum(0.0, [np.array(rate) - ci[:, 0], ci[:, 1] - np.array(rate)])
-    ax[0].errorbar(names, rate, yerr=err, fmt="none", c="k")
+    x = np.arange(len(names))
+    ax[0].bar(x, rate, color=[f"C{i}" for i in range(len(names))], alpha=0.7)
+    ax[0].errorbar(x, rate, yerr=np.maximum(0.0, [rate - ci[:, 0], ci[:, 1] - rate]), fmt="none", c="k", capsize=4)
+    paper = s.get("paper", PAPER)
+    if "success_rate_95ci" in paper:
+        lo, hi = paper["success_rate_95ci"]
+        ax[0].axhspan(lo, hi, color="0.85", zorder=0, label=f"paper 49/50, 95% interval {lo:.1%}-{hi:.1%}")
+        ax[0].axhline(paper["success_rate"], c="0.5", lw=1, zorder=0)
+        ax[0].legend(fontsize=8, loc="lower right")
     for i, c in enumerate(names):
         k = s["counts"][c]
-        ax[0].text(i, 0.03, f"{k['success']}/{k['environments']}", ha="center", fontsize=10)
+        ax[0].text(i, 0.03, f"{k['success']}/{k['environments']}\n{k['success_rate']:.1%}", ha="center", fontsize=9)
+    ax[0].set_xticks(x, names, fontsize=8)
     ax[0].set_ylim(0, 1.05)
-    ax[0].set_ylabel("success rate (95% interval)")
+    ax[0].set_ylabel("success rate (Wilson 95% interval)")
     on = " with climbing modules" if s.get("climbing") else ""
+    size = s.get("box_size_m", 0.6)
     ax[0].set_title(f"Table 2 on {s['body']}{on}: {s['counts'][names[0]]['environments']} random environments, "
-                    f"{s['steps']} steps (paper: plastic 49/50)", fontsize=9)  # fmt: skip
+                    f"{size:g} m boxes, {s['steps']} steps", fontsize=9)  # fmt: skip
     boxes = np.arange(s["boxes"][0], s["boxes"][1] + 1)
     for i, c in enumerate(names):
         fails = [sum(1 for r in s["environments"] if r["n_boxes"] == b and not r[c]["success"]) for b in boxes]
-        ax[1].plot(boxes, fails, "o-", c=f"C{i}", label=c)
+        ax[1].plot(boxes, fails, "o-", c=f"C{i}", label=c, ms=3)
     ax[1].set_xlabel("boxes in the environment")
     ax[1].set_ylabel("failures")
     ax[1].legend(fontsize=8)
     ax[1].set_title("failures by clutter", fontsize=9)
-    fig.text(0.01, 0.01, s["rule"], fontsize=7)
-    fig.tight_layout(rect=(0, 0.04, 1, 1))
+    bottom = np.zeros(len(names))
+    for j, cls in enumerate(CLASSES):
+        v = np.array([s["counts"][c].get("failure_classes", {}).get(cls, 0) for c in names])
+        ax[2].bar(x, v, bottom=bottom, color=["C3", "C1", "0.6"][j], label=cls)
+        bottom += v
+    ax[2].set_xticks(x, names, fontsize=8)
+    ax[2].set_ylabel("failures")
+    ax[2].legend(fontsize=8)
+    ax[2].set_title("failures by class", fontsize=9)
+    fig.text(0.01, 0.01, s["rule"] + "\n" + s.get("failure_rule", ""), fontsize=7)
+    fig.tight_layout(rect=(0, 0.07, 1, 1))
     return fig

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from neurowalk.neural.sensory import SensoryParams, sensory_step
+from neurowalk.neural.sensory import SensoryParams, initial_state, sensory_step
 
 A_DEFAULT = SensoryParams().a  # input weight 4.7
 
@@ -109,7 +109,7 @@ def hysteresis_loop(
     levels = np.concatenate([up, up[::-1]])
     p = SensoryParams(a=a).as_array(learning=False)
     q = 0.0 if single else -c
-    s = np.array([-1.0, -1.0, -1.0, -1.0, b, 0.0 if single else b, q, q])
+    s = initial_state(np.array([b, 0.0 if single else b]), np.array([q, q]), o0=(-1.0, -1.0))
     out = np.empty((levels.size, 2))
     _sweep(s, levels, other_input, p, settle, out)
     o1 = out[:, 0]

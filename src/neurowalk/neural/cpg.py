@@ -12,8 +12,10 @@ wave gait used throughout the paper). Start o = (0.1, 0.1).
 PCPG, per channel: s = +1 where the CPG output is >= 0.85, else -1; the steps of the current
 phase are counted (n), the lengths of the last completed up and down phases kept (D_up, D_dn);
 the output is the sawtooth 2·n/D_up - 1 while up and -2·n/D_dn + 1 while down, clipped to
-[-1, 1]. Before a full phase has been measured the output sits at ±1. For MI = 0.03 it rises in
-about 14.5 steps and falls in about 73: the fast rise becomes the swing, about 1/6 of the cycle.
+[-1, 1]. Before a full phase has been measured the output sits at ±1; the authors' code stores the
+first, partial phase too (``pcpg_first_partial``), so its legs differ for the first ~250 steps.
+For MI = 0.03 it rises in about 14.5 steps and falls in about 73: the fast rise becomes the swing,
+about 1/6 of the cycle.
 """
 
 from __future__ import annotations
@@ -44,6 +46,7 @@ class CpgParams:
     w_cross: float = 0.18  # cross connection without MI
     start: float = 0.1  # initial output of both neurons
     pcpg_threshold: float = 0.85  # CPG output at or above which a PCPG channel is "up"
+    pcpg_first_partial: bool = False  # store the first, partial phase's length too (the authors' code)
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.mi) and 0.0 <= self.mi < 1.0):
@@ -72,11 +75,14 @@ def cpg_step(o: np.ndarray, w_self: float, w_cross: float) -> None:
 
 
 @njit(cache=True)
-def pcpg_step(c: np.ndarray, act: float, threshold: float) -> float:
-    """Advance one PCPG channel ``c`` (7,) in place from CPG output ``act``; returns y in [-1, 1]."""
+def pcpg_step(c: np.ndarray, act: float, threshold: float, partial: bool = False) -> float:
+    """Advance one PCPG channel ``c`` (7,) in place from CPG output ``act``; returns y in [-1, 1].
+
+    ``partial``: also store the length of the first phase, which began at the start, not at a transition.
+    """
     s = 1.0 if act >= threshold else -1.0
     if s != c[0]:
-        if c[6] >= 1.0:  # the phase that just ended began at a transition: a full phase
+        if c[6] >= 1.0 or partial:  # a full phase (it began at a transition), or any phase
             if c[0] > 0.0:
                 c[3] = c[1]
             else:
@@ -98,14 +104,14 @@ def pcpg_step(c: np.ndarray, act: float, threshold: float) -> float:
 
 
 @njit(cache=True)
-def _run_cpg(o: np.ndarray, pc: np.ndarray, steps: int, w_self: float, w_cross: float, thr: float,
+def _run_cpg(o: np.ndarray, pc: np.ndarray, steps: int, w_self: float, w_cross: float, thr: float, partial: bool,
              out: np.ndarray) -> None:  # fmt: skip
     for t in range(steps):
         a0, a1 = o[0], o[1]  # PCPG reads the previous CPG output (one synapse, one step)
         cpg_step(o, w_self, w_cross)
         out[t, 0], out[t, 1] = o[0], o[1]
-        out[t, 2] = pcpg_step(pc[0], a0, thr)
-        out[t, 3] = pcpg_step(pc[1], a1, thr)
+        out[t, 2] = pcpg_step(pc[0], a0, thr, partial)
+        out[t, 3] = pcpg_step(pc[1], a1, thr, partial)
 
 
 def simulate_cpg(steps: int, params: CpgParams | None = None) -> tuple[np.ndarray, np.ndarray]:
@@ -120,7 +126,7 @@ def simulate_cpg(steps: int, params: CpgParams | None = None) -> tuple[np.ndarra
     o = np.full(2, p.start)
     pc = np.zeros((2, PCPG_FIELDS))
     out = np.empty((steps, 4))
-    _run_cpg(o, pc, steps, p.w_self, p.w_cross + p.mi, p.pcpg_threshold, out)
+    _run_cpg(o, pc, steps, p.w_self, p.w_cross + p.mi, p.pcpg_threshold, p.pcpg_first_partial, out)
     return out[:, :2].copy(), out[:, 2:].copy()
 
 

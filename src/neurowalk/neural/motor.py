@@ -90,7 +90,7 @@ class LocomotionParams:
         """Pack for the compiled step."""
         c = self.cpg
         return np.array([c.w_self, c.w_cross + c.mi, c.pcpg_threshold, self.tau, self.tau_l,
-                         self.fti_steer_gain, self.fti_mid_gain])  # fmt: skip
+                         self.fti_steer_gain, self.fti_mid_gain, float(c.pcpg_first_partial)])  # fmt: skip
 
 
 @njit(cache=True)
@@ -145,8 +145,8 @@ def presignal_step(x: np.ndarray, buf: np.ndarray, s_right: float, s_left: float
     old = x.copy()
     # CPG and its post-processing (PCPG reads the previous CPG output).
     cpg_step(x[CPG : CPG + 2], p[0], p[1])
-    pcpg_step(x[PCPG : PCPG + PCPG_FIELDS], old[CPG], p[2])
-    pcpg_step(x[PCPG + PCPG_FIELDS : PCPG + 2 * PCPG_FIELDS], old[CPG + 1], p[2])
+    pcpg_step(x[PCPG : PCPG + PCPG_FIELDS], old[CPG], p[2], p[7] > 0.0)
+    pcpg_step(x[PCPG + PCPG_FIELDS : PCPG + 2 * PCPG_FIELDS], old[CPG + 1], p[2], p[7] > 0.0)
     # Input neurons take this step's external values.
     x[IN], x[IN + 1], x[IN + 2] = 1.0, s_left, s_right
     # PSN, from the previous outputs.

@@ -10,9 +10,17 @@ q(t) >= 0, input I(t) in [-1, 1]^2. Every right-hand side uses the values at t:
 
 Neuron 1 is the left one (left ultrasonic sensor, I1, O1), neuron 2 the right one. Modes:
 ``plastic`` (learning on; b = q = 0 at the start unless given), ``static`` (b = 2.4, c = -3.5,
-the paper's hand-tuned network) and ``braitenberg`` (b = c = 0). The original code's details
-(activity cut-off 0.009, reflex on US > 0.2, start b = 2, q = 3) and its ablations (learn b only,
-learn q only) are options of :class:`SensoryParams`.
+the paper's hand-tuned network) and ``braitenberg`` (b = c = 0). The ablations (learn b only,
+learn q only) and the authors' code's timing and details are options of :class:`SensoryParams`:
+:meth:`SensoryParams.original_code` gives the network as the authors' code runs it (see
+:mod:`neurowalk.neural.variants` and ``docs/paper-vs-code.md``): the input passes an identity neuron
+(the network sees the previous reading), the weights learn from the activities before and after the
+update, the steering leaves through two more identity layers (3 control steps from reading to
+steering), the constructor's step with zero input, I = 1 - 2d/0.4, start b = 2, q = 3, activity
+cut-off 0.009, reflex gate on US > 0.2.
+
+The state of one network is a flat (14,) array (:data:`STATE_SIZE`), the steering it sends to the
+locomotion network in slots 8-9 (:data:`STEER`): the new outputs, or older ones with a steering delay.
 """
 
 from __future__ import annotations
@@ -52,6 +60,13 @@ class SensoryParams:
     activity_cutoff: float = 0.0  # activities nu below this are set to 0 (original code: 0.009)
     learn_b: bool = True  # plastic mode: learn b (False: b stays at its start, 2.4 by default)
     learn_q: bool = True  # plastic mode: learn q (False: q stays at its start, 3.5 by default)
+    us_near: float = US_NEAR_M  # m, distance at or below which the input is +1 (original code: 0)
+    input_delay: bool = False  # the input passes an identity neuron: the network sees the last step's reading
+    post_learning: bool = False  # learn from nu(O before the update), nu(O after it) instead of nu(t-1), nu(t)
+    steer_delay: int = 0  # control steps between a new output and the steering it sends (0, 1 or 2)
+    prime_step: bool = False  # at reset, run one step with zero input (the original's constructor)
+    b_start: float | None = None  # plastic start self weights (None: 0, or 2.4 if b is not learned)
+    q_start: float | None = None  # plastic start inhibition magnitudes (None: 0, or 3.5 if q is not learned)
 
     def __post_init__(self) -> None:
         for name in ("a", "mu_b", "mu_q", "gamma_b", "gamma_q", "k", "reflex_threshold"):
@@ -62,19 +77,39 @@ class SensoryParams:
                 raise ValueError(f"SensoryParams.{name} must be >= 0, got {getattr(self, name)!r}")
         if not 0.0 <= self.activity_cutoff < 1.0:
             raise ValueError(f"SensoryParams.activity_cutoff must be in [0, 1), got {self.activity_cutoff!r}")
+        if not (math.isfinite(self.us_near) and 0.0 <= self.us_near < US_RANGE_M):
+            raise ValueError(f"SensoryParams.us_near must be in [0, {US_RANGE_M}) m, got {self.us_near!r}")
+        if self.steer_delay not in (0, 1, 2):
+            raise ValueError(f"SensoryParams.steer_delay must be 0, 1 or 2 control steps, got {self.steer_delay!r}")
+        for name in ("b_start", "q_start"):
+            v = getattr(self, name)
+            if v is not None and not (math.isfinite(v) and v >= 0):
+                raise ValueError(f"SensoryParams.{name} must be a finite number >= 0, got {v!r}")
 
     @classmethod
     def original_code(cls, **changes: float | bool) -> SensoryParams:
-        """The authors' code: activity cut-off 0.009, reflex on US > 0.2 (I > -0.6)."""
-        return cls(**{"activity_cutoff": 0.009, "reflex_threshold": -0.6, **changes})
+        """The network as the authors' code runs it (``docs/paper-vs-code.md``, all points).
+
+        Input I = 1 - 2d/0.4 (``us_near`` 0) through an identity neuron (``input_delay``), learning from
+        the activities before and after the update (``post_learning``), steering through two more identity
+        layers (``steer_delay`` 2), the constructor's zero-input step (``prime_step``), start b = 2, q = 3,
+        activity cut-off 0.009, reflex gate on US > 0.2 (I > -0.6).
+        """
+        base: dict[str, float | bool | int | None] = {
+            "activity_cutoff": 0.009, "reflex_threshold": -0.6, "us_near": 0.0, "input_delay": True,
+            "post_learning": True, "steer_delay": 2, "prime_step": True, "b_start": ORIGINAL_B0,
+            "q_start": ORIGINAL_Q0,
+        }  # fmt: skip
+        return cls(**{**base, **changes})  # type: ignore[arg-type]
 
     def as_array(self, learning: bool) -> np.ndarray:
-        """Pack for the compiled step: (a, mu_b, mu_q, gamma_b, gamma_q, k, thr, cutoff, lb, lq)."""
+        """Pack for the compiled step (:data:`PARAMS_SIZE` values, see :func:`sensory_step`)."""
         lb = float(learning and self.learn_b)
         lq = float(learning and self.learn_q)
         return np.array(
             [self.a, self.mu_b, self.mu_q, self.gamma_b, self.gamma_q, self.k,
-             self.reflex_threshold, self.activity_cutoff, lb, lq]
+             self.reflex_threshold, self.activity_cutoff, lb, lq, self.us_near, float(self.input_delay),
+             float(self.post_learning), float(self.steer_delay)]
         )  # fmt: skip
 
 
@@ -94,8 +129,8 @@ def initial_weights(
             raise ValueError(f"mode {mode!r} has fixed weights; b0/q0 apply to mode 'plastic' only")
         w = (STATIC_B, STATIC_Q) if mode == "static" else (0.0, 0.0)
         return np.full(2, w[0]), np.full(2, w[1])
-    b_default = 0.0 if p.learn_b else STATIC_B
-    q_default = 0.0 if p.learn_q else STATIC_Q
+    b_default = p.b_start if p.b_start is not None else (0.0 if p.learn_b else STATIC_B)
+    q_default = p.q_start if p.q_start is not None else (0.0 if p.learn_q else STATIC_Q)
     b = _pair("b0", b_default if b0 is None else b0)
     q = _pair("q0", q_default if q0 is None else q0)
     if np.any(b < 0):
@@ -117,33 +152,52 @@ def _pair(name: str, value: object) -> np.ndarray:
     return arr
 
 
-def distance_to_input(distance_m: np.ndarray | float) -> np.ndarray:
-    """Map ultrasonic distance (m) to network input: 1 at <= 0.05 m, -1 at >= 0.40 m or no echo.
+def distance_to_input(distance_m: np.ndarray | float, near: float = US_NEAR_M) -> np.ndarray:
+    """Map ultrasonic distance (m) to network input: 1 at <= ``near`` m, -1 at >= 0.40 m or no echo.
 
-    Linear in between. ``inf`` or NaN (no echo) and negative values (MuJoCo's "no hit") give -1.
+    Linear in between (``near`` 0.05 m by default; 0 in the authors' code: I = 1 - 2d/0.4). ``inf`` or NaN
+    (no echo) and negative values (MuJoCo's "no hit") give -1.
     """
     d = np.asarray(distance_m, dtype=float)
     no_echo = ~np.isfinite(d) | (d < 0)
-    x = 1.0 - 2.0 * (np.where(no_echo, US_RANGE_M, d) - US_NEAR_M) / (US_RANGE_M - US_NEAR_M)
+    x = 1.0 - 2.0 * (np.where(no_echo, US_RANGE_M, d) - near) / (US_RANGE_M - near)
     return np.clip(x, -1.0, 1.0)
 
 
 @njit(cache=True)
-def distance_input(distance_m: float) -> float:
+def distance_input(distance_m: float, near: float = US_NEAR_M) -> float:
     """Scalar, compiled :func:`distance_to_input` (the one used in every control loop)."""
     if not (distance_m >= 0.0) or math.isinf(distance_m):  # NaN, negative, inf: no echo
         return -1.0
-    x = 1.0 - 2.0 * (distance_m - US_NEAR_M) / (US_RANGE_M - US_NEAR_M)
+    x = 1.0 - 2.0 * (distance_m - near) / (US_RANGE_M - near)
     return min(1.0, max(-1.0, x))
 
 
-# State layout of one network: (o1, o2, o1(t-1), o2(t-1), b1, b2, q1, q2).
-STATE_SIZE = 8
+@njit(cache=True)
+def sensory_input(distance_m: float, p: np.ndarray) -> float:
+    """:func:`distance_input` with the near distance of a packed params array ``p``."""
+    return distance_input(distance_m, p[10])
+
+
+# State layout of one network: (o1, o2, o1(t-1), o2(t-1), b1, b2, q1, q2, steer1, steer2, x1, x2, o1(t-2),
+# o2(t-2)): outputs, weights, the steering sent on, the input neuron's outputs, older outputs.
+STATE_SIZE = 14
+STEER = 8  # first steering slot
+PARAMS_SIZE = 14
 
 
 @njit(cache=True)
 def sensory_step(s: np.ndarray, i1: float, i2: float, p: np.ndarray) -> None:
-    """Advance one network by one step in place. ``s``: (8,) state; ``p``: params array."""
+    """Advance one network by one step in place. ``s``: (14,) state; ``p``: (14,) packed params.
+
+    ``p`` = (a, mu_b, mu_q, gamma_b, gamma_q, k, reflex threshold, activity cut-off, learn b, learn q,
+    us_near, input delay, post learning, steer delay). With an input delay the new readings (i1, i2) are
+    stored and last step's drive the neurons and the reflex gate.
+    """
+    if p[11] > 0.0:
+        x1, x2 = s[10], s[11]
+        s[10], s[11] = i1, i2
+        i1, i2 = x1, x2
     o1, o2, op1, op2, b1, b2, q1, q2 = s[0], s[1], s[2], s[3], s[4], s[5], s[6], s[7]
     a = p[0]
     c = -0.5 * (q1 + q2)
@@ -151,10 +205,23 @@ def sensory_step(s: np.ndarray, i1: float, i2: float, p: np.ndarray) -> None:
     s[1] = math.tanh(b2 * o2 + c * o1 + a * i2)
     s[2] = o1
     s[3] = o2
+    s[12] = op1
+    s[13] = op2
+    delay = p[13]
+    if delay == 0.0:
+        s[8], s[9] = s[0], s[1]
+    elif delay == 1.0:
+        s[8], s[9] = o1, o2
+    else:
+        s[8], s[9] = op1, op2
     if p[8] > 0.0 or p[9] > 0.0:
         cut, k = p[7], p[5]
-        nu1, nu2 = activity(o1, cut), activity(o2, cut)
-        nup1, nup2 = activity(op1, cut), activity(op2, cut)
+        if p[12] > 0.0:  # the original: activities before and after this update
+            nup1, nup2 = activity(o1, cut), activity(o2, cut)
+            nu1, nu2 = activity(s[0], cut), activity(s[1], cut)
+        else:  # Eq. 3-4: nu(t-1), nu(t)
+            nu1, nu2 = activity(o1, cut), activity(o2, cut)
+            nup1, nup2 = activity(op1, cut), activity(op2, cut)
         t1, t2 = reflex_signal(i1, p[6]), reflex_signal(i2, p[6])
         if p[8] > 0.0:
             s[4] = b1 + correlation_scaling_delta(b1, nup1, nu1, t1, p[1], p[3], k)
@@ -166,7 +233,7 @@ def sensory_step(s: np.ndarray, i1: float, i2: float, p: np.ndarray) -> None:
 
 @njit(cache=True)
 def _run(s: np.ndarray, inputs: np.ndarray, p: np.ndarray, out: np.ndarray) -> None:
-    """Step over inputs (T, 2); row t of ``out`` (T, 8) is the state after the t-th update."""
+    """Step over inputs (T, 2); row t of ``out`` (T, STATE_SIZE) is the state after the t-th update."""
     for t in range(inputs.shape[0]):
         sensory_step(s, inputs[t, 0], inputs[t, 1], p)
         out[t] = s
@@ -174,7 +241,7 @@ def _run(s: np.ndarray, inputs: np.ndarray, p: np.ndarray, out: np.ndarray) -> N
 
 @njit(cache=True)
 def sensory_step_batch(s: np.ndarray, inputs: np.ndarray, p: np.ndarray) -> None:
-    """Advance n networks one step in place: ``s`` (n, 8), ``inputs`` (n, 2)."""
+    """Advance n networks one step in place: ``s`` (n, STATE_SIZE), ``inputs`` (n, 2)."""
     for i in range(s.shape[0]):
         sensory_step(s[i], inputs[i, 0], inputs[i, 1], p)
 
@@ -189,6 +256,8 @@ class SensoryTrace:
         b: (T, 2) self weights b(t+1).
         q: (T, 2) inhibition magnitudes q(t+1) >= 0.
         mode: the mode simulated.
+        steering: (T, 2) the steering sent to the locomotion network (``outputs`` unless the params
+            delay it).
     """
 
     inputs: np.ndarray
@@ -196,6 +265,7 @@ class SensoryTrace:
     b: np.ndarray
     q: np.ndarray
     mode: str
+    steering: np.ndarray | None = None
 
     @property
     def c(self) -> np.ndarray:
@@ -219,12 +289,20 @@ def validate_inputs(inputs: object) -> np.ndarray:
     return np.ascontiguousarray(x)
 
 
-def initial_state(b0: np.ndarray, q0: np.ndarray, o0: object = (0.0, 0.0)) -> np.ndarray:
-    """Packed (8,) start state with O(-1) = O(0) = o0."""
+def initial_state(b0: np.ndarray, q0: np.ndarray, o0: object = (0.0, 0.0), prime: np.ndarray | None = None
+                  ) -> np.ndarray:  # fmt: skip
+    """Packed (STATE_SIZE,) start state with O(-2) = O(-1) = O(0) = o0, steering o0, input neurons 0.
+
+    ``prime``: a packed params array to run the original's constructor step with (zero input, learning as
+    in every step); None (default): no such step.
+    """
     o = _pair("o0", o0)
     if np.any(np.abs(o) > 1.0):
         raise ValueError(f"o0 must lie in [-1, 1], got {o.tolist()}")
-    return np.concatenate([o, o, b0, q0])
+    s = np.concatenate([o, o, b0, q0, o, np.zeros(2), o])
+    if prime is not None:
+        sensory_step(s, 0.0, 0.0, prime)
+    return s
 
 
 def simulate(
@@ -255,11 +333,12 @@ def simulate(
     x = validate_inputs(inputs)
     p = params or SensoryParams()
     b, q = initial_weights(mode, p, b0, q0)
-    s = initial_state(b, q, o0)
+    packed = p.as_array(mode == "plastic")
+    s = initial_state(b, q, o0, packed if p.prime_step else None)
     out = np.empty((x.shape[0], STATE_SIZE))
-    _run(s, x, p.as_array(mode == "plastic"), out)
-    return SensoryTrace(inputs=x, outputs=out[:, 0:2].copy(), b=out[:, 4:6].copy(),
-                        q=out[:, 6:8].copy(), mode=mode)  # fmt: skip
+    _run(s, x, packed, out)
+    return SensoryTrace(inputs=x, outputs=out[:, 0:2].copy(), b=out[:, 4:6].copy(), q=out[:, 6:8].copy(),
+                        mode=mode, steering=out[:, STEER : STEER + 2].copy())  # fmt: skip
 
 
 class SensoryNetwork:
@@ -277,16 +356,23 @@ class SensoryNetwork:
         self.params = params or SensoryParams()
         self._b0, self._q0 = initial_weights(mode, self.params, b0, q0)
         self._p = self.params.as_array(mode == "plastic")
-        self.state = initial_state(self._b0, self._q0)
+        self.reset()
 
     def reset(self) -> None:
-        """Back to the start weights, with outputs 0."""
-        self.state = initial_state(self._b0, self._q0)
+        """Back to the start weights, with outputs 0 (and the constructor's step, where the params ask for it)."""
+        self.state = initial_state(self._b0, self._q0, prime=self._p if self.params.prime_step else None)
 
     def step(self, i1: float, i2: float) -> tuple[float, float]:
-        """One update from inputs (I1, I2) in [-1, 1]; returns the new outputs (O1, O2)."""
+        """One update from inputs (I1, I2) in [-1, 1]; returns the steering it sends on (O1, O2).
+
+        The steering is the new outputs, or older ones where the params have a steering delay.
+        """
         sensory_step(self.state, i1, i2, self._p)
-        return self.state[0], self.state[1]
+        return self.state[STEER], self.state[STEER + 1]
+
+    def input(self, distance_m: float) -> float:
+        """Network input of an ultrasonic distance (m; inf = no echo), with these params' near distance."""
+        return distance_input(distance_m, self.params.us_near)
 
     @property
     def packed_params(self) -> np.ndarray:

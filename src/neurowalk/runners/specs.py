@@ -4,7 +4,8 @@ A spec names only what differs from the defaults, e.g. ``{"arena": "box", "contr
 :func:`normalize` fills in every default (the config's and the arena's options) and converts the values to their
 canonical types, so that equal runs get equal keys (:func:`spec_key`) whatever the dict order, the omitted defaults
 or the spelling of a number (``"0.3"``, ``0.3``; ``2``, ``2.0``). The switches added later (:data:`LATER`:
-``reflexes``, ``backbone``) appear in the canonical form only when on, so the keys of earlier stores stay valid.
+``reflexes``, ``backbone``, ``variant``, ``params``) appear in the canonical form only when they differ from their
+defaults (off, ``paper``, none), so the keys of earlier stores stay valid.
 """
 
 from __future__ import annotations
@@ -27,8 +28,8 @@ FIELDS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(EpisodeConfig
 MACHINE_KEYS: tuple[str, ...] = ("wall_time_s", "real_time_factor")
 
 _DEFAULTS: Spec = {f: getattr(EpisodeConfig(), f) for f in FIELDS}
-#: Boolean switches kept out of the canonical form while off (they came after stores were written).
-LATER: tuple[str, ...] = ("reflexes", "backbone")
+#: Fields kept out of the canonical form at their defaults (they came after stores were written).
+LATER: tuple[str, ...] = ("reflexes", "backbone", "variant", "params")
 
 
 def normalize(spec: Spec) -> Spec:
@@ -76,11 +77,19 @@ def normalize(spec: Spec) -> Spec:
                 f"arena {out['arena']!r}: option {key}={value!r} is not a {type(known[key]).__name__}"
             ) from None
     out["arena_opts"] = to_jsonable(opts)
-    for key in LATER:
+    for key in ("reflexes", "backbone"):
         if not isinstance(s[key], bool):
             raise ValueError(f"{key} must be true or false, got {s[key]!r}")
         if s[key]:
             out[key] = True
+    if not isinstance(s["variant"], str):
+        raise ValueError(f"variant must be a name, got {s['variant']!r}")
+    if s["variant"] != "paper":
+        out["variant"] = s["variant"]
+    if s["params"]:
+        from neurowalk.neural.variants import check_overrides
+
+        out["params"] = check_overrides(s["params"])
     to_config(out)  # the config's own checks (controller, body, steps, seed, steer, b0/q0)
     return out
 
@@ -172,7 +181,8 @@ def describe(spec: Spec) -> str:
     defaults = arena_options(s["arena"]) if s["arena"] in ARENAS else {}
     given = {k: v for k, v in (spec.get("arena_opts") or {}).items() if k not in defaults or defaults[k] != v}
     opts = " ".join(f"{k}={v}" for k, v in given.items())
-    parts = [s["arena"], opts, s["controller"], s["body"], f"seed={s['seed']}", f"steps={s['steps']}"]
+    variant = "" if s.get("variant", "paper") == "paper" else f"variant={s['variant']}"
+    parts = [s["arena"], opts, s["controller"], variant, s["body"], f"seed={s['seed']}", f"steps={s['steps']}"]
     return " ".join(p for p in parts if p)
 
 

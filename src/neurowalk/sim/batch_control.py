@@ -18,8 +18,7 @@ from numba import njit
 from neurowalk import anatomy
 from neurowalk.controller import Controller, FixedController, NeuralController
 from neurowalk.neural.motor import locomotion_step
-from neurowalk.neural.sensory import distance_input as _input
-from neurowalk.neural.sensory import sensory_step
+from neurowalk.neural.sensory import STEER, sensory_input, sensory_step
 from neurowalk.observation import Observation
 
 FIXED, NEURAL = 0, 1  # kinds of copy in the compiled step
@@ -33,18 +32,18 @@ def control_step(kind: np.ndarray, dist: np.ndarray, sens: np.ndarray, sens_p: n
 
     Args:
         kind: (n,) FIXED or NEURAL. dist: (n, 2) ultrasonic distances (m, inf = no echo).
-        sens: (n, 8) sensory network states. sens_p: (n, P) their packed params.
-        loc: (n, S) locomotion network states. buf: (n, L, 5) their delay lines. loc_p: (n, 7) packed params.
+        sens: (n, STATE_SIZE) sensory network states. sens_p: (n, P) their packed params.
+        loc: (n, S) locomotion network states. buf: (n, L, 5) their delay lines. loc_p: (n, 8) packed params.
         inputs: (n, 2) out, network inputs (I1, I2). outputs: (n, 2) steering (O1, O2); for FIXED copies it is
             read (the fixed steering). targets: (n, 19) out, joint targets (rad, actuator order; BJ stays as is).
     """
     for i in range(kind.shape[0]):
         if kind[i] == NEURAL:
-            i1 = _input(dist[i, 0])
-            i2 = _input(dist[i, 1])
+            i1 = sensory_input(dist[i, 0], sens_p[i])
+            i2 = sensory_input(dist[i, 1], sens_p[i])
             sensory_step(sens[i], i1, i2, sens_p[i])
             inputs[i, 0], inputs[i, 1] = i1, i2
-            outputs[i, 0], outputs[i, 1] = sens[i, 0], sens[i, 1]
+            outputs[i, 0], outputs[i, 1] = sens[i, STEER], sens[i, STEER + 1]
         locomotion_step(loc[i], buf[i], outputs[i, 0], outputs[i, 1], loc_p[i], targets[i])
 
 
@@ -83,7 +82,7 @@ class BatchControllers:
         if not self.compiled:
             return
         neural = [c for c in self.controllers if isinstance(c, NeuralController)]
-        width = len(neural[0].sensory.state) if neural else 8
+        width = len(neural[0].sensory.state) if neural else 14
         n_p = len(neural[0].sensory.params.as_array(True)) if neural else 1
         n = len(self.controllers)
         self._kind = np.array([NEURAL if isinstance(c, NeuralController) else FIXED for c in self.controllers])

@@ -27,6 +27,7 @@ from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.body.physics import AmosII
 from neurowalk.body.surrogate import Surrogate
 from neurowalk.controller import CONTROLLERS, Controller, make_controller
+from neurowalk.neural.variants import get_variant
 from neurowalk.sim.trajectory import Trajectory
 
 BODIES: tuple[str, ...] = ("amosii", "surrogate")
@@ -49,6 +50,8 @@ class EpisodeConfig:
     q0: float | None = None  # plastic controller: start inhibition magnitudes (default 0)
     reflexes: bool = False  # local leg control: forward models, searching and elevation reflexes
     backbone: bool = False  # backbone joint control and the climbable-step decision (obstacle-height sensor)
+    variant: str = "paper"  # the network: paper (Eq. 1-6 as printed), original (the authors' code), tuned
+    params: dict[str, float] | None = None  # SensoryParams fields set on top of the variant (a params file)
 
     def __post_init__(self) -> None:
         if self.controller not in CONTROLLERS:
@@ -65,6 +68,7 @@ class EpisodeConfig:
             raise ValueError("--steer O1,O2 goes with controller 'fixed' (and only with it)")
         if (self.reflexes or self.backbone) and self.body != "amosii":
             raise ValueError(f"reflexes and backbone control need body 'amosii' (legs and terrain), got {self.body!r}")
+        get_variant(self.variant, self.params)  # raises on an unknown variant or a bad parameter
 
 
 @dataclass
@@ -100,7 +104,11 @@ def build(cfg: EpisodeConfig, *, pad_boxes: int | None = None) -> tuple[ArenaSpe
                       scan_obstacles=cfg.backbone or cfg.reflexes)  # fmt: skip
     weights = {k: v for k, v in (("b0", cfg.b0), ("q0", cfg.q0)) if v is not None}
     climbing = {k: True for k in ("reflexes", "backbone") if getattr(cfg, k)}
-    controller = make_controller(cfg.controller, steer=cfg.steer, **weights, **climbing)
+    v = get_variant(cfg.variant, cfg.params)
+    kwargs: dict[str, Any] = {**weights, **climbing, "locomotion": v.locomotion()}
+    if cfg.controller != "fixed":
+        kwargs["sensory"] = v.sensory
+    controller = make_controller(cfg.controller, steer=cfg.steer, **kwargs)
     return arena, body, controller
 
 
@@ -224,6 +232,14 @@ def _up_z_from_qpos(qpos: np.ndarray) -> np.ndarray:
     return 1 - 2 * (x * x + y * y)
 
 
+def _start_weights(cfg: EpisodeConfig) -> dict[str, float]:
+    """The plastic network's start weights: the config's, else the variant's (b0, q0)."""
+    p = get_variant(cfg.variant, cfg.params).sensory
+    b = cfg.b0 if cfg.b0 is not None else (p.b_start if p.b_start is not None else 0.0)
+    q = cfg.q0 if cfg.q0 is not None else (p.q_start if p.q_start is not None else 0.0)
+    return {"b0": b, "q0": q}
+
+
 def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory, wall_time_s: float,
               warnings: dict[str, int]) -> dict[str, Any]:  # fmt: skip
     """summary.json of DESIGN §5, plus steering-run figures."""
@@ -244,15 +260,20 @@ def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory, wall_time_s:
         "seed": cfg.seed,
         "control_hz": cfg.control_hz,
         "noise": cfg.noise,
-        "start_weights": {"b0": cfg.b0, "q0": cfg.q0} if cfg.controller == "plastic" else None,
+        "start_weights": _start_weights(cfg) if cfg.controller == "plastic" else None,
         "reflexes": cfg.reflexes,
         "backbone": cfg.backbone,
+        "variant": cfg.variant,
+        "params": cfg.params,
         "final_z_m": float(tr.qpos[-1, 2]) if has_z else None,  # trunk height (None: planar body)
         "max_z_m": float(np.max(tr.qpos[:, 2])) if has_z else None,
         "exit_step": metrics.exit_step(pose, arena),
         "escaped": metrics.escaped(pose, arena),
         "trapped": metrics.trapped(pose),
         "ever_trapped": metrics.ever_trapped(pose),
+        "ever_held_up_1000s": metrics.ever_trapped(pose, window=round(1000 * cfg.control_hz)),
+        "end_turn_share": metrics.latched_turn_share(tr.outputs[-3000:]),
+        "end_blind_share": float(np.mean(~np.isfinite(tr.us_distance[-3000:]).any(axis=1))),
         "coverage": metrics.coverage(pose, arena),
         "path_length_m": metrics.path_length(pose),
         "forward_displacement_m": metrics.forward_displacement(pose, arena.start),

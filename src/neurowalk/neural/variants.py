@@ -1,0 +1,127 @@
+"""Named variants of the whole network: the paper's text, the authors' code, and tuned learning parameters.
+
+Where the paper's Eq. 1-6 read literally and the authors' C++ code differ, neurowalk offers both
+(``docs/paper-vs-code.md`` lists the points, with the evidence):
+
+* ``paper`` (default): DESIGN §3, Eq. 1-6 as printed; the sensory network's new outputs steer the
+  locomotion network in the same control step; plastic weights start at 0.
+* ``original``: the authors' code, all of it: (1) the weights learn from the activities before and
+  after the update; (2) the steering reaches the locomotion network 3 control steps after the reading
+  (an input identity neuron, an output identity neuron, read before the step); (3) the constructor runs
+  one step with zero input; (4) I = 1 - 2d/0.4, clipped to [-1, 1]; (5) the PCPG stores its first,
+  partial phase; (6) learning starts from b = 2, q = 3; and the activity cut-off 0.009 and the reflex
+  gate on US > 0.2.
+* ``tuned``: the ``original`` network with learning parameters found by ``neurowalk optimize``
+  (CMA-ES), shipped in ``neural/data/tuned.json`` with how they were found; present only if that file is.
+
+A variant can carry overrides of named :class:`~neurowalk.neural.sensory.SensoryParams` fields
+(:data:`TUNABLE`), e.g. from a ``--params FILE``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from neurowalk.neural.motor import LocomotionParams
+from neurowalk.neural.sensory import SensoryParams
+
+TUNED_FILE = Path(__file__).with_name("data") / "tuned.json"
+#: SensoryParams fields a params file or an optimisation may set (all numbers).
+TUNABLE: tuple[str, ...] = ("a", "mu_b", "mu_q", "gamma_b", "gamma_q", "k", "reflex_threshold", "activity_cutoff",
+                            "us_near", "b_start", "q_start")  # fmt: skip
+
+
+def variant_names() -> tuple[str, ...]:
+    """The variants available here: ``paper``, ``original``, and ``tuned`` where its data file is shipped."""
+    return ("paper", "original", "tuned") if TUNED_FILE.is_file() else ("paper", "original")
+
+
+@dataclass(frozen=True)
+class Variant:
+    """A named configuration of the network.
+
+    Attributes:
+        name: ``paper``, ``original``, ``tuned`` (with ``+params`` when overrides were applied).
+        sensory: the sensory network's parameters.
+        pcpg_first_partial: the PCPG stores its first, partial phase (the authors' code).
+        overrides: the SensoryParams fields set on top of the named variant.
+    """
+
+    name: str
+    sensory: SensoryParams
+    pcpg_first_partial: bool = False
+    overrides: Mapping[str, float] = dataclasses.field(default_factory=dict)
+
+    def locomotion(self, base: LocomotionParams | None = None) -> LocomotionParams:
+        """Locomotion parameters (``base``'s, default the wave gait) with this variant's PCPG."""
+        b = base or LocomotionParams()
+        return dataclasses.replace(b, cpg=dataclasses.replace(b.cpg, pcpg_first_partial=self.pcpg_first_partial))
+
+
+def check_overrides(overrides: Mapping[str, Any], where: str = "params") -> dict[str, float]:
+    """``overrides`` as {field: float}; raises ValueError naming an unknown field or a non-finite value."""
+    if not isinstance(overrides, Mapping):
+        raise ValueError(f"{where} must be an object of SensoryParams fields, got {overrides!r}")
+    out = {}
+    for key, value in overrides.items():
+        if key not in TUNABLE:
+            raise ValueError(f"{where}: unknown field {key!r}; fields: {', '.join(TUNABLE)}")
+        if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+            raise ValueError(f"{where}: {key} must be a finite number, got {value!r}")
+        out[key] = float(value)
+    return dict(sorted(out.items()))
+
+
+def get_variant(name: str = "paper", overrides: Mapping[str, Any] | None = None) -> Variant:
+    """The variant ``name``, with ``overrides`` of SensoryParams fields applied (validated).
+
+    Raises:
+        ValueError: unknown variant, unknown field, or a value the parameters refuse (e.g. a negative rate).
+    """
+    names = variant_names()
+    if name not in names:
+        raise ValueError(f"unknown variant {name!r}; expected one of {', '.join(names)}")
+    if name == "tuned":
+        data = read_params_file(TUNED_FILE)
+        base = get_variant(data.get("variant", "original"), data["params"])
+        v = Variant("tuned", base.sensory, base.pcpg_first_partial, base.overrides)
+    elif name == "original":
+        v = Variant("original", SensoryParams.original_code(), pcpg_first_partial=True)
+    else:
+        v = Variant("paper", SensoryParams())
+    if not overrides:
+        return v
+    extra = check_overrides(overrides)
+    return Variant(f"{v.name}+params", dataclasses.replace(v.sensory, **extra), v.pcpg_first_partial,
+                   {**v.overrides, **extra})  # fmt: skip
+
+
+def read_params_file(path: Path | str) -> dict[str, Any]:
+    """A params file: ``{"params": {field: value, ...}, "variant": base (optional), ...}`` (other keys kept).
+
+    Raises:
+        ValueError: unreadable file, not JSON, no ``params`` object, an unknown field or a bad value (named).
+    """
+    try:
+        data = json.loads(Path(path).read_text())
+    except (OSError, UnicodeDecodeError) as e:
+        raise ValueError(f"cannot read params file {str(path)!r}: {e.strerror or e}") from None
+    except json.JSONDecodeError as e:
+        raise ValueError(f"params file {str(path)!r} is not JSON ({e.msg}, line {e.lineno})") from None
+    if not isinstance(data, dict) or not isinstance(data.get("params"), dict):
+        raise ValueError(f"params file {str(path)!r} needs an object 'params' of SensoryParams fields")
+    data["params"] = check_overrides(data["params"], f"params file {str(path)!r}")
+    base = data.setdefault("variant", "original")
+    if base not in ("paper", "original"):
+        raise ValueError(f"params file {str(path)!r}: variant must be 'paper' or 'original', got {base!r}")
+    try:
+        get_variant(base, data["params"])  # the parameters' own range checks
+    except ValueError as e:
+        raise ValueError(f"params file {str(path)!r}: {e}") from None
+    return data
