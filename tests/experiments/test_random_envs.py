@@ -78,6 +78,14 @@ def test_table2_rows_counts_and_intervals(tmp_path: Path) -> None:
     assert s["paper"]["success_rate_95ci"][1] == pytest.approx(0.996, abs=1e-3)
 
 
+def test_surrogate_agreement_is_counted_environment_by_environment() -> None:
+    phys = [{"seed": 0, "plastic": {"success": True}}, {"seed": 1, "plastic": {"success": False}}]
+    sur = [{"plastic": {"success": True}}, {"plastic": {"success": True}}]
+    a = table2._agreement(phys, sur, "plastic")
+    assert a["same_outcome"] == 1 and a["surrogate_success"] == 2 and a["environments"] == 2
+    assert a["differ"] == [{"seed": 1, "physics": False, "surrogate": True}]
+
+
 def test_failure_classes_follow_the_documented_rule() -> None:
     base = {"trapped": True, "end_turn_share": 0.0, "end_blind_share": 0.0}
     assert failure_class({**base, "trapped": False}) is None

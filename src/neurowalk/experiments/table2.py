@@ -70,42 +70,61 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
     table = rows(variant, params)
     envs = environments(n, seed)
 
-    def spec_of(e: dict[str, Any], r: dict[str, Any]) -> dict[str, Any]:
-        return spec(e, r["controller"], steps, body, climbing, variant=r["variant"], size=size, params=r["params"])
+    def spec_of(e: dict[str, Any], r: dict[str, Any], b: str) -> dict[str, Any]:
+        return spec(e, r["controller"], steps, b, climbing and b != "surrogate", variant=r["variant"], size=size,
+                    params=r["params"])  # fmt: skip
 
-    specs = [spec_of(e, r) for e in envs for r in table.values()]
+    bodies = [body] if body == "surrogate" else [body, "surrogate"]  # physics: the surrogate beside it
+    specs = [spec_of(e, r, b) for b in bodies for e in envs for r in table.values()]
     folder = Path(out) if out is not None else Path("out/table2")
     folder.mkdir(parents=True, exist_ok=True)
     results, report = run_store(specs, folder, workers)
-    env_rows, counts = [], {}
-    for e in envs:
-        row = {**e}
-        for name, r in table.items():
-            res = results[spec_key(spec_of(e, r))]
-            row[name] = {"success": not res["trapped"], "failure_class": failure_class(res),
-                         "ever_held_up_300s": res["ever_trapped"], "ever_held_up_1000s": res["ever_held_up_1000s"],
-                         "coverage": res["coverage"], "path_length_m": res["path_length_m"],
-                         "end_turn_share": res["end_turn_share"],
-                         "end_blind_share": res["end_blind_share"]}  # fmt: skip
-        env_rows.append(row)
-    for name, r in table.items():
-        ok = sum(x[name]["success"] for x in env_rows)
-        lo, hi = wilson(ok, n)
-        classes = {c: sum(x[name]["failure_class"] == c for x in env_rows) for c in CLASSES}
-        counts[name] = {
-            **r, "environments": n, "success": ok, "failure": n - ok, "success_rate": ok / n,
-            "success_rate_95ci": [lo, hi], "failure_classes": classes,
-            "median_coverage": float(np.median([x[name]["coverage"] for x in env_rows])),
-            "ever_held_up_300s": sum(x[name]["ever_held_up_300s"] for x in env_rows),
-            "ever_held_up_1000s": sum(x[name]["ever_held_up_1000s"] for x in env_rows),
-        }  # fmt: skip
+    env_rows = [{**e, **{name: _outcome(results[spec_key(spec_of(e, r, body))]) for name, r in table.items()}}
+                for e in envs]  # fmt: skip
+    counts = {name: {**r, **_count(env_rows, name)} for name, r in table.items()}
+    agreement = None
+    if body != "surrogate":
+        sur = [{name: _outcome(results[spec_key(spec_of(e, r, "surrogate"))]) for name, r in table.items()}
+               for e in envs]  # fmt: skip
+        agreement = {name: _agreement(env_rows, sur, name) for name in table}
     paper = {**PAPER, "success_rate": PAPER["success"] / PAPER["environments"],
              "success_rate_95ci": list(wilson(PAPER["success"], PAPER["environments"]))}  # fmt: skip
     summary = {"body": body, "climbing": climbing, "steps": steps, "seed": seed, "boxes": list(BOXES),
                "box_size_m": size, "rule": RULE, "failure_rule": FAILURE_RULE,
                "interval": "Wilson score interval, 95%", "counts": counts, "environments": env_rows,
-               "paper": paper, "store": str(folder / "results.sqlite"), "sweep": report.counts()}  # fmt: skip
+               "paper": paper, "store": str(folder / "results.sqlite"), "sweep": report.counts(),
+               "surrogate_agreement": agreement}  # fmt: skip
     return Result("table2", summary)
+
+
+def _outcome(res: dict[str, Any]) -> dict[str, Any]:
+    """One run's Table 2 outcome from its summary."""
+    return {"success": not res["trapped"], "failure_class": failure_class(res),
+            "ever_held_up_300s": res["ever_trapped"], "ever_held_up_1000s": res["ever_held_up_1000s"],
+            "coverage": res["coverage"], "path_length_m": res["path_length_m"],
+            "end_turn_share": res["end_turn_share"], "end_blind_share": res["end_blind_share"]}  # fmt: skip
+
+
+def _agreement(physics: list[dict[str, Any]], surrogate: list[dict[str, Any]], name: str) -> dict[str, Any]:
+    """Environment by environment: does the surrogate give row ``name`` the physics outcome?"""
+    pairs = [(x["seed"], x[name]["success"], s[name]["success"]) for x, s in zip(physics, surrogate, strict=True)]
+    return {"environments": len(pairs), "same_outcome": sum(p == s for _, p, s in pairs),
+            "surrogate_success": sum(s for _, _, s in pairs),
+            "differ": [{"seed": seed, "physics": p, "surrogate": s} for seed, p, s in pairs if p != s]}  # fmt: skip
+
+
+def _count(env_rows: list[dict[str, Any]], name: str) -> dict[str, Any]:
+    """Counts of one row over the environments: successes, rate, Wilson interval, failure classes."""
+    n = len(env_rows)
+    ok = sum(x[name]["success"] for x in env_rows)
+    return {
+        "environments": n, "success": ok, "failure": n - ok, "success_rate": ok / n,
+        "success_rate_95ci": list(wilson(ok, n)),
+        "failure_classes": {c: sum(x[name]["failure_class"] == c for x in env_rows) for c in CLASSES},
+        "median_coverage": float(np.median([x[name]["coverage"] for x in env_rows])),
+        "ever_held_up_300s": sum(x[name]["ever_held_up_300s"] for x in env_rows),
+        "ever_held_up_1000s": sum(x[name]["ever_held_up_1000s"] for x in env_rows),
+    }  # fmt: skip
 
 
 def plot(res: Result) -> Figure:
@@ -130,7 +149,10 @@ def plot(res: Result) -> Figure:
     for i, c in enumerate(names):
         k = s["counts"][c]
         ax[0].text(i, 0.03, f"{k['success']}/{k['environments']}\n{k['success_rate']:.1%}", ha="center", fontsize=9)
-    ax[0].set_xticks(x, names, fontsize=8)
+    agree = s.get("surrogate_agreement") or {}
+    labels = [f"{c}\nsurrogate agrees {agree[c]['same_outcome']}/{agree[c]['environments']}" if c in agree else c
+              for c in names]  # fmt: skip
+    ax[0].set_xticks(x, labels, fontsize=7 if agree else 8)
     ax[0].set_ylim(0, 1.05)
     ax[0].set_ylabel("success rate (Wilson 95% interval)")
     on = " with climbing modules" if s.get("climbing") else ""
