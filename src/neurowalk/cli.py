@@ -68,6 +68,7 @@ def _parser() -> argparse.ArgumentParser:
     e.add_argument("--arena", default="open", help="arena to include (default open)")
     e.add_argument("--arena-opt", action="append", default=[], metavar="KEY=VALUE", help="arena option")
     _sweep_parser(sub)
+    _optimize_parser(sub)
     return p
 
 
@@ -365,7 +366,7 @@ def _figure(args: argparse.Namespace) -> int:
                 kwargs["body"] = "amosii"
         if args.variant is not None or args.params is not None:
             if "variant" not in params:
-                raise UsageError(f"figure {args.name!r} takes no --variant/--params (it runs every variant or none)")
+                raise UsageError(f"figure {args.name!r} takes no --variant/--params")
             kwargs["variant"], overrides = _variant(args)
             if overrides:
                 kwargs["params"] = overrides
@@ -494,6 +495,65 @@ def _sweep(args: argparse.Namespace) -> int:
     return 1 if r.error else 0
 
 
+def _optimize_parser(sub: argparse._SubParsersAction) -> None:
+    o = sub.add_parser("optimize", help="CMA-ES over the learning parameters on the surrogate: writes DIR/best.json, "
+                       "heldout.json, convergence.png (resumable)")  # fmt: skip
+    o.add_argument("--out", type=Path, default=Path("out/optimize"), help="output folder (default out/optimize)")
+    o.add_argument("--quick", action="store_true", help="small search (6 x 5 candidates, 16 environments, 5000 steps)")
+    o.add_argument("--variant", default="original", help="base variant: original (default) | paper")
+    o.add_argument("--fields", default=None, metavar="NAME[,NAME...]",
+                   help="SensoryParams fields to search (default mu_b,mu_q,gamma_b,gamma_q,k)")  # fmt: skip
+    o.add_argument("--param", action="append", default=[], metavar="FIELD=LO:HI",
+                   help="bounds of a field (adds it to the search), e.g. mu_b=0.001:0.03; repeatable")  # fmt: skip
+    for flag, what in (("population", "candidates per generation (full 8, quick 6)"),
+                       ("generations", "generations (full 16, quick 5)"),
+                       ("environments", "training environments (full 80, quick 16)"),
+                       ("heldout", "held-out environments (full 200, quick 50)"),
+                       ("steps", "control steps per environment (full 20000, quick 5000)"),
+                       ("deadend-seeds", "seeds per dead-end geometry (full 3, quick 2)")):  # fmt: skip
+        o.add_argument(f"--{flag}", type=int, default=None, help=what)
+    o.add_argument("--seed", type=int, default=0, help="CMA-ES seed (default 0)")
+    o.add_argument("--train-seed", type=int, default=1000, help="table seed of the training environments (1000)")
+    o.add_argument("--heldout-seed", type=int, default=0, help="table seed of the held-out environments (0)")
+    o.add_argument("--sigma0", type=float, default=0.2, help="initial step size in the normalised space (0.2)")
+    o.add_argument("--backend", choices=("local", "ray"), default="local", help="local process pool or Ray")
+    o.add_argument("--address", default=None, help="Ray cluster to join (backend ray; default: a local instance)")
+    o.add_argument("--workers", type=int, default=2, help="processes, or CPUs of a local Ray instance (default 2)")
+    o.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def _optimize(args: argparse.Namespace) -> int:
+    from neurowalk.experiments import optimize
+    from neurowalk.experiments.optimize_space import parse_bounds
+    from neurowalk.runners import ray_backend
+
+    if args.address and args.backend != "ray":
+        raise UsageError(f"--address {args.address!r} goes with --backend ray")
+    sizes = {k: getattr(args, k) for k in ("population", "generations", "environments", "heldout", "steps",
+                                           "deadend_seeds") if getattr(args, k) is not None}  # fmt: skip
+    fields = None if args.fields is None else [f.strip() for f in args.fields.split(",")]
+    t0 = time.perf_counter()
+    try:
+        if args.backend == "ray":
+            ray_backend.import_ray()
+        bounds = dict(parse_bounds(p) for p in args.param)
+        optimize.run(out=args.out, quick=args.quick, variant=args.variant, fields=fields, bounds=bounds,
+                     sizes=sizes, seed=args.seed, train_seed=args.train_seed, heldout_seed=args.heldout_seed,
+                     sigma0=args.sigma0, backend=args.backend, workers=args.workers, address=args.address,
+                     progress=not args.quiet, log=print)  # fmt: skip
+    except (ValueError, ray_backend.RayMissingError, ray_backend.RayStartError) as e:
+        raise UsageError(str(e)) from None
+    except KeyboardInterrupt:
+        print(f"neurowalk: optimize interrupted; finished runs and generations are in {args.out}: run the same "
+              "command again to resume", file=sys.stderr)  # fmt: skip
+        return 130
+    except RuntimeError as e:
+        print(f"neurowalk: optimize: {e}", file=sys.stderr)
+        return 1
+    print(f"optimize: done in {time.perf_counter() - t0:.1f} s")
+    return 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``neurowalk`` command; returns the exit status."""
     argv = list(sys.argv[1:] if argv is None else argv)
@@ -507,6 +567,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         commands = {"figure": _figure, "run": _run, "view": _view, "arenas": _arenas, "export-model": _export,
                     "calibrate": _calibrate, "bench": _bench}  # fmt: skip
         commands["sweep"] = _sweep
+        commands["optimize"] = _optimize
         return commands[args.command](args)
     except UsageError as e:
         print(f"neurowalk: error: {e}", file=sys.stderr)

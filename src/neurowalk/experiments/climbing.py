@@ -35,10 +35,11 @@ STEP_RULE = (f"climbed: the trunk centre gets 0.3 m onto the platform within {ST
              "one")  # fmt: skip
 
 
-def track_spec(step: float, seed: int, steps: int = TRACK_STEPS) -> dict[str, Any]:
-    """Run spec of one climbing-track run (plastic network, reflexes and backbone control)."""
-    return {"arena": "climbing-track", "arena_opts": {"step": step}, "controller": "plastic", "steps": steps,
-            "seed": seed, "reflexes": True, "backbone": True}  # fmt: skip
+def track_spec(step: float, seed: int, steps: int = TRACK_STEPS, variant: str = "paper") -> dict[str, Any]:
+    """Run spec of one climbing-track run (plastic network ``variant``, reflexes and backbone control)."""
+    out = {"arena": "climbing-track", "arena_opts": {"step": step}, "controller": "plastic", "steps": steps,
+           "seed": seed, "reflexes": True, "backbone": True}  # fmt: skip
+    return {**out, "variant": variant} if variant != "paper" else out
 
 
 def step_spec(height: float, variant: str, seed: int, steps: int = STEP_STEPS) -> dict[str, Any]:

@@ -46,8 +46,11 @@ def key_moments(bj_command: np.ndarray, outputs: np.ndarray, lean: float = 0.26)
 
 @register("fig10", "climbing track: climb a step, avoid a wall, climb a second step (paper Fig. 10)")
 def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None,
-        workers: int = 2) -> Result:  # fmt: skip
-    """The example run (step 0.06 m, ``seed``) and the outcome table over ``seeds`` seeds per step height."""
+        workers: int = 2, variant: str = "paper") -> Result:  # fmt: skip
+    """The example run (step 0.06 m, ``seed``) and the outcome table over ``seeds`` seeds per step height.
+
+    ``variant``: the plastic network's variant (``paper`` by default).
+    """
     from neurowalk.body.physics import AmosII
     from neurowalk.render import render_frames
     from neurowalk.runners.specs import spec_key, to_config
@@ -57,25 +60,26 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
     if n < 1:
         raise ValueError(f"seeds must be >= 1, got {n}")
     step = TRACK_HEIGHTS[0]
-    ep = run_episode(to_config(track_spec(step, seed)), progress=True)
+    ep = run_episode(to_config(track_spec(step, seed, variant=variant)), progress=True)
     tr = ep.trajectory
     z = tr.qpos[:, 2]
     moments = key_moments(tr.targets[:, -1], tr.outputs)
     rows = [moments[m] if moments[m] is not None else len(z) - 1 for m in MOMENTS]
     model = AmosII(ep.arena).model
     frames = render_frames(model, tr.qpos[rows], distance=1.4, elevation=-50.0)
-    specs = [track_spec(h, seed + k) for h in TRACK_HEIGHTS for k in range(n)]
+    specs = [track_spec(h, seed + k, variant=variant) for h in TRACK_HEIGHTS for k in range(n)]
     results, _ = run_store(specs, Path(out) if out is not None else Path("out/fig10"), workers)
     table = {}
     for h in TRACK_HEIGHTS:
-        runs = [results[spec_key(track_spec(h, seed + k))] for k in range(n)]
+        runs = [results[spec_key(track_spec(h, seed + k, variant=variant))] for k in range(n)]
         ok = [track_success(r, h) for r in runs]
         done = [r["exit_step"] for r in runs if r["exit_step"] is not None]
         table[f"{h:.2f}"] = {"seeds": n, "success": int(sum(ok)), "runs": [
             {"seed": seed + k, "success": bool(o), "exit_step": r["exit_step"], "max_z_m": r["max_z_m"]}
             for k, (o, r) in enumerate(zip(ok, runs, strict=True))],
             "median_exit_step": float(np.median(done)) if done else None}  # fmt: skip
-    summary = {"step_m": step, "seed": seed, "steps": TRACK_STEPS, "rule": TRACK_RULE, "moments": moments,
+    summary = {"step_m": step, "seed": seed, "steps": TRACK_STEPS, "variant": variant, "rule": TRACK_RULE,
+               "moments": moments,
                "example": {k: ep.summary[k] for k in ("exit_step", "max_z_m", "final_z_m", "final_pose")},
                "table": table, "arena": ep.arena.options}  # fmt: skip
     arrays = {"t": tr.t, "pose": tr.pose, "z": z, "bj_command": tr.targets[:, -1], "bj_angle": tr.joint_angles[:, -1],

@@ -17,7 +17,7 @@ import numpy as np
 
 from neurowalk.experiments import Result, register
 from neurowalk.neural.plasticity import fixed_point
-from neurowalk.neural.sensory import SensoryParams, distance_to_input, simulate
+from neurowalk.neural.sensory import distance_to_input, simulate
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -54,9 +54,12 @@ def obstacle_episodes(n_steps: int, rng: np.random.Generator) -> tuple[np.ndarra
 
 
 @register(NAME, "weight changes for constant and changing inputs")
-def run(*, quick: bool = False, seed: int = 0) -> Result:
-    """Compute both panels. ``quick`` shortens panel B."""
-    p = SensoryParams()
+def run(*, quick: bool = False, seed: int = 0, variant: str = "paper", params: dict[str, float] | None = None
+        ) -> Result:  # fmt: skip
+    """Compute both panels. ``quick`` shortens panel B; ``variant``/``params``: the network (default Eq. 1-6)."""
+    from neurowalk.neural.variants import get_variant
+
+    p = get_variant(variant, params).sensory
     b_star = fixed_point(p.mu_b, p.gamma_b, p.k)
     q_star = fixed_point(p.mu_q, p.gamma_q, p.k)
     steps_a = 5000
@@ -92,6 +95,7 @@ def run(*, quick: bool = False, seed: int = 0) -> Result:
                     "mean_db_per_step_reflex_on": growth, "mean_decay_per_step_reflex_off": decay,
                     "growth_to_decay_ratio": growth / decay if decay > 0 else None},
         "params": vars(p),
+        "variant": variant,
     }  # fmt: skip
     return Result(NAME, summary, arrays)
 
