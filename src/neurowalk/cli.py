@@ -499,17 +499,17 @@ def _optimize_parser(sub: argparse._SubParsersAction) -> None:
     o = sub.add_parser("optimize", help="CMA-ES over the learning parameters on the surrogate: writes DIR/best.json, "
                        "heldout.json, convergence.png (resumable)")  # fmt: skip
     o.add_argument("--out", type=Path, default=Path("out/optimize"), help="output folder (default out/optimize)")
-    o.add_argument("--quick", action="store_true", help="small search (6 x 5 candidates, 16 environments, 5000 steps)")
+    o.add_argument("--quick", action="store_true", help="small search (6 x 5 candidates, 16 environments, 10000 steps)")
     o.add_argument("--variant", default="original", help="base variant: original (default) | paper")
     o.add_argument("--fields", default=None, metavar="NAME[,NAME...]",
                    help="SensoryParams fields to search (default mu_b,mu_q,gamma_b,gamma_q,k)")  # fmt: skip
     o.add_argument("--param", action="append", default=[], metavar="FIELD=LO:HI",
                    help="bounds of a field (adds it to the search), e.g. mu_b=0.001:0.03; repeatable")  # fmt: skip
     for flag, what in (("population", "candidates per generation (full 8, quick 6)"),
-                       ("generations", "generations (full 16, quick 5)"),
+                       ("generations", "generations (full 12, quick 5)"),
                        ("environments", "training environments (full 80, quick 16)"),
                        ("heldout", "held-out environments (full 200, quick 50)"),
-                       ("steps", "control steps per environment (full 20000, quick 5000)"),
+                       ("steps", "control steps per environment (full 20000, quick 10000)"),
                        ("deadend-seeds", "seeds per dead-end geometry (full 3, quick 2)")):  # fmt: skip
         o.add_argument(f"--{flag}", type=int, default=None, help=what)
     o.add_argument("--seed", type=int, default=0, help="CMA-ES seed (default 0)")
@@ -540,8 +540,8 @@ def _optimize(args: argparse.Namespace) -> int:
         optimize.run(out=args.out, quick=args.quick, variant=args.variant, fields=fields, bounds=bounds,
                      sizes=sizes, seed=args.seed, train_seed=args.train_seed, heldout_seed=args.heldout_seed,
                      sigma0=args.sigma0, backend=args.backend, workers=args.workers, address=args.address,
-                     progress=not args.quiet, log=print)  # fmt: skip
-    except (ValueError, ray_backend.RayMissingError, ray_backend.RayStartError) as e:
+                     progress=not args.quiet, log=lambda line: print(line, flush=True))  # fmt: skip
+    except (ValueError, ray_backend.RayMissingError, ray_backend.RayStartError, optimize.CmaMissingError) as e:
         raise UsageError(str(e)) from None
     except KeyboardInterrupt:
         print(f"neurowalk: optimize interrupted; finished runs and generations are in {args.out}: run the same "

@@ -1,0 +1,318 @@
+"""``neurowalk optimize``: CMA-ES over the sensory network's learning parameters, on the surrogate body.
+
+The paper says the learning parameters "could be found by evolutionary algorithms"; this is that search.
+
+* Candidates: SensoryParams fields (default ``mu_b, mu_q, gamma_b, gamma_q, k``) on top of a base variant
+  (default ``original``), searched in a normalised space (log scale for the rates; see :mod:`.optimize_space`).
+* Objective: Table 2 success rate on training environments (the Table 2 generator, 1 m boxes, table seed
+  :data:`TRAIN_SEED`); constraint: every dead end of the Fig. 5 escape suite (simple deadlock, narrow passage,
+  its gap and funnel ±20%, plastic network, :data:`~neurowalk.experiments.deadlock.TRAP_STEPS` steps) escaped;
+  :data:`~neurowalk.experiments.optimize_space.FITNESS_RULE` ranks the infeasible below the feasible.
+* Every run goes through the sweep engine into ``DIR/results.sqlite``; the CMA-ES state (the ``cma`` object,
+  its own random state and every candidate) is pickled to ``DIR/cmaes.pkl`` after each generation, so a killed
+  search resumes with nothing recomputed and ends as an uninterrupted one would (same seed, same result).
+* Then the best candidate, the base variant and the paper variant walk held-out environments (table seed
+  :data:`HELDOUT_SEED`, Table 2's own), with Wilson 95% intervals; written by :mod:`.optimize_report`.
+
+Sizes (:data:`FULL`, :data:`QUICK`): the full search, 8 candidates x 12 generations on 80 environments of 20000
+steps (Table 2's run length) and 3 seeds per dead end, then 200 held-out environments: about 9000 runs, 20-35 min
+on 2 shared cores. ``quick``: 6 x 5 candidates on 16 environments of 10000 steps, 50 held-out environments: about
+a minute (at 5000 steps nearly every candidate succeeds everywhere, so the objective would be flat).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import pickle
+import time
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from dataclasses import asdict, dataclass, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from neurowalk.experiments.optimize_space import Dim, decode, fitness, make_space, start_point
+
+BODY = "surrogate"
+TRAIN_SEED = 1000  # table seed of the training environments (run seeds 1000, 1001, ...)
+HELDOUT_SEED = 0  # table seed of the held-out environments: Table 2's own (run seeds 0, 1, ...)
+SIGMA0 = 0.2  # initial CMA-ES step size in the normalised space (the bounds are 1 apart)
+STATE_FILE = "cmaes.pkl"
+
+
+class CmaMissingError(ImportError):
+    """The ``cma`` package (extra ``neurowalk[optimize]``) is not installed."""
+
+
+@dataclass(frozen=True)
+class Sizes:
+    """How big a search is: candidates per generation, generations, environments, steps, dead-end seeds."""
+
+    population: int  # candidates per generation (CMA-ES lambda)
+    generations: int
+    environments: int  # training environments per candidate
+    heldout: int  # held-out environments per validated network
+    steps: int  # control steps per environment run (10 Hz)
+    deadend_seeds: int  # runs per dead-end geometry (seeds 0 ...)
+
+
+FULL = Sizes(population=8, generations=12, environments=80, heldout=200, steps=20_000, deadend_seeds=3)
+QUICK = Sizes(population=6, generations=5, environments=16, heldout=50, steps=10_000, deadend_seeds=2)
+
+
+@dataclass
+class Search:
+    """What a search produced: ``best`` (the best.json contents), ``heldout``, ``history`` and run counts."""
+
+    best: dict[str, Any]
+    heldout: dict[str, Any]
+    history: list[dict[str, Any]]  # per generation: every candidate's values and fitness
+    base_training: dict[str, Any]  # the base variant's fitness on the training set
+    space: tuple[Dim, ...]
+    runs_computed: int  # runs computed by this call (0 when everything was in the store)
+    runs_skipped: int  # runs found in the store
+
+
+def check_sizes(s: Sizes) -> None:
+    """Raise ValueError naming the first size out of range (population >= 2, the rest >= 1)."""
+    for name, lo in (("population", 2), ("generations", 1), ("environments", 1), ("heldout", 1), ("steps", 1),
+                     ("deadend_seeds", 1)):  # fmt: skip
+        v = getattr(s, name)
+        if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < lo:
+            raise ValueError(f"{name} must be a whole number >= {lo}, got {v!r}")
+
+
+def check_seeds(seed: int, train_seed: int, heldout_seed: int, sizes: Sizes) -> None:
+    """Seeds must be >= 0 and the training and held-out run seeds must not overlap (the seed sets the layout)."""
+    for name, v in (("seed", seed), ("train_seed", train_seed), ("heldout_seed", heldout_seed)):
+        if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < 0:
+            raise ValueError(f"{name} must be a whole number >= 0, got {v!r}")
+    a, b = (train_seed, train_seed + sizes.environments), (heldout_seed, heldout_seed + sizes.heldout)
+    if a[0] < b[1] and b[0] < a[1]:
+        raise ValueError(f"training run seeds {a[0]}-{a[1] - 1} overlap the held-out ones {b[0]}-{b[1] - 1}: "
+                         "choose a train seed and a held-out seed further apart")  # fmt: skip
+
+
+def deadend_specs(variant: str, params: Mapping[str, float] | None, seeds: int) -> list[dict[str, Any]]:
+    """Run specs of the escape suite: every Fig. 5 dead-end geometry x seeds 0..``seeds``-1, plastic, surrogate."""
+    from neurowalk.experiments.deadlock import TRAP_STEPS, VARIANTS
+
+    out = []
+    for arena, opts in VARIANTS.values():
+        for s in range(seeds):
+            spec: dict[str, Any] = {"arena": arena, "arena_opts": dict(opts), "controller": "plastic", "body": BODY,
+                                    "steps": TRAP_STEPS, "seed": s, "variant": variant}  # fmt: skip
+            if params:
+                spec["params"] = dict(params)
+            out.append(spec)
+    return out
+
+
+def train_specs(variant: str, params: Mapping[str, float] | None, envs: Sequence[dict[str, Any]],
+                steps: int) -> list[dict[str, Any]]:  # fmt: skip
+    """Run specs of one network on the given random environments (Table 2's spec, surrogate body)."""
+    from neurowalk.experiments.random_envs import spec
+
+    return [spec(e, "plastic", steps, BODY, variant=variant, params=dict(params) if params else None) for e in envs]
+
+
+class Runner:
+    """Runs specs through the resumable store ``folder/results.sqlite`` on a backend; counts what it computed."""
+
+    def __init__(self, folder: Path, backend: str, workers: int, address: str | None, progress: bool) -> None:
+        self.folder, self.backend, self.workers, self.address, self.progress = (
+            folder, backend, workers, address, progress)  # fmt: skip
+        self.computed = self.skipped = 0
+
+    def __call__(self, specs: list[dict[str, Any]]) -> list[dict[str, Any]]:
+        """The results of ``specs`` (summaries, in order), computing only those not in the store."""
+        from neurowalk.runners.specs import spec_key
+        from neurowalk.runners.store import ResultStore
+        from neurowalk.runners.sweep import run_sweep
+
+        with ResultStore(self.folder / "results.sqlite") as store:
+            report = run_sweep(specs, store, backend=self.backend, workers=self.workers, address=self.address,
+                               progress=self.progress)  # fmt: skip
+            results = store.results()
+        self.computed += report.ok
+        self.skipped += report.skipped
+        if report.interrupted:
+            raise KeyboardInterrupt
+        keys = [spec_key(s) for s in specs]
+        missing = [f.line() for f in report.failures] or [k[:12] for k in keys if k not in results]
+        if missing:
+            raise RuntimeError(f"{len(missing)} runs failed ({missing[0]}); rerun to retry them")
+        return [results[k] for k in keys]
+
+
+@contextmanager
+def own_rng(holder: dict[str, Any]) -> Iterator[None]:
+    """Run CMA-ES calls on the numpy global random state kept in ``holder['rng']``, leaving the caller's as it was.
+
+    ``cma`` samples from ``numpy.random``; keeping its state here makes the search independent of anything else
+    that draws from the global generator, and lets the state be saved with the checkpoint.
+    """
+    outer = np.random.get_state()
+    if holder.get("rng") is not None:
+        np.random.set_state(holder["rng"])
+    try:
+        yield
+    finally:
+        holder["rng"] = np.random.get_state()
+        np.random.set_state(outer)
+
+
+def load_state(path: Path, settings: dict[str, Any]) -> dict[str, Any] | None:
+    """The checkpoint at ``path`` if there is one; raises ValueError if it holds a search with other settings."""
+    if not path.is_file():
+        return None
+    try:
+        with open(path, "rb") as f:
+            state = pickle.load(f)  # our own checkpoint, in the user's output folder
+    except (OSError, pickle.UnpicklingError, EOFError, AttributeError, ImportError) as e:
+        raise ValueError(f"cannot read the search state {str(path)!r} ({e}); remove it to start afresh") from None
+    old = state.get("settings", {}) if isinstance(state, dict) else {}
+    for key, value in settings.items():
+        if old.get(key) != value:
+            raise ValueError(f"{str(path.parent)!r} holds a search with other settings ({key}: {old.get(key)!r}, "
+                             f"asked {value!r}); use another output folder")  # fmt: skip
+    return state
+
+
+def save_state(path: Path, state: dict[str, Any]) -> None:
+    """Pickle the checkpoint atomically."""
+    from neurowalk.fileio import atomic_write
+
+    def w(tmp: str) -> None:
+        with open(tmp, "wb") as f:
+            pickle.dump(state, f, protocol=pickle.HIGHEST_PROTOCOL)
+
+    atomic_write(path, w)
+
+
+def new_state(space: Sequence[Dim], variant: str, sigma0: float, seed: int, population: int,
+              settings: dict[str, Any]) -> dict[str, Any]:  # fmt: skip
+    """A fresh checkpoint: a CMA-ES started at the base variant's values (seeded ``seed + 1``; cma reads 0 as time).
+
+    Its samples come from a RandomState of its own (option ``randn``), pickled with it, so that a resumed search
+    draws what an uninterrupted one would.
+    """
+    import cma
+
+    state: dict[str, Any] = {"settings": settings, "records": [], "rng": None}
+    with own_rng(state):
+        state["es"] = cma.CMAEvolutionStrategy(
+            start_point(space, variant), sigma0,
+            {"seed": seed + 1, "randn": np.random.RandomState(seed + 1).randn, "popsize": population,
+             "bounds": [0.0, 1.0], "verbose": -9, "verb_log": 0, "verb_disp": 0})  # fmt: skip
+    return state
+
+
+def run(*, out: Path | str = Path("out/optimize"), quick: bool = False, variant: str = "original",
+        fields: Sequence[str] | None = None, bounds: Mapping[str, tuple[float, float] | None] | None = None,
+        sizes: Mapping[str, int] | None = None, seed: int = 0, train_seed: int = TRAIN_SEED,
+        heldout_seed: int = HELDOUT_SEED, sigma0: float = SIGMA0, backend: str = "local", workers: int = 2,
+        address: str | None = None, progress: bool = True,
+        log: Callable[[str], None] | None = None) -> Search:  # fmt: skip
+    """Run (or resume) a search in ``out``, validate its best candidate, write best.json, heldout.json, plots.
+
+    Args:
+        out: output folder: results.sqlite, cmaes.pkl, best.json, heldout.json, history.json, convergence.png.
+        quick: the :data:`QUICK` sizes instead of :data:`FULL`; ``sizes`` overrides single ones by name.
+        variant: base variant ('paper' or 'original'); fields/bounds: see :func:`.optimize_space.make_space`.
+        seed: CMA-ES seed; train_seed/heldout_seed: table seeds of the training and held-out environments.
+        sigma0: initial step size in the normalised space (0, 1].
+        backend, workers, address: the sweep engine's (local process pool or Ray).
+        log: called with one line per generation and at the end (e.g. ``print``).
+
+    Raises:
+        ValueError: a bad name, bound, size or seed, or an output folder holding a search with other settings.
+        CmaMissingError: the ``cma`` package is not installed.
+        KeyboardInterrupt: interrupted; the finished runs and generations are kept and a rerun resumes.
+    """
+    from neurowalk.experiments import optimize_report as report
+    from neurowalk.experiments.random_envs import environments
+
+    base_sizes = QUICK if quick else FULL
+    unknown = sorted(set(sizes or {}) - set(asdict(base_sizes)))
+    if unknown:
+        raise ValueError(f"unknown size {unknown[0]!r}; sizes: {', '.join(asdict(base_sizes))}")
+    sz = replace(base_sizes, **(sizes or {}))
+    check_sizes(sz)
+    check_seeds(seed, train_seed, heldout_seed, sz)
+    if not (isinstance(sigma0, int | float) and 0 < sigma0 <= 1):
+        raise ValueError(f"sigma0 must be in (0, 1] (the normalised space), got {sigma0!r}")
+    space = make_space(variant, fields, bounds)
+    if importlib.util.find_spec("cma") is None:
+        raise CmaMissingError("neurowalk optimize needs the cma package: `pip install neurowalk[optimize]`")
+    if backend not in ("local", "ray"):
+        raise ValueError(f"unknown backend {backend!r}; expected local or ray")
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
+    folder = Path(out)
+    folder.mkdir(parents=True, exist_ok=True)
+    say = log or (lambda line: None)
+    settings = {"variant": variant, "space": [asdict(d) for d in space], "population": sz.population,
+                "environments": sz.environments, "steps": sz.steps, "deadend_seeds": sz.deadend_seeds,
+                "seed": seed, "train_seed": train_seed, "sigma0": float(sigma0)}  # fmt: skip
+    path = folder / STATE_FILE
+    state = load_state(path, settings) or new_state(space, variant, sigma0, seed, sz.population, settings)
+    runner = Runner(folder, backend, workers, address, progress)
+    started = False
+    if backend == "ray":
+        from neurowalk.runners import ray_backend
+
+        started = ray_backend.start(workers=workers, address=address)  # one Ray instance for every generation
+    try:
+        envs = environments(sz.environments, train_seed)
+
+        def evaluate(vname: str, params: Mapping[str, float] | None) -> list[dict[str, Any]]:
+            return train_specs(vname, params, envs, sz.steps) + deadend_specs(vname, params, sz.deadend_seeds)
+
+        n = len(envs)
+        base_runs = runner(evaluate(variant, None))
+        base_fit = fitness(base_runs[:n], base_runs[n:])
+        records = state["records"]
+        while len(records) < sz.generations and not state.get("stopped"):
+            t0 = time.perf_counter()
+            done_before = runner.computed
+            with own_rng(state):
+                xs = [np.asarray(x, dtype=float) for x in state["es"].ask()]
+            cands = [decode(space, x) for x in xs]
+            specs = [s for c in cands for s in evaluate(variant, c)]
+            results = runner(specs)
+            per = len(specs) // len(cands)
+            fits = [fitness(results[i * per : i * per + n], results[i * per + n : (i + 1) * per])
+                    for i in range(len(cands))]  # fmt: skip
+            with own_rng(state):
+                state["es"].tell(xs, [f["score"] for f in fits])
+                stop = dict(state["es"].stop())
+            es = state["es"]
+            records.append({"generation": len(records) + 1, "x": [x.tolist() for x in xs], "params": cands,
+                            "fitness": fits, "mean_x": np.clip(es.mean, 0, 1).tolist(),
+                            "mean": decode(space, es.mean), "sigma": float(es.sigma)})  # fmt: skip
+            if stop:
+                state["stopped"] = {"generation": len(records), "reason": stop}
+            save_state(path, state)
+            say(report.generation_line(records, sz.generations, base_fit, runner.computed - done_before,
+                                       time.perf_counter() - t0))  # fmt: skip
+        history = records[: sz.generations]
+        best = report.best_candidate(history)
+        held = environments(sz.heldout, heldout_seed)
+        rows = report.heldout_rows(variant, best["params"])
+        held_runs = {name: runner(train_specs(v, p, held, sz.steps)) for name, (v, p) in rows.items()}
+    finally:
+        if started:
+            from neurowalk.runners import ray_backend
+
+            ray_backend.stop()
+    search = Search(best={}, heldout=report.heldout_table(rows, held, held_runs, heldout_seed, sz.steps),
+                    history=history, base_training=base_fit, space=space, runs_computed=runner.computed,
+                    runs_skipped=runner.skipped)  # fmt: skip
+    search.best = report.best_json(search, best, sz, seed=seed, train_seed=train_seed, sigma0=float(sigma0),
+                                   stopped=state.get("stopped"), variant=variant)  # fmt: skip
+    report.write(search, folder)
+    say(report.final_line(search, folder))
+    return search
