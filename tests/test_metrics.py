@@ -33,3 +33,88 @@ def test_direction_switches_and_episodes():
     eps = metrics.avoidance_episodes(outputs, _pose(np.zeros((len(yaw), 2)), yaw))
     assert [e["direction"] for e in eps] == [1, -1]  # the short gap is bridged
     assert eps[0]["turn_deg"] < 0 < eps[1]["turn_deg"]
+
+
+def _walk(n, start=(0.0, 0.0), speed=0.0014, heading=0.0):
+    """(n, 2) positions walking straight at ``speed`` m per control step (about full speed at 10 Hz)."""
+    t = np.arange(n)[:, None]
+    return np.asarray(start) + speed * t * [np.cos(heading), np.sin(heading)]
+
+
+def _jitter(n, centre, radius, seed=0):
+    """(n, 2) positions wandering inside a disc of ``radius`` around ``centre`` (turning on the spot, rocking)."""
+    rng = np.random.default_rng(seed)
+    ang, r = rng.uniform(0, 2 * np.pi, n), radius * np.sqrt(rng.uniform(0, 1, n))
+    return np.asarray(centre) + np.column_stack([r * np.cos(ang), r * np.sin(ang)])
+
+
+def test_wedged_periods_finds_each_stay_with_its_steps_and_duration():
+    walk1 = _walk(800)
+    stay1 = _jitter(1500, walk1[-1], 0.15)  # 150 s
+    walk2 = _walk(900, stay1[-1], heading=1.0)
+    stay2 = _jitter(3200, walk2[-1], 0.2, seed=1)  # 320 s
+    walk3 = _walk(700, stay2[-1], heading=-2.0)
+    xy = np.vstack([walk1, stay1, walk2, stay2, walk3])
+    periods = metrics.wedged_periods(_pose(xy))
+    assert len(periods) == 2
+    a, b = periods
+    # Each stay is found whole, with at most the walking steps that still fit the 0.3 m disc at either end
+    # (0.3 m at 0.0014 m per step: about 210 steps, a little more as the walk pulls the mean).
+    margin = 300
+    assert 800 - margin <= a["start"] <= 800 and 2300 - 1 <= a["end"] <= 2300 + margin
+    assert 3200 - margin <= b["start"] <= 3200 and 6400 - 1 <= b["end"] <= 6400 + margin
+    assert 150 <= a["duration_s"] <= 150 + 2 * margin / 10 and 320 <= b["duration_s"] <= 320 + 2 * margin / 10
+    assert a["end"] < b["start"]
+    assert np.allclose(a["centre"], stay1.mean(axis=0), atol=0.05)
+    assert a["duration_s"] == pytest.approx((a["end"] - a["start"] + 1) / 10)
+    assert a["cause"] == "other" and a["blind_fraction"] is None and a["contact_fraction"] is None
+    s = metrics.wedged_summary(periods)
+    assert s == {"wedged_periods": 2, "longest_wedged_s": b["duration_s"], "wedged_causes": {"other": 2}}
+
+
+def test_wedged_periods_threshold_duration_radius_and_rate():
+    still = _pose(_jitter(1000, (1.0, 2.0), 0.1))
+    assert metrics.wedged_periods(still) == []  # exactly 100 s: not more than 100 s
+    longer = _pose(_jitter(1001, (1.0, 2.0), 0.1))
+    assert [p["duration_s"] for p in metrics.wedged_periods(longer)] == [100.1]
+    assert metrics.wedged_periods(longer, control_hz=27.0) == []  # 37 s at 27 Hz
+    assert len(metrics.wedged_periods(_pose(_jitter(2800, (0, 0), 0.1)), control_hz=27.0)) == 1
+    wide = _pose(_jitter(3000, (0.0, 0.0), 0.45))  # wanders over 0.45 m: not within a 0.3 m disc
+    assert metrics.wedged_periods(wide) == []
+    assert len(metrics.wedged_periods(wide, radius=0.5)) == 1
+    assert metrics.wedged_periods(_pose(_walk(20000))) == []  # walking at full speed never counts
+    slow = _pose(_walk(20000, speed=0.0014 / 10))  # a tenth of the speed: 0.14 m per 100 s, wedged throughout
+    assert [(p["start"], p["end"]) for p in metrics.wedged_periods(slow)] == [(0, 19999)]
+    assert metrics.wedged_summary([]) == {"wedged_periods": 0, "longest_wedged_s": 0.0, "wedged_causes": {}}
+    with pytest.raises(ValueError):
+        metrics.wedged_periods(still, control_hz=0.0)
+
+
+def test_wedged_periods_causes_from_rays_and_contact():
+    xy = np.vstack([_walk(500), _jitter(2000, _walk(500)[-1], 0.1), _walk(500, _walk(500)[-1], heading=2.0)])
+    pose, n = _pose(xy), len(xy)
+    blind = np.full((n, 2), np.inf)
+    seen = np.full((n, 2), 0.2)
+    noisy_blind = np.column_stack([np.full(n, 0.39), np.full(n, np.inf)])  # noise echoes near 0.40 m are blind
+    one_ray = np.column_stack([np.full(n, np.inf), np.full(n, 0.25)])  # one ray sees a box: not both blind
+    touch, free = np.ones(n), np.zeros(n)
+
+    def cause(**kw):
+        (p,) = metrics.wedged_periods(pose, **kw)
+        return p["cause"]
+
+    assert cause(us_distance=blind) == cause(us_distance=noisy_blind) == "both rays blind"
+    assert cause(us_distance=blind, contact=touch) == "both rays blind"  # blind rays explain it first
+    assert cause(us_distance=seen, contact=touch) == cause(us_distance=one_ray, contact=touch) == "body contact"
+    assert cause(us_distance=seen, contact=free) == cause(us_distance=seen) == cause(contact=free) == "other"
+    # "most of the period": more than half of its steps
+    (p,) = metrics.wedged_periods(pose)
+    half = np.zeros(n)
+    half[p["start"] : p["start"] + (p["end"] - p["start"] + 1) // 2] = 1
+    assert cause(contact=half) == "other" and cause(contact=1 - half) == "body contact"
+    # contact known only on some steps (NaN elsewhere): the share is taken over the known ones
+    partial = np.full(n, np.nan)
+    partial[p["start"] : p["start"] + 300] = 1.0
+    (q,) = metrics.wedged_periods(pose, contact=partial)
+    assert q["cause"] == "body contact" and q["contact_fraction"] == 1.0
+    assert metrics.wedged_periods(pose, contact=np.full(n, np.nan))[0]["contact_fraction"] is None

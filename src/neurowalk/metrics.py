@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from neurowalk.arenas.spec import ArenaSpec
@@ -136,3 +138,106 @@ def avoidance_episodes(outputs: np.ndarray, pose: np.ndarray, *, threshold: floa
                          "turn_deg": float(np.degrees(yaw[end] - yaw[max(start - 1, 0)]))})  # fmt: skip
         k = end + 1
     return episodes
+
+
+WEDGE_RADIUS = 0.3
+"""Radius (m) of the disc a wedged robot's trunk centre stays in: the legs' reach (about 0.25 m) plus a little."""
+WEDGE_MIN_S = 100.0
+"""Shortest wedged period (s): 1000 control steps at 10 Hz, longer than any avoidance turn in the open."""
+BLIND_M = 0.38
+"""Ultrasonic reading (m) from which a ray counts as blind: no echo, or an echo no nearer than the sensor noise
+reaches with nothing in range (0.40 m range, noise std about 3 mm there)."""
+WEDGE_CAUSES = ("both rays blind", "body contact", "other")
+
+
+def _fitting_windows(xy: np.ndarray, window: int, radius: float, stride: int) -> np.ndarray:
+    """(T,) bool: rows inside some ``window``-row stretch (started every ``stride`` rows, and at the end) whose
+    positions all lie within ``radius`` of their mean.
+
+    A stretch whose whole blocks of ``stride`` rows already span more than the disc's diameter in x or y cannot
+    fit and is dropped without looking at its points; the rest are checked point by point.
+    """
+    n = len(xy)
+    marked = np.zeros(n, dtype=bool)
+    if n < window:
+        return marked
+    starts = np.arange(0, n - window + 1, stride)
+    if starts[-1] != n - window:
+        starts = np.append(starts, n - window)
+    nb = n // stride
+    blocks = xy[: nb * stride].reshape(nb, stride, 2)
+    hi, lo = blocks.max(axis=1), blocks.min(axis=1)  # (nb, 2) extremes of each whole block
+    first, stop = -(-starts // stride), (starts + window) // stride  # whole blocks inside each stretch
+    span = int(np.min(stop - first))
+    run_hi = np.lib.stride_tricks.sliding_window_view(hi, span, axis=0).max(axis=2)  # (nb - span + 1, 2)
+    run_lo = np.lib.stride_tricks.sliding_window_view(lo, span, axis=0).min(axis=2)
+    wide = np.any(run_hi[first] - run_lo[first] > 2.0 * radius, axis=1)
+    views = np.lib.stride_tricks.sliding_window_view(xy, window, axis=0)  # (n - window + 1, 2, window), no copy
+    todo = starts[~wide]
+    for k in range(0, len(todo), 256):  # point by point, 256 stretches at a time
+        chunk = views[todo[k : k + 256]]
+        d2 = np.sum((chunk - chunk.mean(axis=2, keepdims=True)) ** 2, axis=1)
+        for s in todo[k : k + 256][np.max(d2, axis=1) <= radius * radius]:
+            marked[s : s + window] = True
+    return marked
+
+
+def wedged_periods(pose: np.ndarray, *, control_hz: float = 10.0, radius: float = WEDGE_RADIUS,
+                   min_s: float = WEDGE_MIN_S, us_distance: np.ndarray | None = None,
+                   contact: np.ndarray | None = None, blind_m: float = BLIND_M,
+                   stride: int = 10) -> list[dict]:  # fmt: skip
+    """Periods in which the robot stayed put: its trunk centre within a small disc for more than ``min_s`` s.
+
+    A control step is wedged if it lies in a stretch of more than ``min_s`` seconds (started every ``stride``
+    steps) whose trunk positions all lie within ``radius`` of their mean, as in :func:`trapped`; a period is a
+    maximal run of wedged steps. Overlapping stretches join, so a period can outgrow the disc a little where
+    the robot creeps (``extent_m`` says by how much).
+
+    Args:
+        pose: (T, 3) trunk pose per control step (x m, y m, yaw rad).
+        control_hz: control steps per second.
+        radius: disc radius (m), default :data:`WEDGE_RADIUS` = 0.3 m.
+        min_s: a stretch must last longer than this (s), default :data:`WEDGE_MIN_S` = 100 s.
+        us_distance: (T, 2) ultrasonic readings (m, inf = no echo), or None (cause "both rays blind" untested).
+        contact: (T,) > 0 where the robot's trunk or legs touched an obstacle (NaN = not known), or None.
+        blind_m: readings at or beyond this (m) count as blind.
+        stride: steps between the starts of the stretches tried.
+
+    Returns:
+        One dict per period, in time order: ``start``, ``end`` (first and last control step, inclusive),
+        ``duration_s``, ``centre`` ([x, y] m, mean position), ``extent_m`` (largest distance from it),
+        ``blind_fraction`` and ``contact_fraction`` (share of its steps with both rays blind / with body contact
+        among those where it is known; None where not given) and ``cause``: "both rays blind" when both rays
+        were blind for more than half of it, else "body contact" when the body touched an obstacle for more than
+        half of it, else "other".
+    """
+    if not control_hz > 0 or not radius > 0 or not min_s > 0 or stride < 1:
+        raise ValueError(f"need control_hz, radius, min_s > 0 and stride >= 1, got {control_hz}, {radius}, "
+                         f"{min_s}, {stride}")  # fmt: skip
+    xy = np.asarray(pose, dtype=float)[:, :2]
+    window = math.floor(min_s * control_hz + 1e-9) + 1  # more than min_s seconds
+    marked = _fitting_windows(xy, window, radius, stride)
+    blind = None if us_distance is None else np.all(np.asarray(us_distance) >= blind_m, axis=1)
+    touch = None if contact is None else np.asarray(contact, dtype=float)
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], marked.astype(np.int8), [0]])))
+    periods: list[dict] = []
+    for s, e in zip(edges[::2], edges[1::2], strict=True):  # rows [s, e)
+        centre = xy[s:e].mean(axis=0)
+        fb = None if blind is None else float(np.mean(blind[s:e]))
+        known = None if touch is None else touch[s:e][np.isfinite(touch[s:e])]
+        fc = None if known is None or known.size == 0 else float(np.mean(known > 0))
+        cause = "both rays blind" if fb is not None and fb > 0.5 else (
+            "body contact" if fc is not None and fc > 0.5 else "other")  # fmt: skip
+        periods.append({"start": int(s), "end": int(e - 1), "duration_s": float((e - s) / control_hz),
+                        "centre": centre.tolist(), "extent_m": float(np.max(np.linalg.norm(xy[s:e] - centre, axis=1))),
+                        "blind_fraction": fb, "contact_fraction": fc, "cause": cause})  # fmt: skip
+    return periods
+
+
+def wedged_summary(periods: list[dict]) -> dict:
+    """Counts of :func:`wedged_periods`: ``wedged_periods`` (number), ``longest_wedged_s``, ``wedged_causes``."""
+    causes: dict[str, int] = {}
+    for p in periods:
+        causes[p["cause"]] = causes.get(p["cause"], 0) + 1
+    return {"wedged_periods": len(periods), "longest_wedged_s": max((p["duration_s"] for p in periods), default=0.0),
+            "wedged_causes": causes}  # fmt: skip

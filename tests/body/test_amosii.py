@@ -17,6 +17,7 @@ from neurowalk.body.amosii import (
     export_model,
     foot_contacts,
     joint_qpos_indices,
+    obstacle_contact,
     obstacle_height,
     read_us,
     stand_height,
@@ -274,6 +275,34 @@ def test_obstacle_height_is_measured_from_the_ground_under_the_feet():
     mujoco.mj_step(m, d, nstep=100)
     assert up_z(m, d) > 0.95
     assert obstacle_height(m, d) == pytest.approx(0.06, abs=0.01)
+
+
+def test_obstacle_contact_is_the_robot_touching_a_box_not_the_floor():
+    m, d = _standing()
+    assert d.ncon > 0 and not obstacle_contact(m, d)  # the feet on the floor do not count
+    far = obstacle_contact(*_standing(_wall(0.10, ahead=0.30)))
+    touching = obstacle_contact(*_standing(_wall(0.10, ahead=0.0)))  # box face at the front face
+    beside = f'<geom type="box" size="0.5 0.1 0.05" pos="0 {0.17 + 0.1} 0.05"/>'  # against the left feet
+    assert not far and touching and obstacle_contact(*_standing(beside))
+
+
+def test_obstacle_contacts_replays_recorded_positions():
+    from neurowalk.arenas import make_arena
+    from neurowalk.body.physics import obstacle_contacts
+
+    arena = make_arena("box", distance=0.3)
+    m = mujoco.MjModel.from_xml_string(amosii_xml(world=arena.to_mjcf()))
+    d = mujoco.MjData(m)
+    mujoco.mj_resetDataKeyframe(m, d, m.key("stand").id)
+    box = arena.boxes[0]
+    qpos = np.tile(d.qpos, (3, 1))
+    qpos[1, 0] = box.x - box.sx / 2 - P.trunk_length / 2  # front face on the box's face
+    qpos[2, 0] = box.x  # trunk inside the box
+    assert np.array_equal(obstacle_contacts(arena, qpos), [0.0, 1.0, 1.0])
+    partial = obstacle_contacts(arena, qpos, rows=[1])
+    assert np.isnan(partial[[0, 2]]).all() and partial[1] == 1.0
+    with pytest.raises(ValueError, match="qpos"):
+        obstacle_contacts(arena, qpos[:, :5])
 
 
 def test_params_change_the_model():

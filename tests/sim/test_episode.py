@@ -116,3 +116,22 @@ def test_long_runs_stream_chunks_and_keep_completed_steps_when_stopped(tmp_path)
     ep = info.value.episode
     assert ep.summary["completed"] is False and ep.summary["steps"] == 200 == len(ep.trajectory)
     np.testing.assert_array_equal(ep.trajectory.qpos, whole.qpos[:200])
+
+
+def test_summary_counts_wedged_periods_with_their_causes():
+    # Pushing into a box for 130 s: wedged, the legs and trunk against it, the rays seeing it.
+    push = run_episode(EpisodeConfig(arena="box", arena_opts={"distance": 0.3}, controller="fixed", steer=(-1, -1),
+                                     steps=1300)).summary  # fmt: skip
+    assert push["wedged_periods"] == 1 and push["wedged_causes"] == {"body contact": 1}
+    (p,) = push["wedged"]
+    assert push["longest_wedged_s"] == p["duration_s"] >= 100 and p["contact_fraction"] > 0.5
+    assert p["blind_fraction"] < 0.5
+    # Standing still in the open for 110 s: wedged with both rays blind, touching nothing.
+    stand = run_episode(EpisodeConfig(controller="fixed", steer=(0, 0), steps=1100)).summary
+    assert stand["wedged_causes"] == {"both rays blind": 1} and stand["wedged"][0]["contact_fraction"] == 0.0
+    # Walking in the open: never wedged.
+    walk = run_episode(EpisodeConfig(controller="fixed", steer=(-1, -1), steps=1100)).summary
+    assert walk["wedged_periods"] == 0 and walk["longest_wedged_s"] == 0.0 and walk["wedged_causes"] == {}
+    # The planar surrogate has the same keys; without legs there is no contact record.
+    sur = run_episode(EpisodeConfig(controller="fixed", steer=(0, 0), steps=1100, body="surrogate")).summary
+    assert sur["wedged_causes"] == {"both rays blind": 1} and sur["wedged"][0]["contact_fraction"] is None

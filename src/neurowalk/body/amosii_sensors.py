@@ -17,6 +17,9 @@ sagittal plane, and the front segment is excluded).
 Ground heights (the same scanner looking straight down, world -z): the height of the terrain under
 the front tip and under the trunk centre above the lowest sole. They tell a climbing controller
 whether its front, then its middle, is already over a step.
+
+Obstacle contact: whether any geom of the robot (trunk, legs, feet) touches a geom that is neither the
+robot's nor a floor plane (a box, a wall, a step), from the contacts of the last collision pass.
 """
 
 from __future__ import annotations
@@ -42,6 +45,7 @@ __all__ = [
     "foot_contacts",
     "ground_heights",
     "joint_qpos_indices",
+    "obstacle_contact",
     "obstacle_height",
     "read_us",
     "trunk_pose",
@@ -61,6 +65,8 @@ class _Layout:
     front: int  # body id of the front segment (excluded from the scanner's rays)
     scanner: np.ndarray  # (n,) site ids of the scanner rays
     feet: np.ndarray  # (6,) geom ids of the feet, LEGS order
+    robot_geom: np.ndarray  # (ngeom,) bool: the geom belongs to the robot
+    obstacle_geom: np.ndarray  # (ngeom,) bool: the geom is neither the robot's nor a plane
     foot_radius: float  # m
     us_range: float  # m
     force_full: float  # N
@@ -86,6 +92,7 @@ def _build_layout(model: mujoco.MjModel) -> _Layout:
         if mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_SITE, i).startswith(SCANNER_SITE_PREFIX)
     )
     feet = np.array([model.geom(foot_name(g)).id for g in anatomy.LEGS])
+    robot = model.body_rootid[model.geom_bodyid] == model.body(TRUNK_BODY).id
     return _Layout(
         qpos=model.jnt_qposadr[joints].copy(),
         us=np.array([_sensor_adr(model, n) for n in anatomy.US_SENSORS]),
@@ -95,6 +102,8 @@ def _build_layout(model: mujoco.MjModel) -> _Layout:
         front=model.body(FRONT_BODY).id,
         scanner=np.array([model.site(f"{SCANNER_SITE_PREFIX}{k}").id for k in range(n_rays)]),
         feet=feet,
+        robot_geom=robot,
+        obstacle_geom=~robot & (model.geom_type != mujoco.mjtGeom.mjGEOM_PLANE),
         foot_radius=float(model.geom_size[feet[0], 0]),
         us_range=_numeric(model, "us_range"),
         force_full=_numeric(model, "contact_force_full"),
@@ -128,6 +137,16 @@ def foot_contacts(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
     """
     lay = _layout(model)
     return np.minimum(data.sensordata[lay.touch] / lay.force_full, 1.0)
+
+
+def obstacle_contact(model: mujoco.MjModel, data: mujoco.MjData) -> bool:
+    """Whether the robot's trunk or a leg touches an obstacle (any geom but the robot's and floor planes)."""
+    if data.ncon == 0:
+        return False
+    lay = _layout(model)
+    g = data.contact.geom[: data.ncon]  # (ncon, 2) geom ids
+    robot, obstacle = lay.robot_geom[g], lay.obstacle_geom[g]
+    return bool(np.any((robot[:, 0] & obstacle[:, 1]) | (robot[:, 1] & obstacle[:, 0])))
 
 
 def up_z(model: mujoco.MjModel, data: mujoco.MjData) -> float:

@@ -21,6 +21,7 @@ from neurowalk.body.amosii import (
     foot_contacts,
     ground_heights,
     joint_qpos_indices,
+    obstacle_contact,
     obstacle_height,
     read_us,
     trunk_pose,
@@ -41,6 +42,35 @@ def n_substeps(control_hz: float, timestep: float) -> int:
     if n < 1 or abs(ratio - n) > 1e-9 * ratio:
         raise ValueError(f"control period 1/{control_hz} s is not a whole number of {timestep} s physics steps")
     return n
+
+
+def obstacle_contacts(arena: ArenaSpec, qpos: np.ndarray, rows: np.ndarray | None = None,
+                      params: BodyParams | None = None) -> np.ndarray:  # fmt: skip
+    """Per-step obstacle contact of a recorded run, replayed from its positions.
+
+    Collision detection depends on positions only, so each asked row's ``qpos`` is put into a fresh model of
+    ``arena`` (kinematics and collision, no dynamics) and :func:`~neurowalk.body.amosii.obstacle_contact` read.
+
+    Args:
+        arena: the run's arena.
+        qpos: (T, nq) recorded positions (``Trajectory.qpos``).
+        rows: the row indices to replay (default: all).
+        params: the body's parameters (default ``BodyParams()``, as every run uses).
+
+    Returns:
+        (T,) 1.0 where the trunk or a leg touched an obstacle, 0.0 where not, NaN for rows not replayed.
+    """
+    model = mujoco.MjModel.from_xml_string(amosii_xml(params or BodyParams(), world=arena.to_mjcf()))
+    data = mujoco.MjData(model)
+    if qpos.ndim != 2 or qpos.shape[1] != model.nq:
+        raise ValueError(f"qpos must have shape (T, {model.nq}), got {qpos.shape}")
+    out = np.full(len(qpos), np.nan)
+    for k in np.arange(len(qpos)) if rows is None else np.asarray(rows, dtype=int):
+        data.qpos[:] = qpos[k]
+        mujoco.mj_kinematics(model, data)
+        mujoco.mj_collision(model, data)
+        out[k] = float(obstacle_contact(model, data))
+    return out
 
 
 class AmosII:

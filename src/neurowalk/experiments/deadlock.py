@@ -4,7 +4,9 @@
   Braitenberg) in the simple deadlock and in the narrow passage (default geometry, and gap and
   funnel angle changed by ±20%), ``seeds`` seeds each, 5000 control steps.
 * Example runs (seed 0): the figure's network in both dead ends, with neural traces.
-* Long runs in the original arenas (``cluttered``, ``difficult``): trajectories, trapping, coverage.
+* Long runs in the original arenas (``cluttered``, ``difficult``): trajectories, trapping, coverage, and
+  the periods the robot stayed wedged (:func:`neurowalk.metrics.wedged_periods`: its trunk centre within
+  0.3 m for more than 100 s), with their causes.
 """
 
 from __future__ import annotations
@@ -118,5 +120,15 @@ def build(name: str, network: str, long_runs: dict, *, quick: bool, seed: int, s
     runs = example_and_long_runs(network, long_runs, long_steps, seed=seed, climbing=climbing)
     arrays = {f"{k}/{field}": v[field] for k, v in runs.items() for field in ("pose", "inputs", "outputs", "b", "q")}
     summary = {"network": network, "seed": seed, "climbing": climbing, "table": table, "long_steps": long_steps,
-               "runs": {k: v["summary"] for k, v in runs.items()}}  # fmt: skip
+               "runs": {k: v["summary"] for k, v in runs.items()},
+               "wedged": wedged_counts({k: runs[k]["summary"] for k in long_runs})}  # fmt: skip
     return Result(name, summary, arrays)
+
+
+def wedged_counts(summaries: dict[str, dict[str, Any]]) -> dict[str, dict[str, Any]]:
+    """Per long run: number of wedged periods, the longest (s), counts by cause, and time wedged in all (s)."""
+    return {k: {"periods": s["wedged_periods"], "longest_s": s["longest_wedged_s"], "causes": s["wedged_causes"],
+                "total_s": float(sum(p["duration_s"] for p in s["wedged"])),
+                "rule": f"trunk centre within {metrics.WEDGE_RADIUS} m of its mean for more than "
+                        f"{metrics.WEDGE_MIN_S:g} s"}
+            for k, s in summaries.items()}  # fmt: skip

@@ -21,6 +21,17 @@ def _io_loop(ax: Axes, x: np.ndarray, y: np.ndarray, title: str) -> None:
     ax.set(xlim=(-1.05, 1.05), ylim=(-1.05, 1.05), xlabel="input", ylabel="output", title=title)
 
 
+def draw_wedged(ax: Axes, periods: list[dict]) -> None:
+    """Circle each wedged period (its centre, radius its extent, at least 0.3 m) labelled with its duration (s)."""
+    from matplotlib.patches import Circle
+
+    for p in periods:
+        (x, y), r = p["centre"], max(p.get("extent_m", 0.3), 0.3)
+        ax.add_patch(Circle((x, y), r, fill=False, ec="k", lw=1.2, ls="--", zorder=6))
+        ax.annotate(f"{p['duration_s']:.0f} s", (x, y + r), ha="center", va="bottom", fontsize=7, zorder=7,
+                    bbox={"boxstyle": "round,pad=0.15", "fc": "w", "ec": "none", "alpha": 0.8})  # fmt: skip
+
+
 def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool = False) -> Figure:
     """Panels A-G for the figure's ``network`` and the outcome table; ``weights_panel``: G shows weights."""
     plt = pyplot()
@@ -64,13 +75,19 @@ def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool
             ax.legend(fontsize=7, ncol=3)
             continue
         draw_arena(ax, make_arena(r["arena"], **r["arena_opts"]), a[f"{key}/pose"])
+        draw_wedged(ax, r.get("wedged", []))
         cov = r["coverage"]
+        wedged = f"\nwedged {r['wedged_periods']}x (longest {r['longest_wedged_s']:.0f} s)" if "wedged" in r else ""
         ax.set_title(f"{'FG'[j]}  {key}: {r['steps']} steps, {'trapped' if r['trapped'] else 'not trapped'}, "
-                     f"coverage {cov:.0%}", fontsize=9)  # fmt: skip
+                     f"coverage {cov:.0%}{wedged}", fontsize=9)  # fmt: skip
     counts = s["table"]["counts"]
     lines = ["escaped / runs (seeds " + str(s["table"]["seeds"]) + ", 5000 steps):"]
     for v, row in counts.items():
         lines.append(f"{v}: " + ", ".join(f"{n} {c['escaped']}/{c['runs']}" for n, c in row.items()))
+    for k, w in s.get("wedged", {}).items():
+        causes = ", ".join(f"{c} {n}" for c, n in w["causes"].items()) or "none"
+        lines.append(f"{k}: wedged {w['periods']}x, longest {w['longest_s']:.0f} s, in all {w['total_s']:.0f} s "
+                     f"({causes}; dashed circles)")  # fmt: skip
     ax = fig.add_subplot(gs[2, :])
     ax.axis("off")
     ax.text(0, 1, "\n".join(lines), fontsize=8, family="monospace", va="top", transform=ax.transAxes)

@@ -24,7 +24,7 @@ import numpy as np
 import neurowalk
 from neurowalk import metrics
 from neurowalk.arenas import ArenaSpec, make_arena
-from neurowalk.body.physics import AmosII
+from neurowalk.body.physics import AmosII, obstacle_contacts
 from neurowalk.body.surrogate import Surrogate
 from neurowalk.controller import CONTROLLERS, Controller, make_controller
 from neurowalk.neural.variants import get_variant
@@ -250,6 +250,11 @@ def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory, wall_time_s:
     if not np.isnan(tr.b[-1]).any():
         c = -0.5 * float(tr.q[-1].sum())
         weights = {"b": tr.b[-1].tolist(), "q": tr.q[-1].tolist(), "c": c}
+    wedged = metrics.wedged_periods(pose, control_hz=cfg.control_hz, us_distance=tr.us_distance)
+    if wedged and has_z:  # physics: replay the wedged steps' obstacle contacts from the recorded positions
+        rows = np.concatenate([np.arange(p["start"], p["end"] + 1) for p in wedged])
+        touch = obstacle_contacts(arena, tr.qpos, rows)
+        wedged = metrics.wedged_periods(pose, control_hz=cfg.control_hz, us_distance=tr.us_distance, contact=touch)
     return {
         "arena": cfg.arena,
         "arena_opts": arena.options,
@@ -283,6 +288,8 @@ def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory, wall_time_s:
         "direction_switches": metrics.direction_switches(tr.outputs),
         "turn_episodes": len(turns := metrics.avoidance_episodes(tr.outputs, pose)),
         "max_turn_deg": max((abs(e["turn_deg"]) for e in turns), default=0.0),
+        **metrics.wedged_summary(wedged),  # wedged_periods (count), longest_wedged_s, wedged_causes
+        "wedged": wedged,  # the periods: start, end (steps), duration_s, centre, extent_m, fractions, cause
         "final_pose": pose[-1].tolist(),
         "final_weights": weights,
         "simulation_warnings": warnings,
