@@ -150,12 +150,22 @@ reaches with nothing in range (0.40 m range, noise std about 3 mm there)."""
 WEDGE_CAUSES = ("both rays blind", "body contact", "other")
 
 
+def _running_max(a: np.ndarray, w: int) -> np.ndarray:
+    """(m - w + 1, ...) maxima of ``a[i : i + w]`` along axis 0, by doubling (O(m log w))."""
+    r, k = a, 1
+    while 2 * k <= w:
+        r, k = np.maximum(r[:-k], r[k:]), 2 * k  # r[i] = max a[i : i + k]
+    m = len(a) - w + 1
+    return np.maximum(r[:m], r[w - k : w - k + m])
+
+
 def _fitting_windows(xy: np.ndarray, window: int, radius: float, stride: int) -> np.ndarray:
     """(T,) bool: rows inside some ``window``-row stretch (started every ``stride`` rows, and at the end) whose
     positions all lie within ``radius`` of their mean.
 
-    A stretch whose whole blocks of ``stride`` rows already span more than the disc's diameter in x or y cannot
-    fit and is dropped without looking at its points; the rest are checked point by point.
+    Cheap bounds first, from the extremes of blocks of ``stride`` rows: a stretch whose whole blocks span more
+    than the disc's diameter in x or y cannot fit; one whose covering blocks' bounding box lies within the disc
+    around the stretch's mean fits. Only the stretches in between are checked point by point.
     """
     n = len(xy)
     marked = np.zeros(n, dtype=bool)
@@ -164,16 +174,24 @@ def _fitting_windows(xy: np.ndarray, window: int, radius: float, stride: int) ->
     starts = np.arange(0, n - window + 1, stride)
     if starts[-1] != n - window:
         starts = np.append(starts, n - window)
-    nb = n // stride
-    blocks = xy[: nb * stride].reshape(nb, stride, 2)
-    hi, lo = blocks.max(axis=1), blocks.min(axis=1)  # (nb, 2) extremes of each whole block
+    cover = -(-window // stride) + 1  # blocks that cover any stretch
+    nb = -(-n // stride)
+    padded = np.concatenate([xy, np.repeat(xy[-1:], (nb + cover) * stride - n, axis=0)])  # repeats add no extremes
+    blocks = padded.reshape(nb + cover, stride, 2)
+    hi, lo = blocks.max(axis=1), blocks.min(axis=1)  # (nb + cover, 2) extremes of each block
     first, stop = -(-starts // stride), (starts + window) // stride  # whole blocks inside each stretch
-    span = int(np.min(stop - first))
-    run_hi = np.lib.stride_tricks.sliding_window_view(hi, span, axis=0).max(axis=2)  # (nb - span + 1, 2)
-    run_lo = np.lib.stride_tricks.sliding_window_view(lo, span, axis=0).min(axis=2)
-    wide = np.any(run_hi[first] - run_lo[first] > 2.0 * radius, axis=1)
+    inner = int(np.min(stop - first))
+    wide = np.any((_running_max(hi, inner) + _running_max(-lo, inner))[first] > 2.0 * radius, axis=1)
+    csum = np.vstack([np.zeros((1, 2)), np.cumsum(xy, axis=0)])
+    mean = (csum[starts + window] - csum[starts]) / window  # (m, 2)
+    at = starts // stride  # the blocks from here on cover the stretch
+    box_hi, box_lo = _running_max(hi, cover)[at], -_running_max(-lo, cover)[at]
+    far = np.maximum(box_hi - mean, mean - box_lo)  # (m, 2) farthest covering-box extent from the mean
+    sure = np.sum(far**2, axis=1) <= radius * radius
+    for s in starts[sure & ~wide]:
+        marked[s : s + window] = True
     views = np.lib.stride_tricks.sliding_window_view(xy, window, axis=0)  # (n - window + 1, 2, window), no copy
-    todo = starts[~wide]
+    todo = starts[~sure & ~wide]
     for k in range(0, len(todo), 256):  # point by point, 256 stretches at a time
         chunk = views[todo[k : k + 256]]
         d2 = np.sum((chunk - chunk.mean(axis=2, keepdims=True)) ** 2, axis=1)
