@@ -46,8 +46,8 @@ def environments(n: int, seed: int) -> list[dict[str, Any]]:
 
 
 FAILURE_RULE = ("failure classes (runs stuck at the end): 'latched spin' where the steering commanded a turn in one "
-                "direction for >= 80% of the last 3000 steps; else 'wedged' where both ultrasonic rays saw no echo "
-                "for >= 50% of them; else 'other'")  # fmt: skip
+                "direction for >= 80% of the last 3000 steps; else 'wedged' where both ultrasonic rays were blind (no "
+                "echo nearer than 0.38 m) for >= 50% of them; else 'other'")  # fmt: skip
 LATCHED, BLIND = 0.8, 0.5
 
 

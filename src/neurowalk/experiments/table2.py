@@ -79,6 +79,7 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
     folder = Path(out) if out is not None else Path("out/table2")
     folder.mkdir(parents=True, exist_ok=True)
     results, report = run_store(specs, folder, workers)
+    _reclassify(results, specs)
     env_rows = [{**e, **{name: _outcome(results[spec_key(spec_of(e, r, body))]) for name, r in table.items()}}
                 for e in envs]  # fmt: skip
     counts = {name: {**r, **_count(env_rows, name)} for name, r in table.items()}
@@ -95,6 +96,20 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
                "paper": paper, "store": str(folder / "results.sqlite"), "sweep": report.counts(),
                "surrogate_agreement": agreement}  # fmt: skip
     return Result("table2", summary)
+
+
+def _reclassify(results: dict[str, dict[str, Any]], specs: list[dict[str, Any]]) -> None:
+    """Rerun (in place, deterministic) the failed runs whose stored summary predates the failure-class keys.
+
+    Stores written before the classes existed lack ``wedged_periods`` and a blind share by
+    :data:`~neurowalk.metrics.BLIND_M`; the rerun gives the same run, bit for bit, with them.
+    """
+    from neurowalk.runners.specs import run_spec, spec_key
+
+    for s in specs:
+        key = spec_key(s)
+        if results[key]["trapped"] and "wedged_periods" not in results[key]:
+            results[key] = run_spec(s)
 
 
 def _outcome(res: dict[str, Any]) -> dict[str, Any]:

@@ -278,7 +278,7 @@ def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory, wall_time_s:
         "ever_trapped": metrics.ever_trapped(pose),
         "ever_held_up_1000s": metrics.ever_trapped(pose, window=round(1000 * cfg.control_hz)),
         "end_turn_share": metrics.latched_turn_share(tr.outputs[-3000:]),
-        "end_blind_share": float(np.mean(~np.isfinite(tr.us_distance[-3000:]).any(axis=1))),
+        "end_blind_share": float(np.mean(np.all(~(tr.us_distance[-3000:] < metrics.BLIND_M), axis=1))),
         "coverage": metrics.coverage(pose, arena),
         "path_length_m": metrics.path_length(pose),
         "forward_displacement_m": metrics.forward_displacement(pose, arena.start),
