@@ -39,8 +39,13 @@ def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool
     fig = plt.figure(figsize=(18, 11), constrained_layout=True)
     gs = fig.add_gridspec(3, 4, height_ratios=[1, 1, 0.28])
     runs = s["runs"]
+    notes = []
+    if s.get("variant", "paper") != "paper":
+        notes.append(f"network variant: {s['variant']} (the authors' code)")
     if s.get("climbing"):
-        fig.suptitle("with leg reflexes and backbone joint control switched on (Fig. 10's modules)")
+        notes.append("with leg reflexes and backbone joint control switched on (Fig. 10's modules)")
+    if notes:
+        fig.suptitle("; ".join(notes))
     for i, name in enumerate(("simple-deadlock", "narrow-passage")):
         ax = fig.add_subplot(gs[0, i])
         draw_arena(ax, make_arena(runs[name]["arena"], **runs[name]["arena_opts"]), a[f"{name}/pose"])

@@ -24,12 +24,15 @@ LONG = {"cluttered (static)": {"arena": "cluttered", "controller": "static"},
 
 
 @register(NAME, "static network: dead ends, hysteresis, cluttered and difficult arenas")
-def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, climbing: bool = False) -> Result:
+def run(
+    *, quick: bool = False, seed: int = 0, seeds: int | None = None, climbing: bool = False, variant: str = "paper"
+) -> Result:
     """Outcome table over ``seeds`` seeds (default 10; 3 with ``quick``), example and long runs.
 
-    ``climbing``: with the leg reflexes and backbone control of Fig. 10 switched on.
+    ``climbing``: with the leg reflexes and backbone control of Fig. 10 switched on. ``variant``: the networks'
+    variant (``paper`` or ``original``).
     """
-    return build(NAME, NETWORK, LONG, quick=quick, seed=seed, seeds=seeds, climbing=climbing)
+    return build(NAME, NETWORK, LONG, quick=quick, seed=seed, seeds=seeds, climbing=climbing, variant=variant)
 
 
 def plot(res: Result) -> Figure:

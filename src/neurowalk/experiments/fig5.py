@@ -27,12 +27,15 @@ LONG = {"difficult (plastic)": {"arena": "difficult", "controller": "plastic"},
 
 
 @register(NAME, "plastic network: dead ends, weight dynamics, the difficult arena")
-def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, climbing: bool = False) -> Result:
+def run(
+    *, quick: bool = False, seed: int = 0, seeds: int | None = None, climbing: bool = False, variant: str = "paper"
+) -> Result:
     """Outcome table over ``seeds`` seeds (default 10; 3 with ``quick``), example and long runs.
 
-    ``climbing``: with the leg reflexes and backbone control of Fig. 10 switched on.
+    ``climbing``: with the leg reflexes and backbone control of Fig. 10 switched on. ``variant``: the networks'
+    variant (``paper`` or ``original``).
     """
-    res = build(NAME, NETWORK, LONG, quick=quick, seed=seed, seeds=seeds, climbing=climbing)
+    res = build(NAME, NETWORK, LONG, quick=quick, seed=seed, seeds=seeds, climbing=climbing, variant=variant)
     runs = res.summary["runs"]
     p, s = runs["difficult (plastic)"], runs["difficult (static)"]
     res.summary["difficult_comparison"] = {
