@@ -40,6 +40,7 @@ def _parser() -> argparse.ArgumentParser:
     climb = "leg reflexes and backbone control on (fig3 fig5 escape-map table2; default out: out/NAME-climb)"
     f.add_argument("--climb", action="store_true", help=climb)
     _variant_args(f)
+    f.add_argument("--video", action="store_true", help="also write the example runs' videos (fig8, fig9)")
     f.add_argument("--arena-opt", action="append", default=[], metavar="size=M",
                    help="box side of the random environments (table2, fig6; default 1 m, the authors')")  # fmt: skip
 
@@ -370,6 +371,10 @@ def _figure(args: argparse.Namespace) -> int:
             kwargs["variant"], overrides = _variant(args)
             if overrides:
                 kwargs["params"] = overrides
+        if args.video:
+            if "video" not in params:
+                raise UsageError(f"figure {args.name!r} takes no --video (fig8 and fig9 do)")
+            kwargs["video"] = True
         if args.arena_opt:
             opts = _arena_opts(args.arena_opt)
             if "size" not in params or set(opts) != {"size"}:
