@@ -18,7 +18,7 @@ MOUTH_X = -0.5  # x of the trap's open end (m)
 EXIT_MARGIN = 0.3  # the exit region starts this far outside the mouth (m)
 
 
-def _wall(x0: float, y0: float, x1: float, y1: float) -> Box:
+def wall(x0: float, y0: float, x1: float, y1: float) -> Box:
     """A wall whose centre line runs from (x0, y0) to (x1, y1)."""
     length = math.hypot(x1 - x0, y1 - y0)
     return Box(x=(x0 + x1) / 2, y=(y0 + y1) / 2, yaw=math.atan2(y1 - y0, x1 - x0), sx=length, sy=WALL, h=HEIGHT)
@@ -44,15 +44,15 @@ def _dead_end(name: str, width: float, depth: float, gap: float, funnel: float) 
     if not 0 <= gap < 2 * half_end - 0.1:
         raise ValueError(f"arena {name!r}: gap must be in [0, {2 * half_end - 0.1:.2f}) m, got {gap}")
     boxes = [
-        _wall(MOUTH_X, width / 2 + WALL / 2, x_end, half_end + WALL / 2),
-        _wall(MOUTH_X, -width / 2 - WALL / 2, x_end, -half_end - WALL / 2),
+        wall(MOUTH_X, width / 2 + WALL / 2, x_end, half_end + WALL / 2),
+        wall(MOUTH_X, -width / 2 - WALL / 2, x_end, -half_end - WALL / 2),
     ]
     outer = half_end + WALL
     if gap == 0:
-        boxes.append(_wall(x_end + WALL / 2, -outer, x_end + WALL / 2, outer))
+        boxes.append(wall(x_end + WALL / 2, -outer, x_end + WALL / 2, outer))
     else:
-        boxes.append(_wall(x_end + WALL / 2, gap / 2, x_end + WALL / 2, outer))
-        boxes.append(_wall(x_end + WALL / 2, -gap / 2, x_end + WALL / 2, -outer))
+        boxes.append(wall(x_end + WALL / 2, gap / 2, x_end + WALL / 2, outer))
+        boxes.append(wall(x_end + WALL / 2, -gap / 2, x_end + WALL / 2, -outer))
     reach = max(width, 2.0)
     exit_region = (MOUTH_X - 5.0, MOUTH_X - EXIT_MARGIN, -reach - 3.0, reach + 3.0)
     bounds = (MOUTH_X - 2.0, x_end + 0.5, -width / 2 - 1.5, width / 2 + 1.5)
@@ -97,7 +97,7 @@ def corner(angle: float = 60.0, length: float = 2.0) -> ArenaSpec:
         d = (-math.cos(half), side * math.sin(half))  # along the wall, away from the apex
         n = (math.sin(half), side * math.cos(half))  # outward normal (away from the robot)
         x0, y0 = apex + n[0] * WALL / 2, n[1] * WALL / 2  # centre line: inner face through the apex
-        boxes.append(_wall(x0, y0, x0 + d[0] * length, y0 + d[1] * length))
+        boxes.append(wall(x0, y0, x0 + d[0] * length, y0 + d[1] * length))
     exit_d = 1.5
     exit_region = (-10.0, apex - length * math.cos(half) - exit_d, -10.0, 10.0)  # beyond the walls' ends
     return ArenaSpec(name="corner", boxes=tuple(boxes), exit_region=exit_region,

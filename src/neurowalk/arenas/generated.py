@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from neurowalk.arenas import arena
-from neurowalk.arenas.deadlocks import EXIT_MARGIN, HEIGHT, WALL, _wall
+from neurowalk.arenas.deadlocks import EXIT_MARGIN, HEIGHT, WALL, wall
 from neurowalk.arenas.spec import ArenaSpec, Box
 from neurowalk.body.amosii_params import BodyParams
 
@@ -73,8 +73,8 @@ def complex_path(length: float = 3.0, width: float = 0.46, obstacle: float = 0.2
     x_end = MOUTH + length  # inner face of the end wall
     y_right, y_left = -width / 2, width / 2  # faces of the right wall and of the left obstacles
     y_outer = y_left + obstacle  # outer edge of the obstacle row
-    boxes = [_wall(MOUTH, y_right - WALL / 2, x_end + WALL, y_right - WALL / 2),
-             _wall(x_end + WALL / 2, y_right - WALL, x_end + WALL / 2, y_outer + EXIT_MARGIN)]  # fmt: skip
+    boxes = [wall(MOUTH, y_right - WALL / 2, x_end + WALL, y_right - WALL / 2),
+             wall(x_end + WALL / 2, y_right - WALL, x_end + WALL / 2, y_outer + EXIT_MARGIN)]  # fmt: skip
     n = math.floor((length - OPENING - obstacle) / spacing + 1e-9) + 1
     for k in range(n):
         x = MOUTH + k * spacing + obstacle / 2
@@ -101,7 +101,7 @@ def random_boxes(n_boxes: int = 10, size: float = 0.6, extent: float = 6.0,
     rng = rng if rng is not None else np.random.default_rng(0)
     h = extent / 2
     e = h + WALL / 2  # centre line of the surrounding walls
-    walls = (_wall(-h, e, h, e), _wall(-h, -e, h, -e), _wall(-e, -e, -e, e), _wall(e, -e, e, e))
+    walls = (wall(-h, e, h, e), wall(-h, -e, h, -e), wall(-e, -e, -e, e), wall(e, -e, e, e))
     keep_out = ArenaSpec.ROBOT_RADIUS + 0.25  # m of free floor around the start
     boxes: list[Box] = []
     for _ in range(1000 * max(n_boxes, 1)):
