@@ -94,17 +94,27 @@ def view(model: object, data: object, step: object, control_hz: float = 10.0) ->
 
 
 def render_frames(model: object, qpos: np.ndarray, *, width: int = 400, height: int = 300, distance: float = 1.2,
-                  azimuth: float = 135.0, elevation: float = -25.0) -> np.ndarray:  # fmt: skip
-    """Render frames of positions ``qpos`` (n, nq), camera tracking the trunk: (n, height, width, 3) uint8."""
+                  azimuth: float = 135.0, elevation: float = -25.0,
+                  view: dict | None = None) -> np.ndarray:  # fmt: skip
+    """Render frames of positions ``qpos`` (n, nq): (n, height, width, 3) uint8.
+
+    The camera tracks the trunk at ``distance`` (m), ``azimuth`` and ``elevation`` (deg); or, with ``view``
+    ({"lookat": (3,) m, "distance", "azimuth", "elevation"}), it stays fixed there.
+    """
     import mujoco
 
     from neurowalk.body.amosii_params import TRUNK_BODY
 
     data = mujoco.MjData(model)
     cam = mujoco.MjvCamera()
-    cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
-    cam.trackbodyid = model.body(TRUNK_BODY).id
-    cam.distance, cam.elevation, cam.azimuth = distance, elevation, azimuth
+    if view is None:
+        cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
+        cam.trackbodyid = model.body(TRUNK_BODY).id
+        cam.distance, cam.elevation, cam.azimuth = distance, elevation, azimuth
+    else:
+        cam.type = mujoco.mjtCamera.mjCAMERA_FREE
+        cam.lookat[:] = view["lookat"]
+        cam.distance, cam.azimuth, cam.elevation = view["distance"], view["azimuth"], view["elevation"]
     out = np.zeros((len(qpos), height, width, 3), dtype=np.uint8)
     renderer = mujoco.Renderer(model, height, width)
     try:

@@ -68,15 +68,19 @@ def highest_reliable(rates: dict[float, float]) -> float | None:
     return best
 
 
-def run_store(specs: list[dict[str, Any]], folder: Path, workers: int) -> tuple[dict[str, dict[str, Any]], Any]:
-    """Run ``specs`` through the resumable store ``folder/results.sqlite``; return (results by spec key, report)."""
+def run_store(specs: list[dict[str, Any]], folder: Path, workers: int, fn: Any = None
+              ) -> tuple[dict[str, dict[str, Any]], Any]:  # fmt: skip
+    """Run ``specs`` through the resumable store ``folder/results.sqlite``; return (results by spec key, report).
+
+    ``fn``: what runs one spec (default :func:`~neurowalk.runners.specs.run_spec`; a module-level function).
+    """
     from neurowalk.runners.specs import spec_key
     from neurowalk.runners.store import ResultStore
     from neurowalk.runners.sweep import run_sweep
 
     folder.mkdir(parents=True, exist_ok=True)
     with ResultStore(folder / "results.sqlite") as store:
-        report = run_sweep(specs, store, workers=workers)
+        report = run_sweep(specs, store, workers=workers, **({"fn": fn} if fn is not None else {}))
         results = store.results()
     if report.interrupted:
         raise KeyboardInterrupt

@@ -74,23 +74,13 @@ def run_store_paths(specs: list[dict[str, Any]], folder: Path, workers: int) -> 
 
     Returns the results by spec key. A killed figure, rerun with the same folder, runs only what is missing.
     """
-    from neurowalk.runners.specs import spec_key
-    from neurowalk.runners.store import ResultStore
-    from neurowalk.runners.sweep import run_sweep
+    from neurowalk.experiments.climbing import run_store
 
-    folder.mkdir(parents=True, exist_ok=True)
-    with ResultStore(folder / "results.sqlite") as store:
-        report = run_sweep(specs, store, workers=workers, fn=run_with_path)
-        results = store.results()
-    if report.interrupted:
-        raise KeyboardInterrupt
-    missing = [s for s in specs if spec_key(s) not in results]
-    if missing:
-        raise RuntimeError(f"{len(missing)} runs failed (see {folder / 'results.sqlite'}); rerun to retry them")
-    if any("path" not in results[spec_key(s)] for s in specs):
+    results, _ = run_store(specs, folder, workers, fn=run_with_path)
+    if any("path" not in r for r in results.values()):
         raise RuntimeError(f"{folder / 'results.sqlite'} holds runs without their paths (another sweep's store); "
                            "use a fresh output folder")  # fmt: skip
-    return {spec_key(s): results[spec_key(s)] for s in specs}
+    return results
 
 
 def keep_example(ep: Episode) -> dict[str, Any]:
@@ -131,36 +121,14 @@ def camera_view(arena: ArenaSpec, *, aspect: float = 4 / 3, fovy_deg: float = 45
             "azimuth": 90.0, "elevation": -70.0}  # fmt: skip
 
 
-def render_fixed(model: Any, qpos: np.ndarray, view: dict[str, Any], *, width: int = 400,
-                 height: int = 300) -> np.ndarray:  # fmt: skip
-    """Frames of positions ``qpos`` (n, nq) from the fixed camera ``view``: (n, height, width, 3) uint8."""
-    import mujoco
-
-    data = mujoco.MjData(model)
-    cam = mujoco.MjvCamera()
-    cam.type = mujoco.mjtCamera.mjCAMERA_FREE
-    cam.lookat[:] = view["lookat"]
-    cam.distance, cam.azimuth, cam.elevation = view["distance"], view["azimuth"], view["elevation"]
-    out = np.zeros((len(qpos), height, width, 3), dtype=np.uint8)
-    renderer = mujoco.Renderer(model, height, width)
-    try:
-        for i, q in enumerate(qpos):
-            data.qpos[:] = q
-            mujoco.mj_forward(model, data)
-            renderer.update_scene(data, camera=cam)
-            out[i] = renderer.render()
-    finally:
-        renderer.close()
-    return out
-
-
 def snapshots(arena: ArenaSpec, qpos: np.ndarray, rows: np.ndarray, *, width: int = 400,
               height: int = 300) -> np.ndarray:  # fmt: skip
     """Rendered frames (len(rows), height, width, 3) of the run's positions ``qpos`` (T, nq) at ``rows``."""
     from neurowalk.body.physics import AmosII
+    from neurowalk.render import render_frames
 
     view = camera_view(arena, aspect=width / height)
-    return render_fixed(AmosII(arena).model, qpos[rows], view, width=width, height=height)
+    return render_frames(AmosII(arena).model, qpos[rows], view=view, width=width, height=height)
 
 
 def write_videos(name: str, arena: ArenaSpec, examples: dict[str, dict[str, Any]], out: Path) -> list[str]:
