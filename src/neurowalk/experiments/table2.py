@@ -79,7 +79,7 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
     folder = Path(out) if out is not None else Path("out/table2")
     folder.mkdir(parents=True, exist_ok=True)
     results, report = run_store(specs, folder, workers)
-    _reclassify(results, specs)
+    _reclassify(results, specs, workers)
     env_rows = [{**e, **{name: _outcome(results[spec_key(spec_of(e, r, body))]) for name, r in table.items()}}
                 for e in envs]  # fmt: skip
     counts = {name: {**r, **_count(env_rows, name)} for name, r in table.items()}
@@ -98,18 +98,24 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
     return Result("table2", summary)
 
 
-def _reclassify(results: dict[str, dict[str, Any]], specs: list[dict[str, Any]]) -> None:
-    """Rerun (in place, deterministic) the failed runs whose stored summary predates the failure-class keys.
+def _reclassify(results: dict[str, dict[str, Any]], specs: list[dict[str, Any]], workers: int = 2) -> None:
+    """Rerun (deterministic, on ``workers`` processes) the failed runs whose stored summary predates the class keys.
 
-    Stores written before the classes existed lack ``wedged_periods`` and a blind share by
+    Stores written before the failure classes existed lack ``wedged_periods`` and a blind share by
     :data:`~neurowalk.metrics.BLIND_M`; the rerun gives the same run, bit for bit, with them.
     """
+    from tqdm import tqdm
+
+    from neurowalk.runners.local import run_unordered
     from neurowalk.runners.specs import run_spec, spec_key
 
-    for s in specs:
-        key = spec_key(s)
-        if results[key]["trapped"] and "wedged_periods" not in results[key]:
-            results[key] = run_spec(s)
+    old = [s for s in specs if results[spec_key(s)]["trapped"] and "wedged_periods" not in results[spec_key(s)]]
+    with tqdm(total=len(old), unit="run", desc="reclassify", disable=not old, mininterval=0.5) as bar:
+        for done in run_unordered(run_spec, old, workers=workers):
+            if done.error is not None:
+                raise done.error
+            results[spec_key(old[done.index])] = done.value
+            bar.update(1)
 
 
 def _outcome(res: dict[str, Any]) -> dict[str, Any]:
