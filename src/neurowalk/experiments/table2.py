@@ -166,7 +166,7 @@ def plot(res: Result) -> Figure:
         lo, hi = paper["success_rate_95ci"]
         ax[0].axhspan(lo, hi, color="0.85", zorder=0, label=f"paper 49/50, 95% interval {lo:.1%}-{hi:.1%}")
         ax[0].axhline(paper["success_rate"], c="0.5", lw=1, zorder=0)
-        ax[0].legend(fontsize=8, loc="lower right")
+        ax[0].legend(fontsize=8, loc="upper right")
     for i, c in enumerate(names):
         k = s["counts"][c]
         ax[0].text(i, 0.03, f"{k['success']}/{k['environments']}\n{k['success_rate']:.1%}", ha="center", fontsize=9)
