@@ -76,11 +76,16 @@ def _pool_pass(fn: Callable[[Any], Any], items: Sequence[Any], todo: deque[int],
     pool = ProcessPoolExecutor(max_workers=workers)
     running: dict[Future, int] = {}
     lost: list[int] = []
+    broken = False  # the pool broke (a submit can meet the break before any future reports it)
     try:
         while todo or running:
-            while todo and len(running) < 2 * workers and not lost:
+            while todo and len(running) < 2 * workers and not lost and not broken:
                 i = todo.popleft()
-                running[pool.submit(call_timed, fn, items[i])] = i
+                try:
+                    running[pool.submit(call_timed, fn, items[i])] = i
+                except BrokenProcessPool:
+                    todo.appendleft(i)  # not started: it goes to the next pool
+                    broken = True
             if not running:
                 break
             finished, _ = wait(running, return_when=FIRST_COMPLETED)
