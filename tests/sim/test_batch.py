@@ -22,7 +22,9 @@ CONFIGS = [  # different seeds, box counts and controllers; one without sensor n
     EpisodeConfig(**RANDOM, arena_opts={"n_boxes": 3}, controller="static", seed=2),
     EpisodeConfig(**RANDOM, arena_opts={"n_boxes": 20, "extent": 2.5}, controller="braitenberg", seed=3, noise=0.0),
     INTO_TILTED_BOX,
-    EpisodeConfig(**RANDOM, arena_opts={"n_boxes": 12, "extent": 3.0}, controller="plastic", seed=4, variant="original"),
+    EpisodeConfig(
+        **RANDOM, arena_opts={"n_boxes": 12, "extent": 3.0}, controller="plastic", seed=4, variant="original"
+    ),
 ]
 
 

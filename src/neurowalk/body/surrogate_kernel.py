@@ -17,8 +17,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from neurowalk.compiled import jit
 from neurowalk.neural.sensory import STEER, sensory_input, sensory_step
 
 X, Y, YAW, VX, VY, W, SWAY, N1, N2 = range(9)
@@ -26,7 +26,7 @@ RUN_STATE = 9
 PUSH_PASSES = 8  # collision resolution passes per step (at most; stops when nothing overlaps)
 
 
-@njit(cache=True)
+@jit
 def ray_boxes(ox: float, oy: float, dx: float, dy: float, boxes: np.ndarray, max_range: float) -> float:
     """Distance (m) along the unit ray (o, d) to the nearest box, ``inf`` if none within ``max_range``."""
     best = math.inf
@@ -55,7 +55,7 @@ def ray_boxes(ox: float, oy: float, dx: float, dy: float, boxes: np.ndarray, max
     return best if best <= max_range else math.inf
 
 
-@njit(cache=True)
+@jit
 def push_out(state: np.ndarray, yaw: float, circles: np.ndarray, boxes: np.ndarray, reach: float) -> int:
     """Translate the body (heading ``yaw``) out of every box it overlaps; returns the overlaps seen."""
     hits = 0
@@ -92,7 +92,7 @@ def push_out(state: np.ndarray, yaw: float, circles: np.ndarray, boxes: np.ndarr
     return hits
 
 
-@njit(cache=True)
+@jit
 def velocity_command(grid: np.ndarray, table: np.ndarray, o1: float, o2: float, out: np.ndarray) -> None:
     """Bilinear look-up of the motion table (g, g, n) at steering (o1, o2) into ``out`` (n,)."""
     g = grid.shape[0]
@@ -112,7 +112,7 @@ def velocity_command(grid: np.ndarray, table: np.ndarray, o1: float, o2: float, 
         out[k] = lo * (1.0 - fa) + hi * fa
 
 
-@njit(cache=True)
+@jit
 def move(state: np.ndarray, ring: np.ndarray, k: int, cmd: np.ndarray, alpha: float, dt: float) -> None:
     """Delay the command (n,) through ``ring``, low-pass it into the state (gain ``alpha``), integrate the pose."""
     slot = k % ring.shape[0]
@@ -129,7 +129,7 @@ def move(state: np.ndarray, ring: np.ndarray, k: int, cmd: np.ndarray, alpha: fl
     state[YAW] = math.atan2(math.sin(yaw), math.cos(yaw))
 
 
-@njit(cache=True)
+@jit
 def rollout(
     k0: int, k1: int, state: np.ndarray, ring: np.ndarray, sens: np.ndarray, sens_p: np.ndarray,
     fixed: bool, steer: np.ndarray, boxes: np.ndarray, circles: np.ndarray, rays: np.ndarray,

@@ -24,8 +24,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
+from neurowalk.compiled import jit
 from neurowalk.neural.sensory import SensoryParams, initial_state, sensory_step
 
 A_DEFAULT = SensoryParams().a  # input weight 4.7
@@ -52,7 +52,7 @@ def single_neuron_thresholds(b: float, a: float = A_DEFAULT) -> tuple[float, flo
     return theta / a, -theta / a
 
 
-@njit(cache=True)
+@jit
 def _sweep(s: np.ndarray, levels: np.ndarray, other: float, p: np.ndarray, settle: int,
            out: np.ndarray) -> None:  # fmt: skip
     for j in range(levels.shape[0]):

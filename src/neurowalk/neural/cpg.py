@@ -24,7 +24,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
+
+from neurowalk.compiled import jit
 
 GAITS: dict[str, float] = {
     "slow-wave": 0.02,
@@ -66,7 +67,7 @@ class CpgParams:
 PCPG_FIELDS = 7
 
 
-@njit(cache=True)
+@jit
 def cpg_step(o: np.ndarray, w_self: float, w_cross: float) -> None:
     """Advance the CPG outputs ``o`` (2,) one step in place; ``w_cross`` includes MI."""
     o0, o1 = o[0], o[1]
@@ -74,7 +75,7 @@ def cpg_step(o: np.ndarray, w_self: float, w_cross: float) -> None:
     o[1] = math.tanh(-w_cross * o0 + w_self * o1)
 
 
-@njit(cache=True)
+@jit
 def pcpg_step(c: np.ndarray, act: float, threshold: float, partial: bool = False) -> float:
     """Advance one PCPG channel ``c`` (7,) in place from CPG output ``act``; returns y in [-1, 1].
 
@@ -103,7 +104,7 @@ def pcpg_step(c: np.ndarray, act: float, threshold: float, partial: bool = False
     return y
 
 
-@njit(cache=True)
+@jit
 def _run_cpg(o: np.ndarray, pc: np.ndarray, steps: int, w_self: float, w_cross: float, thr: float, partial: bool,
              out: np.ndarray) -> None:  # fmt: skip
     for t in range(steps):

@@ -26,9 +26,9 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
 
 from neurowalk import anatomy
+from neurowalk.compiled import jit
 from neurowalk.neural.cpg import PCPG_FIELDS, CpgParams, cpg_step, pcpg_step
 
 # ---- state layout of one network (a flat float vector) -------------------------------------
@@ -93,17 +93,17 @@ class LocomotionParams:
                          self.fti_steer_gain, self.fti_mid_gain, float(c.pcpg_first_partial)])  # fmt: skip
 
 
-@njit(cache=True)
+@jit
 def _lin(x: float, x_lo: float, x_hi: float, y_lo: float, y_hi: float) -> float:
     return y_lo + (x - x_lo) * (y_hi - y_lo) / (x_hi - x_lo)
 
 
-@njit(cache=True)
+@jit
 def _clip1(y: float) -> float:
     return min(1.0, max(-1.0, y))
 
 
-@njit(cache=True)
+@jit
 def motor_map(tc: np.ndarray, ctr: np.ndarray, fti: np.ndarray, out: np.ndarray) -> None:
     """Map pre-motor signals (6,) each, LEGS order, to 18 joint angles (rad) in actuator order."""
     for leg in range(6):
@@ -116,7 +116,7 @@ def motor_map(tc: np.ndarray, ctr: np.ndarray, fti: np.ndarray, out: np.ndarray)
         out[12 + leg] = FTI_SLOPE * y + FTI_OFFSET
 
 
-@njit(cache=True)
+@jit
 def _vrn(old: np.ndarray, new: np.ndarray, base: int, x_in: float, y_in: float) -> None:
     """One VRN (7 neurons at ``base``) from the previous outputs ``old``."""
     x, y = old[base], old[base + 1]
@@ -130,7 +130,7 @@ def _vrn(old: np.ndarray, new: np.ndarray, base: int, x_in: float, y_in: float) 
     new[base + 6] = math.tanh(0.5 * h[0] + 0.5 * h[1] - 0.5 * h[2] - 0.5 * h[3])
 
 
-@njit(cache=True)
+@jit
 def presignal_step(x: np.ndarray, buf: np.ndarray, s_right: float, s_left: float, p: np.ndarray,
                    pre: np.ndarray) -> None:  # fmt: skip
     """Advance one network one control step in place and write the delayed pre-motor signals.
@@ -198,7 +198,7 @@ def presignal_step(x: np.ndarray, buf: np.ndarray, s_right: float, s_left: float
     x[STEP] = t + 1
 
 
-@njit(cache=True)
+@jit
 def locomotion_step(x: np.ndarray, buf: np.ndarray, s_right: float, s_left: float, p: np.ndarray,
                     targets: np.ndarray) -> None:  # fmt: skip
     """Advance one network one control step in place and write 18 leg targets (rad).

@@ -20,10 +20,10 @@ from __future__ import annotations
 
 import math
 
-from numba import njit
+from neurowalk.compiled import jit
 
 
-@njit(cache=True)
+@jit
 def correlation_scaling_delta(
     w: float, nu_prev: float, nu: float, reflex: float, mu: float, gamma: float, k: float
 ) -> float:
@@ -41,7 +41,7 @@ def correlation_scaling_delta(
     return mu * nu_prev * nu * reflex + gamma * (k - nu) * w * w
 
 
-@njit(cache=True)
+@jit
 def activity(output: float, cutoff: float) -> float:
     """Map a neuron output in [-1, 1] to the activity nu = (O + 1) / 2 in [0, 1].
 
@@ -51,7 +51,7 @@ def activity(output: float, cutoff: float) -> float:
     return 0.0 if nu < cutoff else nu
 
 
-@njit(cache=True)
+@jit
 def reflex_signal(stimulus: float, threshold: float) -> float:
     """Reflex signal T of Eq. 6: 1 where the input exceeds ``threshold`` (default -0.5), else 0."""
     return 1.0 if stimulus > threshold else 0.0

@@ -30,8 +30,8 @@ from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
-from numba import njit
 
+from neurowalk.compiled import jit
 from neurowalk.neural.plasticity import activity, correlation_scaling_delta, reflex_signal
 
 Mode = Literal["plastic", "static", "braitenberg"]
@@ -164,7 +164,7 @@ def distance_to_input(distance_m: np.ndarray | float, near: float = US_NEAR_M) -
     return np.clip(x, -1.0, 1.0)
 
 
-@njit(cache=True)
+@jit
 def distance_input(distance_m: float, near: float = US_NEAR_M) -> float:
     """Scalar, compiled :func:`distance_to_input` (the one used in every control loop)."""
     if not (distance_m >= 0.0) or math.isinf(distance_m):  # NaN, negative, inf: no echo
@@ -173,7 +173,7 @@ def distance_input(distance_m: float, near: float = US_NEAR_M) -> float:
     return min(1.0, max(-1.0, x))
 
 
-@njit(cache=True)
+@jit
 def sensory_input(distance_m: float, p: np.ndarray) -> float:
     """:func:`distance_input` with the near distance of a packed params array ``p``."""
     return distance_input(distance_m, p[10])
@@ -186,7 +186,7 @@ STEER = 8  # first steering slot
 PARAMS_SIZE = 14
 
 
-@njit(cache=True)
+@jit
 def sensory_step(s: np.ndarray, i1: float, i2: float, p: np.ndarray) -> None:
     """Advance one network by one step in place. ``s``: (14,) state; ``p``: (14,) packed params.
 
@@ -231,7 +231,7 @@ def sensory_step(s: np.ndarray, i1: float, i2: float, p: np.ndarray) -> None:
             s[7] = q2 + correlation_scaling_delta(q2, nup2, nu2, t2, p[2], p[4], k)
 
 
-@njit(cache=True)
+@jit
 def _run(s: np.ndarray, inputs: np.ndarray, p: np.ndarray, out: np.ndarray) -> None:
     """Step over inputs (T, 2); row t of ``out`` (T, STATE_SIZE) is the state after the t-th update."""
     for t in range(inputs.shape[0]):
@@ -239,7 +239,7 @@ def _run(s: np.ndarray, inputs: np.ndarray, p: np.ndarray, out: np.ndarray) -> N
         out[t] = s
 
 
-@njit(cache=True)
+@jit
 def sensory_step_batch(s: np.ndarray, inputs: np.ndarray, p: np.ndarray) -> None:
     """Advance n networks one step in place: ``s`` (n, STATE_SIZE), ``inputs`` (n, 2)."""
     for i in range(s.shape[0]):

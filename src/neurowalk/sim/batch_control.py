@@ -13,9 +13,9 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 
 import numpy as np
-from numba import njit
 
 from neurowalk import anatomy
+from neurowalk.compiled import jit
 from neurowalk.controller import Controller, FixedController, NeuralController
 from neurowalk.neural.motor import locomotion_step
 from neurowalk.neural.sensory import STEER, sensory_input, sensory_step
@@ -24,7 +24,7 @@ from neurowalk.observation import Observation
 FIXED, NEURAL = 0, 1  # kinds of copy in the compiled step
 
 
-@njit(cache=True)
+@jit
 def control_step(kind: np.ndarray, dist: np.ndarray, sens: np.ndarray, sens_p: np.ndarray, loc: np.ndarray,
                  buf: np.ndarray, loc_p: np.ndarray, inputs: np.ndarray, outputs: np.ndarray,
                  targets: np.ndarray) -> None:  # fmt: skip

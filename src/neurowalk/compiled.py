@@ -1,0 +1,58 @@
+"""Compiled step functions: numba with an on-disk cache keyed on the whole package's source.
+
+numba's own cache (``cache=True``) keys a compiled function on its own file only: a function that calls
+a function of another file keeps running the old callee after that file is edited, silently. So every
+compiled function of neurowalk is made by :func:`jit`, which puts numba's cache in a directory named
+after the package version and a hash of all of the package's source files: any edit anywhere gives a
+fresh directory, so nothing stale is ever loaded. The directory is under ``NUMBA_CACHE_DIR`` when that
+is set, else under ``$XDG_CACHE_HOME/neurowalk/numba`` (``~/.cache/neurowalk/numba``); numba's setting
+for other libraries is left as it was.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from collections.abc import Callable
+from functools import cache
+from importlib import metadata
+from pathlib import Path
+from typing import Any, TypeVar
+
+from numba import config, njit
+
+F = TypeVar("F", bound=Callable[..., Any])
+PACKAGE = Path(__file__).resolve().parent
+
+
+@cache
+def source_key() -> str:
+    """``VERSION-HASH``: the installed version and the SHA-256 (16 hex digits) of every ``.py`` file of the package."""
+    h = hashlib.sha256()
+    for path in sorted(PACKAGE.rglob("*.py")):
+        h.update(path.relative_to(PACKAGE).as_posix().encode())
+        h.update(path.read_bytes())
+    try:
+        version = metadata.version("neurowalk")
+    except metadata.PackageNotFoundError:
+        version = "unknown"
+    return f"{version}-{h.hexdigest()[:16]}"
+
+
+@cache
+def cache_dir() -> Path:
+    """Where neurowalk's compiled functions are cached (see the module doc)."""
+    base = os.environ.get("NUMBA_CACHE_DIR") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join(Path.home(), ".cache"), "neurowalk", "numba"
+    )
+    return Path(base) / source_key()
+
+
+def jit(fn: F) -> F:
+    """``numba.njit(cache=True)`` with the cache in :func:`cache_dir` (numba reads the directory here, once)."""
+    old = config.CACHE_DIR
+    config.CACHE_DIR = str(cache_dir())
+    try:
+        return njit(cache=True)(fn)
+    finally:
+        config.CACHE_DIR = old
