@@ -253,7 +253,7 @@ def _view(args: argparse.Namespace) -> int:
 def _calibrate(args: argparse.Namespace) -> int:
     if args.workers < 1:
         raise UsageError(f"--workers must be >= 1, got {args.workers}")
-    from neurowalk.body.calibration import calibrate, plot_calibration
+    from neurowalk.experiments.calibration import calibrate, plot_calibration
     from neurowalk.fileio import atomic_write, write_json
 
     grid = {"grid": (-1.0, -0.3, 0.0, 0.3, 1.0), "held_out": (-0.6, 0.6)} if args.quick else {}

@@ -11,8 +11,8 @@ import pytest
 from neurowalk.arenas import make_arena
 from neurowalk.arenas.spec import ArenaSpec, Box
 from neurowalk.body import surrogate_kernel as kern
-from neurowalk.body.calibration import WARMUP, WINDOW, body_velocity, drive
 from neurowalk.body.surrogate import Surrogate, box_rows, load_calibration
+from neurowalk.experiments.calibration import WARMUP, WINDOW, body_velocity, drive
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
 

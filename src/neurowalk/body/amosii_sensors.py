@@ -111,7 +111,7 @@ def _build_layout(model: mujoco.MjModel) -> _Layout:
     )
 
 
-def _layout(model: mujoco.MjModel) -> _Layout:
+def sensor_layout(model: mujoco.MjModel) -> _Layout:
     layout = _LAYOUTS.get(model)
     if layout is None:
         layout = _LAYOUTS[model] = _build_layout(model)
@@ -120,12 +120,12 @@ def _layout(model: mujoco.MjModel) -> _Layout:
 
 def joint_qpos_indices(model: mujoco.MjModel) -> np.ndarray:
     """Return the qpos addresses of the 19 joints, shape (19,), actuator order (``data.qpos[idx]`` in rad)."""
-    return _layout(model).qpos.copy()
+    return sensor_layout(model).qpos.copy()
 
 
 def read_us(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
     """Ultrasonic distances in m, shape (2,), order (US_L, US_R); ``inf`` for no echo in range."""
-    lay = _layout(model)
+    lay = sensor_layout(model)
     d = data.sensordata[lay.us]
     return np.where((d < 0.0) | (d > lay.us_range), np.inf, d)
 
@@ -135,7 +135,7 @@ def foot_contacts(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
 
     The normal force on each foot divided by ``contact_force_full`` and clipped to 1.
     """
-    lay = _layout(model)
+    lay = sensor_layout(model)
     return np.minimum(data.sensordata[lay.touch] / lay.force_full, 1.0)
 
 
@@ -143,7 +143,7 @@ def obstacle_contact(model: mujoco.MjModel, data: mujoco.MjData) -> bool:
     """Whether the robot's trunk or a leg touches an obstacle (any geom but the robot's and floor planes)."""
     if data.ncon == 0:
         return False
-    lay = _layout(model)
+    lay = sensor_layout(model)
     g = data.contact.geom[: data.ncon]  # (ncon, 2) geom ids
     robot, obstacle = lay.robot_geom[g], lay.obstacle_geom[g]
     return bool(np.any((robot[:, 0] & obstacle[:, 1]) | (robot[:, 1] & obstacle[:, 0])))
@@ -151,19 +151,19 @@ def obstacle_contact(model: mujoco.MjModel, data: mujoco.MjData) -> bool:
 
 def up_z(model: mujoco.MjModel, data: mujoco.MjData) -> float:
     """World z component of the trunk's up axis (1 upright, 0 on its side, -1 upside down)."""
-    return float(data.sensordata[_layout(model).up])
+    return float(data.sensordata[sensor_layout(model).up])
 
 
 def trunk_pose(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
     """Trunk-centre pose (x m, y m, yaw rad), shape (3,), yaw of the heading in (-π, π]."""
-    lay = _layout(model)
+    lay = sensor_layout(model)
     pos, mat = data.xpos[lay.trunk], data.xmat[lay.trunk]
     return np.array([pos[0], pos[1], math.atan2(mat[3], mat[0])])
 
 
 def obstacle_height(model: mujoco.MjModel, data: mujoco.MjData) -> float:
     """Height in m of the terrain ahead above the lowest sole (0 when flat); see module doc."""
-    lay = _layout(model)
+    lay = sensor_layout(model)
     origin = data.site_xpos[lay.scanner[0]]
     vec = data.site_xmat[lay.scanner][:, 2::3]  # (n, 3) world ray directions: site z axes
     n = len(lay.scanner)
@@ -193,7 +193,7 @@ def _down_height(model: mujoco.MjModel, data: mujoco.MjData, origin: np.ndarray,
 
 def ground_heights(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
     """(2,) heights in m of the terrain under the front tip and under the trunk centre, above the lowest sole."""
-    lay = _layout(model)
+    lay = sensor_layout(model)
     ground = data.geom_xpos[lay.feet, 2].min() - lay.foot_radius
     front = _down_height(model, data, data.site_xpos[lay.scanner[0]].copy(), lay.front, ground)
     centre = _down_height(model, data, data.xpos[lay.trunk].copy(), lay.trunk, ground)

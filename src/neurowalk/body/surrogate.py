@@ -7,7 +7,7 @@ the measured response lag, and integrated; the footprint (circles for trunk and 
 the MJCF) is pushed out of every box it would enter, so the body slides along walls and never passes
 through them. Box heights are ignored: every box is a wall to the surrogate.
 
-The surrogate reads only that data file; :mod:`neurowalk.body.calibration` measures and writes it.
+The surrogate reads only that data file; :mod:`neurowalk.experiments.calibration` measures and writes it.
 """
 
 from __future__ import annotations

@@ -13,9 +13,9 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from neurowalk.body.calibration import HELD_OUT, validation
 from neurowalk.body.surrogate import load_calibration
 from neurowalk.experiments import Result, register
+from neurowalk.experiments.calibration import HELD_OUT, validation
 from neurowalk.experiments.deadlock import NETWORKS, VARIANTS, outcome_table
 
 if TYPE_CHECKING:

@@ -31,13 +31,13 @@ import numpy as np
 from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.body.amosii import joint_qpos_indices
 from neurowalk.body.amosii_params import STAND_KEY, BodyParams
-from neurowalk.body.amosii_sensors import _layout as sensor_layout
+from neurowalk.body.amosii_sensors import sensor_layout
 from neurowalk.body.noise import ColoredNoise
 from neurowalk.body.physics import AmosII
 from neurowalk.observation import Observation
 from neurowalk.sim.batch_control import BatchControllers
-from neurowalk.sim.episode import Episode, EpisodeConfig, _poses_from_qpos, _up_z_from_qpos, build, seeds, summarize
-from neurowalk.sim.trajectory import Trajectory
+from neurowalk.sim.episode import Episode, EpisodeConfig, build, seeds, summarize
+from neurowalk.sim.trajectory import Trajectory, poses_from_qpos, up_z_from_qpos
 
 __all__ = ["BatchEpisodes", "measure_throughput", "run_batch"]
 
@@ -183,8 +183,8 @@ class BatchEpisodes:
         cfg, arena = self.configs[i], self.arenas[i]
         cols = {name: np.ascontiguousarray(a[:, i]) for name, a in rec.items()}
         q = cols["qpos"]
-        tr = Trajectory(pose=_poses_from_qpos(q), joint_angles=np.ascontiguousarray(q[:, self._qidx]),
-                        up_z=_up_z_from_qpos(q), **cols)  # fmt: skip
+        tr = Trajectory(pose=poses_from_qpos(q), joint_angles=np.ascontiguousarray(q[:, self._qidx]),
+                        up_z=up_z_from_qpos(q), **cols)  # fmt: skip
         summary = summarize(cfg, arena, tr, wall, self.warnings(i))
         summary["completed"] = True
         summary["steps_requested"] = cfg.steps

@@ -28,7 +28,7 @@ from neurowalk.body.physics import AmosII, obstacle_contacts
 from neurowalk.body.surrogate import Surrogate
 from neurowalk.controller import CONTROLLERS, Controller, make_controller
 from neurowalk.neural.variants import get_variant
-from neurowalk.sim.trajectory import Trajectory
+from neurowalk.sim.trajectory import Trajectory, poses_from_qpos, up_z_from_qpos
 
 BODIES: tuple[str, ...] = ("amosii", "surrogate")
 
@@ -194,9 +194,9 @@ def _loop(cfg: EpisodeConfig, body: AmosII, ctrl: Controller, tr: Trajectory, ha
 def _finish(tr: Trajectory, body: AmosII, start: int, stop: int) -> Trajectory:
     """Fill the derived arrays (pose, joint angles, up_z) of rows [start, stop) from qpos; return ``tr``."""
     q = tr.qpos[start:stop]
-    tr.pose[start:stop] = _poses_from_qpos(q)
+    tr.pose[start:stop] = poses_from_qpos(q)
     tr.joint_angles[start:stop] = q[:, 7:][:, _joint_order(body)]
-    tr.up_z[start:stop] = _up_z_from_qpos(q)
+    tr.up_z[start:stop] = up_z_from_qpos(q)
     return tr
 
 
@@ -219,17 +219,6 @@ def _progress(total: int, on: bool) -> Any:
 
 def _joint_order(body: AmosII) -> np.ndarray:
     return body._qidx - 7
-
-
-def _poses_from_qpos(qpos: np.ndarray) -> np.ndarray:
-    w, x, y, z = qpos[:, 3], qpos[:, 4], qpos[:, 5], qpos[:, 6]
-    yaw = np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
-    return np.column_stack([qpos[:, 0], qpos[:, 1], yaw])
-
-
-def _up_z_from_qpos(qpos: np.ndarray) -> np.ndarray:
-    x, y = qpos[:, 4], qpos[:, 5]
-    return 1 - 2 * (x * x + y * y)
 
 
 def _start_weights(cfg: EpisodeConfig) -> dict[str, float]:

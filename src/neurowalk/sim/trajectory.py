@@ -95,3 +95,16 @@ class PartWriter:
             p.unlink()
         if self.folder.exists():
             self.folder.rmdir()
+
+
+def poses_from_qpos(qpos: np.ndarray) -> np.ndarray:
+    """(T, 3) planar poses (x m, y m, yaw rad) from free-joint positions ``qpos`` (T, >= 7; quaternion w x y z)."""
+    w, x, y, z = qpos[:, 3], qpos[:, 4], qpos[:, 5], qpos[:, 6]
+    yaw = np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z))
+    return np.column_stack([qpos[:, 0], qpos[:, 1], yaw])
+
+
+def up_z_from_qpos(qpos: np.ndarray) -> np.ndarray:
+    """(T,) z component of the trunk's up axis (1 upright, 0 on its side) from ``qpos`` (T, >= 7)."""
+    x, y = qpos[:, 4], qpos[:, 5]
+    return 1 - 2 * (x * x + y * y)

@@ -8,9 +8,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from neurowalk.body.calibration import body_velocity, fit_lag, predict, sway_fit
 from neurowalk.body.surrogate import load_calibration
 from neurowalk.cli import main
+from neurowalk.experiments.calibration import body_velocity, fit_lag, predict, sway_fit
 
 
 def test_body_velocity_of_a_circle() -> None:
