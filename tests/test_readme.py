@@ -19,3 +19,40 @@ def test_readme_starts_with_two_commands_and_ci_runs_the_test_one():
     main_job, tests = cmds
     assert "neurowalk" in main_job and "pytest" in tests
     assert tests in (ROOT / ".ci" / "run").read_text()
+
+
+def _neurowalk_commands() -> list[str]:
+    """Every `neurowalk ...` command in the README's code blocks (continuation lines joined, comments cut)."""
+    text = (ROOT / "README.md").read_text()
+    cmds = []
+    for block in re.findall(r"```[a-z]*\n(.*?)```", text, re.S):
+        joined = re.sub(r"\\\n\s*", " ", block)
+        for line in joined.splitlines():
+            line = line.split("  #")[0].strip()
+            for part in line.split("&&"):
+                part = part.strip()
+                if part.startswith(("neurowalk ", ".venv/bin/neurowalk ")):
+                    cmds.append(part)
+    return cmds
+
+
+def test_every_readme_command_parses():
+    import shlex
+
+    from neurowalk.cli import parse
+
+    cmds = _neurowalk_commands()
+    assert len(cmds) >= 20
+    for cmd in cmds:
+        parse(shlex.split(cmd)[1:])  # raises UsageError naming what no longer parses
+
+
+def test_the_command_check_catches_a_bad_command():
+    import shlex
+
+    import pytest
+
+    from neurowalk.cli import UsageError, parse
+
+    with pytest.raises(UsageError):
+        parse(shlex.split("neurowalk run --no-such-flag 3")[1:])

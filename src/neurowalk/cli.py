@@ -8,7 +8,7 @@ from __future__ import annotations
 import argparse
 import sys
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from neurowalk import __version__
@@ -19,8 +19,21 @@ class UsageError(Exception):
 
 
 class _Parser(argparse.ArgumentParser):
+    help_tail: Callable[[], str] | None = None  # more help, computed only when help is asked for
+
     def error(self, message: str) -> None:  # one clear line instead of usage + message
         raise UsageError(message)
+
+    def format_help(self) -> str:
+        return super().format_help() + (self.help_tail() if self.help_tail else "")
+
+
+def figure_listing() -> str:
+    """The figures, one per line: name and one-line description, aligned."""
+    from neurowalk.experiments import FIGURES
+
+    width = max(len(n) for n in FIGURES) + 2
+    return "\n".join(f"{name:<{width}}{exp.title}" for name, exp in sorted(FIGURES.items()))
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -28,6 +41,7 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="version", version=f"neurowalk {__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=_Parser)
     f = sub.add_parser("figure", help="reproduce a paper figure: writes DIR/NAME.png and DIR/NAME.json")
+    f.help_tail = lambda: "\nfigures:\n" + "".join(f"  {line}\n" for line in figure_listing().splitlines())
     f.add_argument("name", help="figure name (see `neurowalk figure list`)")
     f.add_argument("--out", type=Path, default=None, help="output folder (default: out/NAME)")
     f.add_argument("--quick", action="store_true", help="shorter runs, coarser grids")
@@ -322,8 +336,7 @@ def _figure(args: argparse.Namespace) -> int:
     from neurowalk.experiments import FIGURES
 
     if args.name == "list":
-        for name, exp in sorted(FIGURES.items()):
-            print(f"{name:8s} {exp.title}")
+        print(figure_listing())
         return 0
     if args.name not in FIGURES:
         raise UsageError(f"unknown figure {args.name!r}; available: {', '.join(sorted(FIGURES))}")
@@ -559,16 +572,21 @@ def _optimize(args: argparse.Namespace) -> int:
     return 0
 
 
-def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``neurowalk`` command; returns the exit status."""
-    argv = list(sys.argv[1:] if argv is None else argv)
+def parse(argv: list[str]) -> argparse.Namespace:
+    """The parsed command line (raises UsageError on a bad one); nothing runs."""
+    argv = list(argv)
     # `--steer -1,-1` would read as an option: glue the value on (`--steer=-1,-1`).
     for i, a in enumerate(argv[:-1]):
         if a == "--steer":
             argv[i : i + 2] = [f"--steer={argv[i + 1]}"]
             break
+    return _parser().parse_args(argv)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``neurowalk`` command; returns the exit status."""
     try:
-        args = _parser().parse_args(argv)
+        args = parse(list(sys.argv[1:] if argv is None else argv))
         commands = {"figure": _figure, "run": _run, "view": _view, "arenas": _arenas, "export-model": _export,
                     "calibrate": _calibrate, "bench": _bench}  # fmt: skip
         commands["sweep"] = _sweep
