@@ -95,3 +95,25 @@ def test_step_height_the_arena_cannot_build_exits_2(opt, tmp_path, capsys):
 def test_climbing_needs_the_physics_body(tmp_path, capsys):
     assert main(["run", "--body", "surrogate", "--climb", "--out", str(tmp_path / "x")]) == 2
     assert "amosii" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    "cmd,word",
+    [
+        (["run", "--steps", "5", "--out", "FILE"], "is a file, not a folder"),
+        (["run", "--steps", "5", "--out", "FILE/sub"], "cannot make the output folder"),
+        (["figure", "fig2", "--quick", "--out", "FILE"], "is a file, not a folder"),
+        (["sweep", "--steps", "5", "--out", "FILE"], "is a file, not a folder"),
+        (["bench", "--quick", "--out", "FILE"], "is a file, not a folder"),
+        (["export-model", "--out", "DIR"], "is a folder; give a file name"),
+        (["export-model", "--out", "FILE/model.xml"], "is a file, not a folder"),
+    ],
+)
+def test_an_output_path_that_cannot_be_written_exits_2_before_any_work(cmd, word, tmp_path, capsys):
+    f = tmp_path / "a-file"
+    f.write_text("keep me")
+    args = [a.replace("FILE", str(f)).replace("DIR", str(tmp_path)) for a in cmd]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and word in err[0]
+    assert f.read_text() == "keep me"

@@ -6,6 +6,7 @@ Bad input exits with status 2 and one line on stderr naming the offending value.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from collections.abc import Callable, Sequence
@@ -26,6 +27,27 @@ class _Parser(argparse.ArgumentParser):
 
     def format_help(self) -> str:
         return super().format_help() + (self.help_tail() if self.help_tail else "")
+
+
+def out_folder(path: Path, flag: str = "--out") -> Path:
+    """Make the output folder ``path`` (and its parents); UsageError naming it if it is a file or cannot be written."""
+    if path.exists() and not path.is_dir():
+        raise UsageError(f"{flag} {str(path)!r} is a file, not a folder")
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise UsageError(f"cannot make the output folder {str(path)!r}: {e.strerror}") from None
+    if not os.access(path, os.W_OK):
+        raise UsageError(f"{flag} {str(path)!r}: the folder is not writable")
+    return path
+
+
+def out_file(path: Path, flag: str = "--out") -> Path:
+    """Check that the output file ``path`` can be written (its folder made); UsageError naming it otherwise."""
+    if path.is_dir():
+        raise UsageError(f"{flag} {str(path)!r} is a folder; give a file name")
+    out_folder(path.parent if str(path.parent) else Path("."), flag)
+    return path
 
 
 def figure_listing() -> str:
@@ -200,8 +222,7 @@ def _run(args: argparse.Namespace) -> int:
     from neurowalk.sim.episode import RunInterruptedError, build, run_episode
     from neurowalk.sim.trajectory import PartWriter
 
-    out: Path = args.out
-    out.mkdir(parents=True, exist_ok=True)
+    out = out_folder(args.out)
     parts = PartWriter(out / "trajectory.parts")
     import signal
 
@@ -270,9 +291,9 @@ def _calibrate(args: argparse.Namespace) -> int:
     from neurowalk.experiments.calibration import calibrate, plot_calibration
     from neurowalk.fileio import atomic_write, write_json
 
+    out_file(args.out)  # before the minute of measuring
     grid = {"grid": (-1.0, -0.3, 0.0, 0.3, 1.0), "held_out": (-0.6, 0.6)} if args.quick else {}
     cal = calibrate(**grid, workers=args.workers)  # type: ignore[arg-type]
-    args.out.parent.mkdir(parents=True, exist_ok=True)
     write_json(args.out, cal.to_json())
     fig = plot_calibration(cal)
     png = args.out.with_suffix(".png")
@@ -290,7 +311,7 @@ def _bench(args: argparse.Namespace) -> int:
     from neurowalk.bench import run_bench
     from neurowalk.fileio import write_json
 
-    args.out.mkdir(parents=True, exist_ok=True)
+    out_folder(args.out)
     r = run_bench(quick=args.quick, workers=args.workers)
     write_json(args.out / "bench.json", r)
     b = r["batch_physics"]["speedup_vs_single_loop"]
@@ -323,7 +344,7 @@ def _export(args: argparse.Namespace) -> int:
         arena = make_arena(args.arena, **_arena_opts(args.arena_opt))
     except ValueError as e:
         raise UsageError(str(e)) from None
-    path = export_model(args.out, world=arena.to_mjcf())
+    path = export_model(out_file(args.out), world=arena.to_mjcf())
     print(f"wrote {path}")
     return 0
 
@@ -402,7 +423,7 @@ def _figure(args: argparse.Namespace) -> int:
                 raise UsageError(f"--arena-opt size={opts['size']}: {e}") from None
         if "out" in params:
             kwargs["out"] = out  # the figure keeps a resumable result store there
-        out.mkdir(parents=True, exist_ok=True)
+        out_folder(out)
         result = exp.run(**kwargs)
     paths = {} if args.replot else output.save_data(result, out)  # the numbers first: a plot error loses nothing
     paths = {"png": output.save_figure(result, exp.plot(result), out), **paths}
@@ -474,11 +495,7 @@ def _sweep(args: argparse.Namespace) -> int:
         raise UsageError(str(e)) from None
     if args.export == "parquet" and importlib.util.find_spec("pyarrow") is None:
         raise UsageError("--export parquet needs `pip install neurowalk[parquet]`")
-    out: Path = args.out
-    try:
-        out.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        raise UsageError(f"cannot make the output folder {str(out)!r}: {e.strerror}") from None
+    out = out_folder(args.out)
     settings = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items() if k != "command"}
     info: dict = {"command": "sweep", "settings": settings, "finished": False}
     try:
