@@ -117,3 +117,17 @@ def test_an_output_path_that_cannot_be_written_exits_2_before_any_work(cmd, word
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and word in err[0]
     assert f.read_text() == "keep me"
+
+
+def test_ctrl_c_in_a_figure_says_how_to_resume(monkeypatch, tmp_path, capsys):
+    import dataclasses
+
+    from neurowalk.experiments import FIGURES
+
+    def stop(**kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setitem(FIGURES, "fig2", dataclasses.replace(FIGURES["fig2"], run=stop))
+    assert main(["figure", "fig2", "--out", str(tmp_path)]) == 130
+    err = capsys.readouterr().err
+    assert "interrupted" in err and "run the same command again to resume" in err

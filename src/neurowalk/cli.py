@@ -424,7 +424,16 @@ def _figure(args: argparse.Namespace) -> int:
         if "out" in params:
             kwargs["out"] = out  # the figure keeps a resumable result store there
         out_folder(out)
-        result = exp.run(**kwargs)
+        from neurowalk.runners.store import StoreError
+
+        try:
+            result = exp.run(**kwargs)
+        except StoreError as e:
+            raise UsageError(str(e)) from None
+        except KeyboardInterrupt:
+            print(f"neurowalk: {args.name} interrupted; the finished runs are kept in {out}: run the same command "
+                  "again to resume (figures without a store there start over)", file=sys.stderr)  # fmt: skip
+            return 130
     paths = {} if args.replot else output.save_data(result, out)  # the numbers first: a plot error loses nothing
     paths = {"png": output.save_figure(result, exp.plot(result), out), **paths}
     print(f"{args.name}: wrote {', '.join(str(p) for p in paths.values())} in {time.perf_counter() - t0:.1f} s")

@@ -76,4 +76,11 @@ def test_export_parquet_and_csv(tmp_path):
         assert len(rows) == 4 and list(rows[0]) == tab.column_names
         with pytest.raises(ValueError, match="xls"):
             st.export(tmp_path / "r.xls", "xls")
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.csv", "r.parquet", "r.sqlite"]  # no temp files left
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["r.csv", "r.parquet", "r.sqlite", "r.sqlite.lock"]  # no temps
+
+
+def test_a_second_writer_of_one_store_is_refused_until_the_first_closes(tmp_path):
+    with ResultStore(tmp_path / "r.sqlite"), pytest.raises(StoreError, match="in use by another sweep or figure"):
+        ResultStore(tmp_path / "r.sqlite")
+    with ResultStore(tmp_path / "r.sqlite") as st:  # released on close
+        assert st.counts() is not None

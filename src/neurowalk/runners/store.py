@@ -19,10 +19,11 @@ from __future__ import annotations
 
 import csv
 import datetime
+import fcntl
 import json
 import sqlite3
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 from neurowalk.fileio import atomic_write, to_jsonable
 
@@ -54,17 +55,19 @@ class ResultStore:
 
     def __init__(self, path: Path | str) -> None:
         self.path = Path(path)
+        self._lock = _lock(self.path)
         try:
             self._db = sqlite3.connect(self.path, timeout=30.0, isolation_level=None)  # autocommit; explicit txns
         except sqlite3.Error as e:
+            self._lock.close()
             raise StoreError(f"cannot open result store {str(self.path)!r}: {e}") from None
         try:
             self._open()
         except sqlite3.Error as e:
-            self._db.close()
+            self.close()
             raise StoreError(f"{str(self.path)!r} is not a readable result store ({e})") from None
         except StoreError:
-            self._db.close()
+            self.close()
             raise
 
     def _open(self) -> None:
@@ -202,14 +205,33 @@ class ResultStore:
         return path
 
     def close(self) -> None:
-        """Close the file (a clean close folds the write-ahead log back into it)."""
+        """Close the file (a clean close folds the write-ahead log back into it) and release the folder's lock."""
         self._db.close()
+        self._lock.close()
 
     def __enter__(self) -> ResultStore:
         return self
 
     def __exit__(self, *exc: object) -> None:
         self.close()
+
+
+def _lock(path: Path) -> IO[bytes]:
+    """Hold ``PATH.lock`` exclusively while the store is open: a second sweep or figure into the same store is refused.
+
+    The lock is the operating system's (``flock``): it goes with the process, so a killed run leaves none behind.
+    """
+    try:
+        f = open(path.with_name(path.name + ".lock"), "ab")  # noqa: SIM115 (held open until close)
+    except OSError as e:
+        raise StoreError(f"cannot open result store {str(path)!r}: {e.strerror}") from None
+    try:
+        fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        f.close()
+        raise StoreError(f"result store {str(path)!r} is in use by another sweep or figure; wait for it to finish "
+                         "or use another output folder") from None  # fmt: skip
+    return f
 
 
 class _Txn:
