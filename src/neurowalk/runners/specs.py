@@ -14,6 +14,7 @@ import dataclasses
 import hashlib
 import itertools
 import json
+import math
 from pathlib import Path
 from typing import Any
 
@@ -70,12 +71,14 @@ def normalize(spec: Spec) -> Spec:
     for key, value in s["arena_opts"].items():
         if key not in known:
             raise ValueError(f"arena {out['arena']!r} has no option {key!r}; options: {', '.join(known) or 'none'}")
+        kind = type(known[key])
         try:
-            opts[key] = type(known[key])(value)
-        except (TypeError, ValueError):
-            raise ValueError(
-                f"arena {out['arena']!r}: option {key}={value!r} is not a {type(known[key]).__name__}"
-            ) from None
+            opts[key] = kind(value) if kind is not int else _whole(value, key)
+        except (TypeError, ValueError, OverflowError):
+            opts[key] = None
+        if opts[key] is None or (kind is float and not math.isfinite(opts[key])):
+            what = "a whole number" if kind is int else "a finite number" if kind is float else f"a {kind.__name__}"
+            raise ValueError(f"arena {out['arena']!r}: option {key}={value!r} must be {what}")
     out["arena_opts"] = to_jsonable(opts)
     for key in ("reflexes", "backbone"):
         if not isinstance(s[key], bool):
@@ -95,9 +98,13 @@ def normalize(spec: Spec) -> Spec:
 
 
 def _whole(value: Any, name: str) -> int:
-    if isinstance(value, bool) or float(value) != int(float(value)):
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a whole number, got {value!r}") from None
+    if isinstance(value, bool) or not math.isfinite(x) or x != int(x):
         raise ValueError(f"{name} must be a whole number, got {value!r}")
-    return int(float(value))
+    return int(x)
 
 
 def to_config(spec: Spec) -> EpisodeConfig:

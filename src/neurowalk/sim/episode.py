@@ -15,6 +15,7 @@ the same seed gives the same trajectory, bit for bit.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field, replace
 from typing import Any
@@ -58,10 +59,22 @@ class EpisodeConfig:
             raise ValueError(f"unknown controller {self.controller!r}; expected one of {', '.join(CONTROLLERS)}")
         if self.body not in BODIES:
             raise ValueError(f"unknown body {self.body!r}; expected one of {', '.join(BODIES)}")
-        if int(self.steps) != self.steps or self.steps < 1:
-            raise ValueError(f"steps must be a positive integer, got {self.steps!r}")
-        if int(self.seed) != self.seed or self.seed < 0:
-            raise ValueError(f"seed must be a non-negative integer, got {self.seed!r}")
+        if not _whole(self.steps) or not 1 <= self.steps <= MAX_STEPS:
+            raise ValueError(f"steps must be a whole number from 1 to {MAX_STEPS:,}, got {self.steps!r}")
+        if not _whole(self.seed) or not 0 <= self.seed < 2**63:
+            raise ValueError(f"seed must be a whole number from 0 to 2**63 - 1, got {self.seed!r}")
+        if not _number(self.control_hz) or not 0 < self.control_hz <= 1000:
+            raise ValueError(f"control_hz must be a number in (0, 1000] Hz, got {self.control_hz!r}")
+        if not _number(self.noise) or not 0 <= self.noise <= 1:
+            raise ValueError(f"noise must be a number in [0, 1] (strength of the sensor noise), got {self.noise!r}")
+        for name in ("b0", "q0"):
+            v = getattr(self, name)
+            if v is not None and (not _number(v) or v < 0):
+                raise ValueError(f"{name} must be a number >= 0 (a start weight), got {v!r}")
+        if self.steer is not None and (
+            len(self.steer) != 2 or not all(_number(v) and -1 <= v <= 1 for v in self.steer)
+        ):
+            raise ValueError(f"steer must be two numbers O1, O2 in [-1, 1], got {list(self.steer)!r}")
         if (self.b0 is not None or self.q0 is not None) and self.controller != "plastic":
             raise ValueError("start weights b0/q0 go with controller 'plastic' only")
         if (self.controller == "fixed") != (self.steer is not None):
@@ -69,6 +82,19 @@ class EpisodeConfig:
         if (self.reflexes or self.backbone) and self.body != "amosii":
             raise ValueError(f"reflexes and backbone control need body 'amosii' (legs and terrain), got {self.body!r}")
         get_variant(self.variant, self.params)  # raises on an unknown variant or a bad parameter
+
+
+MAX_STEPS = 100_000_000  # control steps of one run (about 116 days simulated at 10 Hz)
+
+
+def _number(v: object) -> bool:
+    """A finite real number (not a bool)."""
+    return isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
+
+
+def _whole(v: object) -> bool:
+    """A finite whole number (not a bool)."""
+    return _number(v) and float(v) == int(v)  # type: ignore[arg-type]
 
 
 @dataclass
