@@ -213,9 +213,12 @@ def _run(args: argparse.Namespace) -> int:
     if args.video and args.body != "amosii":
         raise UsageError(f"--video needs --body amosii (the {args.body!r} body has no 3-D state to render)")
     if args.video:
-        from neurowalk.render import use_headless_gl
+        from neurowalk.render import check_gl, use_headless_gl
 
         use_headless_gl()
+        problem = check_gl()  # before the run, not after it
+        if problem:
+            raise UsageError(f"--video: {problem}")
     cfg = _episode_config(args)
     from neurowalk.fileio import atomic_write, write_json
     from neurowalk.plotting import plot_run

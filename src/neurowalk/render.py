@@ -26,6 +26,26 @@ def use_headless_gl() -> None:
     os.environ.setdefault("MUJOCO_GL", "egl")
 
 
+def check_gl() -> str | None:
+    """None if offscreen rendering works here, else one line saying why (call after :func:`use_headless_gl`)."""
+    import warnings
+
+    import mujoco
+
+    try:
+        model = mujoco.MjModel.from_xml_string("<mujoco><worldbody><geom size='0.1'/></worldbody></mujoco>")
+        with warnings.catch_warnings():  # a GL library's own warnings: the answer below says it in one line
+            warnings.simplefilter("ignore")
+            renderer = mujoco.Renderer(model, 8, 8)
+    except Exception as e:  # every GL failure is the same answer: no rendering here
+        backend = os.environ.get("MUJOCO_GL", "default")
+        first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+        return (f"no OpenGL for offscreen rendering (MUJOCO_GL={backend}: {first}); install EGL or OSMesa, "
+                "e.g. `apt-get install libegl1` or `libosmesa6` with MUJOCO_GL=osmesa")  # fmt: skip
+    renderer.close()
+    return None
+
+
 def render_video(model: object, qpos: np.ndarray, path: str | Path, *, fps: float = 15.0, width: int = 640,
                  height: int = 480, every: int = 2, distance: float = 1.3, progress: bool = False) -> Path:  # fmt: skip
     """Render frames of recorded positions ``qpos`` (T, nq) to an mp4 at ``path`` (atomically).
