@@ -33,3 +33,11 @@ def die_on_seed_2(spec: dict[str, Any]) -> dict[str, Any]:
 def not_a_dict(spec: dict[str, Any]) -> Any:
     """A bad fn: returns a list."""
     return [spec["seed"]]
+
+
+def slow(spec: dict[str, Any]) -> dict[str, Any]:
+    """Like :func:`cheap`, after sleeping ``spec["sleep"]`` seconds (a long run)."""
+    import time
+
+    time.sleep(spec["sleep"])
+    return cheap(spec)

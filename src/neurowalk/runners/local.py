@@ -6,6 +6,9 @@ simple form the experiments use (episode configs in, results in input order).
 
 from __future__ import annotations
 
+import os
+import signal
+import sys
 import time
 from collections import deque
 from collections.abc import Callable, Generator, Sequence
@@ -73,7 +76,7 @@ def _pool_pass(fn: Callable[[Any], Any], items: Sequence[Any], todo: deque[int],
 
     At most ``2 * workers`` jobs are in flight, so a break loses few and results stream back as they finish.
     """
-    pool = ProcessPoolExecutor(max_workers=workers)
+    pool = ProcessPoolExecutor(max_workers=workers, initializer=die_with_parent, initargs=(os.getpid(),))
     running: dict[Future, int] = {}
     lost: list[int] = []
     broken = False  # the pool broke (a submit can meet the break before any future reports it)
@@ -103,6 +106,20 @@ def _pool_pass(fn: Callable[[Any], Any], items: Sequence[Any], todo: deque[int],
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
         todo.extendleft(reversed([i for i in running.values() if i not in lost]))  # on early exit keep the rest
+
+
+def die_with_parent(parent: int) -> None:
+    """Pool worker initializer: the worker dies with its driver, even a driver killed with SIGKILL.
+
+    On Linux the kernel sends the worker SIGKILL when the driver exits (``prctl(PR_SET_PDEATHSIG)``); a driver that
+    died before that was set (the worker's parent is no longer ``parent``) ends the worker at once.
+    """
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # 1 = PR_SET_PDEATHSIG
+    if os.getppid() != parent:
+        os._exit(1)
 
 
 def summary_only(ep: Episode) -> dict[str, Any]:
