@@ -76,6 +76,7 @@ def _parser() -> argparse.ArgumentParser:
     climb = "leg reflexes and backbone control on (fig3 fig5 escape-map table2; default out: out/NAME-climb)"
     f.add_argument("--climb", action="store_true", help=climb)
     _variant_args(f)
+    f.add_argument("--gait", default=None, help="gait of the physics figures that take one (fig3 fig5 escape-map)")
     f.add_argument("--video", action="store_true", help="also write the example runs' videos (fig8, fig9)")
     f.add_argument("--arena-opt", action="append", default=[], metavar="size=M",
                    help="box side of the random environments (table2, fig6; default 1 m, the authors')")  # fmt: skip
@@ -124,6 +125,7 @@ def _sweep_parser(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--backend", choices=("local", "ray"), default="local", help="local process pool or Ray")
     s.add_argument("--address", default=None, help="Ray cluster to join (backend ray; default: a local instance)")
     s.add_argument("--workers", type=int, default=2, help="processes, or CPUs of a local Ray instance (default 2)")
+    s.add_argument("--gait", default=None, metavar="NAME[,NAME...]", help="gaits (default wave)")
     s.add_argument("--out", type=Path, required=True, help="output folder (the store; resumes what is there)")
     s.add_argument("--export", choices=("parquet", "csv"), default=None, help="also write DIR/results.parquet|csv")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -142,6 +144,9 @@ def _episode_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--backbone", action="store_true", help="backbone joint control and climbable-step detection")
     p.add_argument("--climb", action="store_true", help="both --reflexes and --backbone (climbing)")
     _variant_args(p)
+    p.add_argument(
+        "--gait", default="wave", help="slow-wave | wave (default) | slow-tetrapod | tetrapod | tripod | fast"
+    )
 
 
 def _variant_args(p: argparse.ArgumentParser, many: bool = False) -> None:
@@ -202,7 +207,7 @@ def _episode_config(args: argparse.Namespace) -> object:
         cfg = EpisodeConfig(arena=args.arena, arena_opts=_arena_opts(args.arena_opt), controller=args.controller,
                             steer=_steer(args.steer), body=args.body, steps=args.steps, seed=args.seed,
                             reflexes=args.reflexes or args.climb, backbone=args.backbone or args.climb,
-                            variant=variant, params=params)  # fmt: skip
+                            variant=variant, params=params, gait=args.gait)  # fmt: skip
         make_arena(cfg.arena, **cfg.arena_opts)  # validate the arena's options before any work
     except ValueError as e:
         raise UsageError(str(e)) from None
@@ -408,6 +413,14 @@ def _figure(args: argparse.Namespace) -> int:
             kwargs["variant"], overrides = _variant(args)
             if overrides:
                 kwargs["params"] = overrides
+        if args.gait is not None:
+            from neurowalk.neural.cpg import GAITS
+
+            if "gait" not in params:
+                raise UsageError(f"figure {args.name!r} takes no --gait (fig3, fig5 and escape-map do)")
+            if args.gait not in GAITS:
+                raise UsageError(f"unknown gait {args.gait!r}; expected one of {', '.join(GAITS)}")
+            kwargs["gait"] = args.gait
         if args.video:
             if "video" not in params:
                 raise UsageError(f"figure {args.name!r} takes no --video (fig8 and fig9 do)")
@@ -443,7 +456,7 @@ def _figure(args: argparse.Namespace) -> int:
     return 0
 
 
-_GRID_FLAGS = ("arena", "controller", "body", "seeds", "seed_start", "steps", "arena_opt", "variant", "params")
+_GRID_FLAGS = ("arena", "controller", "body", "seeds", "seed_start", "steps", "arena_opt", "variant", "params", "gait")
 
 
 def _sweep_specs(args: argparse.Namespace) -> list[dict]:
@@ -481,6 +494,8 @@ def _sweep_specs(args: argparse.Namespace) -> list[dict]:
         variants = variants or [file_variant]
     if variants:
         axes["variant"] = variants
+    if args.gait:
+        axes["gait"] = [g.strip() for g in args.gait.split(",")]
     axes["seed"] = list(range(start, start + seeds))
     return grid(base, **axes)
 

@@ -33,7 +33,7 @@ QUICK_SIZES = 3  # sizes per sweep with --quick (first, middle, last)
 
 @register(NAME, "escape rate against trap size for all three networks")
 def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, climbing: bool = False,
-        variant: str = "paper") -> Result:  # fmt: skip
+        variant: str = "paper", gait: str = "wave") -> Result:  # fmt: skip
     """Every sweep x network x size x seed; ``seeds`` default 5 (2 with ``quick``); ``climbing``: Fig. 10 modules on.
 
     ``variant``: the networks' variant (``paper`` or ``original``).
@@ -53,14 +53,15 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, climbin
                     keys.append((label, size, net))
                     configs.append(EpisodeConfig(arena=arena, arena_opts={opt: size}, controller=net, steps=TRAP_STEPS,
                                                  seed=s, reflexes=climbing, backbone=climbing,
-                                                 variant=variant))  # fmt: skip
+                                                 variant=variant, gait=gait))  # fmt: skip
     results = run_many(configs, keep=keep_outcome, desc="escape map")
     counts: dict = {}
     for (label, size, net), r in zip(keys, results, strict=True):
         c = counts.setdefault(label, {}).setdefault(net, {}).setdefault(str(size), {"runs": 0, "escaped": 0})
         c["runs"] += 1
         c["escaped"] += int(bool(r["escaped"]))
-    summary = {"seeds": n, "first_seed": seed, "climbing": climbing, "variant": variant, "steps": TRAP_STEPS,
+    summary = {"seeds": n, "first_seed": seed, "climbing": climbing, "variant": variant, "gait": gait,
+               "steps": TRAP_STEPS,
                "sweeps": sweeps,
                "counts": counts,
                "rule": "escape rate = runs that reached the exit region behind the trap's mouth / runs"}  # fmt: skip

@@ -25,14 +25,22 @@ LONG = {"cluttered (static)": {"arena": "cluttered", "controller": "static"},
 
 @register(NAME, "static network: dead ends, hysteresis, cluttered and difficult arenas")
 def run(
-    *, quick: bool = False, seed: int = 0, seeds: int | None = None, climbing: bool = False, variant: str = "paper"
+    *,
+    quick: bool = False,
+    seed: int = 0,
+    seeds: int | None = None,
+    climbing: bool = False,
+    variant: str = "paper",
+    gait: str = "wave",
 ) -> Result:
     """Outcome table over ``seeds`` seeds (default 10; 3 with ``quick``), example and long runs.
 
     ``climbing``: with the leg reflexes and backbone control of Fig. 10 switched on. ``variant``: the networks'
-    variant (``paper`` or ``original``).
+    variant (``paper`` or ``original``). ``gait``: the locomotion network's gait (``wave`` by default).
     """
-    return build(NAME, NETWORK, LONG, quick=quick, seed=seed, seeds=seeds, climbing=climbing, variant=variant)
+    return build(
+        NAME, NETWORK, LONG, quick=quick, seed=seed, seeds=seeds, climbing=climbing, variant=variant, gait=gait
+    )
 
 
 def plot(res: Result) -> Figure:

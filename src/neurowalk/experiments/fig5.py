@@ -28,14 +28,20 @@ LONG = {"difficult (plastic)": {"arena": "difficult", "controller": "plastic"},
 
 @register(NAME, "plastic network: dead ends, weight dynamics, the difficult arena")
 def run(
-    *, quick: bool = False, seed: int = 0, seeds: int | None = None, climbing: bool = False, variant: str = "paper"
+    *,
+    quick: bool = False,
+    seed: int = 0,
+    seeds: int | None = None,
+    climbing: bool = False,
+    variant: str = "paper",
+    gait: str = "wave",
 ) -> Result:
     """Outcome table over ``seeds`` seeds (default 10; 3 with ``quick``), example and long runs.
 
     ``climbing``: with the leg reflexes and backbone control of Fig. 10 switched on. ``variant``: the networks'
-    variant (``paper`` or ``original``).
+    variant (``paper`` or ``original``). ``gait``: the locomotion network's gait (``wave`` by default).
     """
-    res = build(NAME, NETWORK, LONG, quick=quick, seed=seed, seeds=seeds, climbing=climbing, variant=variant)
+    res = build(NAME, NETWORK, LONG, quick=quick, seed=seed, seeds=seeds, climbing=climbing, variant=variant, gait=gait)
     runs = res.summary["runs"]
     p, s = runs["difficult (plastic)"], runs["difficult (static)"]
     res.summary["difficult_comparison"] = {

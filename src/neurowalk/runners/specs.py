@@ -30,7 +30,7 @@ MACHINE_KEYS: tuple[str, ...] = ("wall_time_s", "real_time_factor")
 
 _DEFAULTS: Spec = {f: getattr(EpisodeConfig(), f) for f in FIELDS}
 #: Fields kept out of the canonical form at their defaults (they came after stores were written).
-LATER: tuple[str, ...] = ("reflexes", "backbone", "variant", "params")
+LATER: tuple[str, ...] = ("reflexes", "backbone", "variant", "params", "gait")
 
 
 def normalize(spec: Spec) -> Spec:
@@ -89,6 +89,10 @@ def normalize(spec: Spec) -> Spec:
         raise ValueError(f"variant must be a name, got {s['variant']!r}")
     if s["variant"] != "paper":
         out["variant"] = s["variant"]
+    if not isinstance(s["gait"], str):
+        raise ValueError(f"gait must be a name, got {s['gait']!r}")
+    if s["gait"] != "wave":
+        out["gait"] = s["gait"]
     if s["params"]:
         from neurowalk.neural.variants import check_overrides
 

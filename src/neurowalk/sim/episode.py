@@ -28,6 +28,8 @@ from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.body.physics import AmosII, obstacle_contacts
 from neurowalk.body.surrogate import Surrogate
 from neurowalk.controller import CONTROLLERS, Controller, make_controller
+from neurowalk.neural.cpg import GAITS, CpgParams
+from neurowalk.neural.motor import LocomotionParams
 from neurowalk.neural.variants import get_variant
 from neurowalk.sim.trajectory import Trajectory, poses_from_qpos, up_z_from_qpos
 
@@ -53,6 +55,7 @@ class EpisodeConfig:
     backbone: bool = False  # backbone joint control and the climbable-step decision (obstacle-height sensor)
     variant: str = "paper"  # the network: paper (Eq. 1-6 as printed), original (the authors' code), tuned
     params: dict[str, float] | None = None  # SensoryParams fields set on top of the variant (a params file)
+    gait: str = "wave"  # the CPG's modulatory input by name (neurowalk.neural.cpg.GAITS)
 
     def __post_init__(self) -> None:
         if self.controller not in CONTROLLERS:
@@ -82,6 +85,10 @@ class EpisodeConfig:
         if (self.reflexes or self.backbone) and self.body != "amosii":
             raise ValueError(f"reflexes and backbone control need body 'amosii' (legs and terrain), got {self.body!r}")
         get_variant(self.variant, self.params)  # raises on an unknown variant or a bad parameter
+        if self.gait not in GAITS:
+            raise ValueError(f"unknown gait {self.gait!r}; expected one of {', '.join(GAITS)}")
+        if self.gait != "wave" and self.body == "surrogate":
+            raise ValueError(f"body 'surrogate' is calibrated on the wave gait, got gait {self.gait!r}")
 
 
 MAX_STEPS = 100_000_000  # control steps of one run (about 116 days simulated at 10 Hz)
@@ -131,7 +138,8 @@ def build(cfg: EpisodeConfig, *, pad_boxes: int | None = None) -> tuple[ArenaSpe
     weights = {k: v for k, v in (("b0", cfg.b0), ("q0", cfg.q0)) if v is not None}
     climbing = {k: True for k in ("reflexes", "backbone") if getattr(cfg, k)}
     v = get_variant(cfg.variant, cfg.params)
-    kwargs: dict[str, Any] = {**weights, **climbing, "locomotion": v.locomotion()}
+    gait = LocomotionParams(cpg=CpgParams.for_gait(cfg.gait))
+    kwargs: dict[str, Any] = {**weights, **climbing, "locomotion": v.locomotion(gait)}
     if cfg.controller != "fixed":
         kwargs["sensory"] = v.sensory
     controller = make_controller(cfg.controller, steer=cfg.steer, **kwargs)
@@ -285,6 +293,7 @@ def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory, wall_time_s:
         "backbone": cfg.backbone,
         "variant": cfg.variant,
         "params": cfg.params,
+        "gait": cfg.gait,
         "final_z_m": float(tr.qpos[-1, 2]) if has_z else None,  # trunk height (None: planar body)
         "max_z_m": float(np.max(tr.qpos[:, 2])) if has_z else None,
         "exit_step": metrics.exit_step(pose, arena),
