@@ -80,5 +80,11 @@ def plot_run(tr: Trajectory, arena: ArenaSpec, summary: dict[str, Any]) -> Figur
         a.plot(t, tr.b[:, 1], "C1", label="b2")
         a.plot(t, -0.5 * tr.q.sum(axis=1), "k", label="c")
         a.legend(loc="upper right", fontsize=7, ncol=3)
-    a.set(xlabel="time (s)", ylabel="weights")
+        a.set(xlabel="time (s)", ylabel="weights")
+    else:  # no sensory network (fixed steering): what the sensors saw instead
+        us = np.where(np.isfinite(tr.us_distance), tr.us_distance, np.nan)
+        a.plot(t, us[:, 0], "C0", lw=0.8, label="left")
+        a.plot(t, us[:, 1], "C1", lw=0.8, label="right")
+        a.legend(loc="upper right", fontsize=7, ncol=2)
+        a.set(xlabel="time (s)", ylabel="ultrasonic (m, gaps: no echo)", ylim=(0, 0.42))
     return fig

@@ -58,10 +58,12 @@ def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool
     ax.plot(t, a["narrow-passage/outputs"][:, 0], "C0", lw=1.0, label="O1")
     ax.plot(t, a["narrow-passage/outputs"][:, 1], "C1", lw=1.0, label="O2")
     if np.isfinite(a["narrow-passage/b"]).all() and np.ptp(a["narrow-passage/b"]) > 0:
-        ax.plot(t, a["narrow-passage/b"][:, 0] / 2 - 4, "C0--", lw=1, label="b1/2")
-        ax.plot(t, a["narrow-passage/b"][:, 1] / 2 - 4, "C1--", lw=1, label="b2/2")
-        ax.plot(t, -a["narrow-passage/q"].sum(axis=1) / 4 - 4, "k--", lw=1, label="c/2")
-    ax.set(xlabel="time (s)", yticks=[], title="C  narrow passage: inputs (top), outputs, weights (bottom)")
+        ax.plot(t, a["narrow-passage/b"][:, 0] / 2 - 4, "C0--", lw=1, label="b1")
+        ax.plot(t, a["narrow-passage/b"][:, 1] / 2 - 4, "C1--", lw=1, label="b2")
+        ax.plot(t, -a["narrow-passage/q"].sum(axis=1) / 4 - 4, "k--", lw=1, label="c")
+    ticks = {1.5: "I -1", 2.5: "0", 3.5: "1", -1.0: "O -1", 0.0: "0", 1.0: "1", -6.0: "w -4", -4.0: "0", -2.0: "4"}
+    ax.set_yticks(list(ticks), list(ticks.values()), fontsize=7)
+    ax.set(xlabel="time (s)", title="C  narrow passage: inputs I (top), outputs O, weights w = b, c (bottom)")
     ax.legend(loc="upper right", ncol=7, fontsize=7)
     _io_loop(fig.add_subplot(gs[1, 0]), a["narrow-passage/inputs"][:, 0], a["narrow-passage/outputs"][:, 0],
              "D  left: I1 vs O1 (time: blue → red)")  # fmt: skip

@@ -75,11 +75,15 @@ def plot(res: Result) -> Figure:
     plt = pyplot()
     s = res.summary
     fig, axes = plt.subplots(1, len(s["sweeps"]), figsize=(5 * len(s["sweeps"]), 4), constrained_layout=True)
+    styles = (("o", "-"), ("s", "--"), ("^", ":"))
     for ax, (label, sw) in zip(np.atleast_1d(axes), s["sweeps"].items(), strict=True):
         for i, net in enumerate(NETWORKS):
             c = s["counts"][label][net]
-            rate = [c[str(x)]["escaped"] / c[str(x)]["runs"] for x in sw["sizes"]]
-            ax.plot(sw["sizes"], rate, "o-", color=f"C{i}", label=net)
-        ax.set(xlabel=label, ylabel="escape rate", ylim=(-0.05, 1.05), title=f"{sw['arena']} ({s['seeds']} seeds each)")
+            rate = np.array([c[str(x)]["escaped"] / c[str(x)]["runs"] for x in sw["sizes"]])
+            marker, line = styles[i % len(styles)]
+            # equal rates would hide each other: each network drawn 1.5% above the previous one
+            ax.plot(sw["sizes"], rate + 0.015 * (i - 1), marker=marker, ls=line, color=f"C{i}", label=net, alpha=0.85)
+        ax.set(xlabel=label, ylabel="escape rate (networks offset by 0.015)", ylim=(-0.06, 1.06),
+               title=f"{label.split(' (')[0]}: {s['seeds']} seeds per size")  # fmt: skip
         ax.legend(fontsize=8)
     return fig

@@ -52,8 +52,8 @@ def plot(res: Result) -> Figure:
         pose = res.arrays[f"env{i}/pose"]
         draw_arena(ax, arena, pose, margin=0.2)
         ax.set_title(f"{env['n_boxes']} boxes, seed {env['seed']}", fontsize=8)
-        ax.set_xticks([])
-        ax.set_yticks([])
+        ax.tick_params(labelsize=6)
+        ax.set(xlabel="", ylabel="")
         if not env["success"]:
             for side in ax.spines.values():
                 side.set_edgecolor("red")

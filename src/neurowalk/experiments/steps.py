@@ -68,13 +68,16 @@ def plot(res: Result) -> Figure:
     plt = pyplot()
     s = res.summary
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    for v, d in s["variants"].items():
+    styles = (("o", "-"), ("s", "--"), ("^", ":"), ("D", "-."))
+    for i, (v, d) in enumerate(s["variants"].items()):
         h = [float(k) for k in d["climb_rate"]]
         best = d["highest_reliable_m"]
         label = f"{v} (reliable up to {best:.2f} m)" if best is not None else f"{v} (none reliable)"
-        ax.plot(np.array(h) * 100, list(d["climb_rate"].values()), "o-", label=label)
+        marker, line = styles[i % len(styles)]
+        rate = np.array(list(d["climb_rate"].values())) + 0.012 * (i - 1.5)  # offset: equal rates stay visible
+        ax.plot(np.array(h) * 100, rate, marker=marker, ls=line, label=label, alpha=0.85)
     ax.axhline(s["reliable_share"], color="0.5", ls="--", lw=0.8)
-    ax.set(xlabel="step height (cm)", ylabel=f"climbed (share of {s['seeds']} seeds)", ylim=(-0.05, 1.05),
+    ax.set(xlabel="step height (cm)", ylabel=f"climbed (share of {s['seeds']} seeds; lines offset)", ylim=(-0.06, 1.06),
            title="Single step, steering straight ahead")  # fmt: skip
     ax.legend(fontsize=8)
     fig.tight_layout()
