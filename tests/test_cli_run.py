@@ -131,3 +131,40 @@ def test_ctrl_c_in_a_figure_says_how_to_resume(monkeypatch, tmp_path, capsys):
     assert main(["figure", "fig2", "--out", str(tmp_path)]) == 130
     err = capsys.readouterr().err
     assert "interrupted" in err and "run the same command again to resume" in err
+
+
+def test_a_folder_with_an_unfinished_run_is_refused_unless_overwritten(tmp_path, capsys):
+    parts = tmp_path / "trajectory.parts"
+    parts.mkdir()
+    (parts / "part-0000000000.npz").write_bytes(b"a killed run's rows")
+    args = ["run", "--body", "surrogate", "--steps", "50", "--out", str(tmp_path), "--quiet"]
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "unfinished run" in err[0] and "--overwrite" in err[0]
+    assert (parts / "part-0000000000.npz").exists()  # kept
+    assert main([*args, "--overwrite"]) == 0
+    assert not parts.exists() and (tmp_path / "summary.json").exists()
+
+
+def test_a_reused_folder_holds_only_the_new_runs_files(tmp_path):
+    (tmp_path / "video.mp4").write_bytes(b"an earlier run's video")
+    assert main(["run", "--body", "surrogate", "--steps", "50", "--out", str(tmp_path), "--quiet"]) == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.png", "summary.json", "trajectory.npz"]
+
+
+def test_signals_are_held_during_the_final_save():
+    import os
+    import signal
+
+    from neurowalk.cli import _signals_held
+
+    seen = []
+    old = signal.signal(signal.SIGTERM, lambda *a: seen.append("term"))
+    try:
+        with _signals_held():
+            os.kill(os.getpid(), signal.SIGTERM)  # ignored: the save would finish
+        assert seen == []
+        os.kill(os.getpid(), signal.SIGTERM)  # the handler is back afterwards
+        assert seen == ["term"]
+    finally:
+        signal.signal(signal.SIGTERM, old)

@@ -6,10 +6,11 @@ Bad input exits with status 2 and one line on stderr naming the offending value.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import sys
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 
 from neurowalk import __version__
@@ -86,6 +87,8 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--out", type=Path, default=Path("out/run"), help="output folder (default out/run)")
     r.add_argument("--video", action="store_true", help="also render DIR/video.mp4 (headless)")
     r.add_argument("--quiet", action="store_true", help="no progress bar")
+    r.add_argument("--overwrite", action="store_true",
+                   help="run even where DIR holds the parts of an unfinished (killed) run, deleting them")  # fmt: skip
 
     v = sub.add_parser("view", help="watch a closed-loop run live in MuJoCo's viewer (needs a display)")
     _episode_args(v)
@@ -232,32 +235,44 @@ def _run(args: argparse.Namespace) -> int:
 
     out = out_folder(args.out)
     parts = PartWriter(out / "trajectory.parts")
+    if any(parts.folder.glob("part-*.npz")) and not args.overwrite:
+        raise UsageError(f"{str(out)!r} holds the parts of an unfinished run ({parts.folder.name}/, e.g. a killed "
+                         "one): move them away to keep them, or pass --overwrite")  # fmt: skip
+    parts.remove()
     import signal
 
     def _stop(signum: int, frame: object) -> None:
         raise KeyboardInterrupt  # a killed job (SIGTERM) keeps what it finished, like Ctrl-C
 
     signal.signal(signal.SIGTERM, _stop)
+    interrupted = False
     try:
         ep = run_episode(cfg, progress=not args.quiet, sink=parts.write)  # type: ignore[arg-type]
     except RunInterruptedError as stop:
-        ep = stop.episode
+        ep, interrupted = stop.episode, True
+    with _signals_held():  # a signal now would lose the finished run: the save finishes first
         ep.trajectory.save(out / "trajectory.npz")
         write_json(out / "summary.json", ep.summary)
         parts.remove()
+        if not interrupted:
+            fig = plot_run(ep.trajectory, ep.arena, ep.summary)
+            atomic_write(out / "run.png", lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
+        for stale in ("video.mp4", *(("run.png",) if interrupted else ())):  # an earlier run's, not this one's
+            (out / stale).unlink(missing_ok=True)
+    if interrupted:
         print(f"neurowalk: interrupted: kept the {len(ep.trajectory)} completed steps in {out}", file=sys.stderr)
         return 130
-    ep.trajectory.save(out / "trajectory.npz")
-    write_json(out / "summary.json", ep.summary)
-    parts.remove()
-    fig = plot_run(ep.trajectory, ep.arena, ep.summary)
-    atomic_write(out / "run.png", lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
     written = ["summary.json", "trajectory.npz", "run.png"]
     if args.video:
         from neurowalk.render import render_video
 
         _, body, _ = build(cfg)  # type: ignore[arg-type]
-        render_video(body.model, ep.trajectory.qpos, out / "video.mp4", progress=not args.quiet)
+        try:
+            render_video(body.model, ep.trajectory.qpos, out / "video.mp4", progress=not args.quiet)
+        except KeyboardInterrupt:
+            print(f"neurowalk: interrupted while rendering: the run is kept in {out}, without a video",
+                  file=sys.stderr)  # fmt: skip
+            return 130
         written.append("video.mp4")
     s = ep.summary
     print(
@@ -266,6 +281,19 @@ def _run(args: argparse.Namespace) -> int:
         f"turned {s['heading_change_deg']:+.0f} deg; wrote {', '.join(str(out / w) for w in written)}"
     )
     return 0
+
+
+@contextlib.contextmanager
+def _signals_held() -> Iterator[None]:
+    """Ignore Ctrl-C and SIGTERM inside the block (the final save of a run), then restore the handlers."""
+    import signal
+
+    old = {sig: signal.signal(sig, signal.SIG_IGN) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for sig, handler in old.items():
+            signal.signal(sig, handler)
 
 
 def _view(args: argparse.Namespace) -> int:
