@@ -7,11 +7,13 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import dataclasses
 import os
 import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
+from typing import Any
 
 from neurowalk import __version__
 
@@ -89,6 +91,9 @@ def _parser() -> argparse.ArgumentParser:
     r.add_argument("--quiet", action="store_true", help="no progress bar")
     r.add_argument("--overwrite", action="store_true",
                    help="run even where DIR holds the parts of an unfinished (killed) run, deleting them")  # fmt: skip
+    r.add_argument("--resume", action="store_true",
+                   help="go on with the unfinished physics run in DIR from its last checkpoint (every 10,000 steps; "
+                        "its own settings are used, the others given here are ignored)")  # fmt: skip
 
     v = sub.add_parser("view", help="watch a closed-loop run live in MuJoCo's viewer (needs a display)")
     _episode_args(v)
@@ -235,10 +240,17 @@ def _run(args: argparse.Namespace) -> int:
 
     out = out_folder(args.out)
     parts = PartWriter(out / "trajectory.parts")
-    if any(parts.folder.glob("part-*.npz")) and not args.overwrite:
+    resume = None
+    if args.resume:
+        cfg, resume = _resume_point(parts)
+    elif any(parts.folder.glob("part-*.npz")) and not args.overwrite:
         raise UsageError(f"{str(out)!r} holds the parts of an unfinished run ({parts.folder.name}/, e.g. a killed "
-                         "one): move them away to keep them, or pass --overwrite")  # fmt: skip
-    parts.remove()
+                         "one): --resume to go on with it, or --overwrite to start afresh")  # fmt: skip
+    else:
+        parts.remove()
+        if cfg.body == "amosii":  # type: ignore[attr-defined]
+            parts.folder.mkdir()
+            write_json(parts.folder / "run.json", {**dataclasses.asdict(cfg), "resumable": True})  # type: ignore[call-overload]
     import signal
 
     def _stop(signum: int, frame: object) -> None:
@@ -247,20 +259,29 @@ def _run(args: argparse.Namespace) -> int:
     signal.signal(signal.SIGTERM, _stop)
     interrupted = False
     try:
-        ep = run_episode(cfg, progress=not args.quiet, sink=parts.write)  # type: ignore[arg-type]
+        ep = run_episode(
+            cfg,
+            progress=not args.quiet,
+            sink=parts.write,
+            resume=resume,  # type: ignore[arg-type]
+            checkpoint=parts.write_checkpoint if cfg.body == "amosii" else None,
+        )  # type: ignore[attr-defined]
     except RunInterruptedError as stop:
         ep, interrupted = stop.episode, True
     with _signals_held():  # a signal now would lose the finished run: the save finishes first
         ep.trajectory.save(out / "trajectory.npz")
         write_json(out / "summary.json", ep.summary)
-        parts.remove()
+        resumable = interrupted and parts.folder.is_dir() and parts.read_checkpoint() is not None
+        if not resumable:
+            parts.remove()
         if not interrupted:
             fig = plot_run(ep.trajectory, ep.arena, ep.summary)
             atomic_write(out / "run.png", lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
         for stale in ("video.mp4", *(("run.png",) if interrupted else ())):  # an earlier run's, not this one's
             (out / stale).unlink(missing_ok=True)
     if interrupted:
-        print(f"neurowalk: interrupted: kept the {len(ep.trajectory)} completed steps in {out}", file=sys.stderr)
+        more = f"; `--resume` goes on from step {parts.read_checkpoint()[0]}" if resumable else ""
+        print(f"neurowalk: interrupted: kept the {len(ep.trajectory)} completed steps in {out}{more}", file=sys.stderr)
         return 130
     written = ["summary.json", "trajectory.npz", "run.png"]
     if args.video:
@@ -281,6 +302,28 @@ def _run(args: argparse.Namespace) -> int:
         f"turned {s['heading_change_deg']:+.0f} deg; wrote {', '.join(str(out / w) for w in written)}"
     )
     return 0
+
+
+def _resume_point(parts: Any) -> tuple[Any, Any]:
+    """(config, Resume) of the unfinished run whose parts are in ``parts``; UsageError if there is none."""
+    import json
+
+    from neurowalk.sim.episode import EpisodeConfig, Resume
+
+    where = str(parts.folder)
+    saved = parts.read_checkpoint() if parts.folder.is_dir() else None
+    if saved is None or not (parts.folder / "run.json").is_file():
+        raise UsageError(f"--resume: no checkpoint in {where!r} (a physics run leaves one every 10,000 steps)")
+    spec = json.loads((parts.folder / "run.json").read_text())
+    spec.pop("resumable", None)
+    if spec.get("steer") is not None:
+        spec["steer"] = tuple(spec["steer"])
+    step, state = saved
+    head = parts.read().head(step)
+    if len(head) < step:
+        raise UsageError(f"--resume: the parts in {where!r} hold {len(head)} steps, the checkpoint is at {step}")
+    print(f"neurowalk: resuming the run in {where} at step {step} of {spec['steps']}", file=sys.stderr)
+    return EpisodeConfig(**spec), Resume(step, state, head)
 
 
 @contextlib.contextmanager

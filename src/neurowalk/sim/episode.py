@@ -16,8 +16,9 @@ the same seed gives the same trajectory, bit for bit.
 from __future__ import annotations
 
 import math
+import pickle
 import time
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
 import numpy as np
@@ -146,6 +147,15 @@ def build(cfg: EpisodeConfig, *, pad_boxes: int | None = None) -> tuple[ArenaSpe
     return arena, body, controller
 
 
+@dataclass(frozen=True)
+class Resume:
+    """Where a stopped physics run goes on: the step, the pickled (body, controller), the rows before it."""
+
+    step: int
+    state: bytes
+    head: Trajectory
+
+
 class RunInterruptedError(Exception):
     """A run stopped part-way (e.g. Ctrl-C); ``episode`` holds the steps it completed."""
 
@@ -155,7 +165,8 @@ class RunInterruptedError(Exception):
 
 
 def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None, chunk: int = 10_000,
-                pad_boxes: int | None = None) -> Episode:  # fmt: skip
+                pad_boxes: int | None = None, checkpoint: Any = None,
+                resume: Resume | None = None) -> Episode:  # fmt: skip
     """Run one episode and summarise it.
 
     Args:
@@ -165,6 +176,10 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
             the end, so that a long run can write its rows as it goes.
         chunk: rows per sink call.
         pad_boxes: run AMOSII on the model with that many obstacle slots, as :mod:`neurowalk.sim.batch` does.
+        checkpoint: physics only: called as ``checkpoint(step, state)`` after each ``chunk`` steps' sink call,
+            ``state`` the whole body and controller (MuJoCo state, noise generators, networks) as bytes.
+        resume: physics only: go on from such a checkpoint (:class:`Resume`); the continuation is bit for bit
+            the run that was not stopped.
 
     Raises:
         RunInterruptedError: on KeyboardInterrupt; it carries the episode of the completed steps (the sink
@@ -180,12 +195,20 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
     body.reset(body_rng)
     ctrl.reset(ctrl_rng)
     tr = Trajectory.empty(cfg.steps, body.model.nq)
+    start = 0
+    if resume is not None:
+        start = resume.step
+        body, ctrl = pickle.loads(resume.state)
+        for f in fields(Trajectory):
+            getattr(tr, f.name)[:start] = getattr(resume.head, f.name)[:start]
     has_weights = hasattr(ctrl, "b")
     bar = _progress(cfg.steps, progress)
+    if bar is not None:
+        bar.update(start)
     t0 = time.perf_counter()
-    done = 0
+    done = start
     try:
-        done = _loop(cfg, body, ctrl, tr, has_weights, bar, sink, chunk)
+        done = _loop(cfg, body, ctrl, tr, has_weights, bar, sink, chunk, start, checkpoint)
     except KeyboardInterrupt:
         done = int(np.count_nonzero(~np.isnan(tr.t)))
     wall = time.perf_counter() - t0
@@ -200,10 +223,10 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
 
 
 def _loop(cfg: EpisodeConfig, body: AmosII, ctrl: Controller, tr: Trajectory, has_weights: bool, bar: Any,
-          sink: Any, chunk: int) -> int:  # fmt: skip
-    """The control loop proper; returns the number of completed steps."""
+          sink: Any, chunk: int, start: int = 0, checkpoint: Any = None) -> int:  # fmt: skip
+    """The control loop proper, from step ``start``; returns the number of completed steps."""
     d = body.data
-    for k in range(cfg.steps):
+    for k in range(start, cfg.steps):
         obs = body.observe()
         targets = ctrl.act(obs)
         body.apply(targets)
@@ -222,6 +245,8 @@ def _loop(cfg: EpisodeConfig, body: AmosII, ctrl: Controller, tr: Trajectory, ha
             bar.update(100)
         if sink is not None and (k + 1) % chunk == 0:
             sink(_finish(tr, body, k + 1 - chunk, k + 1), k + 1 - chunk, k + 1)
+            if checkpoint is not None and k + 1 < cfg.steps:
+                checkpoint(k + 1, pickle.dumps((body, ctrl)))
     return cfg.steps
 
 

@@ -90,11 +90,26 @@ class PartWriter:
         return Trajectory(**{f.name: np.concatenate([getattr(p, f.name) for p in parts]) for f in fields(Trajectory)})
 
     def remove(self) -> None:
-        """Delete the parts (once the whole trajectory is saved)."""
-        for p in self.folder.glob("part-*.npz"):
-            p.unlink()
+        """Delete the parts and what a resume needs (once the whole trajectory is saved)."""
+        for p in [*self.folder.glob("part-*.npz"), self.folder / "run.json", self.folder / "checkpoint.pkl"]:
+            p.unlink(missing_ok=True)
         if self.folder.exists():
             self.folder.rmdir()
+
+    def write_checkpoint(self, step: int, state: bytes) -> None:
+        """Keep the whole state after ``step`` steps (atomically; the parts before it are written already)."""
+        import pickle
+
+        from neurowalk.fileio import atomic_write
+
+        atomic_write(self.folder / "checkpoint.pkl", lambda tmp: Path(tmp).write_bytes(pickle.dumps((step, state))))
+
+    def read_checkpoint(self) -> tuple[int, bytes] | None:
+        """(step, state) of the last checkpoint, or None if there is none."""
+        import pickle
+
+        path = self.folder / "checkpoint.pkl"
+        return pickle.loads(path.read_bytes()) if path.is_file() else None
 
 
 def poses_from_qpos(qpos: np.ndarray) -> np.ndarray:

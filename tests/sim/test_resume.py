@@ -1,0 +1,58 @@
+"""A stopped physics run goes on from its checkpoint, bit for bit the run that was never stopped."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from neurowalk.sim.episode import EpisodeConfig, Resume, run_episode
+from neurowalk.sim.trajectory import Trajectory
+
+CFG = EpisodeConfig(arena="random", arena_opts={"n_boxes": 8, "extent": 3.0}, steps=300, seed=5, reflexes=True,
+                    backbone=True)  # fmt: skip
+
+
+def _same(a: Trajectory, b: Trajectory) -> None:
+    for f in ("t", "pose", "inputs", "outputs", "b", "q", "targets", "joint_angles", "us_distance", "qpos"):
+        np.testing.assert_array_equal(getattr(a, f), getattr(b, f), err_msg=f)
+
+
+def test_resume_from_a_checkpoint_is_bit_for_bit_the_whole_run():
+    whole = run_episode(CFG).trajectory
+    saved: dict[int, bytes] = {}
+    rows: list[Trajectory] = []
+    run_episode(CFG, chunk=100, sink=lambda tr, a, b: rows.append(tr.head(b)),
+                checkpoint=lambda step, state: saved.setdefault(step, state))  # fmt: skip
+    assert sorted(saved) == [100, 200]
+    head = rows[1]  # the rows up to step 200, as the parts hold them
+    resumed = run_episode(CFG, chunk=100, resume=Resume(200, saved[200], head)).trajectory
+    _same(resumed, whole)
+
+
+@pytest.mark.slow
+def test_kill_9_then_resume_gives_the_uninterrupted_trajectory(tmp_path: Path):
+    args = ["--arena", "difficult", "--controller", "plastic", "--steps", "25000", "--seed", "3", "--quiet"]
+    cli = [sys.executable, "-m", "neurowalk.cli", "run"]
+    killed = tmp_path / "killed"
+    p = subprocess.Popen([*cli, *args, "--out", str(killed)])
+    checkpoint = killed / "trajectory.parts" / "checkpoint.pkl"
+    deadline = time.monotonic() + 300
+    while not checkpoint.exists() and time.monotonic() < deadline and p.poll() is None:
+        time.sleep(0.2)
+    assert checkpoint.exists(), "no checkpoint written"
+    os.kill(p.pid, signal.SIGKILL)
+    p.wait()
+    assert not (killed / "trajectory.npz").exists()
+    assert subprocess.run([*cli, "--out", str(killed), "--quiet"], capture_output=True).returncode == 2  # refused
+    assert subprocess.run([*cli, "--resume", "--out", str(killed), "--quiet"]).returncode == 0
+    whole = tmp_path / "whole"
+    assert subprocess.run([*cli, *args, "--out", str(whole)]).returncode == 0
+    _same(Trajectory.load(killed / "trajectory.npz"), Trajectory.load(whole / "trajectory.npz"))
+    assert not (killed / "trajectory.parts").exists()
