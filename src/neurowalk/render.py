@@ -9,7 +9,9 @@ from __future__ import annotations
 
 import os
 import sys
+from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -47,8 +49,12 @@ def check_gl() -> str | None:
 
 
 def render_video(model: object, qpos: np.ndarray, path: str | Path, *, fps: float = 15.0, width: int = 640,
-                 height: int = 480, every: int = 2, distance: float = 1.3, progress: bool = False) -> Path:  # fmt: skip
+                 height: int = 480, every: int = 2, distance: float = 1.3, shadows: bool = False,
+                 progress: bool = False) -> Path:  # fmt: skip
     """Render frames of recorded positions ``qpos`` (T, nq) to an mp4 at ``path`` (atomically).
+
+    One renderer draws every frame and each frame goes to the encoder as soon as it is drawn (no frame list
+    in memory).
 
     Args:
         model: the run's ``mujoco.MjModel``.
@@ -56,19 +62,14 @@ def render_video(model: object, qpos: np.ndarray, path: str | Path, *, fps: floa
         fps: playback frame rate; with 10 Hz control and ``every`` = 2, 15 fps plays at 3x real time.
         every: render every ``every``-th row.
         distance: camera distance (m) from the trunk it tracks.
+        shadows: draw shadows; off by default: with software GL (OSMesa, llvmpipe) they cost about 3/4 of a
+            frame's time (``benchmarks/bench_render.py``).
     """
     import imageio_ffmpeg
-    import mujoco
 
-    from neurowalk.body.amosii_params import TRUNK_BODY
     from neurowalk.fileio import atomic_write
 
     path = Path(path)
-    data = mujoco.MjData(model)
-    cam = mujoco.MjvCamera()
-    cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
-    cam.trackbodyid = model.body(TRUNK_BODY).id
-    cam.distance, cam.elevation, cam.azimuth = distance, -30.0, 135.0
     rows = range(0, len(qpos), every)
     bar = None
     if progress:
@@ -77,25 +78,57 @@ def render_video(model: object, qpos: np.ndarray, path: str | Path, *, fps: floa
         bar = tqdm(total=len(rows), unit="frame", desc="video", mininterval=0.5)
 
     def write(tmp: str) -> None:
-        renderer = mujoco.Renderer(model, height, width)
+        writer = imageio_ffmpeg.write_frames(tmp, (width, height), fps=fps, quality=7, macro_block_size=8)
+        writer.send(None)
         try:
-            writer = imageio_ffmpeg.write_frames(tmp, (width, height), fps=fps, quality=7, macro_block_size=8)
-            writer.send(None)
-            for k in rows:
-                data.qpos[:] = qpos[k]
-                mujoco.mj_forward(model, data)
-                renderer.update_scene(data, camera=cam)
-                writer.send(np.ascontiguousarray(renderer.render()))
+            for frame in iter_frames(model, qpos[::every], width=width, height=height,
+                                     distance=distance, elevation=-30.0, shadows=shadows):  # fmt: skip
+                writer.send(frame)
                 if bar is not None:
                     bar.update(1)
-            writer.close()
         finally:
-            renderer.close()
+            writer.close()
             if bar is not None:
                 bar.close()
 
     atomic_write(path, write)
     return path
+
+
+def iter_frames(model: object, qpos: np.ndarray, *, width: int = 400, height: int = 300, distance: float = 1.2,
+                azimuth: float = 135.0, elevation: float = -25.0, view: dict | None = None,
+                shadows: bool = True) -> Iterator[np.ndarray]:  # fmt: skip
+    """Yield one (height, width, 3) uint8 frame per row of positions ``qpos`` (n, nq), drawn by one renderer.
+
+    The camera tracks the trunk at ``distance`` (m), ``azimuth`` and ``elevation`` (deg); or, with ``view``
+    ({"lookat": (3,) m, "distance", "azimuth", "elevation"}), it stays fixed there. Only kinematics are
+    computed per frame (no dynamics, no collision detection).
+    """
+    import mujoco
+
+    from neurowalk.body.amosii_params import TRUNK_BODY
+
+    data = mujoco.MjData(model)
+    cam = mujoco.MjvCamera()
+    if view is None:
+        cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
+        cam.trackbodyid = model.body(TRUNK_BODY).id  # type: ignore[attr-defined]
+        cam.distance, cam.elevation, cam.azimuth = distance, elevation, azimuth
+    else:
+        cam.type = mujoco.mjtCamera.mjCAMERA_FREE
+        cam.lookat[:] = view["lookat"]
+        cam.distance, cam.azimuth, cam.elevation = view["distance"], view["azimuth"], view["elevation"]
+    renderer = mujoco.Renderer(model, height, width)
+    try:
+        for q in qpos:
+            data.qpos[:] = q
+            mujoco.mj_kinematics(model, data)
+            mujoco.mj_camlight(model, data)
+            renderer.update_scene(data, camera=cam)
+            renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = shadows
+            yield renderer.render()
+    finally:
+        renderer.close()
 
 
 def view(model: object, data: object, step: object, control_hz: float = 10.0) -> None:
@@ -113,36 +146,9 @@ def view(model: object, data: object, step: object, control_hz: float = 10.0) ->
             time.sleep(max(0.0, period - (time.perf_counter() - t0)))
 
 
-def render_frames(model: object, qpos: np.ndarray, *, width: int = 400, height: int = 300, distance: float = 1.2,
-                  azimuth: float = 135.0, elevation: float = -25.0,
-                  view: dict | None = None) -> np.ndarray:  # fmt: skip
-    """Render frames of positions ``qpos`` (n, nq): (n, height, width, 3) uint8.
-
-    The camera tracks the trunk at ``distance`` (m), ``azimuth`` and ``elevation`` (deg); or, with ``view``
-    ({"lookat": (3,) m, "distance", "azimuth", "elevation"}), it stays fixed there.
-    """
-    import mujoco
-
-    from neurowalk.body.amosii_params import TRUNK_BODY
-
-    data = mujoco.MjData(model)
-    cam = mujoco.MjvCamera()
-    if view is None:
-        cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
-        cam.trackbodyid = model.body(TRUNK_BODY).id
-        cam.distance, cam.elevation, cam.azimuth = distance, elevation, azimuth
-    else:
-        cam.type = mujoco.mjtCamera.mjCAMERA_FREE
-        cam.lookat[:] = view["lookat"]
-        cam.distance, cam.azimuth, cam.elevation = view["distance"], view["azimuth"], view["elevation"]
-    out = np.zeros((len(qpos), height, width, 3), dtype=np.uint8)
-    renderer = mujoco.Renderer(model, height, width)
-    try:
-        for i, q in enumerate(qpos):
-            data.qpos[:] = q
-            mujoco.mj_forward(model, data)
-            renderer.update_scene(data, camera=cam)
-            out[i] = renderer.render()
-    finally:
-        renderer.close()
-    return out
+def render_frames(model: object, qpos: np.ndarray, **kwargs: Any) -> np.ndarray:
+    """Render positions ``qpos`` (n, nq) as (n, height, width, 3) uint8; keywords as :func:`iter_frames`."""
+    frames = list(iter_frames(model, qpos, **kwargs))
+    if not frames:
+        raise ValueError("render_frames: no positions to render (qpos has 0 rows)")
+    return np.stack(frames)
