@@ -6,6 +6,7 @@ Options are the factories' keyword arguments (metres and degrees), listed by ``n
 from __future__ import annotations
 
 import inspect
+import math
 from collections.abc import Callable
 
 import numpy as np
@@ -39,7 +40,7 @@ def _factory(name: str) -> ArenaFactory:
 
 
 def make_arena(name: str, *, rng: np.random.Generator | None = None, **options: object) -> ArenaSpec:
-    """Build arena ``name``; unknown options or impossible geometry raise ValueError naming them.
+    """Build arena ``name``; unknown or non-finite options or impossible geometry raise ValueError naming them.
 
     Arenas drawn at random (e.g. ``random``) take their layout from ``rng``.
     """
@@ -53,6 +54,8 @@ def make_arena(name: str, *, rng: np.random.Generator | None = None, **options: 
             values[key] = type(known[key])(value)
         except (TypeError, ValueError):
             raise ValueError(f"arena {name!r}: option {key}={value!r} is not a {type(known[key]).__name__}") from None
+        if isinstance(values[key], float) and not math.isfinite(values[key]):
+            raise ValueError(f"arena {name!r}: option {key}={value!r} must be a finite number")
     fn = _factory(name)
     if "rng" in inspect.signature(fn).parameters:
         values_rng = {**values, "rng": rng if rng is not None else np.random.default_rng(0)}

@@ -26,6 +26,8 @@ _START = (3.0, -1.0, -0.38)
 
 
 def _arena(name: str, boxes: tuple, height: float) -> ArenaSpec:
+    if not height > 0:
+        raise ValueError(f"arena {name!r}: height must be > 0 m, got {height}")
     walls = tuple(Box(x=x, y=y, yaw=0.0, sx=sx, sy=sy, h=height) for sx, sy, x, y in _WALLS)
     obstacles = tuple(Box(x=x, y=y, yaw=k * _ANGLE, sx=1.0, sy=1.0, h=height) for x, y, k in boxes)
     return ArenaSpec(name=name, boxes=walls + obstacles, start=_START, bounds=_BOUNDS)

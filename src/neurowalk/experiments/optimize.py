@@ -76,20 +76,29 @@ class Search:
 
 
 def check_sizes(s: Sizes) -> None:
-    """Raise ValueError naming the first size out of range (population >= 2, the rest >= 1)."""
+    """Raise ValueError naming the first size out of range (population >= 2, the rest >= 1; steps <= MAX_STEPS)."""
+    from neurowalk.sim.episode import MAX_STEPS
+
     for name, lo in (("population", 2), ("generations", 1), ("environments", 1), ("heldout", 1), ("steps", 1),
                      ("deadend_seeds", 1)):  # fmt: skip
         v = getattr(s, name)
         if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < lo:
             raise ValueError(f"{name} must be a whole number >= {lo}, got {v!r}")
+    if s.steps > MAX_STEPS:
+        raise ValueError(f"steps must be at most {MAX_STEPS:,} (the longest run), got {s.steps!r}")
 
 
 def check_seeds(seed: int, train_seed: int, heldout_seed: int, sizes: Sizes) -> None:
-    """Seeds must be >= 0 and the training and held-out run seeds must not overlap (the seed sets the layout)."""
+    """Seeds >= 0 (CMA-ES's < 2**32 - 1, run seeds < 2**63); training and held-out run seeds must not overlap."""
     for name, v in (("seed", seed), ("train_seed", train_seed), ("heldout_seed", heldout_seed)):
         if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < 0:
             raise ValueError(f"{name} must be a whole number >= 0, got {v!r}")
+    if seed >= 2**32 - 1:
+        raise ValueError(f"seed must be below 2**32 - 1 (the CMA-ES random state), got {seed!r}")
     a, b = (train_seed, train_seed + sizes.environments), (heldout_seed, heldout_seed + sizes.heldout)
+    for name, (first, stop) in (("train_seed", a), ("heldout_seed", b)):
+        if stop > 2**63:
+            raise ValueError(f"{name} {first} + its {stop - first} environments: run seeds must stay below 2**63")
     if a[0] < b[1] and b[0] < a[1]:
         raise ValueError(f"training run seeds {a[0]}-{a[1] - 1} overlap the held-out ones {b[0]}-{b[1] - 1}: "
                          "choose a train seed and a held-out seed further apart")  # fmt: skip
@@ -252,7 +261,12 @@ def run(*, out: Path | str = Path("out/optimize"), quick: bool = False, variant:
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
     folder = Path(out)
-    folder.mkdir(parents=True, exist_ok=True)
+    try:
+        if folder.exists() and not folder.is_dir():
+            raise ValueError(f"output folder {str(folder)!r} is a file")
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise ValueError(f"cannot make the output folder {str(folder)!r}: {e.strerror}") from None
     say = log or (lambda line: None)
     settings = {"variant": variant, "space": [asdict(d) for d in space], "population": sz.population,
                 "environments": sz.environments, "steps": sz.steps, "deadend_seeds": sz.deadend_seeds,

@@ -110,10 +110,14 @@ def read_params_file(path: Path | str) -> dict[str, Any]:
     """
     try:
         data = json.loads(Path(path).read_text())
-    except (OSError, UnicodeDecodeError) as e:
+    except OSError as e:
         raise ValueError(f"cannot read params file {str(path)!r}: {e.strerror or e}") from None
+    except UnicodeDecodeError as e:
+        raise ValueError(f"params file {str(path)!r} is not text ({e.reason} at byte {e.start})") from None
     except json.JSONDecodeError as e:
         raise ValueError(f"params file {str(path)!r} is not JSON ({e.msg}, line {e.lineno})") from None
+    except RecursionError:
+        raise ValueError(f"params file {str(path)!r} is not a params file (JSON nested too deeply)") from None
     if not isinstance(data, dict) or not isinstance(data.get("params"), dict):
         raise ValueError(f"params file {str(path)!r} needs an object 'params' of SensoryParams fields")
     data["params"] = check_overrides(data["params"], f"params file {str(path)!r}")

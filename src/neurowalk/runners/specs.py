@@ -53,16 +53,16 @@ def normalize(spec: Spec) -> Spec:
             "arena": str(s["arena"]),
             "arena_opts": {},
             "controller": str(s["controller"]),
-            "steer": None if s["steer"] is None else [float(v) for v in s["steer"]],
+            "steer": None if s["steer"] is None else [_real(v, "steer") for v in s["steer"]],
             "body": str(s["body"]),
             "steps": _whole(s["steps"], "steps"),
             "seed": _whole(s["seed"], "seed"),
-            "control_hz": float(s["control_hz"]),
-            "noise": float(s["noise"]),
-            "b0": None if s["b0"] is None else float(s["b0"]),
-            "q0": None if s["q0"] is None else float(s["q0"]),
+            "control_hz": _real(s["control_hz"], "control_hz"),
+            "noise": _real(s["noise"], "noise"),
+            "b0": None if s["b0"] is None else _real(s["b0"], "b0"),
+            "q0": None if s["q0"] is None else _real(s["q0"], "q0"),
         }
-    except (TypeError, ValueError) as e:
+    except (TypeError, ValueError, OverflowError) as e:
         raise ValueError(f"bad run spec {spec!r}: {e}") from None
     if not isinstance(s["arena_opts"], dict):
         raise ValueError(f"arena_opts must be an object of option values, got {s['arena_opts']!r}")
@@ -73,7 +73,7 @@ def normalize(spec: Spec) -> Spec:
             raise ValueError(f"arena {out['arena']!r} has no option {key!r}; options: {', '.join(known) or 'none'}")
         kind = type(known[key])
         try:
-            opts[key] = kind(value) if kind is not int else _whole(value, key)
+            opts[key] = _whole(value, key) if kind is int else _real(value, key) if kind is float else kind(value)
         except (TypeError, ValueError, OverflowError):
             opts[key] = None
         if opts[key] is None or (kind is float and not math.isfinite(opts[key])):
@@ -93,10 +93,12 @@ def normalize(spec: Spec) -> Spec:
         raise ValueError(f"gait must be a name, got {s['gait']!r}")
     if s["gait"] != "wave":
         out["gait"] = s["gait"]
-    if s["params"]:
+    if s["params"] is not None:
         from neurowalk.neural.variants import check_overrides
 
-        out["params"] = check_overrides(s["params"])
+        params = check_overrides(s["params"])  # raises on a value that is not an object of fields
+        if params:
+            out["params"] = params
     to_config(out)  # the config's own checks (controller, body, steps, seed, steer, b0/q0)
     return out
 
@@ -104,11 +106,18 @@ def normalize(spec: Spec) -> Spec:
 def _whole(value: Any, name: str) -> int:
     try:
         x = float(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ValueError(f"{name} must be a whole number, got {value!r}") from None
     if isinstance(value, bool) or not math.isfinite(x) or x != int(x):
         raise ValueError(f"{name} must be a whole number, got {value!r}")
     return int(x)
+
+
+def _real(value: Any, name: str) -> float:
+    """``value`` as a float (a number or its spelling); a bool is not a number here."""
+    if isinstance(value, bool):
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    return float(value)
 
 
 def to_config(spec: Spec) -> EpisodeConfig:
@@ -178,6 +187,8 @@ def read_jsonl(path: Path) -> list[Spec]:
             spec = json.loads(line)
         except json.JSONDecodeError as e:
             raise ValueError(f"{path}:{n}: not JSON ({e.msg})") from None
+        except RecursionError:
+            raise ValueError(f"{path}:{n}: not a spec (JSON nested too deeply)") from None
         if not isinstance(spec, dict):
             raise ValueError(f"{path}:{n}: a spec is a JSON object, got {line.strip()[:60]!r}")
         specs.append(spec)
