@@ -262,14 +262,17 @@ def _run(args: argparse.Namespace) -> int:
         ep = run_episode(
             cfg,
             progress=not args.quiet,
-            sink=parts.write,
+            sink=parts,
+            keep_rows=False,  # memory bounded by the part size: the rows live in the parts
             resume=resume,  # type: ignore[arg-type]
             checkpoint=parts.write_checkpoint if cfg.body == "amosii" else None,
         )  # type: ignore[attr-defined]
     except RunInterruptedError as stop:
         ep, interrupted = stop.episode, True
+    done = ep.summary["steps"]  # completed steps
     with _signals_held():  # a signal now would lose the finished run: the save finishes first
-        ep.trajectory.save(out / "trajectory.npz")
+        if done:
+            parts.join(out / "trajectory.npz", done)
         write_json(out / "summary.json", ep.summary)
         resumable = interrupted and parts.folder.is_dir() and parts.read_checkpoint() is not None
         if not resumable:
@@ -281,7 +284,7 @@ def _run(args: argparse.Namespace) -> int:
             (out / stale).unlink(missing_ok=True)
     if interrupted:
         more = f"; `--resume` goes on from step {parts.read_checkpoint()[0]}" if resumable else ""
-        print(f"neurowalk: interrupted: kept the {len(ep.trajectory)} completed steps in {out}{more}", file=sys.stderr)
+        print(f"neurowalk: interrupted: kept the {done} completed steps in {out}{more}", file=sys.stderr)
         return 130
     written = ["summary.json", "trajectory.npz", "run.png"]
     if args.video:
@@ -289,7 +292,11 @@ def _run(args: argparse.Namespace) -> int:
 
         _, body, _ = build(cfg)  # type: ignore[arg-type]
         try:
-            render_video(body.model, ep.trajectory.qpos, out / "video.mp4", progress=not args.quiet)
+            import numpy as np
+
+            with np.load(out / "trajectory.npz") as z:
+                qpos = z["qpos"]
+            render_video(body.model, qpos, out / "video.mp4", progress=not args.quiet)
         except KeyboardInterrupt:
             print(f"neurowalk: interrupted while rendering: the run is kept in {out}, without a video",
                   file=sys.stderr)  # fmt: skip
@@ -319,11 +326,10 @@ def _resume_point(parts: Any) -> tuple[Any, Any]:
     if spec.get("steer") is not None:
         spec["steer"] = tuple(spec["steer"])
     step, state = saved
-    head = parts.read().head(step)
-    if len(head) < step:
-        raise UsageError(f"--resume: the parts in {where!r} hold {len(head)} steps, the checkpoint is at {step}")
+    if (held := parts.count()) < step:
+        raise UsageError(f"--resume: the parts in {where!r} hold {held} steps, the checkpoint is at {step}")
     print(f"neurowalk: resuming the run in {where} at step {step} of {spec['steps']}", file=sys.stderr)
-    return EpisodeConfig(**spec), Resume(step, state, head)
+    return EpisodeConfig(**spec), Resume(step, state, parts.pieces())
 
 
 @contextlib.contextmanager

@@ -98,7 +98,7 @@ def test_long_runs_stream_chunks_and_keep_completed_steps_when_stopped(tmp_path)
     cfg = EpisodeConfig(controller="plastic", arena="box", arena_opts={"distance": 0.6}, steps=250)
     whole = run_episode(cfg).trajectory
     parts = PartWriter(tmp_path / "parts")
-    run_episode(cfg, sink=parts.write, chunk=100)
+    run_episode(cfg, sink=parts, chunk=100)
     streamed = parts.read()
     np.testing.assert_array_equal(streamed.qpos, whole.qpos)
     np.testing.assert_array_equal(streamed.pose, whole.pose)
@@ -106,8 +106,8 @@ def test_long_runs_stream_chunks_and_keep_completed_steps_when_stopped(tmp_path)
 
     calls = []
 
-    def stop_on_second(tr, start, stop):
-        calls.append((start, stop))
+    def stop_on_second(rows, start):
+        calls.append((start, start + len(rows)))
         if len(calls) == 2:
             raise KeyboardInterrupt
 

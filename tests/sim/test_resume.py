@@ -27,13 +27,16 @@ def _same(a: Trajectory, b: Trajectory) -> None:
 def test_resume_from_a_checkpoint_is_bit_for_bit_the_whole_run():
     whole = run_episode(CFG).trajectory
     saved: dict[int, bytes] = {}
-    rows: list[Trajectory] = []
-    run_episode(CFG, chunk=100, sink=lambda tr, a, b: rows.append(tr.head(b)),
+    pieces: list[tuple[int, Trajectory]] = []
+    run_episode(CFG, chunk=100, sink=lambda rows, start: pieces.append((start, _copy(rows))),
                 checkpoint=lambda step, state: saved.setdefault(step, state))  # fmt: skip
-    assert sorted(saved) == [100, 200]
-    head = rows[1]  # the rows up to step 200, as the parts hold them
-    resumed = run_episode(CFG, chunk=100, resume=Resume(200, saved[200], head)).trajectory
+    assert sorted(saved) == [100, 200] and [s for s, _ in pieces] == [0, 100, 200]
+    resumed = run_episode(CFG, chunk=100, resume=Resume(200, saved[200], pieces[:2])).trajectory
     _same(resumed, whole)
+
+
+def _copy(rows: Trajectory) -> Trajectory:
+    return Trajectory(**{k: v.copy() for k, v in vars(rows).items()})
 
 
 @pytest.mark.slow

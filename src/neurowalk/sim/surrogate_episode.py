@@ -8,13 +8,15 @@ contacts, qpos) are NaN or empty; ``up_z`` is 1.
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
 from neurowalk.body.surrogate import Surrogate, SurrogateRun, empty_run
 from neurowalk.controller import NeuralController
-from neurowalk.sim import episode as ep_mod
+from neurowalk.sim.config import Episode, EpisodeConfig, RunInterruptedError, build, progress_bar, seeds
+from neurowalk.sim.summary import summarize
 from neurowalk.sim.trajectory import Trajectory
 
 
@@ -25,18 +27,18 @@ def trajectory_of(run: SurrogateRun, control_hz: float, fixed: bool) -> Trajecto
     b, q = run.weights[:, :2], run.weights[:, 2:]
     if fixed:
         b, q = np.full((steps, 2), np.nan), np.full((steps, 2), np.nan)
-    nan = np.full((steps, 19), np.nan)
+    nan = np.broadcast_to(np.nan, (steps, 19))  # read-only views: no memory for what a planar body lacks
     return Trajectory(t=t, pose=run.pose, inputs=run.inputs, outputs=run.outputs, b=b, q=q, targets=nan,
-                      joint_angles=nan, us_distance=run.us, foot_contact=np.full((steps, 6), np.nan),
-                      up_z=np.ones(steps), qpos=np.empty((steps, 0)))  # fmt: skip
+                      joint_angles=nan, us_distance=run.us, foot_contact=np.broadcast_to(np.nan, (steps, 6)),
+                      up_z=np.broadcast_to(1.0, (steps,)), qpos=np.empty((steps, 0)))  # fmt: skip
 
 
-def run_surrogate_episode(cfg: ep_mod.EpisodeConfig, *, progress: bool = False, sink: Any = None,
-                          chunk: int = 10_000) -> ep_mod.Episode:  # fmt: skip
+def run_surrogate_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
+                          chunk: int = 10_000) -> Episode:  # fmt: skip
     """:func:`neurowalk.sim.episode.run_episode` for ``body='surrogate'`` (same arguments and errors)."""
-    arena, body, ctrl = ep_mod.build(cfg)
+    arena, body, ctrl = build(cfg)
     assert isinstance(body, Surrogate)
-    body_rng, ctrl_rng, _ = ep_mod.seeds(cfg)
+    body_rng, ctrl_rng, _ = seeds(cfg)
     ctrl.reset(ctrl_rng)
     fixed = not isinstance(ctrl, NeuralController)
     state = params = None
@@ -44,14 +46,14 @@ def run_surrogate_episode(cfg: ep_mod.EpisodeConfig, *, progress: bool = False, 
         state, params = ctrl.sensory.state, ctrl.sensory.packed_params
     run = empty_run(cfg.steps)
     tr = trajectory_of(run, cfg.control_hz, fixed)
-    bar = ep_mod._progress(cfg.steps, progress)
+    bar = progress_bar(cfg.steps, progress)
     last = [0]
 
     def on_chunk(stop: int) -> None:
         if bar is not None:
             bar.update(stop - last[0])
         if sink is not None:
-            sink(tr, last[0], stop)
+            sink(tr.rows(last[0], stop), last[0])
         last[0] = stop
 
     t0 = time.perf_counter()
@@ -61,12 +63,12 @@ def run_surrogate_episode(cfg: ep_mod.EpisodeConfig, *, progress: bool = False, 
         bar.close()
     done = run.done
     tr = tr.head(done)
-    run_cfg = cfg if done == cfg.steps else ep_mod.replace(cfg, steps=max(done, 1))
-    summary = ep_mod.summarize(run_cfg, arena, tr, wall, {}) if done else {"steps": 0}
+    run_cfg = cfg if done == cfg.steps else replace(cfg, steps=max(done, 1))
+    summary = summarize(run_cfg, arena, tr, wall, {}) if done else {"steps": 0}
     summary["completed"] = done == cfg.steps
     summary["steps_requested"] = cfg.steps
     summary["surrogate_contacts"] = run.contacts
-    ep = ep_mod.Episode(cfg, arena, tr, summary)
+    ep = Episode(cfg, arena, tr, summary)
     if done < cfg.steps:
-        raise ep_mod.RunInterruptedError(ep)
+        raise RunInterruptedError(ep)
     return ep

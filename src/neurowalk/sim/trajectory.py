@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass, fields
 from pathlib import Path
 
@@ -50,7 +51,11 @@ class Trajectory:
 
     def head(self, n: int) -> Trajectory:
         """The first ``n`` rows (views)."""
-        return Trajectory(**{f.name: getattr(self, f.name)[:n] for f in fields(self)})
+        return self.rows(0, n)
+
+    def rows(self, start: int, stop: int) -> Trajectory:
+        """Rows [start, stop) (views)."""
+        return Trajectory(**{f.name: getattr(self, f.name)[start:stop] for f in fields(self)})
 
     def save(self, path: str | Path) -> None:
         """Write ``trajectory.npz`` (compressed) atomically."""
@@ -69,25 +74,96 @@ class Trajectory:
 class PartWriter:
     """Writes a running episode's rows to numbered part files, so a killed run keeps what it did.
 
-    ``write(trajectory, start, stop)`` saves rows [start, stop) as ``part-<start>.npz`` in
-    ``folder``; :meth:`read` concatenates the parts back into one :class:`Trajectory`.
+    Called as ``writer(rows, start)`` (the sink of :func:`~neurowalk.sim.episode.run_episode`), it saves the
+    rows of steps ``start, start + 1, ...`` as ``part-<start>.npz`` in ``folder``. :meth:`read` concatenates
+    the parts back into one :class:`Trajectory`; :meth:`join` writes them into one ``trajectory.npz`` a part
+    at a time, so that memory stays bounded by the part size.
     """
 
     def __init__(self, folder: str | Path) -> None:
         self.folder = Path(folder)
 
-    def write(self, tr: Trajectory, start: int, stop: int) -> None:
-        """Save rows [start, stop) of ``tr``."""
+    def __call__(self, rows: Trajectory, start: int) -> None:
+        """Save ``rows``, the steps from ``start`` on."""
         self.folder.mkdir(parents=True, exist_ok=True)
-        part = Trajectory(**{f.name: getattr(tr, f.name)[start:stop] for f in fields(tr)})
-        part.save(self.folder / f"part-{start:010d}.npz")
+        rows.save(self.folder / f"part-{start:010d}.npz")
+
+    write = __call__
+
+    def paths(self) -> list[Path]:
+        """The part files, in step order."""
+        return sorted(self.folder.glob("part-*.npz"))
+
+    def pieces(self) -> Iterator[tuple[int, Trajectory]]:
+        """(start step, rows) of each part, in step order, one part in memory at a time."""
+        for path in self.paths():
+            yield int(path.stem.split("-")[1]), Trajectory.load(path)
+
+    def count(self) -> int:
+        """Rows in the parts."""
+        n = 0
+        for p in self.paths():
+            with np.load(p) as z:
+                n += int(z["t"].shape[0])
+        return n
 
     def read(self) -> Trajectory:
         """All parts, in order, as one trajectory."""
-        parts = [Trajectory.load(p) for p in sorted(self.folder.glob("part-*.npz"))]
+        parts = [rows for _, rows in self.pieces()]
         if not parts:
             raise ValueError(f"no trajectory parts in {str(self.folder)!r}")
         return Trajectory(**{f.name: np.concatenate([getattr(p, f.name) for p in parts]) for f in fields(Trajectory)})
+
+    def qpos_rows(self, rows: np.ndarray) -> np.ndarray:
+        """The recorded positions of the given steps (sorted or not), (len(rows), nq), read part by part."""
+        rows = np.asarray(rows, dtype=int)
+        out: np.ndarray | None = None
+        for start, part in self.pieces():
+            pick = (rows >= start) & (rows < start + len(part))
+            if out is None:
+                out = np.full((len(rows), part.qpos.shape[1]), np.nan)
+            out[pick] = part.qpos[rows[pick] - start]
+        if out is None:
+            raise ValueError(f"no trajectory parts in {str(self.folder)!r}")
+        return out
+
+    def join(self, path: str | Path, steps: int | None = None) -> int:
+        """Write the parts (the first ``steps`` rows; default all) as one ``trajectory.npz`` at ``path``.
+
+        The file is the one :meth:`Trajectory.save` writes of :meth:`read` (same arrays, compressed), built one
+        column and one part at a time; written atomically. Returns the number of rows.
+        """
+        import zipfile
+
+        from numpy.lib import format as npformat
+
+        from neurowalk.fileio import atomic_write
+
+        paths = self.paths()
+        if not paths:
+            raise ValueError(f"no trajectory parts in {str(self.folder)!r}")
+        total = self.count() if steps is None else min(steps, self.count())
+
+        def write(tmp: str) -> None:
+            with zipfile.ZipFile(tmp, "w", compression=zipfile.ZIP_DEFLATED, allowZip64=True) as zf:
+                for f in fields(Trajectory):
+                    with np.load(paths[0]) as z:
+                        first = z[f.name]
+                    header = {"descr": npformat.dtype_to_descr(first.dtype), "fortran_order": False,
+                              "shape": (total, *first.shape[1:])}  # fmt: skip
+                    with zf.open(f"{f.name}.npy", "w", force_zip64=True) as out:
+                        npformat.write_array_header_2_0(out, header)
+                        left = total
+                        for p in paths:
+                            if left <= 0:
+                                break
+                            with np.load(p) as z:
+                                col = np.ascontiguousarray(z[f.name][:left])
+                            out.write(col.tobytes())
+                            left -= len(col)
+
+        atomic_write(Path(path), write)
+        return total
 
     def remove(self) -> None:
         """Delete the parts and what a resume needs (once the whole trajectory is saved)."""

@@ -1,0 +1,152 @@
+"""What one run is (:class:`EpisodeConfig`), what it gives (:class:`Episode`) and how it is built.
+
+The config is checked when made (one ``ValueError`` naming the field, the value and what is allowed); the
+run's Generators (body noise, controller, arena layout) are spawned from its one seed.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from neurowalk.arenas import ArenaSpec, make_arena
+from neurowalk.body.physics import AmosII
+from neurowalk.body.surrogate import Surrogate
+from neurowalk.controller import CONTROLLERS, Controller, make_controller
+from neurowalk.neural.cpg import GAITS, CpgParams
+from neurowalk.neural.motor import LocomotionParams
+from neurowalk.neural.variants import get_variant
+from neurowalk.sim.trajectory import Trajectory
+
+BODIES: tuple[str, ...] = ("amosii", "surrogate")
+
+
+@dataclass(frozen=True, kw_only=True)
+class EpisodeConfig:
+    """One run: where, with which controller and body, how long, which seed."""
+
+    arena: str = "open"
+    arena_opts: dict[str, Any] = field(default_factory=dict)
+    controller: str = "plastic"
+    steer: tuple[float, float] | None = None  # for controller "fixed": (O1, O2)
+    body: str = "amosii"
+    steps: int = 1000  # control steps
+    seed: int = 0
+    control_hz: float = 10.0
+    noise: float = 0.02  # strength of the coloured sensor noise
+    b0: float | None = None  # plastic controller: start self weights (default 0)
+    q0: float | None = None  # plastic controller: start inhibition magnitudes (default 0)
+    reflexes: bool = False  # local leg control: forward models, searching and elevation reflexes
+    backbone: bool = False  # backbone joint control and the climbable-step decision (obstacle-height sensor)
+    variant: str = "paper"  # the network: paper (Eq. 1-6 as printed), original (the authors' code), tuned
+    params: dict[str, float] | None = None  # SensoryParams fields set on top of the variant (a params file)
+    gait: str = "wave"  # the CPG's modulatory input by name (neurowalk.neural.cpg.GAITS)
+
+    def __post_init__(self) -> None:
+        if self.controller not in CONTROLLERS:
+            raise ValueError(f"unknown controller {self.controller!r}; expected one of {', '.join(CONTROLLERS)}")
+        if self.body not in BODIES:
+            raise ValueError(f"unknown body {self.body!r}; expected one of {', '.join(BODIES)}")
+        if not _whole(self.steps) or not 1 <= self.steps <= MAX_STEPS:
+            raise ValueError(f"steps must be a whole number from 1 to {MAX_STEPS:,}, got {self.steps!r}")
+        if not _whole(self.seed) or not 0 <= self.seed < 2**63:
+            raise ValueError(f"seed must be a whole number from 0 to 2**63 - 1, got {self.seed!r}")
+        if not _number(self.control_hz) or not 0 < self.control_hz <= 1000:
+            raise ValueError(f"control_hz must be a number in (0, 1000] Hz, got {self.control_hz!r}")
+        if not _number(self.noise) or not 0 <= self.noise <= 1:
+            raise ValueError(f"noise must be a number in [0, 1] (strength of the sensor noise), got {self.noise!r}")
+        for name in ("b0", "q0"):
+            v = getattr(self, name)
+            if v is not None and (not _number(v) or v < 0):
+                raise ValueError(f"{name} must be a number >= 0 (a start weight), got {v!r}")
+        if self.steer is not None and (
+            len(self.steer) != 2 or not all(_number(v) and -1 <= v <= 1 for v in self.steer)
+        ):
+            raise ValueError(f"steer must be two numbers O1, O2 in [-1, 1], got {list(self.steer)!r}")
+        if (self.b0 is not None or self.q0 is not None) and self.controller != "plastic":
+            raise ValueError("start weights b0/q0 go with controller 'plastic' only")
+        if (self.controller == "fixed") != (self.steer is not None):
+            raise ValueError("--steer O1,O2 goes with controller 'fixed' (and only with it)")
+        if (self.reflexes or self.backbone) and self.body != "amosii":
+            raise ValueError(f"reflexes and backbone control need body 'amosii' (legs and terrain), got {self.body!r}")
+        get_variant(self.variant, self.params)  # raises on an unknown variant or a bad parameter
+        if self.gait not in GAITS:
+            raise ValueError(f"unknown gait {self.gait!r}; expected one of {', '.join(GAITS)}")
+        if self.gait != "wave" and self.body == "surrogate":
+            raise ValueError(f"body 'surrogate' is calibrated on the wave gait, got gait {self.gait!r}")
+
+
+MAX_STEPS = 100_000_000  # control steps of one run (about 116 days simulated at 10 Hz)
+
+
+def _number(v: object) -> bool:
+    """A finite real number (not a bool)."""
+    return isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
+
+
+def _whole(v: object) -> bool:
+    """A finite whole number (not a bool)."""
+    return _number(v) and float(v) == int(v)  # type: ignore[arg-type]
+
+
+@dataclass
+class Episode:
+    """A finished run: its config, arena, trajectory and summary (DESIGN §5 keys)."""
+
+    config: EpisodeConfig
+    arena: ArenaSpec
+    trajectory: Trajectory
+    summary: dict[str, Any]
+    row_stride: int = 1  # the trajectory holds every row_stride-th control step (1: all; see run_episode)
+
+
+def seeds(cfg: EpisodeConfig) -> tuple[np.random.Generator, np.random.Generator, np.random.Generator]:
+    """Generators of the body (sensor noise), the controller and the arena layout, from the run's seed."""
+    body, ctrl, arena = (np.random.default_rng(s) for s in np.random.SeedSequence(cfg.seed).spawn(3))
+    return body, ctrl, arena
+
+
+def build(cfg: EpisodeConfig, *, pad_boxes: int | None = None) -> tuple[ArenaSpec, AmosII | Surrogate, Controller]:
+    """Arena, body and controller of a config (raises ValueError on bad input).
+
+    ``pad_boxes``: build AMOSII's model with that many obstacle slots (``AmosII(pad_boxes=...)``), the model
+    :mod:`neurowalk.sim.batch` runs; None (default) for the plain model.
+    """
+    arena = make_arena(cfg.arena, rng=seeds(cfg)[2], **cfg.arena_opts)
+    body: AmosII | Surrogate
+    if cfg.body == "surrogate":
+        body = Surrogate(arena, noise=cfg.noise)
+        if cfg.control_hz != body.control_hz:
+            raise ValueError(f"body 'surrogate' is calibrated at {body.control_hz} Hz, got control_hz {cfg.control_hz}")
+    else:
+        body = AmosII(arena, control_hz=cfg.control_hz, noise=cfg.noise, pad_boxes=pad_boxes,
+                      scan_obstacles=cfg.backbone or cfg.reflexes)  # fmt: skip
+    weights = {k: v for k, v in (("b0", cfg.b0), ("q0", cfg.q0)) if v is not None}
+    climbing = {k: True for k in ("reflexes", "backbone") if getattr(cfg, k)}
+    v = get_variant(cfg.variant, cfg.params)
+    gait = LocomotionParams(cpg=CpgParams.for_gait(cfg.gait))
+    kwargs: dict[str, Any] = {**weights, **climbing, "locomotion": v.locomotion(gait)}
+    if cfg.controller != "fixed":
+        kwargs["sensory"] = v.sensory
+    controller = make_controller(cfg.controller, steer=cfg.steer, **kwargs)
+    return arena, body, controller
+
+
+class RunInterruptedError(Exception):
+    """A run stopped part-way (e.g. Ctrl-C); ``episode`` holds the steps it completed."""
+
+    def __init__(self, episode: Episode) -> None:
+        super().__init__(f"run stopped after {episode.summary['steps']} of {episode.config.steps} steps")
+        self.episode = episode
+
+
+def progress_bar(total: int, on: bool, desc: str = "episode") -> Any:
+    """A tqdm bar over ``total`` control steps (rate, time left), or None when ``on`` is false."""
+    if not on:
+        return None
+    from tqdm import tqdm
+
+    return tqdm(total=total, unit="step", desc=desc, mininterval=0.5, smoothing=0.1)

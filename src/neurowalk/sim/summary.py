@@ -1,0 +1,123 @@
+"""summary.json of a run (DESIGN §5) from the columns it needs (:class:`Record`)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+import neurowalk
+from neurowalk import metrics
+from neurowalk.arenas import ArenaSpec
+from neurowalk.body.physics import obstacle_contacts
+from neurowalk.neural.variants import get_variant
+from neurowalk.sim.config import EpisodeConfig
+from neurowalk.sim.trajectory import Trajectory
+
+
+def _start_weights(cfg: EpisodeConfig) -> dict[str, float]:
+    """The plastic network's start weights: the config's, else the variant's (b0, q0)."""
+    p = get_variant(cfg.variant, cfg.params).sensory
+    b = cfg.b0 if cfg.b0 is not None else (p.b_start if p.b_start is not None else 0.0)
+    q = cfg.q0 if cfg.q0 is not None else (p.q_start if p.q_start is not None else 0.0)
+    return {"b0": b, "q0": q}
+
+
+@dataclass
+class Record:
+    """The columns of a run its summary needs, every row (a streamed run keeps only these in memory).
+
+    Attributes:
+        pose: (T, 3) x m, y m, yaw rad. outputs: (T, 2) steering. us_distance: (T, 2) readings, m.
+        z: (T,) trunk height, m (None for the planar surrogate). min_up_z: lowest trunk up-vector z.
+        final_b, final_q: (2,) the sensory weights after the last step (NaN for a fixed controller).
+    """
+
+    pose: np.ndarray
+    outputs: np.ndarray
+    us_distance: np.ndarray
+    z: np.ndarray | None
+    min_up_z: float
+    final_b: np.ndarray
+    final_q: np.ndarray
+
+    @classmethod
+    def of(cls, tr: Trajectory) -> Record:
+        """The record of a whole trajectory in memory (views, no copies)."""
+        z = tr.qpos[:, 2] if tr.qpos.shape[1] > 2 else None
+        return cls(tr.pose, tr.outputs, tr.us_distance, z, float(np.min(tr.up_z)), tr.b[-1], tr.q[-1])
+
+
+def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory | Record, wall_time_s: float,
+              warnings: dict[str, int], *,
+              qpos_rows: Callable[[np.ndarray], np.ndarray] | None = None) -> dict[str, Any]:  # fmt: skip
+    """summary.json of DESIGN §5, plus steering-run figures.
+
+    Args:
+        tr: the run's trajectory, or the :class:`Record` of it.
+        qpos_rows: physics runs given as a Record: ``qpos_rows(rows)`` returns those rows' (len(rows), nq)
+            positions (to replay the obstacle contacts of wedged periods); with a Trajectory, its own qpos.
+    """
+    if isinstance(tr, Trajectory):
+        rec = Record.of(tr)
+        if qpos_rows is None and rec.z is not None:
+            qpos_rows = tr.qpos.__getitem__
+    else:
+        rec = tr
+    pose = rec.pose
+    sim_time = cfg.steps / cfg.control_hz
+    weights = None
+    if not np.isnan(rec.final_b).any():
+        c = -0.5 * float(rec.final_q.sum())
+        weights = {"b": rec.final_b.tolist(), "q": rec.final_q.tolist(), "c": c}
+    wedged = metrics.wedged_periods(pose, control_hz=cfg.control_hz, us_distance=rec.us_distance)
+    if wedged and rec.z is not None and qpos_rows is not None:  # physics: replay the wedged steps' contacts
+        rows = np.concatenate([np.arange(p["start"], p["end"] + 1) for p in wedged])
+        touch = np.full(len(pose), np.nan)
+        touch[rows] = obstacle_contacts(arena, qpos_rows(rows))
+        wedged = metrics.wedged_periods(pose, control_hz=cfg.control_hz, us_distance=rec.us_distance, contact=touch)
+    return {
+        "arena": cfg.arena,
+        "arena_opts": arena.options,
+        "controller": cfg.controller,
+        "steer": list(cfg.steer) if cfg.steer is not None else None,
+        "body": cfg.body,
+        "steps": cfg.steps,
+        "seed": cfg.seed,
+        "control_hz": cfg.control_hz,
+        "noise": cfg.noise,
+        "start_weights": _start_weights(cfg) if cfg.controller == "plastic" else None,
+        "reflexes": cfg.reflexes,
+        "backbone": cfg.backbone,
+        "variant": cfg.variant,
+        "params": cfg.params,
+        "gait": cfg.gait,
+        "final_z_m": float(rec.z[-1]) if rec.z is not None else None,  # trunk height (None: planar body)
+        "max_z_m": float(np.max(rec.z)) if rec.z is not None else None,
+        "exit_step": metrics.exit_step(pose, arena),
+        "escaped": metrics.escaped(pose, arena),
+        "trapped": metrics.trapped(pose),
+        "ever_trapped": metrics.ever_trapped(pose),
+        "ever_held_up_1000s": metrics.ever_trapped(pose, window=round(1000 * cfg.control_hz)),
+        "end_turn_share": metrics.latched_turn_share(rec.outputs[-3000:]),
+        "end_blind_share": float(np.mean(np.all(~(rec.us_distance[-3000:] < metrics.BLIND_M), axis=1))),
+        "coverage": metrics.coverage(pose, arena),
+        "path_length_m": metrics.path_length(pose),
+        "forward_displacement_m": metrics.forward_displacement(pose, arena.start),
+        "net_displacement_m": float(np.linalg.norm(pose[-1, :2] - np.asarray(arena.start[:2]))),
+        "heading_change_deg": float(np.degrees(metrics.heading_change(pose, arena.start[2]))),
+        "min_up_z": rec.min_up_z,
+        "direction_switches": metrics.direction_switches(rec.outputs),
+        "turn_episodes": len(turns := metrics.avoidance_episodes(rec.outputs, pose)),
+        "max_turn_deg": max((abs(e["turn_deg"]) for e in turns), default=0.0),
+        **metrics.wedged_summary(wedged),  # wedged_periods (count), longest_wedged_s, wedged_causes
+        "wedged": wedged,  # the periods: start, end (steps), duration_s, centre, extent_m, fractions, cause
+        "final_pose": pose[-1].tolist(),
+        "final_weights": weights,
+        "simulation_warnings": warnings,
+        "wall_time_s": wall_time_s,
+        "real_time_factor": sim_time / wall_time_s if wall_time_s > 0 else None,
+        "neurowalk_version": neurowalk.__version__,
+    }

@@ -1,0 +1,87 @@
+"""A streamed run (``keep_rows=False``): memory bounded by the chunk, the same rows and summary as in memory."""
+
+from __future__ import annotations
+
+import tracemalloc
+from dataclasses import fields
+
+import numpy as np
+import pytest
+
+from neurowalk.sim import episode
+from neurowalk.sim.episode import EpisodeConfig, Resume, RunInterruptedError, run_episode
+from neurowalk.sim.trajectory import PartWriter, Trajectory
+
+VOLATILE = ("wall_time_s", "real_time_factor")
+
+
+def _same_summary(a: dict, b: dict) -> None:
+    assert {k: v for k, v in a.items() if k not in VOLATILE} == {k: v for k, v in b.items() if k not in VOLATILE}
+
+
+def _same_rows(a: Trajectory, b: Trajectory) -> None:
+    for f in fields(Trajectory):
+        np.testing.assert_array_equal(getattr(a, f.name), getattr(b, f.name), err_msg=f.name)
+
+
+def test_streamed_run_writes_every_row_and_summarises_as_in_memory(tmp_path, monkeypatch):
+    # Pushing into a box for 130 s: a wedged period whose contacts are replayed from the parts on disk.
+    cfg = EpisodeConfig(arena="box", arena_opts={"distance": 0.3}, controller="fixed", steer=(-1, -1), steps=1300)
+    whole = run_episode(cfg)
+    monkeypatch.setattr(episode, "PICTURE_ROWS", 100)  # a picture of every 13th row
+    parts = PartWriter(tmp_path / "parts")
+    streamed = run_episode(cfg, sink=parts, chunk=300, keep_rows=False)
+    assert whole.summary["wedged_causes"] == {"body contact": 1}
+    _same_summary(streamed.summary, whole.summary)
+    n = parts.join(tmp_path / "trajectory.npz")
+    assert n == 1300
+    _same_rows(Trajectory.load(tmp_path / "trajectory.npz"), whole.trajectory)
+    assert streamed.row_stride == 13 and len(streamed.trajectory) == 100
+    _same_rows(streamed.trajectory, _every(whole.trajectory, 13))
+
+
+def _every(tr: Trajectory, k: int) -> Trajectory:
+    return Trajectory(**{f.name: getattr(tr, f.name)[::k] for f in fields(Trajectory)})
+
+
+def test_streamed_run_stopped_and_resumed_from_its_parts_is_the_whole_run(tmp_path):
+    cfg = EpisodeConfig(arena="box", arena_opts={"distance": 0.6}, steps=700, seed=2)
+    whole = run_episode(cfg)
+    parts = PartWriter(tmp_path / "parts")
+    saved: dict[int, bytes] = {}
+
+    def stop_after_third(rows: Trajectory, start: int) -> None:
+        parts(rows, start)
+        if start == 400 and not stopped:
+            stopped.append(start)
+            raise KeyboardInterrupt  # Ctrl-C while writing the third part: written again at the stop
+
+    stopped: list[int] = []
+
+    with pytest.raises(RunInterruptedError) as info:
+        run_episode(cfg, sink=stop_after_third, chunk=200, keep_rows=False, checkpoint=saved.__setitem__)
+    assert info.value.episode.summary["steps"] == 600 and sorted(saved) == [200, 400]
+    resumed = run_episode(cfg, sink=parts, chunk=200, keep_rows=False, resume=Resume(400, saved[400], parts.pieces()))
+    _same_summary(resumed.summary, whole.summary)
+    assert parts.join(tmp_path / "t.npz") == 700
+    _same_rows(Trajectory.load(tmp_path / "t.npz"), whole.trajectory)
+
+
+def test_streamed_memory_is_bounded_by_the_chunk_not_the_run(tmp_path, monkeypatch):
+    monkeypatch.setattr(episode, "PICTURE_ROWS", 100)
+    cfg = EpisodeConfig(arena="open", controller="fixed", steer=(1, 1), steps=2000)
+    run_episode(EpisodeConfig(arena="open", controller="fixed", steer=(1, 1), steps=5))  # compile, load
+    peaks = {}
+    for keep in (True, False):
+        tracemalloc.start()
+        run_episode(cfg, sink=lambda rows, start: None, chunk=100, keep_rows=keep)
+        peaks[keep] = tracemalloc.get_traced_memory()[1]
+        tracemalloc.stop()
+    row_bytes = sum(8 * int(np.prod(getattr(Trajectory.empty(1, 26), f.name).shape)) for f in fields(Trajectory))
+    assert peaks[True] > 2000 * row_bytes  # every row in memory
+    assert peaks[False] < 0.35 * peaks[True]  # one chunk, the summary's 72 bytes a step, a picture
+
+
+def test_keep_rows_false_needs_a_sink():
+    with pytest.raises(ValueError, match="sink"):
+        run_episode(EpisodeConfig(steps=5), keep_rows=False)
