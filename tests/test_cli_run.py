@@ -101,7 +101,7 @@ def test_climbing_needs_the_physics_body(tmp_path, capsys):
     "cmd,word",
     [
         (["run", "--steps", "5", "--out", "FILE"], "is a file, not a folder"),
-        (["run", "--steps", "5", "--out", "FILE/sub"], "cannot make the output folder"),
+        (["run", "--steps", "5", "--out", "FILE/sub"], "cannot make the folder"),
         (["figure", "fig2", "--quick", "--out", "FILE"], "is a file, not a folder"),
         (["sweep", "--steps", "5", "--out", "FILE"], "is a file, not a folder"),
         (["bench", "--quick", "--out", "FILE"], "is a file, not a folder"),

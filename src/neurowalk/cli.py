@@ -8,7 +8,6 @@ from __future__ import annotations
 import argparse
 import contextlib
 import dataclasses
-import os
 import sys
 import time
 from collections.abc import Callable, Iterator, Sequence
@@ -32,24 +31,38 @@ class _Parser(argparse.ArgumentParser):
         return super().format_help() + (self.help_tail() if self.help_tail else "")
 
 
-def out_folder(path: Path, flag: str = "--out") -> Path:
-    """Make the output folder ``path`` (and its parents); UsageError naming it if it is a file or cannot be written."""
-    if path.exists() and not path.is_dir():
-        raise UsageError(f"{flag} {str(path)!r} is a file, not a folder")
+def out_folder(path: Path, flag: str = "--out", given: Path | None = None) -> Path:
+    """Make the output folder ``path`` (and its parents); UsageError naming it if it is a file or cannot be written.
+
+    ``given``: the path the user gave, named in the message (default ``path``; e.g. a file inside the folder).
+    """
+    import tempfile
+
+    shown = f"{flag} {str(given if given is not None else path)!r}"
     try:
+        if path.exists() and not path.is_dir():
+            raise UsageError(f"{shown}: {str(path)!r} is a file, not a folder")
         path.mkdir(parents=True, exist_ok=True)
     except OSError as e:
-        raise UsageError(f"cannot make the output folder {str(path)!r}: {e.strerror}") from None
-    if not os.access(path, os.W_OK):
-        raise UsageError(f"{flag} {str(path)!r}: the folder is not writable")
+        raise UsageError(f"{shown}: cannot make the folder {str(path)!r} ({e.strerror})") from None
+    try:  # a real write, not os.access (which lets root 'write' where nothing can be written, e.g. /proc)
+        with tempfile.TemporaryFile(dir=path):
+            pass
+    except OSError as e:
+        raise UsageError(f"{shown}: the folder {str(path)!r} is not writable ({e.strerror})") from None
     return path
 
 
 def out_file(path: Path, flag: str = "--out") -> Path:
     """Check that the output file ``path`` can be written (its folder made); UsageError naming it otherwise."""
-    if path.is_dir():
-        raise UsageError(f"{flag} {str(path)!r} is a folder; give a file name")
-    out_folder(path.parent if str(path.parent) else Path("."), flag)
+    try:
+        if path.is_dir():
+            raise UsageError(f"{flag} {str(path)!r} is a folder; give a file name")
+        if len(path.name.encode()) > 255:
+            raise UsageError(f"{flag} {str(path)!r}: file name too long")
+    except OSError as e:
+        raise UsageError(f"{flag} {str(path)!r}: {e.strerror}") from None
+    out_folder(path.parent if str(path.parent) else Path("."), flag, given=path)
     return path
 
 
@@ -172,6 +185,8 @@ def _variant(args: argparse.Namespace) -> tuple[str, dict | None]:
 
     params = None
     variant = args.variant
+    if variant is not None and not variant.strip():
+        raise UsageError(f"--variant expects a name (e.g. paper, original), got {variant!r}")
     try:
         if args.params is not None:
             data = read_params_file(args.params)
@@ -446,8 +461,8 @@ def _figure(args: argparse.Namespace) -> int:
         return 0
     if args.name not in FIGURES:
         raise UsageError(f"unknown figure {args.name!r}; available: {', '.join(sorted(FIGURES))}")
-    if args.seed < 0:
-        raise UsageError(f"--seed must be >= 0, got {args.seed}")
+    if not 0 <= args.seed < 2**63:
+        raise UsageError(f"--seed must be from 0 to 2**63 - 1, got {args.seed}")
     from neurowalk.experiments import output
 
     exp = FIGURES[args.name]
@@ -556,23 +571,29 @@ def _sweep_specs(args: argparse.Namespace) -> list[dict]:
         raise UsageError(f"--seeds must be >= 1, got {seeds}")
     if start < 0:
         raise UsageError(f"--seed-start must be >= 0, got {start}")
+    if start + seeds > 2**63:
+        raise UsageError(f"--seed-start {start} + --seeds {seeds}: run seeds must stay below 2**63")
     axes: dict[str, list] = {}
     for flag, default in (("arena", "open"), ("controller", "plastic"), ("body", "amosii")):
-        text = getattr(args, flag) or default
+        text = default if getattr(args, flag) is None else getattr(args, flag)
         axes[flag] = [v.strip() for v in text.split(",")]
         if not all(axes[flag]):
             raise UsageError(f"--{flag} expects NAME[,NAME...], got {text!r}")
     for key, values in _arena_opts(args.arena_opt).items():
         axes[f"arena_opts.{key}"] = values.split(",")
     base: dict = {} if args.steps is None else {"steps": args.steps}
-    variants = [v.strip() for v in args.variant.split(",")] if args.variant else []
+    variants = [v.strip() for v in args.variant.split(",")] if args.variant is not None else []
+    if not all(variants):
+        raise UsageError(f"--variant expects NAME[,NAME...], got {args.variant!r}")
     if args.params is not None:  # the file's own base variant unless --variant names others
         file_variant, base["params"] = _variant(argparse.Namespace(variant=None, params=args.params))
         variants = variants or [file_variant]
     if variants:
         axes["variant"] = variants
-    if args.gait:
+    if args.gait is not None:
         axes["gait"] = [g.strip() for g in args.gait.split(",")]
+        if not all(axes["gait"]):
+            raise UsageError(f"--gait expects NAME[,NAME...], got {args.gait!r}")
     axes["seed"] = list(range(start, start + seeds))
     return grid(base, **axes)
 

@@ -14,7 +14,7 @@ import numpy as np
 
 from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.body.physics import AmosII
-from neurowalk.body.surrogate import Surrogate
+from neurowalk.body.surrogate import Surrogate, load_calibration
 from neurowalk.controller import CONTROLLERS, Controller, make_controller
 from neurowalk.neural.cpg import GAITS, CpgParams
 from neurowalk.neural.motor import LocomotionParams
@@ -75,6 +75,8 @@ class EpisodeConfig:
         get_variant(self.variant, self.params)  # raises on an unknown variant or a bad parameter
         if self.gait not in GAITS:
             raise ValueError(f"unknown gait {self.gait!r}; expected one of {', '.join(GAITS)}")
+        if self.body == "surrogate" and self.control_hz != (hz := load_calibration().control_hz):
+            raise ValueError(f"body 'surrogate' is calibrated at {hz} Hz, got control_hz {self.control_hz!r}")
         if self.gait != "wave" and self.body == "surrogate":
             raise ValueError(f"body 'surrogate' is calibrated on the wave gait, got gait {self.gait!r}")
 
@@ -84,12 +86,12 @@ MAX_STEPS = 100_000_000  # control steps of one run (about 116 days simulated at
 
 def _number(v: object) -> bool:
     """A finite real number (not a bool)."""
-    return isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
+    return isinstance(v, int | float) and not isinstance(v, bool) and (isinstance(v, int) or math.isfinite(v))
 
 
 def _whole(v: object) -> bool:
     """A finite whole number (not a bool)."""
-    return _number(v) and float(v) == int(v)  # type: ignore[arg-type]
+    return _number(v) and (isinstance(v, int) or float(v) == int(v))  # type: ignore[arg-type]
 
 
 @dataclass
