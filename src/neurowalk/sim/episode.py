@@ -47,7 +47,7 @@ from neurowalk.sim.trajectory import Trajectory, poses_from_qpos, up_z_from_qpos
 __all__ = ["BODIES", "MAX_STEPS", "PICTURE_ROWS", "Episode", "EpisodeConfig", "Resume", "RunInterruptedError",
            "build", "run_episode", "seeds", "summarize"]  # fmt: skip
 
-PICTURE_ROWS = 20_000  # rows (at most) a streamed run keeps for its picture
+PICTURE_ROWS = 10_000  # rows (at most) a streamed run keeps for its picture
 
 
 @dataclass(frozen=True)
