@@ -297,6 +297,8 @@ SWEEP_CASES = [
     sweep("seeds", "--seeds", "0"),
     sweep("seeds", "--seeds", "-3"),
     sweep("seeds", "--seeds", str(10**30)),
+    sweep("--retries", "--retries", "-1"),
+    sweep("--retries", "--retries", "one"),
     sweep("seed", "--seed-start", str(10**30)),
     sweep("many", "--seeds", "many"),
     sweep("seed-start", "--seed-start", "-1"),

@@ -146,6 +146,8 @@ def _sweep_parser(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--backend", choices=("local", "ray"), default="local", help="local process pool or Ray")
     s.add_argument("--address", default=None, help="Ray cluster to join (backend ray; default: a local instance)")
     s.add_argument("--workers", type=int, default=2, help="processes, or CPUs of a local Ray instance (default 2)")
+    s.add_argument("--retries", type=int, default=0, metavar="N",
+                   help="run a job whose worker died up to N more times (default 0: store it as failed)")  # fmt: skip
     s.add_argument("--gait", default=None, metavar="NAME[,NAME...]", help="gaits (default wave)")
     s.add_argument("--out", type=Path, required=True, help="output folder (the store; resumes what is there)")
     s.add_argument("--export", choices=("parquet", "csv"), default=None, help="also write DIR/results.parquet|csv")
@@ -609,6 +611,8 @@ def _sweep(args: argparse.Namespace) -> int:
 
     if args.workers < 1:
         raise UsageError(f"--workers must be >= 1, got {args.workers}")
+    if args.retries < 0:
+        raise UsageError(f"--retries must be >= 0, got {args.retries}")
     if args.address and args.backend != "ray":
         raise UsageError(f"--address {args.address!r} goes with --backend ray")
     specs = _sweep_specs(args)
@@ -631,7 +635,7 @@ def _sweep(args: argparse.Namespace) -> int:
         write_json(out / "sweep.json", info)
         try:
             report = run_sweep(specs, store, backend=args.backend, workers=args.workers, address=args.address,
-                               progress=not args.quiet)  # fmt: skip
+                               progress=not args.quiet, retries=args.retries)  # fmt: skip
         except ray_backend.RayStartError as e:
             raise UsageError(str(e)) from None
         written = [out / "results.sqlite", out / "sweep.json"]

@@ -41,3 +41,16 @@ def slow(spec: dict[str, Any]) -> dict[str, Any]:
 
     time.sleep(spec["sleep"])
     return cheap(spec)
+
+
+def die_counting(spec: dict[str, Any]) -> dict[str, Any]:
+    """Like :func:`cheap`, but notes each start in ``spec["log"]``; seed 2 kills its process, on every start or,
+    with ``spec["once"]``, on its first only (a flaky crash)."""
+    with open(spec["log"], "a") as f:
+        f.write(f"{spec['seed']}\n")
+    if spec["seed"] == 2:
+        with open(spec["log"]) as f:
+            starts = f.read().split().count("2")
+        if not spec.get("once") or starts == 1:
+            os.kill(os.getpid(), 9)
+    return cheap(spec)

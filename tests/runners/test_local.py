@@ -35,3 +35,28 @@ def test_a_submit_into_a_broken_pool_requeues_the_job(monkeypatch):
     assert sorted(d.index for d in done) == list(range(6))
     assert all(d.error is None for d in done)
     assert _BreaksOnThirdSubmit.made >= 2  # the rest ran on a fresh pool
+
+
+def _run(tmp_path, retries: int, once: bool) -> tuple[list[local.Done], list[str]]:
+    log = tmp_path / "log"
+    items = [{"seed": s, "steps": 1, "log": str(log), "once": once} for s in range(6)]
+    done = list(local.run_unordered(sweep_fns.die_counting, items, workers=2, retries=retries))
+    assert sorted(d.index for d in done) == list(range(6))  # every job reported once
+    return done, log.read_text().split()
+
+
+def test_a_dead_workers_job_is_reported_not_rerun(tmp_path):
+    done, starts = _run(tmp_path, retries=0, once=True)
+    errors = {d.index: d.error for d in done if d.error is not None}
+    assert list(errors) == [2] and isinstance(errors[2], local.WorkerDiedError)
+    assert starts.count("2") == 1  # not rerun, though it would succeed now
+
+
+def test_retries_run_a_dead_workers_job_again_at_most_that_often(tmp_path):
+    (tmp_path / "flaky").mkdir()
+    done, starts = _run(tmp_path / "flaky", retries=1, once=True)
+    assert all(d.error is None for d in done) and starts.count("2") == 2  # died once, then ran
+    (tmp_path / "always").mkdir()
+    done, starts = _run(tmp_path / "always", retries=1, once=False)
+    assert [d.index for d in done if d.error is not None] == [2] and starts.count("2") == 2
+    assert "2 times" in str(next(d.error for d in done if d.error is not None))

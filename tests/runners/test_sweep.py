@@ -99,3 +99,10 @@ def test_run_many_keeps_input_order_and_raises():
     with pytest.raises(ValueError):
         run_many([EpisodeConfig(steps=20), EpisodeConfig(steps=20, arena="box", arena_opts={"distance": -5.0})],
                  workers=2, progress=False)  # fmt: skip
+
+
+def test_retries_are_a_whole_number_at_least_0(tmp_path):
+    with ResultStore(tmp_path / "r.sqlite") as st:
+        for bad in (-1, 0.5):
+            with pytest.raises(ValueError, match="retries"):
+                _sweep(st, retries=bad)

@@ -15,6 +15,7 @@ from collections.abc import Callable, Generator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 from neurowalk.sim.episode import Episode, EpisodeConfig, run_episode
@@ -44,39 +45,73 @@ def call_timed(fn: Callable[[Any], Any], item: Any) -> tuple[Any, BaseException 
     return value, error, time.perf_counter() - t0
 
 
-def run_unordered(fn: Callable[[Any], Any], items: Sequence[Any], *, workers: int = 2) -> Generator[Done, None, None]:
+def run_unordered(fn: Callable[[Any], Any], items: Sequence[Any], *, workers: int = 2,
+                  retries: int = 0) -> Generator[Done, None, None]:  # fmt: skip
     """Yield a :class:`Done` for every ``fn(item)`` as it finishes (in finishing order).
 
     Args:
         fn: a module-level function (pickled by reference into the workers).
         items: its arguments, one per job.
         workers: processes; 1 runs the jobs here, one after the other (so a crash would end this process).
+        retries: how many more times a job whose worker died is run before it is reported (default 0: never).
 
-    A job that raises gives a Done with that exception. A worker that dies breaks the pool: the jobs it may have
-    taken down are rerun one at a time in a fresh single-worker pool, so only the job that kills its worker again
-    is reported (as :class:`WorkerDiedError`); then the sweep goes on with a new pool.
+    A job that raises gives a Done with that exception. A worker that dies (killed, segfault, ``os._exit``)
+    breaks the pool: the job it was running is reported as :class:`WorkerDiedError` (or, with ``retries``, run
+    again first); the other jobs the break cut short did not fail and run again on a fresh pool. Each worker
+    notes the job it runs in a file named by its process id, which the pool's own SIGTERM to the survivors of a
+    break removes, so the dead worker's job is the one whose note is left. Where no note is left (a worker
+    that died between jobs, or by SIGTERM from outside), the cut-short jobs run one at a time to find it.
     """
     if workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")
+    if int(retries) != retries or retries < 0:
+        raise ValueError(f"retries must be a whole number >= 0, got {retries!r}")
     if workers == 1:
         for i, item in enumerate(items):
             yield Done(i, *call_timed(fn, item))
         return
+    import shutil
+    import tempfile
+
+    notes = Path(tempfile.mkdtemp(prefix="neurowalk-pool-"))
+    deaths = dict.fromkeys(range(len(items)), 0)
     todo = deque(range(len(items)))
-    while todo:
-        suspects = yield from _pool_pass(fn, items, todo, workers)
-        for i in suspects:  # alone in its own pool, a second death names the job
-            if (yield from _pool_pass(fn, items, deque([i]), 1)):
-                yield Done(i, error=WorkerDiedError("the worker process died while running this job"))
+    try:
+        while todo:
+            lost, culprits = yield from _pool_pass(fn, items, todo, workers, notes)
+            if lost and not culprits:  # nobody's note: one at a time, a job that breaks a pool alone is named
+                alone = []
+                for i in lost:
+                    cut, _ = yield from _pool_pass(fn, items, deque([i]), 1, notes)
+                    alone += cut
+                lost = culprits = alone
+            for i in lost:
+                if i in culprits:
+                    deaths[i] += 1
+                    if deaths[i] > retries:
+                        yield Done(i, error=WorkerDiedError(_died(deaths[i])))
+                        continue
+                if i not in todo:
+                    todo.appendleft(i)
+    finally:
+        shutil.rmtree(notes, ignore_errors=True)
 
 
-def _pool_pass(fn: Callable[[Any], Any], items: Sequence[Any], todo: deque[int], workers: int
-               ) -> Generator[Done, None, list[int]]:  # fmt: skip
-    """Run jobs from ``todo`` on a new pool until it is empty or the pool breaks; return the jobs lost in a break.
+def _died(times: int) -> str:
+    more = f" (the {times} times it ran)" if times > 1 else ""
+    return f"the worker process died while running this job{more}: killed, a crash, or os._exit"
 
-    At most ``2 * workers`` jobs are in flight, so a break loses few and results stream back as they finish.
+
+def _pool_pass(fn: Callable[[Any], Any], items: Sequence[Any], todo: deque[int], workers: int, notes: Path
+               ) -> Generator[Done, None, tuple[list[int], list[int]]]:  # fmt: skip
+    """Run jobs from ``todo`` on a new pool until it is empty or the pool breaks.
+
+    Returns (the jobs a break cut short, those among them whose worker died). At most ``2 * workers`` jobs are
+    in flight, so a break cuts short few and results stream back as they finish.
     """
-    pool = ProcessPoolExecutor(max_workers=workers, initializer=die_with_parent, initargs=(os.getpid(),))
+    for stale in notes.iterdir():
+        stale.unlink(missing_ok=True)
+    pool = ProcessPoolExecutor(max_workers=workers, initializer=_worker_start, initargs=(os.getpid(), str(notes)))
     running: dict[Future, int] = {}
     lost: list[int] = []
     broken = False  # the pool broke (a submit can meet the break before any future reports it)
@@ -85,7 +120,7 @@ def _pool_pass(fn: Callable[[Any], Any], items: Sequence[Any], todo: deque[int],
             while todo and len(running) < 2 * workers and not lost and not broken:
                 i = todo.popleft()
                 try:
-                    running[pool.submit(call_timed, fn, items[i])] = i
+                    running[pool.submit(_noted, fn, items[i], i)] = i
                 except BrokenProcessPool:
                     todo.appendleft(i)  # not started: it goes to the next pool
                     broken = True
@@ -102,10 +137,38 @@ def _pool_pass(fn: Callable[[Any], Any], items: Sequence[Any], todo: deque[int],
                 except Exception as e:  # e.g. a result that cannot be pickled
                     value, error, wall = None, e, None
                 yield Done(i, value, error, wall)
-        return sorted(lost)
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
         todo.extendleft(reversed([i for i in running.values() if i not in lost]))  # on early exit keep the rest
+    noted = {int(p.read_text() or -1) for p in notes.iterdir() if p.name.isdigit()}
+    return sorted(lost), sorted(noted & set(lost))
+
+
+_NOTES: Path | None = None  # a pool worker's folder of job notes (set by _worker_start)
+
+
+def _worker_start(parent: int, notes: str) -> None:
+    """Pool worker initializer: die with the driver; note jobs in ``notes``; a SIGTERM (the pool's, after a
+    break) removes this worker's note, so that the job it was running is not blamed for the break."""
+    global _NOTES
+    die_with_parent(parent)
+    _NOTES = Path(notes)
+
+    def _terminated(signum: int, frame: object) -> None:
+        (_NOTES / str(os.getpid())).unlink(missing_ok=True)  # type: ignore[operator]
+        os._exit(128 + signum)
+
+    signal.signal(signal.SIGTERM, _terminated)
+
+
+def _noted(fn: Callable[[Any], Any], item: Any, index: int) -> tuple[Any, BaseException | None, float]:
+    """:func:`call_timed` with this worker's note saying it runs job ``index`` (removed when it returns)."""
+    note = _NOTES / str(os.getpid())  # type: ignore[operator]
+    note.write_text(str(index))
+    try:
+        return call_timed(fn, item)
+    finally:
+        note.unlink(missing_ok=True)
 
 
 def die_with_parent(parent: int) -> None:

@@ -63,8 +63,8 @@ def stop() -> None:
     import_ray().shutdown()
 
 
-def run_unordered(fn: Callable[[Any], Any], items: Sequence[Any], *, workers: int = 2, address: str | None = None
-                  ) -> Generator[Done, None, None]:  # fmt: skip
+def run_unordered(fn: Callable[[Any], Any], items: Sequence[Any], *, workers: int = 2, address: str | None = None,
+                  retries: int = 0) -> Generator[Done, None, None]:  # fmt: skip
     """Yield a :class:`Done` for every ``fn(item)`` as it finishes, computed as Ray tasks.
 
     Args:
@@ -72,12 +72,13 @@ def run_unordered(fn: Callable[[Any], Any], items: Sequence[Any], *, workers: in
         items: its arguments, one per job.
         workers: CPUs of the local instance (ignored when joining a cluster or when Ray is already running).
         address: the cluster to join (e.g. ``"auto"`` or ``"10.0.0.1:6379"``); None starts a local instance.
+        retries: how many more times Ray runs a job whose worker died before it is reported (``max_retries``).
 
     At most twice the cluster's CPUs are in flight, so results stream back and an interrupt cancels few jobs.
     """
     ray = import_ray()
     started = start(workers=workers, address=address)
-    task = ray.remote(num_cpus=1, max_retries=0)(call_timed)
+    task = ray.remote(num_cpus=1, max_retries=retries)(call_timed)
     window = 2 * max(1, int(ray.cluster_resources().get("CPU", workers)))
     fn_ref = ray.put(fn)
     pending: dict[Any, int] = {}

@@ -7,8 +7,9 @@
     store ◄── one transaction per run (driver only) ◄────────────────────────────────────┘
 
 A run that raises is stored with status 'error' and its one-line message, and the sweep goes on; so is a run
-whose worker process died. Rerunning the same sweep recomputes only what is missing or failed. Each run is
-seeded by its own spec, so the stored results do not depend on the backend or the number of workers.
+whose worker process died (not rerun unless ``retries`` says so). Rerunning the same sweep recomputes only what is
+missing or failed. Each run is seeded by its own spec, so the stored results do not depend on the backend or the
+number of workers.
 """
 
 from __future__ import annotations
@@ -73,8 +74,8 @@ def prepare(specs: Iterable[Spec]) -> tuple[list[tuple[str, Spec]], int]:
 
 
 def run_sweep(specs: Iterable[Spec], store: ResultStore, *, backend: str = "local", workers: int = 2,
-              address: str | None = None, progress: bool = True, fn: Callable[[Spec], Any] = run_spec
-              ) -> SweepReport:  # fmt: skip
+              address: str | None = None, progress: bool = True, fn: Callable[[Spec], Any] = run_spec,
+              retries: int = 0) -> SweepReport:  # fmt: skip
     """Run every spec not yet done into ``store``; return the counts.
 
     Args:
@@ -85,6 +86,8 @@ def run_sweep(specs: Iterable[Spec], store: ResultStore, *, backend: str = "loca
         address: Ray cluster to join (backend 'ray' only).
         progress: show a progress bar (unit "run", with rate and time left) on stderr.
         fn: computes one run's result (a JSON-able dict) from its normalised spec; a module-level function.
+        retries: how many more times a run whose worker process died is run before it is stored as failed
+            (default 0: stored at once as ``WorkerDiedError``).
 
     Raises:
         ValueError: bad spec, backend or worker count (before any run).
@@ -98,6 +101,8 @@ def run_sweep(specs: Iterable[Spec], store: ResultStore, *, backend: str = "loca
         raise ValueError(f"unknown backend {backend!r}; expected one of {', '.join(BACKENDS)}")
     if int(workers) != workers or workers < 1:
         raise ValueError(f"workers must be a positive integer, got {workers!r}")
+    if int(retries) != retries or retries < 0:
+        raise ValueError(f"retries must be a whole number >= 0, got {retries!r}")
     if address and backend != "ray":
         raise ValueError("an address goes with backend 'ray'")
     t0 = time.perf_counter()
@@ -106,7 +111,7 @@ def run_sweep(specs: Iterable[Spec], store: ResultStore, *, backend: str = "loca
     todo = [(k, s) for k, s in keyed if k not in done]
     report = SweepReport(total=total, unique=len(keyed), duplicates=total - len(keyed), skipped=len(keyed) - len(todo))
     if todo:
-        results = _backend(backend, fn, [s for _, s in todo], workers, address)
+        results = _backend(backend, fn, [s for _, s in todo], workers, address, retries)
         bar = tqdm(total=len(todo), unit="run", desc="sweep", disable=not progress, mininterval=0.5, file=sys.stderr)
         try:
             for d in results:
@@ -124,15 +129,16 @@ def run_sweep(specs: Iterable[Spec], store: ResultStore, *, backend: str = "loca
     return report
 
 
-def _backend(backend: str, fn: Callable[[Spec], Any], items: list[Spec], workers: int, address: str | None) -> Any:
+def _backend(backend: str, fn: Callable[[Spec], Any], items: list[Spec], workers: int, address: str | None,
+             retries: int) -> Any:  # fmt: skip
     if backend == "ray":
         from neurowalk.runners import ray_backend
 
         ray_backend.import_ray()  # the install hint now, not at the first result
-        return ray_backend.run_unordered(fn, items, workers=workers, address=address)
+        return ray_backend.run_unordered(fn, items, workers=workers, address=address, retries=retries)
     from neurowalk.runners.local import run_unordered
 
-    return run_unordered(fn, items, workers=workers)
+    return run_unordered(fn, items, workers=workers, retries=retries)
 
 
 def _store(store: ResultStore, key: str, spec: Spec, d: Done, report: SweepReport) -> None:
