@@ -1,0 +1,59 @@
+"""Command line: ``neurowalk figure NAME --out DIR`` and friends. Thin: parses, calls the library.
+
+Bad input exits with status 2 and one line on stderr naming the offending value. The commands live in the modules
+of this package by what they run (``figure``, ``run``, ``sweep``, ``tools``); ``common`` holds what they share.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+
+from neurowalk import __version__
+from neurowalk.cli.common import Parser, UsageError, out_file, out_folder
+from neurowalk.cli.figure import add_figure_parser, cmd_figure, figure_listing
+from neurowalk.cli.run import add_run_parsers, cmd_run, cmd_view, signals_held
+from neurowalk.cli.sweep import add_optimize_parser, add_sweep_parser, cmd_optimize, cmd_sweep
+from neurowalk.cli.tools import add_tool_parsers, cmd_arenas, cmd_bench, cmd_calibrate, cmd_export
+
+__all__ = ["UsageError", "figure_listing", "main", "out_file", "out_folder", "parse"]
+
+_signals_held = signals_held  # its name here before the split, which the tests use
+
+_COMMANDS = {"figure": cmd_figure, "run": cmd_run, "view": cmd_view, "calibrate": cmd_calibrate, "bench": cmd_bench,
+             "arenas": cmd_arenas, "export-model": cmd_export, "sweep": cmd_sweep,
+             "optimize": cmd_optimize}  # fmt: skip
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = Parser(prog="neurowalk", description="Adaptive neural control of the hexapod AMOSII (Grinke et al. 2015).")
+    p.add_argument("--version", action="version", version=f"neurowalk {__version__}")
+    sub = p.add_subparsers(dest="command", required=True, parser_class=Parser)
+    add_figure_parser(sub)
+    add_run_parsers(sub)  # run, view
+    add_tool_parsers(sub)  # calibrate, bench, arenas, export-model
+    add_sweep_parser(sub)
+    add_optimize_parser(sub)
+    return p
+
+
+def parse(argv: list[str]) -> argparse.Namespace:
+    """The parsed command line (raises UsageError on a bad one); nothing runs."""
+    argv = list(argv)
+    # `--steer -1,-1` would read as an option: glue the value on (`--steer=-1,-1`).
+    for i, a in enumerate(argv[:-1]):
+        if a == "--steer":
+            argv[i : i + 2] = [f"--steer={argv[i + 1]}"]
+            break
+    return _parser().parse_args(argv)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``neurowalk`` command; returns the exit status."""
+    try:
+        args = parse(list(sys.argv[1:] if argv is None else argv))
+        return _COMMANDS[args.command](args)
+    except UsageError as e:
+        print(f"neurowalk: error: {e}", file=sys.stderr)
+        return 2

@@ -1,0 +1,148 @@
+"""What several commands share: the usage error, the parser class, output path checks, the episode arguments."""
+
+from __future__ import annotations
+
+import argparse
+from collections.abc import Callable
+from pathlib import Path
+
+
+class UsageError(Exception):
+    """Bad command-line input: reported as one line, exit status 2."""
+
+
+class Parser(argparse.ArgumentParser):
+    """The parser of the command and of each subcommand: a bad command line raises UsageError."""
+
+    help_tail: Callable[[], str] | None = None  # more help, computed only when help is asked for
+
+    def error(self, message: str) -> None:  # one clear line instead of usage + message
+        raise UsageError(message)
+
+    def format_help(self) -> str:
+        return super().format_help() + (self.help_tail() if self.help_tail else "")
+
+
+def out_folder(path: Path, flag: str = "--out", given: Path | None = None) -> Path:
+    """Make the output folder ``path`` (and its parents); UsageError naming it if it is a file or cannot be written.
+
+    ``given``: the path the user gave, named in the message (default ``path``; e.g. a file inside the folder).
+    """
+    import tempfile
+
+    shown = f"{flag} {str(given if given is not None else path)!r}"
+    try:
+        if path.exists() and not path.is_dir():
+            raise UsageError(f"{shown}: {str(path)!r} is a file, not a folder")
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise UsageError(f"{shown}: cannot make the folder {str(path)!r} ({e.strerror})") from None
+    try:  # a real write, not os.access (which lets root 'write' where nothing can be written, e.g. /proc)
+        with tempfile.TemporaryFile(dir=path):
+            pass
+    except OSError as e:
+        raise UsageError(f"{shown}: the folder {str(path)!r} is not writable ({e.strerror})") from None
+    return path
+
+
+def out_file(path: Path, flag: str = "--out") -> Path:
+    """Check that the output file ``path`` can be written (its folder made); UsageError naming it otherwise."""
+    try:
+        if path.is_dir():
+            raise UsageError(f"{flag} {str(path)!r} is a folder; give a file name")
+        if len(path.name.encode()) > 255:
+            raise UsageError(f"{flag} {str(path)!r}: file name too long")
+    except OSError as e:
+        raise UsageError(f"{flag} {str(path)!r}: {e.strerror}") from None
+    out_folder(path.parent if str(path.parent) else Path("."), flag, given=path)
+    return path
+
+
+def episode_args(p: argparse.ArgumentParser) -> None:
+    """The flags of one closed-loop run (`run`, `view`)."""
+    p.add_argument("--arena", default="open", help="arena name (see `neurowalk arenas`)")
+    p.add_argument("--arena-opt", action="append", default=[], metavar="KEY=VALUE", help="arena option, repeatable")
+    p.add_argument("--controller", default="plastic", help="plastic | static | braitenberg | fixed")
+    p.add_argument("--steer", default=None, metavar="O1,O2", help="steering of controller 'fixed', e.g. -1,-1")
+    p.add_argument("--body", default="amosii", help="amosii (MuJoCo physics) | surrogate (planar, calibrated)")
+    p.add_argument("--steps", type=int, default=1000, help="control steps (10 Hz: 1000 = 100 s)")
+    p.add_argument("--seed", type=int, default=0, help="seed of every random draw")
+    p.add_argument("--reflexes", action="store_true", help="local leg control: searching and elevation reflexes")
+    p.add_argument("--backbone", action="store_true", help="backbone joint control and climbable-step detection")
+    p.add_argument("--climb", action="store_true", help="both --reflexes and --backbone (climbing)")
+    variant_args(p)
+    p.add_argument(
+        "--gait", default="wave", help="slow-wave | wave (default) | slow-tetrapod | tetrapod | tripod | fast"
+    )
+
+
+def variant_args(p: argparse.ArgumentParser, many: bool = False) -> None:
+    """--variant and --params (``many``: --variant takes a comma list)."""
+    names = "paper | original | tuned"
+    p.add_argument("--variant", default=None, metavar="NAME[,NAME...]" if many else "NAME",
+                   help=f"the network: {names} (default paper: Eq. 1-6 as printed; original: the authors' code; "
+                   "see docs/paper-vs-code.md)")  # fmt: skip
+    p.add_argument("--params", type=Path, default=None, metavar="FILE.json",
+                   help="SensoryParams fields on top of the variant, e.g. an `optimize` best.json")  # fmt: skip
+
+
+def parse_variant(args: argparse.Namespace) -> tuple[str, dict | None]:
+    """(variant, params overrides) of --variant/--params; a params file names its own base variant."""
+    from neurowalk.neural.variants import get_variant, read_params_file
+
+    params = None
+    variant = args.variant
+    if variant is not None and not variant.strip():
+        raise UsageError(f"--variant expects a name (e.g. paper, original), got {variant!r}")
+    try:
+        if args.params is not None:
+            data = read_params_file(args.params)
+            params = data["params"]
+            variant = variant or data["variant"]
+        variant = variant or "paper"
+        get_variant(variant, params)
+    except ValueError as e:
+        raise UsageError(str(e)) from None
+    return variant, params
+
+
+def parse_arena_opts(items: list[str]) -> dict[str, str]:
+    """{key: value} of the --arena-opt KEY=VALUE items."""
+    opts = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep or not key:
+            raise UsageError(f"--arena-opt expects KEY=VALUE, got {item!r}")
+        opts[key] = value
+    return opts
+
+
+def parse_steer(text: str | None) -> tuple[float, float] | None:
+    """(O1, O2) of --steer O1,O2, or None where it is not given."""
+    if text is None:
+        return None
+    try:
+        o1, o2 = (float(x) for x in text.split(","))
+    except ValueError:
+        raise UsageError(f"--steer expects two numbers O1,O2 in [-1, 1], got {text!r}") from None
+    if not all(-1.0 <= v <= 1.0 for v in (o1, o2)):
+        raise UsageError(f"--steer values must lie in [-1, 1], got {text!r}")
+    return (o1, o2)
+
+
+def episode_config(args: argparse.Namespace) -> object:
+    """The EpisodeConfig of the episode flags, its arena options checked; UsageError naming a bad value."""
+    from neurowalk.arenas import make_arena
+    from neurowalk.sim.episode import EpisodeConfig
+
+    variant, params = parse_variant(args)
+    try:
+        opts = parse_arena_opts(args.arena_opt)
+        cfg = EpisodeConfig(arena=args.arena, arena_opts=opts, controller=args.controller,
+                            steer=parse_steer(args.steer), body=args.body, steps=args.steps, seed=args.seed,
+                            reflexes=args.reflexes or args.climb, backbone=args.backbone or args.climb,
+                            variant=variant, params=params, gait=args.gait)  # fmt: skip
+        make_arena(cfg.arena, **cfg.arena_opts)  # validate the arena's options before any work
+    except ValueError as e:
+        raise UsageError(str(e)) from None
+    return cfg

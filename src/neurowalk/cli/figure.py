@@ -1,0 +1,157 @@
+"""The `figure` command: reproduce a paper figure (or redraw it from its saved numbers), and the list of figures."""
+
+from __future__ import annotations
+
+import argparse
+import functools
+import sys
+import time
+from collections.abc import Mapping
+from pathlib import Path
+
+from neurowalk.cli.common import UsageError, out_folder, parse_arena_opts, parse_variant, variant_args
+
+# The figure flags that only some figures take: flag -> (the parameter of the figure's run() that takes it, which
+# figures do, for the message).
+_TAKES = {
+    "--seeds": ("seeds", ""),
+    "--body": ("body", ""),
+    "--climb": ("climbing", ""),
+    "--variant/--params": ("variant", ""),
+    "--gait": ("gait", " (fig3, fig5 and escape-map do)"),
+    "--video": ("video", " (fig8 and fig9 do)"),
+    "--arena-opt": ("size", " (table2 and fig6 take size=M)"),
+}
+
+
+def figure_listing() -> str:
+    """The figures, one per line: name and one-line description, aligned."""
+    from neurowalk.experiments import FIGURES
+
+    width = max(len(n) for n in FIGURES) + 2
+    return "\n".join(f"{name:<{width}}{exp.title}" for name, exp in sorted(FIGURES.items()))
+
+
+def add_figure_parser(sub: argparse._SubParsersAction) -> None:
+    """The `figure` subcommand; its help ends with the list of figures."""
+    f = sub.add_parser("figure", help="reproduce a paper figure: writes DIR/NAME.png and DIR/NAME.json")
+    f.help_tail = lambda: "\nfigures:\n" + "".join(f"  {line}\n" for line in figure_listing().splitlines())
+    f.add_argument("name", help="figure name (see `neurowalk figure list`)")
+    f.add_argument("--out", type=Path, default=None, help="output folder (default: out/NAME)")
+    f.add_argument("--quick", action="store_true", help="shorter runs, coarser grids")
+    f.add_argument("--seed", type=int, default=0, help="seed of every random draw (default 0)")
+    f.add_argument(
+        "--seeds", type=int, default=None, help="number of seeds per condition (figures with outcome tables)"
+    )
+    f.add_argument("--replot", action="store_true", help="redraw from DIR/NAME.json and .npz without rerunning")
+    f.add_argument("--body", default=None, help="amosii | surrogate (figures that run on either; default per figure)")
+    climb = "leg reflexes and backbone control on (fig3 fig5 escape-map table2; default out: out/NAME-climb)"
+    f.add_argument("--climb", action="store_true", help=climb)
+    variant_args(f)
+    f.add_argument("--gait", default=None, help="gait of the physics figures that take one (fig3 fig5 escape-map)")
+    f.add_argument("--video", action="store_true", help="also write the example runs' videos (fig8, fig9)")
+    f.add_argument("--arena-opt", action="append", default=[], metavar="size=M",
+                   help="box side of the random environments (table2, fig6; default 1 m, the authors')")  # fmt: skip
+
+
+def _check_takes(name: str, params: Mapping[str, object], flag: str, given: str = "", ok: bool = True) -> None:
+    """UsageError unless figure ``name``, whose run() has the parameters ``params``, takes ``flag``.
+
+    ``given``: the flag's values, named in the message; ``ok``: false where the figure takes the flag but not those.
+    """
+    param, which = _TAKES[flag]
+    if param not in params or not ok:
+        raise UsageError(f"figure {name!r} takes no {flag}{given}{which}")
+
+
+def cmd_figure(args: argparse.Namespace) -> int:
+    """`neurowalk figure NAME`: run the figure (or --replot it), write DIR/NAME.png and its numbers."""
+    from neurowalk.render import has_display, use_headless_gl
+
+    if not has_display():
+        use_headless_gl()  # before MuJoCo is imported: figures with rendered snapshots (fig10)
+    from neurowalk.experiments import FIGURES
+
+    if args.name == "list":
+        print(figure_listing())
+        return 0
+    if args.name not in FIGURES:
+        raise UsageError(f"unknown figure {args.name!r}; available: {', '.join(sorted(FIGURES))}")
+    if not 0 <= args.seed < 2**63:
+        raise UsageError(f"--seed must be from 0 to 2**63 - 1, got {args.seed}")
+    from neurowalk.experiments import output
+
+    exp = FIGURES[args.name]
+    out = args.out or Path("out") / (f"{args.name}-climb" if args.climb else args.name)
+    t0 = time.perf_counter()
+    if args.replot:
+        if not (out / f"{args.name}.json").is_file():
+            raise UsageError(f"--replot: no {args.name}.json in {str(out)!r}")
+        result = output.load(args.name, out)
+    else:
+        import inspect
+
+        params = inspect.signature(exp.run).parameters
+        takes = functools.partial(_check_takes, args.name, params)
+        kwargs = {"quick": args.quick, "seed": args.seed}
+        if args.seeds is not None:
+            takes("--seeds")
+            if args.seeds < 1:
+                raise UsageError(f"--seeds must be >= 1, got {args.seeds}")
+            kwargs["seeds"] = args.seeds
+        if args.body is not None:
+            from neurowalk.sim.episode import BODIES
+
+            takes("--body")
+            if args.body not in BODIES:
+                raise UsageError(f"unknown body {args.body!r}; expected one of {', '.join(BODIES)}")
+            kwargs["body"] = args.body
+        if args.climb:
+            takes("--climb")
+            if kwargs.get("body", "amosii") != "amosii":
+                raise UsageError(f"--climb needs --body amosii (the {args.body!r} body has no legs)")
+            kwargs["climbing"] = True
+            if "body" in params:
+                kwargs["body"] = "amosii"
+        if args.variant is not None or args.params is not None:
+            takes("--variant/--params")
+            kwargs["variant"], overrides = parse_variant(args)
+            if overrides:
+                kwargs["params"] = overrides
+        if args.gait is not None:
+            from neurowalk.neural.cpg import GAITS
+
+            takes("--gait")
+            if args.gait not in GAITS:
+                raise UsageError(f"unknown gait {args.gait!r}; expected one of {', '.join(GAITS)}")
+            kwargs["gait"] = args.gait
+        if args.video:
+            takes("--video")
+            kwargs["video"] = True
+        if args.arena_opt:
+            opts = parse_arena_opts(args.arena_opt)
+            takes("--arena-opt", given=f" {', '.join(args.arena_opt)}", ok=set(opts) == {"size"})
+            from neurowalk.arenas import make_arena
+
+            try:
+                kwargs["size"] = float(opts["size"])
+                make_arena("random", size=kwargs["size"], n_boxes=0)  # the arena's own range check
+            except ValueError as e:
+                raise UsageError(f"--arena-opt size={opts['size']}: {e}") from None
+        if "out" in params:
+            kwargs["out"] = out  # the figure keeps a resumable result store there
+        out_folder(out)
+        from neurowalk.runners.store import StoreError
+
+        try:
+            result = exp.run(**kwargs)
+        except StoreError as e:
+            raise UsageError(str(e)) from None
+        except KeyboardInterrupt:
+            print(f"neurowalk: {args.name} interrupted; the finished runs are kept in {out}: run the same command "
+                  "again to resume (figures without a store there start over)", file=sys.stderr)  # fmt: skip
+            return 130
+    paths = {} if args.replot else output.save_data(result, out)  # the numbers first: a plot error loses nothing
+    paths = {"png": output.save_figure(result, exp.plot(result), out), **paths}
+    print(f"{args.name}: wrote {', '.join(str(p) for p in paths.values())} in {time.perf_counter() - t0:.1f} s")
+    return 0

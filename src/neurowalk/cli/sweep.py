@@ -1,0 +1,206 @@
+"""The commands of many runs: `sweep` (a grid or a specs file into a resumable result store) and `optimize` (CMA-ES)."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from neurowalk.cli.common import UsageError, out_folder, parse_arena_opts, parse_variant, variant_args
+
+
+def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
+    """The `sweep` subcommand."""
+    s = sub.add_parser("sweep", help="many runs (a grid, or specs from a file), resumable, into DIR/results.sqlite")
+    s.add_argument("--arena", default=None, metavar="NAME[,NAME...]", help="arenas (default open)")
+    s.add_argument("--controller", default=None, metavar="NAME[,NAME...]", help="controllers (default plastic)")
+    s.add_argument("--body", default=None, metavar="NAME[,NAME...]", help="bodies (default amosii)")
+    s.add_argument("--seeds", type=int, default=None, help="seeds per condition (default 1)")
+    s.add_argument("--seed-start", type=int, default=None, help="first seed (default 0): seeds S, S+1, ...")
+    s.add_argument("--steps", type=int, default=None, help="control steps per run (default 1000)")
+    s.add_argument("--arena-opt", action="append", default=[], metavar="KEY=V1[,V2...]",
+                   help="arena option; a comma list adds a grid axis (repeatable)")  # fmt: skip
+    s.add_argument("--specs", type=Path, default=None, metavar="FILE.jsonl",
+                   help="one run spec (JSON object of EpisodeConfig fields) per line, instead of the grid")  # fmt: skip
+    s.add_argument("--backend", choices=("local", "ray"), default="local", help="local process pool or Ray")
+    s.add_argument("--address", default=None, help="Ray cluster to join (backend ray; default: a local instance)")
+    s.add_argument("--workers", type=int, default=2, help="processes, or CPUs of a local Ray instance (default 2)")
+    s.add_argument("--retries", type=int, default=0, metavar="N",
+                   help="run a job whose worker died up to N more times (default 0: store it as failed)")  # fmt: skip
+    s.add_argument("--gait", default=None, metavar="NAME[,NAME...]", help="gaits (default wave)")
+    s.add_argument("--out", type=Path, required=True, help="output folder (the store; resumes what is there)")
+    s.add_argument("--export", choices=("parquet", "csv"), default=None, help="also write DIR/results.parquet|csv")
+    s.add_argument("--quiet", action="store_true", help="no progress bar")
+    variant_args(s, many=True)
+
+
+_GRID_FLAGS = ("arena", "controller", "body", "seeds", "seed_start", "steps", "arena_opt", "variant", "params", "gait")
+
+
+def _sweep_specs(args: argparse.Namespace) -> list[dict]:
+    """The run specs of `neurowalk sweep`: from --specs, or the grid of the other options."""
+    from neurowalk.runners.specs import grid, read_jsonl
+
+    if args.specs is not None:
+        given = [f"--{f.replace('_', '-')}" for f in _GRID_FLAGS if getattr(args, f) not in (None, [])]
+        if given:
+            raise UsageError(f"--specs replaces the grid options; drop {', '.join(given)}")
+        try:
+            specs = read_jsonl(args.specs)
+        except ValueError as e:
+            raise UsageError(str(e)) from None
+        if not specs:
+            raise UsageError(f"no run specs in {str(args.specs)!r}")
+        return specs
+    seeds, start = args.seeds if args.seeds is not None else 1, args.seed_start or 0
+    if seeds < 1:
+        raise UsageError(f"--seeds must be >= 1, got {seeds}")
+    if start < 0:
+        raise UsageError(f"--seed-start must be >= 0, got {start}")
+    if start + seeds > 2**63:
+        raise UsageError(f"--seed-start {start} + --seeds {seeds}: run seeds must stay below 2**63")
+    axes: dict[str, list] = {}
+    for flag, default in (("arena", "open"), ("controller", "plastic"), ("body", "amosii")):
+        text = default if getattr(args, flag) is None else getattr(args, flag)
+        axes[flag] = [v.strip() for v in text.split(",")]
+        if not all(axes[flag]):
+            raise UsageError(f"--{flag} expects NAME[,NAME...], got {text!r}")
+    for key, values in parse_arena_opts(args.arena_opt).items():
+        axes[f"arena_opts.{key}"] = values.split(",")
+    base: dict = {} if args.steps is None else {"steps": args.steps}
+    variants = [v.strip() for v in args.variant.split(",")] if args.variant is not None else []
+    if not all(variants):
+        raise UsageError(f"--variant expects NAME[,NAME...], got {args.variant!r}")
+    if args.params is not None:  # the file's own base variant unless --variant names others
+        file_variant, base["params"] = parse_variant(argparse.Namespace(variant=None, params=args.params))
+        variants = variants or [file_variant]
+    if variants:
+        axes["variant"] = variants
+    if args.gait is not None:
+        axes["gait"] = [g.strip() for g in args.gait.split(",")]
+        if not all(axes["gait"]):
+            raise UsageError(f"--gait expects NAME[,NAME...], got {args.gait!r}")
+    axes["seed"] = list(range(start, start + seeds))
+    return grid(base, **axes)
+
+
+def cmd_sweep(args: argparse.Namespace) -> int:
+    """`neurowalk sweep`: every run spec into DIR/results.sqlite (skipping the ones done), DIR/sweep.json."""
+    import importlib.util
+
+    from neurowalk.fileio import write_json
+    from neurowalk.runners import ray_backend
+    from neurowalk.runners.specs import check_specs
+    from neurowalk.runners.store import ResultStore, StoreError
+    from neurowalk.runners.sweep import run_sweep
+
+    if args.workers < 1:
+        raise UsageError(f"--workers must be >= 1, got {args.workers}")
+    if args.retries < 0:
+        raise UsageError(f"--retries must be >= 0, got {args.retries}")
+    if args.address and args.backend != "ray":
+        raise UsageError(f"--address {args.address!r} goes with --backend ray")
+    specs = _sweep_specs(args)
+    try:
+        check_specs(specs)  # every bad name or value exits here, before any work
+        if args.backend == "ray":
+            ray_backend.import_ray()  # a missing ray is bad input; a broken ray install raises as it is
+    except (ValueError, ray_backend.RayMissingError) as e:
+        raise UsageError(str(e)) from None
+    if args.export == "parquet" and importlib.util.find_spec("pyarrow") is None:
+        raise UsageError("--export parquet needs `pip install neurowalk[parquet]`")
+    out = out_folder(args.out)
+    settings = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items() if k != "command"}
+    info: dict = {"command": "sweep", "settings": settings, "finished": False}
+    try:
+        store = ResultStore(out / "results.sqlite")
+    except StoreError as e:
+        raise UsageError(str(e)) from None
+    with store:
+        write_json(out / "sweep.json", info)
+        try:
+            report = run_sweep(specs, store, backend=args.backend, workers=args.workers, address=args.address,
+                               progress=not args.quiet, retries=args.retries)  # fmt: skip
+        except ray_backend.RayStartError as e:
+            raise UsageError(str(e)) from None
+        written = [out / "results.sqlite", out / "sweep.json"]
+        if args.export and not report.interrupted:
+            written.append(store.export(out / f"results.{args.export}", args.export))
+        failures = [{"key": f.key, "spec": f.spec, "error": f.error} for f in report.failures]
+        info.update(finished=not report.interrupted, counts=report.counts(), store=store.counts(), failures=failures)
+        write_json(out / "sweep.json", info)
+    for f in report.failures[:50]:
+        print(f"neurowalk: run failed: {f.line()}", file=sys.stderr)
+    if len(report.failures) > 50:
+        print(f"neurowalk: ... and {len(report.failures) - 50} more failed runs (all in {out / 'sweep.json'})",
+              file=sys.stderr)  # fmt: skip
+    r = report
+    print(f"sweep: {r.unique} runs: {r.skipped} already done, {r.ok} ok, {r.error} failed, in {r.wall_time_s:.1f} s; "
+          f"wrote {', '.join(str(p) for p in written)}")  # fmt: skip
+    if r.interrupted:
+        print(f"neurowalk: sweep interrupted; the finished runs are in {out / 'results.sqlite'}: run the same command "
+              "again to resume", file=sys.stderr)  # fmt: skip
+        return 130
+    return 1 if r.error else 0
+
+
+def add_optimize_parser(sub: argparse._SubParsersAction) -> None:
+    """The `optimize` subcommand."""
+    o = sub.add_parser("optimize", help="CMA-ES over the learning parameters on the surrogate: writes DIR/best.json, "
+                       "heldout.json, convergence.png (resumable)")  # fmt: skip
+    o.add_argument("--out", type=Path, default=Path("out/optimize"), help="output folder (default out/optimize)")
+    o.add_argument("--quick", action="store_true", help="small search (6 x 5 candidates, 16 environments, 10000 steps)")
+    o.add_argument("--variant", default="original", help="base variant: original (default) | paper")
+    o.add_argument("--fields", default=None, metavar="NAME[,NAME...]",
+                   help="SensoryParams fields to search (default mu_b,mu_q,gamma_b,gamma_q,k)")  # fmt: skip
+    o.add_argument("--param", action="append", default=[], metavar="FIELD=LO:HI",
+                   help="bounds of a field (adds it to the search), e.g. mu_b=0.001:0.03; repeatable")  # fmt: skip
+    for flag, what in (("population", "candidates per generation (full 8, quick 6)"),
+                       ("generations", "generations (full 12, quick 5)"),
+                       ("environments", "training environments (full 80, quick 16)"),
+                       ("heldout", "held-out environments (full 200, quick 50)"),
+                       ("steps", "control steps per environment (full 20000, quick 10000)"),
+                       ("deadend-seeds", "seeds per dead-end geometry (full 3, quick 2)")):  # fmt: skip
+        o.add_argument(f"--{flag}", type=int, default=None, help=what)
+    o.add_argument("--seed", type=int, default=0, help="CMA-ES seed (default 0)")
+    o.add_argument("--train-seed", type=int, default=1000, help="table seed of the training environments (1000)")
+    o.add_argument("--heldout-seed", type=int, default=0, help="table seed of the held-out environments (0)")
+    o.add_argument("--sigma0", type=float, default=0.2, help="initial step size in the normalised space (0.2)")
+    o.add_argument("--backend", choices=("local", "ray"), default="local", help="local process pool or Ray")
+    o.add_argument("--address", default=None, help="Ray cluster to join (backend ray; default: a local instance)")
+    o.add_argument("--workers", type=int, default=2, help="processes, or CPUs of a local Ray instance (default 2)")
+    o.add_argument("--quiet", action="store_true", help="no progress bar")
+
+
+def cmd_optimize(args: argparse.Namespace) -> int:
+    """`neurowalk optimize`: CMA-ES over the learning parameters (resumable)."""
+    from neurowalk.experiments import optimize
+    from neurowalk.experiments.optimize_space import parse_bounds
+    from neurowalk.runners import ray_backend
+
+    if args.address and args.backend != "ray":
+        raise UsageError(f"--address {args.address!r} goes with --backend ray")
+    sizes = {k: getattr(args, k) for k in ("population", "generations", "environments", "heldout", "steps",
+                                           "deadend_seeds") if getattr(args, k) is not None}  # fmt: skip
+    fields = None if args.fields is None else [f.strip() for f in args.fields.split(",")]
+    t0 = time.perf_counter()
+    try:
+        if args.backend == "ray":
+            ray_backend.import_ray()
+        bounds = dict(parse_bounds(p) for p in args.param)
+        optimize.run(out=args.out, quick=args.quick, variant=args.variant, fields=fields, bounds=bounds,
+                     sizes=sizes, seed=args.seed, train_seed=args.train_seed, heldout_seed=args.heldout_seed,
+                     sigma0=args.sigma0, backend=args.backend, workers=args.workers, address=args.address,
+                     progress=not args.quiet, log=lambda line: print(line, flush=True))  # fmt: skip
+    except (ValueError, ray_backend.RayMissingError, ray_backend.RayStartError, optimize.CmaMissingError) as e:
+        raise UsageError(str(e)) from None
+    except KeyboardInterrupt:
+        print(f"neurowalk: optimize interrupted; finished runs and generations are in {args.out}: run the same "
+              "command again to resume", file=sys.stderr)  # fmt: skip
+        return 130
+    except RuntimeError as e:
+        print(f"neurowalk: optimize: {e}", file=sys.stderr)
+        return 1
+    print(f"optimize: done in {time.perf_counter() - t0:.1f} s")
+    return 0

@@ -1,0 +1,95 @@
+"""The tool commands: `calibrate` (the surrogate's calibration), `bench`, `arenas` (the list) and `export-model`."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from neurowalk.cli.common import UsageError, out_file, out_folder, parse_arena_opts
+
+
+def add_tool_parsers(sub: argparse._SubParsersAction) -> None:
+    """The `calibrate`, `bench`, `arenas` and `export-model` subcommands."""
+    c = sub.add_parser("calibrate", help="measure the physics robot for the planar surrogate (writes a JSON file)")
+    c.add_argument("--out", type=Path, default=Path("out/calibration/calibration.json"), help="file to write")
+    c.add_argument("--workers", type=int, default=2, help="processes (default 2)")
+    c.add_argument("--quick", action="store_true", help="coarse grid (for a smoke test; not for shipping)")
+
+    b = sub.add_parser("bench", help="measure the performance figures side by side: writes DIR/bench.json")
+    b.add_argument("--out", type=Path, default=Path("out/bench"), help="output folder (default out/bench)")
+    b.add_argument("--quick", action="store_true", help="short measurements (a smoke test)")
+    b.add_argument("--workers", type=int, default=None, help="processes / threads (default: the cores, up to 8)")
+
+    sub.add_parser("arenas", help="list the arenas and their options")
+    e = sub.add_parser("export-model", help="write the robot (and an arena) as a self-contained MJCF file")
+    e.add_argument("--out", type=Path, required=True, help="MJCF file to write")
+    e.add_argument("--arena", default="open", help="arena to include (default open)")
+    e.add_argument("--arena-opt", action="append", default=[], metavar="KEY=VALUE", help="arena option")
+
+
+def cmd_calibrate(args: argparse.Namespace) -> int:
+    """`neurowalk calibrate`: measure the physics robot, write the calibration and its plot."""
+    if args.workers < 1:
+        raise UsageError(f"--workers must be >= 1, got {args.workers}")
+    from neurowalk.experiments.calibration import calibrate, plot_calibration
+    from neurowalk.fileio import atomic_write, write_json
+
+    out_file(args.out)  # before the minute of measuring
+    grid = {"grid": (-1.0, -0.3, 0.0, 0.3, 1.0), "held_out": (-0.6, 0.6)} if args.quick else {}
+    cal = calibrate(**grid, workers=args.workers)  # type: ignore[arg-type]
+    write_json(args.out, cal.to_json())
+    fig = plot_calibration(cal)
+    png = args.out.with_suffix(".png")
+    atomic_write(png, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
+    v = cal.meta["validation"]
+    print(f"calibration: lag {cal.tau_s} s + {cal.delay_steps} steps, start-up {cal.startup_steps} steps; "
+          f"held-out error max {v['speed_error_max']:.1%} (speed), {v['yaw_rate_error_max']:.1%} (turning); "
+          f"wrote {args.out}, {png}")  # fmt: skip
+    return 0
+
+
+def cmd_bench(args: argparse.Namespace) -> int:
+    """`neurowalk bench`: the performance figures into DIR/bench.json."""
+    if args.workers is not None and args.workers < 1:
+        raise UsageError(f"--workers must be >= 1, got {args.workers}")
+    from neurowalk.bench import run_bench
+    from neurowalk.fileio import write_json
+
+    out_folder(args.out)
+    r = run_bench(quick=args.quick, workers=args.workers)
+    write_json(args.out / "bench.json", r)
+    b = r["batch_physics"]["speedup_vs_single_loop"]
+    line = (f"physics {r['physics']['control_steps_per_s']:.0f} control steps/s; surrogate "
+            f"{r['surrogate']['env_steps_per_s_pool']:.3g} env steps/s ({r['surrogate_vs_physics']['pool']:.0f}x); "
+            f"mujoco.batch speed-up {', '.join(f'{k} {v:.2f}x' for k, v in b.items())}")  # fmt: skip
+    if "table2_surrogate" in r:
+        line += f"; Table 2 (50 environments, surrogate) {r['table2_surrogate']['wall_s']:.1f} s"
+    print(f"{line}; wrote {args.out / 'bench.json'}")
+    return 0
+
+
+def cmd_arenas(args: argparse.Namespace) -> int:
+    """`neurowalk arenas`: each arena, its one-line description and its options."""
+    import inspect
+
+    from neurowalk.arenas import ARENAS, arena_options
+
+    for name in sorted(ARENAS):
+        doc = (inspect.getdoc(ARENAS[name]) or "").split("\n")[0]
+        opts = ", ".join(f"{k}={v}" for k, v in arena_options(name).items()) or "no options"
+        print(f"{name:16s} {doc}\n{'':16s} options: {opts}")
+    return 0
+
+
+def cmd_export(args: argparse.Namespace) -> int:
+    """`neurowalk export-model`: the robot (and an arena) as one MJCF file."""
+    from neurowalk.arenas import make_arena
+    from neurowalk.body.amosii import export_model
+
+    try:
+        arena = make_arena(args.arena, **parse_arena_opts(args.arena_opt))
+    except ValueError as e:
+        raise UsageError(str(e)) from None
+    path = export_model(out_file(args.out), world=arena.to_mjcf())
+    print(f"wrote {path}")
+    return 0
