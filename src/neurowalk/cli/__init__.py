@@ -57,3 +57,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except UsageError as e:
         print(f"neurowalk: error: {e}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # the reader went away (e.g. `neurowalk figure list | head`): not an error
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no second error when Python flushes
+        return 0
