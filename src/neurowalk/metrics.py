@@ -203,7 +203,7 @@ def _fitting_windows(xy: np.ndarray, window: int, radius: float, stride: int) ->
 def wedged_periods(pose: np.ndarray, *, control_hz: float = 10.0, radius: float = WEDGE_RADIUS,
                    min_s: float = WEDGE_MIN_S, us_distance: np.ndarray | None = None,
                    contact: np.ndarray | None = None, blind_m: float = BLIND_M,
-                   stride: int = 10) -> list[dict]:  # fmt: skip
+                   stride: int = 10, blind: np.ndarray | None = None) -> list[dict]:  # fmt: skip
     """Periods in which the robot stayed put: its trunk centre within a small disc for more than ``min_s`` s.
 
     A control step is wedged if it lies in a stretch of more than ``min_s`` seconds (started every ``stride``
@@ -220,6 +220,7 @@ def wedged_periods(pose: np.ndarray, *, control_hz: float = 10.0, radius: float 
         contact: (T,) > 0 where the robot's trunk or legs touched an obstacle (NaN = not known), or None.
         blind_m: readings at or beyond this (m) count as blind.
         stride: steps between the starts of the stretches tried.
+        blind: (T,) bool, both rays blind, instead of ``us_distance`` (e.g. kept by a long run in place of it).
 
     Returns:
         One dict per period, in time order: ``start``, ``end`` (first and last control step, inclusive),
@@ -235,7 +236,8 @@ def wedged_periods(pose: np.ndarray, *, control_hz: float = 10.0, radius: float 
     xy = np.asarray(pose, dtype=float)[:, :2]
     window = math.floor(min_s * control_hz + 1e-9) + 1  # more than min_s seconds
     marked = _fitting_windows(xy, window, radius, stride)
-    blind = None if us_distance is None else np.all(np.asarray(us_distance) >= blind_m, axis=1)
+    if blind is None and us_distance is not None:
+        blind = np.all(np.asarray(us_distance) >= blind_m, axis=1)
     touch = None if contact is None else np.asarray(contact, dtype=float)
     edges = np.flatnonzero(np.diff(np.concatenate([[0], marked.astype(np.int8), [0]])))
     periods: list[dict] = []

@@ -43,7 +43,6 @@ def cmd_run(args: argparse.Namespace) -> int:
             raise UsageError(f"--video: {problem}")
     cfg = episode_config(args)
     from neurowalk.fileio import atomic_write, write_json
-    from neurowalk.plotting import plot_run
     from neurowalk.sim.episode import RunInterruptedError, build, run_episode
     from neurowalk.sim.trajectory import PartWriter
 
@@ -87,6 +86,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         if not resumable:
             parts.remove()
         if not interrupted:
+            from neurowalk.plotting import plot_run  # after the run: matplotlib's memory is not held through it
+
             fig = plot_run(ep.trajectory, ep.arena, ep.summary)
             atomic_write(out / "run.png", lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
         for stale in ("video.mp4", *(("run.png",) if interrupted else ())):  # an earlier run's, not this one's

@@ -40,7 +40,7 @@ from neurowalk.sim.config import (
     progress_bar,
     seeds,
 )
-from neurowalk.sim.summary import Record, summarize
+from neurowalk.sim.summary import Record, blind_readings, summarize
 from neurowalk.sim.surrogate_episode import run_surrogate_episode
 from neurowalk.sim.trajectory import Trajectory, poses_from_qpos, up_z_from_qpos
 
@@ -79,7 +79,7 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
         chunk: rows per sink call.
         keep_rows: keep every row in memory as ``Episode.trajectory``. False (physics, with a ``sink``):
             memory is bounded by ``chunk`` and the summary's columns (:class:`~neurowalk.sim.summary.Record`,
-            72 bytes a step); ``Episode.trajectory`` holds every ``Episode.row_stride``-th row (at most
+            41 bytes a step); ``Episode.trajectory`` holds every ``Episode.row_stride``-th row (at most
             :data:`PICTURE_ROWS`), for a picture.
         pad_boxes: run AMOSII on the model with that many obstacle slots, as :mod:`neurowalk.sim.batch` does.
         checkpoint: physics only: called as ``checkpoint(step, state)`` after each ``chunk`` steps' sink call,
@@ -178,8 +178,8 @@ class _Recorder:
         self.stride = 1 if keep_rows else max(1, math.ceil(steps / PICTURE_ROWS))
         if not keep_rows:
             n = steps
-            self.record = Record(np.full((n, 3), np.nan), np.full((n, 2), np.nan), np.full((n, 2), np.nan),
-                                 np.full(n, np.nan), 1.0, np.full(2, np.nan), np.full(2, np.nan))  # fmt: skip
+            self.record = Record(np.full((n, 3), np.nan), np.full((n, 2), np.nan), np.zeros(n, dtype=bool), None,
+                                 None, 1.0, np.full(2, np.nan), np.full(2, np.nan))  # fmt: skip
             self.picture = Trajectory.empty(math.ceil(steps / self.stride), nq)
 
     def done(self) -> int:
@@ -219,7 +219,9 @@ class _Recorder:
         """Copy the summary's columns and the picture's rows of steps [start, stop) (``rows`` from ``start``)."""
         r, n = self.record, stop - start
         r.pose[start:stop], r.outputs[start:stop] = rows.pose[:n], rows.outputs[:n]
-        r.us_distance[start:stop], r.z[start:stop] = rows.us_distance[:n], rows.qpos[:n, 2]  # type: ignore[index]
+        r.blind[start:stop] = blind_readings(rows.us_distance[:n])
+        z = rows.qpos[:n, 2]
+        r.final_z, r.max_z = float(z[-1]), max(float(np.max(z)), -np.inf if r.max_z is None else r.max_z)
         r.min_up_z = min(r.min_up_z, float(np.min(rows.up_z[:n])))
         r.final_b, r.final_q = rows.b[n - 1].copy(), rows.q[n - 1].copy()
         first = -(-start // self.stride) * self.stride  # the first picture row at or after start
@@ -237,8 +239,8 @@ class _Recorder:
             summary = summarize(run_cfg, arena, tr, wall, body.warnings()) if done else {"steps": 0}
         else:
             r = self.record
-            cut = Record(r.pose[:done], r.outputs[:done], r.us_distance[:done], r.z[:done],  # type: ignore[index]
-                         r.min_up_z, r.final_b, r.final_q)  # fmt: skip
+            cut = Record(r.pose[:done], r.outputs[:done], r.blind[:done], r.final_z, r.max_z, r.min_up_z, r.final_b,
+                         r.final_q)  # fmt: skip
             qpos_rows = getattr(self.sink, "qpos_rows", None)  # replays wedged periods' contacts (PartWriter)
             summary = summarize(run_cfg, arena, cut, wall, body.warnings(), qpos_rows=qpos_rows) if done else {}
             tr = self.picture.head(-(-done // self.stride))

@@ -27,27 +27,38 @@ def _start_weights(cfg: EpisodeConfig) -> dict[str, float]:
 
 @dataclass
 class Record:
-    """The columns of a run its summary needs, every row (a streamed run keeps only these in memory).
+    """What a run's summary needs of its rows (a streamed run keeps only this in memory: 41 bytes a step).
 
     Attributes:
-        pose: (T, 3) x m, y m, yaw rad. outputs: (T, 2) steering. us_distance: (T, 2) readings, m.
-        z: (T,) trunk height, m (None for the planar surrogate). min_up_z: lowest trunk up-vector z.
+        pose: (T, 3) x m, y m, yaw rad. outputs: (T, 2) steering. blind: (T,) bool, both ultrasonic readings
+        at or beyond :data:`~neurowalk.metrics.BLIND_M` (or no echo). final_z, max_z: trunk height after the
+        last step and its highest, m (None for the planar surrogate). min_up_z: lowest trunk up-vector z.
         final_b, final_q: (2,) the sensory weights after the last step (NaN for a fixed controller).
     """
 
     pose: np.ndarray
     outputs: np.ndarray
-    us_distance: np.ndarray
-    z: np.ndarray | None
+    blind: np.ndarray
+    final_z: float | None
+    max_z: float | None
     min_up_z: float
     final_b: np.ndarray
     final_q: np.ndarray
 
     @classmethod
     def of(cls, tr: Trajectory) -> Record:
-        """The record of a whole trajectory in memory (views, no copies)."""
+        """The record of a whole trajectory in memory."""
         z = tr.qpos[:, 2] if tr.qpos.shape[1] > 2 else None
-        return cls(tr.pose, tr.outputs, tr.us_distance, z, float(np.min(tr.up_z)), tr.b[-1], tr.q[-1])
+        return cls(tr.pose, tr.outputs, blind_readings(tr.us_distance), None if z is None else float(z[-1]),
+                   None if z is None else float(np.max(z)), float(np.min(tr.up_z)), tr.b[-1], tr.q[-1])  # fmt: skip
+
+
+def blind_readings(us_distance: np.ndarray) -> np.ndarray:
+    """(T,) bool: both readings of ``us_distance`` (T, 2) at or beyond :data:`~neurowalk.metrics.BLIND_M` m."""
+    return np.all(~(np.asarray(us_distance) < metrics.BLIND_M), axis=1)
+
+
+REPLAY_BLOCK = 50_000  # rows of positions replayed at a time (about 10 MB)
 
 
 def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory | Record, wall_time_s: float,
@@ -58,11 +69,12 @@ def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory | Record, wal
     Args:
         tr: the run's trajectory, or the :class:`Record` of it.
         qpos_rows: physics runs given as a Record: ``qpos_rows(rows)`` returns those rows' (len(rows), nq)
-            positions (to replay the obstacle contacts of wedged periods); with a Trajectory, its own qpos.
+            positions (to replay the obstacle contacts of wedged periods, :data:`REPLAY_BLOCK` rows at a time);
+            with a Trajectory, its own qpos.
     """
     if isinstance(tr, Trajectory):
         rec = Record.of(tr)
-        if qpos_rows is None and rec.z is not None:
+        if qpos_rows is None and rec.final_z is not None:
             qpos_rows = tr.qpos.__getitem__
     else:
         rec = tr
@@ -72,12 +84,13 @@ def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory | Record, wal
     if not np.isnan(rec.final_b).any():
         c = -0.5 * float(rec.final_q.sum())
         weights = {"b": rec.final_b.tolist(), "q": rec.final_q.tolist(), "c": c}
-    wedged = metrics.wedged_periods(pose, control_hz=cfg.control_hz, us_distance=rec.us_distance)
-    if wedged and rec.z is not None and qpos_rows is not None:  # physics: replay the wedged steps' contacts
+    wedged = metrics.wedged_periods(pose, control_hz=cfg.control_hz, blind=rec.blind)
+    if wedged and rec.final_z is not None and qpos_rows is not None:  # physics: replay the wedged steps' contacts
         rows = np.concatenate([np.arange(p["start"], p["end"] + 1) for p in wedged])
         touch = np.full(len(pose), np.nan)
-        touch[rows] = obstacle_contacts(arena, qpos_rows(rows))
-        wedged = metrics.wedged_periods(pose, control_hz=cfg.control_hz, us_distance=rec.us_distance, contact=touch)
+        for block in np.array_split(rows, -(-len(rows) // REPLAY_BLOCK)):
+            touch[block] = obstacle_contacts(arena, qpos_rows(block))
+        wedged = metrics.wedged_periods(pose, control_hz=cfg.control_hz, blind=rec.blind, contact=touch)
     return {
         "arena": cfg.arena,
         "arena_opts": arena.options,
@@ -94,15 +107,15 @@ def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory | Record, wal
         "variant": cfg.variant,
         "params": cfg.params,
         "gait": cfg.gait,
-        "final_z_m": float(rec.z[-1]) if rec.z is not None else None,  # trunk height (None: planar body)
-        "max_z_m": float(np.max(rec.z)) if rec.z is not None else None,
+        "final_z_m": rec.final_z,  # trunk height (None: planar body)
+        "max_z_m": rec.max_z,
         "exit_step": metrics.exit_step(pose, arena),
         "escaped": metrics.escaped(pose, arena),
         "trapped": metrics.trapped(pose),
         "ever_trapped": metrics.ever_trapped(pose),
         "ever_held_up_1000s": metrics.ever_trapped(pose, window=round(1000 * cfg.control_hz)),
         "end_turn_share": metrics.latched_turn_share(rec.outputs[-3000:]),
-        "end_blind_share": float(np.mean(np.all(~(rec.us_distance[-3000:] < metrics.BLIND_M), axis=1))),
+        "end_blind_share": float(np.mean(rec.blind[-3000:])),
         "coverage": metrics.coverage(pose, arena),
         "path_length_m": metrics.path_length(pose),
         "forward_displacement_m": metrics.forward_displacement(pose, arena.start),

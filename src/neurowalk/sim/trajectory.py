@@ -115,17 +115,24 @@ class PartWriter:
         return Trajectory(**{f.name: np.concatenate([getattr(p, f.name) for p in parts]) for f in fields(Trajectory)})
 
     def qpos_rows(self, rows: np.ndarray) -> np.ndarray:
-        """The recorded positions of the given steps (sorted or not), (len(rows), nq), read part by part."""
+        """The recorded positions of the given steps, (len(rows), nq), read from the parts that hold them only."""
         rows = np.asarray(rows, dtype=int)
-        out: np.ndarray | None = None
-        for start, part in self.pieces():
-            pick = (rows >= start) & (rows < start + len(part))
-            if out is None:
-                out = np.full((len(rows), part.qpos.shape[1]), np.nan)
-            out[pick] = part.qpos[rows[pick] - start]
-        if out is None:
+        paths = self.paths()
+        if not paths:
             raise ValueError(f"no trajectory parts in {str(self.folder)!r}")
-        return out
+        starts = [int(p.stem.split("-")[1]) for p in paths]
+        out: np.ndarray | None = None
+        for j, (path, start) in enumerate(zip(paths, starts, strict=True)):
+            end = starts[j + 1] if j + 1 < len(starts) else None
+            pick = (rows >= start) & (rows < end if end is not None else True)
+            if not pick.any():
+                continue
+            with np.load(path) as z:
+                qpos = z["qpos"]
+            if out is None:
+                out = np.full((len(rows), qpos.shape[1]), np.nan)
+            out[pick] = qpos[rows[pick] - start]
+        return out if out is not None else np.full((len(rows), 0), np.nan)
 
     def join(self, path: str | Path, steps: int | None = None) -> int:
         """Write the parts (the first ``steps`` rows; default all) as one ``trajectory.npz`` at ``path``.
