@@ -238,7 +238,7 @@ class _Recorder:
             tr = self.buf.head(done)
             summary = summarize(run_cfg, arena, tr, wall, body.warnings()) if done else {"steps": 0}
         else:
-            r = self.record
+            r, self.buf = self.record, Trajectory.empty(0, self.buf.qpos.shape[1])  # the chunk buffer is done with
             cut = Record(r.pose[:done], r.outputs[:done], r.blind[:done], r.final_z, r.max_z, r.min_up_z, r.final_b,
                          r.final_q)  # fmt: skip
             qpos_rows = getattr(self.sink, "qpos_rows", None)  # replays wedged periods' contacts (PartWriter)
