@@ -22,13 +22,23 @@ def _io_loop(ax: Axes, x: np.ndarray, y: np.ndarray, title: str) -> None:
 
 
 def draw_wedged(ax: Axes, periods: list[dict]) -> None:
-    """Circle each wedged period (its centre, radius its extent, at least 0.3 m) labelled with its duration (s)."""
+    """Circle each wedged period (its centre, radius its extent, at least 0.3 m) labelled with its duration (s).
+
+    A label goes above its circle, or below it, or beside it, whichever is first clear of the labels placed
+    before (so that nearby periods' labels do not cover each other).
+    """
     from matplotlib.patches import Circle
 
+    placed: list[tuple[float, float]] = []
     for p in periods:
         (x, y), r = p["centre"], max(p.get("extent_m", 0.3), 0.3)
         ax.add_patch(Circle((x, y), r, fill=False, ec="k", lw=1.2, ls="--", zorder=6))
-        ax.annotate(f"{p['duration_s']:.0f} s", (x, y + r), ha="center", va="bottom", fontsize=7, zorder=7,
+        spots = [((x, y + r), "center", "bottom"), ((x, y - r), "center", "top"), ((x + r, y), "left", "center"),
+                 ((x - r, y), "right", "center")]  # fmt: skip
+        clear = [s for s in spots if all(abs(s[0][0] - u) > 0.6 or abs(s[0][1] - v) > 0.35 for u, v in placed)]
+        (lx, ly), ha, va = (clear or spots)[0]
+        placed.append((lx, ly))
+        ax.annotate(f"{p['duration_s']:.0f} s", (lx, ly), ha=ha, va=va, fontsize=7, zorder=7,
                     bbox={"boxstyle": "round,pad=0.15", "fc": "w", "ec": "none", "alpha": 0.8})  # fmt: skip
 
 
