@@ -12,7 +12,7 @@ from neurowalk.sim import episode
 from neurowalk.sim.episode import EpisodeConfig, Resume, RunInterruptedError, run_episode
 from neurowalk.sim.trajectory import PartWriter, Trajectory
 
-VOLATILE = ("wall_time_s", "real_time_factor")
+VOLATILE = ("wall_time_s", "real_time_factor", "resumed_at_step")
 
 
 def _same_summary(a: dict, b: dict) -> None:
@@ -63,6 +63,7 @@ def test_streamed_run_stopped_and_resumed_from_its_parts_is_the_whole_run(tmp_pa
     assert info.value.episode.summary["steps"] == 600 and sorted(saved) == [200, 400]
     resumed = run_episode(cfg, sink=parts, chunk=200, keep_rows=False, resume=Resume(400, saved[400], parts.pieces()))
     _same_summary(resumed.summary, whole.summary)
+    assert resumed.summary["resumed_at_step"] == 400 and "resumed_at_step" not in whole.summary
     assert parts.join(tmp_path / "t.npz") == 700
     _same_rows(Trajectory.load(tmp_path / "t.npz"), whole.trajectory)
 

@@ -113,8 +113,9 @@ def cmd_run(args: argparse.Namespace) -> int:
             return 130
         written.append("video.mp4")
     s = ep.summary
+    resumed = f" (resumed at step {s['resumed_at_step']})" if "resumed_at_step" in s else ""
     print(
-        f"{cfg.arena}/{cfg.controller}: {s['steps']} steps in {s['wall_time_s']:.1f} s "  # type: ignore[attr-defined]
+        f"{cfg.arena}/{cfg.controller}: {s['steps']} steps{resumed} in {s['wall_time_s']:.1f} s "  # type: ignore[attr-defined]
         f"({s['real_time_factor']:.0f}x real time); moved {s['forward_displacement_m']:+.2f} m, "
         f"turned {s['heading_change_deg']:+.0f} deg; wrote {', '.join(str(out / w) for w in written)}"
     )

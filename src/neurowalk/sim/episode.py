@@ -123,6 +123,9 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
         bar.close()
     rec.flush(done)
     ep = rec.episode(cfg, arena, body, done, wall)
+    if start and done > start and wall > 0:  # this invocation's part of a resumed run: its wall time, its rate
+        ep.summary["resumed_at_step"] = start
+        ep.summary["real_time_factor"] = (done - start) / cfg.control_hz / wall
     if done < cfg.steps:
         raise RunInterruptedError(ep)
     return ep
