@@ -229,3 +229,50 @@ class Surrogate:
         except KeyboardInterrupt:
             pass
         return out
+
+
+class Walker:
+    """The surrogate stepped one control step at a time from Python, steered from outside (e.g. a Gymnasium agent).
+
+    :meth:`sense` gives the readings at the current step (drawing the sensor noise from ``rng``), :meth:`act`
+    takes the step with a steering pair. Sensing, then acting with the steering that :meth:`Surrogate.run` would
+    hold constant, gives that run's trajectory bit for bit (the same kernel, the same noise draws in order).
+
+    Args:
+        body: the surrogate in its arena.
+        rng: the body's Generator (ultrasonic noise).
+    """
+
+    def __init__(self, body: Surrogate, rng: np.random.Generator) -> None:
+        cal = body.cal
+        self.body, self.rng, self.cal = body, rng, cal
+        self.state = np.zeros(kern.RUN_STATE)
+        self.state[kern.X], self.state[kern.Y], self.state[kern.YAW] = body.arena.start
+        self.motion = cal.motion()
+        self.ring = np.zeros((cal.delay_steps + 1, self.motion.shape[2]))
+        self.cmd = np.zeros(self.motion.shape[2])
+        self.seen = np.zeros(2)
+        self.gain = math.sqrt(body.noise_tau) * body.noise
+        self.omega = 2.0 * math.pi / cal.sway_period_steps
+        self.reach = kern.reach_of(cal.circles)
+        self.alpha, self.dt = cal.alpha(), 1.0 / cal.control_hz
+        self.k = 0  # control steps taken
+        self.contacts = 0  # collision overlaps resolved so far
+        self.pose = np.asarray(body.arena.start, dtype=float)  # (3,) x m, y m, yaw rad (sway included)
+
+    def sense(self) -> np.ndarray:
+        """(2,) ultrasonic distances (left, right) at the current step, m, ``inf`` = no echo; call once a step."""
+        noise = self.rng.uniform(-1.0, 1.0, size=2)
+        kern.sense(self.k, self.state, self.body._boxes, self.cal.rays, self.cal.us_range, self.omega,
+                   self.cal.sway_phase, noise, self.gain, self.body.noise_tau, self.seen)  # fmt: skip
+        return self.seen.copy()
+
+    def act(self, o1: float, o2: float) -> np.ndarray:
+        """Take one control step with steering (o1, o2) in [-1, 1]; return the pose after it (3,)."""
+        n, yaw = kern.act(self.k, self.state, self.ring, float(o1), float(o2), self.cmd, self.cal.grid, self.motion,
+                          self.alpha, self.cal.startup_steps, self.dt, self.omega, self.cal.sway_phase,
+                          self.cal.circles, self.body._boxes, self.reach)  # fmt: skip
+        self.k += 1
+        self.contacts += n
+        self.pose = np.array([self.state[kern.X], self.state[kern.Y], yaw])
+        return self.pose.copy()

@@ -130,6 +130,52 @@ def move(state: np.ndarray, ring: np.ndarray, k: int, cmd: np.ndarray, alpha: fl
 
 
 @jit
+def reach_of(circles: np.ndarray) -> float:
+    """Farthest extent (m) of the footprint circles (k, 3) from the trunk centre."""
+    reach = 0.0
+    for j in range(circles.shape[0]):
+        reach = max(reach, math.hypot(circles[j, 0], circles[j, 1]) + circles[j, 2])
+    return reach
+
+
+@jit
+def sense(k: int, state: np.ndarray, boxes: np.ndarray, rays: np.ndarray, us_range: float, omega: float,
+          sway_phase: float, noise: np.ndarray, noise_gain: float, noise_tau: float,
+          seen: np.ndarray) -> None:  # fmt: skip
+    """The ultrasonic readings at control step ``k`` into ``seen`` (2,) (m, inf = no echo), advancing the noise.
+
+    ``noise``: this step's two uniform(-1, 1) draws; ``omega``: the sway's angular rate per step (rad).
+    """
+    yaw = state[YAW] + state[SWAY] * math.sin(omega * k + sway_phase)
+    c, s = math.cos(yaw), math.sin(yaw)
+    for r in range(2):
+        ox = state[X] + c * rays[r, 0] - s * rays[r, 1]
+        oy = state[Y] + s * rays[r, 0] + c * rays[r, 1]
+        d = ray_boxes(ox, oy, c * rays[r, 2] - s * rays[r, 3], s * rays[r, 2] + c * rays[r, 3], boxes, us_range)
+        state[N1 + r] += noise_gain * noise[r] - noise_tau * state[N1 + r]
+        u = max(0.0, 1.0 - d / us_range) + state[N1 + r]
+        seen[r] = us_range * (1.0 - u) if u > 0.0 else math.inf
+
+
+@jit
+def act(k: int, state: np.ndarray, ring: np.ndarray, o1: float, o2: float, cmd: np.ndarray, grid: np.ndarray,
+        table: np.ndarray, alpha: float, startup: int, dt: float, omega: float, sway_phase: float,
+        circles: np.ndarray, boxes: np.ndarray, reach: float) -> tuple[int, float]:  # fmt: skip
+    """Control step ``k`` with steering (o1, o2): calibrated motion, then collisions resolved.
+
+    Returns (overlaps resolved, the trunk's yaw after the step, rad, sway included, in (-pi, pi]).
+    """
+    if k < startup:
+        cmd[:] = 0.0
+    else:
+        velocity_command(grid, table, o1, o2, cmd)
+    move(state, ring, k, cmd, alpha, dt)
+    yaw = state[YAW] + state[SWAY] * math.sin(omega * (k + 1) + sway_phase)
+    hits = push_out(state, yaw, circles, boxes, reach)
+    return hits, math.atan2(math.sin(yaw), math.cos(yaw))
+
+
+@jit
 def rollout(
     k0: int, k1: int, state: np.ndarray, ring: np.ndarray, sens: np.ndarray, sens_p: np.ndarray,
     fixed: bool, steer: np.ndarray, boxes: np.ndarray, circles: np.ndarray, rays: np.ndarray,
@@ -152,39 +198,27 @@ def rollout(
     Returns:
         The number of collision overlaps resolved.
     """
-    reach = 0.0
-    for j in range(circles.shape[0]):
-        reach = max(reach, math.hypot(circles[j, 0], circles[j, 1]) + circles[j, 2])
+    reach = reach_of(circles)
     cmd = np.zeros(table.shape[2])
     inp = np.zeros(2)
+    seen = np.zeros(2)
     hits = 0
     omega = 2.0 * math.pi / sway_period
     for k in range(k0, k1):
-        yaw = state[YAW] + state[SWAY] * math.sin(omega * k + sway_phase)
-        c, s = math.cos(yaw), math.sin(yaw)
+        sense(k, state, boxes, rays, us_range, omega, sway_phase, noise_u[k], noise_gain, noise_tau, seen)
         for r in range(2):
-            ox = state[X] + c * rays[r, 0] - s * rays[r, 1]
-            oy = state[Y] + s * rays[r, 0] + c * rays[r, 1]
-            d = ray_boxes(ox, oy, c * rays[r, 2] - s * rays[r, 3], s * rays[r, 2] + c * rays[r, 3], boxes, us_range)
-            state[N1 + r] += noise_gain * noise_u[k, r] - noise_tau * state[N1 + r]
-            u = max(0.0, 1.0 - d / us_range) + state[N1 + r]
-            seen = us_range * (1.0 - u) if u > 0.0 else math.inf
-            out_us[k, r] = seen
-            inp[r] = sensory_input(seen, sens_p)
+            out_us[k, r] = seen[r]
+            inp[r] = sensory_input(seen[r], sens_p)
         if fixed:
             o1, o2 = steer[0], steer[1]
             inp[0], inp[1] = -1.0, -1.0
         else:
             sensory_step(sens, inp[0], inp[1], sens_p)
             o1, o2 = sens[STEER], sens[STEER + 1]
-        if k < startup:
-            cmd[:] = 0.0
-        else:
-            velocity_command(grid, table, o1, o2, cmd)
-        move(state, ring, k, cmd, alpha, dt)
-        yaw = state[YAW] + state[SWAY] * math.sin(omega * (k + 1) + sway_phase)
-        hits += push_out(state, yaw, circles, boxes, reach)
-        out_pose[k, 0], out_pose[k, 1], out_pose[k, 2] = state[X], state[Y], math.atan2(math.sin(yaw), math.cos(yaw))
+        n, yaw = act(k, state, ring, o1, o2, cmd, grid, table, alpha, startup, dt, omega, sway_phase, circles,
+                     boxes, reach)  # fmt: skip
+        hits += n
+        out_pose[k, 0], out_pose[k, 1], out_pose[k, 2] = state[X], state[Y], yaw
         out_in[k, 0], out_in[k, 1] = inp[0], inp[1]
         out_out[k, 0], out_out[k, 1] = o1, o2
         for m in range(4):

@@ -1,0 +1,23 @@
+"""Gymnasium environments over neurowalk's bodies (needs the ``gym`` extra: ``pip install neurowalk[gym]``).
+
+``neurowalk/Explore-v0``: the planar surrogate in a random Table 2 environment, steered by an agent
+(:class:`~neurowalk.envs.explore.ExploreEnv`). The ids are registered when this package is imported, and by
+``import neurowalk`` where Gymnasium is imported already: ``import gymnasium, neurowalk;
+gymnasium.make("neurowalk/Explore-v0")``; in any order, ``gymnasium.make("neurowalk.envs:neurowalk/Explore-v0")``.
+(Gymnasium 1.x loads no plugins by entry point.)
+"""
+
+from __future__ import annotations
+
+IDS: tuple[str, ...] = ("neurowalk/Explore-v0",)
+
+
+def register_envs() -> None:
+    """Register neurowalk's environment ids with Gymnasium (the ``gymnasium.envs`` entry point calls this)."""
+    from gymnasium.envs.registration import register, registry
+
+    if "neurowalk/Explore-v0" not in registry:
+        register(id="neurowalk/Explore-v0", entry_point="neurowalk.envs.explore:ExploreEnv")
+
+
+register_envs()

@@ -1,0 +1,93 @@
+"""neurowalk's networks as policies on the environments, and one evaluation for networks and learned policies.
+
+:class:`NetworkPolicy` maps an observation of ``neurowalk/Explore-v0`` (the two ultrasonic distances) to an action
+(the steering pair) through one of the sensory networks (plastic, static, Braitenberg; any variant or params), as
+the runs do: on the same body, sensing then steering, it gives the trajectory of ``neurowalk run --body
+surrogate`` bit for bit. :func:`evaluate` scores any policy (a callable observation -> action with an optional
+``reset()``) on the same environments and seeds with Table 2's success rule, so a learned policy and the two
+neurons are compared on equal terms.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+
+from neurowalk.neural.sensory import STEER, SensoryNetwork, sensory_input, sensory_step
+from neurowalk.neural.variants import get_variant
+
+NETWORKS: tuple[str, ...] = ("plastic", "static", "braitenberg")
+
+
+class NetworkPolicy:
+    """One of neurowalk's sensory networks as a policy: (2,) distances in m -> (2,) steering (O1, O2).
+
+    Args:
+        network: ``plastic``, ``static`` or ``braitenberg``.
+        variant: ``paper`` (Eq. 1-6 as printed) or ``original`` (the authors' code); see ``neurowalk.neural.variants``.
+        params: SensoryParams fields set on top of the variant.
+        b0, q0: start weights of the plastic network (default: the variant's).
+
+    Call :meth:`reset` at the start of every episode (the weights go back to their start values).
+    """
+
+    def __init__(self, network: str = "plastic", *, variant: str = "paper", params: dict[str, float] | None = None,
+                 b0: float | None = None, q0: float | None = None) -> None:  # fmt: skip
+        if network not in NETWORKS:
+            raise ValueError(f"unknown network {network!r}; expected one of {', '.join(NETWORKS)}")
+        self.network, self.variant = network, variant
+        self.net = SensoryNetwork(network, params=get_variant(variant, params).sensory, b0=b0, q0=q0)  # type: ignore[arg-type]
+
+    def reset(self) -> None:
+        """Start weights, outputs 0."""
+        self.net.reset()
+
+    def __call__(self, observation: np.ndarray) -> np.ndarray:
+        """One network step on the readings ``observation`` (left, right; m); the steering it sends on."""
+        p, s = self.net.packed_params, self.net.state
+        sensory_step(s, sensory_input(float(observation[0]), p), sensory_input(float(observation[1]), p), p)
+        return np.array([s[STEER], s[STEER + 1]])
+
+    @property
+    def weights(self) -> dict[str, list[float]]:
+        """The network's current weights: b (2,), q (2,)."""
+        return {"b": self.net.b.tolist(), "q": self.net.q.tolist()}
+
+
+def evaluate(policy: Callable[[np.ndarray], np.ndarray], seeds: Sequence[int], *, steps: int = 20_000,
+             env_kwargs: dict[str, Any] | None = None, progress: bool = False) -> dict[str, Any]:  # fmt: skip
+    """Run ``policy`` for ``steps`` control steps on ``neurowalk/Explore-v0`` reset with each seed; score it.
+
+    Returns ``success`` (runs not stuck at the end: Table 2's rule, the last 3000 steps not within a 0.5 m disc),
+    ``environments``, ``success_rate``, and per run (in seed order) ``runs``: seed, stuck, coverage, contacts.
+    """
+    from neurowalk.envs.explore import ExploreEnv
+
+    if not len(seeds):
+        raise ValueError("evaluate needs at least one seed")
+    env = ExploreEnv(max_steps=steps, **(env_kwargs or {}))
+    runs = []
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(seeds) * steps, unit="step", desc="evaluate", mininterval=0.5)
+    for seed in seeds:
+        obs, info = env.reset(seed=int(seed))
+        if hasattr(policy, "reset"):
+            policy.reset()
+        truncated = False
+        while not truncated:
+            obs, _, _, truncated, info = env.step(policy(obs))
+        if bar is not None:
+            bar.update(steps)
+        runs.append({"seed": int(seed), "stuck": info["stuck"], "coverage": info["coverage"],
+                     "contacts": info["contacts"]})  # fmt: skip
+    if bar is not None:
+        bar.close()
+    success = sum(not r["stuck"] for r in runs)
+    return {"success": success, "environments": len(runs), "success_rate": success / len(runs), "steps": steps,
+            "rule": "not stuck at the end: the last 3000 control steps not within a disc of radius 0.5 m",
+            "runs": runs}  # fmt: skip
