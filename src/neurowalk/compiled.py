@@ -50,9 +50,18 @@ def cache_dir() -> Path:
 
 def jit(fn: F) -> F:
     """``numba.njit(cache=True)`` with the cache in :func:`cache_dir` (numba reads the directory here, once)."""
+    return _compiled(fn, parallel=False)
+
+
+def jit_parallel(fn: F) -> F:
+    """:func:`jit` with ``parallel=True``: ``numba.prange`` loops run on numba's threads (all cores by default)."""
+    return _compiled(fn, parallel=True)
+
+
+def _compiled(fn: F, parallel: bool) -> F:
     old = config.CACHE_DIR
     config.CACHE_DIR = str(cache_dir())
     try:
-        return njit(cache=True)(fn)
+        return njit(cache=True, parallel=parallel)(fn)
     finally:
         config.CACHE_DIR = old

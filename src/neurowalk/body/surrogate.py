@@ -164,6 +164,9 @@ def empty_run(steps: int) -> SurrogateRun:
     return SurrogateRun(*(np.full((steps, n), np.nan) for n in (3, 2, 2, 4, 2)))
 
 
+NOISE_TAU = 0.05  # the ultrasonic noise's colour: low-pass gain per control step (as the physics body)
+
+
 class Surrogate:
     """One surrogate robot in an arena, stepped in compiled chunks.
 
@@ -176,7 +179,7 @@ class Surrogate:
     name = "surrogate"
 
     def __init__(self, arena: ArenaSpec, calibration: Calibration | None = None, *, noise: float = 0.02,
-                 noise_tau: float = 0.05) -> None:  # fmt: skip
+                 noise_tau: float = NOISE_TAU) -> None:  # fmt: skip
         if noise < 0 or not 0 < noise_tau <= 1:
             raise ValueError(f"noise needs strength >= 0 and 0 < tau <= 1, got {noise}, {noise_tau}")
         self.arena = arena

@@ -17,7 +17,8 @@ def register_envs() -> None:
     from gymnasium.envs.registration import register, registry
 
     if "neurowalk/Explore-v0" not in registry:
-        register(id="neurowalk/Explore-v0", entry_point="neurowalk.envs.explore:ExploreEnv")
+        register(id="neurowalk/Explore-v0", entry_point="neurowalk.envs.explore:ExploreEnv",
+                 vector_entry_point="neurowalk.envs.vector:ExploreVectorEnv")  # fmt: skip
 
 
 register_envs()
