@@ -1,0 +1,71 @@
+"""``neurowalk/ExplorePhysics-v0``: Gymnasium's checks, the networks' locomotion, joint actions, bad input."""
+
+from __future__ import annotations
+
+import contextlib
+
+import numpy as np
+import pytest
+
+gym = pytest.importorskip("gymnasium")
+
+from gymnasium.utils.env_checker import check_env  # noqa: E402
+
+import neurowalk.envs  # noqa: E402,F401  (registers the ids)
+from neurowalk.envs.physics import ExplorePhysicsEnv  # noqa: E402
+
+
+@pytest.mark.parametrize("action", ["steering", "joints"])
+def test_gymnasium_env_checker_passes(action):
+    env = gym.make("neurowalk/ExplorePhysics-v0", action=action, max_steps=20, render_mode="rgb_array")
+    hint = pytest.warns(UserWarning, match="symmetric") if action == "joints" else contextlib.nullcontext()
+    with hint:  # joint ranges are the actuators' own, not [-1, 1]: Gymnasium's checker says so
+        check_env(env.unwrapped)
+    env.reset(seed=0)
+    env.step(env.action_space.sample())
+    frame = env.render()
+    assert frame.shape == (480, 640, 3) and frame.dtype == np.uint8 and frame.std() > 5
+    env.close()
+
+
+def test_steering_through_the_locomotion_network_walks_and_turns():
+    env = ExplorePhysicsEnv(arena="open", max_steps=400, noise=0.0)
+    ends = {}
+    for name, action in {"ahead": (-1.0, -1.0), "right": (1.0, -1.0)}.items():
+        _, info = env.reset(seed=0)
+        start = info["pose"]
+        for _ in range(400):
+            _, _, _, truncated, info = env.step(np.array(action))
+        assert truncated
+        ends[name] = (start, info["pose"])
+    s, e = ends["ahead"]
+    assert (e[:2] - s[:2]) @ np.array([np.cos(s[2]), np.sin(s[2])]) > 0.1  # forward, 40 s of the wave gait
+    s, e = ends["right"]
+    assert np.angle(np.exp(1j * (e[2] - s[2]))) < -0.3  # O1 turns right (clockwise)
+
+
+def test_same_seed_same_episode():
+    def run() -> np.ndarray:
+        env = ExplorePhysicsEnv(max_steps=60)
+        obs, _ = env.reset(seed=3)
+        out = [obs]
+        for a in np.random.default_rng(1).uniform(-1, 1, size=(60, 2)):
+            out.append(env.step(a)[0])
+        return np.array(out)
+
+    np.testing.assert_array_equal(run(), run())
+
+
+@pytest.mark.parametrize("kwargs,word", [({"action": "torques"}, "torques"), ({"max_steps": -1}, "max_steps")])
+def test_bad_settings_raise_naming_them(kwargs, word):
+    with pytest.raises(ValueError, match=word):
+        ExplorePhysicsEnv(**kwargs)
+
+
+def test_joint_actions_outside_the_actuator_ranges_are_refused():
+    env = ExplorePhysicsEnv(action="joints", max_steps=5)
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match="bounds"):
+        env.step(env.action_space.high + 1.0)
+    with pytest.raises(ValueError, match="shape"):
+        env.step(np.zeros(2))
