@@ -152,3 +152,13 @@ def test_evaluate_scores_networks_on_the_same_environments():
     assert [r["seed"] for r in a["runs"]] == [0, 1] and all(0 < r["coverage"] < 1 for r in a["runs"])
     with pytest.raises(ValueError, match="wheeled"):
         NetworkPolicy("wheeled")
+
+
+def test_the_stuck_flag_is_table_2s_rule():
+    from neurowalk.envs.task import within_disc
+    from neurowalk.metrics import trapped
+
+    rng = np.random.default_rng(0)
+    for scale in (0.0005, 0.002, 0.004, 0.01):
+        pose = np.cumsum(rng.normal(0, scale, (3000, 3)), axis=0)
+        assert within_disc(pose, 0.5) == trapped(pose, window=3000, radius=0.5)

@@ -13,8 +13,8 @@ from typing import Any, ClassVar
 import gymnasium as gym
 import numpy as np
 
-from neurowalk import metrics
 from neurowalk.arenas import ArenaSpec, make_arena
+from neurowalk.compiled import jit
 
 CELL = 0.25  # m, side of a coverage cell
 STUCK_WINDOW, STUCK_RADIUS = 3000, 0.5  # Table 2's rule: steps, m
@@ -77,6 +77,7 @@ class ExploreTask(gym.Env[np.ndarray, np.ndarray]):
         self._origin = np.array([bounds[0], bounds[2]]) if bounds else np.zeros(2)
         self._free = {self._cell(c) for c in self.arena.free_cells(CELL)} if bounds else set()
         self._visited = {self._cell(self.pose)}
+        self._covered = len(self._visited & self._free)  # visited free cells, kept up to date by step()
         return self._observation(seen), self._info()
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
@@ -93,8 +94,11 @@ class ExploreTask(gym.Env[np.ndarray, np.ndarray]):
         self.k += 1
         self._poses[self.k] = self.pose
         cell = self._cell(self.pose)
-        reward = 0.0 if cell in self._visited else CELL * CELL
-        self._visited.add(cell)
+        reward = 0.0
+        if cell not in self._visited:
+            reward = CELL * CELL
+            self._visited.add(cell)
+            self._covered += cell in self._free
         if self.render_mode == "human":
             self.render()
         return self._observation(seen), reward, False, self.k >= self.max_steps, self._info()
@@ -136,7 +140,23 @@ class ExploreTask(gym.Env[np.ndarray, np.ndarray]):
 
     def _info(self) -> dict[str, Any]:
         k = self.k
-        stuck = k + 1 >= STUCK_WINDOW and metrics.trapped(self._poses[k + 1 - STUCK_WINDOW : k + 1],
-                                                           window=STUCK_WINDOW, radius=STUCK_RADIUS)  # fmt: skip
-        coverage = len(self._visited & self._free) / len(self._free) if self._free else math.nan
+        stuck = k + 1 >= STUCK_WINDOW and within_disc(self._poses[k + 1 - STUCK_WINDOW : k + 1], STUCK_RADIUS)
+        coverage = self._covered / len(self._free) if self._free else math.nan
         return {"pose": self.pose.copy(), "coverage": coverage, "stuck": bool(stuck), "contacts": self.contacts}
+
+
+@jit
+def within_disc(pose: np.ndarray, radius: float) -> bool:
+    """Whether every position of ``pose`` (T, >= 2) lies within ``radius`` (m) of their mean (as
+    :func:`neurowalk.metrics.trapped`, compiled: the stuck flag is tested at every step)."""
+    n = pose.shape[0]
+    mx, my = 0.0, 0.0
+    for i in range(n):
+        mx += pose[i, 0]
+        my += pose[i, 1]
+    mx, my = mx / n, my / n
+    r2 = radius * radius
+    for i in range(n):  # noqa: SIM110 (a loop numba compiles; all() over a generator it does not)
+        if (pose[i, 0] - mx) ** 2 + (pose[i, 1] - my) ** 2 > r2:
+            return False
+    return True
