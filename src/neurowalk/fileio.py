@@ -53,3 +53,24 @@ def write_json(path: Path, data: Any) -> None:
             f.write("\n")
 
     atomic_write(Path(path), w)
+
+
+def make_writable_folder(path: Path) -> None:
+    """Make the folder ``path`` (and its parents) and check that a file can be written in it.
+
+    The check is a real write, not ``os.access`` (which lets root "write" where nothing can be, e.g. /proc).
+    Raises ValueError saying what is wrong (a file in the way, no permission, a name too long, ...).
+    """
+    import tempfile
+
+    try:
+        if path.exists() and not path.is_dir():
+            raise ValueError(f"{str(path)!r} is a file, not a folder")
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise ValueError(f"cannot make the folder {str(path)!r} ({e.strerror})") from None
+    try:
+        with tempfile.TemporaryFile(dir=path):
+            pass
+    except OSError as e:
+        raise ValueError(f"the folder {str(path)!r} is not writable ({e.strerror})") from None

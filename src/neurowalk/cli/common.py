@@ -28,20 +28,12 @@ def out_folder(path: Path, flag: str = "--out", given: Path | None = None) -> Pa
 
     ``given``: the path the user gave, named in the message (default ``path``; e.g. a file inside the folder).
     """
-    import tempfile
+    from neurowalk.fileio import make_writable_folder
 
-    shown = f"{flag} {str(given if given is not None else path)!r}"
     try:
-        if path.exists() and not path.is_dir():
-            raise UsageError(f"{shown}: {str(path)!r} is a file, not a folder")
-        path.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        raise UsageError(f"{shown}: cannot make the folder {str(path)!r} ({e.strerror})") from None
-    try:  # a real write, not os.access (which lets root 'write' where nothing can be written, e.g. /proc)
-        with tempfile.TemporaryFile(dir=path):
-            pass
-    except OSError as e:
-        raise UsageError(f"{shown}: the folder {str(path)!r} is not writable ({e.strerror})") from None
+        make_writable_folder(path)
+    except ValueError as e:
+        raise UsageError(f"{flag} {str(given if given is not None else path)!r}: {e}") from None
     return path
 
 

@@ -103,9 +103,7 @@ def cmd_figure(args: argparse.Namespace) -> int:
             from neurowalk.sim.episode import BODIES
 
             takes("--body")
-            if args.body not in BODIES:
-                raise UsageError(f"unknown body {args.body!r}; expected one of {', '.join(BODIES)}")
-            kwargs["body"] = args.body
+            kwargs["body"] = known("body", args.body, BODIES)
         if args.climb:
             takes("--climb")
             if kwargs.get("body", "amosii") != "amosii":
@@ -122,9 +120,7 @@ def cmd_figure(args: argparse.Namespace) -> int:
             from neurowalk.neural.cpg import GAITS
 
             takes("--gait")
-            if args.gait not in GAITS:
-                raise UsageError(f"unknown gait {args.gait!r}; expected one of {', '.join(GAITS)}")
-            kwargs["gait"] = args.gait
+            kwargs["gait"] = known("gait", args.gait, tuple(GAITS))
         if args.video:
             takes("--video")
             kwargs["video"] = True
@@ -155,3 +151,10 @@ def cmd_figure(args: argparse.Namespace) -> int:
     paths = {"png": output.save_figure(result, exp.plot(result), out), **paths}
     print(f"{args.name}: wrote {', '.join(str(p) for p in paths.values())} in {time.perf_counter() - t0:.1f} s")
     return 0
+
+
+def known(what: str, name: str, names: tuple[str, ...]) -> str:
+    """``name`` if it is one of ``names``, else UsageError: "unknown WHAT 'NAME'; expected one of ..."."""
+    if name not in names:
+        raise UsageError(f"unknown {what} {name!r}; expected one of {', '.join(names)}")
+    return name

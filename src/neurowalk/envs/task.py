@@ -7,6 +7,7 @@ pose after it); this base checks settings and actions and keeps the coverage, th
 
 from __future__ import annotations
 
+import abc
 import math
 from typing import Any, ClassVar
 
@@ -22,7 +23,7 @@ BOXES, EXTENT, SIZE = (2, 20), 9.0, 1.0  # Table 2's environments (neurowalk.exp
 US_RANGE = 0.4  # m, the ultrasonic range: what "no echo" is reported as
 
 
-class ExploreTask(gym.Env[np.ndarray, np.ndarray]):
+class ExploreTask(gym.Env[np.ndarray, np.ndarray], abc.ABC):
     """Base of the exploration environments (see :mod:`neurowalk.envs.explore` for the task)."""
 
     metadata: ClassVar[dict[str, Any]] = {"render_modes": ["rgb_array", "human"], "render_fps": 10}
@@ -50,13 +51,13 @@ class ExploreTask(gym.Env[np.ndarray, np.ndarray]):
         self._figure: Any = None
 
     # -- what a body supplies -------------------------------------------------------------------------------------
+    @abc.abstractmethod
     def _start(self, arena: ArenaSpec, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
         """Put the body at the arena's start; (first readings (2,) m, pose (3,))."""
-        raise NotImplementedError
 
+    @abc.abstractmethod
     def _advance(self, action: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """One control step with a checked ``action``; (readings (2,) m, pose (3,) after it)."""
-        raise NotImplementedError
 
     # -- Gymnasium -------------------------------------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None

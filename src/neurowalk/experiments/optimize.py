@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from neurowalk.experiments.optimize_space import Dim, decode, fitness, make_space, start_point
+from neurowalk.fileio import make_writable_folder
 
 BODY = "surrogate"
 TRAIN_SEED = 1000  # table seed of the training environments (run seeds 1000, 1001, ...)
@@ -261,12 +262,7 @@ def run(*, out: Path | str = Path("out/optimize"), quick: bool = False, variant:
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
     folder = Path(out)
-    try:
-        if folder.exists() and not folder.is_dir():
-            raise ValueError(f"output folder {str(folder)!r} is a file")
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as e:
-        raise ValueError(f"cannot make the output folder {str(folder)!r}: {e.strerror}") from None
+    make_writable_folder(folder)  # ValueError naming what is wrong
     say = log or (lambda line: None)
     settings = {"variant": variant, "space": [asdict(d) for d in space], "population": sz.population,
                 "environments": sz.environments, "steps": sz.steps, "deadend_seeds": sz.deadend_seeds,
