@@ -3,8 +3,9 @@
 ``neurowalk/Explore-v0``: the planar surrogate in a random Table 2 environment, steered by an agent
 (:class:`~neurowalk.envs.explore.ExploreEnv`; vectorised: :class:`~neurowalk.envs.vector.ExploreVectorEnv`).
 ``neurowalk/ExplorePhysics-v0``: the same task on the MuJoCo AMOSII, steered or driven joint by joint
-(:class:`~neurowalk.envs.physics.ExplorePhysicsEnv`). The ids are registered when this package is imported, and
-by ``import neurowalk`` where Gymnasium is imported already: ``import gymnasium, neurowalk;
+(:class:`~neurowalk.envs.physics.ExplorePhysicsEnv`; vectorised in one MuJoCo batch:
+:class:`~neurowalk.envs.physics_vector.ExplorePhysicsVectorEnv`). The ids are registered when this package is
+imported, and by ``import neurowalk`` where Gymnasium is imported already: ``import gymnasium, neurowalk;
 gymnasium.make("neurowalk/Explore-v0")``; in any order, ``gymnasium.make("neurowalk.envs:neurowalk/Explore-v0")``.
 (Gymnasium 1.x loads no plugins by entry point.)
 """
@@ -22,7 +23,8 @@ def register_envs() -> None:
         register(id="neurowalk/Explore-v0", entry_point="neurowalk.envs.explore:ExploreEnv",
                  vector_entry_point="neurowalk.envs.vector:ExploreVectorEnv")  # fmt: skip
     if "neurowalk/ExplorePhysics-v0" not in registry:
-        register(id="neurowalk/ExplorePhysics-v0", entry_point="neurowalk.envs.physics:ExplorePhysicsEnv")
+        register(id="neurowalk/ExplorePhysics-v0", entry_point="neurowalk.envs.physics:ExplorePhysicsEnv",
+                 vector_entry_point="neurowalk.envs.physics_vector:ExplorePhysicsVectorEnv")  # fmt: skip
 
 
 register_envs()

@@ -1,8 +1,13 @@
-"""Compiled step of N surrogate copies at once (``neurowalk/Explore-v0`` vectorised): motion, coverage, sensing.
+"""Compiled steps of the vectorised environments: N copies' motion, sensing and coverage in one call each.
 
-Each copy runs the surrogate's own :func:`~neurowalk.body.surrogate_kernel.act` and
-:func:`~neurowalk.body.surrogate_kernel.sense`; the sensor noise of copy i at step k comes from a counter-based
-generator keyed on (copy seed, k) (splitmix64), so a copy's episode depends on its seed alone, not on the others.
+``neurowalk/Explore-v0`` (:func:`vector_step`): each copy runs the surrogate's own
+:func:`~neurowalk.body.surrogate_kernel.act` and :func:`~neurowalk.body.surrogate_kernel.sense`; the sensor noise
+of copy i at step k comes from a counter-based generator keyed on (copy seed, k) (splitmix64), so a copy's episode
+depends on its seed alone, not on the others.
+
+``neurowalk/ExplorePhysics-v0`` (:func:`physics_sense`, :func:`count_cells`, :func:`near_obstacles`): the
+bookkeeping after a ``mujoco.batch`` step, the same arithmetic, in the same order, as the single environment's
+NumPy code (``AmosII.observe``, ``ExploreTask.step``), so that each copy's numbers are the single run's bit for bit.
 """
 
 from __future__ import annotations
@@ -92,3 +97,120 @@ def free_mask(boxes: np.ndarray, nboxes: int, x0: float, y0: float, cell: float,
                     free = False
                     break
             out[i, j] = free
+
+
+@jit
+def physics_sense(ids: np.ndarray, sensordata: np.ndarray, us_adr: np.ndarray, us_max: float, us_range: float,
+                  draws: np.ndarray, drawn: np.ndarray, noise: np.ndarray, noisy: bool, gain: float, tau: float,
+                  obs_range: float, xpos: np.ndarray, xmat: np.ndarray, trunk: int, obs: np.ndarray,
+                  pose: np.ndarray) -> None:  # fmt: skip
+    """Observation and trunk pose of copies ``ids`` after a physics step (``AmosII.observe``, ``trunk_pose``).
+
+    Per copy: one step of the ultrasonic channels of its coloured noise (``noise`` (N, 2) += gain * u - tau *
+    noise, u the next row of ``draws`` (N, B, 2), the first two of each step's draws; ``drawn`` (N,) rows used),
+    the noisy distances from ``sensordata`` (N, nsensordata) at ``us_adr`` (2,) (beyond ``us_max`` m or negative:
+    no echo; ``us_range`` m the sensor's scale), into ``obs`` (N, 2) as the environment reports them (no echo:
+    ``obs_range`` m, else at most that); ``pose`` (N, 3): the trunk's (x m, y m, yaw rad) from ``xpos`` (N, nbody,
+    3) and ``xmat`` (N, nbody, 9).
+    """
+    for i in ids:
+        if noisy:
+            row = drawn[i]
+            drawn[i] = row + 1
+            for r in range(2):
+                noise[i, r] += gain * draws[i, row, r] - tau * noise[i, r]
+        for r in range(2):
+            d = sensordata[i, us_adr[r]]
+            raw = math.inf if (d < 0.0 or d > us_max) else d
+            u = 1.0 - raw / us_range
+            if u < 0.0:
+                u = 0.0
+            u = u + noise[i, r]
+            dist = us_range * (1.0 - u) if u > 0.0 else math.inf
+            obs[i, r] = min(dist, obs_range) if math.isfinite(dist) else obs_range
+        pose[i, 0], pose[i, 1] = xpos[i, trunk, 0], xpos[i, trunk, 1]
+        pose[i, 2] = math.atan2(xmat[i, trunk, 3], xmat[i, trunk, 0])
+
+
+@jit
+def count_cells(ids: np.ndarray, pose: np.ndarray, origin: np.ndarray, cell: float, visited: np.ndarray,
+                free: np.ndarray, covered: np.ndarray, ks: np.ndarray, reward: np.ndarray, outside: np.ndarray,
+                ring: np.ndarray, radius: float, stuck: np.ndarray) -> None:  # fmt: skip
+    """One step's bookkeeping of copies ``ids`` at their new ``pose`` (N, 3): step count, reward, coverage, stuck.
+
+    ``ks`` (N,) += 1; the grid cell (side ``cell`` m, corner ``origin`` (N, 2) m) of the trunk: if new in
+    ``visited`` (N, gx, gy) bool, ``reward`` (N,) = cell^2 m^2 (else 0) and ``covered`` (N,) += 1 where ``free``;
+    ``outside`` (N,): the cell is off the grid (left to the caller, reward 0 here). ``ring`` (N, W, 2): the last W
+    positions (slot k % W; W = 0: no stuck test); ``stuck`` (N,): the last W positions lie within ``radius`` m of
+    their mean (:func:`~neurowalk.envs.task.within_disc`'s sums, oldest first).
+    """
+    gx, gy, w = visited.shape[1], visited.shape[2], ring.shape[1]
+    for i in ids:
+        k = ks[i] + 1
+        ks[i] = k
+        x, y = pose[i, 0], pose[i, 1]
+        cx, cy = math.floor((x - origin[i, 0]) / cell), math.floor((y - origin[i, 1]) / cell)
+        reward[i] = 0.0
+        outside[i] = not (0 <= cx < gx and 0 <= cy < gy)
+        if not outside[i] and not visited[i, cx, cy]:
+            visited[i, cx, cy] = True
+            reward[i] = cell * cell
+            if free[i, cx, cy]:
+                covered[i] += 1
+        stuck[i] = False
+        if w > 0:
+            ring[i, k % w, 0], ring[i, k % w, 1] = x, y
+            if k + 1 >= w:
+                stuck[i] = _ring_within(ring[i], k, radius)
+
+
+@jit
+def _ring_within(ring: np.ndarray, k: int, radius: float) -> bool:
+    """:func:`~neurowalk.envs.task.within_disc` of the positions of steps k + 1 - W .. k held in ``ring`` (W, 2)."""
+    w = ring.shape[0]
+    mx, my = 0.0, 0.0
+    for j in range(w):
+        s = (k + 1 + j) % w
+        mx += ring[s, 0]
+        my += ring[s, 1]
+    mx, my = mx / w, my / w
+    r2 = radius * radius
+    for j in range(w):
+        s = (k + 1 + j) % w
+        if (ring[s, 0] - mx) ** 2 + (ring[s, 1] - my) ** 2 > r2:
+            return False
+    return True
+
+
+@jit
+def near_obstacles(ids: np.ndarray, geom_xpos: np.ndarray, robot: np.ndarray, robot_r: np.ndarray,
+                   centre: np.ndarray, frame: np.ndarray, half: np.ndarray, grow: np.ndarray,
+                   out: np.ndarray) -> None:  # fmt: skip
+    """``out[i]`` (bool) for copies ``ids``: some robot geom's bounding sphere reaches some obstacle.
+
+    ``geom_xpos`` (N, ngeom, 3) m; ``robot`` (N, R) the robot's geom ids, ``robot_r`` (N, R) their bounding radii
+    plus margins (m). The (static) obstacles as boxes: ``centre`` (N, O, 3) m, ``frame`` (N, O, 9) their rotations
+    (MuJoCo's row-major ``geom_xmat``), ``half`` (N, O, 3) half sizes (m), grown by ``grow`` (N, O) m (the margin;
+    a geom that is no box: zero sizes, grown by its bounding radius and margin). MuJoCo makes a contact only where
+    the two geoms come within their margin, so where this is False the copy touches no obstacle.
+    """
+    for i in ids:
+        near = False
+        for b in range(robot.shape[1]):
+            g = robot[i, b]
+            for a in range(centre.shape[1]):
+                px = geom_xpos[i, g, 0] - centre[i, a, 0]
+                py = geom_xpos[i, g, 1] - centre[i, a, 1]
+                pz = geom_xpos[i, g, 2] - centre[i, a, 2]
+                d2 = 0.0  # squared distance from the geom's centre to the box
+                for j in range(3):
+                    e = abs(frame[i, a, j] * px + frame[i, a, 3 + j] * py + frame[i, a, 6 + j] * pz) - half[i, a, j]
+                    if e > 0.0:
+                        d2 += e * e
+                reach = robot_r[i, b] + grow[i, a] + 1e-6  # 1 µm to spare for rounding
+                if d2 <= reach * reach:
+                    near = True
+                    break
+            if near:
+                break
+        out[i] = near

@@ -71,31 +71,46 @@ class BatchControllers:
         self.q = np.full((n, 2), np.nan)
         self.targets = np.zeros((n, anatomy.N_ACTUATORS))
 
-    def reset(self, rngs: Sequence[np.random.Generator]) -> None:
+    def reset(self, rngs: Sequence[np.random.Generator | None]) -> None:
         """Reset every controller with its run's Generator, then pack the start states."""
         for c, rng in zip(self.controllers, rngs, strict=True):
             c.reset(rng)
-        self.targets[:] = 0.0
-        for i, c in enumerate(self.controllers):
-            self.inputs[i] = getattr(c, "inputs", np.zeros(2))
-            self.outputs[i] = c.steering
+        if self.compiled:
+            neural = [c for c in self.controllers if isinstance(c, NeuralController)]
+            width = len(neural[0].sensory.state) if neural else 14
+            n_p = len(neural[0].sensory.params.as_array(True)) if neural else 1
+            n = len(self.controllers)
+            self._kind = np.array([NEURAL if isinstance(c, NeuralController) else FIXED for c in self.controllers])
+            self._sens = np.zeros((n, width))
+            self._sens_p = np.zeros((n, n_p))
+            locs = [c.locomotion for c in self.controllers]  # type: ignore[attr-defined]
+            self._loc = np.stack([net.state for net in locs])
+            self._buf = np.stack([net.buffer for net in locs])
+            self._loc_p = np.zeros((n, len(locs[0].params.as_array())))
+        for i in range(len(self.controllers)):
+            self._pack(i)
+
+    def reset_copy(self, i: int, rng: np.random.Generator | None = None) -> None:
+        """Reset copy i's controller alone (with ``rng``, as :meth:`reset` does) and pack its start state.
+
+        The other copies go on where they are; call :meth:`reset` once before (it sizes the packed arrays).
+        """
+        self.controllers[i].reset(rng)
+        self._pack(i)
+
+    def _pack(self, i: int) -> None:
+        """Copy i's controller state (just reset) into the batch arrays."""
+        c = self.controllers[i]
+        self.targets[i] = 0.0
+        self.inputs[i] = getattr(c, "inputs", np.zeros(2))
+        self.outputs[i] = c.steering
         if not self.compiled:
             return
-        neural = [c for c in self.controllers if isinstance(c, NeuralController)]
-        width = len(neural[0].sensory.state) if neural else 14
-        n_p = len(neural[0].sensory.params.as_array(True)) if neural else 1
-        n = len(self.controllers)
-        self._kind = np.array([NEURAL if isinstance(c, NeuralController) else FIXED for c in self.controllers])
-        self._sens = np.zeros((n, width))
-        self._sens_p = np.zeros((n, n_p))
-        for i, c in enumerate(self.controllers):
-            if isinstance(c, NeuralController):
-                self._sens[i] = c.sensory.state
-                self._sens_p[i] = c.sensory.params.as_array(c.sensory.mode == "plastic")
-        locs = [c.locomotion for c in self.controllers]  # type: ignore[attr-defined]
-        self._loc = np.stack([net.state for net in locs])
-        self._buf = np.stack([net.buffer for net in locs])
-        self._loc_p = np.stack([net.params.as_array() for net in locs])
+        if isinstance(c, NeuralController):
+            self._sens[i] = c.sensory.state
+            self._sens_p[i] = c.sensory.params.as_array(c.sensory.mode == "plastic")
+        net = c.locomotion  # type: ignore[attr-defined]
+        self._loc[i], self._buf[i], self._loc_p[i] = net.state, net.buffer, net.params.as_array()
 
     def step(self, dist: np.ndarray, observe: Callable[[int], Observation] | None = None) -> np.ndarray:
         """One control step of every copy; returns the (n, 19) targets (the internal buffer).
