@@ -550,6 +550,36 @@ OPTIMIZE_CASES = [
     opt("xxxx", "--out", f"{GOOD}/{'x' * 300}"),
 ]
 
+# --- baseline --------------------------------------------------------------------------------------------------------
+
+
+def base(word: str, *args: str) -> Any:
+    """A bad `neurowalk baseline` whose --out is the good folder (unless the case gives its own)."""
+    out = () if "--out" in args else ("--out", GOOD)
+    return case(word, "baseline", "--quick", *args, *out, "--quiet")
+
+
+BASELINE_CASES = [
+    base("dqn", "--methods", "dqn"),
+    base("''", "--methods", ""),
+    base("PPO", "--methods", "neuroevo,PPO"),
+    base("--generations", "--generations", "0"),
+    base("--population", "--population", "1"),
+    base("--envs", "--envs", "-3"),
+    base("--ppo-steps", "--ppo-steps", "0"),
+    base("--rppo-steps", "--rppo-steps", str(10**30)),
+    base("--episode-steps", "--episode-steps", "0"),
+    base("--eval-envs", "--eval-envs", "0"),
+    base("--eval-envs", "--eval-envs", str(2**63)),
+    base("--eval-steps", "--eval-steps", "-1"),
+    base("2.5", "--eval-steps", "2.5"),
+    base("--generations x --envs", "--generations", "5000", "--envs", "500"),
+    base("--seed", "--seed", "-1"),
+    base("--seed", "--seed", str(2**32)),
+    base("summary.json", "--methods", "neuroevo", "--out", f"{GOOD}/summary.json"),
+    base("xxxx", "--methods", "neuroevo", "--out", f"{GOOD}/{'x' * 300}"),
+]
+
 # --- the command line itself -----------------------------------------------------------------------------------------
 
 TOP_CASES = [
@@ -560,7 +590,7 @@ TOP_CASES = [
 ]
 
 CASES = [*TOP_CASES, *RUN_CASES, *VIEW_CASES, *FIGURE_CASES, *SWEEP_CASES, *SPEC_CASES, *SPECS_FILE_CASES,
-         *OTHER_CASES, *OPTIMIZE_CASES]  # fmt: skip
+         *OTHER_CASES, *OPTIMIZE_CASES, *BASELINE_CASES]  # fmt: skip
 
 
 # --- fixtures --------------------------------------------------------------------------------------------------------
@@ -597,6 +627,7 @@ def tripwires(places: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
     """Replace the entry points of real work by functions that raise :class:`WorkStartedError`."""
     import neurowalk.bench
     import neurowalk.body.amosii
+    import neurowalk.experiments.baseline
     import neurowalk.experiments.calibration
     import neurowalk.experiments.optimize
     import neurowalk.render
@@ -621,6 +652,7 @@ def tripwires(places: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
         (neurowalk.body.amosii, "export_model"),
         (neurowalk.experiments.optimize, "new_state"),
         (neurowalk.experiments.optimize, "Runner"),
+        (neurowalk.experiments.baseline, "run"),
         (neurowalk.render, "view"),
         (output, "load"),
         (output, "save_data"),

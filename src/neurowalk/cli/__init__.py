@@ -1,7 +1,8 @@
 """Command line: ``neurowalk figure NAME --out DIR`` and friends. Thin: parses, calls the library.
 
 Bad input exits with status 2 and one line on stderr naming the offending value. The commands live in the modules
-of this package by what they run (``figure``, ``run``, ``sweep``, ``tools``); ``common`` holds what they share.
+of this package by what they run (``figure``, ``run``, ``sweep``, ``tools``, ``baseline``); ``common``
+holds what they share.
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ import sys
 from collections.abc import Sequence
 
 from neurowalk import __version__
+from neurowalk.cli.baseline import add_baseline_parser, cmd_baseline
 from neurowalk.cli.common import Parser, UsageError, out_file, out_folder
 from neurowalk.cli.figure import add_figure_parser, cmd_figure, figure_listing
 from neurowalk.cli.run import add_run_parsers, cmd_run, cmd_view, signals_held
@@ -23,7 +25,7 @@ _signals_held = signals_held  # its name here before the split, which the tests 
 
 _COMMANDS = {"figure": cmd_figure, "run": cmd_run, "view": cmd_view, "calibrate": cmd_calibrate, "bench": cmd_bench,
              "arenas": cmd_arenas, "export-model": cmd_export, "sweep": cmd_sweep,
-             "optimize": cmd_optimize}  # fmt: skip
+             "optimize": cmd_optimize, "baseline": cmd_baseline}  # fmt: skip
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -35,6 +37,7 @@ def _parser() -> argparse.ArgumentParser:
     add_tool_parsers(sub)  # calibrate, bench, arenas, export-model
     add_sweep_parser(sub)
     add_optimize_parser(sub)
+    add_baseline_parser(sub)
     return p
 
 

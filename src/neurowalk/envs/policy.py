@@ -5,7 +5,9 @@
 the runs do: on the same body, sensing then steering, it gives the trajectory of ``neurowalk run --body
 surrogate`` bit for bit. :func:`evaluate` scores any policy (a callable observation -> action with an optional
 ``reset()``) on the same environments and seeds with Table 2's success rule, so a learned policy and the two
-neurons are compared on equal terms.
+neurons are compared on equal terms; :func:`evaluate_batch` does the same for a batched policy ((n, 2) -> (n, 2)) on
+the vectorised environment, all environments in one compiled step (what ``neurowalk baseline`` scores with).
+A :class:`NetworkPolicy` serves both: called with (n, 2) readings it steps n copies of its network at once.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from neurowalk.compiled import jit
 from neurowalk.neural.sensory import STEER, SensoryNetwork, sensory_input, sensory_step
 from neurowalk.neural.variants import get_variant
 
@@ -30,7 +33,9 @@ class NetworkPolicy:
         params: SensoryParams fields set on top of the variant.
         b0, q0: start weights of the plastic network (default: the variant's).
 
-    Call :meth:`reset` at the start of every episode (the weights go back to their start values).
+    Call :meth:`reset` at the start of every episode (the weights go back to their start values). Called with (2,)
+    readings it steps one network; with (n, 2) readings, n independent copies (each from the start state after
+    :meth:`reset`; do not mix the two between resets).
     """
 
     def __init__(self, network: str = "plastic", *, variant: str = "paper", params: dict[str, float] | None = None,
@@ -39,14 +44,25 @@ class NetworkPolicy:
             raise ValueError(f"unknown network {network!r}; expected one of {', '.join(NETWORKS)}")
         self.network, self.variant = network, variant
         self.net = SensoryNetwork(network, params=get_variant(variant, params).sensory, b0=b0, q0=q0)  # type: ignore[arg-type]
+        self.states: np.ndarray | None = None  # (n, STATE_SIZE) of the batched copies
 
     def reset(self) -> None:
-        """Start weights, outputs 0."""
+        """Start weights, outputs 0 (for the single network and the batched copies)."""
         self.net.reset()
+        self.states = None
 
     def __call__(self, observation: np.ndarray) -> np.ndarray:
-        """One network step on the readings ``observation`` (left, right; m); the steering it sends on."""
-        p, s = self.net.packed_params, self.net.state
+        """One network step on the readings ``observation`` (left, right; m): (2,) -> (2,) steering, or (n, 2) ->
+        (n, 2) for n copies."""
+        p = self.net.packed_params
+        if np.ndim(observation) == 2:
+            obs = np.ascontiguousarray(observation, dtype=np.float64)
+            if self.states is None or len(self.states) != len(obs):
+                self.states = np.tile(self.net.state, (len(obs), 1))
+            out = np.empty((len(obs), 2))
+            _steps(self.states, obs, p, out)
+            return out
+        s = self.net.state
         sensory_step(s, sensory_input(float(observation[0]), p), sensory_input(float(observation[1]), p), p)
         return np.array([s[STEER], s[STEER + 1]])
 
@@ -87,6 +103,58 @@ def evaluate(policy: Callable[[np.ndarray], np.ndarray], seeds: Sequence[int], *
                      "contacts": info["contacts"]})  # fmt: skip
     if bar is not None:
         bar.close()
+    return _score(runs, steps)
+
+
+@jit
+def _steps(states: np.ndarray, obs: np.ndarray, p: np.ndarray, out: np.ndarray) -> None:
+    """n networks one step: states (n, STATE_SIZE) in place, readings obs (n, 2) m, steering into out (n, 2)."""
+    for i in range(states.shape[0]):
+        sensory_step(states[i], sensory_input(obs[i, 0], p), sensory_input(obs[i, 1], p), p)
+        out[i, 0], out[i, 1] = states[i, STEER], states[i, STEER + 1]
+
+
+def evaluate_batch(policy: Callable[[np.ndarray], np.ndarray], seeds: Sequence[int], *, steps: int = 20_000,
+                   env_kwargs: dict[str, Any] | None = None, progress: bool = False) -> dict[str, Any]:  # fmt: skip
+    """:func:`evaluate` for a batched policy ((n, 2) readings in m -> (n, 2) steering), on the vectorised
+    ``neurowalk/Explore-v0`` (copy i reset with ``seeds[i]``, all copies in one compiled step).
+
+    The environments are those of :func:`evaluate` with the same seeds; the sensor noise is the vector
+    environment's (the same statistics, other draws), so the two functions' scores differ run by run. Returns the
+    dict of :func:`evaluate`.
+    """
+    from neurowalk.envs.task import STUCK_RADIUS, STUCK_WINDOW, within_disc
+    from neurowalk.envs.vector import ExploreVectorEnv
+
+    if not len(seeds):
+        raise ValueError("evaluate_batch needs at least one seed")
+    n = len(seeds)
+    env = ExploreVectorEnv(n, max_steps=steps, **(env_kwargs or {}))
+    obs, info = env.reset(seed=[int(s) for s in seeds])
+    if hasattr(policy, "reset"):
+        policy.reset()
+    window = np.zeros((min(STUCK_WINDOW, steps + 1), n, 2))  # the last positions (order does not matter)
+    window[0] = info["pose"][:, :2]
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(total=n * steps, unit="step", desc="evaluate", mininterval=0.5)
+    for k in range(1, steps + 1):
+        obs, _, _, _, info = env.step(np.clip(policy(obs), -1.0, 1.0))
+        window[k % len(window)] = info["pose"][:, :2]
+        if bar is not None and k % 100 == 0:
+            bar.update(100 * n)
+    if bar is not None:
+        bar.close()
+    stuck = [steps + 1 >= STUCK_WINDOW and bool(within_disc(np.ascontiguousarray(window[:, i]), STUCK_RADIUS))
+             for i in range(n)]  # fmt: skip
+    runs = [{"seed": int(s), "stuck": stuck[i], "coverage": float(info["coverage"][i]),
+             "contacts": int(info["contacts"][i])} for i, s in enumerate(seeds)]  # fmt: skip
+    return _score(runs, steps)
+
+
+def _score(runs: list[dict[str, Any]], steps: int) -> dict[str, Any]:
     success = sum(not r["stuck"] for r in runs)
     return {"success": success, "environments": len(runs), "success_rate": success / len(runs), "steps": steps,
             "rule": "not stuck at the end: the last 3000 control steps not within a disc of radius 0.5 m",

@@ -1,0 +1,64 @@
+"""The `baseline` command: learned policies (evolved RNN, PPO, recurrent PPO) against the two neurons."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from neurowalk.cli.common import UsageError, out_folder
+
+_SIZES = (("generations", "CMA-ES generations of the evolved network (full 300, quick 3)"),
+          ("population", "candidates per generation (full 16, quick 6)"),
+          ("envs", "training environments per generation (full 16, quick 4)"),
+          ("ppo-steps", "PPO training env steps (full 2000000, quick 4096)"),
+          ("rppo-steps", "recurrent PPO training env steps (full 2000000, quick 2048)"),
+          ("episode-steps", "control steps of a training episode (full 2000, quick 200)"),
+          ("eval-envs", "held-out environments (full 200, quick 20)"),
+          ("eval-steps", "control steps per held-out environment (full 20000, quick 3000)"))  # fmt: skip
+
+
+def add_baseline_parser(sub: argparse._SubParsersAction) -> None:
+    """The `baseline` subcommand."""
+    b = sub.add_parser("baseline", help="train learned policies and score them against the networks on held-out "
+                       "Table 2 environments: DIR/baselines.json, .md, .png (resumable; extra rl)")  # fmt: skip
+    b.add_argument("--out", type=Path, default=Path("out/baseline"), help="output folder (default out/baseline)")
+    b.add_argument("--methods", default="neuroevo,ppo,rppo", metavar="NAME[,NAME...]",
+                   help="learned methods: neuroevo (CMA-ES, needs cma), ppo, rppo (need the rl extra)")  # fmt: skip
+    b.add_argument("--quick", action="store_true", help="tiny budgets (a smoke test, not a result)")
+    for flag, what in _SIZES:
+        b.add_argument(f"--{flag}", type=int, default=None, help=what)
+    b.add_argument("--seed", type=int, default=0, help="training seed (default 0)")
+    b.add_argument("--quiet", action="store_true", help="no progress bars")
+
+
+def cmd_baseline(args: argparse.Namespace) -> int:
+    """`neurowalk baseline`: train (resuming), score, write the table and the plot."""
+    from neurowalk.experiments import baseline
+    from neurowalk.experiments.baseline_sb3 import RlMissingError
+    from neurowalk.experiments.optimize import CmaMissingError
+
+    methods = [m.strip() for m in args.methods.split(",")]
+    sizes = {f.replace("-", "_"): getattr(args, f.replace("-", "_")) for f, _ in _SIZES}
+    sizes = {k: v for k, v in sizes.items() if v is not None}
+    t0 = time.perf_counter()
+    try:
+        if not 0 <= args.seed < 2**32:
+            raise ValueError(f"--seed must be in [0, 2**32), got {args.seed}")
+        baseline.check_methods(methods, available=False)
+        baseline.sizes_of(args.quick, sizes)
+        baseline.check_methods(methods)
+        out_folder(args.out)
+        result = baseline.run(args.out, methods=methods, quick=args.quick, sizes=sizes, seed=args.seed,
+                              progress=not args.quiet, log=lambda line: print(line, flush=True))  # fmt: skip
+    except (ValueError, RlMissingError, CmaMissingError) as e:
+        raise UsageError(str(e)) from None
+    except KeyboardInterrupt:
+        print(f"neurowalk: baseline interrupted; checkpoints are in {args.out}: run the same command again to resume",
+              file=sys.stderr)  # fmt: skip
+        return 130
+    for r in result["rows"]:
+        print(f"{r['label']:>24}: {r['success']}/{r['n']} ({r['rate']:.1%}), coverage {r['coverage_mean']:.1%}")
+    print(f"baseline: done in {time.perf_counter() - t0:.1f} s; wrote {args.out / 'baselines.md'}, .json, .png")
+    return 0
