@@ -10,11 +10,10 @@ Measures environment steps per second of
 
 and of the MuJoCo AMOSII (``physics``):
 
-* ``single``: one :class:`~neurowalk.envs.physics.ExplorePhysicsEnv` (``--physics-steps`` steps in each of the
-  arenas of seeds 0-3);
-* ``vector``: :class:`~neurowalk.envs.physics_vector.ExplorePhysicsVectorEnv` with N copies for each N of
-  ``--physics-copies`` (2, 8, 16), physics on ``--nthread`` threads, ``--physics-steps`` calls of ``step``
-  inside an episode; ``physics_share`` is the part of its time spent in ``Batch.step``.
+* for each N of ``--physics-copies`` (2, 8, 16): :class:`~neurowalk.envs.physics_vector.ExplorePhysicsVectorEnv`
+  with N copies, physics on ``--nthread`` threads, ``--physics-steps`` calls of ``step`` inside an episode, and
+  one :class:`~neurowalk.envs.physics.ExplorePhysicsEnv` on copy 0's episode, the two timed in alternating
+  stretches; ``physics_share`` is the part of the vector environment's time spent in ``Batch.step``.
 
 Actions are random steering pairs drawn beforehand. Reported: steps per second of each, the ratios against the
 single environment, the threads numba and MuJoCo's batch used. Run: ``python benchmarks/bench_envs.py [--copies
@@ -62,32 +61,33 @@ def vector_rate(copies: int, steps: int, max_steps: int, resets: bool) -> float:
     return copies * n / (time.perf_counter() - t0)
 
 
-def physics_single_rate(steps: int, seeds: int = 4) -> float:
-    """Steps/s of one ExplorePhysicsEnv, ``steps`` steps in each arena of seeds 0 .. seeds - 1 (resets not timed)."""
-    env = ExplorePhysicsEnv(max_steps=steps + 1)
-    acts = np.random.default_rng(0).uniform(-1, 1, size=(steps, 2))
-    wall = 0.0
-    for seed in range(seeds):
-        env.reset(seed=seed)
-        t0 = time.perf_counter()
-        for a in acts:
-            env.step(a)
-        wall += time.perf_counter() - t0
-    return seeds * steps / wall
+def physics_rates(copies: int, steps: int, nthread: int, rounds: int = 4) -> tuple[float, float, float]:
+    """Steps/s of one ExplorePhysicsEnv and of ExplorePhysicsVectorEnv with ``copies`` copies, and the share of the
+    latter's time spent in ``Batch.step``.
 
-
-def physics_vector_rate(copies: int, steps: int, nthread: int) -> tuple[float, float]:
-    """Steps/s of ExplorePhysicsVectorEnv (copies from seeds 0 .. copies - 1) and its share of time in physics."""
-    env = ExplorePhysicsVectorEnv(copies, max_steps=steps + 2, nthread=nthread)
-    env.reset(seed=0)
+    The single environment runs copy 0's episode (seed 0, the same actions: the same trajectory, bit for bit); the
+    two are timed in ``rounds`` alternating stretches of the ``steps`` steps, so that a change in the machine's load
+    touches both alike.
+    """
+    single = ExplorePhysicsEnv(max_steps=steps + 1)
+    vector = ExplorePhysicsVectorEnv(copies, max_steps=steps + 1, nthread=nthread)
+    single.reset(seed=0)
+    vector.reset(seed=0)
     acts = np.random.default_rng(1).uniform(-1, 1, size=(steps + 1, copies, 2))
-    env.step(acts[0])  # compile, warm
-    env.physics_s = 0.0
-    t0 = time.perf_counter()
-    for a in acts[1:]:
-        env.step(a)
-    wall = time.perf_counter() - t0
-    return copies * steps / wall, env.physics_s / wall
+    single.step(acts[0, 0])  # compile, warm
+    vector.step(acts[0])
+    vector.physics_s = 0.0
+    single_s = vector_s = 0.0
+    for stretch in np.array_split(acts[1:], rounds):
+        t0 = time.perf_counter()
+        for a in stretch:
+            single.step(a[0])
+        t1 = time.perf_counter()
+        for a in stretch:
+            vector.step(a)
+        t2 = time.perf_counter()
+        single_s, vector_s = single_s + t1 - t0, vector_s + t2 - t1
+    return steps / single_s, copies * steps / vector_s, vector.physics_s / vector_s
 
 
 def main() -> None:
@@ -108,13 +108,11 @@ def main() -> None:
               "vector_over_single": vector / single, "vector_with_resets_over_single": with_resets / single,
               "copies": args.copies, "max_steps": args.max_steps, "numba_threads": numba.config.NUMBA_NUM_THREADS,
               "cores": os.cpu_count()}  # fmt: skip
-    physics_single = physics_single_rate(args.physics_steps)
-    physics = {"single_steps_per_s": physics_single, "nthread": args.nthread, "steps": args.physics_steps,
-               "vector": []}  # fmt: skip
+    physics: dict = {"nthread": args.nthread, "steps": args.physics_steps, "runs": []}
     for copies in args.physics_copies:
-        rate, share = physics_vector_rate(copies, args.physics_steps, args.nthread)
-        physics["vector"].append({"copies": copies, "steps_per_s": rate, "vector_over_single": rate / physics_single,
-                                  "physics_share": share})  # fmt: skip
+        one, many, share = physics_rates(copies, args.physics_steps, args.nthread)
+        physics["runs"].append({"copies": copies, "single_steps_per_s": one, "vector_steps_per_s": many,
+                                "vector_over_single": many / one, "physics_share": share})  # fmt: skip
     result["physics"] = physics
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "envs.json").write_text(json.dumps(result, indent=2) + "\n")
@@ -123,11 +121,10 @@ def main() -> None:
         f"vector env, {args.copies} copies: {vector:,.0f} steps/s ({vector / single:.0f}x); through whole "
         f"{args.max_steps}-step episodes with their resets: {with_resets:,.0f} steps/s ({with_resets / single:.0f}x)"
     )
-    print(f"physics, single env: {physics_single:,.0f} steps/s")
-    for row in physics["vector"]:
-        rate, ratio, share = row["steps_per_s"], row["vector_over_single"], row["physics_share"]
-        print(f"physics, vector env, {row['copies']} copies on {args.nthread} threads: {rate:,.0f} steps/s "
-              f"({ratio:.2f}x; {share:.0%} of its time in Batch.step)")  # fmt: skip
+    for row in physics["runs"]:
+        one, many, share = row["single_steps_per_s"], row["vector_steps_per_s"], row["physics_share"]
+        print(f"physics: single env {one:,.0f} steps/s; vector env, {row['copies']} copies on {args.nthread} threads: "
+              f"{many:,.0f} steps/s ({many / one:.2f}x; {share:.0%} of its time in Batch.step)")  # fmt: skip
 
 
 if __name__ == "__main__":
