@@ -11,9 +11,10 @@ Measures environment steps per second of
 and of the MuJoCo AMOSII (``physics``):
 
 * for each N of ``--physics-copies`` (2, 8, 16): :class:`~neurowalk.envs.physics_vector.ExplorePhysicsVectorEnv`
-  with N copies, physics on ``--nthread`` threads, ``--physics-steps`` calls of ``step`` inside an episode, and
-  one :class:`~neurowalk.envs.physics.ExplorePhysicsEnv` on copy 0's episode, the two timed in alternating
-  stretches; ``physics_share`` is the part of the vector environment's time spent in ``Batch.step``.
+  with N copies, physics on ``--nthread`` threads, ``--physics-steps`` calls of ``step`` inside an episode, against
+  :class:`~neurowalk.envs.physics.ExplorePhysicsEnv` stepped through the same N episodes one after another (the
+  same work, bit for bit), the two timed in alternating stretches; ``physics_share`` is the part of the vector
+  environment's time spent in ``Batch.step``. With few copies the slowest copy of each step sets the pace.
 
 Actions are random steering pairs drawn beforehand. Reported: steps per second of each, the ratios against the
 single environment, the threads numba and MuJoCo's batch used. Run: ``python benchmarks/bench_envs.py [--copies
@@ -62,32 +63,35 @@ def vector_rate(copies: int, steps: int, max_steps: int, resets: bool) -> float:
 
 
 def physics_rates(copies: int, steps: int, nthread: int, rounds: int = 4) -> tuple[float, float, float]:
-    """Steps/s of one ExplorePhysicsEnv and of ExplorePhysicsVectorEnv with ``copies`` copies, and the share of the
-    latter's time spent in ``Batch.step``.
+    """Steps/s of ExplorePhysicsEnv and of ExplorePhysicsVectorEnv with ``copies`` copies on the same episodes, and
+    the share of the latter's time spent in ``Batch.step``.
 
-    The single environment runs copy 0's episode (seed 0, the same actions: the same trajectory, bit for bit); the
-    two are timed in ``rounds`` alternating stretches of the ``steps`` steps, so that a change in the machine's load
-    touches both alike.
+    The vector environment runs copies from seeds 0 .. copies - 1; one single environment per copy runs that copy's
+    episode (the same seed and actions: the same trajectory, bit for bit), one after another. The two are timed in
+    ``rounds`` alternating stretches of the ``steps`` steps, so that a change in the machine's load touches both.
     """
-    single = ExplorePhysicsEnv(max_steps=steps + 1)
+    singles = [ExplorePhysicsEnv(max_steps=steps + 1) for _ in range(copies)]
     vector = ExplorePhysicsVectorEnv(copies, max_steps=steps + 1, nthread=nthread)
-    single.reset(seed=0)
+    for i, env in enumerate(singles):
+        env.reset(seed=i)
     vector.reset(seed=0)
     acts = np.random.default_rng(1).uniform(-1, 1, size=(steps + 1, copies, 2))
-    single.step(acts[0, 0])  # compile, warm
+    for i, env in enumerate(singles):  # compile, warm
+        env.step(acts[0, i])
     vector.step(acts[0])
     vector.physics_s = 0.0
     single_s = vector_s = 0.0
     for stretch in np.array_split(acts[1:], rounds):
         t0 = time.perf_counter()
-        for a in stretch:
-            single.step(a[0])
+        for i, env in enumerate(singles):
+            for a in stretch[:, i]:
+                env.step(a)
         t1 = time.perf_counter()
         for a in stretch:
             vector.step(a)
         t2 = time.perf_counter()
         single_s, vector_s = single_s + t1 - t0, vector_s + t2 - t1
-    return steps / single_s, copies * steps / vector_s, vector.physics_s / vector_s
+    return copies * steps / single_s, copies * steps / vector_s, vector.physics_s / vector_s
 
 
 def main() -> None:

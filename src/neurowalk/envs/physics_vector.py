@@ -35,7 +35,7 @@ from neurowalk.body.amosii_sensors import obstacle_contact, sensor_layout
 from neurowalk.body.physics import AmosII
 from neurowalk.controller import FixedController
 from neurowalk.envs.task import BOXES, CELL, EXTENT, SIZE, STUCK_RADIUS, STUCK_WINDOW, US_RANGE
-from neurowalk.envs.vector_kernel import count_cells, near_obstacles, physics_sense
+from neurowalk.envs.vector_kernel import count_cells, first_bad_row, near_obstacles, physics_sense
 from neurowalk.sim.batch_control import BatchControllers
 
 DRAW_BLOCK = 256  # control steps of sensor noise drawn per Generator call (the same numbers as step by step)
@@ -108,6 +108,7 @@ class ExplorePhysicsVectorEnv(VectorEnv):
         self.obs, self.reward, self.pose = np.zeros((n, 2)), np.zeros(n), np.zeros((n, 3))
         self.origin = np.zeros((n, 2))  # m, corner of each copy's coverage grid
         self.done, self.stuck, self._outside, self._near = (np.zeros(n, dtype=bool) for _ in range(4))
+        self._all = (np.zeros(0, dtype=np.int64), np.arange(n))  # (restarting, live) when none restarts
         self.visited, self.free = np.zeros((n, 0, 0), dtype=bool), np.zeros((n, 0, 0), dtype=bool)
         self._extra: list[set[tuple[int, int]]] = [set() for _ in range(n)]  # visited cells off the grid
         self._ring = np.zeros((n, STUCK_WINDOW if self.max_steps + 1 >= STUCK_WINDOW else 0, 2))
@@ -137,9 +138,8 @@ class ExplorePhysicsVectorEnv(VectorEnv):
         shape = (self.num_envs, *self._low.shape)
         if a.shape != shape:
             raise ValueError(f"actions must have shape {shape}, got {a.shape}")
-        ok = np.all(np.isfinite(a) & (a >= self._low) & (a <= self._high), axis=1)
-        if not ok.all():
-            i = int(np.flatnonzero(~ok)[0])
+        i = first_bad_row(a, self._low, self._high)
+        if i >= 0:
             raise ValueError(f"actions must be finite numbers within the action space's bounds, got {a[i].tolist()!r}"
                              f" (copy {i})")  # fmt: skip
         if self.action_kind == "steering":
@@ -150,7 +150,7 @@ class ExplorePhysicsVectorEnv(VectorEnv):
         t0 = time.perf_counter()
         self.batch.step(nstep=self.n_substeps)  # every copy: those restarting are reset below
         self.physics_s += time.perf_counter() - t0
-        restart, live = np.flatnonzero(self.done), np.flatnonzero(~self.done)
+        restart, live = (np.flatnonzero(self.done), np.flatnonzero(~self.done)) if self.done.any() else self._all
         self._sense(live)
         count_cells(live, self.pose, self.origin, CELL, self.visited, self.free, self.covered, self.ks, self.reward,
                     self._outside, self._ring, STUCK_RADIUS, self.stuck)  # fmt: skip
@@ -256,7 +256,7 @@ class ExplorePhysicsVectorEnv(VectorEnv):
             self.reward[i] = CELL * CELL
 
     def _info(self) -> dict[str, Any]:
-        with np.errstate(invalid="ignore", divide="ignore"):
-            coverage = np.where(self.free_count > 0, self.covered / self.free_count, math.nan)
+        c, f = self.covered, self.free_count  # no free cells (an unbounded arena): NaN, as the single env
+        coverage = c / f if f.all() else np.divide(c, f, out=np.full(f.shape, math.nan), where=f > 0)
         return {"pose": self.pose.copy(), "coverage": coverage, "stuck": self.stuck.copy(),
                 "contacts": self.contacts.copy()}  # fmt: skip

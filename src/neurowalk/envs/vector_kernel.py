@@ -192,25 +192,53 @@ def near_obstacles(ids: np.ndarray, geom_xpos: np.ndarray, robot: np.ndarray, ro
     plus margins (m). The (static) obstacles as boxes: ``centre`` (N, O, 3) m, ``frame`` (N, O, 9) their rotations
     (MuJoCo's row-major ``geom_xmat``), ``half`` (N, O, 3) half sizes (m), grown by ``grow`` (N, O) m (the margin;
     a geom that is no box: zero sizes, grown by its bounding radius and margin). MuJoCo makes a contact only where
-    the two geoms come within their margin, so where this is False the copy touches no obstacle.
+    the two geoms come within their margin, so where this is False the copy touches no obstacle. One sphere around
+    the whole robot is tested first; each geom only against the boxes that sphere reaches.
     """
     for i in ids:
-        near = False
+        g0 = robot[i, 0]
+        cx, cy, cz = geom_xpos[i, g0, 0], geom_xpos[i, g0, 1], geom_xpos[i, g0, 2]
+        whole = 0.0  # radius (m) of a sphere around cx, cy, cz holding every robot geom's bounding sphere
         for b in range(robot.shape[1]):
             g = robot[i, b]
-            for a in range(centre.shape[1]):
-                px = geom_xpos[i, g, 0] - centre[i, a, 0]
-                py = geom_xpos[i, g, 1] - centre[i, a, 1]
-                pz = geom_xpos[i, g, 2] - centre[i, a, 2]
-                d2 = 0.0  # squared distance from the geom's centre to the box
-                for j in range(3):
-                    e = abs(frame[i, a, j] * px + frame[i, a, 3 + j] * py + frame[i, a, 6 + j] * pz) - half[i, a, j]
-                    if e > 0.0:
-                        d2 += e * e
-                reach = robot_r[i, b] + grow[i, a] + 1e-6  # 1 µm to spare for rounding
-                if d2 <= reach * reach:
+            d = math.sqrt((geom_xpos[i, g, 0] - cx) ** 2 + (geom_xpos[i, g, 1] - cy) ** 2
+                          + (geom_xpos[i, g, 2] - cz) ** 2)  # fmt: skip
+            whole = max(whole, d + robot_r[i, b])
+        near = False
+        for a in range(centre.shape[1]):
+            if not _reaches(cx, cy, cz, whole + grow[i, a], centre[i, a], frame[i, a], half[i, a]):
+                continue
+            for b in range(robot.shape[1]):
+                g = robot[i, b]
+                if _reaches(geom_xpos[i, g, 0], geom_xpos[i, g, 1], geom_xpos[i, g, 2], robot_r[i, b] + grow[i, a],
+                            centre[i, a], frame[i, a], half[i, a]):  # fmt: skip
                     near = True
                     break
             if near:
                 break
         out[i] = near
+
+
+@jit
+def _reaches(x: float, y: float, z: float, r: float, centre: np.ndarray, frame: np.ndarray, half: np.ndarray) -> bool:
+    """Whether the sphere at (x, y, z) of radius r (m) reaches the box (``centre`` (3,), ``frame`` (9,) row-major
+    rotation, ``half`` (3,) half sizes); 1 µm to spare for rounding."""
+    px, py, pz = x - centre[0], y - centre[1], z - centre[2]
+    d2 = 0.0  # squared distance from the point to the box
+    for j in range(3):
+        e = abs(frame[j] * px + frame[3 + j] * py + frame[6 + j] * pz) - half[j]
+        if e > 0.0:
+            d2 += e * e
+    reach = r + 1e-6
+    return d2 <= reach * reach
+
+
+@jit
+def first_bad_row(a: np.ndarray, low: np.ndarray, high: np.ndarray) -> int:
+    """Index of the first row of ``a`` (N, d) with a value that is not finite or not within ``low``..``high`` (d,),
+    or -1 where every row is good."""
+    for i in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            if not low[j] <= a[i, j] <= high[j]:  # NaN fails both
+                return i
+    return -1

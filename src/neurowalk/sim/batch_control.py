@@ -81,6 +81,7 @@ class BatchControllers:
             n_p = len(neural[0].sensory.params.as_array(True)) if neural else 1
             n = len(self.controllers)
             self._kind = np.array([NEURAL if isinstance(c, NeuralController) else FIXED for c in self.controllers])
+            self._neural = np.flatnonzero(self._kind == NEURAL)
             self._sens = np.zeros((n, width))
             self._sens_p = np.zeros((n, n_p))
             locs = [c.locomotion for c in self.controllers]  # type: ignore[attr-defined]
@@ -122,9 +123,10 @@ class BatchControllers:
         if self.compiled:
             control_step(self._kind, dist, self._sens, self._sens_p, self._loc, self._buf, self._loc_p,
                          self.inputs, self.outputs, self.targets)  # fmt: skip
-            neural = self._kind == NEURAL
-            self.b[neural] = self._sens[neural, 4:6]
-            self.q[neural] = self._sens[neural, 6:8]
+            neural = self._neural
+            if neural.size:
+                self.b[neural] = self._sens[neural, 4:6]
+                self.q[neural] = self._sens[neural, 6:8]
             return self.targets
         if observe is None:
             raise ValueError("controllers stepped by act() need the full observations")
