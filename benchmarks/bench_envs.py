@@ -62,7 +62,7 @@ def vector_rate(copies: int, steps: int, max_steps: int, resets: bool) -> float:
     return copies * n / (time.perf_counter() - t0)
 
 
-def physics_rates(copies: int, steps: int, nthread: int, rounds: int = 4) -> tuple[float, float, float]:
+def physics_rates(copies: int, steps: int, nthread: int, rounds: int = 10) -> tuple[float, float, float]:
     """Steps/s of ExplorePhysicsEnv and of ExplorePhysicsVectorEnv with ``copies`` copies on the same episodes, and
     the share of the latter's time spent in ``Batch.step``.
 
@@ -101,7 +101,7 @@ def main() -> None:
     ap.add_argument("--vector-steps", type=int, default=500)
     ap.add_argument("--max-steps", type=int, default=2000)
     ap.add_argument("--physics-copies", type=lambda s: [int(n) for n in s.split(",")], default=[2, 8, 16])
-    ap.add_argument("--physics-steps", type=int, default=200)
+    ap.add_argument("--physics-steps", type=int, default=300)
     ap.add_argument("--nthread", type=int, default=2, help="physics threads of the vectorised physics environment")
     ap.add_argument("--out", type=Path, default=Path("out/bench"))
     args = ap.parse_args()
