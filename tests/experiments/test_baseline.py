@@ -79,7 +79,7 @@ def test_neuroevolution_resumes_bit_for_bit(tmp_path):
 def test_run_writes_the_table_plot_and_data_and_reuses_finished_work(tmp_path):
     sizes = {"generations": 2, "population": 4, "envs": 2, "episode_steps": 50, "eval_envs": 3, "eval_steps": 3100}
     r = baseline.run(tmp_path, methods=["neuroevo"], quick=True, sizes=sizes, progress=False, log=lambda _: None)
-    assert [row["name"] for row in r["rows"]] == ["plastic", "static", "braitenberg", "neuroevo"]
+    assert [row["name"] for row in r["rows"]] == ["plastic", "plastic-original", "static", "braitenberg", "neuroevo"]
     for row in r["rows"]:
         lo, hi = row["ci95"]
         assert row["n"] == 3 and lo <= row["rate"] <= hi and len(row["coverage"]) == 3

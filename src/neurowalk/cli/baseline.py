@@ -9,12 +9,12 @@ from pathlib import Path
 
 from neurowalk.cli.common import UsageError, out_folder
 
-_SIZES = (("generations", "CMA-ES generations of the evolved network (full 300, quick 3)"),
+_SIZES = (("generations", "CMA-ES generations of the evolved network (full 150, quick 3)"),
           ("population", "candidates per generation (full 16, quick 6)"),
-          ("envs", "training environments per generation (full 16, quick 4)"),
-          ("ppo-steps", "PPO training env steps (full 2000000, quick 4096)"),
+          ("envs", "training environments per generation (full 8, quick 4)"),
+          ("ppo-steps", "PPO training env steps (full 5000000, quick 4096)"),
           ("rppo-steps", "recurrent PPO training env steps (full 2000000, quick 2048)"),
-          ("episode-steps", "control steps of a training episode (full 2000, quick 200)"),
+          ("episode-steps", "control steps of a training episode (full 10000, quick 200)"),
           ("eval-envs", "held-out environments (full 200, quick 20)"),
           ("eval-steps", "control steps per held-out environment (full 20000, quick 3000)"))  # fmt: skip
 

@@ -6,8 +6,9 @@
         neuroevo   a 4-unit recurrent network evolved by CMA-ES           (experiments/baseline_rnn.py)
         ppo        PPO, 64-64 MLP                (stable-baselines3)      (experiments/baseline_sb3.py)
         rppo       recurrent PPO, 32-unit LSTM   (sb3-contrib)
-        all on neurowalk/Explore-v0 (the surrogate), episodes of 2000 control steps, reward = area newly covered
-    score (DIR/eval/NAME.json), the learned policies and the plastic, static and Braitenberg networks alike:
+        all on neurowalk/Explore-v0 (the surrogate), episodes of 10,000 control steps, reward = area newly covered
+    score (DIR/eval/NAME.json), the learned policies and the plastic (variants paper and original), static and
+    Braitenberg networks alike:
         evaluate_batch on the held-out environments (reset seeds 10^9 + i), 20,000 control steps each,
         Table 2's rule (not stuck over the last 300 s), coverage, collisions
     DIR/baselines.json (everything, incl. training curves), baselines.md (the table), baselines.png (the plot)
@@ -30,14 +31,16 @@ from neurowalk.experiments.random_envs import wilson
 from neurowalk.fileio import atomic_write, write_json
 
 METHODS: tuple[str, ...] = ("neuroevo", "ppo", "rppo")
-NETWORKS: tuple[str, ...] = ("plastic", "static", "braitenberg")
+NETWORKS: tuple[str, ...] = ("plastic", "plastic-original", "static", "braitenberg")  # NAME[-VARIANT]
 HELDOUT_BASE = 10**9  # reset seeds of the held-out environments: HELDOUT_BASE + i
-FULL = {"generations": 300, "population": 16, "envs": 16, "ppo_steps": 2_000_000, "rppo_steps": 2_000_000,
-        "eval_envs": 200, "eval_steps": 20_000, "episode_steps": 2000}  # fmt: skip
+FULL = {"generations": 150, "population": 16, "envs": 8, "ppo_steps": 5_000_000, "rppo_steps": 2_000_000,
+        "eval_envs": 200, "eval_steps": 20_000, "episode_steps": 10_000}  # fmt: skip
 QUICK = {"generations": 3, "population": 6, "envs": 4, "ppo_steps": 4096, "rppo_steps": 2048, "eval_envs": 20,
          "eval_steps": 3000, "episode_steps": 200}  # fmt: skip
-LABELS = {"plastic": "plastic (2 neurons)", "static": "static (2 neurons)", "braitenberg": "Braitenberg",
-          "neuroevo": "evolved RNN (CMA-ES)", "ppo": "PPO (MLP)", "rppo": "recurrent PPO (LSTM)"}  # fmt: skip
+LABELS = {"plastic": "plastic (2 neurons)", "plastic-original": "plastic, authors' code",
+          "static": "static (2 neurons)",
+          "braitenberg": "Braitenberg", "neuroevo": "evolved RNN (CMA-ES)", "ppo": "PPO (MLP)",
+          "rppo": "recurrent PPO (LSTM)"}  # fmt: skip
 
 
 LIMITS = {"generations": 100_000, "population": 10_000, "envs": 100_000, "ppo_steps": 10**10, "rppo_steps": 10**10,
@@ -77,7 +80,8 @@ def policy_of(name: str, record: dict[str, Any] | None, folder: Path) -> Any:
     from neurowalk.envs.policy import NetworkPolicy
 
     if name in NETWORKS:
-        return NetworkPolicy(name)
+        network, _, variant = name.partition("-")
+        return NetworkPolicy(network, variant=variant or "paper")
     assert record is not None
     if name == "neuroevo":
         from neurowalk.experiments.baseline_rnn import RecurrentPolicy
@@ -139,7 +143,7 @@ def run(out: Path, *, methods: Sequence[str] = METHODS, quick: bool = False, siz
         rows.append(row(name, done, records.get(name)))
     result = {"sizes": sz, "seed": seed, "heldout_seeds": [seeds[0], seeds[-1]], "rows": rows,
               "training": {m: {k: v for k, v in r.items() if k != "theta"} for m, r in records.items()},
-              "body": "surrogate", "variant": "paper"}  # fmt: skip
+              "body": "surrogate", "variant": "paper, but plastic-original: original"}  # fmt: skip
     write_json(out / "baselines.json", result)
     atomic_write(out / "baselines.md", lambda tmp: Path(tmp).write_text(markdown(result)))
     plot(result, out / "baselines.png")
@@ -166,7 +170,7 @@ def markdown(result: dict[str, Any]) -> str:
     sz = result["sizes"]
     lines = [f"Held-out environments: {sz['eval_envs']} (reset seeds {result['heldout_seeds'][0]} to "
              f"{result['heldout_seeds'][1]}), {sz['eval_steps']:,} control steps each, surrogate body.", "",
-             "| policy | success | rate (95% CI) | coverage (mean ± 95% CI) | collisions per run | training |",
+             "| policy | success | rate (95% CI) | coverage (mean ± 95% CI) | collision overlaps per run | training |",
              "|---|---|---|---|---|---|"]  # fmt: skip
     for r in result["rows"]:
         train = "none (fixed rule)" if r["kind"] == "network" else (
@@ -200,11 +204,11 @@ def plot(result: dict[str, Any], path: Path) -> None:
     ax = axes[2]
     for m, rec in result["training"].items():
         curve = rec["curve"]
-        vals = np.array([c["best"] if isinstance(c, dict) else c for c in curve], dtype=float)
+        vals = np.array([c["mean"] if isinstance(c, dict) else c for c in curve], dtype=float)
         if not len(vals):
             continue
         steps = np.linspace(rec["env_steps"] / len(vals), rec["env_steps"], len(vals))
-        ax.plot(steps, vals, label=LABELS[m] + (" (best candidate)" if m == "neuroevo" else ""))
+        ax.plot(steps, vals, label=LABELS[m] + (" (population mean)" if m == "neuroevo" else ""))
     ax.set_xscale("log")
     ax.set_xlabel("training env steps")
     ax.set_ylabel(f"episode return (m² covered in {result['sizes']['episode_steps']} steps)")
