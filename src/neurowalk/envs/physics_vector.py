@@ -35,6 +35,7 @@ from neurowalk.body.amosii_sensors import obstacle_contact, sensor_layout
 from neurowalk.body.physics import AmosII
 from neurowalk.controller import FixedController
 from neurowalk.envs.task import BOXES, CELL, EXTENT, SIZE, STUCK_RADIUS, STUCK_WINDOW, US_RANGE
+from neurowalk.envs.vector import copy_seeds
 from neurowalk.envs.vector_kernel import count_cells, first_bad_row, near_obstacles, physics_sense
 from neurowalk.sim.batch_control import BatchControllers
 
@@ -116,16 +117,7 @@ class ExplorePhysicsVectorEnv(VectorEnv):
     def reset(self, *, seed: int | list[int] | None = None, options: dict[str, Any] | None = None
               ) -> tuple[np.ndarray, dict[str, Any]]:  # fmt: skip
         """Every copy anew: copy i from seed ``seed + i`` (or ``seed[i]``); None draws fresh seeds."""
-        if isinstance(seed, list | tuple | np.ndarray):
-            if len(seed) != self.num_envs:
-                raise ValueError(f"seed must be one int or {self.num_envs} ints, got {len(seed)}")
-            seeds = [int(s) for s in seed]
-        else:
-            seeds = None if seed is None else [int(seed) + i for i in range(self.num_envs)]
-        super().reset(seed=None if seeds is None else seeds[0])  # the generator of later episodes' seeds
-        if seeds is None:
-            base = int(self.np_random.integers(2**62))
-            seeds = [base + i for i in range(self.num_envs)]
+        seeds = copy_seeds(self, seed)
         self._start(np.arange(self.num_envs), seeds)
         self.done[:] = False
         return self.obs.copy(), self._info()

@@ -29,6 +29,24 @@ from neurowalk.envs.vector_kernel import free_mask, uniform, vector_step
 MAX_BOXES = 64  # obstacle rows per copy (Table 2: at most 20 boxes and 4 walls)
 
 
+def copy_seeds(env: VectorEnv, seed: int | list[int] | None) -> list[int]:
+    """The reset seed of each copy of ``env``: ``seed + i``, or ``seed[i]`` for a list, or fresh ones drawn from the
+    environment's generator for None; seeds that generator (with the first copy's seed), from which later episodes
+    draw theirs."""
+    n = env.num_envs
+    if isinstance(seed, list | tuple | np.ndarray):
+        if len(seed) != n:
+            raise ValueError(f"seed must be one int or {n} ints, got {len(seed)}")
+        seeds = [int(s) for s in seed]
+    else:
+        seeds = None if seed is None else [int(seed) + i for i in range(n)]
+    VectorEnv.reset(env, seed=None if seeds is None else seeds[0])
+    if seeds is None:
+        base = int(env.np_random.integers(2**62))
+        seeds = [base + i for i in range(n)]
+    return seeds
+
+
 class ExploreVectorEnv(VectorEnv):
     """N copies of ``neurowalk/Explore-v0`` in one compiled step (see the module text).
 
@@ -82,16 +100,7 @@ class ExploreVectorEnv(VectorEnv):
     def reset(self, *, seed: int | list[int] | None = None, options: dict[str, Any] | None = None
               ) -> tuple[np.ndarray, dict[str, Any]]:  # fmt: skip
         """Every copy anew: copy i from seed ``seed + i`` (or ``seed[i]``); None draws fresh seeds."""
-        if isinstance(seed, list | tuple | np.ndarray):
-            if len(seed) != self.num_envs:
-                raise ValueError(f"seed must be one int or {self.num_envs} ints, got {len(seed)}")
-            seeds = [int(s) for s in seed]
-        else:
-            seeds = None if seed is None else [int(seed) + i for i in range(self.num_envs)]
-        super().reset(seed=None if seeds is None else seeds[0])  # the generator of later episodes' seeds
-        if seeds is None:
-            base = int(self.np_random.integers(2**62))
-            seeds = [base + i for i in range(self.num_envs)]
+        seeds = copy_seeds(self, seed)
         for i, s in enumerate(seeds):
             self._start(i, s)
         self.done[:] = False
