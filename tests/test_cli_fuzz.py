@@ -92,6 +92,14 @@ P_FOLDER = f"{FILES_DIR}/a-folder"
 
 RUN_CASES = [
     run("maze", "--arena", "maze"),
+    run("scale", "--body", "wheeled", "--body-opt", "scale=huge"),
+    run("scale", "--body", "wheeled", "--body-opt", "scale=0"),
+    run("scale", "--body", "wheeled", "--body-opt", "scale=nan"),
+    run("size", "--body", "wheeled", "--body-opt", "size=1"),
+    run("scale", "--body-opt", "scale=0.5"),
+    run("--body-opt", "--body", "wheeled", "--body-opt", "scale"),
+    run("tripod", "--body", "wheeled", "--gait", "tripod"),
+    run("wheeled", "--body", "wheeled", "--climb"),
     run("''", "--arena", ""),
     run("wheeled", "--controller", "wheeled"),
     run("PLASTIC", "--controller", "PLASTIC"),
@@ -192,6 +200,7 @@ RUN_CASES = [
 VIEW_CASES = [
     case("maze", "view", "--arena", "maze"),
     case("surrogate", "view", "--body", "surrogate"),
+    case("size", "view", "--body-opt", "size=2"),
     case("steps", "view", "--steps", "0"),
     case("gallop", "view", "--gait", "gallop"),
     case("bogus", "view", "--variant", "bogus"),
@@ -350,6 +359,10 @@ NAN, INF = float("nan"), float("inf")
 
 SPEC_CASES = [
     spec("speed", {"speed": 1}),
+    spec("body_opts", {"body": "wheeled", "body_opts": [1]}),
+    spec("scale", {"body": "wheeled", "body_opts": {"scale": "big"}}),
+    spec("scale", {"body": "wheeled", "body_opts": {"scale": 100}}),
+    spec("scale", {"body": "amosii", "body_opts": {"scale": 0.5}}),
     spec("maze", {"arena": "maze"}),
     spec("3", {"arena": 3}),
     spec("None", {"arena": None}),
@@ -495,6 +508,9 @@ OTHER_CASES = [
     ),
     case("height", "export-model", "--arena", "cluttered", "--arena-opt", "height=-0.1", "--out", f"{GOOD}/m.xml"),
     case("folder", "export-model", "--out", GOOD),
+    case("surrogate", "export-model", "--body", "surrogate", "--out", f"{GOOD}/m.xml"),
+    case("tank", "export-model", "--body", "tank", "--out", f"{GOOD}/m.xml"),
+    case("scale", "export-model", "--body", "wheeled", "--body-opt", "scale=-1", "--out", f"{GOOD}/m.xml"),
     case("summary.json", "export-model", "--out", f"{GOOD}/summary.json/model.xml"),
 ]
 
@@ -584,6 +600,7 @@ BASELINE_CASES = [
 
 TOP_CASES = [
     case("command", *[]),
+    case("--bogus", "bodies", "--bogus"),
     case("walk", "walk"),
     case("Run", "Run"),
     case("--bogus", "--bogus", "run"),
@@ -626,7 +643,7 @@ def places(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
 def tripwires(places: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
     """Replace the entry points of real work by functions that raise :class:`WorkStartedError`."""
     import neurowalk.bench
-    import neurowalk.body.amosii
+    import neurowalk.body.registry
     import neurowalk.experiments.baseline
     import neurowalk.experiments.calibration
     import neurowalk.experiments.optimize
@@ -649,7 +666,7 @@ def tripwires(places: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
         (neurowalk.runners.store, "ResultStore"),
         (neurowalk.experiments.calibration, "calibrate"),
         (neurowalk.bench, "run_bench"),
-        (neurowalk.body.amosii, "export_model"),
+        (neurowalk.body.registry, "body_xml"),
         (neurowalk.experiments.optimize, "new_state"),
         (neurowalk.experiments.optimize, "Runner"),
         (neurowalk.experiments.baseline, "run"),

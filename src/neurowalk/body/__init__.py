@@ -1,5 +1,7 @@
-"""Bodies that carry the controller: AMOSII in MuJoCo (``amosii``), and later the surrogates.
+"""Bodies that carry the controller, and their one registry (:mod:`neurowalk.body.registry`, ``neurowalk bodies``).
 
-``amosii_params`` holds the body's numbers and MJCF names (no MuJoCo import), ``amosii`` writes the
-MJCF, and ``amosii_sensors`` reads a compiled model's sensors every control step.
+``amosii``: the hexapod in MuJoCo (``amosii_params`` holds its numbers and MJCF names, ``amosii`` writes the MJCF,
+``amosii_sensors`` reads its sensors, ``physics`` steps it). ``wheeled``: a differential-drive robot in MuJoCo with
+AMOSII's footprint, speed and rangefinders (``wheeled`` writes the MJCF, ``wheeled_body`` steps it). ``surrogate``:
+the planar, calibrated AMOSII (``surrogate``, ``surrogate_kernel``).
 """

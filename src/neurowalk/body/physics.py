@@ -88,6 +88,7 @@ class AmosII:
     """
 
     name = "amosii"
+    action = "targets"  # what apply() takes (neurowalk.body.registry)
 
     def __init__(self, arena: ArenaSpec, params: BodyParams | None = None, *, control_hz: float = 10.0,
                  noise: float = 0.02, scan_obstacles: bool = False, pad_boxes: int | None = None) -> None:  # fmt: skip

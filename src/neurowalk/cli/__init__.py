@@ -17,14 +17,14 @@ from neurowalk.cli.common import Parser, UsageError, out_file, out_folder
 from neurowalk.cli.figure import add_figure_parser, cmd_figure, figure_listing
 from neurowalk.cli.run import add_run_parsers, cmd_run, cmd_view, signals_held
 from neurowalk.cli.sweep import add_optimize_parser, add_sweep_parser, cmd_optimize, cmd_sweep
-from neurowalk.cli.tools import add_tool_parsers, cmd_arenas, cmd_bench, cmd_calibrate, cmd_export
+from neurowalk.cli.tools import add_tool_parsers, cmd_arenas, cmd_bench, cmd_bodies, cmd_calibrate, cmd_export
 
 __all__ = ["UsageError", "figure_listing", "main", "out_file", "out_folder", "parse"]
 
 _signals_held = signals_held  # its name here before the split, which the tests use
 
 _COMMANDS = {"figure": cmd_figure, "run": cmd_run, "view": cmd_view, "calibrate": cmd_calibrate, "bench": cmd_bench,
-             "arenas": cmd_arenas, "export-model": cmd_export, "sweep": cmd_sweep,
+             "arenas": cmd_arenas, "bodies": cmd_bodies, "export-model": cmd_export, "sweep": cmd_sweep,
              "optimize": cmd_optimize, "baseline": cmd_baseline}  # fmt: skip
 
 
@@ -34,7 +34,7 @@ def _parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True, parser_class=Parser)
     add_figure_parser(sub)
     add_run_parsers(sub)  # run, view
-    add_tool_parsers(sub)  # calibrate, bench, arenas, export-model
+    add_tool_parsers(sub)  # calibrate, bench, arenas, bodies, export-model
     add_sweep_parser(sub)
     add_optimize_parser(sub)
     add_baseline_parser(sub)

@@ -56,7 +56,9 @@ def episode_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--arena-opt", action="append", default=[], metavar="KEY=VALUE", help="arena option, repeatable")
     p.add_argument("--controller", default="plastic", help="plastic | static | braitenberg | fixed")
     p.add_argument("--steer", default=None, metavar="O1,O2", help="steering of controller 'fixed', e.g. -1,-1")
-    p.add_argument("--body", default="amosii", help="amosii (MuJoCo physics) | surrogate (planar, calibrated)")
+    p.add_argument("--body", default="amosii", help="amosii (MuJoCo physics) | surrogate (planar, calibrated) | "
+                   "wheeled (MuJoCo, differential drive); see `neurowalk bodies`")  # fmt: skip
+    p.add_argument("--body-opt", action="append", default=[], metavar="KEY=VALUE", help="body option, e.g. scale=0.5")
     p.add_argument("--steps", type=int, default=1000, help="control steps (10 Hz: 1000 = 100 s)")
     p.add_argument("--seed", type=int, default=0, help="seed of every random draw")
     p.add_argument("--reflexes", action="store_true", help="local leg control: searching and elevation reflexes")
@@ -98,13 +100,13 @@ def parse_variant(args: argparse.Namespace) -> tuple[str, dict | None]:
     return variant, params
 
 
-def parse_arena_opts(items: list[str]) -> dict[str, str]:
-    """{key: value} of the --arena-opt KEY=VALUE items."""
+def parse_arena_opts(items: list[str], flag: str = "--arena-opt") -> dict[str, str]:
+    """{key: value} of the --arena-opt (or ``flag``) KEY=VALUE items."""
     opts = {}
     for item in items:
         key, sep, value = item.partition("=")
         if not sep or not key:
-            raise UsageError(f"--arena-opt expects KEY=VALUE, got {item!r}")
+            raise UsageError(f"{flag} expects KEY=VALUE, got {item!r}")
         opts[key] = value
     return opts
 
@@ -130,8 +132,10 @@ def episode_config(args: argparse.Namespace) -> object:
     variant, params = parse_variant(args)
     try:
         opts = parse_arena_opts(args.arena_opt)
+        body_opts = parse_arena_opts(args.body_opt, "--body-opt")
         cfg = EpisodeConfig(arena=args.arena, arena_opts=opts, controller=args.controller,
-                            steer=parse_steer(args.steer), body=args.body, steps=args.steps, seed=args.seed,
+                            steer=parse_steer(args.steer), body=args.body, body_opts=body_opts, steps=args.steps,
+                            seed=args.seed,
                             reflexes=args.reflexes or args.climb, backbone=args.backbone or args.climb,
                             variant=variant, params=params, gait=args.gait)  # fmt: skip
         make_arena(cfg.arena, **cfg.arena_opts)  # validate the arena's options before any work

@@ -1,4 +1,5 @@
-"""The tool commands: `calibrate` (the surrogate's calibration), `bench`, `arenas` (the list) and `export-model`."""
+"""The tool commands: `calibrate` (the surrogate's calibration), `bench`, `arenas` and `bodies` (the lists) and
+`export-model`."""
 
 from __future__ import annotations
 
@@ -21,10 +22,13 @@ def add_tool_parsers(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--workers", type=int, default=None, help="processes / threads (default: the cores, up to 8)")
 
     sub.add_parser("arenas", help="list the arenas and their options")
+    sub.add_parser("bodies", help="list the bodies: sensors, actuators, what they take, options")
     e = sub.add_parser("export-model", help="write the robot (and an arena) as a self-contained MJCF file")
     e.add_argument("--out", type=Path, required=True, help="MJCF file to write")
     e.add_argument("--arena", default="open", help="arena to include (default open)")
     e.add_argument("--arena-opt", action="append", default=[], metavar="KEY=VALUE", help="arena option")
+    e.add_argument("--body", default="amosii", help="physics body: amosii (default) | wheeled")
+    e.add_argument("--body-opt", action="append", default=[], metavar="KEY=VALUE", help="body option, e.g. scale=0.5")
 
 
 def cmd_calibrate(args: argparse.Namespace) -> int:
@@ -81,15 +85,32 @@ def cmd_arenas(args: argparse.Namespace) -> int:
     return 0
 
 
+def cmd_bodies(args: argparse.Namespace) -> int:
+    """`neurowalk bodies`: each body of the registry, what it needs and offers."""
+    from neurowalk.body.registry import body_listing
+
+    print(body_listing())
+    return 0
+
+
 def cmd_export(args: argparse.Namespace) -> int:
     """`neurowalk export-model`: the robot (and an arena) as one MJCF file."""
+    import mujoco
+
     from neurowalk.arenas import make_arena
-    from neurowalk.body.amosii import export_model
+    from neurowalk.body import registry
+    from neurowalk.fileio import atomic_write
 
     try:
         arena = make_arena(args.arena, **parse_arena_opts(args.arena_opt))
+        opts = registry.check_body_opts(args.body, parse_arena_opts(args.body_opt, "--body-opt"))
+        if not registry.body_info(args.body).physics:
+            raise ValueError(f"body {args.body!r} is planar: it has no MuJoCo model to export")
     except ValueError as e:
         raise UsageError(str(e)) from None
-    path = export_model(out_file(args.out), world=arena.to_mjcf())
+    path = out_file(args.out)
+    xml = registry.body_xml(args.body, opts, world=arena.to_mjcf())
+    mujoco.MjModel.from_xml_string(xml)  # compiles, before anything is written
+    atomic_write(path, lambda tmp: Path(tmp).write_text(xml, encoding="utf-8"))
     print(f"wrote {path}")
     return 0

@@ -30,7 +30,7 @@ MACHINE_KEYS: tuple[str, ...] = ("wall_time_s", "real_time_factor")
 
 _DEFAULTS: Spec = {f: getattr(EpisodeConfig(), f) for f in FIELDS}
 #: Fields kept out of the canonical form at their defaults (they came after stores were written).
-LATER: tuple[str, ...] = ("reflexes", "backbone", "variant", "params", "gait")
+LATER: tuple[str, ...] = ("reflexes", "backbone", "variant", "params", "gait", "body_opts")
 
 
 def normalize(spec: Spec) -> Spec:
@@ -99,6 +99,12 @@ def normalize(spec: Spec) -> Spec:
         params = check_overrides(s["params"])  # raises on a value that is not an object of fields
         if params:
             out["params"] = params
+    if not isinstance(s["body_opts"], dict):
+        raise ValueError(f"body_opts must be an object of option values, got {s['body_opts']!r}")
+    if s["body_opts"]:
+        from neurowalk.body.registry import check_body_opts
+
+        out["body_opts"] = check_body_opts(out["body"], s["body_opts"])  # raises on an unknown body or option
     to_config(out)  # the config's own checks (controller, body, steps, seed, steer, b0/q0)
     return out
 

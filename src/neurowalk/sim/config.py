@@ -13,15 +13,16 @@ from typing import Any
 import numpy as np
 
 from neurowalk.arenas import ArenaSpec, make_arena
-from neurowalk.body.physics import AmosII
-from neurowalk.body.surrogate import Surrogate, load_calibration
+from neurowalk.body.registry import BODIES as REGISTRY
+from neurowalk.body.registry import body_info, check_body_opts, make_body
+from neurowalk.body.surrogate import load_calibration
 from neurowalk.controller import CONTROLLERS, Controller, make_controller
 from neurowalk.neural.cpg import GAITS, CpgParams
 from neurowalk.neural.motor import LocomotionParams
 from neurowalk.neural.variants import get_variant
 from neurowalk.sim.trajectory import Trajectory
 
-BODIES: tuple[str, ...] = ("amosii", "surrogate")
+BODIES: tuple[str, ...] = tuple(REGISTRY)  # the registry's names (neurowalk.body.registry)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -44,12 +45,13 @@ class EpisodeConfig:
     variant: str = "paper"  # the network: paper (Eq. 1-6 as printed), original (the authors' code), tuned
     params: dict[str, float] | None = None  # SensoryParams fields set on top of the variant (a params file)
     gait: str = "wave"  # the CPG's modulatory input by name (neurowalk.neural.cpg.GAITS)
+    body_opts: dict[str, Any] = field(default_factory=dict)  # the body's options (neurowalk.body.registry)
 
     def __post_init__(self) -> None:
         if self.controller not in CONTROLLERS:
             raise ValueError(f"unknown controller {self.controller!r}; expected one of {', '.join(CONTROLLERS)}")
-        if self.body not in BODIES:
-            raise ValueError(f"unknown body {self.body!r}; expected one of {', '.join(BODIES)}")
+        info = body_info(self.body)  # raises on an unknown body
+        check_body_opts(self.body, self.body_opts)
         if not _whole(self.steps) or not 1 <= self.steps <= MAX_STEPS:
             raise ValueError(f"steps must be a whole number from 1 to {MAX_STEPS:,}, got {self.steps!r}")
         if not _whole(self.seed) or not 0 <= self.seed < 2**63:
@@ -70,7 +72,7 @@ class EpisodeConfig:
             raise ValueError("start weights b0/q0 go with controller 'plastic' only")
         if (self.controller == "fixed") != (self.steer is not None):
             raise ValueError("--steer O1,O2 goes with controller 'fixed' (and only with it)")
-        if (self.reflexes or self.backbone) and self.body != "amosii":
+        if (self.reflexes or self.backbone) and not info.climbs:
             raise ValueError(f"reflexes and backbone control need body 'amosii' (legs and terrain), got {self.body!r}")
         get_variant(self.variant, self.params)  # raises on an unknown variant or a bad parameter
         if self.gait not in GAITS:
@@ -79,6 +81,8 @@ class EpisodeConfig:
             raise ValueError(f"body 'surrogate' is calibrated at {hz} Hz, got control_hz {self.control_hz!r}")
         if self.gait != "wave" and self.body == "surrogate":
             raise ValueError(f"body 'surrogate' is calibrated on the wave gait, got gait {self.gait!r}")
+        if self.gait != "wave" and info.action == "steering":
+            raise ValueError(f"body {self.body!r} takes the steering pair (no legs), no gait; got gait {self.gait!r}")
 
 
 MAX_STEPS = 100_000_000  # control steps of one run (about 116 days simulated at 10 Hz)
@@ -111,21 +115,15 @@ def seeds(cfg: EpisodeConfig) -> tuple[np.random.Generator, np.random.Generator,
     return body, ctrl, arena
 
 
-def build(cfg: EpisodeConfig, *, pad_boxes: int | None = None) -> tuple[ArenaSpec, AmosII | Surrogate, Controller]:
-    """Arena, body and controller of a config (raises ValueError on bad input).
+def build(cfg: EpisodeConfig, *, pad_boxes: int | None = None) -> tuple[ArenaSpec, Any, Controller]:
+    """Arena, body (see :mod:`neurowalk.body.registry`) and controller of a config (raises ValueError on bad input).
 
     ``pad_boxes``: build AMOSII's model with that many obstacle slots (``AmosII(pad_boxes=...)``), the model
     :mod:`neurowalk.sim.batch` runs; None (default) for the plain model.
     """
     arena = make_arena(cfg.arena, rng=seeds(cfg)[2], **cfg.arena_opts)
-    body: AmosII | Surrogate
-    if cfg.body == "surrogate":
-        body = Surrogate(arena, noise=cfg.noise)
-        if cfg.control_hz != body.control_hz:
-            raise ValueError(f"body 'surrogate' is calibrated at {body.control_hz} Hz, got control_hz {cfg.control_hz}")
-    else:
-        body = AmosII(arena, control_hz=cfg.control_hz, noise=cfg.noise, pad_boxes=pad_boxes,
-                      scan_obstacles=cfg.backbone or cfg.reflexes)  # fmt: skip
+    amosii = {"pad_boxes": pad_boxes, "scan_obstacles": cfg.backbone or cfg.reflexes} if cfg.body == "amosii" else {}
+    body = make_body(cfg.body, arena, cfg.body_opts, control_hz=cfg.control_hz, noise=cfg.noise, **amosii)
     weights = {k: v for k, v in (("b0", cfg.b0), ("q0", cfg.q0)) if v is not None}
     climbing = {k: True for k in ("reflexes", "backbone") if getattr(cfg, k)}
     v = get_variant(cfg.variant, cfg.params)

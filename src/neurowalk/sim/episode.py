@@ -28,7 +28,6 @@ from typing import Any
 
 import numpy as np
 
-from neurowalk.body.physics import AmosII
 from neurowalk.controller import Controller
 from neurowalk.sim.config import (
     BODIES,
@@ -97,8 +96,7 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
         raise ValueError("keep_rows=False needs a sink: the rows would be lost")
     if cfg.body == "surrogate":
         return run_surrogate_episode(cfg, progress=progress, sink=sink, chunk=chunk)
-    arena, body, ctrl = build(cfg, pad_boxes=pad_boxes)
-    assert isinstance(body, AmosII)
+    arena, body, ctrl = build(cfg, pad_boxes=pad_boxes if cfg.body == "amosii" else None)
     body_rng, ctrl_rng, _ = seeds(cfg)
     body.reset(body_rng)
     ctrl.reset(ctrl_rng)
@@ -131,16 +129,17 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
     return ep
 
 
-def _loop(cfg: EpisodeConfig, body: AmosII, ctrl: Controller, rec: _Recorder, bar: Any, start: int,
+def _loop(cfg: EpisodeConfig, body: Any, ctrl: Controller, rec: _Recorder, bar: Any, start: int,
           checkpoint: Any) -> int:  # fmt: skip
     """The control loop proper, from step ``start``; returns the number of completed steps."""
     d = body.data
     has_weights = hasattr(ctrl, "b")
     buf, base = rec.buf, rec.base
+    steering = body.action == "steering"  # the body takes the steering pair (e.g. wheels), not joint targets
     for k in range(start, cfg.steps):
         obs = body.observe()
         targets = ctrl.act(obs)
-        body.apply(targets)
+        body.apply(ctrl.steering if steering else targets)
         body.advance()
         i = k - base
         buf.inputs[i] = ctrl.inputs
@@ -171,8 +170,9 @@ class _Recorder:
     chunk buffer and starts the buffer again.
     """
 
-    def __init__(self, steps: int, body: AmosII, sink: Any, chunk: int, keep_rows: bool, start: int) -> None:
-        self.sink, self.keep_rows, self.qidx = sink, keep_rows, body._qidx - 7
+    def __init__(self, steps: int, body: Any, sink: Any, chunk: int, keep_rows: bool, start: int) -> None:
+        qidx = body._qidx - 7 if body.action == "targets" else None  # the 19 joints in qpos[7:] (legged body)
+        self.sink, self.keep_rows, self.qidx = sink, keep_rows, qidx
         self.chunk = chunk if sink is not None or not keep_rows else steps
         self.flushed = start
         nq = body.model.nq
@@ -234,7 +234,7 @@ class _Recorder:
             if src.shape[1:] == getattr(self.picture, f.name).shape[1:]:
                 getattr(self.picture, f.name)[take // self.stride] = src[take - start]
 
-    def episode(self, cfg: EpisodeConfig, arena: Any, body: AmosII, done: int, wall: float) -> Episode:
+    def episode(self, cfg: EpisodeConfig, arena: Any, body: Any, done: int, wall: float) -> Episode:
         """The episode of the first ``done`` steps."""
         run_cfg = cfg if done == cfg.steps else replace(cfg, steps=max(done, 1))
         if self.keep_rows:
@@ -253,10 +253,13 @@ class _Recorder:
         return Episode(cfg, arena, tr, summary, row_stride=self.stride)
 
 
-def _derive(tr: Trajectory, qidx: np.ndarray, a: int, b: int) -> Trajectory:
-    """Fill the derived columns (pose, joint angles, up_z) of rows [a, b) of ``tr`` from qpos; return ``tr``."""
+def _derive(tr: Trajectory, qidx: np.ndarray | None, a: int, b: int) -> Trajectory:
+    """Fill the derived columns (pose, joint angles, up_z) of rows [a, b) of ``tr`` from qpos; return ``tr``.
+
+    ``qidx``: the 19 joints' places in ``qpos[7:]``, or None for a body without them (joint angles NaN).
+    """
     q = tr.qpos[a:b]
     tr.pose[a:b] = poses_from_qpos(q)
-    tr.joint_angles[a:b] = q[:, 7:][:, qidx]
+    tr.joint_angles[a:b] = q[:, 7:][:, qidx] if qidx is not None else np.nan
     tr.up_z[a:b] = up_z_from_qpos(q)
     return tr

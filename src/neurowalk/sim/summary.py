@@ -11,7 +11,7 @@ import numpy as np
 import neurowalk
 from neurowalk import metrics
 from neurowalk.arenas import ArenaSpec
-from neurowalk.body.physics import obstacle_contacts
+from neurowalk.body.registry import replay_contacts
 from neurowalk.neural.variants import get_variant
 from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.trajectory import Trajectory
@@ -89,7 +89,7 @@ def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory | Record, wal
         rows = np.concatenate([np.arange(p["start"], p["end"] + 1) for p in wedged])
         touch = np.full(len(pose), np.nan)
         for block in np.array_split(rows, -(-len(rows) // REPLAY_BLOCK)):
-            touch[block] = obstacle_contacts(arena, qpos_rows(block))
+            touch[block] = replay_contacts(cfg.body, cfg.body_opts, arena, qpos_rows(block))
         wedged = metrics.wedged_periods(pose, control_hz=cfg.control_hz, blind=rec.blind, contact=touch)
     return {
         "arena": cfg.arena,
@@ -107,6 +107,7 @@ def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory | Record, wal
         "variant": cfg.variant,
         "params": cfg.params,
         "gait": cfg.gait,
+        "body_opts": cfg.body_opts,
         "final_z_m": rec.final_z,  # trunk height (None: planar body)
         "max_z_m": rec.max_z,
         "exit_step": metrics.exit_step(pose, arena),

@@ -1,0 +1,168 @@
+"""The one registry of bodies: what ``--body NAME`` can name, what each needs and offers, and how it is built.
+
+Every body follows one small protocol, so the one control loop (:mod:`neurowalk.sim.episode`) serves them all:
+
+.. code-block:: text
+
+    body = make_body(name, arena, options, control_hz=..., noise=...)
+    body.reset(rng)                      # at the arena's start pose, at rest; sensor noise from rng
+    obs = body.observe()                 # Observation: ultrasonic distances (2,) m, contacts, pose, time
+    body.apply(action)                   # body.action == "targets": the 19 joint targets (rad, actuator order)
+                                         # body.action == "steering": the steering pair (O1, O2) in [-1, 1]^2
+    body.advance()                       # one control step of physics
+    body.model, body.data                # MuJoCo (physics bodies): qpos[0:7] is the free joint of the trunk
+
+``neurowalk bodies`` prints this registry. A body option (``--body-opt KEY=VALUE``) is a number checked against
+its range here, before anything is built.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from neurowalk.arenas import ArenaSpec
+
+
+@dataclass(frozen=True)
+class BodyInfo:
+    """What a body is: its sensors and actuators, what its ``apply`` takes, whether it climbs, its options.
+
+    Attributes:
+        name: the ``--body`` name. summary: one line. sensors, actuators: what it has, in words.
+        action: ``"targets"`` (19 joint targets from the locomotion network) or ``"steering"`` (O1, O2).
+        physics: a MuJoCo body (else a planar surrogate). climbs: it can take the climbing controls
+            (``--reflexes``, ``--backbone``). options: name -> (default, low, high, meaning).
+    """
+
+    name: str
+    summary: str
+    sensors: str
+    actuators: str
+    action: str
+    physics: bool
+    climbs: bool
+    options: dict[str, tuple[float, float, float, str]] = field(default_factory=dict)
+
+
+BODIES: dict[str, BodyInfo] = {
+    "amosii": BodyInfo(
+        "amosii", "the hexapod AMOSII in MuJoCo (19 joints): the paper's robot",
+        "2 ultrasonic rangefinders (±35°, 0.4 m), 6 foot contacts, 19 joint angles, obstacle-height scanner",
+        "19 position servos (18 leg joints + backbone), driven by the locomotion network", "targets", True, True),
+    "surrogate": BodyInfo(
+        "surrogate", "planar kinematic AMOSII calibrated on the physics robot (about 1000x faster)",
+        "2 ultrasonic rangefinders (as AMOSII's)", "the steering pair through the calibrated motion of AMOSII",
+        "steering", False, False),
+    "wheeled": BodyInfo(
+        "wheeled", "a differential-drive robot with AMOSII's footprint, forward speed and rangefinders, in MuJoCo",
+        "2 ultrasonic rangefinders (as AMOSII's)",
+        "2 driven wheels (velocity motors: right from O1, left from O2) and casters; no locomotion network",
+        "steering", True, False,
+        {"scale": (1.0, 0.05, 4.0, "every length and the speed x scale (0.1: a Khepera-sized robot)")}),
+}  # fmt: skip
+
+
+def body_info(name: str) -> BodyInfo:
+    """The registry entry of ``name``; ValueError names an unknown body."""
+    if name not in BODIES:
+        raise ValueError(f"unknown body {name!r}; expected one of {', '.join(BODIES)}")
+    return BODIES[name]
+
+
+def check_body_opts(name: str, opts: dict[str, Any]) -> dict[str, float]:
+    """The body's options as numbers, each checked against its range; ValueError names a bad key or value."""
+    info = body_info(name)
+    out = {}
+    for key, value in opts.items():
+        if key not in info.options:
+            known = ", ".join(info.options) or "none"
+            raise ValueError(f"unknown option {key!r} of body {name!r}; its options: {known}")
+        _, low, high, _ = info.options[key]
+        try:
+            number = float(value)
+        except (TypeError, ValueError):
+            raise ValueError(f"body option {key} must be a number, got {value!r}") from None
+        if isinstance(value, bool) or not math.isfinite(number) or not low <= number <= high:
+            raise ValueError(f"body option {key} must be a number in [{low}, {high}], got {value!r}")
+        out[key] = number
+    return out
+
+
+def make_body(name: str, arena: ArenaSpec, opts: dict[str, Any] | None = None, *, control_hz: float = 10.0,
+              noise: float = 0.02, **amosii: Any) -> Any:  # fmt: skip
+    """Build body ``name`` in ``arena`` with its options (``amosii``: AmosII's own keyword arguments)."""
+    options = check_body_opts(name, opts or {})
+    if name == "amosii":
+        from neurowalk.body.physics import AmosII
+
+        return AmosII(arena, control_hz=control_hz, noise=noise, **amosii)
+    if name == "surrogate":
+        from neurowalk.body.surrogate import Surrogate
+
+        body = Surrogate(arena, noise=noise)
+        if control_hz != body.control_hz:
+            raise ValueError(f"body 'surrogate' is calibrated at {body.control_hz} Hz, got control_hz {control_hz}")
+        return body
+    from neurowalk.body.wheeled import WheeledParams
+    from neurowalk.body.wheeled_body import Wheeled
+
+    return Wheeled(arena, WheeledParams(**options), control_hz=control_hz, noise=noise)
+
+
+def replay_contacts(name: str, opts: dict[str, Any], arena: ArenaSpec, qpos: np.ndarray) -> np.ndarray:
+    """Per-row obstacle contact (1.0 / 0.0) of recorded positions ``qpos`` (T, nq) of a physics body, replayed in a
+    fresh model of its arena (collision depends on positions only): the robot touching any geom of the world but
+    a plane."""
+    if name == "amosii":
+        from neurowalk.body.physics import obstacle_contacts
+
+        return obstacle_contacts(arena, qpos)
+    import mujoco
+
+    model = make_body(name, arena, opts, noise=0.0).model
+    if qpos.ndim != 2 or qpos.shape[1] != model.nq:
+        raise ValueError(f"qpos must have shape (T, {model.nq}), got {qpos.shape}")
+    data = mujoco.MjData(model)
+    robot = model.geom_bodyid != 0
+    obstacle = ~robot & (model.geom_type != mujoco.mjtGeom.mjGEOM_PLANE)
+    out = np.zeros(len(qpos))
+    for k in range(len(qpos)):
+        data.qpos[:] = qpos[k]
+        mujoco.mj_kinematics(model, data)
+        mujoco.mj_collision(model, data)
+        g = data.contact.geom[: data.ncon]
+        out[k] = float(np.any((robot[g[:, 0]] & obstacle[g[:, 1]]) | (robot[g[:, 1]] & obstacle[g[:, 0]])))
+    return out
+
+
+def body_xml(name: str, opts: dict[str, Any] | None = None, world: str = "") -> str:
+    """The self-contained MJCF of physics body ``name`` with its options, around ``world`` (an arena's
+    ``to_mjcf()``); ValueError for a planar body."""
+    options = check_body_opts(name, opts or {})
+    if name == "amosii":
+        from neurowalk.body.amosii import amosii_xml
+        from neurowalk.body.amosii_params import BodyParams
+
+        return amosii_xml(BodyParams(), world=world)
+    if name == "wheeled":
+        from neurowalk.body.wheeled import WheeledParams, wheeled_xml
+
+        return wheeled_xml(WheeledParams(**options), world=world)
+    raise ValueError(f"body {name!r} is planar: it has no MuJoCo model to export")
+
+
+def body_listing() -> str:
+    """The registry as text, one block per body (``neurowalk bodies``)."""
+    lines = []
+    for b in BODIES.values():
+        opts = ", ".join(f"{k}={d:g} ({lo:g} to {hi:g}: {what})" for k, (d, lo, hi, what) in b.options.items())
+        lines += [f"{b.name:10s} {b.summary}", f"{'':10s} sensors: {b.sensors}",
+                  f"{'':10s} actuators: {b.actuators}",
+                  f"{'':10s} takes: {'joint targets' if b.action == 'targets' else 'the steering pair'}; "
+                  f"{'physics (MuJoCo)' if b.physics else 'planar'}; {'climbs' if b.climbs else 'does not climb'}",
+                  f"{'':10s} options: {opts or 'none'}"]  # fmt: skip
+    return "\n".join(lines)
