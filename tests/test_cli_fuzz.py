@@ -90,8 +90,14 @@ P_DEEP = params_file("deep", '{"params": ' + "[" * 100_000)
 P_MISSING = f"{FILES_DIR}/no-such-params.json"
 P_FOLDER = f"{FILES_DIR}/a-folder"
 
+M_BLIND = _file("blind.xml", '<mujoco><worldbody><body><freejoint/><geom size="0.1"/></body></worldbody></mujoco>')
+
 RUN_CASES = [
     run("maze", "--arena", "maze"),
+    run("no such file", "--body", f"mjcf:{FILES_DIR}/none.xml"),
+    run("US_L", "--body", f"mjcf:{M_BLIND}"),
+    run("'eyes'", "--body", f"mjcf:{M_BLIND}", "--body-opt", "eyes=2"),
+    run("cannot load", "--body", f"mjcf:{FILES_DIR}/params-list.json"),
     run("scale", "--body", "wheeled", "--body-opt", "scale=huge"),
     run("scale", "--body", "wheeled", "--body-opt", "scale=0"),
     run("scale", "--body", "wheeled", "--body-opt", "scale=nan"),

@@ -66,16 +66,29 @@ BODIES: dict[str, BodyInfo] = {
 }  # fmt: skip
 
 
+MJCF = BodyInfo(
+    "mjcf:FILE", "a user's MuJoCo robot (differential drive), by the convention of neurowalk.body.user_mjcf",
+    "its 2 rangefinders (US_L, US_R, or --body-opt left=, right=)",
+    "its 2 wheel velocity actuators (wheel_R, wheel_L, or --body-opt right_motor=, left_motor=)", "steering", True,
+    False, {})  # fmt: skip
+
+
 def body_info(name: str) -> BodyInfo:
-    """The registry entry of ``name``; ValueError names an unknown body."""
+    """The registry entry of ``name`` (``mjcf:FILE``: the user-file entry); ValueError names an unknown body."""
+    if name.startswith("mjcf:"):
+        return MJCF
     if name not in BODIES:
-        raise ValueError(f"unknown body {name!r}; expected one of {', '.join(BODIES)}")
+        raise ValueError(f"unknown body {name!r}; expected one of {', '.join(BODIES)}, or mjcf:FILE.xml")
     return BODIES[name]
 
 
-def check_body_opts(name: str, opts: dict[str, Any]) -> dict[str, float]:
+def check_body_opts(name: str, opts: dict[str, Any]) -> dict[str, Any]:
     """The body's options as numbers, each checked against its range; ValueError names a bad key or value."""
     info = body_info(name)
+    if info is MJCF:
+        from neurowalk.body.user_mjcf import check_opts
+
+        return check_opts(name, opts)
     out = {}
     for key, value in opts.items():
         if key not in info.options:
@@ -107,6 +120,10 @@ def make_body(name: str, arena: ArenaSpec, opts: dict[str, Any] | None = None, *
         if control_hz != body.control_hz:
             raise ValueError(f"body 'surrogate' is calibrated at {body.control_hz} Hz, got control_hz {control_hz}")
         return body
+    if body_info(name) is MJCF:
+        from neurowalk.body.user_mjcf import UserMjcf
+
+        return UserMjcf(name, arena, options, control_hz=control_hz, noise=noise)
     from neurowalk.body.wheeled import WheeledParams
     from neurowalk.body.wheeled_body import Wheeled
 
@@ -152,14 +169,16 @@ def body_xml(name: str, opts: dict[str, Any] | None = None, world: str = "") -> 
         from neurowalk.body.wheeled import WheeledParams, wheeled_xml
 
         return wheeled_xml(WheeledParams(**options), world=world)
-    raise ValueError(f"body {name!r} is planar: it has no MuJoCo model to export")
+    raise ValueError(f"body {name!r} has no built-in MuJoCo model to export")
 
 
 def body_listing() -> str:
     """The registry as text, one block per body (``neurowalk bodies``)."""
     lines = []
-    for b in BODIES.values():
+    for b in (*BODIES.values(), MJCF):
         opts = ", ".join(f"{k}={d:g} ({lo:g} to {hi:g}: {what})" for k, (d, lo, hi, what) in b.options.items())
+        if b is MJCF:
+            opts = "left, right, right_motor, left_motor (names), key (a keyframe), range (m), speed (rad/s)"
         lines += [f"{b.name:10s} {b.summary}", f"{'':10s} sensors: {b.sensors}",
                   f"{'':10s} actuators: {b.actuators}",
                   f"{'':10s} takes: {'joint targets' if b.action == 'targets' else 'the steering pair'}; "

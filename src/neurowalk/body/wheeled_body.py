@@ -89,7 +89,10 @@ class Wheeled:
     def reset(self, rng: np.random.Generator) -> None:
         """Standing on the wheels at the arena's start pose, at rest, wheels stopped; noise drawn from ``rng``."""
         m, d = self.model, self.data
-        mujoco.mj_resetDataKeyframe(m, d, self._key)
+        if self._key >= 0:
+            mujoco.mj_resetDataKeyframe(m, d, self._key)
+        else:  # a user's model without a keyframe (neurowalk.body.user_mjcf)
+            mujoco.mj_resetData(m, d)
         x, y, yaw = self.arena.start
         d.qpos[0], d.qpos[1] = x, y
         d.qpos[3:7] = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
