@@ -282,3 +282,14 @@ def test_same_seed_same_trajectory_bit_for_bit():
 def test_bad_params_raise_naming_the_field_and_value(field, value):
     with pytest.raises(ValueError, match=rf"WheeledParams\.{field} .*{value!r}".replace("(", r"\(")):
         dataclasses.replace(P, **{field: value})
+
+
+def test_a_scaled_robot_reads_distances_in_its_own_units():
+    # the double-size robot with the box at double the distance sees what the full-size robot sees
+    full = Wheeled(make_arena("box", distance=0.3), noise=0.0)
+    double = Wheeled(make_arena("box", distance=0.6), WheeledParams(scale=2.0), noise=0.0)
+    for body in (full, double):
+        body.reset(np.random.default_rng(0))
+        body.advance()
+    assert np.all(np.isfinite(full.observe().us_distance))
+    np.testing.assert_allclose(double.observe().us_distance, full.observe().us_distance, atol=2e-3)

@@ -146,7 +146,7 @@ class UserMjcf(Wheeled):
         self.control_hz = control_hz
         self.n_substeps = n_substeps(control_hz, self.model.opt.timestep)
         lay = _Layout(self.model, options, body)
-        self._us_adr, self._us_range = tuple(lay.us), float(options["range"])
+        self._us_adr, self._us_range, self._unit = tuple(lay.us), float(options["range"]), 1.0
         self._right, self._left = lay.motors
         self._omega_max, self._chassis, self._key = lay.speed, lay.root, lay.key
         self._noise = ColoredNoise(2, strength=noise)

@@ -7,7 +7,10 @@ from O2, wheel angular velocity target -O·omega_max (after clipping O to [-1, 1
 
 Observations carry the two ultrasonic distances with AMOSII's coloured noise treatment (the noise acts on the
 normalised signal US = max(0, 1 - d/range), from the run's Generator), the chassis pose and the time; the robot has
-no feet, joints or obstacle scanner, so foot contacts, joint angles and heights read zero.
+no feet, joints or obstacle scanner, so foot contacts, joint angles and heights read zero. The distances are in the
+robot's own units, metres divided by ``scale`` (its sensor range always reads 0.4): so the networks' distance scale
+(0.05-0.4) means the same for a robot of any size, as a small robot's own sensors are made for its size; poses stay
+in metres.
 """
 
 from __future__ import annotations
@@ -79,6 +82,7 @@ class Wheeled:
         m = self.model
         self._us_adr = tuple(int(m.sensor_adr[m.sensor(name).id]) for name in anatomy.US_SENSORS)
         self._us_range = self.params.scaled("us_range")
+        self._unit = self.params.scale  # m per body unit: readings are reported in the body's own units
         self._omega_max = self.params.omega_max
         self._right = m.actuator(RIGHT_WHEEL).id
         self._left = m.actuator(LEFT_WHEEL).id
@@ -112,7 +116,7 @@ class Wheeled:
         for i, adr in enumerate(self._us_adr):  # scalar arithmetic: a third of the cost of small-array numpy
             raw = float(d.sensordata[adr])  # -1: no hit
             us = (1.0 - raw / r if 0.0 <= raw <= r else 0.0) + noise[i]  # no echo in range -> 0
-            dist[i] = r * (1.0 - us) if us > 0.0 else math.inf
+            dist[i] = r * (1.0 - us) / self._unit if us > 0.0 else math.inf
         return Observation(
             us_distance=dist,
             foot_contact=np.zeros(len(anatomy.LEGS)),
