@@ -284,6 +284,8 @@ FIGURE_CASES = [
     fig("--climb", "table2", "--climb", "--body", "surrogate"),
     fig("size", "table2", "--arena-opt", "size=100"),
     fig("wheels", "table2", "--body", "wheels"),
+    fig("--seeds", "bodies", "--seeds", "0"),
+    fig("--body", "bodies", "--body", "amosii"),
     fig("tuned", "table2", "--params", P_TUNED),
     fig("--bogus", "table2", "--bogus"),
 ]

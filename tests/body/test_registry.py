@@ -65,3 +65,10 @@ def test_the_control_loop_runs_each_body_and_replays_its_contacts(name):
     assert ep.trajectory.qpos.shape == (40, make_body(name, ep.arena).model.nq)
     touch = replay_contacts(name, {}, ep.arena, ep.trajectory.qpos[:3])
     assert touch.shape == (3,) and set(np.unique(touch)) <= {0.0, 1.0}
+
+
+def test_the_wheeled_robot_escapes_the_simple_deadlock_with_the_plastic_network_only():
+    for seed in (0, 1):
+        cfg = {"body": "wheeled", "arena": "simple-deadlock", "steps": 3000, "seed": seed}
+        assert run_episode(EpisodeConfig(**cfg, controller="plastic")).summary["escaped"]
+        assert not run_episode(EpisodeConfig(**cfg, controller="static")).summary["escaped"]
