@@ -12,6 +12,8 @@ gymnasium.make("neurowalk/Explore-v0")``; in any order, ``gymnasium.make("neurow
 
 from __future__ import annotations
 
+import os
+
 IDS: tuple[str, ...] = ("neurowalk/Explore-v0", "neurowalk/ExplorePhysics-v0")
 
 
@@ -28,3 +30,8 @@ def register_envs() -> None:
 
 
 register_envs()
+
+if not os.environ.get("DISPLAY"):  # no screen: render_mode="rgb_array" of the physics environments renders offscreen
+    from neurowalk.render import use_headless_gl
+
+    use_headless_gl()  # EGL, unless MUJOCO_GL is set or MuJoCo was imported before (then it is too late to choose)
