@@ -100,3 +100,17 @@ def test_a_file_off_the_convention_is_named(tmp_path, edit, opts, word):
         EpisodeConfig(body=f"mjcf:{path}", body_opts=opts)
     with pytest.raises(ValueError, match="no such file"):
         EpisodeConfig(body=f"mjcf:{tmp_path / 'none.xml'}")
+
+
+def test_the_exported_amosii_runs_again_as_a_legged_user_file(tmp_path):
+    path = tmp_path / "amosii.xml"
+    assert main(["export-model", "--arena", "open", "--out", str(path)]) == 0
+    cfg = {"arena": "simple-deadlock", "steps": 200, "seed": 1, "noise": 0.0}  # no noise: AMOSII's has more channels
+    native = run_episode(EpisodeConfig(body="amosii", **cfg))
+    user = run_episode(EpisodeConfig(body=f"mjcf:{path}", **cfg))  # drive=legs: it has AMOSII's 19 actuator names
+    np.testing.assert_allclose(user.trajectory.qpos, native.trajectory.qpos, atol=1e-9)
+    np.testing.assert_allclose(user.trajectory.joint_angles, native.trajectory.joint_angles, atol=1e-9)
+    with pytest.raises(ValueError, match="drive"):
+        EpisodeConfig(body=f"mjcf:{path}", body_opts={"drive": "tracks"})
+    with pytest.raises(ValueError, match="wheel_R"):
+        EpisodeConfig(body=f"mjcf:{path}", body_opts={"drive": "wheels"})

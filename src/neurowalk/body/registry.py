@@ -67,9 +67,9 @@ BODIES: dict[str, BodyInfo] = {
 
 
 MJCF = BodyInfo(
-    "mjcf:FILE", "a user's MuJoCo robot (differential drive), by the convention of neurowalk.body.user_mjcf",
+    "mjcf:FILE", "a user's MuJoCo robot (wheels or AMOSII's legs), by the convention of neurowalk.body.user_mjcf",
     "its 2 rangefinders (US_L, US_R, or --body-opt left=, right=)",
-    "its 2 wheel velocity actuators (wheel_R, wheel_L, or --body-opt right_motor=, left_motor=)", "steering", True,
+    "2 wheel velocity actuators (wheel_R, wheel_L, or by option) or AMOSII's 19 (drive=legs)", "steering", True,
     False, {})  # fmt: skip
 
 
@@ -178,7 +178,7 @@ def body_listing() -> str:
     for b in (*BODIES.values(), MJCF):
         opts = ", ".join(f"{k}={d:g} ({lo:g} to {hi:g}: {what})" for k, (d, lo, hi, what) in b.options.items())
         if b is MJCF:
-            opts = "left, right, right_motor, left_motor (names), key (a keyframe), range (m), speed (rad/s)"
+            opts = "drive (wheels|legs), left, right, right_motor, left_motor (names), key, range (m), speed (rad/s)"
         lines += [f"{b.name:10s} {b.summary}", f"{'':10s} sensors: {b.sensors}",
                   f"{'':10s} actuators: {b.actuators}",
                   f"{'':10s} takes: {'joint targets' if b.action == 'targets' else 'the steering pair'}; "

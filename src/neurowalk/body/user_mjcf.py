@@ -11,10 +11,17 @@ The convention a file must follow (checked when the run is configured; each miss
   those named by options ``left`` and ``right``. Readings beyond option ``range`` (m, default 0.4, AMOSII's) are no
   echo; the noise is AMOSII's coloured noise. Place them as AMOSII's (about ±35° outward, at the front) for the
   networks' distance scale to mean the same.
-- Differential drive: two ``velocity`` actuators, the right and the left wheel, ``wheel_R`` and ``wheel_L`` (as
-  ``neurowalk export-model --body wheeled`` writes them), or those named by options ``right_motor`` and
-  ``left_motor``. Steering drives them as on the built-in wheeled robot: right from O1, left from O2, target
-  -O x ``speed`` rad/s (option ``speed``; default the actuators' control limit), so (-1, -1) is forward.
+- Option ``drive``: ``wheels`` or ``legs`` (default: ``legs`` where the file has AMOSII's 19 actuator names, else
+  ``wheels``).
+- ``wheels``, differential drive: two ``velocity`` actuators, the right and the left wheel, ``wheel_R`` and
+  ``wheel_L`` (as ``neurowalk export-model --body wheeled`` writes them), or those named by options
+  ``right_motor`` and ``left_motor``. Steering drives them as on the built-in wheeled robot: right from O1, left
+  from O2, target -O x ``speed`` rad/s (option ``speed``; default the actuators' control limit), so (-1, -1) is
+  forward.
+- ``legs``, a six-legged robot: position actuators with AMOSII's 19 names (:data:`neurowalk.anatomy.ACTUATORS`),
+  each on one joint; the locomotion network's joint targets (rad) drive them, as on AMOSII (``neurowalk
+  export-model`` writes such a file). Observations carry those joints' angles; foot contacts read zero (no
+  climbing controls).
 
 Options are given as ``--body-opt KEY=VALUE`` (spec key ``body_opts``).
 """
@@ -26,14 +33,18 @@ from pathlib import Path
 from typing import Any
 
 import mujoco
+import numpy as np
 
+from neurowalk import anatomy
 from neurowalk.arenas.spec import ArenaSpec
 from neurowalk.body.noise import ColoredNoise
 from neurowalk.body.physics import n_substeps
 from neurowalk.body.wheeled_body import Wheeled
+from neurowalk.observation import Observation
 
 PREFIX = "mjcf:"
-NAMES = {"left": "US_L", "right": "US_R", "right_motor": "wheel_R", "left_motor": "wheel_L", "key": ""}
+NAMES = {"left": "US_L", "right": "US_R", "right_motor": "wheel_R", "left_motor": "wheel_L", "key": "", "drive": ""}
+DRIVES = ("wheels", "legs")
 NUMBERS = {"range": (0.4, 0.001, 100.0), "speed": (math.nan, 1e-6, 1e6)}  # default, low, high
 
 
@@ -46,8 +57,9 @@ def check_opts(body: str, opts: dict[str, Any]) -> dict[str, Any]:
     out: dict[str, Any] = {}
     for key, value in opts.items():
         if key in NAMES:
-            if not isinstance(value, str) or not value:
-                raise ValueError(f"body option {key} of {body!r} must be a name, got {value!r}")
+            if not isinstance(value, str) or not value or (key == "drive" and value not in DRIVES):
+                what = " or ".join(DRIVES) if key == "drive" else "a name"
+                raise ValueError(f"body option {key} of {body!r} must be {what}, got {value!r}")
             out[key] = value
         elif key in NUMBERS:
             _, low, high = NUMBERS[key]
@@ -104,6 +116,23 @@ class _Layout:
                     f"rangefinders in the file: {found or 'none'}); name it with --body-opt {side}=NAME"
                 )
             self.us.append(int(m.sensor_adr[i]))
+        ids = [mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR, a) for a in anatomy.ACTUATORS]
+        self.drive = opts["drive"] or ("legs" if min(ids) >= 0 else "wheels")
+        if self.drive == "legs":  # AMOSII's 19 actuators: the locomotion network's joint targets
+            missing = [a for a, i in zip(anatomy.ACTUATORS, ids, strict=True) if i < 0]
+            if missing:
+                raise ValueError(f"body {body!r}: drive=legs needs AMOSII's 19 actuator names; missing: "
+                                 f"{', '.join(missing)}")  # fmt: skip
+            self.motors = ids
+            self.qidx = np.array([m.jnt_qposadr[m.actuator_trnid[i, 0]] for i in ids])
+            self.speed = math.nan
+        else:
+            self._wheels(m, opts, body)
+        self.key = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_KEY, opts["key"]) if opts["key"] else (0 if m.nkey else -1)
+        if opts["key"] and self.key < 0:
+            raise ValueError(f"body {body!r}: no keyframe {opts['key']!r}")
+
+    def _wheels(self, m: mujoco.MjModel, opts: dict[str, Any], body: str) -> None:
         self.motors = []
         for side in ("right_motor", "left_motor"):
             name, i = opts[side], mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR, opts[side])
@@ -120,13 +149,10 @@ class _Layout:
                                  "at full steering with --body-opt speed=RAD_PER_S")  # fmt: skip
             speed = float(min(m.actuator_ctrlrange[i, 1] for i in self.motors))
         self.speed = speed
-        self.key = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_KEY, opts["key"]) if opts["key"] else (0 if m.nkey else -1)
-        if opts["key"] and self.key < 0:
-            raise ValueError(f"body {body!r}: no keyframe {opts['key']!r}")
 
 
 class UserMjcf(Wheeled):
-    """A user's differential-drive robot (see the module text for the file's convention).
+    """A user's robot: differential drive or AMOSII's legs (see the module text for the file's convention).
 
     Args:
         body: ``mjcf:PATH``. arena: where it drives. opts: the options (module text).
@@ -147,6 +173,31 @@ class UserMjcf(Wheeled):
         self.n_substeps = n_substeps(control_hz, self.model.opt.timestep)
         lay = _Layout(self.model, options, body)
         self._us_adr, self._us_range, self._unit = tuple(lay.us), float(options["range"]), 1.0
-        self._right, self._left = lay.motors
         self._omega_max, self._chassis, self._key = lay.speed, lay.root, lay.key
         self._noise = ColoredNoise(2, strength=noise)
+        self.action = "targets" if lay.drive == "legs" else "steering"
+        if lay.drive == "legs":
+            self._motors, self._qidx = np.array(lay.motors), lay.qidx  # _qidx: the control loop records the joints
+        else:
+            self._right, self._left = lay.motors
+
+    def apply(self, action: np.ndarray) -> None:
+        """``wheels``: the steering pair (O1, O2); ``legs``: the 19 joint targets (rad, actuator order)."""
+        if self.action == "steering":
+            super().apply(action)
+            return
+        a = np.asarray(action, dtype=float)
+        if a.shape != (anatomy.N_ACTUATORS,) or not np.all(np.isfinite(a)):
+            raise ValueError(f"joint targets must be {anatomy.N_ACTUATORS} finite numbers, got shape {a.shape}")
+        self.data.ctrl[self._motors] = a
+
+    def observe(self) -> Observation:
+        """As the wheeled robot's; with ``legs``, the joint angles (rad, actuator order) too."""
+        obs = super().observe()
+        if self.action == "targets":
+            obs.joint_angles[:] = self.data.qpos[self._qidx]
+        return obs
+
+    def true_joint_angles(self) -> np.ndarray:
+        """(19,) the joint angles (rad) with ``legs``; zeros with ``wheels``."""
+        return self.data.qpos[self._qidx].copy() if self.action == "targets" else super().true_joint_angles()
