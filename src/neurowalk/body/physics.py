@@ -44,6 +44,11 @@ def n_substeps(control_hz: float, timestep: float) -> int:
     return n
 
 
+def mujoco_warnings(data: mujoco.MjData) -> dict[str, int]:
+    """MuJoCo warnings raised so far in ``data``, by name (empty when none)."""
+    return {mujoco.mjtWarning(i).name: int(w.number) for i, w in enumerate(data.warning) if w.number}
+
+
 def obstacle_contacts(arena: ArenaSpec, qpos: np.ndarray, rows: np.ndarray | None = None,
                       params: BodyParams | None = None) -> np.ndarray:  # fmt: skip
     """Per-step obstacle contact of a recorded run, replayed from its positions.
@@ -150,8 +155,4 @@ class AmosII:
 
     def warnings(self) -> dict[str, int]:
         """MuJoCo warnings raised so far, by name (empty when none)."""
-        out = {}
-        for i, w in enumerate(self.data.warning):
-            if w.number:
-                out[mujoco.mjtWarning(i).name] = int(w.number)
-        return out
+        return mujoco_warnings(self.data)

@@ -23,7 +23,7 @@ import numpy as np
 from neurowalk import anatomy
 from neurowalk.arenas.spec import ArenaSpec
 from neurowalk.body.noise import ColoredNoise
-from neurowalk.body.physics import n_substeps
+from neurowalk.body.physics import mujoco_warnings, n_substeps
 from neurowalk.body.wheeled import (
     CHASSIS_BODY,
     LEFT_WHEEL,
@@ -155,8 +155,4 @@ class Wheeled:
 
     def warnings(self) -> dict[str, int]:
         """MuJoCo warnings raised so far, by name (empty when none)."""
-        out = {}
-        for i, w in enumerate(self.data.warning):
-            if w.number:
-                out[mujoco.mjtWarning(i).name] = int(w.number)
-        return out
+        return mujoco_warnings(self.data)
