@@ -10,7 +10,8 @@ avoidance". This figure tests it. The same sensory networks (plastic, static, Br
   reach 0.2 m), in the same arenas: a small robot in a world made for a larger one.
 
 Each body runs the dead ends of Fig. 3/5 (simple deadlock, narrow passage, corner; ``seeds`` seeds each,
-:data:`~neurowalk.experiments.deadlock.TRAP_STEPS` steps: escaped or not) and Table 2 (the first ``environments``
+:data:`~neurowalk.experiments.deadlock.TRAP_STEPS` steps, twice as many for the half-size robot, which is half as
+fast: escaped or not) and Table 2 (the first ``environments``
 random environments of table seed ``seed``, 20,000 steps, Table 2's rule, Wilson 95% intervals). All runs go
 through a resumable result store in the output folder, each with its sampled path.
 """
@@ -40,6 +41,11 @@ def _dead_end(arena: str, net: str, body: str, opts: dict[str, float], steps: in
     return {**out, "body_opts": opts} if opts else out
 
 
+def _slower(steps: int, opts: dict[str, float]) -> int:
+    """Dead-end steps for a body at ``scale`` < 1: as many more as it is slower, so it can cover the same distance."""
+    return round(steps / min(1.0, opts.get("scale", 1.0)))
+
+
 @register("bodies", "the networks on other robots: dead ends and Table 2 on AMOSII and a wheeled robot at two sizes")
 def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None,
         workers: int = 2) -> Result:  # fmt: skip
@@ -55,7 +61,7 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
     n_env = 3 if quick and seeds is None else 5 * n
     dead_steps, t2_steps = (600, 1000) if quick else (TRAP_STEPS, STEPS)
     envs = environments(n_env, seed)
-    dead = {(b, net, a, s): _dead_end(a, net, body, opts, dead_steps, seed + s)
+    dead = {(b, net, a, s): _dead_end(a, net, body, opts, _slower(dead_steps, opts), seed + s)
             for b, (body, opts) in BODIES.items() for net in NETWORKS for a in DEAD_ENDS for s in range(n)}  # fmt: skip
     table = {(b, net, e["seed"]): {**spec(e, net, t2_steps, body), **({"body_opts": opts} if opts else {})}
              for b, (body, opts) in BODIES.items() for net in NETWORKS for e in envs}  # fmt: skip
@@ -74,7 +80,9 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
             for a in DEAD_ENDS:
                 paths[f"{b}|{net}|{a}"] = np.array(res[spec_key(dead[(b, net, a, 0)])]["path"])
     summary = {"bodies": {b: {"body": body, "body_opts": opts} for b, (body, opts) in BODIES.items()},
-               "networks": list(NETWORKS), "variant": "paper", "dead_end_steps": dead_steps, "table2_steps": t2_steps,
+               "networks": list(NETWORKS), "variant": "paper", "dead_end_steps": dead_steps,
+               "dead_end_steps_by_body": {b: _slower(dead_steps, opts) for b, (_, opts) in BODIES.items()},
+               "table2_steps": t2_steps,
                "table2_seed": seed, "interval": "Wilson score interval, 95%", "rows": rows,
                "rule": "dead ends: escaped = left the trap's exit region; Table 2: success = not stuck over the "
                        "last 300 s (3000 steps within a 0.5 m disc)",
@@ -113,7 +121,7 @@ def plot(res: Result) -> Figure:
     ax.set_ylim(0, 1.05)
     ax.set_ylabel(f"escaped (of {rows[0]['dead_end_runs']} seeds)")
     ax.legend(fontsize=8)
-    ax.set_title(f"dead ends, {s['dead_end_steps']} steps", fontsize=10)
+    ax.set_title(f"dead ends, {s['dead_end_steps']} steps (half-size robot: twice as many)", fontsize=10)
     ax = fig.add_subplot(grid[1, 1:])
     rate = np.array([r["table2_rate"] for r in rows])
     ci = np.array([r["table2_ci95"] for r in rows])
