@@ -58,9 +58,9 @@ def test_fig6_draws_sixteen_environments_and_marks_failures(tmp_path: Path) -> N
 
 def test_figure_rejects_a_body_it_cannot_use(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["figure", "fig2", "--body", "surrogate", "--out", "/tmp/never"]) == 2
-    assert main(["figure", "table2", "--body", "wheeled", "--out", "/tmp/never"]) == 2
+    assert main(["figure", "table2", "--body", "tank", "--out", "/tmp/never"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 2 and "takes no --body" in err[0] and "'wheeled'" in err[1]
+    assert len(err) == 2 and "takes no --body" in err[0] and "'tank'" in err[1]
 
 
 def test_table2_rows_counts_and_intervals(tmp_path: Path) -> None:

@@ -74,7 +74,7 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
         return spec(e, r["controller"], steps, b, climbing and b != "surrogate", variant=r["variant"], size=size,
                     params=r["params"])  # fmt: skip
 
-    bodies = [body] if body == "surrogate" else [body, "surrogate"]  # physics: the surrogate beside it
+    bodies = [body, "surrogate"] if body == "amosii" else [body]  # AMOSII: its surrogate beside it
     specs = [spec_of(e, r, b) for b in bodies for e in envs for r in table.values()]
     folder = Path(out) if out is not None else Path("out/table2")
     folder.mkdir(parents=True, exist_ok=True)
@@ -84,7 +84,7 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
                 for e in envs]  # fmt: skip
     counts = {name: {**r, **_count(env_rows, name)} for name, r in table.items()}
     agreement = None
-    if body != "surrogate":
+    if body == "amosii":
         sur = [{name: _outcome(results[spec_key(spec_of(e, r, "surrogate"))]) for name, r in table.items()}
                for e in envs]  # fmt: skip
         agreement = {name: _agreement(env_rows, sur, name) for name in table}
