@@ -202,6 +202,20 @@ def _sensors() -> str:
     return "\n".join(lines)
 
 
+SCENE_HEAD = """  <asset>
+    <texture name="grid" type="2d" builtin="checker" width="256" height="256" \
+rgb1=".85 .85 .82" rgb2=".7 .72 .75"/>
+    <material name="floor" texture="grid" texrepeat="4 4" texuniform="true"/>
+  </asset>
+  <custom>
+{custom}
+  </custom>
+  <worldbody>
+    <light name="sun" pos="0 0 4" dir="0 0 -1" directional="true"/>"""
+"""The MJCF shared by the bodies' writers: the floor's checker material, the ``<custom>`` numerics (``custom``), the
+opening of the worldbody and its light."""
+
+
 def amosii_xml(params: BodyParams = _DEFAULT, *, world: str = "") -> str:
     """Full MJCF of AMOSII standing on a floor plane; ``world`` goes verbatim into <worldbody>.
 
@@ -235,16 +249,7 @@ damping="{_n(p.joint_damping)}"/>
       </default>
     </default>
   </default>
-  <asset>
-    <texture name="grid" type="2d" builtin="checker" width="256" height="256" \
-rgb1=".85 .85 .82" rgb2=".7 .72 .75"/>
-    <material name="floor" texture="grid" texrepeat="4 4" texuniform="true"/>
-  </asset>
-  <custom>
-{custom}
-  </custom>
-  <worldbody>
-    <light name="sun" pos="0 0 4" dir="0 0 -1" directional="true"/>
+{SCENE_HEAD.format(custom=custom)}
     <geom name="floor" type="plane" size="0 0 0.05" material="floor" \
 friction="{_n(p.floor_friction)} {fric}"/>
 {_robot(p)}

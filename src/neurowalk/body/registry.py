@@ -108,6 +108,10 @@ def check_body_opts(name: str, opts: dict[str, Any]) -> dict[str, Any]:
 def make_body(name: str, arena: ArenaSpec, opts: dict[str, Any] | None = None, *, control_hz: float = 10.0,
               noise: float = 0.02, **amosii: Any) -> Any:  # fmt: skip
     """Build body ``name`` in ``arena`` with its options (``amosii``: AmosII's own keyword arguments)."""
+    if body_info(name) is MJCF:  # it checks its options and its file as it builds (one compile)
+        from neurowalk.body.user_mjcf import UserMjcf
+
+        return UserMjcf(name, arena, opts, control_hz=control_hz, noise=noise)
     options = check_body_opts(name, opts or {})
     if name == "amosii":
         from neurowalk.body.physics import AmosII
@@ -120,10 +124,6 @@ def make_body(name: str, arena: ArenaSpec, opts: dict[str, Any] | None = None, *
         if control_hz != body.control_hz:
             raise ValueError(f"body 'surrogate' is calibrated at {body.control_hz} Hz, got control_hz {control_hz}")
         return body
-    if body_info(name) is MJCF:
-        from neurowalk.body.user_mjcf import UserMjcf
-
-        return UserMjcf(name, arena, options, control_hz=control_hz, noise=noise)
     from neurowalk.body.wheeled import WheeledParams
     from neurowalk.body.wheeled_body import Wheeled
 

@@ -54,6 +54,13 @@ def check_opts(body: str, opts: dict[str, Any]) -> dict[str, Any]:
     Raises:
         ValueError: naming the unknown option, the bad value, the missing file or the missing piece of the model.
     """
+    out = parse_opts(body, opts)
+    _Layout(_compile(body, None), {**_defaults(), **out}, body)  # raises on a file that breaks the convention
+    return out
+
+
+def parse_opts(body: str, opts: dict[str, Any]) -> dict[str, Any]:
+    """The options of ``mjcf:FILE`` as names and numbers (ValueError naming a bad one); the file is not read."""
     out: dict[str, Any] = {}
     for key, value in opts.items():
         if key in NAMES:
@@ -74,7 +81,6 @@ def check_opts(body: str, opts: dict[str, Any]) -> dict[str, Any]:
             out[key] = number
         else:
             raise ValueError(f"unknown option {key!r} of body {body!r}; its options: {', '.join([*NAMES, *NUMBERS])}")
-    _Layout(_compile(body, None), {**_defaults(), **out}, body)  # raises on a file that breaks the convention
     return out
 
 
@@ -165,7 +171,7 @@ class UserMjcf(Wheeled):
 
     def __init__(self, body: str, arena: ArenaSpec, opts: dict[str, Any] | None = None, *,
                  control_hz: float = 10.0, noise: float = 0.02) -> None:  # fmt: skip
-        options = {**_defaults(), **check_opts(body, opts or {})}
+        options = {**_defaults(), **parse_opts(body, opts or {})}  # the file is checked by _Layout below
         self.name, self.arena, self.params = body, arena, options
         self.model = _compile(body, arena)
         self.data = mujoco.MjData(self.model)

@@ -61,6 +61,7 @@ import math
 from dataclasses import dataclass, fields
 
 from neurowalk import anatomy
+from neurowalk.body.amosii import SCENE_HEAD
 
 __all__ = [
     "CASTER_PREFIX",
@@ -296,16 +297,7 @@ rgba=".8 .8 .8 1"/>
       </default>
     </default>
   </default>
-  <asset>
-    <texture name="grid" type="2d" builtin="checker" width="256" height="256" \
-rgb1=".85 .85 .82" rgb2=".7 .72 .75"/>
-    <material name="floor" texture="grid" texrepeat="4 4" texuniform="true"/>
-  </asset>
-  <custom>
-{custom}
-  </custom>
-  <worldbody>
-    <light name="sun" pos="0 0 4" dir="0 0 -1" directional="true"/>
+{SCENE_HEAD.format(custom=custom)}
     <geom name="floor" type="plane" size="0 0 0.05" material="floor" contype="{_FLOOR_BIT}" \
 conaffinity="{_FLOOR_BIT}" friction="0.1 {fric}"/>
 {_robot(p)}

@@ -13,7 +13,7 @@ Each body runs the dead ends of Fig. 3/5 (simple deadlock, narrow passage, corne
 :data:`~neurowalk.experiments.deadlock.TRAP_STEPS` steps, twice as many for the half-size robot, which is half as
 fast: escaped or not) and Table 2 (the first ``environments``
 random environments of table seed ``seed``, 20,000 steps, Table 2's rule, Wilson 95% intervals). All runs go
-through a resumable result store in the output folder, each with its sampled path.
+through a resumable result store in the output folder (the dead ends with their sampled paths).
 """
 
 from __future__ import annotations
@@ -52,6 +52,7 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
     """``seeds`` (default 10; 2 with ``quick``) runs per dead end and 5x as many Table 2 environments (default 50;
     quick: 3 environments of 1000 steps, dead ends of 600: a smoke test), per body and network, through the store in
     ``out``."""
+    from neurowalk.experiments.climbing import run_store
     from neurowalk.experiments.real_robot import run_store_paths
     from neurowalk.runners.specs import spec_key
 
@@ -66,7 +67,8 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
     table = {(b, net, e["seed"]): {**spec(e, net, t2_steps, body), **({"body_opts": opts} if opts else {})}
              for b, (body, opts) in BODIES.items() for net in NETWORKS for e in envs}  # fmt: skip
     folder = Path(out) if out is not None else Path("out/bodies")
-    res = run_store_paths([*dead.values(), *table.values()], folder, workers)
+    res = run_store_paths(list(dead.values()), folder, workers)  # the dead ends with their paths (drawn)
+    res.update(run_store(list(table.values()), folder, workers)[0])  # Table 2: outcomes only
     rows, paths = [], {}
     for b in BODIES:
         for net in NETWORKS:
