@@ -72,3 +72,21 @@ def test_the_wheeled_robot_escapes_the_simple_deadlock_with_the_plastic_network_
         cfg = {"body": "wheeled", "arena": "simple-deadlock", "steps": 3000, "seed": seed}
         assert run_episode(EpisodeConfig(**cfg, controller="plastic")).summary["escaped"]
         assert not run_episode(EpisodeConfig(**cfg, controller="static")).summary["escaped"]
+
+
+def test_the_wheeled_surrogate_is_a_planar_body_of_the_registry():
+    from neurowalk.body.surrogate import Surrogate, load_calibration
+
+    info = body_info("surrogate-wheeled")
+    assert not info.physics and info.action == "steering" and not info.climbs and info.options == {}
+    assert BODIES["wheeled"].surrogate == "surrogate-wheeled" and BODIES["amosii"].surrogate == "surrogate"
+    assert "surrogate-wheeled planar kinematic wheeled robot" in body_listing()
+    body = make_body("surrogate-wheeled", make_arena("open"), {}, noise=0.0)
+    assert isinstance(body, Surrogate) and body.name == "surrogate-wheeled"
+    assert body.cal is load_calibration(body="surrogate-wheeled") and body.cal is not load_calibration()
+    with pytest.raises(ValueError, match=r"'surrogate-wheeled' is calibrated at 10\.0 Hz"):
+        make_body("surrogate-wheeled", make_arena("open"), {}, control_hz=20.0)
+    with pytest.raises(ValueError, match=r"'surrogate-wheeled' is calibrated at 10\.0 Hz"):
+        EpisodeConfig(body="surrogate-wheeled", control_hz=20.0)
+    with pytest.raises(ValueError, match="'scale'"):
+        check_body_opts("surrogate-wheeled", {"scale": 0.5})  # calibrated at scale 1 only

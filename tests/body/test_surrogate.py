@@ -149,3 +149,62 @@ def test_same_escape_outcome_as_physics_in_the_dead_ends() -> None:
             for body in ("amosii", "surrogate")
         }
         assert outcome["amosii"] == outcome["surrogate"], (arena, controller, outcome)
+
+
+# The wheeled robot's surrogate (body surrogate-wheeled, body/data/calibration-wheeled.json).
+
+
+def _wheeled_velocity(steer: tuple[float, float], steps: int = 400) -> np.ndarray:
+    """Steady velocity of surrogate-wheeled at constant steering: forward m/s, left m/s, yaw rate rad/s."""
+    body = Surrogate(make_arena("open"), noise=0.0, name="surrogate-wheeled")
+    run = body.run(steps, np.random.default_rng(0), None, None, steer=steer)
+    return body_velocity(run.pose[steps // 4 :], 10.0)
+
+
+def test_the_wheeled_calibration_moves_as_fast_as_the_physics_wheeled_robot() -> None:
+    """Forward speed at (-1, -1): the file against a fresh 40 s physics run, within 2%."""
+    cal = load_calibration(body="surrogate-wheeled")
+    assert cal is not load_calibration() and cal.meta["command"] == "neurowalk calibrate --body wheeled"
+    i = int(np.argmin(np.abs(cal.grid + 1.0)))
+    phys = body_velocity(drive(np.tile((-1.0, -1.0), (400, 1)), "wheeled")[100:], 10.0)
+    assert phys[0] > 0.01  # m/s: the physics robot does drive
+    assert cal.velocity[i, i, 0] == pytest.approx(phys[0], rel=0.02)
+    assert _wheeled_velocity((-1.0, -1.0))[0] == pytest.approx(phys[0], rel=0.02)
+    assert not np.isclose(cal.velocity[i, i, 0], load_calibration().velocity[i, i, 0], rtol=1e-4)  # its own file
+
+
+def test_the_wheeled_calibration_has_no_sway_and_its_own_footprint() -> None:
+    cal = load_calibration(body="surrogate-wheeled")
+    assert np.all(cal.sway == 0.0) and cal.meta["sway_measured_max_rad"] < 0.01  # rad: no gait, no rocking
+    assert (cal.circles[:, 0] + cal.circles[:, 2]).max() == pytest.approx(0.2301, abs=1e-3)  # m: the front face
+    assert (cal.circles[:, 1] + cal.circles[:, 2]).max() == pytest.approx(0.1898, abs=1e-3)  # the wheels' outer face
+    assert (cal.circles[:, 0] - cal.circles[:, 2]).min() == pytest.approx(-0.2343, abs=1e-3)  # the rear face
+    v = cal.meta["validation"]
+    assert v["speed_error_max"] < 0.02 and v["yaw_rate_error_max"] < 0.02
+
+
+def test_table1_turn_directions_hold_on_the_wheeled_surrogate() -> None:
+    """(-1, -1) forward, (1, 1) backward, (-1, 1) left (counter-clockwise), (1, -1) right; (0, 0) stops."""
+    fwd, back = _wheeled_velocity((-1.0, -1.0)), _wheeled_velocity((1.0, 1.0))
+    left, right = _wheeled_velocity((-1.0, 1.0)), _wheeled_velocity((1.0, -1.0))
+    assert fwd[0] > 0.01 and back[0] < -0.01  # m/s
+    assert left[2] > 0.05 and right[2] < -0.05  # rad/s: the wheels turn it on the spot at 2 speed / track
+    assert abs(left[0]) < 1e-3 and abs(right[0]) < 1e-3
+    assert np.allclose(_wheeled_velocity((0.0, 0.0)), 0.0, atol=1e-6)
+
+
+def test_the_wheeled_surrogate_runs_the_closed_loop_deterministically() -> None:
+    cfg = EpisodeConfig(arena="simple-deadlock", controller="plastic", body="surrogate-wheeled", steps=3000, seed=2)
+    a, b = run_episode(cfg), run_episode(cfg)
+    assert np.array_equal(a.trajectory.pose, b.trajectory.pose)
+    assert a.summary["path_length_m"] > 1.0  # m: it drives (1.38 cm/s for 300 s, less what turning takes)
+    cal = load_calibration(body="surrogate-wheeled")
+    assert _penetration(a.trajectory.pose, cal.circles, box_rows(a.arena)) < 1e-3
+    other = run_episode(EpisodeConfig(arena="simple-deadlock", controller="plastic", body="surrogate", steps=3000,
+                                      seed=2))  # fmt: skip
+    assert not np.array_equal(a.trajectory.pose, other.trajectory.pose)  # not AMOSII's surrogate
+
+
+def test_an_unknown_planar_body_has_no_calibration() -> None:
+    with pytest.raises(ValueError, match="'wheeled'"):
+        load_calibration(body="wheeled")

@@ -116,3 +116,24 @@ def test_table2_on_the_surrogate_plastic_explores_and_static_gets_stuck(tmp_path
         assert c[plastic]["success"] >= 40  # of 50 (paper: 49; see the README for the measured rates)
         assert c["static"]["success"] <= c[plastic]["success"] - 10
     assert c["braitenberg"]["success"] < c["static"]["success"]
+
+
+def test_table2_on_the_wheeled_robot_runs_its_own_surrogate_beside_it(tmp_path: Path) -> None:
+    s = table2.run(quick=True, seeds=1, body="wheeled", out=tmp_path, workers=2).summary
+    n = len(table2.rows())
+    assert s["body"] == "wheeled" and s["surrogate"] == "surrogate-wheeled" and s["sweep"]["ok"] == 2 * n
+    with ResultStore(tmp_path / "results.sqlite") as store:
+        bodies = sorted(row["spec"]["body"] for row in store.rows())
+    assert bodies == ["surrogate-wheeled"] * n + ["wheeled"] * n  # not AMOSII's surrogate
+    for name, a in s["surrogate_agreement"].items():
+        same = s["environments"][0][name]["success"] == (a["surrogate_success"] == 1)
+        assert a["environments"] == 1 and a["same_outcome"] == int(same) and len(a["differ"]) == 1 - int(same)
+
+
+def test_table2_on_the_wheeled_surrogate_alone(tmp_path: Path) -> None:
+    s = table2.run(quick=True, seeds=3, body="surrogate-wheeled", out=tmp_path, workers=2).summary
+    assert s["surrogate"] is None and s["surrogate_agreement"] is None
+    assert s["sweep"]["ok"] == 3 * len(table2.rows())
+    plain = table2.run(quick=True, seeds=3, body="surrogate", out=tmp_path / "amosii", workers=2).summary
+    rows = [[e[name]["path_length_m"] for name in s["counts"]] for e in s["environments"]]
+    assert rows != [[e[name]["path_length_m"] for name in plain["counts"]] for e in plain["environments"]]

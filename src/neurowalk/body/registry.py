@@ -36,6 +36,7 @@ class BodyInfo:
         action: ``"targets"`` (19 joint targets from the locomotion network) or ``"steering"`` (O1, O2).
         physics: a MuJoCo body (else a planar surrogate). climbs: it can take the climbing controls
             (``--reflexes``, ``--backbone``). options: name -> (default, low, high, meaning).
+        surrogate: the planar body calibrated on this physics body (``neurowalk calibrate --body NAME``), if any.
     """
 
     name: str
@@ -46,13 +47,15 @@ class BodyInfo:
     physics: bool
     climbs: bool
     options: dict[str, tuple[float, float, float, str]] = field(default_factory=dict)
+    surrogate: str | None = None
 
 
 BODIES: dict[str, BodyInfo] = {
     "amosii": BodyInfo(
         "amosii", "the hexapod AMOSII in MuJoCo (19 joints): the paper's robot",
         "2 ultrasonic rangefinders (±35°, 0.4 m), 6 foot contacts, 19 joint angles, obstacle-height scanner",
-        "19 position servos (18 leg joints + backbone), driven by the locomotion network", "targets", True, True),
+        "19 position servos (18 leg joints + backbone), driven by the locomotion network", "targets", True, True,
+        surrogate="surrogate"),
     "surrogate": BodyInfo(
         "surrogate", "planar kinematic AMOSII calibrated on the physics robot (about 1000x faster)",
         "2 ultrasonic rangefinders (as AMOSII's)", "the steering pair through the calibrated motion of AMOSII",
@@ -62,7 +65,12 @@ BODIES: dict[str, BodyInfo] = {
         "2 ultrasonic rangefinders (as AMOSII's)",
         "2 driven wheels (velocity motors: right from O1, left from O2) and casters; no locomotion network",
         "steering", True, False,
-        {"scale": (1.0, 0.05, 4.0, "every length and the speed x scale (0.1: a Khepera-sized robot)")}),
+        {"scale": (1.0, 0.05, 4.0, "every length and the speed x scale (0.1: a Khepera-sized robot)")},
+        surrogate="surrogate-wheeled"),
+    "surrogate-wheeled": BodyInfo(
+        "surrogate-wheeled", "planar kinematic wheeled robot calibrated on the physics wheeled body (scale 1)",
+        "2 ultrasonic rangefinders (as the wheeled robot's)",
+        "the steering pair through the calibrated motion of the wheeled robot", "steering", False, False),
 }  # fmt: skip
 
 
@@ -117,12 +125,12 @@ def make_body(name: str, arena: ArenaSpec, opts: dict[str, Any] | None = None, *
         from neurowalk.body.physics import AmosII
 
         return AmosII(arena, control_hz=control_hz, noise=noise, **amosii)
-    if name == "surrogate":
+    if not BODIES[name].physics:  # surrogate, surrogate-wheeled: each reads its own calibration file
         from neurowalk.body.surrogate import Surrogate
 
-        body = Surrogate(arena, noise=noise)
+        body = Surrogate(arena, noise=noise, name=name)
         if control_hz != body.control_hz:
-            raise ValueError(f"body 'surrogate' is calibrated at {body.control_hz} Hz, got control_hz {control_hz}")
+            raise ValueError(f"body {name!r} is calibrated at {body.control_hz} Hz, got control_hz {control_hz}")
         return body
     from neurowalk.body.wheeled import WheeledParams
     from neurowalk.body.wheeled_body import Wheeled

@@ -7,7 +7,10 @@ the measured response lag, and integrated; the footprint (circles for trunk and 
 the MJCF) is pushed out of every box it would enter, so the body slides along walls and never passes
 through them. Box heights are ignored: every box is a wall to the surrogate.
 
-The surrogate reads only that data file; :mod:`neurowalk.experiments.calibration` measures and writes it.
+The same model, calibrated on the physics wheeled robot (``neurowalk calibrate --body wheeled``, stored in
+``body/data/calibration-wheeled.json``), is the body ``surrogate-wheeled``: no gait, so no yaw sway.
+
+The surrogate reads only its data file; :mod:`neurowalk.experiments.calibration` measures and writes it.
 """
 
 from __future__ import annotations
@@ -26,6 +29,11 @@ from neurowalk.body import surrogate_kernel as kern
 from neurowalk.neural.sensory import PARAMS_SIZE, STATE_SIZE
 
 CALIBRATION_FILE = Path(__file__).with_name("data") / "calibration.json"
+CALIBRATION_FILES: dict[str, Path] = {
+    "surrogate": CALIBRATION_FILE,  # calibrated on AMOSII
+    "surrogate-wheeled": CALIBRATION_FILE.with_name("calibration-wheeled.json"),  # on the wheeled robot
+}
+"""The shipped calibration of each planar body (registry name -> data file)."""
 
 
 @dataclass(frozen=True)
@@ -120,10 +128,14 @@ class Calibration:
         )
 
 
-def load_calibration(path: str | Path | None = None) -> Calibration:
-    """Read a calibration file (default: the one shipped in the package)."""
+def load_calibration(path: str | Path | None = None, *, body: str = "surrogate") -> Calibration:
+    """Read a calibration file (default: the one shipped in the package for planar ``body``, see
+    :data:`CALIBRATION_FILES`); ValueError names an unreadable file or a body without one."""
     if path is None:
-        return _shipped()
+        if body not in CALIBRATION_FILES:
+            known = ", ".join(CALIBRATION_FILES)
+            raise ValueError(f"no calibration shipped for body {body!r}; expected one of {known}")
+        return _shipped(body)
     p = Path(path)
     try:
         return Calibration.from_json(json.loads(p.read_text()))
@@ -132,8 +144,8 @@ def load_calibration(path: str | Path | None = None) -> Calibration:
 
 
 @cache
-def _shipped() -> Calibration:
-    return load_calibration(CALIBRATION_FILE)
+def _shipped(body: str) -> Calibration:
+    return load_calibration(CALIBRATION_FILES[body])
 
 
 def box_rows(arena: ArenaSpec) -> np.ndarray:
@@ -172,18 +184,20 @@ class Surrogate:
 
     Args:
         arena: where it walks (boxes are walls; heights are ignored).
-        calibration: the measured motion model (default: the shipped file).
+        calibration: the measured motion model (default: the file shipped for ``name``).
         noise: strength of the coloured ultrasonic noise (as the physics body).
+        name: the registry name: ``surrogate`` (AMOSII's) or ``surrogate-wheeled``.
     """
 
     name = "surrogate"
 
     def __init__(self, arena: ArenaSpec, calibration: Calibration | None = None, *, noise: float = 0.02,
-                 noise_tau: float = NOISE_TAU) -> None:  # fmt: skip
+                 noise_tau: float = NOISE_TAU, name: str = "surrogate") -> None:  # fmt: skip
         if noise < 0 or not 0 < noise_tau <= 1:
             raise ValueError(f"noise needs strength >= 0 and 0 < tau <= 1, got {noise}, {noise_tau}")
         self.arena = arena
-        self.cal = calibration or load_calibration()
+        self.name = name
+        self.cal = calibration or load_calibration(body=name)
         self.control_hz = self.cal.control_hz
         self.noise, self.noise_tau = noise, noise_tau
         self._boxes = box_rows(arena)

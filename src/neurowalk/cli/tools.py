@@ -11,8 +11,11 @@ from neurowalk.cli.common import UsageError, out_file, out_folder, parse_arena_o
 
 def add_tool_parsers(sub: argparse._SubParsersAction) -> None:
     """The `calibrate`, `bench`, `arenas` and `export-model` subcommands."""
-    c = sub.add_parser("calibrate", help="measure the physics robot for the planar surrogate (writes a JSON file)")
-    c.add_argument("--out", type=Path, default=Path("out/calibration/calibration.json"), help="file to write")
+    c = sub.add_parser("calibrate", help="measure a physics body for its planar surrogate (writes a JSON file)")
+    c.add_argument("--body", default="amosii", help="physics body: amosii (default; for the body surrogate) | wheeled "
+                   "(for surrogate-wheeled)")  # fmt: skip
+    c.add_argument("--out", type=Path, default=None, help="file to write (default out/calibration/ and the name of "
+                   "the shipped file: calibration.json, calibration-wheeled.json)")  # fmt: skip
     c.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     c.add_argument("--quick", action="store_true", help="coarse grid (for a smoke test; not for shipping)")
 
@@ -32,21 +35,29 @@ def add_tool_parsers(sub: argparse._SubParsersAction) -> None:
 
 
 def cmd_calibrate(args: argparse.Namespace) -> int:
-    """`neurowalk calibrate`: measure the physics robot, write the calibration and its plot."""
+    """`neurowalk calibrate`: measure a physics body, write its surrogate's calibration and its plot."""
     if args.workers < 1:
         raise UsageError(f"--workers must be >= 1, got {args.workers}")
-    from neurowalk.experiments.calibration import calibrate, plot_calibration
+    from neurowalk.body.surrogate import CALIBRATION_FILES
+    from neurowalk.experiments.calibration import calibrate, plot_calibration, subject
     from neurowalk.fileio import atomic_write, write_json
 
+    try:
+        sub = subject(args.body)
+    except ValueError as e:
+        raise UsageError(str(e)) from None
+    if args.out is None:
+        args.out = Path("out/calibration") / CALIBRATION_FILES[sub.surrogate].name
     out_file(args.out)  # before the minute of measuring
     grid = {"grid": (-1.0, -0.3, 0.0, 0.3, 1.0), "held_out": (-0.6, 0.6)} if args.quick else {}
-    cal = calibrate(**grid, workers=args.workers)  # type: ignore[arg-type]
+    cal = calibrate(**grid, workers=args.workers, body=args.body)  # type: ignore[arg-type]
     write_json(args.out, cal.to_json())
     fig = plot_calibration(cal)
     png = args.out.with_suffix(".png")
     atomic_write(png, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
     v = cal.meta["validation"]
-    print(f"calibration: lag {cal.tau_s} s + {cal.delay_steps} steps, start-up {cal.startup_steps} steps; "
+    print(f"calibration of {sub.surrogate} on {args.body}: lag {cal.tau_s} s + {cal.delay_steps} steps, "
+          f"start-up {cal.startup_steps} steps; "
           f"held-out error max {v['speed_error_max']:.1%} (speed), {v['yaw_rate_error_max']:.1%} (turning); "
           f"wrote {args.out}, {png}")  # fmt: skip
     return 0

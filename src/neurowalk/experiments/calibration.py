@@ -1,17 +1,21 @@
-"""Measure the physics robot so that the planar surrogate can move like it (``neurowalk calibrate``).
+"""Measure a physics body so that a planar surrogate can move like it (``neurowalk calibrate [--body NAME]``).
 
-What is measured, all on the MuJoCo AMOSII in the open arena with constant steering (O1, O2) fed to
-the full locomotion network:
+Two subjects (:data:`SUBJECTS`): AMOSII (for the body ``surrogate``) and the wheeled robot (``surrogate-wheeled``).
+What is measured, on the MuJoCo body in the open arena with constant steering (O1, O2), fed to AMOSII through the
+full locomotion network and to the wheeled robot directly (its ``apply`` takes the steering pair):
 
 * steady body velocity (forward, lateral, yaw rate) over a grid of steering pairs, averaged over
   whole gait cycles after a warm-up;
+* the yaw sway: AMOSII's trunk rocks with the gait (amplitude per pair, period and phase fitted); the wheeled
+  robot has no gait, so its sway is 0 (the measured rocking is kept in the meta data);
 * the response to step changes of the steering (forward -> turn, turn -> other turn, ...), fitted
   by a pure delay plus a first-order lag, and the start-up time after reset;
-* the footprint (circles over trunk and leg geoms in the standing pose) and the ultrasonic rays;
+* the footprint (circles over the body's geoms at rest) and the ultrasonic rays (sites ``US_L``, ``US_R``);
 * a validation on steering pairs between the grid points: the surrogate, driven like the physics
   robot, against fresh physics runs (errors relative to the full-scale speed and turning rate).
 
-The result is a :class:`~neurowalk.body.surrogate.Calibration` written to a JSON file.
+The result is a :class:`~neurowalk.body.surrogate.Calibration` written to a JSON file. The fits themselves are in
+:mod:`neurowalk.experiments.calibration_fit`.
 """
 
 from __future__ import annotations
@@ -19,6 +23,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import mujoco
@@ -27,10 +32,26 @@ import numpy as np
 import neurowalk
 from neurowalk.arenas import make_arena
 from neurowalk.body import surrogate_kernel as kern
-from neurowalk.body.amosii_params import BodyParams
-from neurowalk.body.physics import AmosII
-from neurowalk.body.surrogate import Calibration, Surrogate
+from neurowalk.body.registry import make_body
+from neurowalk.body.surrogate import CALIBRATION_FILES, Calibration, Surrogate
+from neurowalk.body.wheeled import CHASSIS_BODY
+from neurowalk.experiments.calibration_fit import (
+    LAG_DELAYS,
+    LAG_TAUS,
+    StepRun,
+    body_velocity,
+    fit_lag,
+    outline,
+    pose_error,
+    predict,
+    prune,
+    sway_fit,
+    yaw_sway,
+)
 from neurowalk.neural.motor import LocomotionNetwork
+
+__all__ = ["GRID", "HELD_OUT", "SUBJECTS", "WARMUP", "WINDOW", "Subject", "body_velocity", "calibrate", "drive",
+           "fit_lag", "geometry", "plot_calibration", "predict", "subject", "sway_fit", "validation"]  # fmt: skip
 
 GRID: tuple[float, ...] = (-1.0, -0.5, -0.3, -0.2, -0.1, 0.0, 0.1, 0.2, 0.3, 0.5, 1.0)
 HELD_OUT: tuple[float, ...] = (-0.75, -0.4, -0.15, -0.05, 0.05, 0.15, 0.4, 0.75)
@@ -47,70 +68,101 @@ STEP_CHANGES: tuple[tuple[tuple[float, float], tuple[float, float]], ...] = (
     (FORWARD, (1.0, 1.0)),  # forward -> backward
 )
 CONTROL_HZ = 10.0  # Hz, the control rate the calibration is measured at
-HEADING_WEIGHT_M = 0.2  # m of position error that count as much as 1 rad of heading error in the lag fit
 
 
-def drive(schedule: np.ndarray, params: BodyParams | None = None) -> np.ndarray:
-    """Physics robot in the open arena driven by steering ``schedule`` (T, 2); returns trunk poses (T, 3)."""
-    body = AmosII(make_arena("open"), params, control_hz=CONTROL_HZ, noise=0.0)
-    body.reset(np.random.default_rng(0))
-    net = LocomotionNetwork()
+@dataclass(frozen=True)
+class Subject:
+    """A physics body that ``neurowalk calibrate`` measures (at its default options), and how.
+
+    Attributes:
+        body: its registry name. surrogate: the planar body it calibrates (whose data file it writes).
+        chassis: the MJCF body whose frame is the pose (the surrogate's footprint and rays are in that frame).
+        gait: steered through the locomotion network, its trunk rocking with the gait (the sway is fitted); else
+            the steering pair goes to ``apply`` directly and the stored sway is 0.
+        box_circle_m: None: a box is a chain of circles as wide as the box along its x axis (AMOSII's narrow
+            trunk boxes); a number: the box's outline in circles of at most that radius (m; a wide chassis).
+        delays, taus: the lag fit's grid (control steps, s). startup_stride: control steps between the start-up
+            candidates. how: the method in words (for the file's meta data).
+    """
+
+    body: str
+    surrogate: str
+    chassis: str
+    gait: bool
+    box_circle_m: float | None
+    delays: tuple[int, ...]
+    taus: tuple[float, ...]
+    startup_stride: int
+    how: str
+
+
+NO_SWAY_PERIOD = float(WINDOW)  # control steps: the stored period of a body without a gait (its amplitude is 0)
+SUBJECTS: dict[str, Subject] = {
+    "amosii": Subject(
+        "amosii", "surrogate", "trunk", True, None, LAG_DELAYS, LAG_TAUS, 5,
+        "AMOSII (MuJoCo, open arena, no noise) driven by constant steering through the locomotion network; "
+        f"velocity = mean body-frame velocity over {WINDOW} control steps (7 gait cycles) after {WARMUP} steps; "
+        f"lag = delay + first-order lag fitted to {len(STEP_CHANGES)} step changes of the steering "
+        f"({STEPS_AFTER} steps each; mean error {{lag:.3f}} m); start-up fitted on a forward run from reset; "
+        "footprint and rays from the MJCF in the standing pose; yaw sway = sqrt(2) x std of the detrended yaw over "
+        "the same window, its period and phase fitted on the forward run."),
+    "wheeled": Subject(
+        "wheeled", "surrogate-wheeled", CHASSIS_BODY, False, 0.04, tuple(range(9)),
+        (0.0, 0.05, 0.1, 0.2, 0.3, 0.5, 1.0, 2.0), 1,
+        "the wheeled robot (MuJoCo, scale 1, open arena, no noise) driven by constant steering applied to its "
+        f"wheels directly (no locomotion network); velocity = mean body-frame velocity over {WINDOW} control steps "
+        f"after {WARMUP} steps; lag = delay + first-order lag fitted to {len(STEP_CHANGES)} step changes of the "
+        f"steering ({STEPS_AFTER} steps each; mean error {{lag:.3f}} m); start-up fitted on a forward run from "
+        "reset; footprint from the MJCF at rest (the chassis box's outline in circles of 4 cm, the wheels' in "
+        "circles of their half width, the casters), rays from its US_L and US_R sites; no gait, so no yaw sway: "
+        f"amplitude 0 (the largest measured, sqrt(2) x std of the detrended yaw, is in sway_measured_max_rad), "
+        f"period {NO_SWAY_PERIOD:g} steps and phase 0 (unused)."),
+}  # fmt: skip
+
+
+def subject(body: str) -> Subject:
+    """The calibration subject of physics body ``body``; ValueError names a body that has none."""
+    if body not in SUBJECTS:
+        raise ValueError(f"cannot calibrate body {body!r}; expected one of {', '.join(SUBJECTS)}")
+    return SUBJECTS[body]
+
+
+def _robot(body: str) -> Any:
+    """Physics body ``body`` (default options, no noise) at rest at the open arena's start."""
+    robot = make_body(subject(body).body, make_arena("open"), {}, control_hz=CONTROL_HZ, noise=0.0)
+    robot.reset(np.random.default_rng(0))
+    return robot
+
+
+def drive(schedule: np.ndarray, body: str = "amosii") -> np.ndarray:
+    """Physics body in the open arena driven by steering ``schedule`` (T, 2); returns its poses (T, 3): x m,
+    y m, yaw rad of the subject's chassis frame after each control step."""
+    robot = _robot(body)
+    net = LocomotionNetwork() if subject(body).gait else None
     poses = np.empty((len(schedule), 3))
     for k, (o1, o2) in enumerate(schedule):
-        body.observe()
-        body.apply(net.step(float(o1), float(o2)))
-        body.advance()
-        poses[k] = body.observe().pose
+        robot.observe()
+        robot.apply(net.step(float(o1), float(o2)) if net is not None else np.array([o1, o2], dtype=float))
+        robot.advance()
+        poses[k] = robot.observe().pose
     return poses
 
 
-def _drive_const(args: tuple[float, float, int]) -> np.ndarray:
-    o1, o2, steps = args
-    return drive(np.tile([o1, o2], (steps, 1)))
+def _drive_const(args: tuple[float, float, int, str]) -> np.ndarray:
+    o1, o2, steps, body = args
+    return drive(np.tile([o1, o2], (steps, 1)), body)
 
 
-def body_velocity(poses: np.ndarray, control_hz: float) -> np.ndarray:
-    """Mean body-frame velocity (forward m/s, left m/s, yaw rate rad/s) over poses (T, 3)."""
-    d = np.diff(poses[:, :2], axis=0)
-    yaw = np.unwrap(poses[:, 2])
-    mid = 0.5 * (yaw[1:] + yaw[:-1])
-    fwd = d[:, 0] * np.cos(mid) + d[:, 1] * np.sin(mid)
-    left = -d[:, 0] * np.sin(mid) + d[:, 1] * np.cos(mid)
-    n = len(d)
-    return np.array([fwd.sum(), left.sum(), yaw[-1] - yaw[0]]) * control_hz / n
-
-
-def yaw_sway(poses: np.ndarray) -> np.ndarray:
-    """Yaw (T,) about its straight-line trend (rad): the trunk's rocking with the gait."""
-    yaw = np.unwrap(poses[:, 2])
-    k = np.arange(len(yaw))
-    return yaw - np.polyval(np.polyfit(k, yaw, 1), k)
-
-
-def sway_fit(residual: np.ndarray, first_step: int) -> tuple[float, float]:
-    """Period (steps) and phase (rad at step 0) of the sinusoid that best fits a yaw residual from ``first_step``."""
-    k = first_step + np.arange(len(residual))
-    best = (math.inf, 0.0, 0.0)
-    for period in np.arange(80.0, 95.0, 0.05):
-        basis = np.column_stack([np.sin(2 * np.pi * k / period), np.cos(2 * np.pi * k / period)])
-        (a, b), *_ = np.linalg.lstsq(basis, residual, rcond=None)  # r ~ a sin + b cos = A sin(wk + phase)
-        err = float(np.sum((basis @ (a, b) - residual) ** 2))
-        if err < best[0]:
-            best = (err, float(period), math.atan2(b, a))
-    return best[1], float(np.angle(np.exp(1j * best[2])))
-
-
-def steady_table(grid: Sequence[float], workers: int = 2, progress: bool = True) -> tuple[np.ndarray, np.ndarray,
-                                                                                           float, float]:  # fmt: skip
-    """Steady velocity (g, g, 3), sway amplitude (g, g) rad, sway period (steps) and phase at ``grid`` pairs."""
+def steady_table(grid: Sequence[float], workers: int = 2, progress: bool = True,
+                 body: str = "amosii") -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+    """Steady velocity (g, g, 3) and measured yaw sway amplitude (g, g) rad at ``grid`` pairs, and the forward
+    run's poses (T, 3) (for the sway's period and phase)."""
     pairs = [(a, b) for a in grid for b in grid]
-    poses = _map(_drive_const, [(a, b, WARMUP + WINDOW) for a, b in pairs], workers, progress, "steady")
+    poses = _map(_drive_const, [(a, b, WARMUP + WINDOW, body) for a, b in pairs], workers, progress, "steady")
     v = np.array([body_velocity(p[WARMUP:], CONTROL_HZ) for p in poses])
     sway = np.array([math.sqrt(2.0) * np.std(yaw_sway(p[WARMUP:])) for p in poses])
-    fwd = pairs.index(FORWARD)
-    period, phase = sway_fit(yaw_sway(poses[fwd][WARMUP:]), WARMUP + 1)
     g = len(grid)
-    return v.reshape(g, g, 3), sway.reshape(g, g), period, phase
+    return v.reshape(g, g, 3), sway.reshape(g, g), poses[pairs.index(FORWARD)]
 
 
 def _map(fn: Any, jobs: list[Any], workers: int, progress: bool, desc: str) -> list[Any]:
@@ -129,44 +181,14 @@ def _map(fn: Any, jobs: list[Any], workers: int, progress: bool, desc: str) -> l
     return out
 
 
-def predict(pose0: np.ndarray, vel0: np.ndarray, commands: np.ndarray, delay: int, alpha: float,
-            dt: float) -> np.ndarray:  # fmt: skip
-    """Poses (T, 3) of the surrogate's motion model from ``pose0`` and velocity ``vel0`` under commands (T, 3)."""
-    state = np.zeros(kern.RUN_STATE)
-    state[:3], state[3:6] = pose0, vel0
-    ring = np.tile(vel0, (delay + 1, 1))
-    out = np.empty((len(commands), 3))
-    for k, c in enumerate(commands):
-        kern.move(state, ring, k, c, alpha, dt)
-        out[k] = state[:3]
-    return out
-
-
-def _error(pred: np.ndarray, meas: np.ndarray) -> float:
-    dp = np.linalg.norm(pred[:, :2] - meas[:, :2], axis=1)
-    dh = np.abs(np.angle(np.exp(1j * (pred[:, 2] - meas[:, 2]))))
-    return float(np.mean(dp + HEADING_WEIGHT_M * dh))
-
-
-def fit_lag(runs: list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]], hz: float) -> tuple[int, float, float]:
-    """Best (delay steps, tau s, mean error m) over step-change runs (pose0, vel0, commands, measured poses)."""
-    best = (0, 0.0, math.inf)
-    for delay in range(0, 61, 4):
-        for tau in (0.0, 0.5, 1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 10.0, 15.0, 20.0):
-            alpha = 1.0 if tau == 0 else 1.0 - math.exp(-1.0 / (hz * tau))
-            err = np.mean([_error(predict(p0, v0, c, delay, alpha, 1 / hz), m) for p0, v0, c, m in runs])
-            if err < best[2]:
-                best = (delay, tau, float(err))
-    return best
-
-
-def step_runs(table_cal: Calibration) -> list[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]]:
-    """Physics step-change runs as fitting material: (pose at the switch, velocity before, commands, poses)."""
+def step_runs(table_cal: Calibration, body: str = "amosii") -> list[StepRun]:
+    """Physics step-change runs of ``body`` as fitting material: (pose at the switch, velocity before, commands,
+    poses); the commands are the velocities ``table_cal``'s table gives."""
     runs = []
     hz = table_cal.control_hz
     for a, b in STEP_CHANGES:
         sched = np.vstack([np.tile(a, (WARMUP, 1)), np.tile(b, (STEPS_AFTER, 1))])
-        poses = drive(sched)
+        poses = drive(sched, body)
         cmd = np.empty((STEPS_AFTER, 3))
         kern.velocity_command(table_cal.grid, table_cal.velocity, b[0], b[1], cmd[0])
         cmd[:] = cmd[0]
@@ -178,38 +200,44 @@ def step_runs(table_cal: Calibration) -> list[tuple[np.ndarray, np.ndarray, np.n
     return runs
 
 
-def fit_startup(cal: Calibration) -> int:
+def fit_startup(cal: Calibration, body: str = "amosii") -> int:
     """Control steps after reset before the body moves, fitted on a forward run from reset."""
-    meas = drive(np.tile(FORWARD, (WARMUP, 1)))
+    meas = drive(np.tile(FORWARD, (WARMUP, 1)), body)
     start = np.asarray(make_arena("open").start, dtype=float)
     cmd_full = np.empty(3)
     kern.velocity_command(cal.grid, cal.velocity, *FORWARD, cmd_full)
     best = (0, math.inf)
-    for s in range(0, WARMUP // 2, 5):
+    for s in range(0, WARMUP // 2, subject(body).startup_stride):
         cmd = np.zeros((WARMUP, 3))
         cmd[s:] = cmd_full
         pred = predict(start, np.zeros(3), cmd, cal.delay_steps, cal.alpha(), 1 / cal.control_hz)
-        err = _error(pred, meas)
+        err = pose_error(pred, meas)
         if err < best[1]:
             best = (s, err)
     return best[0]
 
 
-def geometry(params: BodyParams | None = None) -> tuple[np.ndarray, np.ndarray, float]:
-    """Footprint circles (k, 3), ultrasonic rays (2, 4) and range (m), from the MJCF in the standing pose.
+def geometry(body: str = "amosii") -> tuple[np.ndarray, np.ndarray, float]:
+    """Footprint circles (k, 3) x, y, r m, ultrasonic rays (2, 4) origin x, y m and unit direction, and range (m),
+    in the chassis frame, from the MJCF of physics ``body`` at rest (AMOSII: the standing pose).
 
-    Capsules give a circle at each end, spheres one, boxes a chain of circles as wide as the box.
+    Capsules give a circle at each end, spheres one, boxes a chain of circles as wide as the box or their outline
+    in circles (see :class:`Subject`), cylinders on their side (wheels) the outline of their footprint, upright
+    ones a circle.
     """
-    body = AmosII(make_arena("open"), params, control_hz=CONTROL_HZ, noise=0.0)
-    body.reset(np.random.default_rng(0))
-    m, d = body.model, body.data
-    trunk = m.body("trunk").id
+    sub = subject(body)
+    robot = _robot(body)
+    m, d = robot.model, robot.data
+    trunk = m.body(sub.chassis).id
     rot, origin = d.xmat[trunk].reshape(3, 3), d.xpos[trunk]
 
     def local(p: np.ndarray) -> np.ndarray:
         return (rot.T @ (p - origin))[:2]
 
-    circles = []
+    def rectangle(pos: np.ndarray, u: np.ndarray, v: np.ndarray, a: float, b: float, r: float) -> list[tuple]:
+        return [(*local(pos + x * u + y * v), min(r, a, b)) for x, y in outline(a, b, min(r, a, b))]
+
+    circles: list[tuple] = []
     for g in range(m.ngeom):
         if m.geom_bodyid[g] == 0:
             continue
@@ -220,29 +248,24 @@ def geometry(params: BodyParams | None = None) -> tuple[np.ndarray, np.ndarray, 
                 circles.append((*local(pos + sign * size[1] * axes[:, 2]), size[0]))
         elif kind == mujoco.mjtGeom.mjGEOM_SPHERE:
             circles.append((*local(pos), size[0]))
-        elif kind == mujoco.mjtGeom.mjGEOM_BOX:
+        elif kind == mujoco.mjtGeom.mjGEOM_BOX and sub.box_circle_m is None:
             r = size[1]
             for x in np.arange(-size[0] + r, size[0] - r + 1e-9, r):
                 circles.append((*local(pos + x * axes[:, 0]), r))
+        elif kind == mujoco.mjtGeom.mjGEOM_BOX:
+            circles += rectangle(pos, axes[:, 0], axes[:, 1], size[0], size[1], sub.box_circle_m)
+        elif kind == mujoco.mjtGeom.mjGEOM_CYLINDER and abs(axes[2, 2]) > 0.5:  # upright: a disc
+            circles.append((*local(pos), size[0]))
+        elif kind == mujoco.mjtGeom.mjGEOM_CYLINDER:  # on its side: a rectangle, the axis one of its sides
+            across = np.cross([0.0, 0.0, 1.0], axes[:, 2])
+            circles += rectangle(pos, axes[:, 2], across / np.linalg.norm(across), size[1], size[0], size[1])
     rays = []
     for name in ("US_L", "US_R"):
         s = m.site(name).id
         direction = rot.T @ d.site_xmat[s].reshape(3, 3)[:, 2]
         rays.append((*local(d.site_xpos[s]), *(direction[:2] / np.linalg.norm(direction[:2]))))
-    return _prune(np.asarray(circles)), np.asarray(rays), float(body.params.us_range)
-
-
-def _prune(circles: np.ndarray) -> np.ndarray:
-    """Drop circles that lie inside another one (k, 3) -> (k', 3)."""
-    keep = []
-    for i, (x, y, r) in enumerate(circles):
-        inside = any(
-            j != i and math.hypot(x - cx, y - cy) + r <= cr + 1e-9 and (r < cr or j < i)
-            for j, (cx, cy, cr) in enumerate(circles)
-        )
-        if not inside:
-            keep.append((x, y, r))
-    return np.asarray(keep)
+    us_range = float(robot.params.us_range) * float(getattr(robot.params, "scale", 1.0))
+    return prune(np.asarray(circles)), np.asarray(rays), us_range
 
 
 def surrogate_velocity(cal: Calibration, pairs: Sequence[tuple[float, float]]) -> np.ndarray:
@@ -255,14 +278,15 @@ def surrogate_velocity(cal: Calibration, pairs: Sequence[tuple[float, float]]) -
     return np.asarray(out)
 
 
-def validation(cal: Calibration, held_out: Sequence[float], workers: int, progress: bool) -> dict[str, Any]:
-    """Surrogate against fresh physics runs at steering pairs between the grid points.
+def validation(cal: Calibration, held_out: Sequence[float], workers: int, progress: bool,
+               body: str = "amosii") -> dict[str, Any]:  # fmt: skip
+    """Surrogate against fresh runs of physics ``body`` at steering pairs between the grid points.
 
-    Errors are relative to the full scale: the largest forward speed and yaw rate over the grid.
+    Errors are relative to the full scale: the largest forward speed (m/s) and yaw rate (rad/s) over the grid.
     """
     pairs = [(a, b) for a in held_out for b in held_out]
     phys = np.array([body_velocity(p[WARMUP:], CONTROL_HZ) for p in _map(
-        _drive_const, [(a, b, WARMUP + WINDOW) for a, b in pairs], workers, progress, "validation")])  # fmt: skip
+        _drive_const, [(a, b, WARMUP + WINDOW, body) for a, b in pairs], workers, progress, "validation")])  # fmt: skip
     sur = surrogate_velocity(cal, pairs)
     speed = np.hypot(phys[:, 0], phys[:, 1]), np.hypot(sur[:, 0], sur[:, 1])
     full_v = float(np.max(np.hypot(cal.velocity[..., 0], cal.velocity[..., 1])))
@@ -282,34 +306,45 @@ def validation(cal: Calibration, held_out: Sequence[float], workers: int, progre
 
 
 def calibrate(grid: Sequence[float] = GRID, held_out: Sequence[float] = HELD_OUT, *, workers: int = 2,
-              progress: bool = True) -> Calibration:  # fmt: skip
-    """Run every measurement on the physics robot and return the calibration (with its validation in ``meta``)."""
+              progress: bool = True, body: str = "amosii") -> Calibration:  # fmt: skip
+    """Run every measurement on physics ``body`` (``amosii`` or ``wheeled``, see :data:`SUBJECTS`) and return the
+    calibration of its surrogate (with its validation in ``meta``); ``grid`` must hold -1 (the forward run).
+
+    Raises:
+        ValueError: naming a body that cannot be calibrated, or a grid without -1.
+    """
+    sub = subject(body)
+    if -1.0 not in grid:
+        raise ValueError(f"the calibration grid must hold -1 (steering {FORWARD} walks forward), got {list(grid)}")
     t0 = time.perf_counter()
-    circles, rays, us_range = geometry()
+    circles, rays, us_range = geometry(body)
     g = np.asarray(grid, dtype=float)
-    table, sway, period, phase = steady_table(g, workers, progress)
+    table, sway, forward = steady_table(g, workers, progress, body)
+    extra: dict[str, Any] = {}
+    if sub.gait:
+        period, phase = sway_fit(yaw_sway(forward[WARMUP:]), WARMUP + 1)
+    else:  # no gait: what rocking there is is not periodic, and the surrogate gets none
+        extra["sway_measured_max_rad"] = float(sway.max())
+        sway, period, phase = np.zeros_like(sway), NO_SWAY_PERIOD, 0.0
     motion = (g, table, sway, period, phase)
     cal = Calibration(*motion, 0.0, 0, 0, CONTROL_HZ, circles, rays, us_range)
-    delay, tau, lag_err = fit_lag(step_runs(cal), CONTROL_HZ)
+    delay, tau, lag_err = fit_lag(step_runs(cal, body), CONTROL_HZ, sub.delays, sub.taus)
     cal = Calibration(*motion, tau, delay, 0, CONTROL_HZ, circles, rays, us_range)
-    startup = fit_startup(cal)
+    startup = fit_startup(cal, body)
     meta = {
-        "command": "neurowalk calibrate",
+        "command": "neurowalk calibrate" + ("" if body == "amosii" else f" --body {body}"),
         "neurowalk_version": neurowalk.__version__,
         "mujoco_version": mujoco.__version__,
-        "how": "AMOSII (MuJoCo, open arena, no noise) driven by constant steering through the locomotion network; "
-        f"velocity = mean body-frame velocity over {WINDOW} control steps (7 gait cycles) after {WARMUP} steps; "
-        f"lag = delay + first-order lag fitted to {len(STEP_CHANGES)} step changes of the steering "
-        f"({STEPS_AFTER} steps each; mean error {lag_err:.3f} m); start-up fitted on a forward run from reset; "
-        "footprint and rays from the MJCF in the standing pose; yaw sway = sqrt(2) x std of the detrended yaw over "
-        "the same window, its period and phase fitted on the forward run.",
+        "how": sub.how.format(lag=lag_err),
         "warmup_steps": WARMUP,
         "window_steps": WINDOW,
         "step_changes": [list(map(list, sc)) for sc in STEP_CHANGES],
         "lag_fit_error_m": lag_err,
+        **extra,
     }
     cal = Calibration(*motion, tau, delay, startup, CONTROL_HZ, circles, rays, us_range, meta)
-    meta["validation"] = validation(cal, held_out, workers, progress)
+    meta["validation"] = validation(cal, held_out, workers, progress, body)
+    meta["body"], meta["surrogate"], meta["file"] = body, sub.surrogate, CALIBRATION_FILES[sub.surrogate].name
     meta["wall_time_s"] = time.perf_counter() - t0
     return cal
 
@@ -342,7 +377,8 @@ def plot_calibration(cal: Calibration) -> Any:
         ax[2].set_ylabel("surrogate")
         ax[2].set_title(f"held-out pairs: max error {max(v['speed_error_max'], v['yaw_rate_error_max']):.1%}")
         ax[2].legend(fontsize=8)
-    fig.suptitle(f"surrogate calibration: lag {cal.tau_s:g} s + {cal.delay_steps} steps, "
+    name = cal.meta.get("surrogate", "surrogate")
+    fig.suptitle(f"{name} calibration: lag {cal.tau_s:g} s + {cal.delay_steps} steps, "
                  f"start-up {cal.startup_steps} steps")  # fmt: skip
     fig.tight_layout()
     return fig

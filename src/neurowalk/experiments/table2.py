@@ -56,8 +56,11 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
     """``seeds`` environments (default 50; 10 with ``quick``) x the rows, through a resumable store in ``out``.
 
     ``size``: box side (m; the authors' 1 m by default). ``climbing``: leg reflexes and backbone control on
-    (physics body only). ``variant``/``params``: an extra plastic row (``--params FILE``).
+    (physics body only). ``variant``/``params``: an extra plastic row (``--params FILE``). A physics body with a
+    calibrated surrogate (AMOSII: ``surrogate``, wheeled: ``surrogate-wheeled``) runs it beside, environment for
+    environment (``surrogate_agreement``).
     """
+    from neurowalk.body.registry import body_info
     from neurowalk.experiments.climbing import run_store
     from neurowalk.runners.specs import spec_key
 
@@ -71,10 +74,11 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
     envs = environments(n, seed)
 
     def spec_of(e: dict[str, Any], r: dict[str, Any], b: str) -> dict[str, Any]:
-        return spec(e, r["controller"], steps, b, climbing and b != "surrogate", variant=r["variant"], size=size,
+        return spec(e, r["controller"], steps, b, climbing and b == body, variant=r["variant"], size=size,
                     params=r["params"])  # fmt: skip
 
-    bodies = [body, "surrogate"] if body == "amosii" else [body]  # AMOSII: its surrogate beside it
+    surrogate = body_info(body).surrogate  # its own surrogate beside a physics body (amosii, wheeled)
+    bodies = [body] if surrogate is None else [body, surrogate]
     specs = [spec_of(e, r, b) for b in bodies for e in envs for r in table.values()]
     folder = Path(out) if out is not None else Path("out/table2")
     folder.mkdir(parents=True, exist_ok=True)
@@ -84,8 +88,8 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
                 for e in envs]  # fmt: skip
     counts = {name: {**r, **_count(env_rows, name)} for name, r in table.items()}
     agreement = None
-    if body == "amosii":
-        sur = [{name: _outcome(results[spec_key(spec_of(e, r, "surrogate"))]) for name, r in table.items()}
+    if surrogate is not None:
+        sur = [{name: _outcome(results[spec_key(spec_of(e, r, surrogate))]) for name, r in table.items()}
                for e in envs]  # fmt: skip
         agreement = {name: _agreement(env_rows, sur, name) for name in table}
     paper = {**PAPER, "success_rate": PAPER["success"] / PAPER["environments"],
@@ -94,7 +98,7 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
                "box_size_m": size, "rule": RULE, "failure_rule": FAILURE_RULE,
                "interval": "Wilson score interval, 95%", "counts": counts, "environments": env_rows,
                "paper": paper, "store": str(folder / "results.sqlite"), "sweep": report.counts(),
-               "surrogate_agreement": agreement}  # fmt: skip
+               "surrogate": surrogate, "surrogate_agreement": agreement}  # fmt: skip
     return Result("table2", summary)
 
 
@@ -171,7 +175,8 @@ def plot(res: Result) -> Figure:
         k = s["counts"][c]
         ax[0].text(i, 0.03, f"{k['success']}/{k['environments']}\n{k['success_rate']:.1%}", ha="center", fontsize=9)
     agree = s.get("surrogate_agreement") or {}
-    labels = [f"{c}\nsurrogate agrees {agree[c]['same_outcome']}/{agree[c]['environments']}" if c in agree else c
+    who = s.get("surrogate") or "surrogate"
+    labels = [f"{c}\n{who} agrees {agree[c]['same_outcome']}/{agree[c]['environments']}" if c in agree else c
               for c in names]  # fmt: skip
     ax[0].set_xticks(x, labels, fontsize=7 if agree else 8)
     ax[0].set_ylim(0, 1.05)

@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from neurowalk.body.registry import body_info
 from neurowalk.controller import Controller
 from neurowalk.sim.config import (
     BODIES,
@@ -94,7 +95,7 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
         raise ValueError(f"chunk must be at least 1 row, got {chunk}")
     if not keep_rows and sink is None:
         raise ValueError("keep_rows=False needs a sink: the rows would be lost")
-    if cfg.body == "surrogate":
+    if not body_info(cfg.body).physics:  # surrogate, surrogate-wheeled: the planar bodies' compiled loop
         return run_surrogate_episode(cfg, progress=progress, sink=sink, chunk=chunk)
     arena, body, ctrl = build(cfg, pad_boxes=pad_boxes if cfg.body == "amosii" else None)
     body_rng, ctrl_rng, _ = seeds(cfg)
@@ -126,6 +127,19 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
         ep.summary["real_time_factor"] = (done - start) / cfg.control_hz / wall
     if done < cfg.steps:
         raise RunInterruptedError(ep)
+    return ep
+
+
+def _run_warp(cfg: EpisodeConfig, progress: bool, sink: Any, chunk: int, resume: Resume | None) -> Episode:
+    """One run on MuJoCo Warp (one world; :mod:`neurowalk.sim.warp_engine`); its rows go to ``sink`` at the end."""
+    from neurowalk.sim.warp_engine import run_warp
+
+    if resume is not None:
+        raise ValueError("a run on engine 'warp' cannot be resumed (no checkpoints); run it again")
+    ep = run_warp([cfg], progress=progress)[0]
+    if sink is not None:
+        for start in range(0, cfg.steps, chunk):
+            sink(ep.trajectory.rows(start, min(start + chunk, cfg.steps)), start)
     return ep
 
 
