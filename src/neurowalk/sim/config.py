@@ -77,8 +77,8 @@ class EpisodeConfig:
         get_variant(self.variant, self.params)  # raises on an unknown variant or a bad parameter
         if self.gait not in GAITS:
             raise ValueError(f"unknown gait {self.gait!r}; expected one of {', '.join(GAITS)}")
-        if self.body == "surrogate" and self.control_hz != (hz := load_calibration().control_hz):
-            raise ValueError(f"body 'surrogate' is calibrated at {hz} Hz, got control_hz {self.control_hz!r}")
+        if not info.physics and self.control_hz != (hz := load_calibration(body=self.body).control_hz):
+            raise ValueError(f"body {self.body!r} is calibrated at {hz} Hz, got control_hz {self.control_hz!r}")
         if self.gait != "wave" and self.body == "surrogate":
             raise ValueError(f"body 'surrogate' is calibrated on the wave gait, got gait {self.gait!r}")
         if self.gait != "wave" and info.action == "steering":
