@@ -21,9 +21,13 @@ prunes poorly: measured 13% slower physics on the ``random`` arena.
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
+
 from neurowalk.arenas.spec import ArenaSpec
 
-__all__ = ["PARKING_BODY", "PARK_Z", "padded_world"]
+__all__ = ["PARKING_BODY", "PARK_Z", "padded_world", "slot_rows", "slot_world"]
 
 PARKING_BODY = "obstacle_parking"
 """Name of the static body holding the parked boxes (geoms ``parked_0``, ``parked_1``, ...)."""
@@ -57,3 +61,47 @@ def padded_world(arena: ArenaSpec, n_slots: int) -> str:
     ]
     body = f'    <body name="{PARKING_BODY}" pos="0 0 {PARK_Z:g}">'
     return "\n".join([arena.to_mjcf(), body, *parked, "    </body>"])
+
+
+def slot_world(arena: ArenaSpec, n_slots: int) -> str:
+    """The world-body MJCF of ``arena`` with exactly ``n_slots`` obstacle geoms, for one model of many worlds.
+
+    The arena's boxes are geoms ``obstacle_0 ...``; the unused slots are more world boxes ``obstacle_n ...``
+    at :data:`PARK_Z`, far below the floor. All are world geoms, so every arena of at most ``n_slots`` boxes gives
+    a model of the same structure whose obstacle geoms differ only in ``geom_pos``, ``geom_quat``,
+    ``geom_size``, ``geom_aabb`` and ``geom_rbound`` (:func:`slot_rows`): what MuJoCo Warp batches per world.
+    (World geoms never collide with each other, and no ray of the robot reaches below the floor.)
+    """
+    n = len(arena.boxes)
+    if n > n_slots:
+        raise ValueError(f"arena {arena.name!r} has {n} boxes, more than the {n_slots} obstacle slots")
+    s = f"{_PARK_SIZE:g}"
+    parked = [
+        f'    <geom name="obstacle_{k}" type="box" size="{s} {s} {s}" pos="{(k - n) * _PARK_PITCH:.6g} 0 {PARK_Z:g}" '
+        f'rgba="0.55 0.45 0.35 0"/>'
+        for k in range(n, n_slots)
+    ]
+    return "\n".join([arena.to_mjcf(), *parked])
+
+
+def slot_rows(arena: ArenaSpec, n_slots: int) -> dict[str, np.ndarray]:
+    """The obstacle geoms' rows of :func:`slot_world` (arena, n_slots), as MuJoCo compiles them.
+
+    Returns:
+        ``pos`` (n_slots, 3) m, ``quat`` (n_slots, 4) (w, x, y, z), ``size`` (n_slots, 3) half sizes m,
+        ``aabb`` (n_slots, 6) local centre and half extents m, ``rbound`` (n_slots,) m.
+    """
+    n = len(arena.boxes)
+    if n > n_slots:
+        raise ValueError(f"arena {arena.name!r} has {n} boxes, more than the {n_slots} obstacle slots")
+    pos, quat, size = np.zeros((n_slots, 3)), np.zeros((n_slots, 4)), np.full((n_slots, 3), _PARK_SIZE)
+    quat[:, 0] = 1.0
+    pos[n:, 0] = (np.arange(n, n_slots) - n) * _PARK_PITCH
+    pos[n:, 2] = PARK_Z
+    for k, b in enumerate(arena.boxes):  # rounded as ArenaSpec.to_mjcf writes them
+        pos[k] = [float(f"{v:.6g}") for v in (b.x, b.y, b.h / 2)]
+        yaw = float(f"{b.yaw:.9g}")
+        quat[k] = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
+        size[k] = [float(f"{v:.6g}") for v in (b.sx / 2, b.sy / 2, b.h / 2)]
+    aabb = np.concatenate([np.zeros((n_slots, 3)), size], axis=1)
+    return {"pos": pos, "quat": quat, "size": size, "aabb": aabb, "rbound": np.linalg.norm(size, axis=1)}

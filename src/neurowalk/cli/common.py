@@ -70,6 +70,34 @@ def episode_args(p: argparse.ArgumentParser) -> None:
     )
 
 
+def engine_args(p: argparse.ArgumentParser) -> None:
+    """--engine and --device (physics on CPU MuJoCo, or on MuJoCo Warp)."""
+    p.add_argument("--engine", default="mujoco", help="physics engine: mujoco (default, CPU) | warp (MuJoCo Warp: many "
+                   "worlds on a GPU; needs the warp extra)")  # fmt: skip
+    p.add_argument("--device", default=None, help="engine warp: cuda (default where a GPU is present) | cpu (slow)")
+
+
+def check_engine(args: argparse.Namespace) -> None:
+    """Check --engine/--device before any work (UsageError naming what to install or use); --device is passed on
+    to worker processes through $NEUROWALK_WARP_DEVICE."""
+    import os
+
+    from neurowalk.sim.config import ENGINES
+
+    if args.engine not in ENGINES:
+        raise UsageError(f"unknown engine {args.engine!r}; expected one of {', '.join(ENGINES)}")
+    if args.engine == "mujoco":
+        if args.device is not None:
+            raise UsageError(f"--device goes with --engine warp (CPU MuJoCo has no device), got {args.device!r}")
+        return
+    from neurowalk.sim.warp_engine import DEVICE_ENV, resolve_device
+
+    try:
+        os.environ[DEVICE_ENV] = resolve_device(args.device)
+    except ValueError as e:
+        raise UsageError(str(e)) from None
+
+
 def variant_args(p: argparse.ArgumentParser, many: bool = False) -> None:
     """--variant and --params (``many``: --variant takes a comma list)."""
     names = "paper | original | tuned"
@@ -137,7 +165,8 @@ def episode_config(args: argparse.Namespace) -> object:
                             steer=parse_steer(args.steer), body=args.body, body_opts=body_opts, steps=args.steps,
                             seed=args.seed,
                             reflexes=args.reflexes or args.climb, backbone=args.backbone or args.climb,
-                            variant=variant, params=params, gait=args.gait)  # fmt: skip
+                            variant=variant, params=params, gait=args.gait,
+                            engine=getattr(args, "engine", "mujoco"))  # fmt: skip
         make_arena(cfg.arena, **cfg.arena_opts)  # validate the arena's options before any work
     except ValueError as e:
         raise UsageError(str(e)) from None

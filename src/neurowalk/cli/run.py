@@ -10,13 +10,14 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from neurowalk.cli.common import UsageError, episode_args, episode_config, out_folder
+from neurowalk.cli.common import UsageError, check_engine, engine_args, episode_args, episode_config, out_folder
 
 
 def add_run_parsers(sub: argparse._SubParsersAction) -> None:
     """The `run` and `view` subcommands."""
     r = sub.add_parser("run", help="one closed-loop run: writes DIR/summary.json, trajectory.npz, run.png")
     episode_args(r)
+    engine_args(r)
     r.add_argument("--out", type=Path, default=Path("out/run"), help="output folder (default out/run)")
     r.add_argument("--video", action="store_true", help="also render DIR/video.mp4 (headless)")
     r.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -41,6 +42,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         problem = check_gl()  # before the run, not after it
         if problem:
             raise UsageError(f"--video: {problem}")
+    check_engine(args)
     cfg = episode_config(args)
     from neurowalk.fileio import atomic_write, write_json
     from neurowalk.sim.episode import RunInterruptedError, build, run_episode
@@ -56,7 +58,7 @@ def cmd_run(args: argparse.Namespace) -> int:
                          "one): --resume to go on with it, or --overwrite to start afresh")  # fmt: skip
     else:
         parts.remove()
-        if cfg.body == "amosii":  # type: ignore[attr-defined]
+        if cfg.body == "amosii" and cfg.engine == "mujoco":  # type: ignore[attr-defined]  # checkpointed
             parts.folder.mkdir()
             write_json(parts.folder / "run.json", {**dataclasses.asdict(cfg), "resumable": True})  # type: ignore[call-overload]
     import signal
@@ -73,7 +75,7 @@ def cmd_run(args: argparse.Namespace) -> int:
             sink=parts,
             keep_rows=False,  # memory bounded by the part size: the rows live in the parts
             resume=resume,  # type: ignore[arg-type]
-            checkpoint=parts.write_checkpoint if cfg.body == "amosii" else None,
+            checkpoint=parts.write_checkpoint if cfg.body == "amosii" and cfg.engine == "mujoco" else None,
         )  # type: ignore[attr-defined]
     except RunInterruptedError as stop:
         ep, interrupted = stop.episode, True

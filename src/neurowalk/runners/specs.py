@@ -4,8 +4,9 @@ A spec names only what differs from the defaults, e.g. ``{"arena": "box", "contr
 :func:`normalize` fills in every default (the config's and the arena's options) and converts the values to their
 canonical types, so that equal runs get equal keys (:func:`spec_key`) whatever the dict order, the omitted defaults
 or the spelling of a number (``"0.3"``, ``0.3``; ``2``, ``2.0``). The switches added later (:data:`LATER`:
-``reflexes``, ``backbone``, ``variant``, ``params``) appear in the canonical form only when they differ from their
-defaults (off, ``paper``, none), so the keys of earlier stores stay valid.
+``reflexes``, ``backbone``, ``variant``, ``params``, ``gait``, ``body_opts``, ``engine``) appear in the canonical
+form only when they differ from their defaults (off, ``paper``, none, ``wave``, none, ``mujoco``), so the keys of
+earlier stores stay valid.
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ MACHINE_KEYS: tuple[str, ...] = ("wall_time_s", "real_time_factor")
 
 _DEFAULTS: Spec = {f: getattr(EpisodeConfig(), f) for f in FIELDS}
 #: Fields kept out of the canonical form at their defaults (they came after stores were written).
-LATER: tuple[str, ...] = ("reflexes", "backbone", "variant", "params", "gait", "body_opts")
+LATER: tuple[str, ...] = ("reflexes", "backbone", "variant", "params", "gait", "body_opts", "engine")
 
 
 def normalize(spec: Spec) -> Spec:
@@ -89,6 +90,10 @@ def normalize(spec: Spec) -> Spec:
         raise ValueError(f"variant must be a name, got {s['variant']!r}")
     if s["variant"] != "paper":
         out["variant"] = s["variant"]
+    if not isinstance(s["engine"], str):
+        raise ValueError(f"engine must be a name (mujoco, warp), got {s['engine']!r}")
+    if s["engine"] != "mujoco":
+        out["engine"] = s["engine"]
     if not isinstance(s["gait"], str):
         raise ValueError(f"gait must be a name, got {s['gait']!r}")
     if s["gait"] != "wave":

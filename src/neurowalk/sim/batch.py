@@ -73,26 +73,35 @@ class BatchEpisodes:
         bodies = [p[1] for p in parts]
         assert all(isinstance(b, AmosII) for b in bodies)
         self.models: list[mujoco.MjModel] = [b.model for b in bodies]
-        self.model = self.models[0]
-        self.params: BodyParams = bodies[0].params
-        self.batch = mujoco.batch.Batch(self.model, n, nthread, persistent)
+        self.batch = mujoco.batch.Batch(self.models[0], n, nthread, persistent)
         self.batch.set_models(self.models)
-        self.n_substeps = bodies[0].n_substeps
-        self.controllers = BatchControllers([p[2] for p in parts], compiled=compiled)
-        # the bodies' own noise sources, so that the draws are the single loop's (their MjData are dropped)
-        self._noise: list[ColoredNoise] = [b._noise for b in bodies]
-        lay = sensor_layout(self.model)
-        self._us_adr, self._touch_adr, self._force_full, self._us_max = lay.us, lay.touch, lay.force_full, lay.us_range
-        self._us_range = self.params.us_range
-        self._qidx = joint_qpos_indices(self.model)
-        self._trunk = lay.trunk
-        self._key = self.model.key(STAND_KEY).id
+        self._setup(
+            self.models[0],
+            bodies[0].params,
+            bodies[0].n_substeps,
+            [p[2] for p in parts],
+            [b._noise for b in bodies],
+            compiled,
+        )  # the bodies' own noise sources: the single loop's draws
         self._qpos, self._ctrl = self.batch.bind("qpos"), self.batch.bind("ctrl")
         self._sensordata, self._time = self.batch.bind("sensordata"), self.batch.bind("time")
         if not self.controllers.compiled:  # act() needs the pose; bound now, as outputs fill only after a call
             self._xpos, self._xmat = self.batch.bind("xpos"), self.batch.bind("xmat")
+
+    def _setup(self, model: mujoco.MjModel, params: BodyParams, n_substeps: int, controllers: Sequence[Any],
+               noises: list[ColoredNoise], compiled: bool) -> None:  # fmt: skip
+        """What every engine shares: the model's sensor layout, the controllers, the noise sources, the timers."""
+        self.model, self.params, self.n_substeps = model, params, n_substeps
+        self.controllers = BatchControllers(controllers, compiled=compiled)
+        self._noise = noises
+        lay = sensor_layout(model)
+        self._us_adr, self._touch_adr, self._force_full, self._us_max = lay.us, lay.touch, lay.force_full, lay.us_range
+        self._us_range = params.us_range
+        self._qidx = joint_qpos_indices(model)
+        self._trunk = lay.trunk
+        self._key = model.key(STAND_KEY).id
         self._n_noise = 2 + len(self._qidx) + 6
-        self._noise_now = np.zeros((n, self._n_noise))
+        self._noise_now = np.zeros((len(noises), self._n_noise))
         self.timing = {"physics": 0.0, "control": 0.0}
 
     @property
@@ -102,16 +111,23 @@ class BatchEpisodes:
 
     def reset(self) -> None:
         """Every copy standing at its arena's start pose, at rest; noise and controllers from each run's seeds."""
-        self.batch.reset(keyframe=self._key, stage=mujoco.mjtStage.mjSTAGE_NONE)
-        for i, arena in enumerate(self.arenas):
-            x, y, yaw = arena.start
-            self._qpos[i, 0], self._qpos[i, 1] = x, y
-            self._qpos[i, 3:7] = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
-        self.batch.forward()
+        self._reset_physics()
         rngs = [seeds(cfg) for cfg in self.configs]
         for noise, (body_rng, _, _) in zip(self._noise, rngs, strict=True):
             noise.reset(body_rng)
         self.controllers.reset([ctrl_rng for _, ctrl_rng, _ in rngs])
+
+    def _reset_physics(self) -> None:
+        """Every copy's MuJoCo state: the stand keyframe at its arena's start pose, forward-computed."""
+        self.batch.reset(keyframe=self._key, stage=mujoco.mjtStage.mjSTAGE_NONE)
+        for i, arena in enumerate(self.arenas):
+            self._qpos[i, 0:2], self._qpos[i, 3:7] = start_qpos(arena.start)
+        self.batch.forward()
+
+    def _advance(self, targets: np.ndarray) -> None:
+        """Set every copy's joint targets (n, nu) and step the physics one control step."""
+        self._ctrl[:] = targets
+        self.batch.step(nstep=self.n_substeps)
 
     def sense(self) -> tuple[np.ndarray, np.ndarray]:
         """Noisy ultrasonic distances (n, 2) in m (inf = no echo) and foot contacts (n, 6), as AmosII.observe.
@@ -158,9 +174,8 @@ class BatchEpisodes:
             tc = time.perf_counter()
             dist, foot = self.sense()
             targets = ctl.step(dist, self.observation)
-            self._ctrl[:] = targets
             tp = time.perf_counter()
-            self.batch.step(nstep=self.n_substeps)
+            self._advance(targets)
             tr = time.perf_counter()
             rec["inputs"][k], rec["outputs"][k], rec["b"][k], rec["q"][k] = ctl.inputs, ctl.outputs, ctl.b, ctl.q
             rec["targets"][k], rec["us_distance"][k], rec["foot_contact"][k] = targets, dist, foot
@@ -189,6 +204,12 @@ class BatchEpisodes:
         summary["completed"] = True
         summary["steps_requested"] = cfg.steps
         return Episode(cfg, arena, tr, summary)
+
+
+def start_qpos(start: tuple[float, float, float]) -> tuple[tuple[float, float], tuple[float, float, float, float]]:
+    """The free joint's position (x, y) and quaternion (w, x, y, z) of an arena's start pose (x m, y m, yaw rad)."""
+    x, y, yaw = start
+    return (x, y), (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
 
 
 def _check(configs: list[EpisodeConfig]) -> None:

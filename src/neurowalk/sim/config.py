@@ -46,6 +46,7 @@ class EpisodeConfig:
     params: dict[str, float] | None = None  # SensoryParams fields set on top of the variant (a params file)
     gait: str = "wave"  # the CPG's modulatory input by name (neurowalk.neural.cpg.GAITS)
     body_opts: dict[str, Any] = field(default_factory=dict)  # the body's options (neurowalk.body.registry)
+    engine: str = "mujoco"  # physics engine: mujoco (CPU MuJoCo) | warp (MuJoCo Warp, many worlds, GPU or CPU)
 
     def __post_init__(self) -> None:
         if self.controller not in CONTROLLERS:
@@ -77,6 +78,11 @@ class EpisodeConfig:
         get_variant(self.variant, self.params)  # raises on an unknown variant or a bad parameter
         if self.gait not in GAITS:
             raise ValueError(f"unknown gait {self.gait!r}; expected one of {', '.join(GAITS)}")
+        if self.engine not in ENGINES:
+            raise ValueError(f"unknown engine {self.engine!r}; expected one of {', '.join(ENGINES)}")
+        if self.engine == "warp" and (self.body != "amosii" or self.reflexes or self.backbone):
+            raise ValueError(f"engine 'warp' runs body 'amosii' without --reflexes/--backbone, got body {self.body!r}"
+                             + (" with climbing controls" if self.reflexes or self.backbone else ""))  # fmt: skip
         if not info.physics and self.control_hz != (hz := load_calibration(body=self.body).control_hz):
             raise ValueError(f"body {self.body!r} is calibrated at {hz} Hz, got control_hz {self.control_hz!r}")
         if self.gait != "wave" and self.body == "surrogate":
@@ -85,6 +91,7 @@ class EpisodeConfig:
             raise ValueError(f"body {self.body!r} takes the steering pair (no legs), no gait; got gait {self.gait!r}")
 
 
+ENGINES: tuple[str, ...] = ("mujoco", "warp")  # physics engines (neurowalk.sim.warp_engine for warp)
 MAX_STEPS = 100_000_000  # control steps of one run (about 116 days simulated at 10 Hz)
 
 
@@ -124,6 +131,11 @@ def build(cfg: EpisodeConfig, *, pad_boxes: int | None = None) -> tuple[ArenaSpe
     arena = make_arena(cfg.arena, rng=seeds(cfg)[2], **cfg.arena_opts)
     amosii = {"pad_boxes": pad_boxes, "scan_obstacles": cfg.backbone or cfg.reflexes} if cfg.body == "amosii" else {}
     body = make_body(cfg.body, arena, cfg.body_opts, control_hz=cfg.control_hz, noise=cfg.noise, **amosii)
+    return arena, body, build_controller(cfg)
+
+
+def build_controller(cfg: EpisodeConfig) -> Controller:
+    """The controller of a config (its network variant, gait, climbing modules, start weights)."""
     weights = {k: v for k, v in (("b0", cfg.b0), ("q0", cfg.q0)) if v is not None}
     climbing = {k: True for k in ("reflexes", "backbone") if getattr(cfg, k)}
     v = get_variant(cfg.variant, cfg.params)
@@ -131,8 +143,7 @@ def build(cfg: EpisodeConfig, *, pad_boxes: int | None = None) -> tuple[ArenaSpe
     kwargs: dict[str, Any] = {**weights, **climbing, "locomotion": v.locomotion(gait)}
     if cfg.controller != "fixed":
         kwargs["sensory"] = v.sensory
-    controller = make_controller(cfg.controller, steer=cfg.steer, **kwargs)
-    return arena, body, controller
+    return make_controller(cfg.controller, steer=cfg.steer, **kwargs)
 
 
 class RunInterruptedError(Exception):
