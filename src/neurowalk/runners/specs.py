@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from neurowalk.fileio import to_jsonable
-from neurowalk.sim.episode import EpisodeConfig, RunInterruptedError, run_episode
+from neurowalk.sim.episode import Episode, EpisodeConfig, RunInterruptedError, run_episode
 
 Spec = dict[str, Any]
 
@@ -155,6 +155,11 @@ def run_spec(spec: Spec) -> dict[str, Any]:
         ep = run_episode(to_config(normalize(spec)))
     except RunInterruptedError:
         raise KeyboardInterrupt from None  # Ctrl-C stops the sweep; a half run is not a result
+    return result_of(ep)
+
+
+def result_of(ep: Episode) -> dict[str, Any]:
+    """A run's stored result: its summary, JSON-safe, without :data:`MACHINE_KEYS`."""
     summary = to_jsonable(ep.summary)
     for k in MACHINE_KEYS:
         summary.pop(k, None)

@@ -15,7 +15,7 @@ number of workers.
 from __future__ import annotations
 
 import sys
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -131,6 +131,57 @@ def run_sweep(specs: Iterable[Spec], store: ResultStore, *, backend: str = "loca
 
 def _backend(backend: str, fn: Callable[[Spec], Any], items: list[Spec], workers: int, address: str | None,
              retries: int) -> Any:  # fmt: skip
+    """Results (:class:`Done`, any order) of ``fn`` on ``items``: runs on engine 'warp' as the worlds of one MuJoCo
+    Warp model (in this process), the others on the backend."""
+    warp = [i for i, s in enumerate(items) if s.get("engine") == "warp"] if fn is run_spec else []
+    if not warp:
+        return _pool(backend, fn, items, workers, address, retries)
+    others = [i for i in range(len(items)) if i not in set(warp)]
+
+    def chained() -> Iterator[Done]:
+        yield from warp_runs(items, warp)
+        if others:
+            inner = _pool(backend, fn, [items[i] for i in others], workers, address, retries)
+            try:
+                for d in inner:
+                    yield Done(others[d.index], d.value, d.error, d.wall_time_s)
+            finally:
+                inner.close()
+
+    return chained()
+
+
+def warp_runs(items: list[Spec], which: list[int], worlds: int | None = None) -> Iterator[Done]:
+    """Run specs ``items[which]`` (engine 'warp') as worlds of MuJoCo Warp models, ``worlds`` at a time (default
+    4096 on a GPU, 16 on the CPU device), grouped by steps and control rate; one :class:`Done` per run, its wall
+    time the batch's divided by its worlds. A batch that raises gives each of its runs that error."""
+    import time
+
+    from neurowalk.runners.specs import result_of, to_config
+    from neurowalk.sim.warp_engine import resolve_device, run_warp
+
+    device = resolve_device()
+    worlds = worlds or (4096 if device == "cuda" else 16)
+    groups: dict[tuple[Any, Any], list[int]] = {}
+    for i in which:
+        groups.setdefault((items[i]["steps"], items[i]["control_hz"]), []).append(i)
+    for group in groups.values():
+        for c in range(0, len(group), worlds):
+            chunk = group[c : c + worlds]
+            t0 = time.perf_counter()
+            try:
+                eps = run_warp([to_config(items[i]) for i in chunk], device=device, progress=False)
+            except Exception as e:
+                for i in chunk:
+                    yield Done(i, error=e)
+                continue
+            wall = (time.perf_counter() - t0) / len(chunk)
+            for i, ep in zip(chunk, eps, strict=True):
+                yield Done(i, value=result_of(ep), wall_time_s=wall)
+
+
+def _pool(backend: str, fn: Callable[[Spec], Any], items: list[Spec], workers: int, address: str | None,
+          retries: int) -> Any:  # fmt: skip
     if backend == "ray":
         from neurowalk.runners import ray_backend
 

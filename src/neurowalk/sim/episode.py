@@ -97,6 +97,8 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
         raise ValueError("keep_rows=False needs a sink: the rows would be lost")
     if not body_info(cfg.body).physics:  # surrogate, surrogate-wheeled: the planar bodies' compiled loop
         return run_surrogate_episode(cfg, progress=progress, sink=sink, chunk=chunk)
+    if cfg.engine == "warp":
+        return _run_warp(cfg, progress, sink, chunk, resume)
     arena, body, ctrl = build(cfg, pad_boxes=pad_boxes if cfg.body == "amosii" else None)
     body_rng, ctrl_rng, _ = seeds(cfg)
     body.reset(body_rng)

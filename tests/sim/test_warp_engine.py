@@ -1,0 +1,175 @@
+"""MuJoCo Warp conformance on Warp's CPU device: the same model, sensors and loop as CPU MuJoCo, within float32.
+
+Tolerances: Warp computes in float32, MuJoCo in float64. Over the first control steps (20 physics steps each) the
+joint positions agree within 1e-4 rad / m; rangefinder readings at the same state within 1e-4 m, foot contact
+the same on/off. After that two contact-rich runs drift apart, so longer runs are compared by outcome (README).
+Marked ``warp``: CI runs them in a step of their own, with the warp extra installed.
+"""
+
+import sys
+from dataclasses import replace
+
+import mujoco
+import numpy as np
+import pytest
+
+from neurowalk.body.obstacle_slots import slot_rows, slot_world
+from neurowalk.sim.episode import EpisodeConfig, build, run_episode
+
+TILTED = EpisodeConfig(arena="box", arena_opts={"distance": 0.38, "angle": 30.0}, controller="fixed", steer=(-1, -1),
+                       steps=25, seed=7, engine="warp", noise=0.0)  # fmt: skip
+RANDOM = EpisodeConfig(arena="random", arena_opts={"n_boxes": 12, "extent": 3.0}, steps=25, seed=1, engine="warp")
+QPOS_TOL = 1e-4  # rad / m over the first 25 control steps
+US_TOL = 1e-4  # m, rangefinder at the same state
+
+
+def test_slot_rows_are_the_compiled_obstacle_geoms():
+    """Each world's obstacle rows (computed, not compiled) equal those MuJoCo compiles for that arena."""
+    from neurowalk.arenas import make_arena
+    from neurowalk.body.amosii import amosii_xml
+    from neurowalk.body.amosii_params import BodyParams
+
+    for arena in (make_arena("difficult"), make_arena("random", rng=np.random.default_rng(3)), make_arena("box")):
+        m = mujoco.MjModel.from_xml_string(amosii_xml(BodyParams(), world=slot_world(arena, 30)))
+        ids = [m.geom(f"obstacle_{k}").id for k in range(30)]
+        rows = slot_rows(arena, 30)
+        for f in ("pos", "quat", "size", "aabb", "rbound"):
+            np.testing.assert_allclose(getattr(m, f"geom_{f}")[ids], rows[f], atol=1e-12, err_msg=f)
+        assert np.all(m.geom_bodyid[ids] == 0)  # all world geoms: one structure for every arena
+
+
+def test_engine_is_a_config_field_checked_where_made():
+    with pytest.raises(ValueError, match="unknown engine 'gpu'"):
+        EpisodeConfig(engine="gpu")
+    with pytest.raises(ValueError, match="engine 'warp' runs body 'amosii'"):
+        EpisodeConfig(engine="warp", body="wheeled")
+    with pytest.raises(ValueError, match="climbing"):
+        EpisodeConfig(engine="warp", reflexes=True)
+
+
+def test_a_missing_extra_names_what_to_install(monkeypatch):
+    from neurowalk.sim import warp_engine
+
+    monkeypatch.setitem(sys.modules, "mujoco_warp", None)  # import fails as if not installed
+    with pytest.raises(ValueError, match=r"pip install 'neurowalk\[warp\]'"):
+        warp_engine.import_warp()
+
+
+def test_cli_without_the_extra_exits_2_with_one_line(monkeypatch, capsys, tmp_path):
+    from neurowalk.cli import main
+
+    monkeypatch.setitem(sys.modules, "mujoco_warp", None)
+    assert main(["run", "--engine", "warp", "--steps", "2", "--out", str(tmp_path / "r")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "neurowalk[warp]" in err[0]
+
+
+warp = pytest.mark.warp
+
+
+@pytest.fixture(scope="module")
+def wp_cpu():
+    pytest.importorskip("mujoco_warp")
+    from neurowalk.sim.warp_engine import resolve_device
+
+    return resolve_device("cpu")
+
+
+@warp
+def test_worlds_follow_cpu_mujoco(wp_cpu):
+    """Two worlds with different arenas and controllers: each within float32 of its CPU MuJoCo run."""
+    from neurowalk.sim.warp_engine import run_warp
+
+    eps = run_warp([TILTED, RANDOM], device=wp_cpu, progress=False)
+    for cfg, ep in zip((TILTED, RANDOM), eps, strict=True):
+        ref = run_episode(replace(cfg, engine="mujoco"))
+        dq = np.abs(ep.trajectory.qpos - ref.trajectory.qpos).max()
+        assert dq < QPOS_TOL, (cfg.arena, dq)
+        np.testing.assert_allclose(ep.trajectory.t, ref.trajectory.t, atol=1e-9)
+        assert ep.summary["engine"] == "warp" and ep.summary["device"] == "cpu"
+        assert ep.summary["steps"] == cfg.steps
+
+
+@warp
+def test_worlds_are_independent_and_runs_repeat(wp_cpu):
+    """A world's run does not depend on the other worlds, and the same configs give the same numbers."""
+    from neurowalk.sim.warp_engine import run_warp
+
+    alone = run_warp([RANDOM], device=wp_cpu, progress=False)[0]
+    pair = run_warp([TILTED, RANDOM], device=wp_cpu, progress=False)[1]
+    np.testing.assert_array_equal(alone.trajectory.qpos, pair.trajectory.qpos)
+    np.testing.assert_array_equal(alone.trajectory.outputs, pair.trajectory.outputs)
+
+
+@warp
+def test_sensors_equal_at_the_same_states(wp_cpu):
+    """Rangefinders and foot contacts of Warp and CPU MuJoCo at the same states (a robot walking into a tilted
+    box, seen by both rays, feet on and off the ground)."""
+    import mujoco_warp as mjw
+    import warp as wp
+
+    from neurowalk.body.amosii_sensors import sensor_layout
+    from neurowalk.sim.warp_engine import WarpEpisodes
+
+    cfg = replace(TILTED, steps=100, engine="mujoco")
+    ref = run_episode(cfg)
+    rows = [20, 60, 80, 99]  # walking, nearing the box (rays on it), touching it (first contact at 71)
+    runs = WarpEpisodes([replace(cfg, engine="warp")], device=wp_cpu)
+    runs.reset()
+    _, body, _ = build(cfg)
+    lay = sensor_layout(body.model)
+    for k in rows:
+        qpos = ref.trajectory.qpos[k]
+        body.data.qpos[:] = qpos
+        body.data.ctrl[:] = ref.trajectory.targets[k]
+        mujoco.mj_forward(body.model, body.data)
+        with wp.ScopedDevice(wp_cpu):
+            runs.wdata.qpos.assign(qpos[None].astype(np.float32))
+            runs.wdata.qvel.zero_()
+            runs.wdata.ctrl.assign(ref.trajectory.targets[k][None].astype(np.float32))
+            mjw.forward(runs.wmodel, runs.wdata)
+        sd = runs.wdata.sensordata.numpy()[0]
+        us_cpu, us_warp = body.data.sensordata[lay.us], sd[lay.us]
+        assert np.all((us_cpu < 0) == (us_warp < 0)), k  # no echo (-1) on the same rays
+        seen = us_cpu >= 0
+        np.testing.assert_allclose(us_warp[seen], us_cpu[seen], atol=US_TOL, err_msg=f"row {k}")
+        touch_cpu, touch_warp = body.data.sensordata[lay.touch] > 0, sd[lay.touch] > 0
+        np.testing.assert_array_equal(touch_warp, touch_cpu, err_msg=f"row {k}")
+    assert any((ref.trajectory.us_distance[k] < 0.4).any() for k in rows)  # the rays did see the box
+
+
+@warp
+def test_bad_devices_exit_2(wp_cpu, capsys, tmp_path):
+    import warp as wp
+
+    from neurowalk.cli import main
+
+    assert main(["run", "--engine", "warp", "--device", "tpu", "--out", str(tmp_path / "a")]) == 2
+    assert "unknown device 'tpu'" in capsys.readouterr().err
+    if wp.get_cuda_device_count() == 0:
+        assert main(["run", "--engine", "warp", "--device", "cuda", "--out", str(tmp_path / "b")]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "no CUDA GPU" in err[0]
+
+
+@warp
+def test_a_sweep_runs_warp_specs_as_worlds_of_one_model(wp_cpu, tmp_path, monkeypatch):
+    """Specs on engine 'warp' go to one Warp model, the others to the pool; each stored result is its run's."""
+    from neurowalk.runners.specs import normalize, result_of, spec_key
+    from neurowalk.runners.store import ResultStore
+    from neurowalk.runners.sweep import run_sweep
+
+    monkeypatch.setenv("NEUROWALK_WARP_DEVICE", wp_cpu)
+    specs = [{"arena": "box", "steps": 8, "seed": s, "engine": "warp"} for s in (0, 1)]
+    specs.append({"arena": "box", "steps": 8, "seed": 0})
+    with ResultStore(tmp_path / "r.sqlite") as store:
+        report = run_sweep(specs, store, workers=1, progress=False)
+        results = store.results()
+    assert report.ok == 3 and report.error == 0
+    for s in specs:
+        cfg = EpisodeConfig(arena="box", steps=8, seed=s["seed"], engine=s.get("engine", "mujoco"))
+        expect = result_of(run_episode(cfg))
+        got = results[spec_key(normalize(s))]
+        assert got["final_pose"] == pytest.approx(expect["final_pose"], abs=1e-9)
+    assert results[spec_key(normalize(specs[0]))]["engine"] == "warp"
+    assert "engine" not in results[spec_key(normalize(specs[2]))]
