@@ -20,7 +20,16 @@ def test_bench_writes_rates_and_ratios(tmp_path: Path, capsys: pytest.CaptureFix
     assert ratio > 10  # a planar body with a compiled loop must be far faster than physics
     for k in ("nthread_1", "nthread_2"):
         assert b["batch_physics"][k]["batch_physics_steps_per_s"] > 0 and b["batch_physics"][k]["speedup"] > 0
+    loop = b["closed_loop_vs_bare"]
+    ratio = loop["closed_loop_wall_s"] / loop["bare_mj_step_wall_s"]
+    assert loop["ratio_closed_loop_over_bare"] == pytest.approx(ratio) and ratio > 0
     assert "bench.json" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("bad", ["0,4", "1,x", ""])
+def test_bench_rejects_bad_worlds(bad: str, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["bench", "--engine", "warp", "--worlds", bad, "--out", "/tmp/never"]) == 2
+    assert "--worlds" in capsys.readouterr().err
 
 
 def test_bench_rejects_zero_workers(capsys: pytest.CaptureFixture[str]) -> None:

@@ -75,33 +75,100 @@ def table2_time(workers: int) -> dict[str, float]:
         t0 = time.perf_counter()
         res = run(out=Path(tmp), workers=workers)
         wall = time.perf_counter() - t0
-    return {"wall_s": wall, "environments": 50, "runs": 150, "steps_per_run": res.summary["steps"],
-            "plastic_success": res.summary["counts"]["plastic"]["success"]}  # fmt: skip
+    counts = res.summary["counts"]
+    return {"wall_s": wall, "environments": 50, "runs": 50 * len(counts), "steps_per_run": res.summary["steps"],
+            "success": {name: c["success"] for name, c in counts.items()}}  # fmt: skip
 
 
-def run_bench(*, quick: bool = False, workers: int | None = None, progress: bool = True) -> dict[str, Any]:
-    """All figures; ``quick`` shortens every measurement (for tests)."""
+def _bare(cfg: Any, targets: np.ndarray) -> float:
+    """Wall time (s) of bare ``mj_step`` replaying joint ``targets`` (steps, 19) on the config's model."""
+    from neurowalk.sim.episode import build
+
+    _, body, _ = build(cfg)
+    body.reset(np.random.default_rng(0))
+    m, d, n = body.model, body.data, body.n_substeps
+    t0 = time.perf_counter()
+    for k in range(targets.shape[0]):
+        d.ctrl[:] = targets[k]
+        mujoco.mj_step(m, d, nstep=n)
+    return time.perf_counter() - t0
+
+
+def closed_loop_ratio(steps: int = 3000, repeats: int = 5) -> dict[str, Any]:
+    """The closed loop (sensors, noise, plastic network, recording) against bare ``mj_step`` on the same model.
+
+    The baseline replays the loop's own recorded joint targets open-loop (the same motions and contacts) with
+    nothing but ``ctrl[:] = ...; mj_step(nstep)`` per control step. Median wall times over ``repeats``,
+    interleaved; the budget of the ratio is 1.15.
+    """
+    from neurowalk.sim.episode import EpisodeConfig, run_episode
+
+    cfg = EpisodeConfig(arena="box", controller="plastic", steps=steps, seed=0)
+    run_episode(EpisodeConfig(arena="box", steps=5))  # warm the compiled kernels
+    loops, bares = [], []
+    for _ in range(repeats):
+        ep = run_episode(cfg)
+        loops.append(ep.summary["wall_time_s"])
+        bares.append(_bare(cfg, ep.trajectory.targets))
+    loop, base = float(np.median(loops)), float(np.median(bares))
+    sim = steps / cfg.control_hz
+    return {"steps": steps, "repeats": repeats, "simulated_time_s": sim, "closed_loop_wall_s": loop,
+            "bare_mj_step_wall_s": base, "ratio_closed_loop_over_bare": loop / base, "ratio_budget": 1.15,
+            "real_time_factor_closed_loop": sim / loop, "real_time_factor_bare": sim / base,
+            "control_steps_per_s_closed_loop": steps / loop}  # fmt: skip
+
+
+def warp_rates(worlds: tuple[int, ...] = (1, 64, 1024, 4096), steps: int = 5, device: str | None = None,
+               progress: bool = True) -> dict[str, Any]:  # fmt: skip
+    """The closed loop on MuJoCo Warp: control and physics world-steps/s for each number of worlds.
+
+    Worlds are random arenas (as :func:`physics_rates`), plastic network; each measurement runs ``steps``
+    control steps after one untimed run of the same worlds (kernel compilation, CUDA graph capture).
+    """
+    from neurowalk.sim.episode import EpisodeConfig
+    from neurowalk.sim.warp_engine import WarpEpisodes, device_name, resolve_device
+
+    device = resolve_device(device)
+    rows = []
+    for n in worlds:
+        cfgs = [EpisodeConfig(arena="random", arena_opts=ARENA_OPTS, steps=steps, seed=s, engine="warp")
+                for s in range(n)]  # fmt: skip
+        t0 = time.perf_counter()
+        runs = WarpEpisodes(cfgs, device=device)
+        build = time.perf_counter() - t0
+        runs.run()  # untimed: compile, capture
+        t0 = time.perf_counter()
+        runs.run()
+        wall = time.perf_counter() - t0
+        rows.append({"worlds": n, "control_steps": steps, "wall_s": wall, "build_s": build,
+                     "control_steps_per_s": n * steps / wall,
+                     "physics_steps_per_s": n * steps * runs.n_substeps / wall,
+                     "physics_share": runs.timing["physics"] / max(sum(runs.timing.values()), 1e-12)})  # fmt: skip
+        if progress:
+            print(f"warp {device}: {n} worlds, {rows[-1]['control_steps_per_s']:.0f} control steps/s", flush=True)
+    return {"device": device, "device_name": device_name(device), "rows": rows}
+
+
+def run_bench(*, quick: bool = False, workers: int | None = None, progress: bool = True, engine: str = "mujoco",
+              device: str | None = None, worlds: tuple[int, ...] = (1, 64, 1024, 4096)) -> dict[str, Any]:  # fmt: skip
+    """All figures; ``quick`` shortens every measurement (for tests). ``engine`` 'warp': MuJoCo Warp's rates for
+    each of ``worlds`` on ``device`` beside the CPU loop and batch (no surrogate figures then)."""
     from neurowalk.sim.batch import measure_throughput
 
     cores = os.cpu_count() or 1
     workers = workers or min(cores, 8)
     steps, seeds = (200, 1) if quick else (2000, 3)
     phys = physics_rates(steps, seeds)
-    sur = surrogate_rates(2000 if quick else 20000, 2 if quick else 10, workers)
+    loop = closed_loop_ratio(300 if quick else 3000, 1 if quick else 5)
     batch: dict[str, Any] = {}
     for nthread in sorted({1, workers}):
-        b = measure_throughput(n_copies=2 if quick else 8, steps=50 if quick else 300, nthread=nthread)
+        b = measure_throughput(n_copies=2 if quick else 16, steps=50 if quick else 300, nthread=nthread)
         batch[f"nthread_{nthread}"] = b
-    out = {
+    out: dict[str, Any] = {
         "machine": {"cores": cores, "platform": platform.platform(), "python": platform.python_version(),
                     "mujoco": mujoco.__version__, "neurowalk": neurowalk.__version__},
         "physics": phys,
-        "surrogate": sur,
-        "surrogate_vs_physics": {
-            "one_process": sur["env_steps_per_s_one_process"] / phys["control_steps_per_s"],
-            "pool": sur["env_steps_per_s_pool"] / phys["control_steps_per_s"],
-            "aim": 1000,
-        },
+        "closed_loop_vs_bare": loop,
         "batch_physics": {
             **batch,
             "speedup_vs_single_loop": {k: v.get("speedup") for k, v in batch.items()},
@@ -109,6 +176,19 @@ def run_bench(*, quick: bool = False, workers: int | None = None, progress: bool
         },
         "quick": quick,
     }  # fmt: skip
+    if engine == "warp":
+        w = warp_rates(worlds, 2 if quick else 5, device, progress)
+        best = max(r["control_steps_per_s"] for r in w["rows"])
+        cpu = phys["control_steps_per_s"]
+        w["vs_cpu_loop"] = {"best_control_steps_per_s": best, "cpu_loop_control_steps_per_s": cpu,
+                            "ratio": best / cpu, "aim_on_a_gpu": 100}  # fmt: skip
+        out["warp"] = w
+        return out
+    sur = surrogate_rates(2000 if quick else 20000, 2 if quick else 10, workers)
+    out["surrogate"] = sur
+    cpu = phys["control_steps_per_s"]
+    out["surrogate_vs_physics"] = {"one_process": sur["env_steps_per_s_one_process"] / cpu,
+                                   "pool": sur["env_steps_per_s_pool"] / cpu, "aim": 1000}  # fmt: skip
     if not quick:
         out["table2_surrogate"] = table2_time(workers)
         out["table2_surrogate"]["aim_s"] = 60

@@ -173,3 +173,16 @@ def test_a_sweep_runs_warp_specs_as_worlds_of_one_model(wp_cpu, tmp_path, monkey
         assert got["final_pose"] == pytest.approx(expect["final_pose"], abs=1e-9)
     assert results[spec_key(normalize(specs[0]))]["engine"] == "warp"
     assert "engine" not in results[spec_key(normalize(specs[2]))]
+
+
+@warp
+def test_bench_measures_warp_beside_nothing_else_it_needs(wp_cpu):
+    """`neurowalk bench --engine warp`'s measurement: one row per number of worlds, rates from the timed run."""
+    from neurowalk.bench import warp_rates
+
+    r = warp_rates((1, 3), steps=1, device=wp_cpu, progress=False)
+    assert r["device"] == "cpu" and r["device_name"].startswith("cpu")
+    assert [row["worlds"] for row in r["rows"]] == [1, 3]
+    for row in r["rows"]:
+        assert row["control_steps_per_s"] == pytest.approx(row["worlds"] * row["control_steps"] / row["wall_s"])
+        assert row["physics_steps_per_s"] == pytest.approx(20 * row["control_steps_per_s"])

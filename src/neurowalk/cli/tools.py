@@ -6,7 +6,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from neurowalk.cli.common import UsageError, out_file, out_folder, parse_arena_opts
+from neurowalk.cli.common import UsageError, check_engine, engine_args, out_file, out_folder, parse_arena_opts
 
 
 def add_tool_parsers(sub: argparse._SubParsersAction) -> None:
@@ -23,6 +23,8 @@ def add_tool_parsers(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--out", type=Path, default=Path("out/bench"), help="output folder (default out/bench)")
     b.add_argument("--quick", action="store_true", help="short measurements (a smoke test)")
     b.add_argument("--workers", type=int, default=None, help="processes / threads (default: the cores, up to 8)")
+    engine_args(b)
+    b.add_argument("--worlds", default="1,64,1024,4096", help="engine warp: numbers of worlds to measure (comma list)")
 
     sub.add_parser("arenas", help="list the arenas and their options")
     sub.add_parser("bodies", help="list the bodies: sensors, actuators, what they take, options")
@@ -67,16 +69,30 @@ def cmd_bench(args: argparse.Namespace) -> int:
     """`neurowalk bench`: the performance figures into DIR/bench.json."""
     if args.workers is not None and args.workers < 1:
         raise UsageError(f"--workers must be >= 1, got {args.workers}")
+    try:
+        worlds = tuple(int(w) for w in args.worlds.split(","))
+    except ValueError:
+        raise UsageError(f"--worlds expects whole numbers separated by commas, got {args.worlds!r}") from None
+    if not worlds or min(worlds) < 1:
+        raise UsageError(f"--worlds expects numbers >= 1, got {args.worlds!r}")
+    check_engine(args)
     from neurowalk.bench import run_bench
     from neurowalk.fileio import write_json
 
     out_folder(args.out)
-    r = run_bench(quick=args.quick, workers=args.workers)
+    r = run_bench(quick=args.quick, workers=args.workers, engine=args.engine, device=args.device, worlds=worlds)
     write_json(args.out / "bench.json", r)
     b = r["batch_physics"]["speedup_vs_single_loop"]
-    line = (f"physics {r['physics']['control_steps_per_s']:.0f} control steps/s; surrogate "
-            f"{r['surrogate']['env_steps_per_s_pool']:.3g} env steps/s ({r['surrogate_vs_physics']['pool']:.0f}x); "
+    line = (f"physics {r['physics']['control_steps_per_s']:.0f} control steps/s, closed loop / bare mj_step "
+            f"{r['closed_loop_vs_bare']['ratio_closed_loop_over_bare']:.2f}; "
             f"mujoco.batch speed-up {', '.join(f'{k} {v:.2f}x' for k, v in b.items())}")  # fmt: skip
+    if "surrogate" in r:
+        line += (f"; surrogate {r['surrogate']['env_steps_per_s_pool']:.3g} env steps/s "
+                 f"({r['surrogate_vs_physics']['pool']:.0f}x)")  # fmt: skip
+    if "warp" in r:
+        w = r["warp"]
+        line += (f"; warp on {w['device_name']}: best {w['vs_cpu_loop']['best_control_steps_per_s']:.0f} control "
+                 f"steps/s ({w['vs_cpu_loop']['ratio']:.2f}x the CPU loop)")  # fmt: skip
     if "table2_surrogate" in r:
         line += f"; Table 2 (50 environments, surrogate) {r['table2_surrogate']['wall_s']:.1f} s"
     print(f"{line}; wrote {args.out / 'bench.json'}")
