@@ -7,7 +7,15 @@ import sys
 import time
 from pathlib import Path
 
-from neurowalk.cli.common import UsageError, out_folder, parse_arena_opts, parse_variant, variant_args
+from neurowalk.cli.common import (
+    UsageError,
+    check_engine,
+    engine_args,
+    out_folder,
+    parse_arena_opts,
+    parse_variant,
+    variant_args,
+)
 
 
 def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
@@ -33,6 +41,7 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--export", choices=("parquet", "csv"), default=None, help="also write DIR/results.parquet|csv")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     variant_args(s, many=True)
+    engine_args(s)
 
 
 _GRID_FLAGS = ("arena", "controller", "body", "seeds", "seed_start", "steps", "arena_opt", "variant", "params", "gait")
@@ -44,6 +53,7 @@ def _sweep_specs(args: argparse.Namespace) -> list[dict]:
 
     if args.specs is not None:
         given = [f"--{f.replace('_', '-')}" for f in _GRID_FLAGS if getattr(args, f) not in (None, [])]
+        given += ["--engine"] if args.engine != "mujoco" else []  # a spec names its own engine
         if given:
             raise UsageError(f"--specs replaces the grid options; drop {', '.join(given)}")
         try:
@@ -69,6 +79,8 @@ def _sweep_specs(args: argparse.Namespace) -> list[dict]:
     for key, values in parse_arena_opts(args.arena_opt).items():
         axes[f"arena_opts.{key}"] = values.split(",")
     base: dict = {} if args.steps is None else {"steps": args.steps}
+    if args.engine != "mujoco":
+        base["engine"] = args.engine
     variants = [v.strip() for v in args.variant.split(",")] if args.variant is not None else []
     if not all(variants):
         raise UsageError(f"--variant expects NAME[,NAME...], got {args.variant!r}")
@@ -101,6 +113,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         raise UsageError(f"--retries must be >= 0, got {args.retries}")
     if args.address and args.backend != "ray":
         raise UsageError(f"--address {args.address!r} goes with --backend ray")
+    check_engine(args)
     specs = _sweep_specs(args)
     try:
         check_specs(specs)  # every bad name or value exits here, before any work
