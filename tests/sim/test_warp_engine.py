@@ -186,3 +186,15 @@ def test_bench_measures_warp_beside_nothing_else_it_needs(wp_cpu):
     for row in r["rows"]:
         assert row["control_steps_per_s"] == pytest.approx(row["worlds"] * row["control_steps"] / row["wall_s"])
         assert row["physics_steps_per_s"] == pytest.approx(20 * row["control_steps_per_s"])
+
+
+@warp
+def test_run_many_puts_warp_configs_into_one_model_and_keeps_the_order(wp_cpu, monkeypatch):
+    from neurowalk.runners.local import run_many
+
+    monkeypatch.setenv("NEUROWALK_WARP_DEVICE", wp_cpu)
+    cfgs = [EpisodeConfig(arena="box", steps=6, seed=s, engine=e) for s, e in ((0, "warp"), (1, "mujoco"), (2, "warp"))]
+    got = run_many(cfgs, workers=1, progress=False)
+    for cfg, summary in zip(cfgs, got, strict=True):
+        assert summary["final_pose"] == run_episode(cfg).summary["final_pose"]
+        assert summary.get("engine", "mujoco") == cfg.engine

@@ -9,7 +9,15 @@ import time
 from collections.abc import Mapping
 from pathlib import Path
 
-from neurowalk.cli.common import UsageError, out_folder, parse_arena_opts, parse_variant, variant_args
+from neurowalk.cli.common import (
+    UsageError,
+    check_engine,
+    engine_args,
+    out_folder,
+    parse_arena_opts,
+    parse_variant,
+    variant_args,
+)
 
 # The figure flags that only some figures take: flag -> (the parameter of the figure's run() that takes it, which
 # figures do, for the message).
@@ -21,6 +29,7 @@ _TAKES = {
     "--gait": ("gait", " (fig3, fig5 and escape-map do)"),
     "--video": ("video", " (fig8 and fig9 do)"),
     "--arena-opt": ("size", " (table2 and fig6 take size=M)"),
+    "--engine": ("engine", " (fig3, fig5 and table2 do)"),
 }
 
 
@@ -52,6 +61,7 @@ def add_figure_parser(sub: argparse._SubParsersAction) -> None:
     f.add_argument("--video", action="store_true", help="also write the example runs' videos (fig8, fig9)")
     f.add_argument("--arena-opt", action="append", default=[], metavar="size=M",
                    help="box side of the random environments (table2, fig6; default 1 m, the authors')")  # fmt: skip
+    engine_args(f)
 
 
 def _check_takes(name: str, params: Mapping[str, object], flag: str, given: str = "", ok: bool = True) -> None:
@@ -121,6 +131,10 @@ def cmd_figure(args: argparse.Namespace) -> int:
 
             takes("--gait")
             kwargs["gait"] = known("gait", args.gait, tuple(GAITS))
+        if args.engine != "mujoco" or args.device is not None:
+            takes("--engine")
+            check_engine(args)
+            kwargs["engine"] = args.engine
         if args.video:
             takes("--video")
             kwargs["video"] = True

@@ -55,11 +55,12 @@ def keep_outcome(ep: Episode) -> dict[str, Any]:
 
 def outcome_table(seeds: int, *, first_seed: int = 0, variants: dict | None = None, workers: int = 2,
                   progress: bool = True, body: str = "amosii", climbing: bool = False,
-                  variant: str = "paper", gait: str = "wave") -> dict:  # fmt: skip
+                  variant: str = "paper", gait: str = "wave", engine: str = "mujoco") -> dict:  # fmt: skip
     """Escape counts per variant and network over seeds ``first_seed`` ... ``first_seed + seeds - 1``.
 
     ``climbing``: run with the leg reflexes and backbone control switched on. ``variant``: the networks'
-    variant (``paper`` or ``original``; see :mod:`neurowalk.neural.variants`).
+    variant (``paper`` or ``original``; see :mod:`neurowalk.neural.variants`). ``engine``: ``mujoco`` or ``warp``
+    (the runs as the worlds of one MuJoCo Warp model).
 
     ``runs`` lists every run as [variant, network, seed, escaped, trapped].
     """
@@ -71,7 +72,7 @@ def outcome_table(seeds: int, *, first_seed: int = 0, variants: dict | None = No
                 keys.append((vname, nname))
                 configs.append(EpisodeConfig(arena=arena, arena_opts=opts, steps=TRAP_STEPS, seed=seed, body=body,
                                              reflexes=climbing, backbone=climbing, variant=variant, gait=gait,
-                                             **net))  # fmt: skip
+                                             engine=engine, **net))  # fmt: skip
     results = run_many(configs, workers=workers, progress=progress, keep=keep_outcome, desc=f"dead ends ({body})")
     table: dict[str, dict[str, dict[str, Any]]] = {}
     runs = []
@@ -87,7 +88,7 @@ def outcome_table(seeds: int, *, first_seed: int = 0, variants: dict | None = No
             cell["median_direction_switches"] = float(np.median(cell.pop("switches")))
     described = {k: {"arena": a, "options": o} for k, (a, o) in variants.items()}
     return {"seeds": seeds, "first_seed": first_seed, "steps": TRAP_STEPS, "body": body, "climbing": climbing,
-            "variants": described, "network_variant": variant, "gait": gait,
+            "variants": described, "network_variant": variant, "gait": gait, "engine": engine,
             "counts": table, "runs": runs,
             "rule": "escaped: the trunk centre reached the exit region behind the trap's mouth within the steps; "
                     "trapped: the last 3000 steps stayed within a disc of radius 0.5 m"}  # fmt: skip
@@ -96,39 +97,42 @@ def outcome_table(seeds: int, *, first_seed: int = 0, variants: dict | None = No
 def example_and_long_runs(network: str, long_runs: dict[str, dict[str, Any]], long_steps: int, *, seed: int = 0,
                           workers: int = 2, progress: bool = True,
                           climbing: bool = False, variant: str = "paper", gait: str = "wave",
-                          ) -> dict[str, dict[str, Any]]:  # fmt: skip
+                          engine: str = "mujoco") -> dict[str, dict[str, Any]]:  # fmt: skip
     """Traces of ``network`` in both dead ends, and the long runs {name: config kwargs}, all with ``seed``.
 
     ``climbing``: leg reflexes and backbone control on; the original arenas' boxes are then raised to
     :data:`~neurowalk.arenas.spec.WALL_HEIGHT` (their 0.10 m boxes would be climbable steps).
     """
-    net = {**NETWORKS[network], "reflexes": climbing, "backbone": climbing, "variant": variant, "gait": gait}
+    net = {**NETWORKS[network], "reflexes": climbing, "backbone": climbing, "variant": variant, "gait": gait,
+           "engine": engine}  # fmt: skip
     runs = {"simple-deadlock": EpisodeConfig(arena="simple-deadlock", steps=TRAP_STEPS, seed=seed, **net),
             "narrow-passage": EpisodeConfig(arena="narrow-passage", steps=TRAP_STEPS, seed=seed, **net)}  # fmt: skip
     for k, v in long_runs.items():
         opts = {"height": WALL_HEIGHT} if climbing else {}
         runs[k] = EpisodeConfig(steps=long_steps, seed=seed, arena_opts=opts, reflexes=climbing, backbone=climbing,
-                                variant=variant, gait=gait, **v)  # fmt: skip
+                                variant=variant, gait=gait, engine=engine, **v)  # fmt: skip
     out = run_many(list(runs.values()), workers=workers, progress=progress, keep=keep_traces, desc="example runs")
     return dict(zip(runs, out, strict=True))
 
 
 def build(name: str, network: str, long_runs: dict, *, quick: bool, seed: int, seeds: int | None,
-          climbing: bool = False, variant: str = "paper", gait: str = "wave") -> Result:  # fmt: skip
+          climbing: bool = False, variant: str = "paper", gait: str = "wave",
+          engine: str = "mujoco") -> Result:  # fmt: skip
     """Shared by Fig. 3 and Fig. 5: outcome table, example runs, long runs (``climbing``: modules of Fig. 10 on).
 
-    ``variant``: every network runs as this variant (``paper`` or ``original``).
+    ``variant``: every network runs as this variant (``paper`` or ``original``). ``engine``: mujoco or warp.
     """
     n_seeds = seeds if seeds is not None else (3 if quick else 10)
     if n_seeds < 1:
         raise ValueError(f"seeds must be >= 1, got {n_seeds}")
     long_steps = 10000 if quick else 30000
-    table = outcome_table(n_seeds, first_seed=seed, climbing=climbing, variant=variant, gait=gait)
+    table = outcome_table(n_seeds, first_seed=seed, climbing=climbing, variant=variant, gait=gait, engine=engine)
     runs = example_and_long_runs(
-        network, long_runs, long_steps, seed=seed, climbing=climbing, variant=variant, gait=gait
+        network, long_runs, long_steps, seed=seed, climbing=climbing, variant=variant, gait=gait, engine=engine
     )
     arrays = {f"{k}/{field}": v[field] for k, v in runs.items() for field in ("pose", "inputs", "outputs", "b", "q")}
-    summary = {"network": network, "variant": variant, "gait": gait, "seed": seed, "climbing": climbing, "table": table,
+    summary = {"network": network, "variant": variant, "gait": gait, "engine": engine, "seed": seed,
+               "climbing": climbing, "table": table,
                "long_steps": long_steps,
                "runs": {k: v["summary"] for k, v in runs.items()},
                "wedged": wedged_counts({k: runs[k]["summary"] for k in long_runs})}  # fmt: skip

@@ -32,14 +32,25 @@ def run(
     climbing: bool = False,
     variant: str = "paper",
     gait: str = "wave",
+    engine: str = "mujoco",
 ) -> Result:
     """Outcome table over ``seeds`` seeds (default 10; 3 with ``quick``), example and long runs.
 
     ``climbing``: with the leg reflexes and backbone control of Fig. 10 switched on. ``variant``: the networks'
-    variant (``paper`` or ``original``). ``gait``: the locomotion network's gait (``wave`` by default).
+    variant (``paper`` or ``original``). ``gait``: the locomotion network's gait (``wave`` by default). ``engine``:
+    ``mujoco`` (default) or ``warp`` (MuJoCo Warp, the runs as worlds of one model).
     """
     return build(
-        NAME, NETWORK, LONG, quick=quick, seed=seed, seeds=seeds, climbing=climbing, variant=variant, gait=gait
+        NAME,
+        NETWORK,
+        LONG,
+        quick=quick,
+        seed=seed,
+        seeds=seeds,
+        climbing=climbing,
+        variant=variant,
+        gait=gait,
+        engine=engine,
     )
 
 

@@ -35,13 +35,26 @@ def run(
     climbing: bool = False,
     variant: str = "paper",
     gait: str = "wave",
+    engine: str = "mujoco",
 ) -> Result:
     """Outcome table over ``seeds`` seeds (default 10; 3 with ``quick``), example and long runs.
 
     ``climbing``: with the leg reflexes and backbone control of Fig. 10 switched on. ``variant``: the networks'
-    variant (``paper`` or ``original``). ``gait``: the locomotion network's gait (``wave`` by default).
+    variant (``paper`` or ``original``). ``gait``: the locomotion network's gait (``wave`` by default). ``engine``:
+    ``mujoco`` (default) or ``warp`` (MuJoCo Warp, the runs as worlds of one model).
     """
-    res = build(NAME, NETWORK, LONG, quick=quick, seed=seed, seeds=seeds, climbing=climbing, variant=variant, gait=gait)
+    res = build(
+        NAME,
+        NETWORK,
+        LONG,
+        quick=quick,
+        seed=seed,
+        seeds=seeds,
+        climbing=climbing,
+        variant=variant,
+        gait=gait,
+        engine=engine,
+    )
     runs = res.summary["runs"]
     p, s = runs["difficult (plastic)"], runs["difficult (static)"]
     res.summary["difficult_comparison"] = {

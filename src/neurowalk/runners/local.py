@@ -214,13 +214,26 @@ def run_many(configs: Sequence[EpisodeConfig], *, workers: int = 2, progress: bo
 
     jobs = [(c, keep) for c in configs]
     out: list[Any] = [None] * len(jobs)
+    warp = [i for i, c in enumerate(configs) if c.engine == "warp"]
+    if warp:  # as the worlds of MuJoCo Warp models, here (the device is this process's)
+        from neurowalk.runners.sweep import warp_groups
+        from neurowalk.sim.warp_engine import run_warp
+
+        for chunk, device in warp_groups([(configs[i].steps, configs[i].control_hz) for i in warp]):
+            eps = run_warp([configs[warp[j]] for j in chunk], device=device, progress=progress)
+            for j, ep in zip(chunk, eps, strict=True):
+                out[warp[j]] = keep(ep)
+        jobs = [jobs[i] for i in range(len(jobs)) if i not in set(warp)]
+        if not jobs:
+            return out
+    rest = [i for i, c in enumerate(configs) if c.engine != "warp"]
     with tqdm(total=len(jobs), unit="run", desc=desc, disable=not progress, mininterval=0.5) as bar:
         results = run_unordered(_one, jobs, workers=1 if len(jobs) <= 1 else workers)
         try:
             for d in results:
                 if d.error is not None:
                     raise d.error
-                out[d.index] = d.value
+                out[rest[d.index]] = d.value
                 bar.update(1)
         finally:
             results.close()  # stops the pool at once on an error

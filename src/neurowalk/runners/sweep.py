@@ -151,33 +151,42 @@ def _backend(backend: str, fn: Callable[[Spec], Any], items: list[Spec], workers
     return chained()
 
 
-def warp_runs(items: list[Spec], which: list[int], worlds: int | None = None) -> Iterator[Done]:
-    """Run specs ``items[which]`` (engine 'warp') as worlds of MuJoCo Warp models, ``worlds`` at a time (default
-    4096 on a GPU, 16 on the CPU device), grouped by steps and control rate; one :class:`Done` per run, its wall
-    time the batch's divided by its worlds. A batch that raises gives each of its runs that error."""
-    import time
-
-    from neurowalk.runners.specs import result_of, to_config
-    from neurowalk.sim.warp_engine import resolve_device, run_warp
+def warp_groups(keys: list[tuple[Any, Any]], worlds: int | None = None) -> Iterator[tuple[list[int], str]]:
+    """Indices of runs that can share one MuJoCo Warp model (same ``keys[i]``: steps and control rate), at most
+    ``worlds`` at a time (default 4096 on a GPU, 16 on the CPU device), with the device to run them on."""
+    from neurowalk.sim.warp_engine import resolve_device
 
     device = resolve_device()
     worlds = worlds or (4096 if device == "cuda" else 16)
     groups: dict[tuple[Any, Any], list[int]] = {}
-    for i in which:
-        groups.setdefault((items[i]["steps"], items[i]["control_hz"]), []).append(i)
+    for i, key in enumerate(keys):
+        groups.setdefault(key, []).append(i)
     for group in groups.values():
         for c in range(0, len(group), worlds):
-            chunk = group[c : c + worlds]
-            t0 = time.perf_counter()
-            try:
-                eps = run_warp([to_config(items[i]) for i in chunk], device=device, progress=False)
-            except Exception as e:
-                for i in chunk:
-                    yield Done(i, error=e)
-                continue
-            wall = (time.perf_counter() - t0) / len(chunk)
-            for i, ep in zip(chunk, eps, strict=True):
-                yield Done(i, value=result_of(ep), wall_time_s=wall)
+            yield group[c : c + worlds], device
+
+
+def warp_runs(items: list[Spec], which: list[int], worlds: int | None = None) -> Iterator[Done]:
+    """Run specs ``items[which]`` (engine 'warp') as the worlds of MuJoCo Warp models (:func:`warp_groups`); one
+    :class:`Done` per run, its wall time the batch's divided by its worlds. A batch that raises gives each of its
+    runs that error."""
+    import time
+
+    from neurowalk.runners.specs import result_of, to_config
+    from neurowalk.sim.warp_engine import run_warp
+
+    for chunk, device in warp_groups([(items[i]["steps"], items[i]["control_hz"]) for i in which], worlds):
+        runs = [which[j] for j in chunk]
+        t0 = time.perf_counter()
+        try:
+            eps = run_warp([to_config(items[i]) for i in runs], device=device, progress=False)
+        except Exception as e:
+            for i in runs:
+                yield Done(i, error=e)
+            continue
+        wall = (time.perf_counter() - t0) / len(runs)
+        for i, ep in zip(runs, eps, strict=True):
+            yield Done(i, value=result_of(ep), wall_time_s=wall)
 
 
 def _pool(backend: str, fn: Callable[[Spec], Any], items: list[Spec], workers: int, address: str | None,
