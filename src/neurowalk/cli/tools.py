@@ -60,7 +60,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     v = cal.meta["validation"]
     print(f"calibration of {sub.surrogate} on {args.body}: lag {cal.tau_s} s + {cal.delay_steps} steps, "
           f"start-up {cal.startup_steps} steps; "
-          f"held-out error max {v['speed_error_max']:.1%} (speed), {v['yaw_rate_error_max']:.1%} (turning); "
+          f"held-out error max {v['speed_error_max']:.2%} (speed), {v['yaw_rate_error_max']:.2%} (turning); "
           f"wrote {args.out}, {png}")  # fmt: skip
     return 0
 
