@@ -53,7 +53,8 @@ def add_figure_parser(sub: argparse._SubParsersAction) -> None:
         "--seeds", type=int, default=None, help="number of seeds per condition (figures with outcome tables)"
     )
     f.add_argument("--replot", action="store_true", help="redraw from DIR/NAME.json and .npz without rerunning")
-    f.add_argument("--body", default=None, help="amosii | surrogate (figures that run on either; default per figure)")
+    f.add_argument("--body", default=None, help="amosii | surrogate | wheeled | surrogate-wheeled (figures that "
+                   "take a body; default per figure; see `neurowalk bodies`)")  # fmt: skip
     climb = "leg reflexes and backbone control on (fig3 fig5 escape-map table2; default out: out/NAME-climb)"
     f.add_argument("--climb", action="store_true", help=climb)
     variant_args(f)
