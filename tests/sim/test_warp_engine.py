@@ -198,3 +198,29 @@ def test_run_many_puts_warp_configs_into_one_model_and_keeps_the_order(wp_cpu, m
     for cfg, summary in zip(cfgs, got, strict=True):
         assert summary["final_pose"] == run_episode(cfg).summary["final_pose"]
         assert summary.get("engine", "mujoco") == cfg.engine
+
+
+@warp
+def test_walking_and_turning_in_the_open_match_cpu_mujoco(wp_cpu):
+    """No obstacles (no obstacle slots at all): Table 1's forward walk and left turn go as on CPU MuJoCo."""
+    from neurowalk.sim.warp_engine import run_warp
+
+    cfgs = [EpisodeConfig(arena="open", controller="fixed", steer=s, steps=150, engine="warp", noise=0.0)
+            for s in ((-1.0, -1.0), (-1.0, 1.0))]  # fmt: skip
+    for cfg, ep in zip(cfgs, run_warp(cfgs, device=wp_cpu, progress=False), strict=True):
+        ref = run_episode(replace(cfg, engine="mujoco")).trajectory.pose
+        np.testing.assert_allclose(ep.trajectory.pose, ref, atol=1e-3)
+
+
+def test_figures_take_the_engine_where_they_can(capsys, tmp_path):
+    from neurowalk.cli import main
+    from neurowalk.experiments.table2 import run
+
+    with pytest.raises(ValueError, match="engine 'warp' runs body 'amosii'"):
+        run(body="surrogate", engine="warp", out=tmp_path / "t")
+    assert main(["figure", "table2", "--engine", "warp", "--body", "surrogate", "--out", str(tmp_path / "a")]) == 2
+    assert capsys.readouterr().err.strip().splitlines() == [
+        "neurowalk: error: --engine warp runs --body amosii, got --body 'surrogate'"
+    ]
+    assert main(["figure", "fig6", "--engine", "warp", "--out", str(tmp_path / "b")]) == 2
+    assert "takes no --engine" in capsys.readouterr().err

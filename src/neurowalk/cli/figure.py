@@ -134,6 +134,10 @@ def cmd_figure(args: argparse.Namespace) -> int:
             kwargs["gait"] = known("gait", args.gait, tuple(GAITS))
         if args.engine != "mujoco" or args.device is not None:
             takes("--engine")
+            if "body" in params and args.engine == "warp":  # Warp runs the physics AMOSII
+                if kwargs.get("body", "amosii") != "amosii":
+                    raise UsageError(f"--engine warp runs --body amosii, got --body {kwargs['body']!r}")
+                kwargs["body"] = "amosii"
             check_engine(args)
             kwargs["engine"] = args.engine
         if args.video:

@@ -52,13 +52,15 @@ def rows(variant: str | None = None, params: dict[str, float] | None = None) -> 
 @register("table2", "random environments: success and failure counts per network (paper Table 2)")
 def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: str = "surrogate",
         out: Path | None = None, workers: int = 2, climbing: bool = False, size: float = SIZE,
-        variant: str | None = None, params: dict[str, float] | None = None) -> Result:  # fmt: skip
+        variant: str | None = None, params: dict[str, float] | None = None,
+        engine: str = "mujoco") -> Result:  # fmt: skip
     """``seeds`` environments (default 50; 10 with ``quick``) x the rows, through a resumable store in ``out``.
 
     ``size``: box side (m; the authors' 1 m by default). ``climbing``: leg reflexes and backbone control on
     (physics body only). ``variant``/``params``: an extra plastic row (``--params FILE``). A physics body with a
     calibrated surrogate (AMOSII: ``surrogate``, wheeled: ``surrogate-wheeled``) runs it beside, environment for
-    environment (``surrogate_agreement``).
+    environment (``surrogate_agreement``). ``engine``: ``warp`` runs the AMOSII physics rows on MuJoCo Warp, every
+    environment a world of one model (``--engine warp``; a GPU makes 1000 environments in physics practical).
     """
     from neurowalk.body.registry import body_info
     from neurowalk.experiments.climbing import run_store
@@ -67,6 +69,8 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
     n = seeds if seeds is not None else (10 if quick else 50)
     if n < 1:
         raise ValueError(f"seeds (environments) must be >= 1, got {n}")
+    if engine != "mujoco" and body != "amosii":
+        raise ValueError(f"engine {engine!r} runs body 'amosii', got body {body!r}")
     if climbing and body != "amosii":
         raise ValueError(f"climbing needs body 'amosii' (the surrogate has no legs), got body {body!r}")
     steps = QUICK_STEPS if quick else STEPS
@@ -74,8 +78,9 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
     envs = environments(n, seed)
 
     def spec_of(e: dict[str, Any], r: dict[str, Any], b: str) -> dict[str, Any]:
-        return spec(e, r["controller"], steps, b, climbing and b == body, variant=r["variant"], size=size,
-                    params=r["params"])  # fmt: skip
+        s = spec(e, r["controller"], steps, b, climbing and b == body, variant=r["variant"], size=size,
+                 params=r["params"])  # fmt: skip
+        return {**s, "engine": engine} if b == "amosii" and engine != "mujoco" else s
 
     surrogate = body_info(body).surrogate  # its own surrogate beside a physics body (amosii, wheeled)
     bodies = [body] if surrogate is None else [body, surrogate]
@@ -94,7 +99,7 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
         agreement = {name: _agreement(env_rows, sur, name) for name in table}
     paper = {**PAPER, "success_rate": PAPER["success"] / PAPER["environments"],
              "success_rate_95ci": list(wilson(PAPER["success"], PAPER["environments"]))}  # fmt: skip
-    summary = {"body": body, "climbing": climbing, "steps": steps, "seed": seed, "boxes": list(BOXES),
+    summary = {"body": body, "engine": engine, "climbing": climbing, "steps": steps, "seed": seed, "boxes": list(BOXES),
                "box_size_m": size, "rule": RULE, "failure_rule": FAILURE_RULE,
                "interval": "Wilson score interval, 95%", "counts": counts, "environments": env_rows,
                "paper": paper, "store": str(folder / "results.sqlite"), "sweep": report.counts(),

@@ -25,7 +25,6 @@ from __future__ import annotations
 import math
 import os
 import sys
-import warnings
 from collections.abc import Sequence
 from typing import Any
 
@@ -77,8 +76,8 @@ def resolve_device(device: str | None = None) -> str:
     if device is None:
         device = "cuda" if has_cuda else "cpu"
         if device == "cpu":
-            warnings.warn("engine 'warp': no CUDA GPU, running on Warp's CPU device (slow; --device cpu to "
-                          "silence this)", stacklevel=2)  # fmt: skip
+            print("neurowalk: engine 'warp': no CUDA GPU here, running on Warp's CPU device (slow; --device cpu "
+                  "to choose it and silence this)", file=sys.stderr)  # fmt: skip
     return device
 
 
@@ -148,7 +147,7 @@ class WarpEpisodes(BatchEpisodes):
                     [build_controller(c) for c in self.configs], noises, compiled)  # fmt: skip
         if not self.controllers.compiled:
             raise ValueError("engine 'warp' steps the controllers compiled only (plastic, static, braitenberg, fixed)")
-        slots = np.array([model.geom(f"obstacle_{k}").id for k in range(self.max_boxes)])
+        slots = np.array([model.geom(f"obstacle_{k}").id for k in range(self.max_boxes)], dtype=int)
         rows = [slot_rows(a, self.max_boxes) for a in self.arenas]
         with wp.ScopedDevice(self.device):
             self.wmodel = mjw.put_model(model, batch_sizes={f"geom_{f}": n for f in GEOM_FIELDS})
