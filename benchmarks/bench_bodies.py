@@ -6,9 +6,9 @@ observe, act, apply and advance (the loop of ``neurowalk.sim``, without recordin
 * ``fixed`` (the headline): a constant steering ``--steer`` (default (-1, -1), forward). The wheeled body takes it
   in ``apply``; AMOSII takes the joint targets of :class:`~neurowalk.controller.FixedController` (the locomotion
   network driven by that steering).
-* ``plastic``: the plastic sensory network closes the loop. AMOSII runs
-  :class:`~neurowalk.controller.NeuralController` (sensory and locomotion networks); the wheeled body needs only the
-  steering, so it runs the same controller's sensory network alone and applies its outputs (O1, O2).
+* ``plastic``: the plastic sensory network closes the loop through
+  :class:`~neurowalk.controller.NeuralController`'s compiled ``act`` (sensory and locomotion networks, as
+  ``neurowalk run`` does for every body): AMOSII takes its joint targets, the wheeled body its steering (O1, O2).
 
 Each body and loop is timed ``--repeats`` times in alternation (after one untimed warm-up run, which also compiles
 the networks); the median is reported. Target of issue 17: wheeled at least 5x AMOSII's control steps per second.
@@ -62,12 +62,11 @@ def _wheeled_loop(arena: ArenaSpec, steer: np.ndarray | None, steps: int) -> flo
             body.apply(steer)
             body.advance()
         return time.perf_counter() - t0
-    net = NeuralController("plastic").sensory
-    net.reset()
-    for _ in range(steps):
-        d = body.observe().us_distance
-        o1, o2 = net.step(net.input(float(d[0])), net.input(float(d[1])))
-        body.apply(np.array([o1, o2]))
+    ctrl = NeuralController("plastic")
+    ctrl.reset(np.random.default_rng(0))
+    for _ in range(steps):  # as the one control loop (sim/episode.py) drives a steering body
+        ctrl.act(body.observe())
+        body.apply(ctrl.steering)
         body.advance()
     return time.perf_counter() - t0
 
