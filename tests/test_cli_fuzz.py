@@ -474,6 +474,7 @@ OTHER_CASES = [
     case("workers", "calibrate", "--workers", "0", "--out", f"{GOOD}/cal.json"),
     case("workers", "calibrate", "--workers", "-1", "--out", f"{GOOD}/cal.json"),
     case("two", "calibrate", "--workers", "two", "--out", f"{GOOD}/cal.json"),
+    case("tank", "calibrate", "--body", "tank", "--out", f"{GOOD}/cal.json"),
     case("folder", "calibrate", "--quick", "--out", GOOD),
     case("summary.json", "calibrate", "--quick", "--out", f"{GOOD}/summary.json/cal.json"),
     case(
@@ -614,8 +615,28 @@ TOP_CASES = [
     case("--bogus", "--bogus", "run"),
 ]
 
+# --- the physics engine: --engine / --device (with or without the warp extra installed) --------------------------
+
+ENGINE_CASES = [
+    case("gpu", "run", "--engine", "gpu", "--out", GOOD),
+    case("--device", "run", "--device", "cpu", "--out", GOOD),
+    case("amosii", "run", "--engine", "warp", "--body", "surrogate", "--out", GOOD),
+    case("tpu", "sweep", "--engine", "tpu", "--out", GOOD),
+    case("--device", "sweep", "--device", "cuda", "--out", GOOD),
+    case("--engine", "figure", "fig6", "--engine", "warp", "--out", GOOD),
+    case("--engine", "figure", "fig2", "--device", "cpu", "--out", GOOD),
+    case("amosii", "figure", "table2", "--engine", "warp", "--body", "surrogate", "--out", GOOD),
+    case("engine", "bench", "--engine", "wrap", "--out", GOOD),
+    case("--device", "bench", "--device", "cpu", "--out", GOOD),
+    case("--worlds", "bench", "--engine", "warp", "--worlds", "0", "--out", GOOD),
+    case("--worlds", "bench", "--worlds", "64,many", "--out", GOOD),
+    spec("engine", {"engine": "gpu"}),
+    spec("engine", {"engine": 3}),
+    spec("amosii", {"engine": "warp", "body": "wheeled"}),
+]
+
 CASES = [*TOP_CASES, *RUN_CASES, *VIEW_CASES, *FIGURE_CASES, *SWEEP_CASES, *SPEC_CASES, *SPECS_FILE_CASES,
-         *OTHER_CASES, *OPTIMIZE_CASES, *BASELINE_CASES]  # fmt: skip
+         *OTHER_CASES, *OPTIMIZE_CASES, *BASELINE_CASES, *ENGINE_CASES]  # fmt: skip
 
 
 # --- fixtures --------------------------------------------------------------------------------------------------------

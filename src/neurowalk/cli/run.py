@@ -42,8 +42,8 @@ def cmd_run(args: argparse.Namespace) -> int:
         problem = check_gl()  # before the run, not after it
         if problem:
             raise UsageError(f"--video: {problem}")
-    check_engine(args)
     cfg = episode_config(args)
+    check_engine(args)  # after the config's own checks: a bad body is named before any device is looked for
     from neurowalk.fileio import atomic_write, write_json
     from neurowalk.sim.episode import RunInterruptedError, build, run_episode
     from neurowalk.sim.trajectory import PartWriter

@@ -113,7 +113,6 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         raise UsageError(f"--retries must be >= 0, got {args.retries}")
     if args.address and args.backend != "ray":
         raise UsageError(f"--address {args.address!r} goes with --backend ray")
-    check_engine(args)
     specs = _sweep_specs(args)
     try:
         check_specs(specs)  # every bad name or value exits here, before any work
@@ -121,6 +120,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             ray_backend.import_ray()  # a missing ray is bad input; a broken ray install raises as it is
     except (ValueError, ray_backend.RayMissingError) as e:
         raise UsageError(str(e)) from None
+    named = any(isinstance(sp, dict) and sp.get("engine") == "warp" for sp in specs)  # a --specs file's own engine
+    check_engine(argparse.Namespace(engine="warp", device=args.device) if named else args)
     if args.export == "parquet" and importlib.util.find_spec("pyarrow") is None:
         raise UsageError("--export parquet needs `pip install neurowalk[parquet]`")
     out = out_folder(args.out)
