@@ -136,3 +136,23 @@ def test_run_batch_and_throughput_report():
     r = measure_throughput(n_copies=2, steps=5, nthread=2)
     assert r["physics_steps"] == 2 * 5 * r["n_substeps"]
     assert r["batch_physics_steps_per_s"] > 0 and r["single_physics_steps_per_s"] > 0 and r["speedup"] > 0
+
+
+def test_a_stopped_batch_keeps_the_completed_steps(monkeypatch):
+    """Ctrl-C part-way: every copy's episode holds the steps done, marked not completed; the same rows as a full run."""
+    configs = [EpisodeConfig(arena="box", steps=12, seed=s) for s in (0, 1)]
+    full = run_batch(configs, progress=False)
+    runs = BatchEpisodes(configs)
+    advance, calls = runs._advance, []
+
+    def stop_at_the_eighth(targets):
+        calls.append(1)
+        if len(calls) == 8:
+            raise KeyboardInterrupt
+        advance(targets)
+
+    monkeypatch.setattr(runs, "_advance", stop_at_the_eighth)
+    eps = runs.run()
+    for ep, whole in zip(eps, full, strict=True):
+        assert ep.summary["completed"] is False and ep.summary["steps"] == 7 and ep.summary["steps_requested"] == 12
+        np.testing.assert_array_equal(ep.trajectory.qpos, whole.trajectory.qpos[:7])

@@ -224,3 +224,25 @@ def test_figures_take_the_engine_where_they_can(capsys, tmp_path):
     ]
     assert main(["figure", "fig6", "--engine", "warp", "--out", str(tmp_path / "b")]) == 2
     assert "takes no --engine" in capsys.readouterr().err
+
+
+@warp
+def test_a_stopped_warp_run_keeps_its_steps(wp_cpu, monkeypatch):
+    from neurowalk.sim.config import RunInterruptedError
+    from neurowalk.sim.warp_engine import WarpEpisodes
+
+    monkeypatch.setenv("NEUROWALK_WARP_DEVICE", wp_cpu)
+    advance, calls = WarpEpisodes._advance, []
+
+    def stop_at_the_fourth(self, targets):
+        calls.append(1)
+        if len(calls) == 4:
+            raise KeyboardInterrupt
+        advance(self, targets)
+
+    monkeypatch.setattr(WarpEpisodes, "_advance", stop_at_the_fourth)
+    rows = []
+    with pytest.raises(RunInterruptedError) as stop:
+        run_episode(EpisodeConfig(arena="box", steps=10, engine="warp"), sink=lambda r, start: rows.append(len(r)))
+    assert stop.value.episode.summary["steps"] == 3 and stop.value.episode.summary["completed"] is False
+    assert sum(rows) == 3  # the sink got every completed row

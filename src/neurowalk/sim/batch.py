@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import mujoco
@@ -160,7 +161,9 @@ class BatchEpisodes:
     def run(self, *, progress: bool = False) -> list[Episode]:
         """Reset, run every copy for its config's steps, and return one :class:`Episode` per config.
 
-        Each episode's ``wall_time_s`` is the batch's wall time divided by the number of runs.
+        Each episode's ``wall_time_s`` is the batch's wall time divided by the number of runs. Stopped part-way
+        (KeyboardInterrupt, e.g. Ctrl-C or SIGTERM in the CLI) it returns the episodes of the completed steps, each
+        with ``summary["completed"]`` false (none completed: the interrupt is raised).
         """
         steps, n = self.configs[0].steps, self.n
         shapes = {"t": (), "inputs": (2,), "outputs": (2,), "b": (2,), "q": (2,), "targets": (self.model.nu,),
@@ -169,6 +172,20 @@ class BatchEpisodes:
         bar = _progress(steps, n, progress)
         t0 = time.perf_counter()
         self.reset()
+        try:
+            done = self._loop(steps, n, rec, bar)
+        except KeyboardInterrupt:
+            done = int(np.count_nonzero(~np.isnan(rec["t"][:, 0])))  # rows with a time are complete
+            if not done:
+                raise
+            rec = {name: a[:done] for name, a in rec.items()}
+        if bar is not None:
+            bar.close()
+        wall = (time.perf_counter() - t0) / n
+        return [self._episode(i, rec, wall) for i in range(n)]
+
+    def _loop(self, steps: int, n: int, rec: dict[str, np.ndarray], bar: Any) -> int:
+        """The control steps, recording into ``rec``; returns the number of steps done."""
         ctl = self.controllers
         for k in range(steps):
             tc = time.perf_counter()
@@ -179,15 +196,13 @@ class BatchEpisodes:
             tr = time.perf_counter()
             rec["inputs"][k], rec["outputs"][k], rec["b"][k], rec["q"][k] = ctl.inputs, ctl.outputs, ctl.b, ctl.q
             rec["targets"][k], rec["us_distance"][k], rec["foot_contact"][k] = targets, dist, foot
-            rec["qpos"][k], rec["t"][k] = self._qpos, self._time
+            rec["qpos"][k] = self._qpos
+            rec["t"][k] = self._time  # last: a row with a time is complete
             self.timing["physics"] += tr - tp
             self.timing["control"] += (tp - tc) + (time.perf_counter() - tr)
             if bar is not None and k % 10 == 9:
                 bar.update(10 * n)
-        if bar is not None:
-            bar.close()
-        wall = (time.perf_counter() - t0) / n
-        return [self._episode(i, rec, wall) for i in range(n)]
+        return steps
 
     def warnings(self, i: int) -> dict[str, int]:
         """MuJoCo warnings of copy i so far, by name (empty when none)."""
@@ -200,8 +215,10 @@ class BatchEpisodes:
         q = cols["qpos"]
         tr = Trajectory(pose=poses_from_qpos(q), joint_angles=np.ascontiguousarray(q[:, self._qidx]),
                         up_z=up_z_from_qpos(q), **cols)  # fmt: skip
-        summary = summarize(cfg, arena, tr, wall, self.warnings(i))
-        summary["completed"] = True
+        done = len(q)
+        run_cfg = cfg if done == cfg.steps else replace(cfg, steps=done)  # the summary of the steps done
+        summary = summarize(run_cfg, arena, tr, wall, self.warnings(i))
+        summary["completed"] = done == cfg.steps
         summary["steps_requested"] = cfg.steps
         return Episode(cfg, arena, tr, summary)
 

@@ -139,9 +139,12 @@ def _run_warp(cfg: EpisodeConfig, progress: bool, sink: Any, chunk: int, resume:
     if resume is not None:
         raise ValueError("a run on engine 'warp' cannot be resumed (no checkpoints); run it again")
     ep = run_warp([cfg], progress=progress)[0]
+    done = len(ep.trajectory)
     if sink is not None:
-        for start in range(0, cfg.steps, chunk):
-            sink(ep.trajectory.rows(start, min(start + chunk, cfg.steps)), start)
+        for start in range(0, done, chunk):
+            sink(ep.trajectory.rows(start, min(start + chunk, done)), start)
+    if done < cfg.steps:
+        raise RunInterruptedError(ep)
     return ep
 
 
