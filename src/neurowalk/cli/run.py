@@ -118,7 +118,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     resumed = f" (resumed at step {s['resumed_at_step']})" if "resumed_at_step" in s else ""
     print(
         f"{cfg.arena}/{cfg.controller}: {s['steps']} steps{resumed} in {s['wall_time_s']:.1f} s "  # type: ignore[attr-defined]
-        f"({s['real_time_factor']:.0f}x real time); moved {s['forward_displacement_m']:+.2f} m, "
+        f"({_factor(s['real_time_factor'])}x real time); moved {s['forward_displacement_m']:+.2f} m, "
         f"turned {s['heading_change_deg']:+.0f} deg; wrote {', '.join(str(out / w) for w in written)}"
     )
     return 0
@@ -182,3 +182,8 @@ def cmd_view(args: argparse.Namespace) -> int:
 
     view(body.model, body.data, step, control_hz=body.control_hz)
     return 0
+
+
+def _factor(x: float) -> str:
+    """A real-time factor as the run line prints it: whole above 10, two figures below (0.23, 2.5)."""
+    return f"{x:.0f}" if x >= 10 else f"{x:.2g}"

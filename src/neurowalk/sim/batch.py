@@ -169,7 +169,7 @@ class BatchEpisodes:
         shapes = {"t": (), "inputs": (2,), "outputs": (2,), "b": (2,), "q": (2,), "targets": (self.model.nu,),
                   "us_distance": (2,), "foot_contact": (6,), "qpos": (self.model.nq,)}  # fmt: skip
         rec = {name: np.full((steps, n, *shape), np.nan) for name, shape in shapes.items()}
-        bar = _progress(steps, n, progress)
+        bar = _progress(steps, n, progress, self.label())
         t0 = time.perf_counter()
         self.reset()
         try:
@@ -203,6 +203,10 @@ class BatchEpisodes:
             if bar is not None and k % 10 == 9:
                 bar.update(10 * n)
         return steps
+
+    def label(self) -> str:
+        """What the progress bar calls this run."""
+        return f"batch of {self.n}"
 
     def warnings(self, i: int) -> dict[str, int]:
         """MuJoCo warnings of copy i so far, by name (empty when none)."""
@@ -241,12 +245,12 @@ def _check(configs: list[EpisodeConfig]) -> None:
             raise ValueError(f"every config of a batch needs the same {name}, got {values}")
 
 
-def _progress(steps: int, n: int, on: bool) -> Any:
+def _progress(steps: int, n: int, on: bool, desc: str) -> Any:
     if not on:
         return None
     from tqdm import tqdm
 
-    return tqdm(total=steps * n, unit="step", desc=f"batch of {n}", mininterval=0.5, smoothing=0.1)
+    return tqdm(total=steps * n, unit="step", desc=desc, mininterval=0.5, smoothing=0.1)
 
 
 def run_batch(configs: Sequence[EpisodeConfig], *, nthread: int = 2, progress: bool = True,

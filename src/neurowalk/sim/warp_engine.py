@@ -213,6 +213,10 @@ class WarpEpisodes(BatchEpisodes):
         self._sensordata[:] = d.sensordata.numpy()
         self._time[:] = self._t0 + self._k * self.n_substeps * self.model.opt.timestep
 
+    def label(self) -> str:
+        """What the progress bar calls this run: the engine, the device and the worlds."""
+        return f"warp {self.device}, {self.n} world{'s' if self.n > 1 else ''}"
+
     def warnings(self, i: int) -> dict[str, int]:
         """World i's overflow flags so far (contacts or constraints beyond what was allocated), by name."""
         bits = int(self.wdata.overflow.numpy()[i]) if hasattr(self.wdata, "overflow") else 0
