@@ -234,15 +234,21 @@ def start_qpos(start: tuple[float, float, float]) -> tuple[tuple[float, float], 
 
 
 def _check(configs: list[EpisodeConfig]) -> None:
+    check_batch(configs, "a batch", lambda c: c.body == "amosii", "runs body 'amosii' only, got body {!r}", "body")
+
+
+def check_batch(configs: Sequence[EpisodeConfig], what: str, fits: Any, wrong: str, field: str) -> None:
+    """ValueError unless ``configs`` is not empty, every config ``fits`` (else ``what wrong`` with the first misfit's
+    ``field``) and all share ``control_hz`` and ``steps``."""
     if not configs:
-        raise ValueError("a batch needs at least one config")
-    bad = [c.body for c in configs if c.body != "amosii"]
+        raise ValueError(f"{what} needs at least one config")
+    bad = [c for c in configs if not fits(c)]
     if bad:
-        raise ValueError(f"a physics batch runs body 'amosii' only, got {bad[0]!r}")
+        raise ValueError(f"{what} {wrong.format(getattr(bad[0], field))}")
     for name in ("control_hz", "steps"):
         values = sorted({getattr(c, name) for c in configs})
         if len(values) > 1:
-            raise ValueError(f"every config of a batch needs the same {name}, got {values}")
+            raise ValueError(f"every config of {what} needs the same {name}, got {values}")
 
 
 def _progress(steps: int, n: int, on: bool, desc: str) -> Any:

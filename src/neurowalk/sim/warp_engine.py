@@ -37,7 +37,7 @@ from neurowalk.body.amosii_params import BodyParams
 from neurowalk.body.noise import ColoredNoise
 from neurowalk.body.obstacle_slots import slot_rows, slot_world
 from neurowalk.body.physics import n_substeps as substeps_of
-from neurowalk.sim.batch import BatchEpisodes, start_qpos
+from neurowalk.sim.batch import BatchEpisodes, check_batch, start_qpos
 from neurowalk.sim.config import Episode, EpisodeConfig, build_controller, seeds
 
 __all__ = ["DEVICE_ENV", "WarpEpisodes", "import_warp", "resolve_device", "run_warp"]
@@ -237,15 +237,9 @@ def _yaw_matrices(quat: np.ndarray) -> np.ndarray:
 
 
 def _check(configs: list[EpisodeConfig]) -> None:
-    if not configs:
-        raise ValueError("a Warp run needs at least one config")
-    bad = [c for c in configs if c.engine != "warp"]
-    if bad:
-        raise ValueError(f"WarpEpisodes runs configs with engine 'warp', got engine {bad[0].engine!r}")
-    for name in ("control_hz", "steps"):
-        values = sorted({getattr(c, name) for c in configs})
-        if len(values) > 1:
-            raise ValueError(f"every config of a Warp run needs the same {name}, got {values}")
+    check_batch(
+        configs, "a Warp run", lambda c: c.engine == "warp", "runs configs with engine 'warp', got {!r}", "engine"
+    )
 
 
 def run_warp(configs: Sequence[EpisodeConfig], *, device: str | None = None, progress: bool = True,
