@@ -50,9 +50,7 @@ def padded_world(arena: ArenaSpec, n_slots: int) -> str:
     Raises:
         ValueError: if the arena has more than ``n_slots`` boxes.
     """
-    n = len(arena.boxes)
-    if n > n_slots:
-        raise ValueError(f"arena {arena.name!r} has {n} boxes, more than the {n_slots} obstacle slots")
+    n = _boxes_within(arena, n_slots)
     s = f"{_PARK_SIZE:g}"
     parked = [
         f'      <geom name="parked_{k}" type="box" size="{s} {s} {s}" pos="{k * _PARK_PITCH:.6g} 0 0" '
@@ -72,9 +70,7 @@ def slot_world(arena: ArenaSpec, n_slots: int) -> str:
     ``geom_size``, ``geom_aabb`` and ``geom_rbound`` (:func:`slot_rows`): what MuJoCo Warp batches per world.
     (World geoms never collide with each other, and no ray of the robot reaches below the floor.)
     """
-    n = len(arena.boxes)
-    if n > n_slots:
-        raise ValueError(f"arena {arena.name!r} has {n} boxes, more than the {n_slots} obstacle slots")
+    n = _boxes_within(arena, n_slots)
     s = f"{_PARK_SIZE:g}"
     parked = [
         f'    <geom name="obstacle_{k}" type="box" size="{s} {s} {s}" pos="{(k - n) * _PARK_PITCH:.6g} 0 {PARK_Z:g}" '
@@ -91,9 +87,7 @@ def slot_rows(arena: ArenaSpec, n_slots: int) -> dict[str, np.ndarray]:
         ``pos`` (n_slots, 3) m, ``quat`` (n_slots, 4) (w, x, y, z), ``size`` (n_slots, 3) half sizes m,
         ``aabb`` (n_slots, 6) local centre and half extents m, ``rbound`` (n_slots,) m.
     """
-    n = len(arena.boxes)
-    if n > n_slots:
-        raise ValueError(f"arena {arena.name!r} has {n} boxes, more than the {n_slots} obstacle slots")
+    n = _boxes_within(arena, n_slots)
     pos, quat, size = np.zeros((n_slots, 3)), np.zeros((n_slots, 4)), np.full((n_slots, 3), _PARK_SIZE)
     quat[:, 0] = 1.0
     pos[n:, 0] = (np.arange(n, n_slots) - n) * _PARK_PITCH
@@ -105,3 +99,11 @@ def slot_rows(arena: ArenaSpec, n_slots: int) -> dict[str, np.ndarray]:
         size[k] = [float(f"{v:.6g}") for v in (b.sx / 2, b.sy / 2, b.h / 2)]
     aabb = np.concatenate([np.zeros((n_slots, 3)), size], axis=1)
     return {"pos": pos, "quat": quat, "size": size, "aabb": aabb, "rbound": np.linalg.norm(size, axis=1)}
+
+
+def _boxes_within(arena: ArenaSpec, n_slots: int) -> int:
+    """The arena's number of boxes; ValueError if it has more than ``n_slots``."""
+    n = len(arena.boxes)
+    if n > n_slots:
+        raise ValueError(f"arena {arena.name!r} has {n} boxes, more than the {n_slots} obstacle slots")
+    return n

@@ -223,10 +223,10 @@ def run_many(configs: Sequence[EpisodeConfig], *, workers: int = 2, progress: bo
             eps = run_warp([configs[warp[j]] for j in chunk], device=device, progress=progress)
             for j, ep in zip(chunk, eps, strict=True):
                 out[warp[j]] = keep(ep)
-        jobs = [jobs[i] for i in range(len(jobs)) if i not in set(warp)]
-        if not jobs:
-            return out
     rest = [i for i, c in enumerate(configs) if c.engine != "warp"]
+    jobs = [jobs[i] for i in rest]
+    if not jobs:
+        return out
     with tqdm(total=len(jobs), unit="run", desc=desc, disable=not progress, mininterval=0.5) as bar:
         results = run_unordered(_one, jobs, workers=1 if len(jobs) <= 1 else workers)
         try:

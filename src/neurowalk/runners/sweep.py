@@ -136,7 +136,7 @@ def _backend(backend: str, fn: Callable[[Spec], Any], items: list[Spec], workers
     warp = [i for i, s in enumerate(items) if s.get("engine") == "warp"] if fn is run_spec else []
     if not warp:
         return _pool(backend, fn, items, workers, address, retries)
-    others = [i for i in range(len(items)) if i not in set(warp)]
+    others = [i for i, s in enumerate(items) if s.get("engine") != "warp"]
 
     def chained() -> Iterator[Done]:
         yield from warp_runs(items, warp)

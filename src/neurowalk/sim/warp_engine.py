@@ -22,7 +22,6 @@ MuJoCo: for tests and checks); ``NEUROWALK_WARP_DEVICE`` or ``--device`` chooses
 
 from __future__ import annotations
 
-import math
 import os
 import sys
 from collections.abc import Sequence
@@ -32,7 +31,7 @@ import mujoco
 import numpy as np
 
 from neurowalk.arenas import make_arena
-from neurowalk.body.amosii import amosii_xml
+from neurowalk.body.amosii import amosii_xml, joint_qpos_indices
 from neurowalk.body.amosii_params import BodyParams
 from neurowalk.body.noise import ColoredNoise
 from neurowalk.body.obstacle_slots import slot_rows, slot_world
@@ -141,7 +140,7 @@ class WarpEpisodes(BatchEpisodes):
         self.max_boxes = max_boxes if max_boxes is not None else max(len(a.boxes) for a in self.arenas)
         params = BodyParams()
         model = mujoco.MjModel.from_xml_string(amosii_xml(params, world=slot_world(self.arenas[0], self.max_boxes)))
-        nj = 19
+        nj = len(joint_qpos_indices(model))
         noises = [ColoredNoise(2 + nj + 6, strength=c.noise) for c in self.configs]  # as AmosII's own source
         self._setup(model, params, substeps_of(self.configs[0].control_hz, model.opt.timestep),
                     [build_controller(c) for c in self.configs], noises, compiled)  # fmt: skip
@@ -163,7 +162,6 @@ class WarpEpisodes(BatchEpisodes):
         self._slot_xpos = np.stack([r["pos"] for r in rows])
         self._slot_xmat = np.stack([_yaw_matrices(r["quat"]) for r in rows])
         self._qpos = np.zeros((n, model.nq))
-        self._ctrl = np.zeros((n, model.nu))
         self._sensordata = np.zeros((n, model.nsensordata))
         self._time = np.zeros(n)
         self._graph: Any = None
@@ -254,10 +252,3 @@ def run_warp(configs: Sequence[EpisodeConfig], *, device: str | None = None, pro
     for ep in episodes:
         ep.summary["engine"], ep.summary["device"] = "warp", runs.device
     return episodes
-
-
-def warn_slow(device: str, worlds: int, steps: int) -> None:
-    """One line on stderr when a Warp run on the CPU device will take long (more than about a minute)."""
-    if device == "cpu" and worlds * steps > 2000:
-        print(f"neurowalk: engine 'warp' on the CPU device: {worlds} world(s) x {steps} control steps will take "
-              f"about {math.ceil(worlds * steps / 60 / 60)} min or more", file=sys.stderr)  # fmt: skip
