@@ -78,7 +78,7 @@ def test_the_wheeled_surrogate_is_a_planar_body_of_the_registry():
     from neurowalk.body.surrogate import Surrogate, load_calibration
 
     info = body_info("surrogate-wheeled")
-    assert not info.physics and info.action == "steering" and not info.climbs and info.options == {}
+    assert not info.physics and info.action == "steering" and not info.climbs and set(info.options) == {"speed", "turn"}
     assert BODIES["wheeled"].surrogate == "surrogate-wheeled" and BODIES["amosii"].surrogate == "surrogate"
     assert "surrogate-wheeled planar kinematic wheeled robot" in body_listing()
     body = make_body("surrogate-wheeled", make_arena("open"), {}, noise=0.0)

@@ -11,7 +11,8 @@ import pytest
 from neurowalk.arenas import make_arena
 from neurowalk.arenas.spec import ArenaSpec, Box
 from neurowalk.body import surrogate_kernel as kern
-from neurowalk.body.surrogate import Surrogate, box_rows, load_calibration
+from neurowalk.body.registry import make_body
+from neurowalk.body.surrogate import Calibration, Surrogate, box_rows, load_calibration
 from neurowalk.experiments.calibration import WARMUP, WINDOW, body_velocity, drive
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
@@ -82,11 +83,27 @@ def test_same_seed_same_run_bit_for_bit_and_another_seed_differs() -> None:
     assert not np.array_equal(a.pose, c.trajectory.pose)
 
 
-def _velocity(steer: tuple[float, float]) -> np.ndarray:
-    run = Surrogate(make_arena("open"), noise=0.0).run(
+def _velocity(steer: tuple[float, float], cal: Calibration | None = None) -> np.ndarray:
+    run = Surrogate(make_arena("open"), cal, noise=0.0).run(
         WARMUP + WINDOW, np.random.default_rng(0), None, None, steer=steer
     )
     return body_velocity(run.pose[WARMUP:], 10.0)
+
+
+def test_speed_and_turn_options_scale_the_measured_motion() -> None:
+    """``--body-opt speed=, turn=``: the same body walking or turning faster or slower, nothing else changed."""
+    fwd, left = _velocity((-1.0, -1.0)), _velocity((-1.0, 1.0))
+    cal = load_calibration().scaled(speed=1.5, turn=0.5)
+    assert _velocity((-1.0, -1.0), cal)[0] == pytest.approx(1.5 * fwd[0], rel=0.03)
+    assert _velocity((-1.0, 1.0), cal)[2] == pytest.approx(0.5 * left[2], rel=0.03)
+    assert np.array_equal(cal.rays, load_calibration().rays) and cal.tau_s == load_calibration().tau_s
+    body = make_body("surrogate", make_arena("open"), {"speed": "2", "turn": 1})
+    assert np.allclose(body.cal.velocity[..., 0], 2.0 * load_calibration().velocity[..., 0])
+    assert np.array_equal(body.cal.velocity[..., 2], load_calibration().velocity[..., 2])
+    with pytest.raises(ValueError, match="turn"):
+        make_body("surrogate", make_arena("open"), {"turn": 0})
+    with pytest.raises(ValueError, match="factors"):
+        load_calibration().scaled(speed=float("nan"))
 
 
 def test_steering_directions_follow_the_calibration() -> None:

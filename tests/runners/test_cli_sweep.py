@@ -49,6 +49,18 @@ def test_grid_sweep_writes_store_settings_and_parquet(tmp_path, capsys):
     assert not [p for p in out.iterdir() if p.name.startswith(".")]  # no temp files left
 
 
+def test_a_body_option_is_a_grid_axis(tmp_path):
+    out = tmp_path / "b"
+    argv = ["sweep", "--arena", "box", "--body", "surrogate", "--steps", "200", "--body-opt", "turn=0.5,2",
+            "--out", str(out), "--quiet", "--workers", "1"]  # fmt: skip
+    assert main(argv) == 0
+    con = sqlite3.connect(f"file:{out / 'results.sqlite'}?mode=ro", uri=True)
+    opts = [json.loads(s)["body_opts"] for (s,) in con.execute("SELECT spec FROM runs")]
+    con.close()
+    assert sorted(o["turn"] for o in opts) == [0.5, 2.0]
+    assert main(["sweep", "--body", "surrogate", "--body-opt", "turn=9", "--out", str(tmp_path / "c"), "--quiet"]) == 2
+
+
 def test_specs_file(tmp_path):
     specs = tmp_path / "specs.jsonl"
     lines = [{"arena": "open", "steps": 30, "seed": 1}, {"seed": 1, "steps": 30}, {"controller": "static", "steps": 30}]

@@ -70,6 +70,14 @@ def test_grid_is_the_cartesian_product_last_axis_fastest():
     assert grid({"seed": 1}) == [{"seed": 1, "arena_opts": {}}]
 
 
+def test_a_grid_axis_of_a_body_option_sets_it_beside_the_base_options():
+    g = grid({"body": "surrogate", "body_opts": {"speed": 1.5}}, **{"body_opts.turn": [0.5, 2]})
+    assert [s["body_opts"] for s in g] == [{"speed": 1.5, "turn": 0.5}, {"speed": 1.5, "turn": 2}]
+    check_specs(g)  # a valid option of that body
+    assert normalize(g[0])["body_opts"] == {"speed": 1.5, "turn": 0.5}
+    assert len({spec_key(s) for s in g}) == 2 and "body_opts" not in grid({"seed": 1})[0]
+
+
 def test_read_jsonl(tmp_path):
     p = tmp_path / "specs.jsonl"
     p.write_text('{"seed": 1}\n\n# a comment\n{"seed": 2, "controller": "static"}\n')

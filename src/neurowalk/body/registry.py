@@ -50,6 +50,12 @@ class BodyInfo:
     surrogate: str | None = None
 
 
+#: Options of the planar (calibrated) bodies: the measured motion with its speeds or yaw rates scaled.
+PLANAR_OPTIONS: dict[str, tuple[float, float, float, str]] = {
+    "speed": (1.0, 0.25, 4.0, "forward and sideways speed x speed (the measured body's)"),
+    "turn": (1.0, 0.25, 4.0, "yaw rate x turn (the measured body's)"),
+}
+
 BODIES: dict[str, BodyInfo] = {
     "amosii": BodyInfo(
         "amosii", "the hexapod AMOSII in MuJoCo (19 joints): the paper's robot",
@@ -59,7 +65,7 @@ BODIES: dict[str, BodyInfo] = {
     "surrogate": BodyInfo(
         "surrogate", "planar kinematic AMOSII calibrated on the physics robot (about 1000x faster)",
         "2 ultrasonic rangefinders (as AMOSII's)", "the steering pair through the calibrated motion of AMOSII",
-        "steering", False, False),
+        "steering", False, False, PLANAR_OPTIONS),
     "wheeled": BodyInfo(
         "wheeled", "a differential-drive robot with AMOSII's footprint, forward speed and rangefinders, in MuJoCo",
         "2 ultrasonic rangefinders (as AMOSII's)",
@@ -70,7 +76,8 @@ BODIES: dict[str, BodyInfo] = {
     "surrogate-wheeled": BodyInfo(
         "surrogate-wheeled", "planar kinematic wheeled robot calibrated on the physics wheeled body (scale 1)",
         "2 ultrasonic rangefinders (as the wheeled robot's)",
-        "the steering pair through the calibrated motion of the wheeled robot", "steering", False, False),
+        "the steering pair through the calibrated motion of the wheeled robot", "steering", False, False,
+        PLANAR_OPTIONS),
 }  # fmt: skip
 
 
@@ -126,9 +133,10 @@ def make_body(name: str, arena: ArenaSpec, opts: dict[str, Any] | None = None, *
 
         return AmosII(arena, control_hz=control_hz, noise=noise, **amosii)
     if not BODIES[name].physics:  # surrogate, surrogate-wheeled: each reads its own calibration file
-        from neurowalk.body.surrogate import Surrogate
+        from neurowalk.body.surrogate import Surrogate, load_calibration
 
-        body = Surrogate(arena, noise=noise, name=name)
+        cal = load_calibration(body=name)
+        body = Surrogate(arena, cal.scaled(**options) if options else cal, noise=noise, name=name)
         if control_hz != body.control_hz:
             raise ValueError(f"body {name!r} is calibrated at {body.control_hz} Hz, got control_hz {control_hz}")
         return body

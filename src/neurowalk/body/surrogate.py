@@ -15,6 +15,7 @@ The surrogate reads only its data file; :mod:`neurowalk.experiments.calibration`
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from dataclasses import dataclass, field
@@ -80,6 +81,15 @@ class Calibration:
             raise ValueError(f"calibration sway must have shape ({g}, {g}) and a period > 0")
         if self.tau_s < 0 or self.delay_steps < 0 or self.startup_steps < 0:
             raise ValueError("calibration lag, delay and startup must be >= 0")
+
+    def scaled(self, speed: float = 1.0, turn: float = 1.0) -> Calibration:
+        """A copy whose forward and lateral velocities are x ``speed`` and yaw rates x ``turn`` (a body that walks
+        or turns faster or slower than the one measured; both > 0). Lag, delay, footprint and rays are kept."""
+        if not (math.isfinite(speed) and speed > 0 and math.isfinite(turn) and turn > 0):
+            raise ValueError(f"speed and turn factors must be finite and > 0, got {speed!r}, {turn!r}")
+        velocity = self.velocity * np.array([speed, speed, turn])
+        meta = {**self.meta, "scaled": {"speed": speed, "turn": turn}}
+        return dataclasses.replace(self, velocity=velocity, meta=meta)
 
     def motion(self) -> np.ndarray:
         """The kernel's motion table (g, g, 4): forward, lateral, yaw rate, sway amplitude."""

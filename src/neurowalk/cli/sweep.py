@@ -29,6 +29,8 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--steps", type=int, default=None, help="control steps per run (default 1000)")
     s.add_argument("--arena-opt", action="append", default=[], metavar="KEY=V1[,V2...]",
                    help="arena option; a comma list adds a grid axis (repeatable)")  # fmt: skip
+    s.add_argument("--body-opt", action="append", default=[], metavar="KEY=V1[,V2...]",
+                   help="body option (see `neurowalk bodies`); a comma list adds a grid axis (repeatable)")  # fmt: skip
     s.add_argument("--specs", type=Path, default=None, metavar="FILE.jsonl",
                    help="one run spec (JSON object of EpisodeConfig fields) per line, instead of the grid")  # fmt: skip
     s.add_argument("--backend", choices=("local", "ray"), default="local", help="local process pool or Ray")
@@ -44,7 +46,8 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     engine_args(s)
 
 
-_GRID_FLAGS = ("arena", "controller", "body", "seeds", "seed_start", "steps", "arena_opt", "variant", "params", "gait")
+_GRID_FLAGS = ("arena", "controller", "body", "seeds", "seed_start", "steps", "arena_opt", "body_opt", "variant",
+               "params", "gait")  # fmt: skip
 
 
 def _sweep_specs(args: argparse.Namespace) -> list[dict]:
@@ -78,6 +81,8 @@ def _sweep_specs(args: argparse.Namespace) -> list[dict]:
             raise UsageError(f"--{flag} expects NAME[,NAME...], got {text!r}")
     for key, values in parse_arena_opts(args.arena_opt).items():
         axes[f"arena_opts.{key}"] = values.split(",")
+    for key, values in parse_arena_opts(args.body_opt, "--body-opt").items():
+        axes[f"body_opts.{key}"] = values.split(",")
     base: dict = {} if args.steps is None else {"steps": args.steps}
     if args.engine != "mujoco":
         base["engine"] = args.engine

@@ -169,16 +169,19 @@ def result_of(ep: Episode) -> dict[str, Any]:
 def grid(base: Spec, **axes: list[Any]) -> list[Spec]:
     """Cartesian product of ``axes`` over ``base``: one spec per combination, the last axis varying fastest.
 
-    An axis named ``arena_opts.KEY`` sets one arena option, e.g.
+    An axis named ``arena_opts.KEY`` (``body_opts.KEY``) sets one arena (body) option, e.g.
     ``grid({"arena": "box"}, seed=[0, 1], **{"arena_opts.gap": [0.3, 0.4]})`` gives 4 specs.
     """
     names = list(axes)
     out = []
     for values in itertools.product(*(axes[n] for n in names)):
         s = {**base, "arena_opts": dict(base.get("arena_opts", {}))}
+        if "body_opts" in base or any(n.startswith("body_opts.") for n in names):
+            s["body_opts"] = dict(base.get("body_opts", {}))
         for name, value in zip(names, values, strict=True):
-            if name.startswith("arena_opts."):
-                s["arena_opts"][name.removeprefix("arena_opts.")] = value
+            group, dot, key = name.partition(".")
+            if dot and group in ("arena_opts", "body_opts"):
+                s[group][key] = value
             else:
                 s[name] = value
         out.append(s)
