@@ -38,6 +38,24 @@ def test_slot_rows_are_the_compiled_obstacle_geoms():
         assert np.all(m.geom_bodyid[ids] == 0)  # all world geoms: one structure for every arena
 
 
+def test_a_slot_differs_from_an_obstacle_only_in_what_warp_batches_per_world():
+    """World 0's model gives every world its slots' other fields: a parked slot must be an obstacle like the
+    others (seen by rays, the same friction and contact settings), or another world's box in it is not."""
+    from neurowalk.arenas import make_arena
+    from neurowalk.body.amosii import amosii_xml
+    from neurowalk.body.amosii_params import BodyParams
+
+    m = mujoco.MjModel.from_xml_string(amosii_xml(BodyParams(), world=slot_world(make_arena("box"), 4)))
+    ids = [m.geom(f"obstacle_{k}").id for k in range(4)]  # one box, three parked slots
+    batched = {f"geom_{f}" for f in ("pos", "quat", "size", "aabb", "rbound")}
+    fields = [f for f in dir(m) if f.startswith("geom_") and f not in batched and isinstance(getattr(m, f), np.ndarray)]
+    assert {"geom_rgba", "geom_friction", "geom_contype", "geom_conaffinity", "geom_solref"} <= set(fields)
+    for f in fields:
+        rows = getattr(m, f)[ids]
+        assert all(np.array_equal(r, rows[0]) for r in rows), f
+    assert m.geom_rgba[ids[0], 3] > 0
+
+
 def test_engine_is_a_config_field_checked_where_made():
     with pytest.raises(ValueError, match="unknown engine 'gpu'"):
         EpisodeConfig(engine="gpu")
@@ -136,6 +154,33 @@ def test_sensors_equal_at_the_same_states(wp_cpu):
         touch_cpu, touch_warp = body.data.sensordata[lay.touch] > 0, sd[lay.touch] > 0
         np.testing.assert_array_equal(touch_warp, touch_cpu, err_msg=f"row {k}")
     assert any((ref.trajectory.us_distance[k] < 0.4).any() for k in rows)  # the rays did see the box
+
+
+@warp
+def test_a_world_sees_its_boxes_in_slots_another_world_leaves_empty(wp_cpu):
+    """World 0 has no box, world 1 a box ahead in slot 0: world 1's rays read it as CPU MuJoCo does (a slot that
+    world 0 parks once made it invisible to every world, and the robot walked into unseen walls)."""
+    import mujoco_warp as mjw
+    import warp as wp
+
+    from neurowalk.body.amosii_sensors import sensor_layout
+    from neurowalk.sim.warp_engine import WarpEpisodes
+
+    near = replace(TILTED, arena_opts={"distance": 0.3, "angle": 0.0}, engine="mujoco")
+    _, body, _ = build(near)
+    lay = sensor_layout(body.model)
+    mujoco.mj_forward(body.model, body.data)
+    body.reset(np.random.default_rng(0))
+    us_cpu = body.data.sensordata[lay.us].copy()
+    assert np.all((us_cpu >= 0) & (us_cpu < 0.4))  # both rays see the box from the start pose
+    runs = WarpEpisodes([replace(near, arena="open", arena_opts={}, engine="warp"), replace(near, engine="warp")],
+                        device=wp_cpu)  # fmt: skip
+    runs.reset()
+    with wp.ScopedDevice(wp_cpu):
+        mjw.forward(runs.wmodel, runs.wdata)
+    sd = runs.wdata.sensordata.numpy()
+    np.testing.assert_allclose(sd[1, lay.us], us_cpu, atol=US_TOL)
+    assert not np.any((sd[0, lay.us] >= 0) & (sd[0, lay.us] < 0.4))  # world 0's rays see nothing in range
 
 
 @warp

@@ -25,7 +25,7 @@ import math
 
 import numpy as np
 
-from neurowalk.arenas.spec import ArenaSpec
+from neurowalk.arenas.spec import ArenaSpec, box_geom
 
 __all__ = ["PARKING_BODY", "PARK_Z", "padded_world", "slot_rows", "slot_world"]
 
@@ -68,15 +68,14 @@ def slot_world(arena: ArenaSpec, n_slots: int) -> str:
     at :data:`PARK_Z`, far below the floor. All are world geoms, so every arena of at most ``n_slots`` boxes gives
     a model of the same structure whose obstacle geoms differ only in ``geom_pos``, ``geom_quat``,
     ``geom_size``, ``geom_aabb`` and ``geom_rbound`` (:func:`slot_rows`): what MuJoCo Warp batches per world.
-    (World geoms never collide with each other, and no ray of the robot reaches below the floor.)
+    Everything else of a slot is world 0's for every world, so a parked box is an obstacle like any other
+    (:func:`~neurowalk.arenas.spec.box_geom`: opaque, friction 0.4), only small and out of reach: were it
+    transparent, the rays of a world with a box in that slot would not see the box. (World geoms never collide
+    with each other, and no ray of the robot reaches below the floor.)
     """
     n = _boxes_within(arena, n_slots)
-    s = f"{_PARK_SIZE:g}"
-    parked = [
-        f'    <geom name="obstacle_{k}" type="box" size="{s} {s} {s}" pos="{(k - n) * _PARK_PITCH:.6g} 0 {PARK_Z:g}" '
-        f'rgba="0.55 0.45 0.35 0"/>'
-        for k in range(n, n_slots)
-    ]
+    half = (_PARK_SIZE,) * 3
+    parked = [box_geom(f"obstacle_{k}", half, ((k - n) * _PARK_PITCH, 0.0, PARK_Z), 0.0) for k in range(n, n_slots)]
     return "\n".join([arena.to_mjcf(), *parked])
 
 
