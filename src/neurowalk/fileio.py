@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import errno
+import fcntl
 import json
 import math
 import os
 import tempfile
 from pathlib import Path
-from typing import Any
+from typing import IO, Any
 
 import numpy as np
 
@@ -74,3 +76,40 @@ def make_writable_folder(path: Path) -> None:
             pass
     except OSError as e:
         raise ValueError(f"the folder {str(path)!r} is not writable ({e.strerror})") from None
+
+
+class FolderBusyError(ValueError):
+    """Another neurowalk process holds the output folder's lock."""
+
+
+def folder_lock(folder: Path, what: str = "run") -> IO[bytes]:
+    """Hold ``FOLDER/.neurowalk.lock`` exclusively (the operating system's ``flock``, gone with the process).
+
+    Returns the open lock file (close it to release). Raises FolderBusyError if another process holds it.
+    """
+    f = open(Path(folder) / ".neurowalk.lock", "ab")  # noqa: SIM115 (held open until the caller closes it)
+    try:
+        fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        f.close()
+        raise FolderBusyError(f"{str(folder)!r} is in use by another neurowalk {what}; wait for it to finish or use "
+                              "another output folder") from None  # fmt: skip
+    return f
+
+
+_WRITE_ERRORS = {errno.ENOSPC: "disk full", errno.EDQUOT: "disk quota exceeded", errno.EROFS: "read-only file system",
+                 errno.EACCES: "permission denied", errno.EPERM: "permission denied",
+                 errno.ENOENT: "folder removed", errno.EIO: "input/output error"}  # fmt: skip
+
+
+def write_error(e: OSError) -> str:
+    """What went wrong writing, in a few words with the file: e.g. ``disk full writing 'out/run/part-1.npz'``."""
+    what = _WRITE_ERRORS.get(e.errno or 0, (e.strerror or str(e)).lower())
+    name = e.filename if e.filename is not None else None
+    return f"{what} writing {str(name)!r}" if name else what
+
+
+def stale_temp_files(folder: Path) -> list[Path]:
+    """Temp files that :func:`atomic_write` leaves only when its process is killed (``.NAME.XXXX.SUFFIX``)."""
+    names = ("summary.json", "trajectory.npz", "run.png", "video.mp4")
+    return [p for n in names for p in Path(folder).glob(f".{n}.*") if p.is_file()]

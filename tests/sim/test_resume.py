@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from neurowalk.sim.checkpoint import Checkpoint
 from neurowalk.sim.episode import EpisodeConfig, Resume, run_episode
 from neurowalk.sim.trajectory import Trajectory
 
@@ -26,12 +27,12 @@ def _same(a: Trajectory, b: Trajectory) -> None:
 
 def test_resume_from_a_checkpoint_is_bit_for_bit_the_whole_run():
     whole = run_episode(CFG).trajectory
-    saved: dict[int, bytes] = {}
+    saved: dict[int, Checkpoint] = {}
     pieces: list[tuple[int, Trajectory]] = []
     run_episode(CFG, chunk=100, sink=lambda rows, start: pieces.append((start, _copy(rows))),
-                checkpoint=lambda step, state: saved.setdefault(step, state))  # fmt: skip
+                checkpoint=lambda ckpt: saved.setdefault(ckpt.step, ckpt))  # fmt: skip
     assert sorted(saved) == [100, 200] and [s for s, _ in pieces] == [0, 100, 200]
-    resumed = run_episode(CFG, chunk=100, resume=Resume(200, saved[200], pieces[:2])).trajectory
+    resumed = run_episode(CFG, chunk=100, resume=Resume(saved[200], pieces[:2])).trajectory
     _same(resumed, whole)
 
 
@@ -40,18 +41,26 @@ def _copy(rows: Trajectory) -> Trajectory:
 
 
 @pytest.mark.slow
-def test_kill_9_then_resume_gives_the_uninterrupted_trajectory(tmp_path: Path):
-    args = ["--arena", "difficult", "--controller", "plastic", "--steps", "25000", "--seed", "3", "--quiet"]
+@pytest.mark.parametrize("after_checkpoint", [False, True], ids=["before-the-first-checkpoint", "after-it"])
+def test_kill_9_then_resume_gives_the_uninterrupted_trajectory(after_checkpoint, tmp_path: Path):
+    """SIGKILL before the first checkpoint (about step 6,000) and after it (past step 10,000), then --resume."""
+    args = ["--arena", "difficult", "--controller", "plastic", "--steps", "14000", "--seed", "3", "--quiet"]
     cli = [sys.executable, "-m", "neurowalk.cli", "run"]
     killed = tmp_path / "killed"
     p = subprocess.Popen([*cli, *args, "--out", str(killed)])
-    checkpoint = killed / "trajectory.parts" / "checkpoint.pkl"
+    checkpoint = killed / "trajectory.parts" / "checkpoint.npz"
     deadline = time.monotonic() + 300
-    while not checkpoint.exists() and time.monotonic() < deadline and p.poll() is None:
-        time.sleep(0.2)
-    assert checkpoint.exists(), "no checkpoint written"
+    if after_checkpoint:
+        while not checkpoint.exists() and time.monotonic() < deadline and p.poll() is None:
+            time.sleep(0.2)
+        assert checkpoint.exists(), "no checkpoint written"
+    else:
+        while not (killed / "trajectory.parts" / "run.json").exists() and time.monotonic() < deadline:
+            time.sleep(0.05)
+        time.sleep(3.0)  # a few thousand steps in
     os.kill(p.pid, signal.SIGKILL)
     p.wait()
+    assert checkpoint.exists() == after_checkpoint
     assert not (killed / "trajectory.npz").exists()
     assert subprocess.run([*cli, "--out", str(killed), "--quiet"], capture_output=True).returncode == 2  # refused
     assert subprocess.run([*cli, "--resume", "--out", str(killed), "--quiet"]).returncode == 0

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from neurowalk.sim import episode
+from neurowalk.sim.checkpoint import Checkpoint
 from neurowalk.sim.episode import EpisodeConfig, Resume, RunInterruptedError, run_episode
 from neurowalk.sim.trajectory import PartWriter, Trajectory
 
@@ -48,7 +49,7 @@ def test_streamed_run_stopped_and_resumed_from_its_parts_is_the_whole_run(tmp_pa
     cfg = EpisodeConfig(arena="box", arena_opts={"distance": 0.6}, steps=700, seed=2)
     whole = run_episode(cfg)
     parts = PartWriter(tmp_path / "parts")
-    saved: dict[int, bytes] = {}
+    saved: dict[int, Checkpoint] = {}
 
     def stop_after_third(rows: Trajectory, start: int) -> None:
         parts(rows, start)
@@ -59,9 +60,11 @@ def test_streamed_run_stopped_and_resumed_from_its_parts_is_the_whole_run(tmp_pa
     stopped: list[int] = []
 
     with pytest.raises(RunInterruptedError) as info:
-        run_episode(cfg, sink=stop_after_third, chunk=200, keep_rows=False, checkpoint=saved.__setitem__)
+        run_episode(
+            cfg, sink=stop_after_third, chunk=200, keep_rows=False, checkpoint=lambda c: saved.setdefault(c.step, c)
+        )
     assert info.value.episode.summary["steps"] == 600 and sorted(saved) == [200, 400]
-    resumed = run_episode(cfg, sink=parts, chunk=200, keep_rows=False, resume=Resume(400, saved[400], parts.pieces()))
+    resumed = run_episode(cfg, sink=parts, chunk=200, keep_rows=False, resume=Resume(saved[400], parts.pieces()))
     _same_summary(resumed.summary, whole.summary)
     assert resumed.summary["resumed_at_step"] == 400 and "resumed_at_step" not in whole.summary
     assert parts.join(tmp_path / "t.npz") == 700

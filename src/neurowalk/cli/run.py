@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from neurowalk.cli.common import UsageError, check_engine, engine_args, episode_args, episode_config, out_folder
+from neurowalk.fileio import write_json
 
 
 def add_run_parsers(sub: argparse._SubParsersAction) -> None:
@@ -21,11 +22,15 @@ def add_run_parsers(sub: argparse._SubParsersAction) -> None:
     r.add_argument("--out", type=Path, default=Path("out/run"), help="output folder (default out/run)")
     r.add_argument("--video", action="store_true", help="also render DIR/video.mp4 (headless)")
     r.add_argument("--quiet", action="store_true", help="no progress bar")
-    r.add_argument("--overwrite", action="store_true",
-                   help="run even where DIR holds the parts of an unfinished (killed) run, deleting them")  # fmt: skip
+    r.add_argument(
+        "--overwrite",
+        action="store_true",
+        help="replace the run in DIR, finished or not (a run into a folder that holds one is refused)",
+    )
     r.add_argument("--resume", action="store_true",
-                   help="go on with the unfinished physics run in DIR from its last checkpoint (every 10,000 steps; "
-                        "its own settings are used, the others given here are ignored)")  # fmt: skip
+                   help="go on with the unfinished run in DIR from its last checkpoint (MuJoCo bodies: every 10,000 "
+                        "steps), or from step 0 where it has none; its own settings are used, those given here are "
+                        "ignored")  # fmt: skip
 
     v = sub.add_parser("view", help="watch a closed-loop run live in MuJoCo's viewer (needs a display)")
     episode_args(v)
@@ -33,8 +38,12 @@ def add_run_parsers(sub: argparse._SubParsersAction) -> None:
 
 def cmd_run(args: argparse.Namespace) -> int:
     """`neurowalk run`: one closed-loop run into DIR (resumable where it is a physics run)."""
-    if args.video and args.body != "amosii":
-        raise UsageError(f"--video needs --body amosii (the {args.body!r} body has no 3-D state to render)")
+    from neurowalk.body.registry import body_info
+
+    if args.video and not _is_physics(args.body, body_info):
+        raise UsageError(f"--video needs a MuJoCo body; {args.body!r} is planar (no 3-D model to render)")
+    if args.resume and args.overwrite:
+        raise UsageError("--resume and --overwrite exclude each other: go on with the run in DIR, or start afresh")
     if args.video:
         from neurowalk.render import check_gl, use_headless_gl
 
@@ -44,24 +53,77 @@ def cmd_run(args: argparse.Namespace) -> int:
             raise UsageError(f"--video: {problem}")
     cfg = episode_config(args)
     check_engine(args)  # after the config's own checks: a bad body is named before any device is looked for
-    from neurowalk.fileio import atomic_write, write_json
-    from neurowalk.sim.episode import RunInterruptedError, build, run_episode
+    from neurowalk.fileio import FolderBusyError, folder_lock
     from neurowalk.sim.trajectory import PartWriter
 
     out = out_folder(args.out)
-    parts = PartWriter(out / "trajectory.parts")
-    resume = None
-    if args.resume:
-        cfg, resume = _resume_point(parts)
-    elif any(parts.folder.glob("part-*.npz")) and not args.overwrite:
+    try:
+        lock = folder_lock(out, "run")
+    except (FolderBusyError, OSError) as e:
+        why = f"--out {e}" if isinstance(e, FolderBusyError) else f"--out {str(out)!r}: {e.strerror}"
+        raise UsageError(why) from None
+    with lock:
+        parts = PartWriter(out / "trajectory.parts")
+        cfg, resume = _start(args, cfg, out, parts)
+        return _run_into(args, cfg, out, parts, resume)
+
+
+def _is_physics(body: str, body_info: Any) -> bool:
+    try:
+        return bool(body_info(body).physics)
+    except ValueError:
+        return True  # an unknown body is named by the config's own check
+
+
+def _checkpointed(cfg: Any) -> bool:
+    """Runs that leave a checkpoint every part: MuJoCo bodies on the CPU loop."""
+    from neurowalk.body.registry import body_info
+
+    return bool(body_info(cfg.body).physics) and cfg.engine == "mujoco"
+
+
+def _start(args: argparse.Namespace, cfg: Any, out: Path, parts: Any) -> tuple[Any, Any]:
+    """(config, Resume or None) of the run to make in ``out``: refuses to replace a run without ``--overwrite``."""
+    unfinished = parts.folder.is_dir() and any(parts.folder.iterdir())
+    finished = not unfinished and (out / "summary.json").is_file()
+    if args.resume and unfinished:
+        got = _resume_point(parts)
+        if got[1] is not None:
+            return got
+        cfg = got[0]
+    elif args.resume and finished:
+        raise UsageError(f"--resume: {str(out)!r} holds a finished run (summary.json); --overwrite runs it again")
+    elif args.resume:
+        print(f"neurowalk: --resume: no unfinished run in {out}: starting at step 0", file=sys.stderr)
+    elif unfinished and not args.overwrite:
         raise UsageError(f"{str(out)!r} holds the parts of an unfinished run ({parts.folder.name}/, e.g. a killed "
                          "one): --resume to go on with it, or --overwrite to start afresh")  # fmt: skip
-    else:
-        parts.remove()
-        if cfg.body == "amosii" and cfg.engine == "mujoco":  # type: ignore[attr-defined]  # checkpointed
-            parts.folder.mkdir()
-            write_json(parts.folder / "run.json", {**dataclasses.asdict(cfg), "resumable": True})  # type: ignore[call-overload]
+    elif finished and not args.overwrite:
+        raise UsageError(f"{str(out)!r} holds a finished run (summary.json): --overwrite to replace it, or another "
+                         "--out")  # fmt: skip
+    _clear(out, parts)
+    parts.folder.mkdir()
+    write_json(parts.folder / "run.json", {**dataclasses.asdict(cfg), "resumable": _checkpointed(cfg)})
+    return cfg, None
+
+
+def _clear(out: Path, parts: Any) -> None:
+    """Remove an earlier run's files from ``out`` (the new run writes its own), temp files of a killed one too."""
+    from neurowalk.fileio import stale_temp_files
+
+    parts.remove()
+    for name in ("summary.json", "trajectory.npz", "run.png", "video.mp4"):
+        (out / name).unlink(missing_ok=True)
+    for stale in stale_temp_files(out):
+        stale.unlink(missing_ok=True)
+
+
+def _run_into(args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume: Any) -> int:
+    """Run ``cfg`` with its rows streamed into ``parts``, then write DIR's files; the exit status."""
     import signal
+
+    from neurowalk.fileio import write_error
+    from neurowalk.sim.episode import RunInterruptedError, run_episode
 
     def _stop(signum: int, frame: object) -> None:
         raise KeyboardInterrupt  # a killed job (SIGTERM) keeps what it finished, like Ctrl-C
@@ -69,80 +131,112 @@ def cmd_run(args: argparse.Namespace) -> int:
     signal.signal(signal.SIGTERM, _stop)
     interrupted = False
     try:
-        ep = run_episode(
-            cfg,
-            progress=not args.quiet,
-            sink=parts,
-            keep_rows=False,  # memory bounded by the part size: the rows live in the parts
-            resume=resume,  # type: ignore[arg-type]
-            checkpoint=parts.write_checkpoint if cfg.body == "amosii" and cfg.engine == "mujoco" else None,
-        )  # type: ignore[attr-defined]
-    except RunInterruptedError as stop:
-        ep, interrupted = stop.episode, True
-    done = ep.summary["steps"]  # completed steps
-    with signals_held():  # a signal now would lose the finished run: the save finishes first
-        if done:
-            parts.join(out / "trajectory.npz", done)
-        write_json(out / "summary.json", ep.summary)
-        resumable = interrupted and parts.folder.is_dir() and parts.read_checkpoint() is not None
-        if not resumable:
-            parts.remove()
-        if not interrupted:
-            from neurowalk.plotting import plot_run  # after the run: matplotlib's memory is not held through it
-
-            fig = plot_run(ep.trajectory, ep.arena, ep.summary)
-            atomic_write(out / "run.png", lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
-        for stale in ("video.mp4", *(("run.png",) if interrupted else ())):  # an earlier run's, not this one's
-            (out / stale).unlink(missing_ok=True)
+        try:
+            ep = run_episode(
+                cfg,
+                progress=not args.quiet,
+                sink=parts,
+                keep_rows=False,  # memory bounded by the part size: the rows live in the parts
+                resume=resume,
+                checkpoint=parts.write_checkpoint if _checkpointed(cfg) else None,
+            )
+        except RunInterruptedError as stop:
+            ep, interrupted = stop.episode, True
+        with signals_held():  # a signal now would lose the finished run: the save finishes first
+            _save(out, parts, ep, interrupted)
+    except OSError as e:
+        held = parts.count() if parts.folder.is_dir() else 0
+        kept = f"steps 0-{held - 1:,} kept in {parts.folder}" if held else "no steps kept"
+        print(f"neurowalk: {write_error(e)}: {kept}; free space (or fix the folder) and run again with --resume",
+              file=sys.stderr)  # fmt: skip
+        return 1
+    done = ep.summary["steps"]
     if interrupted:
-        more = f"; `--resume` goes on from step {parts.read_checkpoint()[0]}" if resumable else ""
-        print(f"neurowalk: interrupted: kept the {done} completed steps in {out}{more}", file=sys.stderr)
+        ckpt = parts.read_checkpoint()
+        more = f"from step {ckpt.step}" if ckpt is not None else "from step 0 (no checkpoint yet)"
+        print(f"neurowalk: interrupted: kept the {done} completed steps in {out} (summary.json, trajectory.npz, "
+              f"run.png); `--resume` goes on {more}", file=sys.stderr)  # fmt: skip
         return 130
     written = ["summary.json", "trajectory.npz", "run.png"]
     if args.video:
-        from neurowalk.render import render_video
-
-        _, body, _ = build(cfg)  # type: ignore[arg-type]
-        try:
-            import numpy as np
-
-            with np.load(out / "trajectory.npz") as z:
-                qpos = z["qpos"]
-            render_video(body.model, qpos, out / "video.mp4", progress=not args.quiet)
-        except KeyboardInterrupt:
-            print(f"neurowalk: interrupted while rendering: the run is kept in {out}, without a video",
-                  file=sys.stderr)  # fmt: skip
+        if not _video(cfg, out, args.quiet):
             return 130
         written.append("video.mp4")
     s = ep.summary
     resumed = f" (resumed at step {s['resumed_at_step']})" if "resumed_at_step" in s else ""
     print(
-        f"{cfg.arena}/{cfg.controller}: {s['steps']} steps{resumed} in {s['wall_time_s']:.1f} s "  # type: ignore[attr-defined]
+        f"{cfg.arena}/{cfg.controller}: {s['steps']} steps{resumed} in {s['wall_time_s']:.1f} s "
         f"({_factor(s['real_time_factor'])}x real time); moved {s['forward_displacement_m']:+.2f} m, "
         f"turned {s['heading_change_deg']:+.0f} deg; wrote {', '.join(str(out / w) for w in written)}"
     )
     return 0
 
 
+def _save(out: Path, parts: Any, ep: Any, interrupted: bool) -> None:
+    """Write the run's files, all of the same steps: trajectory.npz, run.png, then summary.json (last)."""
+    from neurowalk.fileio import atomic_write
+    from neurowalk.plotting import plot_run  # after the run: matplotlib's memory is not held through it
+
+    done = ep.summary["steps"]
+    if done:
+        parts.join(out / "trajectory.npz", done)
+        fig = plot_run(ep.trajectory, ep.arena, ep.summary)
+        atomic_write(out / "run.png", lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
+    write_json(out / "summary.json", ep.summary)
+    if not interrupted:
+        parts.remove()  # the run is whole in trajectory.npz; an interrupted one keeps its parts for --resume
+
+
+def _video(cfg: Any, out: Path, quiet: bool) -> bool:
+    """Render DIR/video.mp4 from DIR/trajectory.npz; False if interrupted (the run is kept without it)."""
+    import numpy as np
+
+    from neurowalk.render import render_video
+    from neurowalk.sim.episode import build
+
+    _, body, _ = build(cfg)
+    try:
+        with np.load(out / "trajectory.npz", allow_pickle=False) as z:
+            qpos = z["qpos"]
+        render_video(body.model, qpos, out / "video.mp4", progress=not quiet)
+    except KeyboardInterrupt:
+        print(f"neurowalk: interrupted while rendering: the run is kept in {out}, without a video", file=sys.stderr)
+        return False
+    return True
+
+
 def _resume_point(parts: Any) -> tuple[Any, Any]:
-    """(config, Resume) of the unfinished run whose parts are in ``parts``; UsageError if there is none."""
+    """(config, Resume) of the unfinished run in ``parts``; (config, None) where it has no checkpoint yet."""
     import json
 
+    from neurowalk.sim.checkpoint import CheckpointError
     from neurowalk.sim.episode import EpisodeConfig, Resume
 
-    where = str(parts.folder)
-    saved = parts.read_checkpoint() if parts.folder.is_dir() else None
-    if saved is None or not (parts.folder / "run.json").is_file():
-        raise UsageError(f"--resume: no checkpoint in {where!r} (a physics run leaves one every 10,000 steps)")
-    spec = json.loads((parts.folder / "run.json").read_text())
-    spec.pop("resumable", None)
-    if spec.get("steer") is not None:
-        spec["steer"] = tuple(spec["steer"])
-    step, state = saved
-    if (held := parts.count()) < step:
-        raise UsageError(f"--resume: the parts in {where!r} hold {held} steps, the checkpoint is at {step}")
-    print(f"neurowalk: resuming the run in {where} at step {step} of {spec['steps']}", file=sys.stderr)
-    return EpisodeConfig(**spec), Resume(step, state, parts.pieces())
+    where, spec_path = str(parts.folder), parts.folder / "run.json"
+    try:
+        spec = json.loads(spec_path.read_text())
+        spec.pop("resumable", None)
+        if spec.get("steer") is not None:
+            spec["steer"] = tuple(spec["steer"])
+        cfg = EpisodeConfig(**spec)
+    except FileNotFoundError:
+        raise UsageError(f"--resume: {where!r} holds parts but no run.json (not a run neurowalk can go on "
+                         "with); --overwrite to start afresh") from None  # fmt: skip
+    except (OSError, ValueError, TypeError, AttributeError) as e:
+        raise UsageError(f"--resume: {str(spec_path)!r} is damaged ({type(e).__name__}); --overwrite to start "
+                         "afresh") from None  # fmt: skip
+    try:
+        ckpt = parts.read_checkpoint()
+    except CheckpointError as e:
+        raise UsageError(f"--resume: {e}") from None
+    if ckpt is None:
+        print(f"neurowalk: no checkpoint yet in {where}: starting the run again at step 0", file=sys.stderr)
+        return cfg, None
+    if (held := parts.count_before(ckpt.step)) < ckpt.step:
+        raise UsageError(f"--resume: the parts in {where!r} hold {held} steps, the checkpoint is at {ckpt.step}")
+    parts.drop_from(ckpt.step)  # rows after the checkpoint are run again
+    print(f"neurowalk: resuming the run in {where} at step {ckpt.step} of {cfg.steps}", file=sys.stderr)
+    return cfg, Resume(ckpt, parts.pieces())
 
 
 @contextlib.contextmanager

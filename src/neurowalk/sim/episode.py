@@ -20,7 +20,6 @@ The config, the episode and :func:`build` live in :mod:`neurowalk.sim.config`, t
 from __future__ import annotations
 
 import math
-import pickle
 import time
 from collections.abc import Iterable
 from dataclasses import dataclass, fields, replace
@@ -30,6 +29,7 @@ import numpy as np
 
 from neurowalk.body.registry import body_info
 from neurowalk.controller import Controller
+from neurowalk.sim.checkpoint import Checkpoint, advance_keeping_previous, capture, restore
 from neurowalk.sim.config import (
     BODIES,
     MAX_STEPS,
@@ -52,14 +52,13 @@ PICTURE_ROWS = 10_000  # rows (at most) a streamed run keeps for its picture
 
 @dataclass(frozen=True)
 class Resume:
-    """Where a stopped physics run goes on: the step, the pickled (body, controller), the rows before it.
+    """Where a stopped physics run goes on: its checkpoint (the step and the whole state), the rows before it.
 
     ``head``: the rows before ``step``, as one trajectory or as (start, rows) pieces in step order (e.g. a
     :class:`~neurowalk.sim.trajectory.PartWriter`'s parts, read one at a time).
     """
 
-    step: int
-    state: bytes
+    checkpoint: Checkpoint
     head: Trajectory | Iterable[tuple[int, Trajectory]]
 
 
@@ -82,8 +81,9 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
             41 bytes a step); ``Episode.trajectory`` holds every ``Episode.row_stride``-th row (at most
             :data:`PICTURE_ROWS`), for a picture.
         pad_boxes: run AMOSII on the model with that many obstacle slots, as :mod:`neurowalk.sim.batch` does.
-        checkpoint: physics only: called as ``checkpoint(step, state)`` after each ``chunk`` steps' sink call,
-            ``state`` the whole body and controller (MuJoCo state, noise generators, networks) as bytes.
+        checkpoint: physics only: called as ``checkpoint(ckpt)`` after each ``chunk`` steps' sink call, ``ckpt`` a
+            :class:`~neurowalk.sim.checkpoint.Checkpoint` of the whole body and controller (MuJoCo state, noise
+            generators, networks) as arrays and JSON.
         resume: physics only: go on from such a checkpoint (:class:`Resume`); the continuation is bit for bit
             the run that was not stopped.
 
@@ -105,8 +105,8 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
     ctrl.reset(ctrl_rng)
     start = 0
     if resume is not None:
-        start = resume.step
-        body, ctrl = pickle.loads(resume.state)
+        start = resume.checkpoint.step
+        restore(resume.checkpoint, {"body": body, "controller": ctrl})
     rec = _Recorder(cfg.steps, body, sink, chunk, keep_rows, start)
     if resume is not None:
         rec.restore(resume.head)
@@ -155,11 +155,16 @@ def _loop(cfg: EpisodeConfig, body: Any, ctrl: Controller, rec: _Recorder, bar: 
     has_weights = hasattr(ctrl, "b")
     buf, base = rec.buf, rec.base
     steering = body.action == "steering"  # the body takes the steering pair (e.g. wheels), not joint targets
+    every = rec.chunk if checkpoint is not None else 0
+    previous = None
     for k in range(start, cfg.steps):
         obs = body.observe()
         targets = ctrl.act(obs)
         body.apply(ctrl.steering if steering else targets)
-        body.advance()
+        if every and (k + 1) % every == 0:
+            previous = advance_keeping_previous(body)  # what a checkpoint needs to continue bit for bit
+        else:
+            body.advance()
         i = k - base
         buf.inputs[i] = ctrl.inputs
         buf.outputs[i] = ctrl.steering
@@ -177,7 +182,7 @@ def _loop(cfg: EpisodeConfig, body: Any, ctrl: Controller, rec: _Recorder, bar: 
             rec.flush(k + 1)
             buf, base = rec.buf, rec.base
             if checkpoint is not None and k + 1 < cfg.steps:
-                checkpoint(k + 1, pickle.dumps((body, ctrl)))
+                checkpoint(capture(k + 1, {"body": body, "controller": ctrl}, previous))
     return cfg.steps
 
 

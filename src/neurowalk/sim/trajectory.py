@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import shutil
 from collections.abc import Iterator
 from dataclasses import dataclass, fields
 from pathlib import Path
@@ -9,6 +10,9 @@ from pathlib import Path
 import numpy as np
 
 from neurowalk import anatomy
+from neurowalk.sim.checkpoint import Checkpoint, CheckpointError
+
+CHECKPOINT = "checkpoint.npz"  # a streamed physics run's last checkpoint, in its parts folder
 
 
 @dataclass
@@ -67,7 +71,7 @@ class Trajectory:
     @classmethod
     def load(cls, path: str | Path) -> Trajectory:
         """Read a ``trajectory.npz``."""
-        with np.load(path) as z:
+        with np.load(path, allow_pickle=False) as z:
             return cls(**{f.name: z[f.name] for f in fields(cls)})
 
 
@@ -103,9 +107,26 @@ class PartWriter:
         """Rows in the parts."""
         n = 0
         for p in self.paths():
-            with np.load(p) as z:
+            with np.load(p, allow_pickle=False) as z:
                 n += int(z["t"].shape[0])
         return n
+
+    def count_before(self, step: int) -> int:
+        """Rows the parts hold before ``step``, counted from step 0 without a gap (a resume needs them all)."""
+        n = 0
+        for p in self.paths():
+            start = int(p.stem.split("-")[1])
+            if start != n or start >= step:
+                break
+            with np.load(p, allow_pickle=False) as z:
+                n += int(z["t"].shape[0])
+        return min(n, step)
+
+    def drop_from(self, step: int) -> None:
+        """Delete the parts that start at or after ``step`` (a resumed run writes them again)."""
+        for p in self.paths():
+            if int(p.stem.split("-")[1]) >= step:
+                p.unlink()
 
     def read(self) -> Trajectory:
         """All parts, in order, as one trajectory."""
@@ -127,7 +148,7 @@ class PartWriter:
             pick = (rows >= start) & (rows < end if end is not None else True)
             if not pick.any():
                 continue
-            with np.load(path) as z:
+            with np.load(path, allow_pickle=False) as z:
                 qpos = z["qpos"]
             if out is None:
                 out = np.full((len(rows), qpos.shape[1]), np.nan)
@@ -154,7 +175,7 @@ class PartWriter:
         def write(tmp: str) -> None:
             with zipfile.ZipFile(tmp, "w", compression=zipfile.ZIP_DEFLATED, allowZip64=True) as zf:
                 for f in fields(Trajectory):
-                    with np.load(paths[0]) as z:
+                    with np.load(paths[0], allow_pickle=False) as z:
                         first = z[f.name]
                     header = {"descr": npformat.dtype_to_descr(first.dtype), "fortran_order": False,
                               "shape": (total, *first.shape[1:])}  # fmt: skip
@@ -164,7 +185,7 @@ class PartWriter:
                         for p in paths:
                             if left <= 0:
                                 break
-                            with np.load(p) as z:
+                            with np.load(p, allow_pickle=False) as z:
                                 col = np.ascontiguousarray(z[f.name][:left])
                             out.write(col.tobytes())
                             left -= len(col)
@@ -173,26 +194,27 @@ class PartWriter:
         return total
 
     def remove(self) -> None:
-        """Delete the parts and what a resume needs (once the whole trajectory is saved)."""
-        for p in [*self.folder.glob("part-*.npz"), self.folder / "run.json", self.folder / "checkpoint.pkl"]:
-            p.unlink(missing_ok=True)
-        if self.folder.exists():
-            self.folder.rmdir()
+        """Delete the folder: the parts, what a resume needs, and temp files a killed run left (once saved)."""
+        if self.folder.is_dir():
+            shutil.rmtree(self.folder)
 
-    def write_checkpoint(self, step: int, state: bytes) -> None:
-        """Keep the whole state after ``step`` steps (atomically; the parts before it are written already)."""
-        import pickle
+    def write_checkpoint(self, ckpt: Checkpoint) -> None:
+        """Keep the whole state after ``ckpt.step`` steps (atomically; the parts before it are written already)."""
+        ckpt.save(self.folder / CHECKPOINT)
 
-        from neurowalk.fileio import atomic_write
+    def read_checkpoint(self) -> Checkpoint | None:
+        """The last checkpoint, or None if there is none.
 
-        atomic_write(self.folder / "checkpoint.pkl", lambda tmp: Path(tmp).write_bytes(pickle.dumps((step, state))))
-
-    def read_checkpoint(self) -> tuple[int, bytes] | None:
-        """(step, state) of the last checkpoint, or None if there is none."""
-        import pickle
-
-        path = self.folder / "checkpoint.pkl"
-        return pickle.loads(path.read_bytes()) if path.is_file() else None
+        Raises:
+            CheckpointError: it is damaged or foreign, or of the older pickle format (which is never read).
+        """
+        if (self.folder / "checkpoint.pkl").is_file():
+            raise CheckpointError(
+                f"{str(self.folder / 'checkpoint.pkl')!r} is a checkpoint of an older neurowalk (a pickle, which "
+                "neurowalk no longer reads: it could run code); run again with --overwrite"
+            )
+        path = self.folder / CHECKPOINT
+        return Checkpoint.load(path) if path.is_file() else None
 
 
 def poses_from_qpos(qpos: np.ndarray) -> np.ndarray:
