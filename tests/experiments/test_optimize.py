@@ -38,7 +38,7 @@ def searched(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, optimize.S
 
 def test_tiny_search_writes_its_files_and_a_rerun_recomputes_nothing(searched: tuple[Path, optimize.Search]) -> None:
     out, s = searched
-    for name in ("best.json", "heldout.json", "history.json", "convergence.png", "cmaes.pkl", "results.sqlite"):
+    for name in ("best.json", "heldout.json", "history.json", "convergence.png", "cmaes.json", "results.sqlite"):
         assert (out / name).is_file(), name
     assert len(s.history) == 2 and all(len(r["params"]) == 4 for r in s.history)
     assert s.runs_computed == (1 + 2 * 4) * RUNS_PER_CANDIDATE + 3 * 3  # base, 2 x 4 candidates, held-out x 3 rows
@@ -194,3 +194,49 @@ def test_cli_runs_a_tiny_search(tmp_path: Path, capsys: Any) -> None:
     best = read_params_file(tmp_path / "best.json")
     assert list(best["params"]) == ["mu_b"] and "--fields mu_b" in best["found_by"]["command"]
     assert np.isfinite(best["params"]["mu_b"])
+
+
+class _Evil:
+    """Unpickling this creates a file: proof that a pickle was loaded."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+
+    def __reduce__(self) -> tuple:
+        return (Path.touch, (self.path,))
+
+
+def test_a_crafted_pickle_as_the_search_state_runs_nothing(tmp_path: Path, capsys: Any) -> None:
+    import pickle
+
+    proof = tmp_path / "pwned"
+    (tmp_path / "out").mkdir()
+    (tmp_path / "out" / "cmaes.pkl").write_bytes(pickle.dumps({"es": _Evil(proof)}))
+    args = ["optimize", "--quick", "--generations", "1", "--population", "4", "--out", str(tmp_path / "out")]
+    assert main([*args, "--quiet"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "cmaes.pkl" in err[0] and not proof.exists()
+
+
+@pytest.mark.parametrize("content", [b"", b"{", b"\x00\xff" * 40, b"{}", b'{"format": 99, "settings": {}, '
+                                     b'"records": [], "stopped": null}'], ids=["empty", "cut", "binary", "json",
+                                                                              "newer"])  # fmt: skip
+def test_a_damaged_search_record_is_named_in_one_line_and_left_as_it_was(
+    searched: tuple[Path, optimize.Search], content: bytes, tmp_path: Path, capsys: Any
+) -> None:
+    (tmp_path / "cmaes.json").write_bytes(content)
+    with pytest.raises(ValueError, match=r"cmaes\.json") as info:
+        tiny(tmp_path)
+    assert "\n" not in str(info.value)
+    assert (tmp_path / "cmaes.json").read_bytes() == content
+
+
+def test_a_search_record_whose_candidates_were_edited_is_refused(
+    searched: tuple[Path, optimize.Search], tmp_path: Path
+) -> None:
+    out, _ = searched
+    record = json.loads((out / "cmaes.json").read_text())
+    record["records"][0]["x"][0][0] += 0.01
+    (tmp_path / "cmaes.json").write_text(json.dumps(record))
+    with pytest.raises(ValueError, match="not those this seed draws"):
+        tiny(tmp_path)

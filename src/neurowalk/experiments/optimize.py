@@ -8,9 +8,11 @@ The paper says the learning parameters "could be found by evolutionary algorithm
   :data:`TRAIN_SEED`); constraint: every dead end of the Fig. 5 escape suite (simple deadlock, narrow passage,
   its gap and funnel ±20%, plastic network, :data:`~neurowalk.experiments.deadlock.TRAP_STEPS` steps) escaped;
   :data:`~neurowalk.experiments.optimize_space.FITNESS_RULE` ranks the infeasible below the feasible.
-* Every run goes through the sweep engine into ``DIR/results.sqlite``; the CMA-ES state (the ``cma`` object,
-  its own random state and every candidate) is pickled to ``DIR/cmaes.pkl`` after each generation, so a killed
-  search resumes with nothing recomputed and ends as an uninterrupted one would (same seed, same result).
+* Every run goes through the sweep engine into ``DIR/results.sqlite``; the search's record (its settings, and
+  each generation's candidates and scores) is written to ``DIR/cmaes.json`` after each generation. A killed
+  search is resumed by replaying that record into a fresh CMA-ES of the same seed (its samples are checked to be
+  the recorded ones), so it goes on with nothing recomputed and ends as an uninterrupted one would (same seed,
+  same result). Nothing is pickled: a results folder cannot run code.
 * Then the best candidate, the base variant and the paper variant walk held-out environments (table seed
   :data:`HELDOUT_SEED`, Table 2's own), with Wilson 95% intervals; written by :mod:`.optimize_report`.
 
@@ -23,7 +25,7 @@ a minute (at 5000 steps nearly every candidate succeeds everywhere, so the objec
 from __future__ import annotations
 
 import importlib.util
-import pickle
+import json
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
@@ -40,7 +42,9 @@ BODY = "surrogate"
 TRAIN_SEED = 1000  # table seed of the training environments (run seeds 1000, 1001, ...)
 HELDOUT_SEED = 0  # table seed of the held-out environments: Table 2's own (run seeds 0, 1, ...)
 SIGMA0 = 0.2  # initial CMA-ES step size in the normalised space (the bounds are 1 apart)
-STATE_FILE = "cmaes.pkl"
+STATE_FILE = "cmaes.json"
+STATE_FORMAT = 1  # the format of STATE_FILE this code writes and reads
+OLD_STATE_FILE = "cmaes.pkl"  # older versions' pickled state: never read
 
 
 class CmaMissingError(ImportError):
@@ -174,40 +178,82 @@ def own_rng(holder: dict[str, Any]) -> Iterator[None]:
         np.random.set_state(outer)
 
 
-def load_state(path: Path, settings: dict[str, Any]) -> dict[str, Any] | None:
-    """The checkpoint at ``path`` if there is one; raises ValueError if it holds a search with other settings."""
+def load_state(path: Path, settings: dict[str, Any], space: Sequence[Dim]) -> dict[str, Any] | None:
+    """The search recorded at ``path``, replayed into a fresh CMA-ES, or None if there is none.
+
+    Raises:
+        ValueError (one line naming the file): damaged, foreign or newer, of a search with other settings, or an
+        older neurowalk's pickled state (which is never read).
+    """
+    old = path.with_name(OLD_STATE_FILE)
+    if old.is_file():
+        raise ValueError(f"{str(old)!r} is the search state of an older neurowalk (a pickle, which neurowalk no "
+                         "longer reads: it could run code); remove it and run again (the finished runs in "
+                         "results.sqlite are reused)")  # fmt: skip
     if not path.is_file():
         return None
+    bad = f"{str(path)!r} is not a readable neurowalk search record"
     try:
-        with open(path, "rb") as f:
-            state = pickle.load(f)  # our own checkpoint, in the user's output folder
-    except (OSError, pickle.UnpicklingError, EOFError, AttributeError, ImportError) as e:
-        raise ValueError(f"cannot read the search state {str(path)!r} ({e}); remove it to start afresh") from None
-    old = state.get("settings", {}) if isinstance(state, dict) else {}
+        saved = json.loads(path.read_bytes())
+        fmt, records, stopped, old_settings = saved["format"], saved["records"], saved["stopped"], saved["settings"]
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        raise ValueError(f"{bad} ({type(e).__name__}); remove it to start the search afresh") from None
+    if not isinstance(fmt, int) or fmt > STATE_FORMAT:
+        raise ValueError(f"{str(path)!r} was written by a newer neurowalk (format {fmt!r}); update neurowalk")
+    if fmt < STATE_FORMAT or not isinstance(records, list) or not isinstance(old_settings, dict):
+        raise ValueError(f"{bad} (bad header); remove it to start the search afresh")
     for key, value in settings.items():
-        if old.get(key) != value:
-            raise ValueError(f"{str(path.parent)!r} holds a search with other settings ({key}: {old.get(key)!r}, "
-                             f"asked {value!r}); use another output folder")  # fmt: skip
+        if old_settings.get(key) != json.loads(json.dumps(value)):
+            raise ValueError(f"{str(path.parent)!r} holds a search with other settings ({key}: "
+                             f"{old_settings.get(key)!r}, asked {value!r}); use another output folder")  # fmt: skip
+    state = new_state(space, settings["variant"], settings["sigma0"], settings["seed"], settings["population"],
+                      settings)  # fmt: skip
+    try:
+        for rec in records:
+            with own_rng(state):
+                xs = [np.asarray(x, dtype=float) for x in state["es"].ask()]
+                if not np.array_equal(np.array(xs), np.array(rec["x"], dtype=float)):
+                    raise ValueError("its candidates are not those this seed draws")
+                state["es"].tell(xs, [float(f["score"]) for f in rec["fitness"]])
+            state["records"].append(rec)
+    except (ValueError, KeyError, TypeError, IndexError) as e:
+        raise ValueError(f"{bad} ({e}); remove it to start the search afresh") from None
+    if stopped is not None:
+        state["stopped"] = stopped
     return state
 
 
 def save_state(path: Path, state: dict[str, Any]) -> None:
-    """Pickle the checkpoint atomically."""
+    """Write the search's record (settings, generations, stop) as JSON, atomically."""
     from neurowalk.fileio import atomic_write
 
-    def w(tmp: str) -> None:
-        with open(tmp, "wb") as f:
-            pickle.dump(state, f, protocol=pickle.HIGHEST_PROTOCOL)
+    record = {"format": STATE_FORMAT, "settings": state["settings"], "records": state["records"],
+              "stopped": state.get("stopped")}  # fmt: skip
+    text = json.dumps(_plain(record), indent=1)  # non-finite scores kept (as JSON's NaN, Infinity)
+    atomic_write(path, lambda tmp: Path(tmp).write_text(text + "\n"))
 
-    atomic_write(path, w)
+
+def _plain(x: Any) -> Any:
+    """``x`` with numpy scalars and arrays as plain Python (floats exactly, non-finite ones kept)."""
+    if isinstance(x, dict):
+        return {str(k): _plain(v) for k, v in x.items()}
+    if isinstance(x, list | tuple | np.ndarray):
+        return [_plain(v) for v in x]
+    if isinstance(x, bool | np.bool_):
+        return bool(x)
+    if isinstance(x, int | np.integer):
+        return int(x)
+    if isinstance(x, float | np.floating):
+        return float(x)
+    return x
 
 
 def new_state(space: Sequence[Dim], variant: str, sigma0: float, seed: int, population: int,
               settings: dict[str, Any]) -> dict[str, Any]:  # fmt: skip
-    """A fresh checkpoint: a CMA-ES started at the base variant's values (seeded ``seed + 1``; cma reads 0 as time).
+    """A fresh search: a CMA-ES started at the base variant's values (seeded ``seed + 1``; cma reads 0 as time).
 
-    Its samples come from a RandomState of its own (option ``randn``), pickled with it, so that a resumed search
-    draws what an uninterrupted one would.
+    Its samples come from a RandomState of its own (option ``randn``), so that a replayed search draws what an
+    uninterrupted one would.
     """
     import cma
 
@@ -229,7 +275,7 @@ def run(*, out: Path | str = Path("out/optimize"), quick: bool = False, variant:
     """Run (or resume) a search in ``out``, validate its best candidate, write best.json, heldout.json, plots.
 
     Args:
-        out: output folder: results.sqlite, cmaes.pkl, best.json, heldout.json, history.json, convergence.png.
+        out: output folder: results.sqlite, cmaes.json, best.json, heldout.json, history.json, convergence.png.
         quick: the :data:`QUICK` sizes instead of :data:`FULL`; ``sizes`` overrides single ones by name.
         variant: base variant ('paper' or 'original'); fields/bounds: see :func:`.optimize_space.make_space`.
         seed: CMA-ES seed; train_seed/heldout_seed: table seeds of the training and held-out environments.
@@ -268,7 +314,7 @@ def run(*, out: Path | str = Path("out/optimize"), quick: bool = False, variant:
                 "environments": sz.environments, "steps": sz.steps, "deadend_seeds": sz.deadend_seeds,
                 "seed": seed, "train_seed": train_seed, "sigma0": float(sigma0)}  # fmt: skip
     path = folder / STATE_FILE
-    state = load_state(path, settings) or new_state(space, variant, sigma0, seed, sz.population, settings)
+    state = load_state(path, settings, space) or new_state(space, variant, sigma0, seed, sz.population, settings)
     runner = Runner(folder, backend, workers, address, progress)
     started = False
     if backend == "ray":
