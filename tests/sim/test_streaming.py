@@ -89,3 +89,39 @@ def test_streamed_memory_is_bounded_by_the_chunk_not_the_run(tmp_path, monkeypat
 def test_keep_rows_false_needs_a_sink():
     with pytest.raises(ValueError, match="sink"):
         run_episode(EpisodeConfig(steps=5), keep_rows=False)
+
+
+@pytest.mark.parametrize("body", ["surrogate", "surrogate-wheeled"])
+def test_a_streamed_planar_run_writes_every_row_and_summarises_as_in_memory(body, tmp_path, monkeypatch):
+    cfg = EpisodeConfig(arena="cluttered", body=body, steps=2300, seed=3)
+    whole = run_episode(cfg)
+    monkeypatch.setattr(episode, "PICTURE_ROWS", 100)
+    parts = PartWriter(tmp_path / "parts")
+    streamed = run_episode(cfg, sink=parts, chunk=500, keep_rows=False)
+    _same_summary(streamed.summary, whole.summary)
+    assert parts.join(tmp_path / "trajectory.npz") == 2300
+    _same_rows(Trajectory.load(tmp_path / "trajectory.npz"), whole.trajectory)
+    assert streamed.row_stride == 23 and len(streamed.trajectory) == 100
+    _same_rows(streamed.trajectory, _every(whole.trajectory, 23))
+
+
+@pytest.mark.parametrize("body", ["amosii", "surrogate"])
+@pytest.mark.parametrize("keep_rows", [True, False])
+def test_a_run_stopped_in_its_sink_counts_the_rows_on_disk(body, keep_rows, tmp_path):
+    """Ctrl-C while a part is written: the summary's steps are the rows the parts hold."""
+    cfg = EpisodeConfig(arena="box", body=body, steps=900, seed=1)
+    parts = PartWriter(tmp_path / "parts")
+    seen: list[int] = []
+
+    def stop_in_the_third(rows: Trajectory, start: int) -> None:
+        seen.append(start)
+        if len(seen) == 3:
+            raise KeyboardInterrupt
+        parts(rows, start)
+
+    with pytest.raises(RunInterruptedError) as info:
+        run_episode(cfg, sink=stop_in_the_third, chunk=200, keep_rows=keep_rows)
+    ep = info.value.episode
+    assert ep.summary["steps"] == parts.count() and not ep.summary["completed"]
+    if keep_rows:
+        assert len(ep.trajectory) == parts.count()

@@ -214,19 +214,23 @@ class Surrogate:
 
     def run(self, steps: int, rng: np.random.Generator, sens_state: np.ndarray | None, sens_p: np.ndarray | None,
             steer: tuple[float, float] | None = None, chunk: int | None = None, on_chunk: Any = None,
-            out: SurrogateRun | None = None) -> SurrogateRun:  # fmt: skip
+            out: SurrogateRun | None = None, stream: bool = False) -> SurrogateRun:  # fmt: skip
         """Run ``steps`` control steps from the arena's start pose.
 
         Args:
             steps: control steps.
-            rng: the body's Generator (ultrasonic noise).
+            rng: the body's Generator (ultrasonic noise, drawn a chunk at a time: the same numbers in the same
+                order as one draw for the whole run).
             sens_state, sens_p: the sensory network's (STATE_SIZE,) state (advanced in place) and params array;
                 ``None`` with ``steer`` for constant steering.
             steer: constant (O1, O2) instead of the network.
             chunk, on_chunk: if given, ``on_chunk(stop)`` is called after every ``chunk`` steps.
             out: arrays to write into (default: new ones, see :func:`empty_run`).
+            stream: ``out`` holds one chunk (``chunk`` rows): the rows of steps [stop - n, stop) are its first n
+                rows when ``on_chunk(stop)`` is called; memory does not grow with ``steps``.
 
-        A KeyboardInterrupt stops the run between chunks; ``done`` tells how many rows are complete.
+        A KeyboardInterrupt stops the run between chunks; ``done`` tells how many rows are complete and were
+        handed to ``on_chunk`` (a chunk whose ``on_chunk`` was interrupted does not count).
         """
         cal = self.cal
         fixed = steer is not None
@@ -237,22 +241,22 @@ class Surrogate:
         motion = cal.motion()
         gain = math.sqrt(self.noise_tau) * self.noise
         ring = np.zeros((cal.delay_steps + 1, motion.shape[2]))
-        noise_u = rng.uniform(-1.0, 1.0, size=(steps, 2))
-        out = out if out is not None else empty_run(steps)
-        st = np.asarray(steer if fixed else (0.0, 0.0), dtype=float)
         size = chunk or steps
+        out = out if out is not None else empty_run(size if stream else steps)
+        st = np.asarray(steer if fixed else (0.0, 0.0), dtype=float)
         try:
             for k0 in range(0, steps, size):
                 k1 = min(steps, k0 + size)
+                noise_u = rng.uniform(-1.0, 1.0, size=(k1 - k0, 2))
                 out.contacts += kern.rollout(
                     k0, k1, state, ring, sens_state, sens_p, fixed, st, self._boxes, cal.circles, cal.rays,
                     cal.us_range, cal.grid, motion, cal.alpha(), cal.startup_steps, 1.0 / cal.control_hz,
                     cal.sway_period_steps, cal.sway_phase, noise_u, gain, self.noise_tau,
-                    out.pose, out.inputs, out.outputs, out.weights, out.us,
+                    out.pose, out.inputs, out.outputs, out.weights, out.us, k0 if stream else 0,
                 )  # fmt: skip
-                out.done = k1
                 if on_chunk is not None:
                     on_chunk(k1)
+                out.done = k1
         except KeyboardInterrupt:
             pass
         return out

@@ -182,8 +182,9 @@ def rollout(
     us_range: float, grid: np.ndarray, table: np.ndarray, alpha: float, startup: int, dt: float,
     sway_period: float, sway_phase: float, noise_u: np.ndarray, noise_gain: float, noise_tau: float,
     out_pose: np.ndarray, out_in: np.ndarray, out_out: np.ndarray, out_w: np.ndarray, out_us: np.ndarray,
+    base: int = 0,
 ) -> int:  # fmt: skip
-    """Control steps k0..k1-1 of one run, in place; row k of the outputs is after step k.
+    """Control steps k0..k1-1 of one run, in place; row k - base of the outputs is after step k.
 
     Args:
         state: (8,) run state; ring: (delay + 1, 3) command delay line; sens: (8,) sensory network state
@@ -191,9 +192,10 @@ def rollout(
         boxes: (m, 6) obstacles; circles: (k, 3) footprint; rays: (2, 4) ultrasonic origin and direction
             (left, right); grid (g,), table (g, g, 4): calibrated vx, vy, w, sway; alpha: lag gain per step;
             startup: steps before the legs move; dt: control period (s); sway_period (steps), sway_phase (rad).
-        noise_u: (steps, 2) uniform(-1, 1) draws of the coloured ultrasonic noise.
-        out_pose (steps, 3), out_in (steps, 2), out_out (steps, 2), out_w (steps, 4) b1 b2 q1 q2,
-            out_us (steps, 2) distances as the network saw them (m, inf = no echo).
+        noise_u: (k1 - k0, 2) uniform(-1, 1) draws of the coloured ultrasonic noise, row k - k0 for step k.
+        out_pose (n, 3), out_in (n, 2), out_out (n, 2), out_w (n, 4) b1 b2 q1 q2, out_us (n, 2) distances as
+            the network saw them (m, inf = no echo); n >= k1 - base.
+        base: the step of the outputs' row 0 (0: the whole run's arrays; k0: one chunk's).
 
     Returns:
         The number of collision overlaps resolved.
@@ -205,9 +207,10 @@ def rollout(
     hits = 0
     omega = 2.0 * math.pi / sway_period
     for k in range(k0, k1):
-        sense(k, state, boxes, rays, us_range, omega, sway_phase, noise_u[k], noise_gain, noise_tau, seen)
+        sense(k, state, boxes, rays, us_range, omega, sway_phase, noise_u[k - k0], noise_gain, noise_tau, seen)
+        i = k - base
         for r in range(2):
-            out_us[k, r] = seen[r]
+            out_us[i, r] = seen[r]
             inp[r] = sensory_input(seen[r], sens_p)
         if fixed:
             o1, o2 = steer[0], steer[1]
@@ -218,9 +221,9 @@ def rollout(
         n, yaw = act(k, state, ring, o1, o2, cmd, grid, table, alpha, startup, dt, omega, sway_phase, circles,
                      boxes, reach)  # fmt: skip
         hits += n
-        out_pose[k, 0], out_pose[k, 1], out_pose[k, 2] = state[X], state[Y], yaw
-        out_in[k, 0], out_in[k, 1] = inp[0], inp[1]
-        out_out[k, 0], out_out[k, 1] = o1, o2
+        out_pose[i, 0], out_pose[i, 1], out_pose[i, 2] = state[X], state[Y], yaw
+        out_in[i, 0], out_in[i, 1] = inp[0], inp[1]
+        out_out[i, 0], out_out[i, 1] = o1, o2
         for m in range(4):
-            out_w[k, m] = sens[4 + m]
+            out_w[i, m] = sens[4 + m]
     return hits

@@ -19,7 +19,6 @@ The config, the episode and :func:`build` live in :mod:`neurowalk.sim.config`, t
 
 from __future__ import annotations
 
-import math
 import time
 from collections.abc import Iterable
 from dataclasses import dataclass, fields, replace
@@ -40,14 +39,12 @@ from neurowalk.sim.config import (
     progress_bar,
     seeds,
 )
-from neurowalk.sim.summary import Record, blind_readings, summarize
+from neurowalk.sim.summary import PICTURE_ROWS, RecordKeeper, summarize
 from neurowalk.sim.surrogate_episode import run_surrogate_episode
 from neurowalk.sim.trajectory import Trajectory, poses_from_qpos, up_z_from_qpos
 
 __all__ = ["BODIES", "MAX_STEPS", "PICTURE_ROWS", "Episode", "EpisodeConfig", "Resume", "RunInterruptedError",
            "build", "run_episode", "seeds", "summarize"]  # fmt: skip
-
-PICTURE_ROWS = 10_000  # rows (at most) a streamed run keeps for its picture
 
 
 @dataclass(frozen=True)
@@ -76,7 +73,7 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
             :class:`~neurowalk.sim.trajectory.PartWriter`) lets a streamed run replay the obstacle contacts of
             its wedged periods.
         chunk: rows per sink call.
-        keep_rows: keep every row in memory as ``Episode.trajectory``. False (physics, with a ``sink``):
+        keep_rows: keep every row in memory as ``Episode.trajectory``. False (with a ``sink``, every body):
             memory is bounded by ``chunk`` and the summary's columns (:class:`~neurowalk.sim.summary.Record`,
             41 bytes a step); ``Episode.trajectory`` holds every ``Episode.row_stride``-th row (at most
             :data:`PICTURE_ROWS`), for a picture.
@@ -96,7 +93,9 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
     if not keep_rows and sink is None:
         raise ValueError("keep_rows=False needs a sink: the rows would be lost")
     if not body_info(cfg.body).physics:  # surrogate, surrogate-wheeled: the planar bodies' compiled loop
-        return run_surrogate_episode(cfg, progress=progress, sink=sink, chunk=chunk)
+        return run_surrogate_episode(
+            cfg, progress=progress, sink=sink, chunk=chunk, keep_rows=keep_rows, picture_rows=PICTURE_ROWS
+        )
     if cfg.engine == "warp":
         return _run_warp(cfg, progress, sink, chunk, resume)
     arena, body, ctrl = build(cfg, pad_boxes=pad_boxes if cfg.body == "amosii" else None)
@@ -202,12 +201,8 @@ class _Recorder:
         nq = body.model.nq
         self.buf = Trajectory.empty(steps if keep_rows else self.chunk, nq)
         self.base = 0 if keep_rows else start
-        self.stride = 1 if keep_rows else max(1, math.ceil(steps / PICTURE_ROWS))
-        if not keep_rows:
-            n = steps
-            self.record = Record(np.full((n, 3), np.nan), np.full((n, 2), np.nan), np.zeros(n, dtype=bool), None,
-                                 None, 1.0, np.full(2, np.nan), np.full(2, np.nan))  # fmt: skip
-            self.picture = Trajectory.empty(math.ceil(steps / self.stride), nq)
+        self.keeper = None if keep_rows else RecordKeeper(steps, nq, PICTURE_ROWS)
+        self.stride = 1 if self.keeper is None else self.keeper.stride
 
     def done(self) -> int:
         """Steps completed (rows with a time)."""
@@ -243,20 +238,7 @@ class _Recorder:
         self.flushed = stop
 
     def _keep(self, rows: Trajectory, start: int, stop: int) -> None:
-        """Copy the summary's columns and the picture's rows of steps [start, stop) (``rows`` from ``start``)."""
-        r, n = self.record, stop - start
-        r.pose[start:stop], r.outputs[start:stop] = rows.pose[:n], rows.outputs[:n]
-        r.blind[start:stop] = blind_readings(rows.us_distance[:n])
-        z = rows.qpos[:n, 2]
-        r.final_z, r.max_z = float(z[-1]), max(float(np.max(z)), -np.inf if r.max_z is None else r.max_z)
-        r.min_up_z = min(r.min_up_z, float(np.min(rows.up_z[:n])))
-        r.final_b, r.final_q = rows.b[n - 1].copy(), rows.q[n - 1].copy()
-        first = -(-start // self.stride) * self.stride  # the first picture row at or after start
-        take = np.arange(first, stop, self.stride)
-        for f in fields(Trajectory):
-            src = getattr(rows, f.name)
-            if src.shape[1:] == getattr(self.picture, f.name).shape[1:]:
-                getattr(self.picture, f.name)[take // self.stride] = src[take - start]
+        self.keeper.keep(rows, start, stop)  # type: ignore[union-attr]
 
     def episode(self, cfg: EpisodeConfig, arena: Any, body: Any, done: int, wall: float) -> Episode:
         """The episode of the first ``done`` steps."""
@@ -265,12 +247,11 @@ class _Recorder:
             tr = self.buf.head(done)
             summary = summarize(run_cfg, arena, tr, wall, body.warnings()) if done else {"steps": 0}
         else:
-            r, self.buf = self.record, Trajectory.empty(0, self.buf.qpos.shape[1])  # the chunk buffer is done with
-            cut = Record(r.pose[:done], r.outputs[:done], r.blind[:done], r.final_z, r.max_z, r.min_up_z, r.final_b,
-                         r.final_q)  # fmt: skip
+            self.buf = Trajectory.empty(0, self.buf.qpos.shape[1])  # the chunk buffer is done with
+            cut = self.keeper.record(done)  # type: ignore[union-attr]
             qpos_rows = getattr(self.sink, "qpos_rows", None)  # replays wedged periods' contacts (PartWriter)
             summary = summarize(run_cfg, arena, cut, wall, body.warnings(), qpos_rows=qpos_rows) if done else {}
-            tr = self.picture.head(-(-done // self.stride))
+            tr = self.keeper.picture(done)  # type: ignore[union-attr]
         summary = summary or {"steps": 0}
         summary["completed"] = done == cfg.steps
         summary["steps_requested"] = cfg.steps

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any
 
 import numpy as np
@@ -53,11 +54,53 @@ class Record:
                    None if z is None else float(np.max(z)), float(np.min(tr.up_z)), tr.b[-1], tr.q[-1])  # fmt: skip
 
 
+class RecordKeeper:
+    """The summary's columns and a picture's rows of a streamed run, kept as its chunks go by (any body).
+
+    :meth:`keep` takes the rows of steps [start, start + n); :meth:`record` and :meth:`picture` give those of the
+    first ``done`` steps. Memory: 41 bytes a step, plus at most ``picture_rows`` rows (every ``stride``-th).
+    """
+
+    def __init__(self, steps: int, nq: int, picture_rows: int) -> None:
+        self.stride = max(1, math.ceil(steps / picture_rows))
+        self.rec = Record(np.full((steps, 3), np.nan), np.full((steps, 2), np.nan), np.zeros(steps, dtype=bool),
+                          None, None, 1.0, np.full(2, np.nan), np.full(2, np.nan))  # fmt: skip
+        self.pic = Trajectory.empty(math.ceil(steps / self.stride), nq)
+
+    def keep(self, rows: Trajectory, start: int, stop: int) -> None:
+        """Copy the columns and picture rows of steps [start, stop) (``rows`` from ``start``)."""
+        r, n = self.rec, stop - start
+        r.pose[start:stop], r.outputs[start:stop] = rows.pose[:n], rows.outputs[:n]
+        r.blind[start:stop] = blind_readings(rows.us_distance[:n])
+        if rows.qpos.shape[1] > 2:  # a MuJoCo body: trunk height
+            z = rows.qpos[:n, 2]
+            r.final_z, r.max_z = float(z[-1]), max(float(np.max(z)), -np.inf if r.max_z is None else r.max_z)
+        r.min_up_z = min(r.min_up_z, float(np.min(rows.up_z[:n])))
+        r.final_b, r.final_q = rows.b[n - 1].copy(), rows.q[n - 1].copy()
+        first = -(-start // self.stride) * self.stride  # the first picture row at or after start
+        take = np.arange(first, stop, self.stride)
+        for f in fields(Trajectory):
+            src = getattr(rows, f.name)
+            if src.shape[1:] == getattr(self.pic, f.name).shape[1:]:
+                getattr(self.pic, f.name)[take // self.stride] = src[take - start]
+
+    def record(self, done: int) -> Record:
+        """The record of the first ``done`` steps."""
+        r = self.rec
+        return Record(r.pose[:done], r.outputs[:done], r.blind[:done], r.final_z, r.max_z, r.min_up_z, r.final_b,
+                      r.final_q)  # fmt: skip
+
+    def picture(self, done: int) -> Trajectory:
+        """Every ``stride``-th row of the first ``done`` steps."""
+        return self.pic.head(-(-done // self.stride))
+
+
 def blind_readings(us_distance: np.ndarray) -> np.ndarray:
     """(T,) bool: both readings of ``us_distance`` (T, 2) at or beyond :data:`~neurowalk.metrics.BLIND_M` m."""
     return np.all(~(np.asarray(us_distance) < metrics.BLIND_M), axis=1)
 
 
+PICTURE_ROWS = 10_000  # rows (at most) a streamed run keeps for its picture
 REPLAY_BLOCK = 50_000  # rows of positions replayed at a time (about 10 MB)
 
 

@@ -16,14 +16,14 @@ import numpy as np
 from neurowalk.body.surrogate import Surrogate, SurrogateRun, empty_run
 from neurowalk.controller import NeuralController
 from neurowalk.sim.config import Episode, EpisodeConfig, RunInterruptedError, build, progress_bar, seeds
-from neurowalk.sim.summary import summarize
+from neurowalk.sim.summary import PICTURE_ROWS, RecordKeeper, summarize
 from neurowalk.sim.trajectory import Trajectory
 
 
-def trajectory_of(run: SurrogateRun, control_hz: float, fixed: bool) -> Trajectory:
-    """The :class:`Trajectory` view of a surrogate run's arrays (rows are shared, not copied)."""
+def trajectory_of(run: SurrogateRun, control_hz: float, fixed: bool, first: int = 0) -> Trajectory:
+    """The :class:`Trajectory` view of a surrogate run's arrays (shared, not copied); row 0 is step ``first``."""
     steps = len(run.pose)
-    t = np.arange(1, steps + 1) / control_hz
+    t = np.arange(first + 1, first + steps + 1) / control_hz
     b, q = run.weights[:, :2], run.weights[:, 2:]
     if fixed:
         b, q = np.full((steps, 2), np.nan), np.full((steps, 2), np.nan)
@@ -33,9 +33,15 @@ def trajectory_of(run: SurrogateRun, control_hz: float, fixed: bool) -> Trajecto
                       up_z=np.broadcast_to(1.0, (steps,)), qpos=np.empty((steps, 0)))  # fmt: skip
 
 
-def run_surrogate_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
-                          chunk: int = 10_000) -> Episode:  # fmt: skip
-    """:func:`neurowalk.sim.episode.run_episode` for ``body='surrogate'`` (same arguments and errors)."""
+def run_surrogate_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None, chunk: int = 10_000,
+                          keep_rows: bool = True, picture_rows: int = PICTURE_ROWS) -> Episode:  # fmt: skip
+    """:func:`neurowalk.sim.episode.run_episode` for the planar bodies (same arguments and errors).
+
+    ``keep_rows=False`` (with a ``sink``): the run goes in chunks of ``chunk`` rows through one chunk's arrays,
+    keeping the summary's columns and a picture's rows (:class:`~neurowalk.sim.summary.RecordKeeper`), so memory
+    does not grow with the run's rows; ``Episode.trajectory`` holds every ``row_stride``-th row (at most
+    ``picture_rows``).
+    """
     arena, body, ctrl = build(cfg)
     assert isinstance(body, Surrogate)
     body_rng, ctrl_rng, _ = seeds(cfg)
@@ -44,31 +50,44 @@ def run_surrogate_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: A
     state = params = None
     if not fixed:
         state, params = ctrl.sensory.state, ctrl.sensory.packed_params
-    run = empty_run(cfg.steps)
-    tr = trajectory_of(run, cfg.control_hz, fixed)
+    run = empty_run(chunk if not keep_rows else cfg.steps)
+    keeper = None if keep_rows else RecordKeeper(cfg.steps, 0, picture_rows)
     bar = progress_bar(cfg.steps, progress)
     last = [0]
 
     def on_chunk(stop: int) -> None:
-        if bar is not None:
-            bar.update(stop - last[0])
+        start = last[0]
+        if keeper is None:
+            rows = trajectory_of(run, cfg.control_hz, fixed).rows(start, stop)
+        else:
+            rows = trajectory_of(run, cfg.control_hz, fixed, start).head(stop - start)
         if sink is not None:
-            sink(tr.rows(last[0], stop), last[0])
+            sink(rows, start)
+        if keeper is not None:
+            keeper.keep(rows, start, stop)
         last[0] = stop
+        if bar is not None:
+            bar.update(stop - start)
 
     t0 = time.perf_counter()
-    body.run(cfg.steps, body_rng, state, params, steer=cfg.steer, chunk=chunk, on_chunk=on_chunk, out=run)
+    body.run(cfg.steps, body_rng, state, params, steer=cfg.steer, chunk=chunk, on_chunk=on_chunk, out=run,
+             stream=keeper is not None)  # fmt: skip
     wall = time.perf_counter() - t0
     if bar is not None:
         bar.close()
-    done = run.done
-    tr = tr.head(done)
+    done = run.done  # the rows handed to the sink: a chunk whose hand-over was interrupted does not count
     run_cfg = cfg if done == cfg.steps else replace(cfg, steps=max(done, 1))
-    summary = summarize(run_cfg, arena, tr, wall, {}) if done else {"steps": 0}
+    if keeper is None:
+        tr = trajectory_of(run, cfg.control_hz, fixed).head(done)
+        summary = summarize(run_cfg, arena, tr, wall, {}) if done else {"steps": 0}
+        ep = Episode(cfg, arena, tr, summary)
+    else:
+        tr = keeper.picture(done)
+        summary = summarize(run_cfg, arena, keeper.record(done), wall, {}) if done else {"steps": 0}
+        ep = Episode(cfg, arena, tr, summary, row_stride=keeper.stride)
     summary["completed"] = done == cfg.steps
     summary["steps_requested"] = cfg.steps
     summary["surrogate_contacts"] = run.contacts
-    ep = Episode(cfg, arena, tr, summary)
     if done < cfg.steps:
         raise RunInterruptedError(ep)
     return ep
