@@ -8,6 +8,7 @@ holds what they share.
 from __future__ import annotations
 
 import argparse
+import sqlite3
 import sys
 from collections.abc import Sequence
 
@@ -18,6 +19,7 @@ from neurowalk.cli.figure import add_figure_parser, cmd_figure, figure_listing
 from neurowalk.cli.run import add_run_parsers, cmd_run, cmd_view, signals_held
 from neurowalk.cli.sweep import add_optimize_parser, add_sweep_parser, cmd_optimize, cmd_sweep
 from neurowalk.cli.tools import add_tool_parsers, cmd_arenas, cmd_bench, cmd_bodies, cmd_calibrate, cmd_export
+from neurowalk.fileio import write_error
 
 __all__ = ["UsageError", "figure_listing", "main", "out_file", "out_folder", "parse"]
 
@@ -52,8 +54,17 @@ def parse(argv: list[str]) -> argparse.Namespace:
     return _parser().parse_args(argv)
 
 
+def _kept(args: argparse.Namespace | None) -> str:
+    """What a command stopped by a write error keeps, in words."""
+    out = getattr(args, "out", None)
+    if out is None:
+        return "nothing half-written is left; fix the cause and run the same command again"
+    return f"what was finished is kept in {out}; fix the cause (e.g. free space), then run the same command again"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``neurowalk`` command; returns the exit status."""
+    args = None
     try:
         args = parse(list(sys.argv[1:] if argv is None else argv))
         return _COMMANDS[args.command](args)
@@ -65,3 +76,9 @@ def main(argv: Sequence[str] | None = None) -> int:
 
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no second error when Python flushes
         return 0
+    except OSError as e:  # a write that failed part-way (disk full, quota, a folder removed or made read-only)
+        print(f"neurowalk: {write_error(e)}; {_kept(args)}", file=sys.stderr)
+        return 1
+    except sqlite3.OperationalError as e:  # the result store could not be written (e.g. "database or disk is full")
+        print(f"neurowalk: the result store could not be written ({e}); {_kept(args)}", file=sys.stderr)
+        return 1

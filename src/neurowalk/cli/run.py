@@ -145,10 +145,13 @@ def _run_into(args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume:
         with signals_held():  # a signal now would lose the finished run: the save finishes first
             _save(out, parts, ep, interrupted)
     except OSError as e:
-        held = parts.count() if parts.folder.is_dir() else 0
-        kept = f"steps 0-{held - 1:,} kept in {parts.folder}" if held else "no steps kept"
-        print(f"neurowalk: {write_error(e)}: {kept}; free space (or fix the folder) and run again with --resume",
-              file=sys.stderr)  # fmt: skip
+        print(f"neurowalk: {write_error(e)}: {_kept(parts)}; free space (or fix the folder) and run again with "
+              "--resume", file=sys.stderr)  # fmt: skip
+        return 1
+    except Exception as e:  # a failure inside the loop: what it finished is in the parts, and the line says so
+        why = str(e).splitlines()[0] if str(e) else ""
+        print(f"neurowalk: the run failed ({type(e).__name__}: {why}): {_kept(parts)}; `--resume` runs it again "
+              "from its last checkpoint", file=sys.stderr)  # fmt: skip
         return 1
     done = ep.summary["steps"]
     if interrupted:
@@ -170,6 +173,12 @@ def _run_into(args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume:
         f"turned {s['heading_change_deg']:+.0f} deg; wrote {', '.join(str(out / w) for w in written)}"
     )
     return 0
+
+
+def _kept(parts: Any) -> str:
+    """The steps on disk in ``parts``, in words."""
+    held = parts.count() if parts.folder.is_dir() else 0
+    return f"steps 0-{held - 1:,} kept in {parts.folder}" if held else "no steps kept"
 
 
 def _save(out: Path, parts: Any, ep: Any, interrupted: bool) -> None:

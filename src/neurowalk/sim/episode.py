@@ -19,6 +19,7 @@ The config, the episode and :func:`build` live in :mod:`neurowalk.sim.config`, t
 
 from __future__ import annotations
 
+import contextlib
 import time
 from collections.abc import Iterable
 from dataclasses import dataclass, fields, replace
@@ -118,6 +119,12 @@ def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None,
         done = _loop(cfg, body, ctrl, rec, bar, start, checkpoint)
     except KeyboardInterrupt:
         done = rec.done()
+    except OSError:
+        raise  # a write that failed: writing again would fail too
+    except Exception:
+        with contextlib.suppress(Exception):  # a failure in the loop: hand the completed rows on, then report it
+            rec.flush(rec.done())
+        raise
     wall = time.perf_counter() - t0
     if bar is not None:
         bar.close()
