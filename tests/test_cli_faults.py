@@ -108,3 +108,35 @@ def test_a_run_on_a_full_filesystem_exits_1_in_one_line_and_keeps_its_parts(smal
     held = PartWriter(out / "trajectory.parts").count()
     assert held > 0 and f"steps 0-{held - 1:,} kept" in err[0]
     _no_temp_files(out)
+
+
+@pytest.mark.parametrize(
+    ("body", "sig"),
+    [("amosii", "SIGINT"), ("amosii", "SIGTERM"), ("surrogate", "SIGINT"), ("wheeled", "SIGTERM")],
+)
+def test_a_stopped_runs_summary_trajectory_and_picture_describe_the_same_steps(body, sig, tmp_path):
+    import json
+    import signal
+    import time
+
+    import numpy as np
+
+    steps = "3000000" if body == "surrogate" else "30000"
+    cmd = [sys.executable, "-m", "neurowalk.cli", "run", "--body", body, "--arena", "cluttered", "--steps", steps,
+           "--quiet", "--out", str(tmp_path / "run")]  # fmt: skip
+    p = subprocess.Popen(cmd, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 60
+    while not (tmp_path / "run" / "trajectory.parts" / "run.json").exists() and time.monotonic() < deadline:
+        time.sleep(0.05)
+    time.sleep(2.0)
+    p.send_signal(getattr(signal, sig))
+    _, err = p.communicate(timeout=60)
+    assert p.returncode == 130, err
+    assert len(err.strip().splitlines()) == 1 and "interrupted" in err
+    summary = json.loads((tmp_path / "run" / "summary.json").read_text())
+    with np.load(tmp_path / "run" / "trajectory.npz", allow_pickle=False) as z:
+        rows = len(z["t"])
+    assert 0 < summary["steps"] == rows < int(steps) and not summary["completed"]
+    assert f"kept the {rows} completed steps" in err
+    assert (tmp_path / "run" / "run.png").exists()
+    _no_temp_files(tmp_path / "run")
