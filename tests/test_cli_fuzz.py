@@ -149,6 +149,9 @@ RUN_CASES = [
     run("summary.json", "--out", f"{GOOD}/summary.json/sub"),
     run("xxxx", "--out", f"{GOOD}/{'x' * 300}"),
     run("neurowalk-run", "--out", "/proc/neurowalk-run"),
+    run("--out", "--out", ""),
+    run("--out", "--out", "   "),
+    run("--params", "--params", ""),
     run("KEY=VALUE", "--arena-opt", "novalue"),
     run("KEY=VALUE", "--arena-opt", "=1"),
     run("x", "--arena-opt", "x=1"),
@@ -273,6 +276,8 @@ FIGURE_CASES = [
     fig("speed", "fig6", "--params", P_UNKNOWN),
     fig("--variant", "fig7", "--variant", "paper"),
     fig("summary.json", "fig7", "--out", f"{GOOD}/summary.json"),
+    fig("--out", "fig2", "--out", ""),
+    fig("--out", "fig4", "--out", " "),
     fig("--gait", "fig8", "--gait", "wave"),
     fig("summary.json", "fig8", "--out", f"{GOOD}/summary.json/fig8"),
     fig("--arena-opt", "fig9", "--arena-opt", "size=1"),
@@ -348,6 +353,8 @@ SWEEP_CASES = [
     sweep("summary.json", "--body", "surrogate", "--steps", "10", "--out", f"{GOOD}/summary.json"),
     sweep("summary.json", "--body", "surrogate", "--steps", "10", "--out", f"{GOOD}/summary.json/sweep"),
     case("--out", "sweep", "--steps", "10"),
+    sweep("--out", "--steps", "10", "--out", ""),
+    case("--out", "sweep", "--steps", "10", "--out=\t"),
 ]
 
 # --- sweep: the specs file, every EpisodeConfig field --------------------------------------------------------------
@@ -467,6 +474,7 @@ def specs_file(word: str, name: str, content: str | bytes, *extra: str) -> Any:
 SPECS_FILE_CASES = [
     case("no-such", "sweep", "--specs", f"{FILES_DIR}/no-such.jsonl", "--out", GOOD, "--quiet"),
     case("a-folder", "sweep", "--specs", P_FOLDER, "--out", GOOD, "--quiet"),
+    case("--specs", "sweep", "--specs", " ", "--out", GOOD, "--quiet"),
     specs_file("empty", "specs-empty.jsonl", "# nothing\n\n"),
     specs_file("binary", "specs-binary.jsonl", b"\xff\xfe\x00\x81\n"),
     specs_file("--seeds", "specs-good.jsonl", '{"body": "surrogate", "steps": 10}\n', "--seeds", "3"),
@@ -492,6 +500,9 @@ OTHER_CASES = [
     ),
     case("xxxx", "calibrate", "--out", f"{GOOD}/{'x' * 300}.json"),
     case("--grid", "calibrate", "--grid", "3", "--out", f"{GOOD}/cal.json"),
+    case("--out", "calibrate", "--quick", "--out", ""),
+    case("--out", "bench", "--quick", "--out", " "),
+    case("--out", "export-model", "--out", ""),
     case("workers", "bench", "--workers", "0", "--out", GOOD),
     case("workers", "bench", "--workers", "-4", "--out", GOOD),
     case("1.5", "bench", "--workers", "1.5", "--out", GOOD),
@@ -579,6 +590,7 @@ OPTIMIZE_CASES = [
     opt("summary.json", "--out", f"{GOOD}/summary.json"),
     opt("summary.json", "--out", f"{GOOD}/summary.json/search"),
     opt("xxxx", "--out", f"{GOOD}/{'x' * 300}"),
+    opt("--out", "--out", ""),
 ]
 
 # --- baseline --------------------------------------------------------------------------------------------------------
@@ -609,6 +621,7 @@ BASELINE_CASES = [
     base("--seed", "--seed", str(2**32)),
     base("summary.json", "--methods", "neuroevo", "--out", f"{GOOD}/summary.json"),
     base("xxxx", "--methods", "neuroevo", "--out", f"{GOOD}/{'x' * 300}"),
+    base("--out", "--methods", "neuroevo", "--out", ""),
 ]
 
 # --- the command line itself -----------------------------------------------------------------------------------------

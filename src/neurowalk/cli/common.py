@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 
 class UsageError(Exception):
@@ -12,15 +13,31 @@ class UsageError(Exception):
 
 
 class Parser(argparse.ArgumentParser):
-    """The parser of the command and of each subcommand: a bad command line raises UsageError."""
+    """The parser of the command and of each subcommand: a bad command line raises UsageError.
+
+    Every option of ``type=Path`` takes a non-empty name (:func:`path_value`): ``Path("")`` is the working folder,
+    so ``--out ''`` would write there.
+    """
 
     help_tail: Callable[[], str] | None = None  # more help, computed only when help is asked for
 
     def error(self, message: str) -> None:  # one clear line instead of usage + message
         raise UsageError(message)
 
+    def add_argument(self, *args: Any, **kwargs: Any) -> argparse.Action:
+        if kwargs.get("type") is Path:
+            kwargs["type"] = path_value
+        return super().add_argument(*args, **kwargs)
+
     def format_help(self) -> str:
         return super().format_help() + (self.help_tail() if self.help_tail else "")
+
+
+def path_value(text: str) -> Path:
+    """The Path of a path option's value; refuses an empty or blank one (argparse names the option)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError(f"expects a file or folder name, got {text!r}")
+    return Path(text)
 
 
 def out_folder(path: Path, flag: str = "--out", given: Path | None = None) -> Path:
