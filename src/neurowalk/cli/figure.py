@@ -53,12 +53,13 @@ def add_figure_parser(sub: argparse._SubParsersAction) -> None:
         "--seeds", type=int, default=None, help="number of seeds per condition (figures with outcome tables)"
     )
     f.add_argument("--replot", action="store_true", help="redraw from DIR/NAME.json and .npz without rerunning")
-    f.add_argument("--body", default=None, help="amosii | surrogate | wheeled | surrogate-wheeled (figures that "
-                   "take a body; default per figure; see `neurowalk bodies`)")  # fmt: skip
+    f.add_argument("--body", default=None, help="{bodies} (figures that take a body; default per figure; see "
+                   "`neurowalk bodies`)")  # fmt: skip
     climb = "leg reflexes and backbone control on (fig3 fig5 escape-map table2; default out: out/NAME-climb)"
     f.add_argument("--climb", action="store_true", help=climb)
     variant_args(f)
-    f.add_argument("--gait", default=None, help="gait of the physics figures that take one (fig3 fig5 escape-map)")
+    f.add_argument("--gait", default=None, help="gait of the physics figures that take one (fig3 fig5 escape-map): "
+                   "{gaits}")  # fmt: skip
     f.add_argument("--video", action="store_true", help="also write the example runs' videos (fig8, fig9)")
     f.add_argument("--arena-opt", action="append", default=[], metavar="size=M",
                    help="box side of the random environments (table2, fig6; default 1 m, the authors')")  # fmt: skip

@@ -21,9 +21,10 @@ from neurowalk.cli.common import (
 def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     """The `sweep` subcommand."""
     s = sub.add_parser("sweep", help="many runs (a grid, or specs from a file), resumable, into DIR/results.sqlite")
-    s.add_argument("--arena", default=None, metavar="NAME[,NAME...]", help="arenas (default open)")
-    s.add_argument("--controller", default=None, metavar="NAME[,NAME...]", help="controllers (default plastic)")
-    s.add_argument("--body", default=None, metavar="NAME[,NAME...]", help="bodies (default amosii)")
+    s.add_argument("--arena", default=None, metavar="NAME[,NAME...]", help="arenas: {arenas} (default open)")
+    s.add_argument("--controller", default=None, metavar="NAME[,NAME...]",
+                   help="controllers: {controllers} (default plastic)")  # fmt: skip
+    s.add_argument("--body", default=None, metavar="NAME[,NAME...]", help="bodies: {bodies} (default amosii)")
     s.add_argument("--seeds", type=int, default=None, help="seeds per condition (default 1)")
     s.add_argument("--seed-start", type=int, default=None, help="first seed (default 0): seeds S, S+1, ...")
     s.add_argument("--steps", type=int, default=None, help="control steps per run (default 1000)")
@@ -38,7 +39,7 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--workers", type=int, default=2, help="processes, or CPUs of a local Ray instance (default 2)")
     s.add_argument("--retries", type=int, default=0, metavar="N",
                    help="run a job whose worker died up to N more times (default 0: store it as failed)")  # fmt: skip
-    s.add_argument("--gait", default=None, metavar="NAME[,NAME...]", help="gaits (default wave)")
+    s.add_argument("--gait", default=None, metavar="NAME[,NAME...]", help="gaits: {gaits} (default wave)")
     s.add_argument("--out", type=Path, required=True, help="output folder (the store; resumes what is there)")
     s.add_argument("--export", choices=("parquet", "csv"), default=None, help="also write DIR/results.parquet|csv")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -170,7 +171,7 @@ def add_optimize_parser(sub: argparse._SubParsersAction) -> None:
                        "heldout.json, convergence.png (resumable)")  # fmt: skip
     o.add_argument("--out", type=Path, default=Path("out/optimize"), help="output folder (default out/optimize)")
     o.add_argument("--quick", action="store_true", help="small search (6 x 5 candidates, 16 environments, 10000 steps)")
-    o.add_argument("--variant", default="original", help="base variant: original (default) | paper")
+    o.add_argument("--variant", default="original", help="base variant: {optimize_bases} (default original)")
     o.add_argument("--fields", default=None, metavar="NAME[,NAME...]",
                    help="SensoryParams fields to search (default mu_b,mu_q,gamma_b,gamma_q,k)")  # fmt: skip
     o.add_argument("--param", action="append", default=[], metavar="FIELD=LO:HI",
