@@ -321,6 +321,11 @@ SWEEP_CASES = [
     sweep("seeds", "--seeds", "0"),
     sweep("seeds", "--seeds", "-3"),
     sweep("seeds", "--seeds", str(10**30)),
+    sweep("3,000,000,000 runs", "--seeds", "3000000000"),
+    sweep("1,200,000 runs", "--arena", "open,box", "--seeds", "600000"),
+    sweep("1,200,000 runs", "--arena-opt", "size=1,2,3", "--seeds", "400000", "--arena", "random"),
+    sweep("100,000,000 steps", "--steps", "100000000", "--workers", "64"),
+    sweep(str(10**30), "--steps", str(10**30)),
     sweep("--retries", "--retries", "-1"),
     sweep("--retries", "--retries", "one"),
     sweep("seed", "--seed-start", str(10**30)),
@@ -476,6 +481,7 @@ SPECS_FILE_CASES = [
     case("a-folder", "sweep", "--specs", P_FOLDER, "--out", GOOD, "--quiet"),
     case("--specs", "sweep", "--specs", " ", "--out", GOOD, "--quiet"),
     specs_file("empty", "specs-empty.jsonl", "# nothing\n\n"),
+    specs_file("100,000,000 steps", "specs-long.jsonl", '{"steps": 100000000}\n', "--workers", "64"),
     specs_file("binary", "specs-binary.jsonl", b"\xff\xfe\x00\x81\n"),
     specs_file("--seeds", "specs-good.jsonl", '{"body": "surrogate", "steps": 10}\n', "--seeds", "3"),
     specs_file("--arena", "specs-good.jsonl", '{"body": "surrogate", "steps": 10}\n', "--arena", "box"),
@@ -746,6 +752,40 @@ def test_bad_input_exits_2_with_one_line_before_any_work(argv, word, places, tri
     assert word in lines[0], (word, lines[0])
     assert _snapshot(places["good"]) == before
     assert _snapshot(places["files"]) == files_before
+
+
+def _one_line_error(status: int, err: str, *words: str) -> None:
+    lines = err.splitlines()
+    assert status == 2 and len(lines) == 1 and "Traceback" not in err, err
+    assert all(w in lines[0] for w in words), (words, lines[0])
+
+
+def test_a_specs_file_larger_than_a_sweep_reads_is_refused_unread(places, tripwires, tmp_path, capsys):
+    from neurowalk.cli.sweep import MAX_SPECS_BYTES
+
+    big = tmp_path / "big.jsonl"
+    with open(big, "wb") as f:
+        f.truncate(MAX_SPECS_BYTES + 1)  # sparse: no disk used; reading it would take the memory
+    status = main(["sweep", "--specs", str(big), "--out", str(places["good"]), "--quiet"])
+    _one_line_error(status, capsys.readouterr().err, "big.jsonl", "MiB")
+
+
+def test_the_runs_of_a_sweep_must_fit_in_the_machines_memory(places, tripwires, tmp_path, monkeypatch, capsys):
+    from neurowalk.cli import sweep
+
+    monkeypatch.setattr(sweep, "machine_memory", lambda: 10**9)  # 1 GB: 1,000,000 steps a run, on one worker
+    out = ["--body", "surrogate", "--out", str(tmp_path / "s"), "--quiet"]
+    status = main(["sweep", "--steps", "600000", "--workers", "2", *out])
+    _one_line_error(status, capsys.readouterr().err, "600,000 steps", "2 at once", "1.2 GB", "1.0 GB")
+    with pytest.raises(WorkStartedError):  # one worker: it fits
+        main(["sweep", "--steps", "600000", "--workers", "1", *out])
+
+
+def test_the_machines_memory_is_known_here():
+    from neurowalk.cli.common import machine_memory
+
+    have = machine_memory()
+    assert have is None or 2**28 < have < 2**50
 
 
 # --- the list itself -------------------------------------------------------------------------------------------------

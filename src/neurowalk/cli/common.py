@@ -87,6 +87,21 @@ def path_value(text: str) -> Path:
     return Path(text)
 
 
+def machine_memory() -> int | None:
+    """Bytes of memory this machine (or the container's memory limit, where lower) has; None where unknown."""
+    import os
+
+    try:
+        have = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (AttributeError, ValueError, OSError):  # no sysconf (Windows) or no such name
+        return None
+    try:
+        limit = Path("/sys/fs/cgroup/memory.max").read_text().strip()  # cgroup v2; "max": no limit
+    except OSError:
+        return have
+    return min(have, int(limit)) if limit.isdigit() else have
+
+
 def out_folder(path: Path, flag: str = "--out", given: Path | None = None) -> Path:
     """Make the output folder ``path`` (and its parents); UsageError naming it if it is a file or cannot be written.
 

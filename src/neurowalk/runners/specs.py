@@ -115,6 +115,8 @@ def normalize(spec: Spec) -> Spec:
 
 
 def _whole(value: Any, name: str) -> int:
+    if isinstance(value, int) and not isinstance(value, bool):
+        return value  # as it is: float() would round a large one (and name another number than the one given)
     try:
         x = float(value)
     except (TypeError, ValueError, OverflowError):
