@@ -788,6 +788,74 @@ def test_the_machines_memory_is_known_here():
     assert have is None or 2**28 < have < 2**50
 
 
+# --- figure --replot: damaged or foreign saved numbers ---------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def fig2_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A folder holding a real fig2 (quick): fig2.json, fig2.npz and fig2.png."""
+    out = tmp_path_factory.mktemp("fig2")
+    assert main(["figure", "fig2", "--quick", "--out", str(out)]) == 0
+    return out
+
+
+def _npy_as_npz(d: Path) -> None:
+    import numpy as np
+
+    np.save(d / "x.npy", np.zeros(3))
+    (d / "x.npy").replace(d / "fig2.npz")
+
+
+def _object_npz(d: Path) -> None:
+    import numpy as np
+
+    np.savez(d / "fig2.npz", a=np.array([{"x": 1}], dtype=object))
+
+
+def _foreign(d: Path) -> None:
+    (d / "fig2.json").write_text(json.dumps({"panel_a": [1, 2], "seed": 0}))
+
+
+#: (name, what the damage does to a copy of a good fig2 folder, the file the error line must name).
+REPLOT_DAMAGE = [
+    ("garbage", lambda d: (d / "fig2.json").write_text("garbage {"), "fig2.json"),
+    ("truncated", lambda d: (d / "fig2.json").write_bytes((d / "fig2.json").read_bytes()[:100]), "fig2.json"),
+    ("binary", lambda d: (d / "fig2.json").write_bytes(b"\xff\xfe\x00\x81 not text"), "fig2.json"),
+    ("empty", lambda d: (d / "fig2.json").write_text(""), "fig2.json"),
+    ("empty object", lambda d: (d / "fig2.json").write_text("{}"), "fig2.json"),
+    ("a list", lambda d: (d / "fig2.json").write_text("[1, 2]"), "fig2.json"),
+    ("nested", lambda d: (d / "fig2.json").write_text("[" * 100_000), "fig2.json"),
+    ("foreign", _foreign, "fig2.json"),
+    ("npz missing", lambda d: (d / "fig2.npz").unlink(), "no fig2.npz"),
+    ("npz garbage", lambda d: (d / "fig2.npz").write_text("junk"), "fig2.npz"),
+    ("npz truncated", lambda d: (d / "fig2.npz").write_bytes((d / "fig2.npz").read_bytes()[:400]), "fig2.npz"),
+    ("npz empty", lambda d: (d / "fig2.npz").write_bytes(b""), "fig2.npz"),
+    ("npz of one array", _npy_as_npz, "fig2.npz"),
+    ("npz of objects", _object_npz, "fig2.npz"),
+    ("npz a folder", lambda d: ((d / "fig2.npz").unlink(), (d / "fig2.npz").mkdir()), "fig2.npz"),
+]
+
+
+@pytest.mark.parametrize("damage,names", [pytest.param(f, n, id=i) for i, f, n in REPLOT_DAMAGE])
+def test_replot_of_damaged_or_foreign_numbers_exits_2_naming_the_file(damage, names, fig2_folder, tmp_path, capsys):
+    import shutil
+
+    d = tmp_path / "copy"
+    shutil.copytree(fig2_folder, d)
+    damage(d)
+    before = _snapshot(d)
+    status = main(["figure", "fig2", "--replot", "--out", str(d)])
+    _one_line_error(status, capsys.readouterr().err, names, "without --replot")
+    assert _snapshot(d) == before  # the files as they were; no picture drawn over the good one
+
+
+def test_replot_of_good_numbers_draws_the_picture(fig2_folder, capsys):
+    png = fig2_folder / "fig2.png"
+    png.unlink()
+    assert main(["figure", "fig2", "--replot", "--out", str(fig2_folder)]) == 0
+    assert png.stat().st_size > 10_000 and not capsys.readouterr().err
+
+
 # --- the list itself -------------------------------------------------------------------------------------------------
 
 
