@@ -30,6 +30,8 @@ FIELDS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(EpisodeConfig
 MACHINE_KEYS: tuple[str, ...] = ("wall_time_s", "real_time_factor")
 
 _DEFAULTS: Spec = {f: getattr(EpisodeConfig(), f) for f in FIELDS}
+#: Every field's default (a stored spec leaves out the :data:`LATER` fields at theirs).
+DEFAULTS: Spec = _DEFAULTS
 #: Fields kept out of the canonical form at their defaults (they came after stores were written).
 LATER: tuple[str, ...] = ("reflexes", "backbone", "variant", "params", "gait", "body_opts", "engine")
 
