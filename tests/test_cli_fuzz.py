@@ -145,6 +145,8 @@ RUN_CASES = [
     run("--resume", "--resume"),
     run("steps", "--overwrite", "--steps", "0"),
     run("--bogus", "--bogus"),
+    run("unrecognized arguments: two\\nlines", "two\nlines"),
+    run("unrecognized arguments: \\x1b[2J\\udcff", "\x1b[2J\udcff"),  # a terminal's escape; bytes not UTF-8
     run("summary.json", "--out", f"{GOOD}/summary.json"),
     run("summary.json", "--out", f"{GOOD}/summary.json/sub"),
     run("xxxx", "--out", f"{GOOD}/{'x' * 300}"),

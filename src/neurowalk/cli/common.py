@@ -80,6 +80,12 @@ def registry_names(name: str) -> tuple[str, ...]:
     raise ValueError(f"unknown registry {name!r}; expected one of {', '.join(REGISTRIES)}")
 
 
+def one_line(text: str) -> str:
+    """``text`` with line breaks and other characters a terminal would not print as they are escaped (``\\n``,
+    ``\\x1b``, a lone surrogate from bytes that were not UTF-8): the one line of an error, whatever the input."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
 def path_value(text: str) -> Path:
     """The Path of a path option's value; refuses an empty or blank one (argparse names the option)."""
     if not text.strip():

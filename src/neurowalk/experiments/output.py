@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import tokenize
 import zipfile
 import zlib
 from pathlib import Path
@@ -70,7 +71,16 @@ def load(name: str, out_dir: str | Path) -> Result:
                 raise ValueError("a single array, not an npz archive")
             with z:
                 arrays = {k: z[k] for k in z.files}
-        except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error) as e:
+        except (
+            OSError,
+            ValueError,
+            EOFError,
+            SyntaxError,
+            tokenize.TokenError,
+            MemoryError,
+            zipfile.BadZipFile,
+            zlib.error,
+        ) as e:  # a damaged array header is parsed as a Python literal: its errors too
             raise DataError(f"cannot read {npz} as figure data ({_one_line(e)})") from None
     return Result(name=name, summary=summary, arrays=arrays)
 
