@@ -145,10 +145,15 @@ RUN_CASES = [
     run("--resume", "--resume"),
     run("steps", "--overwrite", "--steps", "0"),
     run("--bogus", "--bogus"),
+    run("unrecognized arguments: two\\nlines", "two\nlines"),
+    run("unrecognized arguments: \\x1b[2J\\udcff", "\x1b[2J\udcff"),  # a terminal's escape; bytes not UTF-8
     run("summary.json", "--out", f"{GOOD}/summary.json"),
     run("summary.json", "--out", f"{GOOD}/summary.json/sub"),
     run("xxxx", "--out", f"{GOOD}/{'x' * 300}"),
     run("neurowalk-run", "--out", "/proc/neurowalk-run"),
+    run("--out", "--out", ""),
+    run("--out", "--out", "   "),
+    run("--params", "--params", ""),
     run("KEY=VALUE", "--arena-opt", "novalue"),
     run("KEY=VALUE", "--arena-opt", "=1"),
     run("x", "--arena-opt", "x=1"),
@@ -273,6 +278,8 @@ FIGURE_CASES = [
     fig("speed", "fig6", "--params", P_UNKNOWN),
     fig("--variant", "fig7", "--variant", "paper"),
     fig("summary.json", "fig7", "--out", f"{GOOD}/summary.json"),
+    fig("--out", "fig2", "--out", ""),
+    fig("--out", "fig4", "--out", " "),
     fig("--gait", "fig8", "--gait", "wave"),
     fig("summary.json", "fig8", "--out", f"{GOOD}/summary.json/fig8"),
     fig("--arena-opt", "fig9", "--arena-opt", "size=1"),
@@ -316,6 +323,11 @@ SWEEP_CASES = [
     sweep("seeds", "--seeds", "0"),
     sweep("seeds", "--seeds", "-3"),
     sweep("seeds", "--seeds", str(10**30)),
+    sweep("3,000,000,000 runs", "--seeds", "3000000000"),
+    sweep("1,200,000 runs", "--arena", "open,box", "--seeds", "600000"),
+    sweep("1,200,000 runs", "--arena-opt", "size=1,2,3", "--seeds", "400000", "--arena", "random"),
+    sweep("100,000,000 steps", "--steps", "100000000", "--workers", "64"),
+    sweep(str(10**30), "--steps", str(10**30)),
     sweep("--retries", "--retries", "-1"),
     sweep("--retries", "--retries", "one"),
     sweep("seed", "--seed-start", str(10**30)),
@@ -348,6 +360,8 @@ SWEEP_CASES = [
     sweep("summary.json", "--body", "surrogate", "--steps", "10", "--out", f"{GOOD}/summary.json"),
     sweep("summary.json", "--body", "surrogate", "--steps", "10", "--out", f"{GOOD}/summary.json/sweep"),
     case("--out", "sweep", "--steps", "10"),
+    sweep("--out", "--steps", "10", "--out", ""),
+    case("--out", "sweep", "--steps", "10", "--out=\t"),
 ]
 
 # --- sweep: the specs file, every EpisodeConfig field --------------------------------------------------------------
@@ -467,7 +481,9 @@ def specs_file(word: str, name: str, content: str | bytes, *extra: str) -> Any:
 SPECS_FILE_CASES = [
     case("no-such", "sweep", "--specs", f"{FILES_DIR}/no-such.jsonl", "--out", GOOD, "--quiet"),
     case("a-folder", "sweep", "--specs", P_FOLDER, "--out", GOOD, "--quiet"),
+    case("--specs", "sweep", "--specs", " ", "--out", GOOD, "--quiet"),
     specs_file("empty", "specs-empty.jsonl", "# nothing\n\n"),
+    specs_file("100,000,000 steps", "specs-long.jsonl", '{"steps": 100000000}\n', "--workers", "64"),
     specs_file("binary", "specs-binary.jsonl", b"\xff\xfe\x00\x81\n"),
     specs_file("--seeds", "specs-good.jsonl", '{"body": "surrogate", "steps": 10}\n', "--seeds", "3"),
     specs_file("--arena", "specs-good.jsonl", '{"body": "surrogate", "steps": 10}\n', "--arena", "box"),
@@ -492,6 +508,9 @@ OTHER_CASES = [
     ),
     case("xxxx", "calibrate", "--out", f"{GOOD}/{'x' * 300}.json"),
     case("--grid", "calibrate", "--grid", "3", "--out", f"{GOOD}/cal.json"),
+    case("--out", "calibrate", "--quick", "--out", ""),
+    case("--out", "bench", "--quick", "--out", " "),
+    case("--out", "export-model", "--out", ""),
     case("workers", "bench", "--workers", "0", "--out", GOOD),
     case("workers", "bench", "--workers", "-4", "--out", GOOD),
     case("1.5", "bench", "--workers", "1.5", "--out", GOOD),
@@ -579,6 +598,7 @@ OPTIMIZE_CASES = [
     opt("summary.json", "--out", f"{GOOD}/summary.json"),
     opt("summary.json", "--out", f"{GOOD}/summary.json/search"),
     opt("xxxx", "--out", f"{GOOD}/{'x' * 300}"),
+    opt("--out", "--out", ""),
 ]
 
 # --- baseline --------------------------------------------------------------------------------------------------------
@@ -609,6 +629,7 @@ BASELINE_CASES = [
     base("--seed", "--seed", str(2**32)),
     base("summary.json", "--methods", "neuroevo", "--out", f"{GOOD}/summary.json"),
     base("xxxx", "--methods", "neuroevo", "--out", f"{GOOD}/{'x' * 300}"),
+    base("--out", "--methods", "neuroevo", "--out", ""),
 ]
 
 # --- the command line itself -----------------------------------------------------------------------------------------
@@ -733,6 +754,108 @@ def test_bad_input_exits_2_with_one_line_before_any_work(argv, word, places, tri
     assert word in lines[0], (word, lines[0])
     assert _snapshot(places["good"]) == before
     assert _snapshot(places["files"]) == files_before
+
+
+def _one_line_error(status: int, err: str, *words: str) -> None:
+    lines = err.splitlines()
+    assert status == 2 and len(lines) == 1 and "Traceback" not in err, err
+    assert all(w in lines[0] for w in words), (words, lines[0])
+
+
+def test_a_specs_file_larger_than_a_sweep_reads_is_refused_unread(places, tripwires, tmp_path, capsys):
+    from neurowalk.cli.sweep import MAX_SPECS_BYTES
+
+    big = tmp_path / "big.jsonl"
+    with open(big, "wb") as f:
+        f.truncate(MAX_SPECS_BYTES + 1)  # sparse: no disk used; reading it would take the memory
+    status = main(["sweep", "--specs", str(big), "--out", str(places["good"]), "--quiet"])
+    _one_line_error(status, capsys.readouterr().err, "big.jsonl", "MiB")
+
+
+def test_the_runs_of_a_sweep_must_fit_in_the_machines_memory(places, tripwires, tmp_path, monkeypatch, capsys):
+    from neurowalk.cli import sweep
+
+    monkeypatch.setattr(sweep, "machine_memory", lambda: 10**9)  # 1 GB: 1,000,000 steps a run, on one worker
+    out = ["--body", "surrogate", "--out", str(tmp_path / "s"), "--quiet"]
+    status = main(["sweep", "--steps", "600000", "--workers", "2", *out])
+    _one_line_error(status, capsys.readouterr().err, "600,000 steps", "2 at once", "1.2 GB", "1.0 GB")
+    with pytest.raises(WorkStartedError):  # one worker: it fits
+        main(["sweep", "--steps", "600000", "--workers", "1", *out])
+
+
+def test_the_machines_memory_is_known_here():
+    from neurowalk.cli.common import machine_memory
+
+    have = machine_memory()
+    assert have is None or 2**28 < have < 2**50
+
+
+# --- figure --replot: damaged or foreign saved numbers ---------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def fig2_folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A folder holding a real fig2 (quick): fig2.json, fig2.npz and fig2.png."""
+    out = tmp_path_factory.mktemp("fig2")
+    assert main(["figure", "fig2", "--quick", "--out", str(out)]) == 0
+    return out
+
+
+def _npy_as_npz(d: Path) -> None:
+    import numpy as np
+
+    np.save(d / "x.npy", np.zeros(3))
+    (d / "x.npy").replace(d / "fig2.npz")
+
+
+def _object_npz(d: Path) -> None:
+    import numpy as np
+
+    np.savez(d / "fig2.npz", a=np.array([{"x": 1}], dtype=object))
+
+
+def _foreign(d: Path) -> None:
+    (d / "fig2.json").write_text(json.dumps({"panel_a": [1, 2], "seed": 0}))
+
+
+#: (name, what the damage does to a copy of a good fig2 folder, the file the error line must name).
+REPLOT_DAMAGE = [
+    ("garbage", lambda d: (d / "fig2.json").write_text("garbage {"), "fig2.json"),
+    ("truncated", lambda d: (d / "fig2.json").write_bytes((d / "fig2.json").read_bytes()[:100]), "fig2.json"),
+    ("binary", lambda d: (d / "fig2.json").write_bytes(b"\xff\xfe\x00\x81 not text"), "fig2.json"),
+    ("empty", lambda d: (d / "fig2.json").write_text(""), "fig2.json"),
+    ("empty object", lambda d: (d / "fig2.json").write_text("{}"), "fig2.json"),
+    ("a list", lambda d: (d / "fig2.json").write_text("[1, 2]"), "fig2.json"),
+    ("nested", lambda d: (d / "fig2.json").write_text("[" * 100_000), "fig2.json"),
+    ("foreign", _foreign, "fig2.json"),
+    ("npz missing", lambda d: (d / "fig2.npz").unlink(), "no fig2.npz"),
+    ("npz garbage", lambda d: (d / "fig2.npz").write_text("junk"), "fig2.npz"),
+    ("npz truncated", lambda d: (d / "fig2.npz").write_bytes((d / "fig2.npz").read_bytes()[:400]), "fig2.npz"),
+    ("npz empty", lambda d: (d / "fig2.npz").write_bytes(b""), "fig2.npz"),
+    ("npz of one array", _npy_as_npz, "fig2.npz"),
+    ("npz of objects", _object_npz, "fig2.npz"),
+    ("npz a folder", lambda d: ((d / "fig2.npz").unlink(), (d / "fig2.npz").mkdir()), "fig2.npz"),
+]
+
+
+@pytest.mark.parametrize("damage,names", [pytest.param(f, n, id=i) for i, f, n in REPLOT_DAMAGE])
+def test_replot_of_damaged_or_foreign_numbers_exits_2_naming_the_file(damage, names, fig2_folder, tmp_path, capsys):
+    import shutil
+
+    d = tmp_path / "copy"
+    shutil.copytree(fig2_folder, d)
+    damage(d)
+    before = _snapshot(d)
+    status = main(["figure", "fig2", "--replot", "--out", str(d)])
+    _one_line_error(status, capsys.readouterr().err, names, "without --replot")
+    assert _snapshot(d) == before  # the files as they were; no picture drawn over the good one
+
+
+def test_replot_of_good_numbers_draws_the_picture(fig2_folder, capsys):
+    png = fig2_folder / "fig2.png"
+    png.unlink()
+    assert main(["figure", "fig2", "--replot", "--out", str(fig2_folder)]) == 0
+    assert png.stat().st_size > 10_000 and not capsys.readouterr().err
 
 
 # --- the list itself -------------------------------------------------------------------------------------------------

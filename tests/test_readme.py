@@ -56,3 +56,26 @@ def test_the_command_check_catches_a_bad_command():
 
     with pytest.raises(UsageError):
         parse(shlex.split("neurowalk run --no-such-flag 3")[1:])
+
+
+def test_each_readme_command_writes_to_its_own_folder():
+    """Following the README overwrites nothing: every command that writes results has its own output path."""
+    import shlex
+
+    from neurowalk.cli import parse
+
+    outs: dict[str, str] = {}
+    argvs = dict.fromkeys(tuple(shlex.split(c)[1:]) for c in _neurowalk_commands())  # one shown twice: same work
+    for argv in argvs:
+        cmd = shlex.join(["neurowalk", *argv])
+        args = parse(list(argv))
+        out = getattr(args, "out", None)
+        if args.command == "figure":
+            if args.name == "list" or args.replot:  # writes nothing, or redraws what the command before wrote
+                continue
+            out = out or Path("out") / (f"{args.name}-climb" if args.climb else args.name)  # the figure's default
+        if out is None or getattr(args, "resume", False):  # nothing written (view, lists), or goes on in place
+            continue
+        assert str(out) not in outs, f"{cmd!r} writes to {out}, as {outs[str(out)]!r} does"
+        outs[str(out)] = cmd
+    assert len(outs) >= 20

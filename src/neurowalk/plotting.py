@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -56,6 +57,15 @@ def draw_arena(ax: Axes, arena: ArenaSpec, pose: np.ndarray | None = None, *, ma
     ax.set(xlabel="x (m)", ylabel="y (m)")
 
 
+def run_title(summary: dict[str, Any]) -> str:
+    """The title of a run's picture: arena, body, controller, steps, seed (e.g. ``box, amosii, plastic, ...``)."""
+    ctrl = summary["controller"] + (f" {tuple(summary['steer'])}" if summary.get("steer") else "")
+    body = summary.get("body", "amosii")
+    if body.startswith("mjcf:"):  # a user's robot: its file's name, not the whole path
+        body = "mjcf:" + Path(body.removeprefix("mjcf:")).name
+    return f"{summary['arena']}, {body}, {ctrl}, {summary['steps']} steps, seed {summary['seed']}"
+
+
 def plot_run(tr: Trajectory, arena: ArenaSpec, summary: dict[str, Any]) -> Figure:
     """Top view of the run and its inputs, steering and weights over time."""
     plt = pyplot()
@@ -64,8 +74,7 @@ def plot_run(tr: Trajectory, arena: ArenaSpec, summary: dict[str, Any]) -> Figur
     ax = fig.add_subplot(gs[:, 0])
     draw_arena(ax, arena, tr.pose)
     ax.legend(loc="best", fontsize=8)
-    ctrl = summary["controller"] + (f" {tuple(summary['steer'])}" if summary.get("steer") else "")
-    ax.set_title(f"{summary['arena']}, {ctrl}, {summary['steps']} steps, seed {summary['seed']}")
+    ax.set_title(run_title(summary))
     t = tr.t
     for row, (key, label) in enumerate((("inputs", "input I"), ("outputs", "steering O"))):
         a = fig.add_subplot(gs[row, 1])

@@ -1,6 +1,8 @@
 """Science tests of the sensory network (DESIGN §3) against an independent reference."""
 
 import math
+import re
+import reprlib
 
 import numpy as np
 import pytest
@@ -132,6 +134,12 @@ def test_original_code_reflex_threshold_learns_earlier():
         (np.zeros((0, 2)), "shape"),
         (np.array([[0.0, np.nan]]), "finite"),
         (np.array([[0.0, 1.5]]), r"\[-1, 1\]"),
+        ([[0.0, 0.0], [0.0]], r"rows of equal length\), got \[\[0.0, 0.0\], \[0.0\]\]"),  # ragged
+        ([[0.0, "left"]], "'left'"),
+        ([[0.0, {}]], "array of numbers"),
+        ("abc", "'abc'"),
+        ([[0.0, 10**400]], "array of numbers"),
+        (None, "shape"),
     ],
 )
 def test_bad_inputs_raise_naming_the_problem(inputs, match):
@@ -148,6 +156,20 @@ def test_bad_options_raise():
         simulate(np.zeros((2, 2)), mode="static", b0=1.0)
     with pytest.raises(ValueError, match="o0"):
         simulate(np.zeros((2, 2)), o0=(2.0, 0.0))
+    with pytest.raises(ValueError, match=r"b0 must be a number or two, got \[1, \[2\]\]"):
+        simulate(np.zeros((2, 2)), b0=[1, [2]])
+    with pytest.raises(ValueError, match="o0 must be a number or two, got 'x'"):
+        simulate(np.zeros((2, 2)), o0="x")
+
+
+@pytest.mark.parametrize("params", ["x", "", 3, {"mu_b": 0.01}, SensoryParams])
+def test_params_that_are_not_sensory_params_raise_a_type_error_naming_them(params):
+    from neurowalk.neural.sensory import SensoryNetwork
+
+    with pytest.raises(TypeError, match=r"params must be a SensoryParams.*got " + re.escape(reprlib.repr(params))):
+        simulate(np.zeros((2, 2)), params=params)
+    with pytest.raises(TypeError, match="params must be a SensoryParams"):
+        SensoryNetwork(params=params)
 
 
 def test_distance_mapping():

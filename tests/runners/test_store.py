@@ -79,6 +79,23 @@ def test_export_parquet_and_csv(tmp_path):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r.csv", "r.parquet", "r.sqlite", "r.sqlite.lock"]  # no temps
 
 
+def test_export_names_the_defaults_a_stored_spec_leaves_out(tmp_path):
+    plain, climbing = _spec(0), normalize({"seed": 1, "steps": 30, "reflexes": True, "gait": "tripod"})
+    assert not {"variant", "gait", "engine", "reflexes", "backbone", "body_opts"} & set(plain)  # left out
+    with ResultStore(tmp_path / "r.sqlite") as st:
+        for s in (plain, climbing):
+            st.put(spec_key(s), s, result={"coverage": 0.5})
+        with open(st.export(tmp_path / "r.csv", "csv")) as f:
+            rows = {r["seed"]: r for r in csv.DictReader(f)}
+        tab = {r["seed"]: r for r in pq.read_table(st.export(tmp_path / "r.parquet", "parquet")).to_pylist()}
+    want = {"variant": "paper", "gait": "wave", "engine": "mujoco", "reflexes": "False", "backbone": "False",
+            "body_opts": "{}", "controller": "plastic", "body": "amosii"}  # fmt: skip
+    assert {k: rows["0"][k] for k in want} == want
+    assert rows["1"]["gait"] == "tripod" and rows["1"]["reflexes"] == "True" and rows["1"]["variant"] == "paper"
+    assert rows["0"]["params"] == rows["0"]["steer"] == ""  # none given: nothing to name
+    assert tab[0]["reflexes"] is False and tab[1]["reflexes"] is True and tab[0]["engine"] == "mujoco"
+
+
 def test_a_second_writer_of_one_store_is_refused_until_the_first_closes(tmp_path):
     with ResultStore(tmp_path / "r.sqlite"), pytest.raises(StoreError, match="in use by another sweep or figure"):
         ResultStore(tmp_path / "r.sqlite")

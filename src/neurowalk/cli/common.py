@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 
 class UsageError(Exception):
@@ -12,15 +13,99 @@ class UsageError(Exception):
 
 
 class Parser(argparse.ArgumentParser):
-    """The parser of the command and of each subcommand: a bad command line raises UsageError."""
+    """The parser of the command and of each subcommand: a bad command line raises UsageError.
+
+    Every option of ``type=Path`` takes a non-empty name (:func:`path_value`): ``Path("")`` is the working folder,
+    so ``--out ''`` would write there. ``{NAME}`` in an option's help is the names of registry NAME
+    (:func:`registry_names`), looked up only when help is shown.
+    """
 
     help_tail: Callable[[], str] | None = None  # more help, computed only when help is asked for
 
     def error(self, message: str) -> None:  # one clear line instead of usage + message
         raise UsageError(message)
 
+    def add_argument(self, *args: Any, **kwargs: Any) -> argparse.Action:
+        if kwargs.get("type") is Path:
+            kwargs["type"] = path_value
+        return super().add_argument(*args, **kwargs)
+
     def format_help(self) -> str:
+        for action in self._actions:
+            for name in REGISTRIES:
+                if action.help and f"{{{name}}}" in action.help:
+                    action.help = action.help.replace(f"{{{name}}}", " | ".join(registry_names(name)))
         return super().format_help() + (self.help_tail() if self.help_tail else "")
+
+
+#: The registries whose names help text shows: what each name's check accepts.
+REGISTRIES = ("variants", "bodies", "physics_bodies", "calibrated_bodies", "arenas", "engines", "controllers",
+              "gaits", "optimize_bases")  # fmt: skip
+
+
+def registry_names(name: str) -> tuple[str, ...]:
+    """The names that registry ``name`` (one of :data:`REGISTRIES`) holds, as the checks of the values see them."""
+    if name == "variants":
+        from neurowalk.neural.variants import variant_names
+
+        return variant_names()
+    if name in ("bodies", "physics_bodies"):
+        from neurowalk.body.registry import BODIES
+
+        return tuple(b for b, info in BODIES.items() if name == "bodies" or info.physics)
+    if name == "calibrated_bodies":
+        from neurowalk.experiments.calibration import SUBJECTS
+
+        return tuple(SUBJECTS)
+    if name == "arenas":
+        from neurowalk.arenas import ARENAS
+
+        return tuple(sorted(ARENAS))
+    if name == "engines":
+        from neurowalk.sim.config import ENGINES
+
+        return ENGINES
+    if name == "controllers":
+        from neurowalk.controller import CONTROLLERS
+
+        return CONTROLLERS
+    if name == "gaits":
+        from neurowalk.neural.cpg import GAITS
+
+        return tuple(GAITS)
+    if name == "optimize_bases":
+        from neurowalk.experiments.optimize_space import BASES
+
+        return BASES
+    raise ValueError(f"unknown registry {name!r}; expected one of {', '.join(REGISTRIES)}")
+
+
+def one_line(text: str) -> str:
+    """``text`` with line breaks and other characters a terminal would not print as they are escaped (``\\n``,
+    ``\\x1b``, a lone surrogate from bytes that were not UTF-8): the one line of an error, whatever the input."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
+def path_value(text: str) -> Path:
+    """The Path of a path option's value; refuses an empty or blank one (argparse names the option)."""
+    if not text.strip():
+        raise argparse.ArgumentTypeError(f"expects a file or folder name, got {text!r}")
+    return Path(text)
+
+
+def machine_memory() -> int | None:
+    """Bytes of memory this machine (or the container's memory limit, where lower) has; None where unknown."""
+    import os
+
+    try:
+        have = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (AttributeError, ValueError, OSError):  # no sysconf (Windows) or no such name
+        return None
+    try:
+        limit = Path("/sys/fs/cgroup/memory.max").read_text().strip()  # cgroup v2; "max": no limit
+    except OSError:
+        return have
+    return min(have, int(limit)) if limit.isdigit() else have
 
 
 def out_folder(path: Path, flag: str = "--out", given: Path | None = None) -> Path:
@@ -52,12 +137,12 @@ def out_file(path: Path, flag: str = "--out") -> Path:
 
 def episode_args(p: argparse.ArgumentParser) -> None:
     """The flags of one closed-loop run (`run`, `view`)."""
-    p.add_argument("--arena", default="open", help="arena name (see `neurowalk arenas`)")
+    p.add_argument("--arena", default="open", help="{arenas} (default open; options: `neurowalk arenas`)")
     p.add_argument("--arena-opt", action="append", default=[], metavar="KEY=VALUE", help="arena option, repeatable")
-    p.add_argument("--controller", default="plastic", help="plastic | static | braitenberg | fixed")
+    p.add_argument("--controller", default="plastic", help="{controllers} (default plastic)")
     p.add_argument("--steer", default=None, metavar="O1,O2", help="steering of controller 'fixed', e.g. -1,-1")
-    p.add_argument("--body", default="amosii", help="amosii (MuJoCo physics) | surrogate (planar, calibrated) | "
-                   "wheeled (MuJoCo, differential drive); see `neurowalk bodies`")  # fmt: skip
+    p.add_argument("--body", default="amosii", help="{bodies} | mjcf:FILE.xml (default amosii, the MuJoCo hexapod; "
+                   "see `neurowalk bodies`)")  # fmt: skip
     p.add_argument("--body-opt", action="append", default=[], metavar="KEY=VALUE", help="body option, e.g. scale=0.5")
     p.add_argument("--steps", type=int, default=1000, help="control steps (10 Hz: 1000 = 100 s)")
     p.add_argument("--seed", type=int, default=0, help="seed of every random draw")
@@ -65,15 +150,13 @@ def episode_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--backbone", action="store_true", help="backbone joint control and climbable-step detection")
     p.add_argument("--climb", action="store_true", help="both --reflexes and --backbone (climbing)")
     variant_args(p)
-    p.add_argument(
-        "--gait", default="wave", help="slow-wave | wave (default) | slow-tetrapod | tetrapod | tripod | fast"
-    )
+    p.add_argument("--gait", default="wave", help="{gaits} (default wave)")
 
 
 def engine_args(p: argparse.ArgumentParser) -> None:
     """--engine and --device (physics on CPU MuJoCo, or on MuJoCo Warp)."""
-    p.add_argument("--engine", default="mujoco", help="physics engine: mujoco (default, CPU) | warp (MuJoCo Warp: many "
-                   "worlds on a GPU; needs the warp extra)")  # fmt: skip
+    p.add_argument("--engine", default="mujoco", help="physics engine: {engines} (default mujoco, on the CPU; warp: "
+                   "MuJoCo Warp, many worlds on a GPU; needs the warp extra)")  # fmt: skip
     p.add_argument("--device", default=None, help="engine warp: cuda (default where a GPU is present) | cpu (slow)")
 
 
@@ -100,9 +183,8 @@ def check_engine(args: argparse.Namespace) -> None:
 
 def variant_args(p: argparse.ArgumentParser, many: bool = False) -> None:
     """--variant and --params (``many``: --variant takes a comma list)."""
-    names = "paper | original | tuned"
     p.add_argument("--variant", default=None, metavar="NAME[,NAME...]" if many else "NAME",
-                   help=f"the network: {names} (default paper: Eq. 1-6 as printed; original: the authors' code; "
+                   help="the network: {variants} (default paper: Eq. 1-6 as printed; original: the authors' code; "
                    "see docs/paper-vs-code.md)")  # fmt: skip
     p.add_argument("--params", type=Path, default=None, metavar="FILE.json",
                    help="SensoryParams fields on top of the variant, e.g. an `optimize` best.json")  # fmt: skip

@@ -8,6 +8,7 @@ import sys
 import time
 from collections.abc import Mapping
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from neurowalk.cli.common import (
     UsageError,
@@ -18,6 +19,11 @@ from neurowalk.cli.common import (
     parse_variant,
     variant_args,
 )
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from neurowalk.experiments import Result
 
 # The figure flags that only some figures take: flag -> (the parameter of the figure's run() that takes it, which
 # figures do, for the message).
@@ -53,12 +59,13 @@ def add_figure_parser(sub: argparse._SubParsersAction) -> None:
         "--seeds", type=int, default=None, help="number of seeds per condition (figures with outcome tables)"
     )
     f.add_argument("--replot", action="store_true", help="redraw from DIR/NAME.json and .npz without rerunning")
-    f.add_argument("--body", default=None, help="amosii | surrogate | wheeled | surrogate-wheeled (figures that "
-                   "take a body; default per figure; see `neurowalk bodies`)")  # fmt: skip
+    f.add_argument("--body", default=None, help="{bodies} (figures that take a body; default per figure; see "
+                   "`neurowalk bodies`)")  # fmt: skip
     climb = "leg reflexes and backbone control on (fig3 fig5 escape-map table2; default out: out/NAME-climb)"
     f.add_argument("--climb", action="store_true", help=climb)
     variant_args(f)
-    f.add_argument("--gait", default=None, help="gait of the physics figures that take one (fig3 fig5 escape-map)")
+    f.add_argument("--gait", default=None, help="gait of the physics figures that take one (fig3 fig5 escape-map): "
+                   "{gaits}")  # fmt: skip
     f.add_argument("--video", action="store_true", help="also write the example runs' videos (fig8, fig9)")
     f.add_argument("--arena-opt", action="append", default=[], metavar="size=M",
                    help="box side of the random environments (table2, fig6; default 1 m, the authors')")  # fmt: skip
@@ -97,8 +104,8 @@ def cmd_figure(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     if args.replot:
         if not (out / f"{args.name}.json").is_file():
-            raise UsageError(f"--replot: no {args.name}.json in {str(out)!r}")
-        result = output.load(args.name, out)
+            raise UsageError(f"--replot: no {args.name}.json in {str(out)!r}; run the figure without --replot first")
+        result, picture = _replot(args.name, out)
     else:
         import inspect
 
@@ -166,10 +173,39 @@ def cmd_figure(args: argparse.Namespace) -> int:
             print(f"neurowalk: {args.name} interrupted; the finished runs are kept in {out}: run the same command "
                   "again to resume (figures without a store there start over)", file=sys.stderr)  # fmt: skip
             return 130
-    paths = {} if args.replot else output.save_data(result, out)  # the numbers first: a plot error loses nothing
-    paths = {"png": output.save_figure(result, exp.plot(result), out), **paths}
+    if not args.replot:
+        paths = output.save_data(result, out)  # the numbers first: a plot error loses nothing
+        picture = exp.plot(result)
+    paths = {"png": output.save_figure(result, picture, out), **({} if args.replot else paths)}
     print(f"{args.name}: wrote {', '.join(str(p) for p in paths.values())} in {time.perf_counter() - t0:.1f} s")
     return 0
+
+
+def _replot(name: str, out: Path) -> tuple[Result, Figure]:
+    """Figure ``name``'s numbers saved in ``out``, and their picture; UsageError naming the file where they cannot be
+    read or are not this figure's (damaged, truncated, foreign), which is left as it is."""
+    import warnings
+
+    from neurowalk.experiments import FIGURES, output
+
+    again = f"rerun `neurowalk figure {name}` without --replot to make them again"
+    try:
+        result = output.load(name, out)
+    except output.DataError as e:
+        raise UsageError(f"{e}; {again}") from None
+    with warnings.catch_warnings(record=True) as caught:  # shown only where the picture is drawn
+        try:
+            picture = FIGURES[name].plot(result)
+        except Exception as e:  # JSON of another shape: a key, a type or an array missing or odd
+            if "matplotlib.pyplot" in sys.modules:
+                sys.modules["matplotlib.pyplot"].close("all")
+            npz = out / f"{name}.npz"
+            files = f"{out / name}.json" + (f", {npz}" if npz.exists() else f" (no {npz.name} beside it)")
+            why = " ".join(f"{type(e).__name__}: {e}".split())[:160]
+            raise UsageError(f"{files}: not the numbers of figure {name} ({why}); {again}") from None
+    for w in caught:
+        warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+    return result, picture
 
 
 def known(what: str, name: str, names: tuple[str, ...]) -> str:

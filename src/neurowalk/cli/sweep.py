@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 from pathlib import Path
@@ -11,6 +12,7 @@ from neurowalk.cli.common import (
     UsageError,
     check_engine,
     engine_args,
+    machine_memory,
     out_folder,
     parse_arena_opts,
     parse_variant,
@@ -21,9 +23,10 @@ from neurowalk.cli.common import (
 def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     """The `sweep` subcommand."""
     s = sub.add_parser("sweep", help="many runs (a grid, or specs from a file), resumable, into DIR/results.sqlite")
-    s.add_argument("--arena", default=None, metavar="NAME[,NAME...]", help="arenas (default open)")
-    s.add_argument("--controller", default=None, metavar="NAME[,NAME...]", help="controllers (default plastic)")
-    s.add_argument("--body", default=None, metavar="NAME[,NAME...]", help="bodies (default amosii)")
+    s.add_argument("--arena", default=None, metavar="NAME[,NAME...]", help="arenas: {arenas} (default open)")
+    s.add_argument("--controller", default=None, metavar="NAME[,NAME...]",
+                   help="controllers: {controllers} (default plastic)")  # fmt: skip
+    s.add_argument("--body", default=None, metavar="NAME[,NAME...]", help="bodies: {bodies} (default amosii)")
     s.add_argument("--seeds", type=int, default=None, help="seeds per condition (default 1)")
     s.add_argument("--seed-start", type=int, default=None, help="first seed (default 0): seeds S, S+1, ...")
     s.add_argument("--steps", type=int, default=None, help="control steps per run (default 1000)")
@@ -38,13 +41,22 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--workers", type=int, default=2, help="processes, or CPUs of a local Ray instance (default 2)")
     s.add_argument("--retries", type=int, default=0, metavar="N",
                    help="run a job whose worker died up to N more times (default 0: store it as failed)")  # fmt: skip
-    s.add_argument("--gait", default=None, metavar="NAME[,NAME...]", help="gaits (default wave)")
+    s.add_argument("--gait", default=None, metavar="NAME[,NAME...]", help="gaits: {gaits} (default wave)")
     s.add_argument("--out", type=Path, required=True, help="output folder (the store; resumes what is there)")
     s.add_argument("--export", choices=("parquet", "csv"), default=None, help="also write DIR/results.parquet|csv")
     s.add_argument("--quiet", action="store_true", help="no progress bar")
     variant_args(s, many=True)
     engine_args(s)
 
+
+#: The most runs one sweep takes: every run's spec is held in memory (about 1 KB) and checked and keyed (about
+#: 0.5 ms) before the first run starts, and is a row of the store.
+MAX_RUNS = 1_000_000
+#: Memory a sweep's run holds per control step: it keeps its whole trajectory until it ends (about 1 KB a step,
+#: the physics and the planar bodies alike).
+RUN_BYTES_PER_STEP = 1000
+#: The largest specs file read (a spec is a line of about 100 bytes).
+MAX_SPECS_BYTES = 256 * 2**20
 
 _GRID_FLAGS = ("arena", "controller", "body", "seeds", "seed_start", "steps", "arena_opt", "body_opt", "variant",
                "params", "gait")  # fmt: skip
@@ -59,12 +71,17 @@ def _sweep_specs(args: argparse.Namespace) -> list[dict]:
         given += ["--engine"] if args.engine != "mujoco" else []  # a spec names its own engine
         if given:
             raise UsageError(f"--specs replaces the grid options; drop {', '.join(given)}")
+        size = args.specs.stat().st_size if args.specs.is_file() else 0
+        if size > MAX_SPECS_BYTES:
+            raise UsageError(f"specs file {str(args.specs)!r} holds {size / 2**20:,.0f} MiB, more than a sweep reads "
+                             f"({MAX_SPECS_BYTES / 2**20:,.0f} MiB); split it into several sweeps")  # fmt: skip
         try:
             specs = read_jsonl(args.specs)
         except ValueError as e:
             raise UsageError(str(e)) from None
         if not specs:
             raise UsageError(f"no run specs in {str(args.specs)!r}")
+        _check_runs(len(specs), f"specs file {str(args.specs)!r} holds")
         return specs
     seeds, start = args.seeds if args.seeds is not None else 1, args.seed_start or 0
     if seeds < 1:
@@ -98,8 +115,29 @@ def _sweep_specs(args: argparse.Namespace) -> list[dict]:
         axes["gait"] = [g.strip() for g in args.gait.split(",")]
         if not all(axes["gait"]):
             raise UsageError(f"--gait expects NAME[,NAME...], got {args.gait!r}")
+    _check_runs(math.prod(len(v) for v in axes.values()) * seeds, "the grid has")  # before it is built
     axes["seed"] = list(range(start, start + seeds))
     return grid(base, **axes)
+
+
+def _check_runs(runs: int, what: str) -> None:
+    """UsageError where a sweep of ``runs`` runs is more than one sweep takes (:data:`MAX_RUNS`)."""
+    if runs > MAX_RUNS:
+        raise UsageError(f"{what} {runs:,} runs, more than one sweep takes ({MAX_RUNS:,}: every run's spec is held in "
+                         "memory and checked before the first run); use fewer --seeds or split the work into several "
+                         "sweeps")  # fmt: skip
+
+
+def _check_memory(specs: list[dict], workers: int) -> None:
+    """UsageError where the longest run, on every worker at once, needs more memory than this machine has."""
+    from neurowalk.sim.config import EpisodeConfig
+
+    steps = max(int(float(s.get("steps", EpisodeConfig.steps))) for s in specs)  # checked whole numbers
+    need, have = steps * RUN_BYTES_PER_STEP * workers, machine_memory()
+    if have is not None and need > have:
+        raise UsageError(f"runs of {steps:,} steps: a sweep's run keeps its trajectory in memory (about "
+                         f"{RUN_BYTES_PER_STEP:,} bytes a step), so {workers} at once need {need / 1e9:,.1f} GB, more "
+                         f"than this machine's {have / 1e9:,.1f} GB; use fewer --steps or --workers")  # fmt: skip
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
@@ -121,6 +159,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     specs = _sweep_specs(args)
     try:
         check_specs(specs)  # every bad name or value exits here, before any work
+        _check_memory(specs, args.workers if args.address is None else 1)
         if args.backend == "ray":
             ray_backend.import_ray()  # a missing ray is bad input; a broken ray install raises as it is
     except (ValueError, ray_backend.RayMissingError) as e:
@@ -170,7 +209,7 @@ def add_optimize_parser(sub: argparse._SubParsersAction) -> None:
                        "heldout.json, convergence.png (resumable)")  # fmt: skip
     o.add_argument("--out", type=Path, default=Path("out/optimize"), help="output folder (default out/optimize)")
     o.add_argument("--quick", action="store_true", help="small search (6 x 5 candidates, 16 environments, 10000 steps)")
-    o.add_argument("--variant", default="original", help="base variant: original (default) | paper")
+    o.add_argument("--variant", default="original", help="base variant: {optimize_bases} (default original)")
     o.add_argument("--fields", default=None, metavar="NAME[,NAME...]",
                    help="SensoryParams fields to search (default mu_b,mu_q,gamma_b,gamma_q,k)")  # fmt: skip
     o.add_argument("--param", action="append", default=[], metavar="FIELD=LO:HI",

@@ -12,8 +12,8 @@ from neurowalk.cli.common import UsageError, check_engine, engine_args, out_file
 def add_tool_parsers(sub: argparse._SubParsersAction) -> None:
     """The `calibrate`, `bench`, `arenas` and `export-model` subcommands."""
     c = sub.add_parser("calibrate", help="measure a physics body for its planar surrogate (writes a JSON file)")
-    c.add_argument("--body", default="amosii", help="physics body: amosii (default; for the body surrogate) | wheeled "
-                   "(for surrogate-wheeled)")  # fmt: skip
+    c.add_argument("--body", default="amosii", help="physics body: {calibrated_bodies} (default amosii, for the body "
+                   "surrogate; wheeled: for surrogate-wheeled)")  # fmt: skip
     c.add_argument("--out", type=Path, default=None, help="file to write (default out/calibration/ and the name of "
                    "the shipped file: calibration.json, calibration-wheeled.json)")  # fmt: skip
     c.add_argument("--workers", type=int, default=2, help="processes (default 2)")
@@ -32,7 +32,7 @@ def add_tool_parsers(sub: argparse._SubParsersAction) -> None:
     e.add_argument("--out", type=Path, required=True, help="MJCF file to write")
     e.add_argument("--arena", default="open", help="arena to include (default open)")
     e.add_argument("--arena-opt", action="append", default=[], metavar="KEY=VALUE", help="arena option")
-    e.add_argument("--body", default="amosii", help="physics body: amosii (default) | wheeled")
+    e.add_argument("--body", default="amosii", help="physics body: {physics_bodies} (default amosii)")
     e.add_argument("--body-opt", action="append", default=[], metavar="KEY=VALUE", help="body option, e.g. scale=0.5")
 
 

@@ -28,6 +28,8 @@ from typing import Any
 
 import numpy as np
 
+#: Variants a search can start from (the tuned variant is itself a search's result).
+BASES: tuple[str, ...] = ("paper", "original")
 #: Fields searched unless others are named: the learning rule's rates and offset (DESIGN §3, Eq. 3-4).
 DEFAULT_FIELDS: tuple[str, ...] = ("mu_b", "mu_q", "gamma_b", "gamma_q", "k")
 #: Default bounds (lo, hi) of every tunable field, around the paper's values (mu_b 0.0065, mu_q 0.015,
@@ -111,8 +113,8 @@ def make_space(base: str, fields: Sequence[str] | None = None,
     """
     from neurowalk.neural.variants import TUNABLE, get_variant
 
-    if base not in ("paper", "original"):
-        raise ValueError(f"base variant must be 'paper' or 'original', got {base!r}")
+    if base not in BASES:
+        raise ValueError(f"base variant must be {' or '.join(map(repr, BASES))}, got {base!r}")
     names = list(DEFAULT_FIELDS if fields is None else fields)
     for name in bounds or {}:
         if name not in names:

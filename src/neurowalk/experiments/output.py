@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import json
+import tokenize
+import zipfile
+import zlib
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -39,14 +42,50 @@ def save(result: Result, fig: Figure, out_dir: str | Path) -> dict[str, Path]:
     return {"png": save_figure(result, fig, out_dir), **save_data(result, out_dir)}
 
 
+class DataError(ValueError):
+    """Saved figure numbers that cannot be read back (missing, damaged, truncated, foreign); names the file."""
+
+
 def load(name: str, out_dir: str | Path) -> Result:
-    """Read back a saved result (to redraw a figure without rerunning)."""
+    """Read back a saved result (to redraw a figure without rerunning); only reads, never changes the files.
+
+    Raises:
+        DataError: NAME.json missing, not UTF-8 JSON or not an object; NAME.npz (where there is one) not an npz
+            archive of plain arrays (nothing in it is unpickled).
+    """
     out = Path(out_dir)
-    with open(out / f"{name}.json") as f:
-        summary = json.load(f)
+    path = out / f"{name}.json"
+    try:
+        summary = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError, RecursionError) as e:
+        why = e.strerror if isinstance(e, OSError) else "nested too deeply" if isinstance(e, RecursionError) else e
+        raise DataError(f"cannot read {path} as figure data ({_one_line(why)})") from None
+    if not isinstance(summary, dict):
+        raise DataError(f"{path} is not figure data (a JSON {type(summary).__name__}, not an object)")
     arrays: dict[str, np.ndarray] = {}
     npz = out / f"{name}.npz"
     if npz.exists():
-        with np.load(npz) as z:
-            arrays = {k: z[k] for k in z.files}
+        try:
+            z = np.load(npz, allow_pickle=False)
+            if not isinstance(z, np.lib.npyio.NpzFile):
+                raise ValueError("a single array, not an npz archive")
+            with z:
+                arrays = {k: z[k] for k in z.files}
+        except (
+            OSError,
+            ValueError,
+            EOFError,
+            SyntaxError,
+            tokenize.TokenError,
+            MemoryError,
+            zipfile.BadZipFile,
+            zlib.error,
+        ) as e:  # a damaged array header is parsed as a Python literal: its errors too
+            raise DataError(f"cannot read {npz} as figure data ({_one_line(e)})") from None
     return Result(name=name, summary=summary, arrays=arrays)
+
+
+def _one_line(why: object) -> str:
+    """``why`` as one short line."""
+    text = " ".join(str(why).split())
+    return text if len(text) <= 160 else text[:157] + "..."

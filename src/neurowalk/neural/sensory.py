@@ -26,6 +26,7 @@ locomotion network in slots 8-9 (:data:`STEER`): the new outputs, or older ones 
 from __future__ import annotations
 
 import math
+import reprlib
 from dataclasses import dataclass
 from typing import Literal
 
@@ -123,7 +124,7 @@ def initial_weights(
     """
     if mode not in MODES:
         raise ValueError(f"unknown sensory mode {mode!r}; expected one of {MODES}")
-    p = params or SensoryParams()
+    p = checked_params(params)
     if mode != "plastic":
         if b0 is not None or q0 is not None:
             raise ValueError(f"mode {mode!r} has fixed weights; b0/q0 apply to mode 'plastic' only")
@@ -140,9 +141,24 @@ def initial_weights(
     return b, q
 
 
+def checked_params(params: object) -> SensoryParams:
+    """``params``, or the defaults where it is None; TypeError naming anything else."""
+    if params is not None and not isinstance(params, SensoryParams):
+        raise TypeError(f"params must be a SensoryParams (None: the defaults), got {reprlib.repr(params)}")
+    return params or SensoryParams()
+
+
+def _floats(name: str, value: object, what: str) -> np.ndarray:
+    """``value`` as a float array; ValueError naming it where it is not ``what`` (numbers in a regular shape)."""
+    try:
+        return np.asarray(value, dtype=float)
+    except (ValueError, TypeError, OverflowError):
+        raise ValueError(f"{name} must be {what}, got {reprlib.repr(value)}") from None
+
+
 def _pair(name: str, value: object) -> np.ndarray:
     """``value`` (a number or two) as a (2,) float array; raises ValueError naming ``name``."""
-    arr = np.asarray(value, dtype=float)
+    arr = _floats(name, value, "a number or two")
     if arr.ndim == 0:
         arr = np.full(2, float(arr))
     if arr.shape != (2,):
@@ -275,7 +291,7 @@ class SensoryTrace:
 
 def validate_inputs(inputs: object) -> np.ndarray:
     """Return ``inputs`` as a (T, 2) float array, or raise ValueError naming what is wrong."""
-    x = np.asarray(inputs, dtype=float)
+    x = _floats("inputs", inputs, "a (T, 2) array of numbers (rows of equal length)")
     if x.ndim != 2 or x.shape[1] != 2 or x.shape[0] < 1:
         raise ValueError(f"inputs must have shape (T, 2) with T >= 1, got shape {x.shape}")
     bad = ~np.isfinite(x)
@@ -328,10 +344,11 @@ def simulate(
         A :class:`SensoryTrace`; row t of each array is the state after the update from inputs[t].
 
     Raises:
-        ValueError: wrong shapes, non-finite or out-of-range values, unknown mode.
+        ValueError: wrong shapes, ragged or non-numeric, non-finite or out-of-range values, unknown mode.
+        TypeError: ``params`` that is not a :class:`SensoryParams`.
     """
     x = validate_inputs(inputs)
-    p = params or SensoryParams()
+    p = checked_params(params)
     b, q = initial_weights(mode, p, b0, q0)
     packed = p.as_array(mode == "plastic")
     s = initial_state(b, q, o0, packed if p.prime_step else None)
@@ -353,7 +370,7 @@ class SensoryNetwork:
         q0: object = None,
     ) -> None:
         self.mode = mode
-        self.params = params or SensoryParams()
+        self.params = checked_params(params)
         self._b0, self._q0 = initial_weights(mode, self.params, b0, q0)
         self._p = self.params.as_array(mode == "plastic")
         self.reset()

@@ -30,6 +30,8 @@ FIELDS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(EpisodeConfig
 MACHINE_KEYS: tuple[str, ...] = ("wall_time_s", "real_time_factor")
 
 _DEFAULTS: Spec = {f: getattr(EpisodeConfig(), f) for f in FIELDS}
+#: Every field's default (a stored spec leaves out the :data:`LATER` fields at theirs).
+DEFAULTS: Spec = _DEFAULTS
 #: Fields kept out of the canonical form at their defaults (they came after stores were written).
 LATER: tuple[str, ...] = ("reflexes", "backbone", "variant", "params", "gait", "body_opts", "engine")
 
@@ -115,6 +117,8 @@ def normalize(spec: Spec) -> Spec:
 
 
 def _whole(value: Any, name: str) -> int:
+    if isinstance(value, int) and not isinstance(value, bool):
+        return value  # as it is: float() would round a large one (and name another number than the one given)
     try:
         x = float(value)
     except (TypeError, ValueError, OverflowError):

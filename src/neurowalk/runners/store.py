@@ -158,10 +158,11 @@ class ResultStore:
     def table(self) -> tuple[list[str], list[list[Any]]]:
         """Flat table of every row: meta columns, one column per spec field, one per summary key.
 
-        Summary keys that repeat a spec field are left out (the spec column holds the value); nested values
-        (dicts, lists) are JSON strings. Returns (column names, rows).
+        Summary keys that repeat a spec field are left out (the spec column holds the value); a spec field the
+        stored spec leaves out (a later switch at its default: variant, gait, engine, reflexes, ...) shows its
+        default; nested values (dicts, lists) are JSON strings. Returns (column names, rows).
         """
-        from neurowalk.runners.specs import FIELDS
+        from neurowalk.runners.specs import DEFAULTS, FIELDS
 
         rows = self.rows()
         extra: dict[str, None] = {}
@@ -174,7 +175,7 @@ class ResultStore:
         for r in rows:
             res = r["result"] or {}
             line = [r[c] for c in EXPORT_META]
-            line += [_flat(r["spec"].get(f)) for f in FIELDS]
+            line += [_flat(r["spec"].get(f, DEFAULTS[f])) for f in FIELDS]
             line += [_flat(res.get(k)) for k in extra]
             data.append(line)
         return columns, data
