@@ -207,28 +207,14 @@ def interrupted_line(name: str, out: Path, stores: bool) -> str:
     (read from the files), or that it keeps none (``stores``: whether the figure keeps its runs in ``out``)."""
     if not stores:
         return f"neurowalk: {name} interrupted; this figure keeps no runs (a few short ones): run it again"
-    kept = {p.name: n for p in sorted(out.glob("*.sqlite")) if (n := _finished_runs(p))}
+    from neurowalk.runners.store import count_finished
+
+    kept = {p.name: n for p in sorted(out.glob("*.sqlite")) if (n := count_finished(p))}
     if not kept:
         return f"neurowalk: {name} interrupted before any of its runs finished; nothing is kept"
     where = ", ".join(f"{n} in {file}" for file, n in kept.items())
     return (f"neurowalk: {name} interrupted: {sum(kept.values())} finished runs are kept in {out} ({where}); run "
             "the same command again to go on from them")  # fmt: skip
-
-
-def _finished_runs(path: Path) -> int:
-    """Runs stored without error in the result store ``path`` (0 if it cannot be read)."""
-    import sqlite3
-
-    try:
-        con = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
-    except sqlite3.Error:
-        return 0
-    try:
-        return int(con.execute("SELECT count(*) FROM runs WHERE status = 'ok'").fetchone()[0])
-    except sqlite3.Error:
-        return 0
-    finally:
-        con.close()
 
 
 def known(what: str, name: str, names: tuple[str, ...]) -> str:

@@ -243,7 +243,36 @@ def add_optimize_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def cmd_optimize(args: argparse.Namespace) -> int:
-    """`neurowalk optimize`: CMA-ES over the learning parameters (resumable)."""
+    """`neurowalk optimize`: CMA-ES over the learning parameters (resumable).
+
+    The first SIGINT or SIGTERM stops it (exit 130) with one line saying what its folder holds.
+    """
+    from neurowalk.runners.stopping import stop_on_signals
+
+    with stop_on_signals():
+        try:
+            return _optimize(args)
+        except KeyboardInterrupt:
+            print(_optimize_kept(args.out), file=sys.stderr)
+            return 130
+
+
+def _optimize_kept(out: Path) -> str:
+    """The line of an interrupted search: the finished runs in its store and whether its state is saved (read from
+    the files)."""
+    from neurowalk.experiments.optimize import STATE_FILE
+    from neurowalk.runners.store import count_finished
+
+    runs, state = count_finished(out / "results.sqlite"), out / STATE_FILE
+    if not runs and not state.is_file():
+        return "neurowalk: optimize interrupted before any run finished; nothing is kept"
+    kept = f"{runs} finished runs are kept in {out / 'results.sqlite'}"
+    if state.is_file():
+        kept += f", and the search state after its last finished generation in {state}"
+    return f"neurowalk: optimize interrupted: {kept}; run the same command again to resume"
+
+
+def _optimize(args: argparse.Namespace) -> int:
     from neurowalk.experiments import optimize
     from neurowalk.experiments.optimize_space import parse_bounds
     from neurowalk.runners import ray_backend
@@ -264,10 +293,6 @@ def cmd_optimize(args: argparse.Namespace) -> int:
                      progress=not args.quiet, log=lambda line: print(line, flush=True))  # fmt: skip
     except (ValueError, ray_backend.RayMissingError, ray_backend.RayStartError, optimize.CmaMissingError) as e:
         raise UsageError(str(e)) from None
-    except KeyboardInterrupt:
-        print(f"neurowalk: optimize interrupted; finished runs and generations are in {args.out}: run the same "
-              "command again to resume", file=sys.stderr)  # fmt: skip
-        return 130
     except RuntimeError as e:
         print(f"neurowalk: optimize: {e}", file=sys.stderr)
         return 1
