@@ -217,10 +217,11 @@ class ResultStore:
 
 
 def count_finished(path: Path | str) -> int:
-    """Runs stored without error in the store at ``path``, read without taking its lock or writing (0 if there is
-    no readable store there): what an interrupted command reports as kept."""
+    """Runs stored without error in the store at ``path``, read without taking its lock (0 if there is no readable
+    store there): what an interrupted command reports as kept. Opened for reading and writing but only read, so
+    that its close leaves no write-ahead-log files behind (a read-only connection cannot remove them)."""
     try:
-        db = sqlite3.connect(f"file:{Path(path)}?mode=ro", uri=True)
+        db = sqlite3.connect(f"file:{Path(path)}?mode=rw", uri=True)
     except sqlite3.Error:
         return 0
     try:
