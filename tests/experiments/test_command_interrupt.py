@@ -105,6 +105,6 @@ def test_calibrate_stopped_while_measuring_writes_nothing_and_says_so(tmp_path):
         return bool(started) and time.monotonic() > started[0] + 0.5
 
     line = _stop(["calibrate", "--quick", "--out", str(target)], measuring, signal.SIGINT)
-    assert line.startswith("neurowalk: calibrate interrupted while measuring; nothing written"), line
+    assert line.startswith("neurowalk: calibrate interrupted before its measurement ended; nothing written"), line
     assert not target.exists() and not target.with_suffix(".png").exists()
     assert [p.name for p in tmp_path.iterdir()] == []  # no temp file either

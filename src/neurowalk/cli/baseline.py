@@ -38,12 +38,14 @@ def cmd_baseline(args: argparse.Namespace) -> int:
 
     The first SIGINT or SIGTERM stops it (exit 130) with one line naming the checkpoints and scores on disk.
     """
-    from neurowalk.runners.stopping import stop_on_signals
+    from neurowalk.runners.stopping import interrupted, stop_on_signals
 
     with stop_on_signals():
         try:
             return _baseline(args)
-        except KeyboardInterrupt:
+        except (KeyboardInterrupt, Exception) as e:
+            if not interrupted(e):
+                raise
             print(kept_line(args.out), file=sys.stderr)
             return 130
 
@@ -60,6 +62,10 @@ def kept_line(out: Path) -> str:
 
 
 def _baseline(args: argparse.Namespace) -> int:
+    from neurowalk.runners.stopping import deferred
+
+    with deferred():  # the simulation's modules (numba's) load whole: a signal waits for their end
+        import neurowalk.envs.vector  # noqa: F401
     from neurowalk.experiments import baseline
     from neurowalk.experiments.baseline_sb3 import RlMissingError
     from neurowalk.experiments.optimize import CmaMissingError

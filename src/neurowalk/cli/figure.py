@@ -81,18 +81,26 @@ def cmd_figure(args: argparse.Namespace) -> int:
     The first SIGINT or SIGTERM stops it (exit 130) with one line saying what its result stores hold: a figure of
     many runs keeps each finished one there, and the same command again goes on from them.
     """
-    from neurowalk.runners.stopping import stop_on_signals
+    from neurowalk.runners.stopping import interrupted, stop_on_signals
 
     with stop_on_signals():
-        return _figure(args)
+        try:
+            return _figure(args)
+        except (KeyboardInterrupt, Exception) as e:  # while it started (a run's own stop is answered inside)
+            if not interrupted(e):
+                raise
+            print(f"neurowalk: figure {args.name} interrupted before it began; nothing was run", file=sys.stderr)
+            return 130
 
 
 def _figure(args: argparse.Namespace) -> int:
     from neurowalk.render import has_display, use_headless_gl
+    from neurowalk.runners.stopping import deferred, interrupted
 
     if not has_display():
         use_headless_gl()  # before MuJoCo is imported: figures with rendered snapshots (fig10)
-    from neurowalk.experiments import FIGURES
+    with deferred():  # every figure's modules (numba's, MuJoCo's) load whole: a signal now stops it right after
+        from neurowalk.experiments import FIGURES
 
     if args.name == "list":
         print(figure_listing())
@@ -174,10 +182,11 @@ def _figure(args: argparse.Namespace) -> int:
             result = exp.run(**kwargs)
         except StoreError as e:
             raise UsageError(str(e)) from None
-        except (KeyboardInterrupt, RunInterruptedError):  # the latter: a run in this process, stopped part-way
+        except (KeyboardInterrupt, Exception) as e:  # RunInterruptedError: a run in this process, stopped part-way
+            if not (interrupted(e) or isinstance(e, RunInterruptedError)):
+                raise
             print(interrupted_line(args.name, out, "out" in params), file=sys.stderr)
             return 130
-    from neurowalk.runners.stopping import deferred
 
     paths: dict[str, Path] = {}
     try:

@@ -112,25 +112,33 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
     The first SIGINT or SIGTERM stops it (exit 130) with one line saying how many of its runs are in the store.
     """
-    from neurowalk.runners.stopping import stop_on_signals
+    from neurowalk.runners.stopping import deferred, interrupted, stop_on_signals, stop_requested
 
     with stop_on_signals():
+        opened: list = []
         try:
-            return _sweep(args)
-        except KeyboardInterrupt:  # before the store was opened
+            # Loading the modules (numba's, MuJoCo's: a KeyboardInterrupt inside a C extension's import can come out
+            # as an ImportError), checking the input and opening the store are short: a signal waits for their end.
+            with deferred():
+                opened.append(_open(args))
+        except (KeyboardInterrupt, Exception) as e:
+            if not interrupted(e):
+                raise
+        if stop_requested() or not opened:
+            if opened:
+                opened[0][-1].close()
             print("neurowalk: sweep interrupted before its first run; nothing was run", file=sys.stderr)
             return 130
+        return _sweep(args, *opened[0])
 
 
-def _sweep(args: argparse.Namespace) -> int:
+def _open(args: argparse.Namespace) -> tuple[list[dict], Path, dict, ResultStore]:
+    """Check the input and open the store: (specs, output folder, sweep.json's content, the store)."""
     import importlib.util
 
-    from neurowalk.fileio import write_json
     from neurowalk.runners import ray_backend
     from neurowalk.runners.specs import check_specs
-    from neurowalk.runners.stopping import deferred
     from neurowalk.runners.store import ResultStore, StoreError
-    from neurowalk.runners.sweep import SweepReport, run_sweep
 
     if args.workers < 1:
         raise UsageError(f"--workers must be >= 1, got {args.workers}")
@@ -149,14 +157,24 @@ def _sweep(args: argparse.Namespace) -> int:
     check_engine(argparse.Namespace(engine="warp", device=args.device) if named else args)
     if args.export == "parquet" and importlib.util.find_spec("pyarrow") is None:
         raise UsageError("--export parquet needs `pip install neurowalk[parquet]`")
+    import neurowalk.runners.sweep  # noqa: F401  (here, with the signals held: it loads the simulation's modules)
+
     out = out_folder(args.out)
     settings = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items() if k != "command"}
     info: dict = {"command": "sweep", "settings": settings, "finished": False}
     try:
-        with deferred():  # opened whole (its lock, its tables), or not at all
-            store = ResultStore(out / "results.sqlite")
+        store = ResultStore(out / "results.sqlite")
     except StoreError as e:
         raise UsageError(str(e)) from None
+    return specs, out, info, store
+
+
+def _sweep(args: argparse.Namespace, specs: list[dict], out: Path, info: dict, store: ResultStore) -> int:
+    from neurowalk.fileio import write_json
+    from neurowalk.runners import ray_backend
+    from neurowalk.runners.stopping import deferred
+    from neurowalk.runners.sweep import SweepReport, run_sweep
+
     with store:
         try:
             with deferred():
@@ -247,12 +265,14 @@ def cmd_optimize(args: argparse.Namespace) -> int:
 
     The first SIGINT or SIGTERM stops it (exit 130) with one line saying what its folder holds.
     """
-    from neurowalk.runners.stopping import stop_on_signals
+    from neurowalk.runners.stopping import interrupted, stop_on_signals
 
     with stop_on_signals():
         try:
             return _optimize(args)
-        except KeyboardInterrupt:
+        except (KeyboardInterrupt, Exception) as e:
+            if not interrupted(e):
+                raise
             print(_optimize_kept(args.out), file=sys.stderr)
             return 130
 
@@ -273,6 +293,10 @@ def _optimize_kept(out: Path) -> str:
 
 
 def _optimize(args: argparse.Namespace) -> int:
+    from neurowalk.runners.stopping import deferred
+
+    with deferred():  # the simulation's modules (numba's, MuJoCo's) load whole: a signal waits for their end
+        import neurowalk.runners.sweep  # noqa: F401
     from neurowalk.experiments import optimize
     from neurowalk.experiments.optimize_space import parse_bounds
     from neurowalk.runners import ray_backend

@@ -43,17 +43,27 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     The first SIGINT or SIGTERM stops it (exit 130) with one line saying what it wrote: nothing, if it was still
     measuring (a calibration keeps no part of its measurement).
     """
-    from neurowalk.runners.stopping import stop_on_signals
+    from neurowalk.runners.stopping import interrupted, stop_on_signals
 
     with stop_on_signals():
-        return _calibrate(args)
+        try:
+            return _calibrate(args)
+        except (KeyboardInterrupt, Exception) as e:  # while it measured (what it wrote after is answered inside)
+            if not interrupted(e):
+                raise
+            print("neurowalk: calibrate interrupted before its measurement ended; nothing written (run it again: a "
+                  "calibration keeps no part of its measurement)", file=sys.stderr)  # fmt: skip
+            return 130
 
 
 def _calibrate(args: argparse.Namespace) -> int:
     if args.workers < 1:
         raise UsageError(f"--workers must be >= 1, got {args.workers}")
-    from neurowalk.body.surrogate import CALIBRATION_FILES
-    from neurowalk.experiments.calibration import calibrate, plot_calibration, subject
+    from neurowalk.runners.stopping import deferred
+
+    with deferred():  # the simulation's modules (numba's, MuJoCo's) load whole: a signal waits for their end
+        from neurowalk.body.surrogate import CALIBRATION_FILES
+        from neurowalk.experiments.calibration import calibrate, plot_calibration, subject
     from neurowalk.fileio import atomic_write, write_json
 
     try:
@@ -64,14 +74,7 @@ def _calibrate(args: argparse.Namespace) -> int:
         args.out = Path("out/calibration") / CALIBRATION_FILES[sub.surrogate].name
     out_file(args.out)  # before the minute of measuring
     grid = {"grid": (-1.0, -0.3, 0.0, 0.3, 1.0), "held_out": (-0.6, 0.6)} if args.quick else {}
-    try:
-        cal = calibrate(**grid, workers=args.workers, body=args.body)  # type: ignore[arg-type]
-    except KeyboardInterrupt:
-        print("neurowalk: calibrate interrupted while measuring; nothing written (run it again: a calibration keeps "
-              "no part of its measurement)", file=sys.stderr)  # fmt: skip
-        return 130
-    from neurowalk.runners.stopping import deferred
-
+    cal = calibrate(**grid, workers=args.workers, body=args.body)  # type: ignore[arg-type]
     png = args.out.with_suffix(".png")
     written: list[Path] = []
     try:

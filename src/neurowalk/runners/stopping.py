@@ -6,7 +6,8 @@
 * :func:`deferred` guards a step that a signal must not cut in two (starting a pool's workers, storing a finished
   run, the files written at the end): SIGINT and SIGTERM that come during it are held and delivered when it ends.
 * :func:`stop_requested`: a stop signal came. A KeyboardInterrupt can be lost where a library swallows it (e.g.
-  one raised inside a ctypes callback is printed and dropped); loops that wait for work look here as well.
+  one raised inside a ctypes callback is printed and dropped); loops that wait for work look here as well, and
+  :func:`interrupted` tells a command that an error it meets is such an interrupt in disguise.
 """
 
 from __future__ import annotations
@@ -25,6 +26,13 @@ _requested: list[int] = []  # the stop signals :func:`stop_on_signals` got (empt
 def stop_requested() -> bool:
     """Whether the command running under :func:`stop_on_signals` was asked to stop."""
     return bool(_requested)
+
+
+def interrupted(e: BaseException) -> bool:
+    """Whether ``e``, raised under :func:`stop_on_signals`, is how a stop signal ended the work: a KeyboardInterrupt,
+    or any error raised once a stop signal came (a library that turned the interrupt into an error of its own, e.g.
+    an ImportError out of a C extension's import)."""
+    return isinstance(e, KeyboardInterrupt) or stop_requested()
 
 
 def _in_main_thread() -> bool:
