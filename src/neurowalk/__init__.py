@@ -1,13 +1,38 @@
-"""neurowalk: adaptive neural control of the walking robot AMOSII (Grinke et al. 2015) on MuJoCo."""
+"""neurowalk: adaptive neural control of the walking robot AMOSII (Grinke et al. 2015) on MuJoCo.
 
+The names below load on first use, so that the ``neurowalk`` command starts at once (and a Ctrl-C while it
+starts is answered in one line, by the command, not by a traceback from deep inside an import).
+"""
+
+import importlib
 import sys
-
-from neurowalk.anatomy import ACTUATORS, LEGS
-from neurowalk.controller import Controller, FixedController, NeuralController
-from neurowalk.neural.sensory import SensoryParams, simulate
-from neurowalk.observation import Observation
+from typing import Any
 
 __version__ = "0.1.0"
+
+_LAZY = {
+    "ACTUATORS": "neurowalk.anatomy",
+    "LEGS": "neurowalk.anatomy",
+    "Controller": "neurowalk.controller",
+    "FixedController": "neurowalk.controller",
+    "NeuralController": "neurowalk.controller",
+    "SensoryParams": "neurowalk.neural.sensory",
+    "simulate": "neurowalk.neural.sensory",
+    "Observation": "neurowalk.observation",
+}
+
+
+def __getattr__(name: str) -> Any:
+    if name in _LAZY:
+        value = getattr(importlib.import_module(_LAZY[name]), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'neurowalk' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_LAZY})
+
 
 if "gymnasium" in sys.modules:  # `import gymnasium, neurowalk`: the environment ids are registered
     from neurowalk.envs import register_envs

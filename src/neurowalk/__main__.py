@@ -2,7 +2,10 @@
 
 import sys
 
-from neurowalk.cli import main
-
 if __name__ == "__main__":
+    try:
+        from neurowalk.cli import main
+    except KeyboardInterrupt:  # Ctrl-C while the command's modules load
+        print("neurowalk: interrupted", file=sys.stderr)
+        sys.exit(130)
     sys.exit(main())

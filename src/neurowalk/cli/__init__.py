@@ -71,6 +71,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except UsageError as e:
         print(f"neurowalk: error: {one_line(str(e))}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:  # Ctrl-C where a command has no words of its own (e.g. while it starts)
+        print("neurowalk: interrupted", file=sys.stderr)
+        return 130
     except BrokenPipeError:  # the reader went away (e.g. `neurowalk figure list | head`): not an error
         import os
 

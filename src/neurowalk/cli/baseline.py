@@ -34,7 +34,38 @@ def add_baseline_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def cmd_baseline(args: argparse.Namespace) -> int:
-    """`neurowalk baseline`: train (resuming), score, write the table and the plot."""
+    """`neurowalk baseline`: train (resuming), score, write the table and the plot.
+
+    The first SIGINT or SIGTERM stops it (exit 130) with one line naming the checkpoints and scores on disk.
+    """
+    from neurowalk.runners.stopping import interrupted, stop_on_signals
+
+    with stop_on_signals():
+        try:
+            return _baseline(args)
+        except (KeyboardInterrupt, Exception) as e:
+            if not interrupted(e):
+                raise
+            print(kept_line(args.out), file=sys.stderr)
+            return 130
+
+
+def kept_line(out: Path) -> str:
+    """The line of an interrupted baseline: its training checkpoints and held-out scores in ``out`` (the files)."""
+    files = [
+        p for p in (*sorted(out.glob("training/*/*")), *sorted(out.glob("eval/*.json"))) if not p.name.startswith(".")
+    ]
+    if not files:
+        return "neurowalk: baseline interrupted before its first checkpoint; nothing is kept"
+    names = ", ".join(str(p.relative_to(out)) for p in files)
+    return f"neurowalk: baseline interrupted; kept in {out}: {names}; run the same command again to go on from them"
+
+
+def _baseline(args: argparse.Namespace) -> int:
+    from neurowalk.runners.stopping import deferred
+
+    with deferred():  # the simulation's modules (numba's) load whole: a signal waits for their end
+        import neurowalk.envs.vector  # noqa: F401
     from neurowalk.experiments import baseline
     from neurowalk.experiments.baseline_sb3 import RlMissingError
     from neurowalk.experiments.optimize import CmaMissingError
@@ -54,10 +85,6 @@ def cmd_baseline(args: argparse.Namespace) -> int:
                               progress=not args.quiet, log=lambda line: print(line, flush=True))  # fmt: skip
     except (ValueError, RlMissingError, CmaMissingError) as e:
         raise UsageError(str(e)) from None
-    except KeyboardInterrupt:
-        print(f"neurowalk: baseline interrupted; checkpoints are in {args.out}: run the same command again to resume",
-              file=sys.stderr)  # fmt: skip
-        return 130
     for r in result["rows"]:
         print(f"{r['label']:>24}: {r['success']}/{r['n']} ({r['rate']:.1%}), coverage {r['coverage_mean']:.1%}")
     print(f"baseline: done in {time.perf_counter() - t0:.1f} s; wrote {args.out / 'baselines.md'}, .json, .png")

@@ -83,12 +83,31 @@ def _check_takes(name: str, params: Mapping[str, object], flag: str, given: str 
 
 
 def cmd_figure(args: argparse.Namespace) -> int:
-    """`neurowalk figure NAME`: run the figure (or --replot it), write DIR/NAME.png and its numbers."""
+    """`neurowalk figure NAME`: run the figure (or --replot it), write DIR/NAME.png and its numbers.
+
+    The first SIGINT or SIGTERM stops it (exit 130) with one line saying what its result stores hold: a figure of
+    many runs keeps each finished one there, and the same command again goes on from them.
+    """
+    from neurowalk.runners.stopping import interrupted, stop_on_signals
+
+    with stop_on_signals():
+        try:
+            return _figure(args)
+        except (KeyboardInterrupt, Exception) as e:  # while it started (a run's own stop is answered inside)
+            if not interrupted(e):
+                raise
+            print(f"neurowalk: figure {args.name} interrupted before it began; nothing was run", file=sys.stderr)
+            return 130
+
+
+def _figure(args: argparse.Namespace) -> int:
     from neurowalk.render import has_display, use_headless_gl
+    from neurowalk.runners.stopping import deferred, interrupted
 
     if not has_display():
         use_headless_gl()  # before MuJoCo is imported: figures with rendered snapshots (fig10)
-    from neurowalk.experiments import FIGURES
+    with deferred():  # every figure's modules (numba's, MuJoCo's) load whole: a signal now stops it right after
+        from neurowalk.experiments import FIGURES
 
     if args.name == "list":
         print(figure_listing())
@@ -164,19 +183,38 @@ def cmd_figure(args: argparse.Namespace) -> int:
             kwargs["out"] = out  # the figure keeps a resumable result store there
         out_folder(out)
         from neurowalk.runners.store import StoreError
+        from neurowalk.sim.episode import RunInterruptedError
 
         try:
             result = exp.run(**kwargs)
         except StoreError as e:
             raise UsageError(str(e)) from None
-        except KeyboardInterrupt:
-            print(f"neurowalk: {args.name} interrupted; the finished runs are kept in {out}: run the same command "
-                  "again to resume (figures without a store there start over)", file=sys.stderr)  # fmt: skip
+        except (KeyboardInterrupt, Exception) as e:  # RunInterruptedError: a run in this process, stopped part-way
+            if not (interrupted(e) or isinstance(e, RunInterruptedError)):
+                raise
+            print(interrupted_line(args.name, out, "out" in params), file=sys.stderr)
             return 130
-    if not args.replot:
-        paths = output.save_data(result, out)  # the numbers first: a plot error loses nothing
-        picture = exp.plot(result)
-    paths = {"png": output.save_figure(result, picture, out), **({} if args.replot else paths)}
+
+    paths: dict[str, Path] = {}
+    try:
+        if not args.replot:
+            with deferred():  # the numbers first, whole: a plot error (or a Ctrl-C while drawing) loses nothing
+                paths = output.save_data(result, out)
+            picture = exp.plot(result)
+        with deferred():
+            paths = {"png": output.save_figure(result, picture, out), **paths}
+    except KeyboardInterrupt:
+        files = ", ".join(str(p) for p in paths.values())
+        if "png" in paths:
+            line = f"neurowalk: {args.name} interrupted as it ended; it wrote {files}"
+        elif paths:
+            line = f"neurowalk: {args.name} interrupted while drawing: its numbers are in {files}; `--replot` draws it"
+        elif args.replot:
+            line = f"neurowalk: {args.name} interrupted while drawing; nothing written"
+        else:
+            line = interrupted_line(args.name, out, "out" in params)
+        print(line, file=sys.stderr)
+        return 130
     print(f"{args.name}: wrote {', '.join(str(p) for p in paths.values())} in {time.perf_counter() - t0:.1f} s")
     return 0
 
@@ -206,6 +244,21 @@ def _replot(name: str, out: Path) -> tuple[Result, Figure]:
     for w in caught:
         warnings.showwarning(w.message, w.category, w.filename, w.lineno)
     return result, picture
+
+
+def interrupted_line(name: str, out: Path, stores: bool) -> str:
+    """The line of a figure interrupted while it ran: how many finished runs its result stores in ``out`` hold
+    (read from the files), or that it keeps none (``stores``: whether the figure keeps its runs in ``out``)."""
+    if not stores:
+        return f"neurowalk: {name} interrupted; this figure keeps no runs (a few short ones): run it again"
+    from neurowalk.runners.store import count_finished
+
+    kept = {p.name: n for p in sorted(out.glob("*.sqlite")) if (n := count_finished(p))}
+    if not kept:
+        return f"neurowalk: {name} interrupted before any of its runs finished; nothing is kept"
+    where = ", ".join(f"{n} in {file}" for file, n in kept.items())
+    return (f"neurowalk: {name} interrupted: {sum(kept.values())} finished runs are kept in {out} ({where}); run "
+            "the same command again to go on from them")  # fmt: skip
 
 
 def known(what: str, name: str, names: tuple[str, ...]) -> str:

@@ -7,6 +7,7 @@ import math
 import sys
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from neurowalk.cli.common import (
     UsageError,
@@ -18,6 +19,10 @@ from neurowalk.cli.common import (
     parse_variant,
     variant_args,
 )
+
+if TYPE_CHECKING:
+    from neurowalk.runners.store import ResultStore
+    from neurowalk.runners.sweep import SweepReport
 
 
 def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
@@ -141,14 +146,37 @@ def _check_memory(specs: list[dict], workers: int) -> None:
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
-    """`neurowalk sweep`: every run spec into DIR/results.sqlite (skipping the ones done), DIR/sweep.json."""
+    """`neurowalk sweep`: every run spec into DIR/results.sqlite (skipping the ones done), DIR/sweep.json.
+
+    The first SIGINT or SIGTERM stops it (exit 130) with one line saying how many of its runs are in the store.
+    """
+    from neurowalk.runners.stopping import deferred, interrupted, stop_on_signals, stop_requested
+
+    with stop_on_signals():
+        opened: list = []
+        try:
+            # Loading the modules (numba's, MuJoCo's: a KeyboardInterrupt inside a C extension's import can come out
+            # as an ImportError), checking the input and opening the store are short: a signal waits for their end.
+            with deferred():
+                opened.append(_open(args))
+        except (KeyboardInterrupt, Exception) as e:
+            if not interrupted(e):
+                raise
+        if stop_requested() or not opened:
+            if opened:
+                opened[0][-1].close()
+            print("neurowalk: sweep interrupted before its first run; nothing was run", file=sys.stderr)
+            return 130
+        return _sweep(args, *opened[0])
+
+
+def _open(args: argparse.Namespace) -> tuple[list[dict], Path, dict, ResultStore]:
+    """Check the input and open the store: (specs, output folder, sweep.json's content, the store)."""
     import importlib.util
 
-    from neurowalk.fileio import write_json
     from neurowalk.runners import ray_backend
     from neurowalk.runners.specs import check_specs
     from neurowalk.runners.store import ResultStore, StoreError
-    from neurowalk.runners.sweep import run_sweep
 
     if args.workers < 1:
         raise UsageError(f"--workers must be >= 1, got {args.workers}")
@@ -168,6 +196,8 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     check_engine(argparse.Namespace(engine="warp", device=args.device) if named else args)
     if args.export == "parquet" and importlib.util.find_spec("pyarrow") is None:
         raise UsageError("--export parquet needs `pip install neurowalk[parquet]`")
+    import neurowalk.runners.sweep  # noqa: F401  (here, with the signals held: it loads the simulation's modules)
+
     out = out_folder(args.out)
     settings = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items() if k != "command"}
     info: dict = {"command": "sweep", "settings": settings, "finished": False}
@@ -175,32 +205,70 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         store = ResultStore(out / "results.sqlite")
     except StoreError as e:
         raise UsageError(str(e)) from None
+    return specs, out, info, store
+
+
+def _sweep(args: argparse.Namespace, specs: list[dict], out: Path, info: dict, store: ResultStore) -> int:
+    from neurowalk.fileio import write_json
+    from neurowalk.runners import ray_backend
+    from neurowalk.runners.stopping import deferred
+    from neurowalk.runners.sweep import SweepReport, run_sweep
+
     with store:
-        write_json(out / "sweep.json", info)
         try:
+            with deferred():
+                write_json(out / "sweep.json", info)
             report = run_sweep(specs, store, backend=args.backend, workers=args.workers, address=args.address,
                                progress=not args.quiet, retries=args.retries)  # fmt: skip
         except ray_backend.RayStartError as e:
             raise UsageError(str(e)) from None
-        written = [out / "results.sqlite", out / "sweep.json"]
-        if args.export and not report.interrupted:
-            written.append(store.export(out / f"results.{args.export}", args.export))
-        failures = [{"key": f.key, "spec": f.spec, "error": f.error} for f in report.failures]
-        info.update(finished=not report.interrupted, counts=report.counts(), store=store.counts(), failures=failures)
-        write_json(out / "sweep.json", info)
-    for f in report.failures[:50]:
-        print(f"neurowalk: run failed: {f.line()}", file=sys.stderr)
-    if len(report.failures) > 50:
-        print(f"neurowalk: ... and {len(report.failures) - 50} more failed runs (all in {out / 'sweep.json'})",
-              file=sys.stderr)  # fmt: skip
-    r = report
-    print(f"sweep: {r.unique} runs: {r.skipped} already done, {r.ok} ok, {r.error} failed, in {r.wall_time_s:.1f} s; "
-          f"wrote {', '.join(str(p) for p in written)}")  # fmt: skip
-    if r.interrupted:
-        print(f"neurowalk: sweep interrupted; the finished runs are in {out / 'results.sqlite'}: run the same command "
-              "again to resume", file=sys.stderr)  # fmt: skip
+        except KeyboardInterrupt:  # after the store's opening, before the sweep began
+            report = SweepReport(interrupted=True)
+        interrupted = report.interrupted
+        try:
+            with deferred():  # the files and lines below agree with the store, whenever a signal comes
+                _wrap_up(args, store, report, info, out)
+        except KeyboardInterrupt:  # came during the wrap-up (held to its end): stop as if it came a moment earlier
+            interrupted = True
+        if interrupted:
+            with deferred():
+                line = _kept(specs, store, out)
+    if interrupted:
+        print(line, file=sys.stderr)
         return 130
-    return 1 if r.error else 0
+    return 1 if report.error else 0
+
+
+def _wrap_up(args: argparse.Namespace, store: ResultStore, r: SweepReport, info: dict, out: Path) -> None:
+    """Write the export and DIR/sweep.json; print the failures and the summary."""
+    from neurowalk.fileio import write_json
+
+    written = [out / "results.sqlite", out / "sweep.json"]
+    if args.export and not r.interrupted:
+        written.append(store.export(out / f"results.{args.export}", args.export))
+    failures = [{"key": f.key, "spec": f.spec, "error": f.error} for f in r.failures]
+    info.update(finished=not r.interrupted, counts=r.counts(), store=store.counts(), failures=failures)
+    write_json(out / "sweep.json", info)
+    for f in r.failures[:50]:
+        print(f"neurowalk: run failed: {f.line()}", file=sys.stderr)
+    if len(r.failures) > 50:
+        print(f"neurowalk: ... and {len(r.failures) - 50} more failed runs (all in {out / 'sweep.json'})",
+              file=sys.stderr)  # fmt: skip
+    if r.unique:
+        print(f"sweep: {r.unique} runs: {r.skipped} already done, {r.ok} ok, {r.error} failed, in "
+              f"{r.wall_time_s:.1f} s; wrote {', '.join(str(p) for p in written)}")  # fmt: skip
+
+
+def _kept(specs: list[dict], store: ResultStore, out: Path) -> str:
+    """The line of an interrupted sweep: how many of its runs the store holds (read from the store)."""
+    from neurowalk.runners.sweep import prepare
+
+    keys = [k for k, _ in prepare(specs)[0]]
+    done = store.done_keys()
+    have = sum(k in done for k in keys)
+    left = f"run the same command again to do the other {len(keys) - have}" if have < len(keys) else "none is left"
+    return (f"neurowalk: sweep interrupted: {have} of its {len(keys)} runs are done and kept in "
+            f"{out / 'results.sqlite'}; {left}")  # fmt: skip
 
 
 def add_optimize_parser(sub: argparse._SubParsersAction) -> None:
@@ -232,7 +300,42 @@ def add_optimize_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def cmd_optimize(args: argparse.Namespace) -> int:
-    """`neurowalk optimize`: CMA-ES over the learning parameters (resumable)."""
+    """`neurowalk optimize`: CMA-ES over the learning parameters (resumable).
+
+    The first SIGINT or SIGTERM stops it (exit 130) with one line saying what its folder holds.
+    """
+    from neurowalk.runners.stopping import interrupted, stop_on_signals
+
+    with stop_on_signals():
+        try:
+            return _optimize(args)
+        except (KeyboardInterrupt, Exception) as e:
+            if not interrupted(e):
+                raise
+            print(_optimize_kept(args.out), file=sys.stderr)
+            return 130
+
+
+def _optimize_kept(out: Path) -> str:
+    """The line of an interrupted search: the finished runs in its store and whether its state is saved (read from
+    the files)."""
+    from neurowalk.experiments.optimize import STATE_FILE
+    from neurowalk.runners.store import count_finished
+
+    runs, state = count_finished(out / "results.sqlite"), out / STATE_FILE
+    if not runs and not state.is_file():
+        return "neurowalk: optimize interrupted before any run finished; nothing is kept"
+    kept = f"{runs} finished runs are kept in {out / 'results.sqlite'}"
+    if state.is_file():
+        kept += f", and the search state after its last finished generation in {state}"
+    return f"neurowalk: optimize interrupted: {kept}; run the same command again to resume"
+
+
+def _optimize(args: argparse.Namespace) -> int:
+    from neurowalk.runners.stopping import deferred
+
+    with deferred():  # the simulation's modules (numba's, MuJoCo's) load whole: a signal waits for their end
+        import neurowalk.runners.sweep  # noqa: F401
     from neurowalk.experiments import optimize
     from neurowalk.experiments.optimize_space import parse_bounds
     from neurowalk.runners import ray_backend
@@ -253,10 +356,6 @@ def cmd_optimize(args: argparse.Namespace) -> int:
                      progress=not args.quiet, log=lambda line: print(line, flush=True))  # fmt: skip
     except (ValueError, ray_backend.RayMissingError, ray_backend.RayStartError, optimize.CmaMissingError) as e:
         raise UsageError(str(e)) from None
-    except KeyboardInterrupt:
-        print(f"neurowalk: optimize interrupted; finished runs and generations are in {args.out}: run the same "
-              "command again to resume", file=sys.stderr)  # fmt: skip
-        return 130
     except RuntimeError as e:
         print(f"neurowalk: optimize: {e}", file=sys.stderr)
         return 1

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 from neurowalk.cli.common import UsageError, check_engine, engine_args, out_file, out_folder, parse_arena_opts
@@ -37,11 +38,32 @@ def add_tool_parsers(sub: argparse._SubParsersAction) -> None:
 
 
 def cmd_calibrate(args: argparse.Namespace) -> int:
-    """`neurowalk calibrate`: measure a physics body, write its surrogate's calibration and its plot."""
+    """`neurowalk calibrate`: measure a physics body, write its surrogate's calibration and its plot.
+
+    The first SIGINT or SIGTERM stops it (exit 130) with one line saying what it wrote: nothing, if it was still
+    measuring (a calibration keeps no part of its measurement).
+    """
+    from neurowalk.runners.stopping import interrupted, stop_on_signals
+
+    with stop_on_signals():
+        try:
+            return _calibrate(args)
+        except (KeyboardInterrupt, Exception) as e:  # while it measured (what it wrote after is answered inside)
+            if not interrupted(e):
+                raise
+            print("neurowalk: calibrate interrupted before its measurement ended; nothing written (run it again: a "
+                  "calibration keeps no part of its measurement)", file=sys.stderr)  # fmt: skip
+            return 130
+
+
+def _calibrate(args: argparse.Namespace) -> int:
     if args.workers < 1:
         raise UsageError(f"--workers must be >= 1, got {args.workers}")
-    from neurowalk.body.surrogate import CALIBRATION_FILES
-    from neurowalk.experiments.calibration import calibrate, plot_calibration, subject
+    from neurowalk.runners.stopping import deferred
+
+    with deferred():  # the simulation's modules (numba's, MuJoCo's) load whole: a signal waits for their end
+        from neurowalk.body.surrogate import CALIBRATION_FILES
+        from neurowalk.experiments.calibration import calibrate, plot_calibration, subject
     from neurowalk.fileio import atomic_write, write_json
 
     try:
@@ -53,10 +75,21 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     out_file(args.out)  # before the minute of measuring
     grid = {"grid": (-1.0, -0.3, 0.0, 0.3, 1.0), "held_out": (-0.6, 0.6)} if args.quick else {}
     cal = calibrate(**grid, workers=args.workers, body=args.body)  # type: ignore[arg-type]
-    write_json(args.out, cal.to_json())
-    fig = plot_calibration(cal)
     png = args.out.with_suffix(".png")
-    atomic_write(png, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
+    written: list[Path] = []
+    try:
+        with deferred():
+            write_json(args.out, cal.to_json())
+            written.append(args.out)
+        fig = plot_calibration(cal)
+        with deferred():
+            atomic_write(png, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
+            written.append(png)
+    except KeyboardInterrupt:
+        missing = "" if png in written else ", without its plot"
+        print(f"neurowalk: calibrate interrupted as it ended: wrote {', '.join(map(str, written))}{missing}",
+              file=sys.stderr)  # fmt: skip
+        return 130
     v = cal.meta["validation"]
     print(f"calibration of {sub.surrogate} on {args.body}: lag {cal.tau_s} s + {cal.delay_steps} steps, "
           f"start-up {cal.startup_steps} steps; "

@@ -28,6 +28,7 @@ import numpy as np
 
 from neurowalk.compiled import jit
 from neurowalk.experiments.optimize import load_state, own_rng, save_state
+from neurowalk.runners.stopping import deferred
 
 HIDDEN = 4
 
@@ -162,7 +163,8 @@ def train(out: Path, *, generations: int = 300, population: int = 16, envs: int 
         state["curve"].append({"mean": float(returns.mean()), "best": float(returns.max())})
         state["env_steps"] += population * envs * steps
         state["wall_s"] += time.perf_counter() - t0
-        save_state(path, state)
+        with deferred():  # a generation is saved whole: a Ctrl-C now stops the training after it
+            save_state(path, state)
         if bar is not None:
             bar.update(1)
             bar.set_postfix(best=f"{returns.max():.2f} m2")

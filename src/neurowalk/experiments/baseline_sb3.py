@@ -25,6 +25,7 @@ import numpy as np
 
 from neurowalk.experiments.baseline_rnn import features
 from neurowalk.fileio import write_json
+from neurowalk.runners.stopping import deferred
 
 ALGOS: tuple[str, ...] = ("ppo", "rppo")
 
@@ -159,9 +160,10 @@ def train(algo: str, out: Path, *, total_steps: int, n_envs: int = 16, steps: in
         model.learn(chunk, reset_num_timesteps=False, callback=callback)
         record["wall_s"] += time.perf_counter() - t0
         record["env_steps"] = int(model.num_timesteps)
-        model.save(out / ".model.tmp.zip")
-        (out / ".model.tmp.zip").replace(model_path)
-        write_json(prog_path, {**record, "hyperparameters": HYPER[algo]})
+        with deferred():  # the model and its progress agree: a Ctrl-C now stops the training after this checkpoint
+            model.save(out / ".model.tmp.zip")
+            (out / ".model.tmp.zip").replace(model_path)
+            write_json(prog_path, {**record, "hyperparameters": HYPER[algo]})
     callback.close()
     log(f"{algo}: {record['env_steps']:,} env steps, {record['wall_s']:.0f} s")
     return {**record, "hyperparameters": HYPER[algo]}

@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -20,7 +21,7 @@ from neurowalk.arenas import arena_options
 from neurowalk.arenas.spec import WALL_HEIGHT
 from neurowalk.experiments import Result
 from neurowalk.runners.local import run_many
-from neurowalk.sim.episode import Episode, EpisodeConfig
+from neurowalk.sim.episode import Episode, EpisodeConfig, RunInterruptedError, run_episode
 
 NETWORKS: dict[str, dict[str, Any]] = {
     "plastic": {"controller": "plastic"},
@@ -36,12 +37,62 @@ VARIANTS: dict[str, tuple[str, dict[str, float]]] = {
        for k in ("gap", "funnel") for sign, f in (("-", 0.8), ("+", 1.2))},
 }  # fmt: skip
 TRAP_STEPS = 5000  # control steps in a dead end (paper: 5000 time steps)
+LONG_STEPS, QUICK_LONG_STEPS = 30000, 10000  # control steps of the long runs in the original arenas
+TRACES = ("pose", "inputs", "outputs", "b", "q")
 
 
 def keep_traces(ep: Episode) -> dict[str, Any]:
     """Summary plus the traces a figure draws (pose, inputs, outputs, b, q)."""
     tr = ep.trajectory
     return {"summary": ep.summary, "pose": tr.pose, "inputs": tr.inputs, "outputs": tr.outputs, "b": tr.b, "q": tr.q}
+
+
+def _episode(spec: dict[str, Any]) -> Episode:
+    from neurowalk.runners.specs import normalize, to_config
+
+    try:
+        return run_episode(to_config(normalize(spec)))
+    except RunInterruptedError:
+        raise KeyboardInterrupt from None  # a half run is not a result
+
+
+def outcome_of(spec: dict[str, Any]) -> dict[str, Any]:
+    """:func:`keep_outcome` of the run of ``spec`` (what the result store keeps of a dead-end run)."""
+    return keep_outcome(_episode(spec))
+
+
+def traces_of(spec: dict[str, Any]) -> dict[str, Any]:
+    """:func:`keep_traces` of the run of ``spec``, its arrays as lists (what the store keeps of an example run)."""
+    return {k: v.tolist() if isinstance(v, np.ndarray) else v for k, v in keep_traces(_episode(spec)).items()}
+
+
+def _spec(cfg: EpisodeConfig) -> dict[str, Any]:
+    """The run spec of ``cfg`` (its fields; the store keys it after normalising)."""
+    import dataclasses
+
+    return {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg)}
+
+
+def stored_runs(configs: list[EpisodeConfig], folder: Path | None, name: str, workers: int, progress: bool, desc: str,
+         traces: bool) -> list[dict[str, Any]]:  # fmt: skip
+    """Outcomes (or, ``traces``, traces) of ``configs``: through the store ``folder/name`` (resumable), or, without a
+    folder or on MuJoCo Warp (its runs are the worlds of one model), all at once."""
+    if folder is None or any(c.engine == "warp" for c in configs):
+        return run_many(configs, workers=workers, progress=progress, keep=keep_traces if traces else keep_outcome,
+                        desc=desc)  # fmt: skip
+    from neurowalk.experiments.climbing import run_store
+    from neurowalk.runners.specs import spec_key
+
+    specs = [_spec(c) for c in configs]
+    results, _ = run_store(specs, folder, workers, fn=traces_of if traces else outcome_of, name=name)
+    want = "pose" if traces else "direction_switches"
+    if any(want not in r for r in results.values()):
+        raise RuntimeError(f"{folder / name} holds other runs than this figure's (another figure's or sweep's "
+                           "store); use a fresh output folder")  # fmt: skip
+    out = [results[spec_key(s)] for s in specs]
+    if traces:
+        out = [{**r, **{k: np.asarray(r[k], dtype=float) for k in TRACES}} for r in out]
+    return out
 
 
 def keep_outcome(ep: Episode) -> dict[str, Any]:
@@ -55,12 +106,14 @@ def keep_outcome(ep: Episode) -> dict[str, Any]:
 
 def outcome_table(seeds: int, *, first_seed: int = 0, variants: dict | None = None, workers: int = 2,
                   progress: bool = True, body: str = "amosii", climbing: bool = False,
-                  variant: str = "paper", gait: str = "wave", engine: str = "mujoco") -> dict:  # fmt: skip
+                  variant: str = "paper", gait: str = "wave", engine: str = "mujoco",
+                  folder: Path | None = None) -> dict:  # fmt: skip
     """Escape counts per variant and network over seeds ``first_seed`` ... ``first_seed + seeds - 1``.
 
     ``climbing``: run with the leg reflexes and backbone control switched on. ``variant``: the networks'
     variant (``paper`` or ``original``; see :mod:`neurowalk.neural.variants`). ``engine``: ``mujoco`` or ``warp``
-    (the runs as the worlds of one MuJoCo Warp model).
+    (the runs as the worlds of one MuJoCo Warp model). ``folder``: the runs go through the resumable store
+    ``folder/results.sqlite`` (default: all at once, nothing kept).
 
     ``runs`` lists every run as [variant, network, seed, escaped, trapped].
     """
@@ -73,7 +126,7 @@ def outcome_table(seeds: int, *, first_seed: int = 0, variants: dict | None = No
                 configs.append(EpisodeConfig(arena=arena, arena_opts=opts, steps=TRAP_STEPS, seed=seed, body=body,
                                              reflexes=climbing, backbone=climbing, variant=variant, gait=gait,
                                              engine=engine, **net))  # fmt: skip
-    results = run_many(configs, workers=workers, progress=progress, keep=keep_outcome, desc=f"dead ends ({body})")
+    results = stored_runs(configs, folder, "results.sqlite", workers, progress, f"dead ends ({body})", traces=False)
     table: dict[str, dict[str, dict[str, Any]]] = {}
     runs = []
     for (vname, nname), r, cfg in zip(keys, results, configs, strict=True):
@@ -97,11 +150,12 @@ def outcome_table(seeds: int, *, first_seed: int = 0, variants: dict | None = No
 def example_and_long_runs(network: str, long_runs: dict[str, dict[str, Any]], long_steps: int, *, seed: int = 0,
                           workers: int = 2, progress: bool = True,
                           climbing: bool = False, variant: str = "paper", gait: str = "wave",
-                          engine: str = "mujoco") -> dict[str, dict[str, Any]]:  # fmt: skip
+                          engine: str = "mujoco", folder: Path | None = None) -> dict[str, dict[str, Any]]:  # fmt: skip
     """Traces of ``network`` in both dead ends, and the long runs {name: config kwargs}, all with ``seed``.
 
     ``climbing``: leg reflexes and backbone control on; the original arenas' boxes are then raised to
-    :data:`~neurowalk.arenas.spec.WALL_HEIGHT` (their 0.10 m boxes would be climbable steps).
+    :data:`~neurowalk.arenas.spec.WALL_HEIGHT` (their 0.10 m boxes would be climbable steps). ``folder``: the runs
+    go through the resumable store ``folder/traces.sqlite``.
     """
     net = {**NETWORKS[network], "reflexes": climbing, "backbone": climbing, "variant": variant, "gait": gait,
            "engine": engine}  # fmt: skip
@@ -111,26 +165,31 @@ def example_and_long_runs(network: str, long_runs: dict[str, dict[str, Any]], lo
         opts = {"height": WALL_HEIGHT} if climbing else {}
         runs[k] = EpisodeConfig(steps=long_steps, seed=seed, arena_opts=opts, reflexes=climbing, backbone=climbing,
                                 variant=variant, gait=gait, engine=engine, **v)  # fmt: skip
-    out = run_many(list(runs.values()), workers=workers, progress=progress, keep=keep_traces, desc="example runs")
+    out = stored_runs(list(runs.values()), folder, "traces.sqlite", workers, progress, "example runs", traces=True)
     return dict(zip(runs, out, strict=True))
 
 
 def build(name: str, network: str, long_runs: dict, *, quick: bool, seed: int, seeds: int | None,
           climbing: bool = False, variant: str = "paper", gait: str = "wave",
-          engine: str = "mujoco") -> Result:  # fmt: skip
+          engine: str = "mujoco", out: Path | None = None) -> Result:  # fmt: skip
     """Shared by Fig. 3 and Fig. 5: outcome table, example runs, long runs (``climbing``: modules of Fig. 10 on).
 
     ``variant``: every network runs as this variant (``paper`` or ``original``). ``engine``: mujoco or warp.
+    ``out``: the runs go through resumable stores there (``results.sqlite``: the outcome table, ``traces.sqlite``:
+    the example and long runs), so that an interrupted figure goes on from its finished runs.
     """
+    from neurowalk.experiments.climbing import store_folder
+
     n_seeds = seeds if seeds is not None else (3 if quick else 10)
     if n_seeds < 1:
         raise ValueError(f"seeds must be >= 1, got {n_seeds}")
-    long_steps = 10000 if quick else 30000
-    table = outcome_table(n_seeds, first_seed=seed, climbing=climbing, variant=variant, gait=gait, engine=engine)
-    runs = example_and_long_runs(
-        network, long_runs, long_steps, seed=seed, climbing=climbing, variant=variant, gait=gait, engine=engine
-    )
-    arrays = {f"{k}/{field}": v[field] for k, v in runs.items() for field in ("pose", "inputs", "outputs", "b", "q")}
+    long_steps = QUICK_LONG_STEPS if quick else LONG_STEPS
+    with store_folder(out) as folder:
+        table = outcome_table(n_seeds, first_seed=seed, climbing=climbing, variant=variant, gait=gait, engine=engine,
+                              folder=folder)  # fmt: skip
+        runs = example_and_long_runs(network, long_runs, long_steps, seed=seed, climbing=climbing, variant=variant,
+                                     gait=gait, engine=engine, folder=folder)  # fmt: skip
+    arrays = {f"{k}/{field}": v[field] for k, v in runs.items() for field in TRACES}
     summary = {"network": network, "variant": variant, "gait": gait, "engine": engine, "seed": seed,
                "climbing": climbing, "table": table,
                "long_steps": long_steps,

@@ -9,13 +9,13 @@ within reflex range) its weights stay grown and it keeps turning on the spot.
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
 from neurowalk.experiments import Result, register
-from neurowalk.experiments.deadlock import TRAP_STEPS, keep_outcome
-from neurowalk.runners.local import run_many
+from neurowalk.experiments.deadlock import TRAP_STEPS, stored_runs
 from neurowalk.sim.episode import EpisodeConfig
 
 if TYPE_CHECKING:
@@ -33,11 +33,14 @@ QUICK_SIZES = 3  # sizes per sweep with --quick (first, middle, last)
 
 @register(NAME, "escape rate against trap size for all three networks")
 def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, climbing: bool = False,
-        variant: str = "paper", gait: str = "wave") -> Result:  # fmt: skip
+        variant: str = "paper", gait: str = "wave", out: Path | None = None, workers: int = 2) -> Result:  # fmt: skip
     """Every sweep x network x size x seed; ``seeds`` default 5 (2 with ``quick``); ``climbing``: Fig. 10 modules on.
 
-    ``variant``: the networks' variant (``paper`` or ``original``).
+    ``variant``: the networks' variant (``paper`` or ``original``). ``out``: the folder of the resumable result store
+    (``results.sqlite``): a rerun goes on from the runs it holds.
     """
+    from neurowalk.experiments.climbing import store_folder
+
     n = seeds if seeds is not None else (2 if quick else 5)
     if n < 1:
         raise ValueError(f"seeds must be >= 1, got {n}")
@@ -54,7 +57,8 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, climbin
                     configs.append(EpisodeConfig(arena=arena, arena_opts={opt: size}, controller=net, steps=TRAP_STEPS,
                                                  seed=s, reflexes=climbing, backbone=climbing,
                                                  variant=variant, gait=gait))  # fmt: skip
-    results = run_many(configs, keep=keep_outcome, desc="escape map")
+    with store_folder(out) as folder:
+        results = stored_runs(configs, folder, "results.sqlite", workers, True, "escape map", traces=False)
     counts: dict = {}
     for (label, size, net), r in zip(keys, results, strict=True):
         c = counts.setdefault(label, {}).setdefault(net, {}).setdefault(str(size), {"runs": 0, "escaped": 0})

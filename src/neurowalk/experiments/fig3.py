@@ -9,6 +9,7 @@ networks (Braitenberg beside static and plastic) over ``--seeds`` seeds and ±20
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from neurowalk.experiments import Result, register
@@ -33,12 +34,14 @@ def run(
     variant: str = "paper",
     gait: str = "wave",
     engine: str = "mujoco",
+    out: Path | None = None,
 ) -> Result:
     """Outcome table over ``seeds`` seeds (default 10; 3 with ``quick``), example and long runs.
 
     ``climbing``: with the leg reflexes and backbone control of Fig. 10 switched on. ``variant``: the networks'
     variant (``paper`` or ``original``). ``gait``: the locomotion network's gait (``wave`` by default). ``engine``:
-    ``mujoco`` (default) or ``warp`` (MuJoCo Warp, the runs as worlds of one model).
+    ``mujoco`` (default) or ``warp`` (MuJoCo Warp, the runs as worlds of one model). ``out``: the folder of the
+    resumable result stores (``results.sqlite``, ``traces.sqlite``): a rerun goes on from the runs they hold.
     """
     return build(
         NAME,
@@ -51,6 +54,7 @@ def run(
         variant=variant,
         gait=gait,
         engine=engine,
+        out=out,
     )
 
 

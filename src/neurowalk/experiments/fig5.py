@@ -11,6 +11,7 @@ in the paper's exploration experiment) and from b = 2.4, q = 3.5 (its Fig. 4 sta
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from neurowalk.experiments import Result, register
@@ -36,12 +37,14 @@ def run(
     variant: str = "paper",
     gait: str = "wave",
     engine: str = "mujoco",
+    out: Path | None = None,
 ) -> Result:
     """Outcome table over ``seeds`` seeds (default 10; 3 with ``quick``), example and long runs.
 
     ``climbing``: with the leg reflexes and backbone control of Fig. 10 switched on. ``variant``: the networks'
     variant (``paper`` or ``original``). ``gait``: the locomotion network's gait (``wave`` by default). ``engine``:
-    ``mujoco`` (default) or ``warp`` (MuJoCo Warp, the runs as worlds of one model).
+    ``mujoco`` (default) or ``warp`` (MuJoCo Warp, the runs as worlds of one model). ``out``: the folder of the
+    resumable result stores (``results.sqlite``, ``traces.sqlite``): a rerun goes on from the runs they hold.
     """
     res = build(
         NAME,
@@ -54,6 +57,7 @@ def run(
         variant=variant,
         gait=gait,
         engine=engine,
+        out=out,
     )
     runs = res.summary["runs"]
     p, s = runs["difficult (plastic)"], runs["difficult (static)"]

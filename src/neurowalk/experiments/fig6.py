@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
+
+import numpy as np
 
 from neurowalk.experiments import Result, register
 from neurowalk.experiments.random_envs import QUICK_STEPS, RULE, SIZE, STEPS, environments, spec
@@ -11,22 +14,37 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 
-def _keep_path(ep: Any) -> dict[str, Any]:
-    return {"summary": ep.summary, "pose": ep.trajectory.pose[::10].copy()}
+def path_of(spec_: dict[str, Any]) -> dict[str, Any]:
+    """The stored result of one run: its summary and its pose every 10th control step (a list)."""
+    from neurowalk.runners.specs import normalize, result_of, to_config
+    from neurowalk.sim.episode import RunInterruptedError, run_episode
+
+    try:
+        ep = run_episode(to_config(normalize(spec_)))
+    except RunInterruptedError:
+        raise KeyboardInterrupt from None  # a half run is not a result
+    return {"summary": result_of(ep), "pose": ep.trajectory.pose[::10].tolist()}
 
 
 @register("fig6", "sixteen random environments: trajectories, start and end, failures marked (paper Fig. 6)")
 def run(*, quick: bool = False, seed: int = 0, body: str = "surrogate", workers: int = 2, size: float = SIZE,
-        variant: str = "paper", params: dict[str, float] | None = None) -> Result:  # fmt: skip
-    """The plastic network (``variant``) in the first 16 environments of Table 2 (same seeds), whole paths."""
-    from neurowalk.runners.local import run_many
-    from neurowalk.runners.specs import normalize, to_config
+        variant: str = "paper", params: dict[str, float] | None = None, out: Path | None = None) -> Result:  # fmt: skip
+    """The plastic network (``variant``) in the first 16 environments of Table 2 (same seeds), whole paths.
+
+    ``out``: the folder of the resumable result store (``results.sqlite``): a rerun goes on from the runs it holds.
+    """
+    from neurowalk.experiments.climbing import run_store, store_folder
+    from neurowalk.runners.specs import spec_key
 
     steps = QUICK_STEPS if quick else STEPS
     envs = environments(16, seed)
-    cfgs = [to_config(normalize(spec(e, "plastic", steps, body, variant=variant, size=size, params=params)))
-            for e in envs]  # fmt: skip
-    runs = run_many(cfgs, workers=workers, keep=_keep_path, desc="fig6")
+    specs = [spec(e, "plastic", steps, body, variant=variant, size=size, params=params) for e in envs]
+    with store_folder(out) as folder:
+        stored, _ = run_store(specs, folder, workers, fn=path_of)
+    if any("pose" not in r for r in stored.values()):
+        raise RuntimeError(f"{folder / 'results.sqlite'} holds other runs than fig6's (another figure's or sweep's "
+                           "store); use a fresh output folder")  # fmt: skip
+    runs = [{**stored[spec_key(s)], "pose": np.asarray(stored[spec_key(s)]["pose"], dtype=float)} for s in specs]
     arrays = {f"env{i}/pose": r["pose"] for i, r in enumerate(runs)}
     rows = [{**e, "success": not r["summary"]["trapped"], "coverage": r["summary"]["coverage"],
              "final_pose": r["summary"]["final_pose"]} for e, r in zip(envs, runs, strict=True)]  # fmt: skip

@@ -11,6 +11,7 @@ trajectories, and draws the path in the pocket, the steering, and b_on + mean q 
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -28,16 +29,21 @@ SEARCHED = 200  # environments searched for latched spins
 
 @register("latched-spin", "the plastic network's failure in Table 2: a latched spin in a pocket (surrogate)")
 def run(*, quick: bool = False, seed: int = 0, variant: str = "paper", params: dict[str, float] | None = None,
-        workers: int = 2) -> Result:  # fmt: skip
-    """Search the first :data:`SEARCHED` Table 2 environments (``quick``: 40) for latched spins; keep two."""
-    from neurowalk.runners.local import run_many, summary_only
-    from neurowalk.runners.specs import normalize, to_config
+        workers: int = 2, out: Path | None = None) -> Result:  # fmt: skip
+    """Search the first :data:`SEARCHED` Table 2 environments (``quick``: 40) for latched spins; keep two.
+
+    ``out``: the folder of the resumable result store of the search (``results.sqlite``, one summary per run).
+    """
+    from neurowalk.experiments.climbing import run_store, store_folder
+    from neurowalk.runners.specs import normalize, spec_key, to_config
     from neurowalk.sim.episode import run_episode
 
     envs = environments(40 if quick else SEARCHED, seed)
-    cfgs = [to_config(normalize(spec(e, "plastic", STEPS, "surrogate", variant=variant, params=params)))
-            for e in envs]  # fmt: skip
-    summaries = run_many(cfgs, workers=workers, keep=summary_only, desc="latched-spin")
+    specs = [spec(e, "plastic", STEPS, "surrogate", variant=variant, params=params) for e in envs]
+    with store_folder(out) as folder:
+        stored, _ = run_store(specs, folder, workers)
+    summaries = [stored[spec_key(s)] for s in specs]
+    cfgs = [to_config(normalize(s)) for s in specs]
     classes = [failure_class(s) for s in summaries]
     chosen = [i for i, c in enumerate(classes) if c == "latched spin"][:SHOWN]
     arrays: dict[str, np.ndarray] = {}

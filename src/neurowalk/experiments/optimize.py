@@ -37,6 +37,7 @@ import numpy as np
 
 from neurowalk.experiments.optimize_space import Dim, decode, fitness, make_space, start_point
 from neurowalk.fileio import make_writable_folder
+from neurowalk.runners.stopping import deferred
 
 BODY = "surrogate"
 TRAIN_SEED = 1000  # table seed of the training environments (run seeds 1000, 1001, ...)
@@ -146,7 +147,9 @@ class Runner:
         from neurowalk.runners.store import ResultStore
         from neurowalk.runners.sweep import run_sweep
 
-        with ResultStore(self.folder / "results.sqlite") as store:
+        with deferred():  # opened whole (its lock, its tables), or not at all
+            store = ResultStore(self.folder / "results.sqlite")
+        with store:
             report = run_sweep(specs, store, backend=self.backend, workers=self.workers, address=self.address,
                                progress=self.progress)  # fmt: skip
             results = store.results()
@@ -351,7 +354,8 @@ def run(*, out: Path | str = Path("out/optimize"), quick: bool = False, variant:
                             "mean": decode(space, es.mean), "sigma": float(es.sigma)})  # fmt: skip
             if stop:
                 state["stopped"] = {"generation": len(records), "reason": stop}
-            save_state(path, state)
+            with deferred():  # a generation is saved whole: a Ctrl-C now stops the search after it
+                save_state(path, state)
             say(report.generation_line(records, sz.generations, base_fit, runner.computed - done_before,
                                        time.perf_counter() - t0))  # fmt: skip
         history = records[: sz.generations]
@@ -369,6 +373,7 @@ def run(*, out: Path | str = Path("out/optimize"), quick: bool = False, variant:
                     runs_skipped=runner.skipped)  # fmt: skip
     search.best = report.best_json(search, best, sz, seed=seed, train_seed=train_seed, sigma0=float(sigma0),
                                    stopped=state.get("stopped"), variant=variant)  # fmt: skip
-    report.write(search, folder)
+    with deferred():
+        report.write(search, folder)
     say(report.final_line(search, folder))
     return search

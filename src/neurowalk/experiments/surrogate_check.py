@@ -9,6 +9,7 @@ both bodies with the same seeds: escape counts side by side, and the fraction of
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -44,15 +45,21 @@ def agreement(phys_runs: list[list[Any]], sur_runs: list[list[Any]]) -> dict[str
 
 
 @register(NAME, "planar surrogate vs physics: held-out calibration and dead-end outcomes")
-def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None) -> Result:
-    """Held-out calibration check and the dead-end suite on both bodies (default 10 seeds; 2 with ``quick``)."""
+def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None) -> Result:
+    """Held-out calibration check and the dead-end suite on both bodies (default 10 seeds; 2 with ``quick``).
+
+    ``out``: the folder of the resumable result store of the dead-end runs (``results.sqlite``).
+    """
+    from neurowalk.experiments.climbing import store_folder
+
     n = seeds if seeds is not None else (2 if quick else 10)
     if n < 1:
         raise ValueError(f"seeds must be >= 1, got {n}")
     cal = load_calibration()
     val = validation(cal, QUICK_HELD_OUT if quick else HELD_OUT, workers=2, progress=True)
-    phys = outcome_table(n, first_seed=seed, body="amosii")
-    sur = outcome_table(n, first_seed=seed, body="surrogate")
+    with store_folder(out) as folder:
+        phys = outcome_table(n, first_seed=seed, body="amosii", folder=folder)
+        sur = outcome_table(n, first_seed=seed, body="surrogate", folder=folder)
     summary = {
         "seeds": n,
         "first_seed": seed,

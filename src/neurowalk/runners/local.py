@@ -2,22 +2,31 @@
 
 :func:`run_unordered` is the engine (the sweep stores each result as it arrives); :func:`run_many` keeps the
 simple form the experiments use (episode configs in, results in input order).
+
+The pool is this module's own: one pipe to each worker process, which runs one job at a time, so the driver knows
+which job each worker runs. A worker that dies (killed, segfault, ``os._exit``) costs only its own job, and the
+others go on; an idle one that dies costs nothing. Workers ignore SIGINT and SIGTERM (a terminal's Ctrl-C reaches
+the whole process group): the driver decides. When the driver stops early (an error, Ctrl-C, the consumer closing the
+generator) it kills its workers and reaps them before it goes on, so that no worker outlives the stop and no
+interpreter exit waits on one; a driver killed outright takes its workers with it (``PR_SET_PDEATHSIG``).
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import signal
 import sys
 import time
 from collections import deque
 from collections.abc import Callable, Generator, Sequence
-from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
-from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
-from pathlib import Path
+from multiprocessing.connection import Connection
+from multiprocessing.connection import wait as mp_wait
+from multiprocessing.reduction import ForkingPickler
 from typing import Any
 
+from neurowalk.runners.stopping import deferred, stop_requested
 from neurowalk.sim.episode import Episode, EpisodeConfig, run_episode
 
 
@@ -55,12 +64,9 @@ def run_unordered(fn: Callable[[Any], Any], items: Sequence[Any], *, workers: in
         workers: processes; 1 runs the jobs here, one after the other (so a crash would end this process).
         retries: how many more times a job whose worker died is run before it is reported (default 0: never).
 
-    A job that raises gives a Done with that exception. A worker that dies (killed, segfault, ``os._exit``)
-    breaks the pool: the job it was running is reported as :class:`WorkerDiedError` (or, with ``retries``, run
-    again first); the other jobs the break cut short did not fail and run again on a fresh pool. Each worker
-    notes the job it runs in a file named by its process id, which the pool's own SIGTERM to the survivors of a
-    break removes, so the dead worker's job is the one whose note is left. Where no note is left (a worker
-    that died between jobs, or by SIGTERM from outside), the cut-short jobs run one at a time to find it.
+    A job that raises gives a Done with that exception (so does a job whose item or result cannot be pickled).
+    A job whose worker dies gives a :class:`WorkerDiedError` (or, with ``retries``, runs again first, on a fresh
+    worker); the other workers go on.
     """
     if workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")
@@ -68,33 +74,42 @@ def run_unordered(fn: Callable[[Any], Any], items: Sequence[Any], *, workers: in
         raise ValueError(f"retries must be a whole number >= 0, got {retries!r}")
     if workers == 1:
         for i, item in enumerate(items):
+            if stop_requested():
+                raise KeyboardInterrupt
             yield Done(i, *call_timed(fn, item))
         return
-    import shutil
-    import tempfile
-
-    notes = Path(tempfile.mkdtemp(prefix="neurowalk-pool-"))
     deaths = dict.fromkeys(range(len(items)), 0)
     todo = deque(range(len(items)))
+    pool = _Pool(min(workers, len(items)))
+    finished = False
     try:
-        while todo:
-            lost, culprits = yield from _pool_pass(fn, items, todo, workers, notes)
-            if lost and not culprits:  # nobody's note: one at a time, a job that breaks a pool alone is named
-                alone = []
-                for i in lost:
-                    cut, _ = yield from _pool_pass(fn, items, deque([i]), 1, notes)
-                    alone += cut
-                lost = culprits = alone
-            for i in lost:
-                if i in culprits:
-                    deaths[i] += 1
-                    if deaths[i] > retries:
-                        yield Done(i, error=WorkerDiedError(_died(deaths[i])))
-                        continue
-                if i not in todo:
+        while todo or pool.busy():
+            while todo and pool.has_room():
+                i = todo.popleft()
+                try:
+                    job = ForkingPickler.dumps((fn, items[i], i))
+                except Exception as e:  # an item (or fn) that cannot be pickled: that job's error
+                    yield Done(i, error=e)
+                    continue
+                if not pool.submit(job, i):
+                    todo.appendleft(i)  # its worker had died before it got the job: not the job's fault
+            if stop_requested():  # a Ctrl-C that some library swallowed
+                raise KeyboardInterrupt
+            if not pool.busy():
+                continue
+            for i, done in pool.wait():
+                if done is not None:
+                    yield done
+                    continue
+                deaths[i] += 1
+                if deaths[i] > retries:
+                    yield Done(i, error=WorkerDiedError(_died(deaths[i])))
+                else:
                     todo.appendleft(i)
+        finished = True
     finally:
-        shutil.rmtree(notes, ignore_errors=True)
+        with deferred():
+            pool.close(finished)
 
 
 def _died(times: int) -> str:
@@ -102,73 +117,127 @@ def _died(times: int) -> str:
     return f"the worker process died while running this job{more}: killed, a crash, or os._exit"
 
 
-def _pool_pass(fn: Callable[[Any], Any], items: Sequence[Any], todo: deque[int], workers: int, notes: Path
-               ) -> Generator[Done, None, tuple[list[int], list[int]]]:  # fmt: skip
-    """Run jobs from ``todo`` on a new pool until it is empty or the pool breaks.
-
-    Returns (the jobs a break cut short, those among them whose worker died). At most ``2 * workers`` jobs are
-    in flight, so a break cuts short few and results stream back as they finish.
-    """
-    for stale in notes.iterdir():
-        stale.unlink(missing_ok=True)
-    pool = ProcessPoolExecutor(max_workers=workers, initializer=_worker_start, initargs=(os.getpid(), str(notes)))
-    running: dict[Future, int] = {}
-    lost: list[int] = []
-    broken = False  # the pool broke (a submit can meet the break before any future reports it)
-    try:
-        while todo or running:
-            while todo and len(running) < 2 * workers and not lost and not broken:
-                i = todo.popleft()
-                try:
-                    running[pool.submit(_noted, fn, items[i], i)] = i
-                except BrokenProcessPool:
-                    todo.appendleft(i)  # not started: it goes to the next pool
-                    broken = True
-            if not running:
-                break
-            finished, _ = wait(running, return_when=FIRST_COMPLETED)
-            for fut in finished:
-                i = running.pop(fut)
-                try:
-                    value, error, wall = fut.result()
-                except BrokenProcessPool:
-                    lost.append(i)
-                    continue
-                except Exception as e:  # e.g. a result that cannot be pickled
-                    value, error, wall = None, e, None
-                yield Done(i, value, error, wall)
-    finally:
-        pool.shutdown(wait=True, cancel_futures=True)
-        todo.extendleft(reversed([i for i in running.values() if i not in lost]))  # on early exit keep the rest
-    noted = {int(p.read_text() or -1) for p in notes.iterdir() if p.name.isdigit()}
-    return sorted(lost), sorted(noted & set(lost))
+@dataclass
+class _Worker:
+    proc: Any  # multiprocessing.Process
+    conn: Connection  # the driver's end of the worker's pipe
+    job: int | None = None  # the job it runs (None: idle)
 
 
-_NOTES: Path | None = None  # a pool worker's folder of job notes (set by _worker_start)
+class _Pool:
+    """Up to ``size`` worker processes, started as jobs need them, one job each at a time."""
+
+    def __init__(self, size: int) -> None:
+        import multiprocessing
+
+        self.size = size
+        self.ctx = multiprocessing.get_context()
+        self.workers: list[_Worker] = []
+
+    def busy(self) -> bool:
+        return any(w.job is not None for w in self.workers)
+
+    def has_room(self) -> bool:
+        return len(self.workers) < self.size or any(w.job is None for w in self.workers)
+
+    def submit(self, job: bytes, index: int) -> bool:
+        """Send a pickled job to an idle worker (started if need be); False if that worker had died."""
+        w = next((w for w in self.workers if w.job is None), None)
+        with deferred():  # a signal must not leave a started worker out of the list
+            if w is None:
+                conn, child = self.ctx.Pipe()
+                w = _Worker(self.ctx.Process(target=_serve, args=(child, os.getpid()), daemon=False), conn)
+                self.workers.append(w)
+                w.proc.start()
+                child.close()
+            try:
+                w.conn.send_bytes(job)
+            except OSError:
+                self._drop(w)
+                return False
+            w.job = index
+        return True
+
+    def wait(self) -> list[tuple[int, Done | None]]:
+        """Wait for at least one busy worker to finish or die: [(job, its Done, or None if its worker died)]."""
+        busy = [w for w in self.workers if w.job is not None]
+        ready = set(mp_wait([w.conn for w in busy] + [w.proc.sentinel for w in busy]))
+        out: list[tuple[int, Done | None]] = []
+        for w in busy:
+            if w.conn not in ready and w.proc.sentinel not in ready:
+                continue
+            i = w.job
+            assert i is not None
+            try:
+                data = w.conn.recv_bytes() if w.conn.poll() else None
+            except (EOFError, OSError):  # died before or while sending its result
+                data = None
+            if data is None:
+                self._drop(w)
+                out.append((i, None))
+                continue
+            w.job = None
+            try:
+                _, value, error, wall = ForkingPickler.loads(data)
+            except Exception as e:  # e.g. an exception class that cannot be rebuilt here
+                value, error, wall = None, e, None
+            out.append((i, Done(i, value, error, wall)))
+        return out
+
+    def _drop(self, w: _Worker) -> None:
+        self.workers.remove(w)
+        w.proc.kill()
+        w.proc.join()
+        w.conn.close()
+
+    def close(self, graceful: bool) -> None:
+        """End every worker: idle ones told to stop (``graceful``), else killed; each one reaped."""
+        for w in self.workers:
+            if graceful and w.job is None:
+                with contextlib.suppress(OSError):
+                    w.conn.send_bytes(b"")
+            else:
+                w.proc.kill()
+        for w in self.workers:
+            w.proc.join(timeout=5)
+            if w.proc.exitcode is None:
+                w.proc.kill()
+                w.proc.join()
+            w.conn.close()
+        self.workers.clear()
 
 
-def _worker_start(parent: int, notes: str) -> None:
-    """Pool worker initializer: die with the driver; note jobs in ``notes``; a SIGTERM (the pool's, after a
-    break) removes this worker's note, so that the job it was running is not blamed for the break."""
-    global _NOTES
+def _serve(conn: Connection, parent: int) -> None:
+    """A worker: run the jobs that come down ``conn``, send back (index, value, error, wall time); b"" ends it."""
     die_with_parent(parent)
-    _NOTES = Path(notes)
+    for sig in (signal.SIGINT, signal.SIGTERM):  # a Ctrl-C (or a stop) of the process group: the driver decides
+        signal.signal(sig, signal.SIG_IGN)
+    while True:
+        try:
+            data = conn.recv_bytes()
+        except (EOFError, OSError):  # the driver is gone
+            return
+        if not data:
+            return
+        try:
+            fn, item, index = ForkingPickler.loads(data)
+        except Exception as e:  # e.g. fn not importable here
+            conn.send_bytes(ForkingPickler.dumps((None, None, _picklable(e), None)))
+            continue
+        value, error, wall = call_timed(fn, item)
+        try:
+            out = ForkingPickler.dumps((index, value, error, wall))
+        except Exception as e:  # a result (or an error) that cannot be pickled
+            out = ForkingPickler.dumps((index, None, _picklable(e), wall))
+        conn.send_bytes(out)
 
-    def _terminated(signum: int, frame: object) -> None:
-        (_NOTES / str(os.getpid())).unlink(missing_ok=True)  # type: ignore[operator]
-        os._exit(128 + signum)
 
-    signal.signal(signal.SIGTERM, _terminated)
-
-
-def _noted(fn: Callable[[Any], Any], item: Any, index: int) -> tuple[Any, BaseException | None, float]:
-    """:func:`call_timed` with this worker's note saying it runs job ``index`` (removed when it returns)."""
-    note = _NOTES / str(os.getpid())  # type: ignore[operator]
-    note.write_text(str(index))
+def _picklable(e: BaseException) -> BaseException:
     try:
-        return call_timed(fn, item)
-    finally:
-        note.unlink(missing_ok=True)
+        ForkingPickler.dumps(e)
+    except Exception:
+        return RuntimeError(f"{type(e).__name__}: {e}")
+    return e
 
 
 def die_with_parent(parent: int) -> None:

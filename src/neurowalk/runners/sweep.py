@@ -21,6 +21,7 @@ from typing import Any
 
 from neurowalk.runners.local import Done
 from neurowalk.runners.specs import Spec, describe, normalize, run_spec, spec_key
+from neurowalk.runners.stopping import deferred
 from neurowalk.runners.store import ResultStore
 
 BACKENDS = ("local", "ray")
@@ -110,21 +111,27 @@ def run_sweep(specs: Iterable[Spec], store: ResultStore, *, backend: str = "loca
     done = store.done_keys()
     todo = [(k, s) for k, s in keyed if k not in done]
     report = SweepReport(total=total, unique=len(keyed), duplicates=total - len(keyed), skipped=len(keyed) - len(todo))
-    if todo:
-        results = _backend(backend, fn, [s for _, s in todo], workers, address, retries)
-        bar = tqdm(total=len(todo), unit="run", desc="sweep", disable=not progress, mininterval=0.5, file=sys.stderr)
-        try:
+    results = bar = None
+    try:
+        if todo:
+            results = _backend(backend, fn, [s for _, s in todo], workers, address, retries)
+            bar = tqdm(total=len(todo), unit="run", desc="sweep", disable=not progress, mininterval=0.5,
+                       file=sys.stderr)  # fmt: skip
             for d in results:
                 key, spec = todo[d.index]
-                _store(store, key, spec, d, report)
+                with deferred():  # a run is stored whole, or not at all
+                    _store(store, key, spec, d, report)
                 bar.update(1)
                 if report.error:
                     bar.set_postfix(errors=report.error, refresh=False)
-        except KeyboardInterrupt:
-            report.interrupted = True
-        finally:
-            results.close()
-            bar.close()
+    except KeyboardInterrupt:
+        report.interrupted = True
+    finally:
+        with deferred():  # the workers are ended and reaped, whatever comes now
+            if results is not None:
+                results.close()
+            if bar is not None:
+                bar.close()
     report.wall_time_s = time.perf_counter() - t0
     return report
 
