@@ -49,4 +49,4 @@ def test_surrogate_has_no_video_and_calibrate_needs_a_worker(capsys: pytest.Capt
     assert main(["run", "--body", "surrogate", "--video", "--out", "/tmp/never"]) == 2
     assert main(["calibrate", "--workers", "0"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 2 and "--video needs --body amosii" in err[0] and "--workers" in err[1]
+    assert len(err) == 2 and "--video needs a MuJoCo body" in err[0] and "--workers" in err[1]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -74,6 +75,32 @@ def test_neuroevolution_resumes_bit_for_bit(tmp_path):
     assert whole["env_steps"] == 3 * 4 * 2 * 60
     with pytest.raises(ValueError, match="other settings"):
         baseline_rnn.train(tmp_path / "b", generations=3, **{**kw, "envs": 3})
+
+
+class _Evil:
+    """Unpickling this creates a file: proof that a pickle was loaded."""
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+
+    def __reduce__(self) -> tuple:
+        return (Path.touch, (self.path,))
+
+
+def test_the_neuroevolution_state_is_json_and_a_crafted_pickle_runs_nothing(tmp_path):
+    import pickle
+
+    kw = {"population": 4, "envs": 2, "steps": 20, "hidden": 2, "progress": False, "log": lambda _: None}
+    baseline_rnn.train(tmp_path / "a", generations=1, **kw)
+    assert json.loads((tmp_path / "a" / "state.json").read_text())["format"] == 1
+    (tmp_path / "b").mkdir()
+    (tmp_path / "b" / "state.pkl").write_bytes(pickle.dumps({"es": _Evil(tmp_path / "pwned")}))
+    with pytest.raises(ValueError, match=r"state\.pkl"):
+        baseline_rnn.train(tmp_path / "b", generations=1, **kw)
+    assert not (tmp_path / "pwned").exists()
+    (tmp_path / "a" / "state.json").write_text('{"format": 1, "settings": ')  # cut short
+    with pytest.raises(ValueError, match=r"state\.json"):
+        baseline_rnn.train(tmp_path / "a", generations=2, **kw)
 
 
 def test_run_writes_the_table_plot_and_data_and_reuses_finished_work(tmp_path):

@@ -75,9 +75,9 @@ def test_optimize_stops_on_sigint_and_sigterm_and_keeps_what_it_says(tmp_path):
                  r"its last finished generation in (\S+))?; run the same command again to resume$", line)  # fmt: skip
     assert m is not None, line
     assert int(m.group(1)) == count_finished(out / "results.sqlite") >= 10 and m.group(2) == str(out / "results.sqlite")
-    assert (m.group(4) is not None) == (out / "cmaes.pkl").is_file()
-    line = _stop(args, lambda p: (out / "cmaes.pkl").is_file(), signal.SIGTERM)  # after a generation
-    assert f", and the search state after its last finished generation in {out / 'cmaes.pkl'}" in line
+    assert (m.group(4) is not None) == (out / "cmaes.json").is_file()
+    line = _stop(args, lambda p: (out / "cmaes.json").is_file(), signal.SIGTERM)  # after a generation
+    assert f", and the search state after its last finished generation in {out / 'cmaes.json'}" in line
     kept = count_finished(out / "results.sqlite")
     assert main(args) == 0 and (out / "best.json").is_file()
     assert count_finished(out / "results.sqlite") > kept
@@ -86,12 +86,12 @@ def test_optimize_stops_on_sigint_and_sigterm_and_keeps_what_it_says(tmp_path):
 def test_baseline_stops_on_sigterm_and_names_the_checkpoints_it_kept(tmp_path):
     out = tmp_path / "bl"
     args = [*BASELINE, "--out", str(out)]
-    line = _stop(args, lambda p: (out / "training" / "neuroevo" / "state.pkl").is_file(), signal.SIGTERM)
+    line = _stop(args, lambda p: (out / "training" / "neuroevo" / "state.json").is_file(), signal.SIGTERM)
     m = re.match(rf"neurowalk: baseline interrupted; kept in {re.escape(str(out))}: (.*); run the same command again "
                  r"to go on from them$", line)  # fmt: skip
     assert m is not None, line
     named = m.group(1).split(", ")
-    assert "training/neuroevo/state.pkl" in named and all((out / n).is_file() for n in named)
+    assert "training/neuroevo/state.json" in named and all((out / n).is_file() for n in named)
     assert main(args) == 0 and (out / "baselines.json").is_file()
 
 

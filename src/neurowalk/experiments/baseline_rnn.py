@@ -14,7 +14,8 @@ candidates on the same environments (common random numbers), every copy of every
 environment step. The environments of generation g are those of the reset seeds ``train_seed * 1_000_000 +
 g * envs + j`` (j < envs; train_seed < 1000), below the held-out environments of ``neurowalk baseline`` (seeds from
 10^9).
-The search state is saved after every generation (resumable, bit for bit).
+The search is saved as JSON after every generation (``state.json``: each generation's candidates and returns),
+and a rerun replays it into a fresh CMA-ES of the same seed (:mod:`.cma_record`): resumable, bit for bit.
 """
 
 from __future__ import annotations
@@ -27,7 +28,8 @@ from typing import Any
 import numpy as np
 
 from neurowalk.compiled import jit
-from neurowalk.experiments.optimize import load_state, own_rng, save_state
+from neurowalk.experiments import cma_record
+from neurowalk.experiments.cma_record import own_rng
 from neurowalk.runners.stopping import deferred
 
 HIDDEN = 4
@@ -119,7 +121,7 @@ def episode_returns(theta: np.ndarray, seeds: list[int], steps: int, hidden: int
 def train(out: Path, *, generations: int = 300, population: int = 16, envs: int = 16, steps: int = 2000,
           hidden: int = HIDDEN, sigma0: float = 0.5, seed: int = 0, train_seed: int = 0, progress: bool = True,
           log: Callable[[str], None] = print) -> dict[str, Any]:  # fmt: skip
-    """CMA-ES over the network's weights (resumable from ``out/state.pkl``); returns the training record.
+    """CMA-ES over the network's weights (resumable from ``out/state.json``); returns the training record.
 
     Returns:
         ``theta`` (the search's final mean, list), ``hidden``, ``generations``, ``env_steps`` (environment steps
@@ -136,15 +138,24 @@ def train(out: Path, *, generations: int = 300, population: int = 16, envs: int 
     settings = {"population": population, "envs": envs, "steps": steps, "hidden": hidden, "sigma0": sigma0,
                 "seed": seed, "train_seed": train_seed}  # fmt: skip
     Path(out).mkdir(parents=True, exist_ok=True)
-    path = Path(out) / "state.pkl"
-    state = load_state(path, settings)
-    if state is None:
-        state = {"settings": settings, "curve": [], "rng": None, "wall_s": 0.0, "env_steps": 0}
-        with own_rng(state):
-            state["es"] = cma.CMAEvolutionStrategy(
-                np.zeros(n_weights(hidden)), sigma0,
-                {"seed": seed + 1, "randn": np.random.RandomState(seed + 1).randn, "popsize": population,
-                 "verbose": -9, "verb_log": 0, "verb_disp": 0})  # fmt: skip
+    path = Path(out) / "state.json"
+    cma_record.refuse_pickle(path.with_name("state.pkl"), "the neuroevolution state")
+    saved = cma_record.read(path, settings)
+    state = {"settings": settings, "curve": [], "rng": None, "wall_s": 0.0, "env_steps": 0, "generations": []}
+    with own_rng(state):
+        state["es"] = cma.CMAEvolutionStrategy(
+            np.zeros(n_weights(hidden)), sigma0,
+            {"seed": seed + 1, "randn": np.random.RandomState(seed + 1).randn, "popsize": population,
+             "verbose": -9, "verb_log": 0, "verb_disp": 0})  # fmt: skip
+    if saved is not None:
+        try:
+            gens = [(g["x"], g["scores"]) for g in saved["generations"]]
+            state.update(curve=list(saved["curve"]), wall_s=float(saved["wall_s"]), env_steps=int(saved["env_steps"]))
+        except (KeyError, TypeError, ValueError) as e:
+            raise ValueError(f"{str(path)!r} is not a readable neurowalk search record ({type(e).__name__}); remove "
+                             "it to start afresh") from None  # fmt: skip
+        cma_record.replay(state["es"], state, gens, path)
+        state["generations"] = list(saved["generations"])
     es = state["es"]
     bar = None
     if progress and len(state["curve"]) < generations:
@@ -160,11 +171,12 @@ def train(out: Path, *, generations: int = 300, population: int = 16, envs: int 
         returns = episode_returns(xs, seeds, steps, hidden)
         with own_rng(state):
             es.tell(list(xs), list(-returns))
+        state["generations"].append({"x": xs.tolist(), "scores": (-returns).tolist()})
         state["curve"].append({"mean": float(returns.mean()), "best": float(returns.max())})
         state["env_steps"] += population * envs * steps
         state["wall_s"] += time.perf_counter() - t0
         with deferred():  # a generation is saved whole: a Ctrl-C now stops the training after it
-            save_state(path, state)
+            cma_record.write(path, {k: state[k] for k in ("settings", "curve", "wall_s", "env_steps", "generations")})
         if bar is not None:
             bar.update(1)
             bar.set_postfix(best=f"{returns.max():.2f} m2")

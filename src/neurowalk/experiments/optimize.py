@@ -25,16 +25,16 @@ a minute (at 5000 steps nearly every candidate succeeds everywhere, so the objec
 from __future__ import annotations
 
 import importlib.util
-import json
 import time
-from collections.abc import Callable, Iterator, Mapping, Sequence
-from contextlib import contextmanager
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from neurowalk.experiments import cma_record
+from neurowalk.experiments.cma_record import own_rng
 from neurowalk.experiments.optimize_space import Dim, decode, fitness, make_space, start_point
 from neurowalk.fileio import make_writable_folder
 from neurowalk.runners.stopping import deferred
@@ -44,7 +44,6 @@ TRAIN_SEED = 1000  # table seed of the training environments (run seeds 1000, 10
 HELDOUT_SEED = 0  # table seed of the held-out environments: Table 2's own (run seeds 0, 1, ...)
 SIGMA0 = 0.2  # initial CMA-ES step size in the normalised space (the bounds are 1 apart)
 STATE_FILE = "cmaes.json"
-STATE_FORMAT = 1  # the format of STATE_FILE this code writes and reads
 OLD_STATE_FILE = "cmaes.pkl"  # older versions' pickled state: never read
 
 
@@ -164,63 +163,28 @@ class Runner:
         return [results[k] for k in keys]
 
 
-@contextmanager
-def own_rng(holder: dict[str, Any]) -> Iterator[None]:
-    """Run CMA-ES calls on the numpy global random state kept in ``holder['rng']``, leaving the caller's as it was.
-
-    ``cma`` samples from ``numpy.random``; keeping its state here makes the search independent of anything else
-    that draws from the global generator, and lets the state be saved with the checkpoint.
-    """
-    outer = np.random.get_state()
-    if holder.get("rng") is not None:
-        np.random.set_state(holder["rng"])
-    try:
-        yield
-    finally:
-        holder["rng"] = np.random.get_state()
-        np.random.set_state(outer)
-
-
 def load_state(path: Path, settings: dict[str, Any], space: Sequence[Dim]) -> dict[str, Any] | None:
     """The search recorded at ``path``, replayed into a fresh CMA-ES, or None if there is none.
 
     Raises:
         ValueError (one line naming the file): damaged, foreign or newer, of a search with other settings, or an
-        older neurowalk's pickled state (which is never read).
+        older neurowalk's pickled state (which is never read; the finished runs in results.sqlite are reused).
     """
-    old = path.with_name(OLD_STATE_FILE)
-    if old.is_file():
-        raise ValueError(f"{str(old)!r} is the search state of an older neurowalk (a pickle, which neurowalk no "
-                         "longer reads: it could run code); remove it and run again (the finished runs in "
-                         "results.sqlite are reused)")  # fmt: skip
-    if not path.is_file():
+    cma_record.refuse_pickle(path.with_name(OLD_STATE_FILE), "the search state")
+    saved = cma_record.read(path, settings)
+    if saved is None:
         return None
-    bad = f"{str(path)!r} is not a readable neurowalk search record"
-    try:
-        saved = json.loads(path.read_bytes())
-        fmt, records, stopped, old_settings = saved["format"], saved["records"], saved["stopped"], saved["settings"]
-    except (OSError, ValueError, KeyError, TypeError) as e:
-        raise ValueError(f"{bad} ({type(e).__name__}); remove it to start the search afresh") from None
-    if not isinstance(fmt, int) or fmt > STATE_FORMAT:
-        raise ValueError(f"{str(path)!r} was written by a newer neurowalk (format {fmt!r}); update neurowalk")
-    if fmt < STATE_FORMAT or not isinstance(records, list) or not isinstance(old_settings, dict):
-        raise ValueError(f"{bad} (bad header); remove it to start the search afresh")
-    for key, value in settings.items():
-        if old_settings.get(key) != json.loads(json.dumps(value)):
-            raise ValueError(f"{str(path.parent)!r} holds a search with other settings ({key}: "
-                             f"{old_settings.get(key)!r}, asked {value!r}); use another output folder")  # fmt: skip
+    records, stopped = saved.get("records"), saved.get("stopped")
+    if not isinstance(records, list):
+        raise ValueError(f"{str(path)!r} is not a readable neurowalk search record (no generations)")
     state = new_state(space, settings["variant"], settings["sigma0"], settings["seed"], settings["population"],
                       settings)  # fmt: skip
     try:
-        for rec in records:
-            with own_rng(state):
-                xs = [np.asarray(x, dtype=float) for x in state["es"].ask()]
-                if not np.array_equal(np.array(xs), np.array(rec["x"], dtype=float)):
-                    raise ValueError("its candidates are not those this seed draws")
-                state["es"].tell(xs, [float(f["score"]) for f in rec["fitness"]])
-            state["records"].append(rec)
-    except (ValueError, KeyError, TypeError, IndexError) as e:
-        raise ValueError(f"{bad} ({e}); remove it to start the search afresh") from None
+        gens = [(r["x"], [f["score"] for f in r["fitness"]]) for r in records]
+    except (KeyError, TypeError) as e:
+        raise ValueError(f"{str(path)!r} is not a readable neurowalk search record ({type(e).__name__})") from None
+    cma_record.replay(state["es"], state, gens, path)
+    state["records"] = records
     if stopped is not None:
         state["stopped"] = stopped
     return state
@@ -228,27 +192,8 @@ def load_state(path: Path, settings: dict[str, Any], space: Sequence[Dim]) -> di
 
 def save_state(path: Path, state: dict[str, Any]) -> None:
     """Write the search's record (settings, generations, stop) as JSON, atomically."""
-    from neurowalk.fileio import atomic_write
-
-    record = {"format": STATE_FORMAT, "settings": state["settings"], "records": state["records"],
-              "stopped": state.get("stopped")}  # fmt: skip
-    text = json.dumps(_plain(record), indent=1)  # non-finite scores kept (as JSON's NaN, Infinity)
-    atomic_write(path, lambda tmp: Path(tmp).write_text(text + "\n"))
-
-
-def _plain(x: Any) -> Any:
-    """``x`` with numpy scalars and arrays as plain Python (floats exactly, non-finite ones kept)."""
-    if isinstance(x, dict):
-        return {str(k): _plain(v) for k, v in x.items()}
-    if isinstance(x, list | tuple | np.ndarray):
-        return [_plain(v) for v in x]
-    if isinstance(x, bool | np.bool_):
-        return bool(x)
-    if isinstance(x, int | np.integer):
-        return int(x)
-    if isinstance(x, float | np.floating):
-        return float(x)
-    return x
+    cma_record.write(path, {"settings": state["settings"], "records": state["records"],
+                            "stopped": state.get("stopped")})  # fmt: skip
 
 
 def new_state(space: Sequence[Dim], variant: str, sigma0: float, seed: int, population: int,

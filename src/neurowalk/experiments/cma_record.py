@@ -1,0 +1,112 @@
+"""CMA-ES searches kept as JSON and resumed by replay: nothing pickled, so an output folder cannot run code.
+
+A search's file holds its settings and, per generation, the candidates CMA-ES drew and the scores it was told.
+Resuming builds a fresh ``cma.CMAEvolutionStrategy`` with the same seed and replays the generations: each
+``ask`` is checked to draw exactly the recorded candidates, then ``tell`` gets the recorded scores. CMA-ES is
+deterministic given its seed, so the replayed search is the one that was stopped, bit for bit. Used by
+``neurowalk optimize`` (:mod:`.optimize`) and the neuroevolution baseline (:mod:`.baseline_rnn`).
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterable, Iterator, Sequence
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from neurowalk.fileio import atomic_write
+
+FORMAT = 1  # the format of a search record this code writes and reads
+
+
+@contextmanager
+def own_rng(holder: dict[str, Any]) -> Iterator[None]:
+    """Run CMA-ES calls on the numpy global random state kept in ``holder['rng']``, leaving the caller's as it was.
+
+    ``cma`` samples from ``numpy.random``; keeping its state here makes the search independent of anything else
+    that draws from the global generator.
+    """
+    outer = np.random.get_state()
+    if holder.get("rng") is not None:
+        np.random.set_state(holder["rng"])
+    try:
+        yield
+    finally:
+        holder["rng"] = np.random.get_state()
+        np.random.set_state(outer)
+
+
+def refuse_pickle(path: Path, what: str) -> None:
+    """ValueError if an older neurowalk's pickled state is at ``path``: it is never read (it could run code)."""
+    if path.is_file():
+        raise ValueError(f"{str(path)!r} is {what} of an older neurowalk (a pickle, which neurowalk no longer reads: "
+                         "it could run code); remove it and run again")  # fmt: skip
+
+
+def read(path: Path, settings: dict[str, Any]) -> dict[str, Any] | None:
+    """The record at ``path`` (None if there is none), checked to be of a search with these ``settings``.
+
+    Raises:
+        ValueError (one line naming the file): damaged, foreign or newer, or of a search with other settings.
+    """
+    if not path.is_file():
+        return None
+    bad = f"{str(path)!r} is not a readable neurowalk search record"
+    try:
+        saved = json.loads(path.read_bytes())
+        fmt, old = saved["format"], saved["settings"]
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        raise ValueError(f"{bad} ({type(e).__name__}); remove it to start the search afresh") from None
+    if not isinstance(fmt, int) or fmt > FORMAT:
+        raise ValueError(f"{str(path)!r} was written by a newer neurowalk (format {fmt!r}); update neurowalk")
+    if fmt < FORMAT or not isinstance(old, dict):
+        raise ValueError(f"{bad} (bad header); remove it to start the search afresh")
+    for key, value in settings.items():
+        if old.get(key) != json.loads(json.dumps(plain(value))):
+            raise ValueError(f"{str(path.parent)!r} holds a search with other settings ({key}: {old.get(key)!r}, "
+                             f"asked {value!r}); use another output folder")  # fmt: skip
+    return saved
+
+
+def write(path: Path, record: dict[str, Any]) -> None:
+    """Write ``record`` (with its format) as JSON, atomically; floats exactly, non-finite ones kept."""
+    text = json.dumps(plain({"format": FORMAT, **record}), indent=1)
+    atomic_write(path, lambda tmp: Path(tmp).write_text(text + "\n"))
+
+
+def replay(es: Any, holder: dict[str, Any], generations: Iterable[tuple[Sequence[Any], Sequence[float]]],
+           path: Path) -> None:  # fmt: skip
+    """Tell ``es`` the recorded generations (candidates, scores), checking that it draws those candidates.
+
+    Raises:
+        ValueError naming ``path``: a generation whose candidates this seed does not draw (an edited or foreign
+        record), or one that cannot be read as numbers.
+    """
+    try:
+        for xs, scores in generations:
+            with own_rng(holder):
+                drawn = [np.asarray(x, dtype=float) for x in es.ask()]
+                if not np.array_equal(np.array(drawn), np.array(xs, dtype=float)):
+                    raise ValueError("its candidates are not those this seed draws")
+                es.tell(drawn, [float(s) for s in scores])
+    except (ValueError, KeyError, TypeError, IndexError) as e:
+        raise ValueError(f"{str(path)!r} is not a readable neurowalk search record ({e}); remove it to start "
+                         "the search afresh") from None  # fmt: skip
+
+
+def plain(x: Any) -> Any:
+    """``x`` with numpy scalars and arrays as plain Python (floats exactly, non-finite ones kept)."""
+    if isinstance(x, dict):
+        return {str(k): plain(v) for k, v in x.items()}
+    if isinstance(x, list | tuple | np.ndarray):
+        return [plain(v) for v in x]
+    if isinstance(x, bool | np.bool_):
+        return bool(x)
+    if isinstance(x, int | np.integer):
+        return int(x)
+    if isinstance(x, float | np.floating):
+        return float(x)
+    return x
