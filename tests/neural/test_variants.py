@@ -22,7 +22,8 @@ def original_reference(x, steps_b=(2.0, 2.0), steps_c=(3.0, 3.0)):
 
     o[k] = tanh(4.7 x[k-1] + b[k] o[k-1] - c[k] o_other[k-1]), c = (c1 + c2)/2; u = nu(o[k-1]), v = nu(o[k]);
     G = [US(x[k-1]) > 0.2]; b += mu u v G + gamma (vT - v) b^2 (same for c with mu2, gamma2); steering
-    S[k] = o[k-2]. The constructor runs one step with x = 0 first (that reading is x[0]).
+    S[k] = o[k-2]. The constructor runs one step of the network with x = 0 first (that reading is x[0]); the
+    learning rule lives in the obstacle-avoidance step, so that first step does not learn.
     """
     x = np.vstack([np.zeros((1, 2)), x])  # the constructor's zero-input reading
     b, c = list(steps_b), list(steps_c)
@@ -34,7 +35,7 @@ def original_reference(x, steps_b=(2.0, 2.0), steps_c=(3.0, 3.0)):
         cc = (c[0] + c[1]) / 2
         new = [math.tanh(4.7 * xin[0] + b[0] * prev[0] - cc * prev[1]),
                math.tanh(4.7 * xin[1] + b[1] * prev[1] - cc * prev[0])]  # fmt: skip
-        for i in (0, 1):
+        for i in (0, 1) if k >= 1 else ():  # the constructor's step does not learn
             u, v = nu(prev[i]), nu(new[i])
             g = 1.0 if (xin[i] + 1) / 2 > 0.2 else 0.0
             b[i] += 0.0065 * u * v * g + 0.0003 * (-0.01 - v) * b[i] ** 2
@@ -79,13 +80,46 @@ def test_point_2_steering_follows_the_reading_by_three_control_steps():
     assert first(orig.steering) == 5 + 3
 
 
-def test_point_3_the_constructor_runs_one_zero_input_step():
+def test_point_3_the_constructor_runs_one_zero_input_step_that_does_not_learn():
     net = SensoryNetwork("plastic", params=ORIG)
-    v = 0.5  # tanh(0) mapped to [0, 1]; the gate is on (US = 0.5 > 0.2)
-    assert net.b[0] == pytest.approx(2.0 + 0.0065 * v * v + 0.0003 * (-0.01 - v) * 4.0, abs=1e-15)
-    assert net.q[0] == pytest.approx(3.0 + 0.015 * v * v + 0.0003 * (-0.01 - v) * 9.0, abs=1e-15)
-    no_prime = SensoryNetwork("plastic", params=SensoryParams.original_code(prime_step=False))
-    np.testing.assert_array_equal(no_prime.b, [2.0, 2.0])
+    # the zero-input step moves the network (outputs tanh(0) = 0, the input neurons now hold 0) ...
+    np.testing.assert_array_equal(net.state[0:4], 0.0)
+    np.testing.assert_array_equal(net.state[10:12], 0.0)
+    # ... but leaves the plastic weights exactly at their start: learning is not part of the network's step
+    np.testing.assert_array_equal(net.b, [2.0, 2.0])
+    np.testing.assert_array_equal(net.q, [3.0, 3.0])
+    net.step(0.3, -1.0)
+    net.reset()  # a reset runs the same step again: the weights are back at b = 2, q = 3 exactly
+    np.testing.assert_array_equal(net.b, [2.0, 2.0])
+    np.testing.assert_array_equal(net.q, [3.0, 3.0])
+
+
+@pytest.mark.parametrize("reading", [(0.3, -1.0), (-1.0, -1.0), (1.0, 0.5)])
+def test_point_3_the_steps_after_the_constructors_learn_from_b2_q3(reading):
+    """The first real step is one learning update from (b, q) = (2, 3), from the documented rule (facts §3.3):
+    the neurons still see the constructor's zero input (input neuron), so o goes 0 -> tanh(0) = 0, u = v = 0.5,
+    and the gate is on (US = 0.5 > 0.2); the next step sees the reading and learns again."""
+    net = SensoryNetwork("plastic", params=ORIG)
+    net.step(*reading)
+    v = 0.5
+    assert net.b[0] == pytest.approx(2.0 + 0.0065 * v * v + 0.0003 * (-0.01 - v) * 2.0**2, abs=1e-15)
+    assert net.q[0] == pytest.approx(3.0 + 0.015 * v * v + 0.0003 * (-0.01 - v) * 3.0**2, abs=1e-15)
+    assert net.b[0] == net.b[1] and net.q[0] == net.q[1]  # the same zero input on both sides
+    b1, q1, o = net.b.copy(), net.q.copy(), net.state[0:2].copy()
+    net.step(0.0, 0.0)
+    for i in (0, 1):  # the second update: this step's input is the first reading, the weights move from (b1, q1)
+        new = math.tanh(4.7 * reading[i] + b1[i] * o[i] - 0.5 * (q1[0] + q1[1]) * o[1 - i])
+        assert net.state[i] == pytest.approx(new, abs=1e-15)
+        u, v = nu(o[i]), nu(new)
+        g = 1.0 if (reading[i] + 1) / 2 > 0.2 else 0.0
+        assert net.b[i] == pytest.approx(b1[i] + 0.0065 * u * v * g + 0.0003 * (-0.01 - v) * b1[i] ** 2, abs=1e-15)
+        assert net.q[i] == pytest.approx(q1[i] + 0.015 * u * v * g + 0.0003 * (-0.01 - v) * q1[i] ** 2, abs=1e-15)
+    # from outputs 0 and input neurons 0, a zero-input step that does not learn changes nothing: the whole trace
+    # equals that of the network started without it
+    x = np.array([reading, (0.0, 0.0), (1.0, 1.0), (-1.0, 0.2)])
+    primed, plain = simulate(x, params=ORIG), simulate(x, params=SensoryParams.original_code(prime_step=False))
+    for name in ("outputs", "b", "q", "steering"):
+        np.testing.assert_array_equal(getattr(primed, name), getattr(plain, name))
 
 
 def test_point_4_distance_to_input_is_one_minus_2d_over_range():

@@ -16,7 +16,7 @@ learn q only) and the authors' code's timing and details are options of :class:`
 :mod:`neurowalk.neural.variants` and ``docs/paper-vs-code.md``): the input passes an identity neuron
 (the network sees the previous reading), the weights learn from the activities before and after the
 update, the steering leaves through two more identity layers (3 control steps from reading to
-steering), the constructor's step with zero input, I = 1 - 2d/0.4, start b = 2, q = 3, activity
+steering), the constructor's step with zero input (which does not learn), I = 1 - 2d/0.4, start b = 2, q = 3, activity
 cut-off 0.009, reflex gate on US > 0.2.
 
 The state of one network is a flat (14,) array (:data:`STATE_SIZE`), the steering it sends to the
@@ -65,7 +65,7 @@ class SensoryParams:
     input_delay: bool = False  # the input passes an identity neuron: the network sees the last step's reading
     post_learning: bool = False  # learn from nu(O before the update), nu(O after it) instead of nu(t-1), nu(t)
     steer_delay: int = 0  # control steps between a new output and the steering it sends (0, 1 or 2)
-    prime_step: bool = False  # at reset, run one step with zero input (the original's constructor)
+    prime_step: bool = False  # at reset, one step with zero input, no learning (the original's constructor)
     b_start: float | None = None  # plastic start self weights (None: 0, or 2.4 if b is not learned)
     q_start: float | None = None  # plastic start inhibition magnitudes (None: 0, or 3.5 if q is not learned)
 
@@ -309,15 +309,18 @@ def initial_state(b0: np.ndarray, q0: np.ndarray, o0: object = (0.0, 0.0), prime
                   ) -> np.ndarray:  # fmt: skip
     """Packed (STATE_SIZE,) start state with O(-2) = O(-1) = O(0) = o0, steering o0, input neurons 0.
 
-    ``prime``: a packed params array to run the original's constructor step with (zero input, learning as
-    in every step); None (default): no such step.
+    ``prime``: a packed params array to run the original's constructor step with (zero input; the neurons,
+    input neurons and steering move, the weights do not learn: in the authors' code the learning rule lives in
+    the obstacle-avoidance step, not in the network's step); None (default): no such step.
     """
     o = _pair("o0", o0)
     if np.any(np.abs(o) > 1.0):
         raise ValueError(f"o0 must lie in [-1, 1], got {o.tolist()}")
     s = np.concatenate([o, o, b0, q0, o, np.zeros(2), o])
     if prime is not None:
-        sensory_step(s, 0.0, 0.0, prime)
+        no_learning = prime.copy()
+        no_learning[8] = no_learning[9] = 0.0  # learn b, learn q off for this step only
+        sensory_step(s, 0.0, 0.0, no_learning)
     return s
 
 

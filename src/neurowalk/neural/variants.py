@@ -8,9 +8,9 @@ Where the paper's Eq. 1-6 read literally and the authors' C++ code differ, neuro
 * ``original``: the authors' code, all of it: (1) the weights learn from the activities before and
   after the update; (2) the steering reaches the locomotion network 3 control steps after the reading
   (an input identity neuron, an output identity neuron, read before the step); (3) the constructor runs
-  one step with zero input; (4) I = 1 - 2d/0.4, clipped to [-1, 1]; (5) the PCPG stores its first,
-  partial phase; (6) learning starts from b = 2, q = 3; and the activity cut-off 0.009 and the reflex
-  gate on US > 0.2.
+  one step with zero input, which moves the neurons but does not learn; (4) I = 1 - 2d/0.4, clipped to
+  [-1, 1]; (5) the PCPG stores its first, partial phase; (6) learning starts from b = 2, q = 3; and the
+  activity cut-off 0.009 and the reflex gate on US > 0.2.
 * ``tuned``: the ``original`` network with learning parameters found by ``neurowalk optimize``
   (CMA-ES), shipped in ``neural/data/tuned.json`` with how they were found; present only if that file is.
 
