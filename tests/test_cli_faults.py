@@ -140,3 +140,18 @@ def test_a_stopped_runs_summary_trajectory_and_picture_describe_the_same_steps(b
     assert f"kept the {rows} completed steps" in err
     assert (tmp_path / "run" / "run.png").exists()
     _no_temp_files(tmp_path / "run")
+
+
+def test_a_run_longer_than_the_machine_can_hold_is_refused_before_any_work(tmp_path, monkeypatch, capsys):
+    from neurowalk.cli import run
+
+    monkeypatch.setattr(run, "machine_memory", lambda: 2 * 10**9)
+    assert main([*RUN, "--steps", "50000000", "--out", str(tmp_path / "run")]) == 2
+    line = _one_line(capsys)
+    assert "--steps 50,000,000" in line and "2.0 GB" in line
+    assert not (tmp_path / "run").exists()
+
+
+def test_figure_seeds_beyond_what_a_figure_holds_are_refused(tmp_path, capsys):
+    assert main(["figure", "table2", "--seeds", "100001", "--out", str(tmp_path)]) == 2
+    assert "--seeds must be in [1, 100,000]" in _one_line(capsys)

@@ -39,6 +39,9 @@ _TAKES = {
 }
 
 
+MAX_SEEDS = 100_000  # the most environments or seeds a figure takes (--seeds)
+
+
 def figure_listing() -> str:
     """The figures, one per line: name and one-line description, aligned."""
     from neurowalk.experiments import FIGURES
@@ -133,8 +136,9 @@ def _figure(args: argparse.Namespace) -> int:
         kwargs = {"quick": args.quick, "seed": args.seed}
         if args.seeds is not None:
             takes("--seeds")
-            if args.seeds < 1:
-                raise UsageError(f"--seeds must be >= 1, got {args.seeds}")
+            if not 1 <= args.seeds <= MAX_SEEDS:
+                raise UsageError(f"--seeds must be in [1, {MAX_SEEDS:,}] (each seed is a run of every row, held in "
+                                 f"memory until the figure is drawn), got {args.seeds:,}")  # fmt: skip
             kwargs["seeds"] = args.seeds
         if args.body is not None:
             from neurowalk.sim.episode import BODIES

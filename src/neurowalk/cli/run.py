@@ -10,7 +10,15 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
-from neurowalk.cli.common import UsageError, check_engine, engine_args, episode_args, episode_config, out_folder
+from neurowalk.cli.common import (
+    UsageError,
+    check_engine,
+    engine_args,
+    episode_args,
+    episode_config,
+    machine_memory,
+    out_folder,
+)
 from neurowalk.fileio import write_json
 
 
@@ -53,6 +61,7 @@ def cmd_run(args: argparse.Namespace) -> int:
             raise UsageError(f"--video: {problem}")
     cfg = episode_config(args)
     check_engine(args)  # after the config's own checks: a bad body is named before any device is looked for
+    _check_memory(cfg.steps)
     from neurowalk.fileio import FolderBusyError, folder_lock
     from neurowalk.sim.trajectory import PartWriter
 
@@ -66,6 +75,19 @@ def cmd_run(args: argparse.Namespace) -> int:
         parts = PartWriter(out / "trajectory.parts")
         cfg, resume = _start(args, cfg, out, parts)
         return _run_into(args, cfg, out, parts, resume)
+
+
+#: Memory a streamed run holds per control step (the summary's columns), and what it needs besides (Python, MuJoCo,
+#: numba's kernels, one part and the picture): ``docs/benchmarks/memory.json``.
+RUN_BYTES_PER_STEP, RUN_BASE_BYTES = 41, 300 * 10**6
+
+
+def _check_memory(steps: int) -> None:
+    """UsageError, before any work, where a run of ``steps`` steps needs more memory than this machine has."""
+    need, have = RUN_BASE_BYTES + RUN_BYTES_PER_STEP * steps, machine_memory()
+    if have is not None and need > have:
+        raise UsageError(f"--steps {steps:,}: a run keeps {RUN_BYTES_PER_STEP} bytes a step in memory, "
+                         f"{need / 1e9:,.1f} GB in all, more than this machine's {have / 1e9:,.1f} GB")  # fmt: skip
 
 
 def _is_physics(body: str, body_info: Any) -> bool:
