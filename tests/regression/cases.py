@@ -1,0 +1,209 @@
+"""The regression list (issue 27): runs over every engine, body, arena family, variant, climbing, a sweep, figures'
+json and Gymnasium rollouts, each reduced to one sha256 of its outputs.
+
+A redesign must reproduce every hash: the CLI, spec keys, file formats and stored results stay as they are. What
+is hashed is what a user keeps: a run's ``trajectory.npz`` arrays and ``summary.json`` (less the wall-clock fields),
+a sweep's stored results, a figure's json, an environment's observations and rewards, an exported MJCF.
+``hashes.json`` beside this file holds the recorded hashes and the versions they were recorded with; record them
+again with ``python tests/regression/record.py`` only where a change of results is intended (and say so).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import platform
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+#: Fields of a summary that measure the machine, not the run.
+VOLATILE = {"wall_time_s", "real_time_factor", "neurowalk_version", "resumed_at_step"}
+
+
+def fingerprint() -> dict[str, str]:
+    """The versions and machine the hashes depend on (floating point of numpy, MuJoCo and numba)."""
+    import mujoco
+    import numba
+
+    return {"numpy": np.__version__, "mujoco": mujoco.__version__, "numba": numba.__version__,
+            "machine": platform.machine(), "python": platform.python_version_tuple()[0] + "." +
+            platform.python_version_tuple()[1]}  # fmt: skip
+
+
+class Digest:
+    """A sha256 fed with named arrays and JSON values in a canonical form."""
+
+    def __init__(self) -> None:
+        self.h = hashlib.sha256()
+
+    def array(self, name: str, a: np.ndarray) -> None:
+        a = np.ascontiguousarray(a)
+        self.h.update(f"{name}|{a.dtype.str}|{a.shape}|".encode())
+        self.h.update(a.tobytes())
+
+    def value(self, name: str, v: Any) -> None:
+        self.h.update(f"{name}|{json.dumps(v, sort_keys=True, allow_nan=True)}|".encode())
+
+    def hexdigest(self) -> str:
+        return self.h.hexdigest()
+
+
+def _summary(d: dict[str, Any]) -> dict[str, Any]:
+    return {k: v for k, v in d.items() if k not in VOLATILE}
+
+
+def _run_folder(out: Path) -> str:
+    """A run's folder: its trajectory's arrays and its summary."""
+    dig = Digest()
+    with np.load(out / "trajectory.npz", allow_pickle=False) as z:
+        for name in sorted(z.files):
+            dig.array(name, z[name])
+    dig.value("summary", _summary(json.loads((out / "summary.json").read_text())))
+    return dig.hexdigest()
+
+
+def _cli(args: list[str]) -> None:
+    from neurowalk.cli import main
+
+    code = main(args)
+    if code != 0:
+        raise RuntimeError(f"neurowalk {' '.join(args)} exited {code}")
+
+
+def _run(*args: str) -> Callable[[Path], str]:
+    def case(tmp: Path) -> str:
+        _cli(["run", *args, "--quiet", "--out", str(tmp / "run")])
+        return _run_folder(tmp / "run")
+
+    return case
+
+
+def _figure(name: str, *args: str) -> Callable[[Path], str]:
+    def case(tmp: Path) -> str:
+        _cli(["figure", name, "--quick", *args, "--out", str(tmp / name)])
+        dig = Digest()
+        data = json.loads((tmp / name / f"{name}.json").read_text())
+        dig.value("json", {k: v for k, v in data.items() if "wall" not in k and k != "store"})
+        return dig.hexdigest()
+
+    return case
+
+
+def _sweep(tmp: Path) -> str:
+    from neurowalk.runners.store import ResultStore
+
+    _cli(["sweep", "--body", "surrogate", "--arena", "box,corner", "--controller", "plastic,static", "--seeds", "2",
+          "--steps", "2000", "--workers", "2", "--quiet", "--out", str(tmp / "sweep")])  # fmt: skip
+    with ResultStore(tmp / "sweep" / "results.sqlite") as store:
+        results = store.results()
+    dig = Digest()
+    for key in sorted(results):
+        dig.value(key, _summary(results[key]))
+    return dig.hexdigest()
+
+
+def _batch(tmp: Path) -> str:
+    from neurowalk.sim.batch import run_batch
+    from neurowalk.sim.episode import EpisodeConfig
+
+    cfgs = [EpisodeConfig(arena="cluttered", steps=200, seed=s) for s in (0, 1)]
+    dig = Digest()
+    for i, ep in enumerate(run_batch(cfgs, nthread=2, progress=False)):
+        for name in ("t", "pose", "outputs", "b", "q", "targets", "qpos"):
+            dig.array(f"{i}/{name}", getattr(ep.trajectory, name))
+        dig.value(f"{i}/summary", _summary(ep.summary))
+    return dig.hexdigest()
+
+
+def _gym(env_id: str, steps: int) -> Callable[[Path], str]:
+    def case(tmp: Path) -> str:
+        import gymnasium
+
+        import neurowalk.envs  # noqa: F401  (registers the environments)
+
+        env = gymnasium.make(env_id)
+        obs, _ = env.reset(seed=3)
+        rng = np.random.default_rng(0)
+        dig = Digest()
+        dig.array("obs0", np.asarray(obs))
+        for k in range(steps):
+            obs, reward, term, trunc, _ = env.step(rng.uniform(-1, 1, size=2))
+            dig.array(f"{k}/obs", np.asarray(obs))
+            dig.value(f"{k}/r", [float(reward), bool(term), bool(trunc)])
+        env.close()
+        return dig.hexdigest()
+
+    return case
+
+
+def _export(tmp: Path) -> str:
+    _cli(["export-model", "--arena", "difficult", "--out", str(tmp / "model.xml")])
+    dig = Digest()
+    dig.value("xml", (tmp / "model.xml").read_text())
+    return dig.hexdigest()
+
+
+def _arenas(tmp: Path) -> str:
+    from neurowalk.arenas import make_arena
+
+    dig = Digest()
+    for name, opts in [("random", {"n_boxes": 12, "extent": 3.0}), ("complex-path", {}), ("steps", {}),
+                       ("climbing-track", {})]:  # fmt: skip
+        dig.value(name, make_arena(name, **opts).to_mjcf())
+    return dig.hexdigest()
+
+
+def _sensory(tmp: Path) -> str:
+    from neurowalk.neural.sensory import simulate
+
+    inputs = np.clip(np.random.default_rng(1).normal(0, 0.7, (400, 2)), -1, 1)
+    dig = Digest()
+    for mode in ("plastic", "static", "braitenberg"):
+        tr = simulate(inputs, mode=mode)
+        for name in ("outputs", "b", "q"):
+            dig.array(f"{mode}/{name}", getattr(tr, name))
+    return dig.hexdigest()
+
+
+#: name -> case(tmp folder) -> sha256 of its outputs.
+CASES: dict[str, Callable[[Path], str]] = {
+    "run-amosii-open": _run("--arena", "open", "--steps", "200"),
+    "run-amosii-box": _run("--arena", "box", "--steps", "300"),
+    "run-amosii-simple-deadlock": _run("--arena", "simple-deadlock", "--steps", "300"),
+    "run-amosii-narrow-passage": _run("--arena", "narrow-passage", "--steps", "300"),
+    "run-amosii-corner": _run("--arena", "corner", "--steps", "300"),
+    "run-amosii-cluttered-climb": _run("--arena", "cluttered", "--climb", "--steps", "200"),
+    "run-amosii-steps-climb": _run("--arena", "steps", "--climb", "--steps", "200"),
+    "run-amosii-difficult-original": _run("--arena", "difficult", "--variant", "original", "--steps", "300"),
+    "run-amosii-box-static": _run("--arena", "box", "--controller", "static", "--steps", "300"),
+    "run-amosii-box-braitenberg": _run("--arena", "box", "--controller", "braitenberg", "--steps", "300"),
+    "run-amosii-fixed-turn": _run("--arena", "open", "--controller", "fixed", "--steer", "-1,1", "--steps", "200"),
+    "run-amosii-tripod": _run("--arena", "open", "--gait", "tripod", "--steps", "200"),
+    "run-amosii-random": _run("--arena", "random", "--arena-opt", "n_boxes=6", "--seed", "4", "--steps", "300"),
+    "run-amosii-complex-path": _run("--arena", "complex-path", "--steps", "200"),
+    "run-wheeled-box": _run("--body", "wheeled", "--arena", "box", "--steps", "300"),
+    "run-wheeled-half-cluttered": _run(
+        "--body", "wheeled", "--body-opt", "scale=0.5", "--arena", "cluttered", "--steps", "300"
+    ),
+    "run-surrogate-random": _run("--body", "surrogate", "--arena", "random", "--seed", "2", "--steps", "5000"),
+    "run-surrogate-difficult-original": _run(
+        "--body", "surrogate", "--arena", "difficult", "--variant", "original", "--steps", "5000"
+    ),
+    "run-surrogate-corner-static": _run(
+        "--body", "surrogate", "--arena", "corner", "--controller", "static", "--steps", "3000"
+    ),
+    "run-surrogate-fast": _run("--body", "surrogate", "--body-opt", "speed=1.5", "--arena", "box", "--steps", "3000"),
+    "run-surrogate-wheeled": _run("--body", "surrogate-wheeled", "--arena", "cluttered", "--steps", "5000"),
+    "batch-mujoco": _batch,
+    "sweep-surrogate": _sweep,
+    "figure-fig2": _figure("fig2"),
+    "figure-fig4": _figure("fig4"),
+    "gym-explore": _gym("neurowalk/Explore-v0", 200),
+    "gym-explore-physics": _gym("neurowalk/ExplorePhysics-v0", 30),
+    "export-model": _export,
+    "arenas-mjcf": _arenas,
+    "sensory-simulate": _sensory,
+}
