@@ -17,7 +17,6 @@ import contextlib
 import os
 import signal
 import sys
-import time
 from collections import deque
 from collections.abc import Callable, Generator, Sequence
 from dataclasses import dataclass
@@ -26,32 +25,9 @@ from multiprocessing.connection import wait as mp_wait
 from multiprocessing.reduction import ForkingPickler
 from typing import Any
 
+from neurowalk.runners.jobs import Done, WorkerDiedError, call_timed, warp_groups
 from neurowalk.runners.stopping import deferred, stop_requested
 from neurowalk.sim.episode import Episode, EpisodeConfig, run_episode
-
-
-class WorkerDiedError(RuntimeError):
-    """The process running a job died (killed, segfault, ``os._exit``) before returning."""
-
-
-@dataclass
-class Done:
-    """One finished job: ``value`` or ``error`` (the exception it raised, or a WorkerDiedError)."""
-
-    index: int  # position of the job in the input
-    value: Any = None
-    error: BaseException | None = None
-    wall_time_s: float | None = None  # time the job took on its worker, s (None if the worker died)
-
-
-def call_timed(fn: Callable[[Any], Any], item: Any) -> tuple[Any, BaseException | None, float]:
-    """``fn(item)`` with the exception it raises caught: (value, error, wall time in s). Runs on the worker."""
-    t0 = time.perf_counter()
-    try:
-        value, error = fn(item), None
-    except Exception as e:
-        value, error = None, e
-    return value, error, time.perf_counter() - t0
 
 
 def run_unordered(fn: Callable[[Any], Any], items: Sequence[Any], *, workers: int = 2,
@@ -285,7 +261,6 @@ def run_many(configs: Sequence[EpisodeConfig], *, workers: int = 2, progress: bo
     out: list[Any] = [None] * len(jobs)
     warp = [i for i, c in enumerate(configs) if c.engine == "warp"]
     if warp:  # as the worlds of MuJoCo Warp models, here (the device is this process's)
-        from neurowalk.runners.sweep import warp_groups
         from neurowalk.sim.warp_engine import run_warp
 
         for chunk, device in warp_groups([(configs[i].steps, configs[i].control_hz) for i in warp]):

@@ -3,7 +3,7 @@
 ``ray`` is imported only here, only when this backend is chosen (it is the optional extra ``neurowalk[ray]``).
 Each job is a Ray task of one CPU; the driver collects results with ``ray.wait`` as they finish, so the sweep
 stores them as they arrive. A job that raises comes back as an error; a task whose worker died (crash,
-``os._exit``, lost node) is reported as :class:`~neurowalk.runners.local.WorkerDiedError` and not retried.
+``os._exit``, lost node) is reported as :class:`~neurowalk.runners.jobs.WorkerDiedError` and not retried.
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable, Generator, Sequence
 from typing import Any
 
-from neurowalk.runners.local import Done, WorkerDiedError, call_timed
+from neurowalk.runners.jobs import Done, WorkerDiedError, call_timed
 
 INSTALL_HINT = "the ray backend needs `pip install neurowalk[ray]`"
 

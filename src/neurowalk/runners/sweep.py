@@ -19,7 +19,8 @@ from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
 from typing import Any
 
-from neurowalk.runners.local import Done
+from neurowalk.runners.jobs import Done, warp_groups
+from neurowalk.runners.local import run_unordered
 from neurowalk.runners.specs import Spec, describe, normalize, run_spec, spec_key
 from neurowalk.runners.stopping import deferred
 from neurowalk.runners.store import ResultStore
@@ -158,21 +159,6 @@ def _backend(backend: str, fn: Callable[[Spec], Any], items: list[Spec], workers
     return chained()
 
 
-def warp_groups(keys: list[tuple[Any, Any]], worlds: int | None = None) -> Iterator[tuple[list[int], str]]:
-    """Indices of runs that can share one MuJoCo Warp model (same ``keys[i]``: steps and control rate), at most
-    ``worlds`` at a time (default 4096 on a GPU, 16 on the CPU device), with the device to run them on."""
-    from neurowalk.sim.warp_engine import resolve_device
-
-    device = resolve_device()
-    worlds = worlds or (4096 if device == "cuda" else 16)
-    groups: dict[tuple[Any, Any], list[int]] = {}
-    for i, key in enumerate(keys):
-        groups.setdefault(key, []).append(i)
-    for group in groups.values():
-        for c in range(0, len(group), worlds):
-            yield group[c : c + worlds], device
-
-
 def warp_runs(items: list[Spec], which: list[int], worlds: int | None = None) -> Iterator[Done]:
     """Run specs ``items[which]`` (engine 'warp') as the worlds of MuJoCo Warp models (:func:`warp_groups`); one
     :class:`Done` per run, its wall time the batch's divided by its worlds. A batch that raises gives each of its
@@ -203,8 +189,6 @@ def _pool(backend: str, fn: Callable[[Spec], Any], items: list[Spec], workers: i
 
         ray_backend.import_ray()  # the install hint now, not at the first result
         return ray_backend.run_unordered(fn, items, workers=workers, address=address, retries=retries)
-    from neurowalk.runners.local import run_unordered
-
     return run_unordered(fn, items, workers=workers, retries=retries)
 
 
