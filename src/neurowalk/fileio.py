@@ -82,18 +82,26 @@ class FolderBusyError(ValueError):
     """Another neurowalk process holds the output folder's lock."""
 
 
-def folder_lock(folder: Path, what: str = "run") -> IO[bytes]:
-    """Hold ``FOLDER/.neurowalk.lock`` exclusively (the operating system's ``flock``, gone with the process).
+def exclusive_lock(path: Path) -> IO[bytes] | None:
+    """Open ``path`` and hold it exclusively (the operating system's ``flock``: it goes with the process, so a killed
+    one leaves none behind); the open file (close it to release), or None if another process holds it.
 
-    Returns the open lock file (close it to release). Raises FolderBusyError if another process holds it.
-    """
-    f = open(Path(folder) / ".neurowalk.lock", "ab")  # noqa: SIM115 (held open until the caller closes it)
+    Raises OSError where the file cannot be opened."""
+    f = open(path, "ab")  # noqa: SIM115 (held open until the caller closes it)
     try:
         fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
     except OSError:
         f.close()
+        return None
+    return f
+
+
+def folder_lock(folder: Path, what: str = "run") -> IO[bytes]:
+    """Hold ``FOLDER/.neurowalk.lock`` (:func:`exclusive_lock`); FolderBusyError if another process holds it."""
+    f = exclusive_lock(Path(folder) / ".neurowalk.lock")
+    if f is None:
         raise FolderBusyError(f"{str(folder)!r} is in use by another neurowalk {what}; wait for it to finish or use "
-                              "another output folder") from None  # fmt: skip
+                              "another output folder")  # fmt: skip
     return f
 
 

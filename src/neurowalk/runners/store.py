@@ -19,13 +19,12 @@ from __future__ import annotations
 
 import csv
 import datetime
-import fcntl
 import json
 import sqlite3
 from pathlib import Path
 from typing import IO, Any
 
-from neurowalk.fileio import atomic_write, to_jsonable
+from neurowalk.fileio import atomic_write, exclusive_lock, to_jsonable
 
 SCHEMA_VERSION = 1
 RUN_COLUMNS = ("key", "spec", "status", "result", "error", "wall_time_s", "finished_at")
@@ -239,15 +238,12 @@ def _lock(path: Path) -> IO[bytes]:
     The lock is the operating system's (``flock``): it goes with the process, so a killed run leaves none behind.
     """
     try:
-        f = open(path.with_name(path.name + ".lock"), "ab")  # noqa: SIM115 (held open until close)
+        f = exclusive_lock(path.with_name(path.name + ".lock"))
     except OSError as e:
         raise StoreError(f"cannot open result store {str(path)!r}: {e.strerror}") from None
-    try:
-        fcntl.flock(f.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
-    except OSError:
-        f.close()
+    if f is None:
         raise StoreError(f"result store {str(path)!r} is in use by another sweep or figure; wait for it to finish "
-                         "or use another output folder") from None  # fmt: skip
+                         "or use another output folder")  # fmt: skip
     return f
 
 
