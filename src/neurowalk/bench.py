@@ -42,8 +42,11 @@ def physics_rates(steps: int, seeds: int) -> dict[str, float]:
     t0 = time.perf_counter()
     mujoco.mj_step(m, d, nstep=n)
     bare = n / (time.perf_counter() - t0)
-    return {"control_steps_per_s": steps * seeds / wall, "bare_mj_step_per_s": bare,
-            "substeps_per_control_step": body.n_substeps}  # type: ignore[union-attr]  # fmt: skip
+    return {
+        "control_steps_per_s": steps * seeds / wall,
+        "bare_mj_step_per_s": bare,
+        "substeps_per_control_step": body.n_substeps,
+    }  # type: ignore[union-attr]
 
 
 def _surrogate_run(seed: int, steps: int) -> float:
@@ -63,8 +66,11 @@ def surrogate_rates(steps: int, envs: int, workers: int) -> dict[str, float]:
     with ProcessPoolExecutor(max_workers=workers) as pool:
         list(pool.map(_surrogate_run, range(envs, envs + envs * workers * 2), [steps] * envs * workers * 2))
     pool_wall = time.perf_counter() - t0
-    return {"env_steps_per_s_one_process": steps * envs / loop,
-            "env_steps_per_s_pool": steps * envs * workers * 2 / pool_wall, "pool_workers": workers}  # fmt: skip
+    return {
+        "env_steps_per_s_one_process": steps * envs / loop,
+        "env_steps_per_s_pool": steps * envs * workers * 2 / pool_wall,
+        "pool_workers": workers,
+    }
 
 
 def table2_time(workers: int) -> dict[str, float]:
@@ -76,8 +82,13 @@ def table2_time(workers: int) -> dict[str, float]:
         res = run(out=Path(tmp), workers=workers)
         wall = time.perf_counter() - t0
     counts = res.summary["counts"]
-    return {"wall_s": wall, "environments": 50, "runs": 50 * len(counts), "steps_per_run": res.summary["steps"],
-            "success": {name: c["success"] for name, c in counts.items()}}  # fmt: skip
+    return {
+        "wall_s": wall,
+        "environments": 50,
+        "runs": 50 * len(counts),
+        "steps_per_run": res.summary["steps"],
+        "success": {name: c["success"] for name, c in counts.items()},
+    }
 
 
 def _bare(cfg: Any, targets: np.ndarray) -> float:
@@ -112,14 +123,23 @@ def closed_loop_ratio(steps: int = 3000, repeats: int = 5) -> dict[str, Any]:
         bares.append(_bare(cfg, ep.trajectory.targets))
     loop, base = float(np.median(loops)), float(np.median(bares))
     sim = steps / cfg.control_hz
-    return {"steps": steps, "repeats": repeats, "simulated_time_s": sim, "closed_loop_wall_s": loop,
-            "bare_mj_step_wall_s": base, "ratio_closed_loop_over_bare": loop / base, "ratio_budget": 1.15,
-            "real_time_factor_closed_loop": sim / loop, "real_time_factor_bare": sim / base,
-            "control_steps_per_s_closed_loop": steps / loop}  # fmt: skip
+    return {
+        "steps": steps,
+        "repeats": repeats,
+        "simulated_time_s": sim,
+        "closed_loop_wall_s": loop,
+        "bare_mj_step_wall_s": base,
+        "ratio_closed_loop_over_bare": loop / base,
+        "ratio_budget": 1.15,
+        "real_time_factor_closed_loop": sim / loop,
+        "real_time_factor_bare": sim / base,
+        "control_steps_per_s_closed_loop": steps / loop,
+    }
 
 
-def warp_rates(worlds: tuple[int, ...] = (1, 64, 1024, 4096), steps: int = 5, device: str | None = None,
-               progress: bool = True) -> dict[str, Any]:  # fmt: skip
+def warp_rates(
+    worlds: tuple[int, ...] = (1, 64, 1024, 4096), steps: int = 5, device: str | None = None, progress: bool = True
+) -> dict[str, Any]:
     """The closed loop on MuJoCo Warp: control and physics world-steps/s for each number of worlds.
 
     Worlds are random arenas (as :func:`physics_rates`), plastic network; each measurement runs ``steps``
@@ -131,8 +151,9 @@ def warp_rates(worlds: tuple[int, ...] = (1, 64, 1024, 4096), steps: int = 5, de
     device = resolve_device(device)
     rows = []
     for n in worlds:
-        cfgs = [EpisodeConfig(arena="random", arena_opts=ARENA_OPTS, steps=steps, seed=s, engine="warp")
-                for s in range(n)]  # fmt: skip
+        cfgs = [
+            EpisodeConfig(arena="random", arena_opts=ARENA_OPTS, steps=steps, seed=s, engine="warp") for s in range(n)
+        ]
         t0 = time.perf_counter()
         runs = WarpEpisodes(cfgs, device=device)
         build = time.perf_counter() - t0
@@ -140,17 +161,31 @@ def warp_rates(worlds: tuple[int, ...] = (1, 64, 1024, 4096), steps: int = 5, de
         t0 = time.perf_counter()
         runs.run()
         wall = time.perf_counter() - t0
-        rows.append({"worlds": n, "control_steps": steps, "wall_s": wall, "build_s": build,
-                     "control_steps_per_s": n * steps / wall,
-                     "physics_steps_per_s": n * steps * runs.n_substeps / wall,
-                     "physics_share": runs.timing["physics"] / max(sum(runs.timing.values()), 1e-12)})  # fmt: skip
+        rows.append(
+            {
+                "worlds": n,
+                "control_steps": steps,
+                "wall_s": wall,
+                "build_s": build,
+                "control_steps_per_s": n * steps / wall,
+                "physics_steps_per_s": n * steps * runs.n_substeps / wall,
+                "physics_share": runs.timing["physics"] / max(sum(runs.timing.values()), 1e-12),
+            }
+        )
         if progress:
             print(f"warp {device}: {n} worlds, {rows[-1]['control_steps_per_s']:.0f} control steps/s", flush=True)
     return {"device": device, "device_name": device_name(device), "rows": rows}
 
 
-def run_bench(*, quick: bool = False, workers: int | None = None, progress: bool = True, engine: str = "mujoco",
-              device: str | None = None, worlds: tuple[int, ...] = (1, 64, 1024, 4096)) -> dict[str, Any]:  # fmt: skip
+def run_bench(
+    *,
+    quick: bool = False,
+    workers: int | None = None,
+    progress: bool = True,
+    engine: str = "mujoco",
+    device: str | None = None,
+    worlds: tuple[int, ...] = (1, 64, 1024, 4096),
+) -> dict[str, Any]:
     """All figures; ``quick`` shortens every measurement (for tests). ``engine`` 'warp': MuJoCo Warp's rates for
     each of ``worlds`` on ``device`` beside the CPU loop and batch (no surrogate figures then)."""
     from neurowalk.sim.batch import measure_throughput
@@ -165,8 +200,13 @@ def run_bench(*, quick: bool = False, workers: int | None = None, progress: bool
         b = measure_throughput(n_copies=2 if quick else 16, steps=50 if quick else 300, nthread=nthread)
         batch[f"nthread_{nthread}"] = b
     out: dict[str, Any] = {
-        "machine": {"cores": cores, "platform": platform.platform(), "python": platform.python_version(),
-                    "mujoco": mujoco.__version__, "neurowalk": neurowalk.__version__},
+        "machine": {
+            "cores": cores,
+            "platform": platform.platform(),
+            "python": platform.python_version(),
+            "mujoco": mujoco.__version__,
+            "neurowalk": neurowalk.__version__,
+        },
         "physics": phys,
         "closed_loop_vs_bare": loop,
         "batch_physics": {
@@ -175,20 +215,27 @@ def run_bench(*, quick: bool = False, workers: int | None = None, progress: bool
             "aim": f"close to the number of cores ({cores})",
         },
         "quick": quick,
-    }  # fmt: skip
+    }
     if engine == "warp":
         w = warp_rates(worlds, 2 if quick else 5, device, progress)
         best = max(r["control_steps_per_s"] for r in w["rows"])
         cpu = phys["control_steps_per_s"]
-        w["vs_cpu_loop"] = {"best_control_steps_per_s": best, "cpu_loop_control_steps_per_s": cpu,
-                            "ratio": best / cpu, "aim_on_a_gpu": 100}  # fmt: skip
+        w["vs_cpu_loop"] = {
+            "best_control_steps_per_s": best,
+            "cpu_loop_control_steps_per_s": cpu,
+            "ratio": best / cpu,
+            "aim_on_a_gpu": 100,
+        }
         out["warp"] = w
         return out
     sur = surrogate_rates(2000 if quick else 20000, 2 if quick else 10, workers)
     out["surrogate"] = sur
     cpu = phys["control_steps_per_s"]
-    out["surrogate_vs_physics"] = {"one_process": sur["env_steps_per_s_one_process"] / cpu,
-                                   "pool": sur["env_steps_per_s_pool"] / cpu, "aim": 1000}  # fmt: skip
+    out["surrogate_vs_physics"] = {
+        "one_process": sur["env_steps_per_s_one_process"] / cpu,
+        "pool": sur["env_steps_per_s_pool"] / cpu,
+        "aim": 1000,
+    }
     if not quick:
         out["table2_surrogate"] = table2_time(workers)
         out["table2_surrogate"]["aim_s"] = 60

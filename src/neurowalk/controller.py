@@ -147,9 +147,14 @@ class NeuralController:
 class FixedController:
     """Constant steering (O1, O2) through the locomotion network; ignores the sensors."""
 
-    def __init__(self, steer: tuple[float, float], *, locomotion: LocomotionParams | None = None,
-                 reflexes: LegControlParams | bool | None = None,
-                 backbone: BackboneParams | bool | None = None) -> None:  # fmt: skip
+    def __init__(
+        self,
+        steer: tuple[float, float],
+        *,
+        locomotion: LocomotionParams | None = None,
+        reflexes: LegControlParams | bool | None = None,
+        backbone: BackboneParams | bool | None = None,
+    ) -> None:
         s = np.asarray(steer, dtype=float)
         if s.shape != (2,) or not np.all(np.isfinite(s)) or np.any(np.abs(s) > 1.0):
             raise ValueError(f"steer must be two numbers in [-1, 1], got {steer!r}")

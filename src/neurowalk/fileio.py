@@ -100,14 +100,21 @@ def folder_lock(folder: Path, what: str = "run") -> IO[bytes]:
     """Hold ``FOLDER/.neurowalk.lock`` (:func:`exclusive_lock`); FolderBusyError if another process holds it."""
     f = exclusive_lock(Path(folder) / ".neurowalk.lock")
     if f is None:
-        raise FolderBusyError(f"{str(folder)!r} is in use by another neurowalk {what}; wait for it to finish or use "
-                              "another output folder")  # fmt: skip
+        raise FolderBusyError(
+            f"{str(folder)!r} is in use by another neurowalk {what}; wait for it to finish or use another output folder"
+        )
     return f
 
 
-_WRITE_ERRORS = {errno.ENOSPC: "disk full", errno.EDQUOT: "disk quota exceeded", errno.EROFS: "read-only file system",
-                 errno.EACCES: "permission denied", errno.EPERM: "permission denied",
-                 errno.ENOENT: "folder removed", errno.EIO: "input/output error"}  # fmt: skip
+_WRITE_ERRORS = {
+    errno.ENOSPC: "disk full",
+    errno.EDQUOT: "disk quota exceeded",
+    errno.EROFS: "read-only file system",
+    errno.EACCES: "permission denied",
+    errno.EPERM: "permission denied",
+    errno.ENOENT: "folder removed",
+    errno.EIO: "input/output error",
+}
 
 
 def write_error(e: OSError) -> str:

@@ -113,8 +113,9 @@ def direction_switches(outputs: np.ndarray, threshold: float = 1.0) -> int:
     return int(np.count_nonzero(s[1:] != s[:-1])) if s.size else 0
 
 
-def avoidance_episodes(outputs: np.ndarray, pose: np.ndarray, *, threshold: float = 1.0,
-                       max_gap: int = 5) -> list[dict]:  # fmt: skip
+def avoidance_episodes(
+    outputs: np.ndarray, pose: np.ndarray, *, threshold: float = 1.0, max_gap: int = 5
+) -> list[dict]:
     """Turning episodes: runs of a commanded turn in one direction (gaps up to ``max_gap`` steps bridged).
 
     Returns one dict per episode: ``start``, ``end`` (step indices), ``direction`` (+1 right, -1
@@ -134,8 +135,14 @@ def avoidance_episodes(outputs: np.ndarray, pose: np.ndarray, *, threshold: floa
             if s[j] == direction:
                 end = j
             j += 1
-        episodes.append({"start": start, "end": end, "direction": direction,
-                         "turn_deg": float(np.degrees(yaw[end] - yaw[max(start - 1, 0)]))})  # fmt: skip
+        episodes.append(
+            {
+                "start": start,
+                "end": end,
+                "direction": direction,
+                "turn_deg": float(np.degrees(yaw[end] - yaw[max(start - 1, 0)])),
+            }
+        )
         k = end + 1
     return episodes
 
@@ -200,10 +207,18 @@ def _fitting_windows(xy: np.ndarray, window: int, radius: float, stride: int) ->
     return marked
 
 
-def wedged_periods(pose: np.ndarray, *, control_hz: float = 10.0, radius: float = WEDGE_RADIUS,
-                   min_s: float = WEDGE_MIN_S, us_distance: np.ndarray | None = None,
-                   contact: np.ndarray | None = None, blind_m: float = BLIND_M,
-                   stride: int = 10, blind: np.ndarray | None = None) -> list[dict]:  # fmt: skip
+def wedged_periods(
+    pose: np.ndarray,
+    *,
+    control_hz: float = 10.0,
+    radius: float = WEDGE_RADIUS,
+    min_s: float = WEDGE_MIN_S,
+    us_distance: np.ndarray | None = None,
+    contact: np.ndarray | None = None,
+    blind_m: float = BLIND_M,
+    stride: int = 10,
+    blind: np.ndarray | None = None,
+) -> list[dict]:
     """Periods in which the robot stayed put: its trunk centre within a small disc for more than ``min_s`` s.
 
     A control step is wedged if it lies in a stretch of more than ``min_s`` seconds (started every ``stride``
@@ -231,8 +246,9 @@ def wedged_periods(pose: np.ndarray, *, control_hz: float = 10.0, radius: float 
         half of it, else "other".
     """
     if not control_hz > 0 or not radius > 0 or not min_s > 0 or stride < 1:
-        raise ValueError(f"need control_hz, radius, min_s > 0 and stride >= 1, got {control_hz}, {radius}, "
-                         f"{min_s}, {stride}")  # fmt: skip
+        raise ValueError(
+            f"need control_hz, radius, min_s > 0 and stride >= 1, got {control_hz}, {radius}, {min_s}, {stride}"
+        )
     xy = np.asarray(pose, dtype=float)[:, :2]
     window = math.floor(min_s * control_hz + 1e-9) + 1  # more than min_s seconds
     marked = _fitting_windows(xy, window, radius, stride)
@@ -246,11 +262,23 @@ def wedged_periods(pose: np.ndarray, *, control_hz: float = 10.0, radius: float 
         fb = None if blind is None else float(np.mean(blind[s:e]))
         known = None if touch is None else touch[s:e][np.isfinite(touch[s:e])]
         fc = None if known is None or known.size == 0 else float(np.mean(known > 0))
-        cause = "both rays blind" if fb is not None and fb > 0.5 else (
-            "body contact" if fc is not None and fc > 0.5 else "other")  # fmt: skip
-        periods.append({"start": int(s), "end": int(e - 1), "duration_s": float((e - s) / control_hz),
-                        "centre": centre.tolist(), "extent_m": float(np.max(np.linalg.norm(xy[s:e] - centre, axis=1))),
-                        "blind_fraction": fb, "contact_fraction": fc, "cause": cause})  # fmt: skip
+        cause = (
+            "both rays blind"
+            if fb is not None and fb > 0.5
+            else ("body contact" if fc is not None and fc > 0.5 else "other")
+        )
+        periods.append(
+            {
+                "start": int(s),
+                "end": int(e - 1),
+                "duration_s": float((e - s) / control_hz),
+                "centre": centre.tolist(),
+                "extent_m": float(np.max(np.linalg.norm(xy[s:e] - centre, axis=1))),
+                "blind_fraction": fb,
+                "contact_fraction": fc,
+                "cause": cause,
+            }
+        )
     return periods
 
 
@@ -259,5 +287,8 @@ def wedged_summary(periods: list[dict]) -> dict:
     causes: dict[str, int] = {}
     for p in periods:
         causes[p["cause"]] = causes.get(p["cause"], 0) + 1
-    return {"wedged_periods": len(periods), "longest_wedged_s": max((p["duration_s"] for p in periods), default=0.0),
-            "wedged_causes": causes}  # fmt: skip
+    return {
+        "wedged_periods": len(periods),
+        "longest_wedged_s": max((p["duration_s"] for p in periods), default=0.0),
+        "wedged_causes": causes,
+    }

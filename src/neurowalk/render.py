@@ -42,15 +42,28 @@ def check_gl() -> str | None:
     except Exception as e:  # every GL failure is the same answer: no rendering here
         backend = os.environ.get("MUJOCO_GL", "default")
         first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
-        return (f"no OpenGL for offscreen rendering (MUJOCO_GL={backend}: {first}); install EGL or OSMesa, "
-                "e.g. `apt-get install libegl1` or `libosmesa6` with MUJOCO_GL=osmesa")  # fmt: skip
+        return (
+            f"no OpenGL for offscreen rendering (MUJOCO_GL={backend}: {first}); install EGL or OSMesa, "
+            "e.g. `apt-get install libegl1` or `libosmesa6` with MUJOCO_GL=osmesa"
+        )
     renderer.close()
     return None
 
 
-def render_video(model: object, qpos: np.ndarray, path: str | Path, *, fps: float = 15.0, width: int = 640,
-                 height: int = 480, every: int = 2, distance: float = 1.3, shadows: bool = False,
-                 samples: int = 2, progress: bool = False) -> Path:  # fmt: skip
+def render_video(
+    model: object,
+    qpos: np.ndarray,
+    path: str | Path,
+    *,
+    fps: float = 15.0,
+    width: int = 640,
+    height: int = 480,
+    every: int = 2,
+    distance: float = 1.3,
+    shadows: bool = False,
+    samples: int = 2,
+    progress: bool = False,
+) -> Path:
     """Render frames of recorded positions ``qpos`` (T, nq) to an mp4 at ``path`` (atomically).
 
     One renderer draws every frame and each frame goes to the encoder as soon as it is drawn (no frame list
@@ -80,13 +93,21 @@ def render_video(model: object, qpos: np.ndarray, path: str | Path, *, fps: floa
         bar = tqdm(total=len(rows), unit="frame", desc="video", mininterval=0.5)
 
     def write(tmp: str) -> None:
-        writer = imageio_ffmpeg.write_frames(tmp, (width, height), fps=fps, quality=7, macro_block_size=8,
-                                             output_params=["-preset", "veryfast"])  # as small, 2x faster  # fmt: skip
+        writer = imageio_ffmpeg.write_frames(
+            tmp, (width, height), fps=fps, quality=7, macro_block_size=8, output_params=["-preset", "veryfast"]
+        )  # as small, 2x faster
         writer.send(None)
         try:
-            for frame in iter_frames(model, qpos[::every], width=width, height=height,
-                                     distance=distance, elevation=-30.0, shadows=shadows,
-                                     samples=samples):  # fmt: skip
+            for frame in iter_frames(
+                model,
+                qpos[::every],
+                width=width,
+                height=height,
+                distance=distance,
+                elevation=-30.0,
+                shadows=shadows,
+                samples=samples,
+            ):
                 writer.send(frame)
                 if bar is not None:
                     bar.update(1)
@@ -99,9 +120,19 @@ def render_video(model: object, qpos: np.ndarray, path: str | Path, *, fps: floa
     return path
 
 
-def iter_frames(model: object, qpos: np.ndarray, *, width: int = 400, height: int = 300, distance: float = 1.2,
-                azimuth: float = 135.0, elevation: float = -25.0, view: dict | None = None,
-                shadows: bool = True, samples: int | None = None) -> Iterator[np.ndarray]:  # fmt: skip
+def iter_frames(
+    model: object,
+    qpos: np.ndarray,
+    *,
+    width: int = 400,
+    height: int = 300,
+    distance: float = 1.2,
+    azimuth: float = 135.0,
+    elevation: float = -25.0,
+    view: dict | None = None,
+    shadows: bool = True,
+    samples: int | None = None,
+) -> Iterator[np.ndarray]:
     """Yield one (height, width, 3) uint8 frame per row of positions ``qpos`` (n, nq), drawn by one renderer.
 
     The camera tracks the trunk at ``distance`` (m), ``azimuth`` and ``elevation`` (deg); or, with ``view``

@@ -15,8 +15,9 @@ def open_floor() -> ArenaSpec:
 
 
 @arena("box")
-def box_ahead(distance: float = 1.0, offset: float = 0.0, width: float = 1.0, angle: float = 0.0,
-              height: float = WALL_HEIGHT) -> ArenaSpec:  # fmt: skip
+def box_ahead(
+    distance: float = 1.0, offset: float = 0.0, width: float = 1.0, angle: float = 0.0, height: float = WALL_HEIGHT
+) -> ArenaSpec:
     """One box ahead of the robot.
 
     Options: ``distance`` (m) from the start to the box's near face, ``offset`` (m) of its centre to

@@ -71,8 +71,9 @@ def climbing_track(step: float = 0.06, wall_x: float = 2.0) -> ArenaSpec:
     """
     _check_height("climbing-track", "step", step)
     if not FIRST_EDGE + 0.6 <= wall_x <= TRACK_END - 0.6:
-        raise ValueError(f"arena 'climbing-track': wall_x must be in [{FIRST_EDGE + 0.6}, {TRACK_END - 0.6}] m, "
-                         f"got {wall_x}")  # fmt: skip
+        raise ValueError(
+            f"arena 'climbing-track': wall_x must be in [{FIRST_EDGE + 0.6}, {TRACK_END - 0.6}] m, got {wall_x}"
+        )
     w, top = WALL / 2, 2 * step + WALL_HEIGHT
     x0, x1, y0, y1 = BACK, TRACK_END, -HALF_WIDTH, HALF_WIDTH
     boxes = [

@@ -100,5 +100,9 @@ def corner(angle: float = 60.0, length: float = 2.0) -> ArenaSpec:
         boxes.append(wall(x0, y0, x0 + d[0] * length, y0 + d[1] * length))
     exit_d = 1.5
     exit_region = (-10.0, apex - length * math.cos(half) - exit_d, -10.0, 10.0)  # beyond the walls' ends
-    return ArenaSpec(name="corner", boxes=tuple(boxes), exit_region=exit_region,
-                     bounds=(apex - length - 1.0, apex + 0.5, -length - 0.5, length + 0.5))  # fmt: skip
+    return ArenaSpec(
+        name="corner",
+        boxes=tuple(boxes),
+        exit_region=exit_region,
+        bounds=(apex - length - 1.0, apex + 0.5, -length - 0.5, length + 0.5),
+    )

@@ -73,8 +73,10 @@ def complex_path(length: float = 3.0, width: float = 0.46, obstacle: float = 0.2
     x_end = MOUTH + length  # inner face of the end wall
     y_right, y_left = -width / 2, width / 2  # faces of the right wall and of the left obstacles
     y_outer = y_left + obstacle  # outer edge of the obstacle row
-    boxes = [wall(MOUTH, y_right - WALL / 2, x_end + WALL, y_right - WALL / 2),
-             wall(x_end + WALL / 2, y_right - WALL, x_end + WALL / 2, y_outer + EXIT_MARGIN)]  # fmt: skip
+    boxes = [
+        wall(MOUTH, y_right - WALL / 2, x_end + WALL, y_right - WALL / 2),
+        wall(x_end + WALL / 2, y_right - WALL, x_end + WALL / 2, y_outer + EXIT_MARGIN),
+    ]
     n = math.floor((length - OPENING - obstacle) / spacing + 1e-9) + 1
     for k in range(n):
         x = MOUTH + k * spacing + obstacle / 2
@@ -85,8 +87,9 @@ def complex_path(length: float = 3.0, width: float = 0.46, obstacle: float = 0.2
 
 
 @arena("random")
-def random_boxes(n_boxes: int = 10, size: float = 0.6, extent: float = 6.0,
-                 rng: np.random.Generator | None = None) -> ArenaSpec:  # fmt: skip
+def random_boxes(
+    n_boxes: int = 10, size: float = 0.6, extent: float = 6.0, rng: np.random.Generator | None = None
+) -> ArenaSpec:
     """Surrounding walls around an ``extent`` x ``extent`` m field of ``n_boxes`` boxes of side ``size`` (m).
 
     Positions and yaws are drawn from the run's Generator; no box comes within reach of the start

@@ -54,8 +54,10 @@ def box_geom(name: str, half: tuple[float, float, float], pos: tuple[float, floa
     """One obstacle box as an MJCF ``<geom>``: half sizes (m), centre (m) and yaw (rad), with the one look and
     contact setting every obstacle has (friction 0.4, opaque: rays see it)."""
     hx, hy, hz = half
-    return (f'    <geom name="{name}" type="box" size="{hx:.6g} {hy:.6g} {hz:.6g}" pos="{pos[0]:.6g} {pos[1]:.6g} '
-            f'{pos[2]:.6g}" euler="0 0 {yaw:.9g}" rgba="0.55 0.45 0.35 1" friction="0.4"/>')  # fmt: skip
+    return (
+        f'    <geom name="{name}" type="box" size="{hx:.6g} {hy:.6g} {hz:.6g}" pos="{pos[0]:.6g} {pos[1]:.6g} '
+        f'{pos[2]:.6g}" euler="0 0 {yaw:.9g}" rgba="0.55 0.45 0.35 1" friction="0.4"/>'
+    )
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -100,13 +100,37 @@ def _leg(p: BodyParams, leg: str, parent_x: float, indent: str) -> tuple[str, st
     )
     tc_lo, tc_hi = tc_range(p, leg)
     hinges = (
-        ("TC", "coxa", (ax, ay + s * p.shoulder_length, az), (0, 0, -s), p.stand_tc[pos],
-         (tc_lo, tc_hi), p.coxa_length, p.coxa_radius),
-        ("CTr", "femur", (0, s * p.coxa_length, 0), (s, 0, 0), p.stand_ctr, p.ctr_range,
-         p.femur_length, p.femur_radius),
-        ("FTi", "tibia", (0, s * p.femur_length, 0), (s, 0, 0), p.stand_fti, p.fti_range,
-         p.tibia_length - p.foot_radius, p.tibia_radius),
-    )  # fmt: skip
+        (
+            "TC",
+            "coxa",
+            (ax, ay + s * p.shoulder_length, az),
+            (0, 0, -s),
+            p.stand_tc[pos],
+            (tc_lo, tc_hi),
+            p.coxa_length,
+            p.coxa_radius,
+        ),
+        (
+            "CTr",
+            "femur",
+            (0, s * p.coxa_length, 0),
+            (s, 0, 0),
+            p.stand_ctr,
+            p.ctr_range,
+            p.femur_length,
+            p.femur_radius,
+        ),
+        (
+            "FTi",
+            "tibia",
+            (0, s * p.femur_length, 0),
+            (s, 0, 0),
+            p.stand_fti,
+            p.fti_range,
+            p.tibia_length - p.foot_radius,
+            p.tibia_radius,
+        ),
+    )
     lines: list[str] = []
     for depth, (joint, link, at, axis, angle, rng, length, radius) in enumerate(hinges):
         ind = indent + "  " * depth

@@ -49,8 +49,9 @@ def mujoco_warnings(data: mujoco.MjData) -> dict[str, int]:
     return {mujoco.mjtWarning(i).name: int(w.number) for i, w in enumerate(data.warning) if w.number}
 
 
-def obstacle_contacts(arena: ArenaSpec, qpos: np.ndarray, rows: np.ndarray | None = None,
-                      params: BodyParams | None = None) -> np.ndarray:  # fmt: skip
+def obstacle_contacts(
+    arena: ArenaSpec, qpos: np.ndarray, rows: np.ndarray | None = None, params: BodyParams | None = None
+) -> np.ndarray:
     """Per-step obstacle contact of a recorded run, replayed from its positions.
 
     Collision detection depends on positions only, so each asked row's ``qpos`` is put into a fresh model of
@@ -95,8 +96,16 @@ class AmosII:
     name = "amosii"
     action = "targets"  # what apply() takes (neurowalk.body.registry)
 
-    def __init__(self, arena: ArenaSpec, params: BodyParams | None = None, *, control_hz: float = 10.0,
-                 noise: float = 0.02, scan_obstacles: bool = False, pad_boxes: int | None = None) -> None:  # fmt: skip
+    def __init__(
+        self,
+        arena: ArenaSpec,
+        params: BodyParams | None = None,
+        *,
+        control_hz: float = 10.0,
+        noise: float = 0.02,
+        scan_obstacles: bool = False,
+        pad_boxes: int | None = None,
+    ) -> None:
         self.arena = arena
         self.params = params or BodyParams()
         world = arena.to_mjcf() if pad_boxes is None else padded_world(arena, pad_boxes)

@@ -58,34 +58,59 @@ PLANAR_OPTIONS: dict[str, tuple[float, float, float, str]] = {
 
 BODIES: dict[str, BodyInfo] = {
     "amosii": BodyInfo(
-        "amosii", "the hexapod AMOSII in MuJoCo (19 joints): the paper's robot",
+        "amosii",
+        "the hexapod AMOSII in MuJoCo (19 joints): the paper's robot",
         "2 ultrasonic rangefinders (±35°, 0.4 m), 6 foot contacts, 19 joint angles, obstacle-height scanner",
-        "19 position servos (18 leg joints + backbone), driven by the locomotion network", "targets", True, True,
-        surrogate="surrogate"),
+        "19 position servos (18 leg joints + backbone), driven by the locomotion network",
+        "targets",
+        True,
+        True,
+        surrogate="surrogate",
+    ),
     "surrogate": BodyInfo(
-        "surrogate", "planar kinematic AMOSII calibrated on the physics robot (about 1000x faster)",
-        "2 ultrasonic rangefinders (as AMOSII's)", "the steering pair through the calibrated motion of AMOSII",
-        "steering", False, False, PLANAR_OPTIONS),
+        "surrogate",
+        "planar kinematic AMOSII calibrated on the physics robot (about 1000x faster)",
+        "2 ultrasonic rangefinders (as AMOSII's)",
+        "the steering pair through the calibrated motion of AMOSII",
+        "steering",
+        False,
+        False,
+        PLANAR_OPTIONS,
+    ),
     "wheeled": BodyInfo(
-        "wheeled", "a differential-drive robot with AMOSII's footprint, forward speed and rangefinders, in MuJoCo",
+        "wheeled",
+        "a differential-drive robot with AMOSII's footprint, forward speed and rangefinders, in MuJoCo",
         "2 ultrasonic rangefinders (as AMOSII's)",
         "2 driven wheels (velocity motors: right from O1, left from O2) and casters; no locomotion network",
-        "steering", True, False,
+        "steering",
+        True,
+        False,
         {"scale": (1.0, 0.05, 4.0, "every length and the speed x scale (0.1: a Khepera-sized robot)")},
-        surrogate="surrogate-wheeled"),
+        surrogate="surrogate-wheeled",
+    ),
     "surrogate-wheeled": BodyInfo(
-        "surrogate-wheeled", "planar kinematic wheeled robot calibrated on the physics wheeled body (scale 1)",
+        "surrogate-wheeled",
+        "planar kinematic wheeled robot calibrated on the physics wheeled body (scale 1)",
         "2 ultrasonic rangefinders (as the wheeled robot's)",
-        "the steering pair through the calibrated motion of the wheeled robot", "steering", False, False,
-        PLANAR_OPTIONS),
-}  # fmt: skip
+        "the steering pair through the calibrated motion of the wheeled robot",
+        "steering",
+        False,
+        False,
+        PLANAR_OPTIONS,
+    ),
+}
 
 
 MJCF = BodyInfo(
-    "mjcf:FILE", "a user's MuJoCo robot (wheels or AMOSII's legs), by the convention of neurowalk.body.user_mjcf",
+    "mjcf:FILE",
+    "a user's MuJoCo robot (wheels or AMOSII's legs), by the convention of neurowalk.body.user_mjcf",
     "its 2 rangefinders (US_L, US_R, or --body-opt left=, right=)",
-    "2 wheel velocity actuators (wheel_R, wheel_L, or by option) or AMOSII's 19 (drive=legs)", "steering", True,
-    False, {})  # fmt: skip
+    "2 wheel velocity actuators (wheel_R, wheel_L, or by option) or AMOSII's 19 (drive=legs)",
+    "steering",
+    True,
+    False,
+    {},
+)
 
 
 def body_info(name: str) -> BodyInfo:
@@ -120,8 +145,15 @@ def check_body_opts(name: str, opts: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def make_body(name: str, arena: ArenaSpec, opts: dict[str, Any] | None = None, *, control_hz: float = 10.0,
-              noise: float = 0.02, **amosii: Any) -> Any:  # fmt: skip
+def make_body(
+    name: str,
+    arena: ArenaSpec,
+    opts: dict[str, Any] | None = None,
+    *,
+    control_hz: float = 10.0,
+    noise: float = 0.02,
+    **amosii: Any,
+) -> Any:
     """Build body ``name`` in ``arena`` with its options (``amosii``: AmosII's own keyword arguments)."""
     if body_info(name) is MJCF:  # it checks its options and its file as it builds (one compile)
         from neurowalk.body.user_mjcf import UserMjcf
@@ -195,9 +227,12 @@ def body_listing() -> str:
         opts = ", ".join(f"{k}={d:g} ({lo:g} to {hi:g}: {what})" for k, (d, lo, hi, what) in b.options.items())
         if b is MJCF:
             opts = "drive (wheels|legs), left, right, right_motor, left_motor (names), key, range (m), speed (rad/s)"
-        lines += [f"{b.name:10s} {b.summary}", f"{'':10s} sensors: {b.sensors}",
-                  f"{'':10s} actuators: {b.actuators}",
-                  f"{'':10s} takes: {'joint targets' if b.action == 'targets' else 'the steering pair'}; "
-                  f"{'physics (MuJoCo)' if b.physics else 'planar'}; {'climbs' if b.climbs else 'does not climb'}",
-                  f"{'':10s} options: {opts or 'none'}"]  # fmt: skip
+        lines += [
+            f"{b.name:10s} {b.summary}",
+            f"{'':10s} sensors: {b.sensors}",
+            f"{'':10s} actuators: {b.actuators}",
+            f"{'':10s} takes: {'joint targets' if b.action == 'targets' else 'the steering pair'}; "
+            f"{'physics (MuJoCo)' if b.physics else 'planar'}; {'climbs' if b.climbs else 'does not climb'}",
+            f"{'':10s} options: {opts or 'none'}",
+        ]
     return "\n".join(lines)

@@ -201,8 +201,15 @@ class Surrogate:
 
     name = "surrogate"
 
-    def __init__(self, arena: ArenaSpec, calibration: Calibration | None = None, *, noise: float = 0.02,
-                 noise_tau: float = NOISE_TAU, name: str = "surrogate") -> None:  # fmt: skip
+    def __init__(
+        self,
+        arena: ArenaSpec,
+        calibration: Calibration | None = None,
+        *,
+        noise: float = 0.02,
+        noise_tau: float = NOISE_TAU,
+        name: str = "surrogate",
+    ) -> None:
         if noise < 0 or not 0 < noise_tau <= 1:
             raise ValueError(f"noise needs strength >= 0 and 0 < tau <= 1, got {noise}, {noise_tau}")
         self.arena = arena
@@ -212,9 +219,18 @@ class Surrogate:
         self.noise, self.noise_tau = noise, noise_tau
         self._boxes = box_rows(arena)
 
-    def run(self, steps: int, rng: np.random.Generator, sens_state: np.ndarray | None, sens_p: np.ndarray | None,
-            steer: tuple[float, float] | None = None, chunk: int | None = None, on_chunk: Any = None,
-            out: SurrogateRun | None = None, stream: bool = False) -> SurrogateRun:  # fmt: skip
+    def run(
+        self,
+        steps: int,
+        rng: np.random.Generator,
+        sens_state: np.ndarray | None,
+        sens_p: np.ndarray | None,
+        steer: tuple[float, float] | None = None,
+        chunk: int | None = None,
+        on_chunk: Any = None,
+        out: SurrogateRun | None = None,
+        stream: bool = False,
+    ) -> SurrogateRun:
         """Run ``steps`` control steps from the arena's start pose.
 
         Args:
@@ -249,11 +265,35 @@ class Surrogate:
                 k1 = min(steps, k0 + size)
                 noise_u = rng.uniform(-1.0, 1.0, size=(k1 - k0, 2))
                 out.contacts += kern.rollout(
-                    k0, k1, state, ring, sens_state, sens_p, fixed, st, self._boxes, cal.circles, cal.rays,
-                    cal.us_range, cal.grid, motion, cal.alpha(), cal.startup_steps, 1.0 / cal.control_hz,
-                    cal.sway_period_steps, cal.sway_phase, noise_u, gain, self.noise_tau,
-                    out.pose, out.inputs, out.outputs, out.weights, out.us, k0 if stream else 0,
-                )  # fmt: skip
+                    k0,
+                    k1,
+                    state,
+                    ring,
+                    sens_state,
+                    sens_p,
+                    fixed,
+                    st,
+                    self._boxes,
+                    cal.circles,
+                    cal.rays,
+                    cal.us_range,
+                    cal.grid,
+                    motion,
+                    cal.alpha(),
+                    cal.startup_steps,
+                    1.0 / cal.control_hz,
+                    cal.sway_period_steps,
+                    cal.sway_phase,
+                    noise_u,
+                    gain,
+                    self.noise_tau,
+                    out.pose,
+                    out.inputs,
+                    out.outputs,
+                    out.weights,
+                    out.us,
+                    k0 if stream else 0,
+                )
                 if on_chunk is not None:
                     on_chunk(k1)
                 out.done = k1
@@ -294,15 +334,41 @@ class Walker:
     def sense(self) -> np.ndarray:
         """(2,) ultrasonic distances (left, right) at the current step, m, ``inf`` = no echo; call once a step."""
         noise = self.rng.uniform(-1.0, 1.0, size=2)
-        kern.sense(self.k, self.state, self.body._boxes, self.cal.rays, self.cal.us_range, self.omega,
-                   self.cal.sway_phase, noise, self.gain, self.body.noise_tau, self.seen)  # fmt: skip
+        kern.sense(
+            self.k,
+            self.state,
+            self.body._boxes,
+            self.cal.rays,
+            self.cal.us_range,
+            self.omega,
+            self.cal.sway_phase,
+            noise,
+            self.gain,
+            self.body.noise_tau,
+            self.seen,
+        )
         return self.seen.copy()
 
     def act(self, o1: float, o2: float) -> np.ndarray:
         """Take one control step with steering (o1, o2) in [-1, 1]; return the pose after it (3,)."""
-        n, yaw = kern.act(self.k, self.state, self.ring, float(o1), float(o2), self.cmd, self.cal.grid, self.motion,
-                          self.alpha, self.cal.startup_steps, self.dt, self.omega, self.cal.sway_phase,
-                          self.cal.circles, self.body._boxes, self.reach)  # fmt: skip
+        n, yaw = kern.act(
+            self.k,
+            self.state,
+            self.ring,
+            float(o1),
+            float(o2),
+            self.cmd,
+            self.cal.grid,
+            self.motion,
+            self.alpha,
+            self.cal.startup_steps,
+            self.dt,
+            self.omega,
+            self.cal.sway_phase,
+            self.cal.circles,
+            self.body._boxes,
+            self.reach,
+        )
         self.k += 1
         self.contacts += n
         self.pose = np.array([self.state[kern.X], self.state[kern.Y], yaw])

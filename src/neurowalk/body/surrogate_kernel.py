@@ -139,9 +139,19 @@ def reach_of(circles: np.ndarray) -> float:
 
 
 @jit
-def sense(k: int, state: np.ndarray, boxes: np.ndarray, rays: np.ndarray, us_range: float, omega: float,
-          sway_phase: float, noise: np.ndarray, noise_gain: float, noise_tau: float,
-          seen: np.ndarray) -> None:  # fmt: skip
+def sense(
+    k: int,
+    state: np.ndarray,
+    boxes: np.ndarray,
+    rays: np.ndarray,
+    us_range: float,
+    omega: float,
+    sway_phase: float,
+    noise: np.ndarray,
+    noise_gain: float,
+    noise_tau: float,
+    seen: np.ndarray,
+) -> None:
     """The ultrasonic readings at control step ``k`` into ``seen`` (2,) (m, inf = no echo), advancing the noise.
 
     ``noise``: this step's two uniform(-1, 1) draws; ``omega``: the sway's angular rate per step (rad).
@@ -158,9 +168,24 @@ def sense(k: int, state: np.ndarray, boxes: np.ndarray, rays: np.ndarray, us_ran
 
 
 @jit
-def act(k: int, state: np.ndarray, ring: np.ndarray, o1: float, o2: float, cmd: np.ndarray, grid: np.ndarray,
-        table: np.ndarray, alpha: float, startup: int, dt: float, omega: float, sway_phase: float,
-        circles: np.ndarray, boxes: np.ndarray, reach: float) -> tuple[int, float]:  # fmt: skip
+def act(
+    k: int,
+    state: np.ndarray,
+    ring: np.ndarray,
+    o1: float,
+    o2: float,
+    cmd: np.ndarray,
+    grid: np.ndarray,
+    table: np.ndarray,
+    alpha: float,
+    startup: int,
+    dt: float,
+    omega: float,
+    sway_phase: float,
+    circles: np.ndarray,
+    boxes: np.ndarray,
+    reach: float,
+) -> tuple[int, float]:
     """Control step ``k`` with steering (o1, o2): calibrated motion, then collisions resolved.
 
     Returns (overlaps resolved, the trunk's yaw after the step, rad, sway included, in (-pi, pi]).
@@ -177,13 +202,35 @@ def act(k: int, state: np.ndarray, ring: np.ndarray, o1: float, o2: float, cmd: 
 
 @jit
 def rollout(
-    k0: int, k1: int, state: np.ndarray, ring: np.ndarray, sens: np.ndarray, sens_p: np.ndarray,
-    fixed: bool, steer: np.ndarray, boxes: np.ndarray, circles: np.ndarray, rays: np.ndarray,
-    us_range: float, grid: np.ndarray, table: np.ndarray, alpha: float, startup: int, dt: float,
-    sway_period: float, sway_phase: float, noise_u: np.ndarray, noise_gain: float, noise_tau: float,
-    out_pose: np.ndarray, out_in: np.ndarray, out_out: np.ndarray, out_w: np.ndarray, out_us: np.ndarray,
+    k0: int,
+    k1: int,
+    state: np.ndarray,
+    ring: np.ndarray,
+    sens: np.ndarray,
+    sens_p: np.ndarray,
+    fixed: bool,
+    steer: np.ndarray,
+    boxes: np.ndarray,
+    circles: np.ndarray,
+    rays: np.ndarray,
+    us_range: float,
+    grid: np.ndarray,
+    table: np.ndarray,
+    alpha: float,
+    startup: int,
+    dt: float,
+    sway_period: float,
+    sway_phase: float,
+    noise_u: np.ndarray,
+    noise_gain: float,
+    noise_tau: float,
+    out_pose: np.ndarray,
+    out_in: np.ndarray,
+    out_out: np.ndarray,
+    out_w: np.ndarray,
+    out_us: np.ndarray,
     base: int = 0,
-) -> int:  # fmt: skip
+) -> int:
     """Control steps k0..k1-1 of one run, in place; row k - base of the outputs is after step k.
 
     Args:
@@ -218,8 +265,9 @@ def rollout(
         else:
             sensory_step(sens, inp[0], inp[1], sens_p)
             o1, o2 = sens[STEER], sens[STEER + 1]
-        n, yaw = act(k, state, ring, o1, o2, cmd, grid, table, alpha, startup, dt, omega, sway_phase, circles,
-                     boxes, reach)  # fmt: skip
+        n, yaw = act(
+            k, state, ring, o1, o2, cmd, grid, table, alpha, startup, dt, omega, sway_phase, circles, boxes, reach
+        )
         hits += n
         out_pose[i, 0], out_pose[i, 1], out_pose[i, 2] = state[X], state[Y], yaw
         out_in[i, 0], out_in[i, 1] = inp[0], inp[1]

@@ -95,9 +95,13 @@ def _compile(body: str, arena: ArenaSpec | None) -> mujoco.MjModel:
     try:
         spec = mujoco.MjSpec.from_file(str(path))
         for i, b in enumerate(arena.boxes if arena is not None else []):
-            g = spec.worldbody.add_geom(name=f"obstacle_{i}", type=mujoco.mjtGeom.mjGEOM_BOX,
-                                        size=[b.sx / 2, b.sy / 2, b.h / 2], pos=[b.x, b.y, b.h / 2],
-                                        quat=[math.cos(b.yaw / 2), 0.0, 0.0, math.sin(b.yaw / 2)])  # fmt: skip
+            g = spec.worldbody.add_geom(
+                name=f"obstacle_{i}",
+                type=mujoco.mjtGeom.mjGEOM_BOX,
+                size=[b.sx / 2, b.sy / 2, b.h / 2],
+                pos=[b.x, b.y, b.h / 2],
+                quat=[math.cos(b.yaw / 2), 0.0, 0.0, math.sin(b.yaw / 2)],
+            )
             g.rgba, g.friction = [0.55, 0.45, 0.35, 1.0], [0.4, 0.005, 0.0001]
         return spec.compile()
     except Exception as e:  # MuJoCo's parser and compiler raise ValueError or its own errors: one message
@@ -127,8 +131,9 @@ class _Layout:
         if self.drive == "legs":  # AMOSII's 19 actuators: the locomotion network's joint targets
             missing = [a for a, i in zip(anatomy.ACTUATORS, ids, strict=True) if i < 0]
             if missing:
-                raise ValueError(f"body {body!r}: drive=legs needs AMOSII's 19 actuator names; missing: "
-                                 f"{', '.join(missing)}")  # fmt: skip
+                raise ValueError(
+                    f"body {body!r}: drive=legs needs AMOSII's 19 actuator names; missing: {', '.join(missing)}"
+                )
             self.motors = ids
             self.qidx = np.array([m.jnt_qposadr[m.actuator_trnid[i, 0]] for i in ids])
             self.speed = math.nan
@@ -144,15 +149,19 @@ class _Layout:
             name, i = opts[side], mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR, opts[side])
             if i < 0:
                 found = [m.actuator(j).name for j in range(m.nu)]
-                raise ValueError(f"body {body!r}: no actuator {name!r} (the {side.split('_')[0]} wheel; actuators in "
-                                 f"the file: {found or 'none'}); name it with --body-opt {side}=NAME")  # fmt: skip
+                raise ValueError(
+                    f"body {body!r}: no actuator {name!r} (the {side.split('_')[0]} wheel; actuators in "
+                    f"the file: {found or 'none'}); name it with --body-opt {side}=NAME"
+                )
             self.motors.append(i)
         speed = opts["speed"]
         if math.isnan(speed):
             limited = all(m.actuator_ctrllimited[i] for i in self.motors)
             if not limited:
-                raise ValueError(f"body {body!r}: the wheel actuators have no control limit; give the wheel speed "
-                                 "at full steering with --body-opt speed=RAD_PER_S")  # fmt: skip
+                raise ValueError(
+                    f"body {body!r}: the wheel actuators have no control limit; give the wheel speed "
+                    "at full steering with --body-opt speed=RAD_PER_S"
+                )
             speed = float(min(m.actuator_ctrlrange[i, 1] for i in self.motors))
         self.speed = speed
 
@@ -169,8 +178,15 @@ class UserMjcf(Wheeled):
     name = "mjcf"
     action = "steering"
 
-    def __init__(self, body: str, arena: ArenaSpec, opts: dict[str, Any] | None = None, *,
-                 control_hz: float = 10.0, noise: float = 0.02) -> None:  # fmt: skip
+    def __init__(
+        self,
+        body: str,
+        arena: ArenaSpec,
+        opts: dict[str, Any] | None = None,
+        *,
+        control_hz: float = 10.0,
+        noise: float = 0.02,
+    ) -> None:
         options = {**_defaults(), **parse_opts(body, opts or {})}  # the file is checked by _Layout below
         self.name, self.arena, self.params = body, arena, options
         self.model = _compile(body, arena)

@@ -155,16 +155,26 @@ class WheeledParams:
         if not self.wheel_radius < self.front:
             _bad("wheel_radius", self.wheel_radius, "must be less than front (the wheels must fit under the chassis)")
         if not self.chassis_width > 2.0 * self.us_y:
-            _bad("width", self.width, "leaves no chassis between the wheels for the sensors (width - 2 wheel_width "
-                 "- 2 wheel_gap must exceed 2 us_y)")  # fmt: skip
+            _bad(
+                "width",
+                self.width,
+                "leaves no chassis between the wheels for the sensors (width - 2 wheel_width "
+                "- 2 wheel_gap must exceed 2 us_y)",
+            )
         if not self.us_height - self.height / 2.0 < 2.0 * self.caster_radius:
-            _bad("caster_radius", self.caster_radius, "must reach the chassis bottom (2 caster_radius > "
-                 "us_height - height/2)")  # fmt: skip
+            _bad(
+                "caster_radius",
+                self.caster_radius,
+                "must reach the chassis bottom (2 caster_radius > us_height - height/2)",
+            )
         if not 4.0 * self.caster_radius < self.length:
             _bad("caster_radius", self.caster_radius, "must fit twice along the chassis (4 caster_radius < length)")
         if not self.motor_kv <= self.wheel_armature / self.timestep:
-            _bad("motor_kv", self.motor_kv, "must be <= wheel_armature / timestep, or the servo chatters at its "
-                 "torque limit")  # fmt: skip
+            _bad(
+                "motor_kv",
+                self.motor_kv,
+                "must be <= wheel_armature / timestep, or the servo chatters at its torque limit",
+            )
         if not self.chassis_mass > 0.0:
             _bad("mass", self.mass, "must exceed the wheels' masses")
         if not self.front - self.length + 2.0 * self.caster_radius < self.com_x < 0.0:

@@ -71,8 +71,9 @@ class Wheeled:
     action = "steering"
     """What :meth:`apply` takes: the steering pair (O1, O2), not joint targets."""
 
-    def __init__(self, arena: ArenaSpec, params: WheeledParams | None = None, *, control_hz: float = 10.0,
-                 noise: float = 0.02) -> None:  # fmt: skip
+    def __init__(
+        self, arena: ArenaSpec, params: WheeledParams | None = None, *, control_hz: float = 10.0, noise: float = 0.02
+    ) -> None:
         self.arena = arena
         self.params = params or WheeledParams()
         self.model = mujoco.MjModel.from_xml_string(wheeled_xml(self.params, world=arena.to_mjcf()))

@@ -25,9 +25,19 @@ __all__ = ["UsageError", "figure_listing", "main", "out_file", "out_folder", "pa
 
 _signals_held = signals_held  # its name here before the split, which the tests use
 
-_COMMANDS = {"figure": cmd_figure, "run": cmd_run, "view": cmd_view, "calibrate": cmd_calibrate, "bench": cmd_bench,
-             "arenas": cmd_arenas, "bodies": cmd_bodies, "export-model": cmd_export, "sweep": cmd_sweep,
-             "optimize": cmd_optimize, "baseline": cmd_baseline}  # fmt: skip
+_COMMANDS = {
+    "figure": cmd_figure,
+    "run": cmd_run,
+    "view": cmd_view,
+    "calibrate": cmd_calibrate,
+    "bench": cmd_bench,
+    "arenas": cmd_arenas,
+    "bodies": cmd_bodies,
+    "export-model": cmd_export,
+    "sweep": cmd_sweep,
+    "optimize": cmd_optimize,
+    "baseline": cmd_baseline,
+}
 
 
 def _parser() -> argparse.ArgumentParser:

@@ -9,23 +9,32 @@ from pathlib import Path
 
 from neurowalk.cli.common import UsageError, out_folder
 
-_SIZES = (("generations", "CMA-ES generations of the evolved network (full 150, quick 3)"),
-          ("population", "candidates per generation (full 16, quick 6)"),
-          ("envs", "training environments per generation (full 8, quick 4)"),
-          ("ppo-steps", "PPO training env steps (full 5000000, quick 4096)"),
-          ("rppo-steps", "recurrent PPO training env steps (full 2000000, quick 2048)"),
-          ("episode-steps", "control steps of a training episode (full 10000, quick 200)"),
-          ("eval-envs", "held-out environments (full 200, quick 20)"),
-          ("eval-steps", "control steps per held-out environment (full 20000, quick 3000)"))  # fmt: skip
+_SIZES = (
+    ("generations", "CMA-ES generations of the evolved network (full 150, quick 3)"),
+    ("population", "candidates per generation (full 16, quick 6)"),
+    ("envs", "training environments per generation (full 8, quick 4)"),
+    ("ppo-steps", "PPO training env steps (full 5000000, quick 4096)"),
+    ("rppo-steps", "recurrent PPO training env steps (full 2000000, quick 2048)"),
+    ("episode-steps", "control steps of a training episode (full 10000, quick 200)"),
+    ("eval-envs", "held-out environments (full 200, quick 20)"),
+    ("eval-steps", "control steps per held-out environment (full 20000, quick 3000)"),
+)
 
 
 def add_baseline_parser(sub: argparse._SubParsersAction) -> None:
     """The `baseline` subcommand."""
-    b = sub.add_parser("baseline", help="train learned policies and score them against the networks on held-out "
-                       "Table 2 environments: DIR/baselines.json, .md, .png (resumable; extra rl)")  # fmt: skip
+    b = sub.add_parser(
+        "baseline",
+        help="train learned policies and score them against the networks on held-out "
+        "Table 2 environments: DIR/baselines.json, .md, .png (resumable; extra rl)",
+    )
     b.add_argument("--out", type=Path, default=Path("out/baseline"), help="output folder (default out/baseline)")
-    b.add_argument("--methods", default="neuroevo,ppo,rppo", metavar="NAME[,NAME...]",
-                   help="learned methods: neuroevo (CMA-ES, needs cma), ppo, rppo (need the rl extra)")  # fmt: skip
+    b.add_argument(
+        "--methods",
+        default="neuroevo,ppo,rppo",
+        metavar="NAME[,NAME...]",
+        help="learned methods: neuroevo (CMA-ES, needs cma), ppo, rppo (need the rl extra)",
+    )
     b.add_argument("--quick", action="store_true", help="tiny budgets (a smoke test, not a result)")
     for flag, what in _SIZES:
         b.add_argument(f"--{flag}", type=int, default=None, help=what)
@@ -81,8 +90,15 @@ def _baseline(args: argparse.Namespace) -> int:
         baseline.sizes_of(args.quick, sizes)
         baseline.check_methods(methods)
         out_folder(args.out)
-        result = baseline.run(args.out, methods=methods, quick=args.quick, sizes=sizes, seed=args.seed,
-                              progress=not args.quiet, log=lambda line: print(line, flush=True))  # fmt: skip
+        result = baseline.run(
+            args.out,
+            methods=methods,
+            quick=args.quick,
+            sizes=sizes,
+            seed=args.seed,
+            progress=not args.quiet,
+            log=lambda line: print(line, flush=True),
+        )
     except (ValueError, RlMissingError, CmaMissingError) as e:
         raise UsageError(str(e)) from None
     for r in result["rows"]:

@@ -39,8 +39,17 @@ class Parser(argparse.ArgumentParser):
 
 
 #: The registries whose names help text shows: what each name's check accepts.
-REGISTRIES = ("variants", "bodies", "physics_bodies", "calibrated_bodies", "arenas", "engines", "controllers",
-              "gaits", "optimize_bases")  # fmt: skip
+REGISTRIES = (
+    "variants",
+    "bodies",
+    "physics_bodies",
+    "calibrated_bodies",
+    "arenas",
+    "engines",
+    "controllers",
+    "gaits",
+    "optimize_bases",
+)
 
 
 def registry_names(name: str) -> tuple[str, ...]:
@@ -141,8 +150,11 @@ def episode_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--arena-opt", action="append", default=[], metavar="KEY=VALUE", help="arena option, repeatable")
     p.add_argument("--controller", default="plastic", help="{controllers} (default plastic)")
     p.add_argument("--steer", default=None, metavar="O1,O2", help="steering of controller 'fixed', e.g. -1,-1")
-    p.add_argument("--body", default="amosii", help="{bodies} | mjcf:FILE.xml (default amosii, the MuJoCo hexapod; "
-                   "see `neurowalk bodies`)")  # fmt: skip
+    p.add_argument(
+        "--body",
+        default="amosii",
+        help="{bodies} | mjcf:FILE.xml (default amosii, the MuJoCo hexapod; see `neurowalk bodies`)",
+    )
     p.add_argument("--body-opt", action="append", default=[], metavar="KEY=VALUE", help="body option, e.g. scale=0.5")
     p.add_argument("--steps", type=int, default=1000, help="control steps (10 Hz: 1000 = 100 s)")
     p.add_argument("--seed", type=int, default=0, help="seed of every random draw")
@@ -155,8 +167,12 @@ def episode_args(p: argparse.ArgumentParser) -> None:
 
 def engine_args(p: argparse.ArgumentParser) -> None:
     """--engine and --device (physics on CPU MuJoCo, or on MuJoCo Warp)."""
-    p.add_argument("--engine", default="mujoco", help="physics engine: {engines} (default mujoco, on the CPU; warp: "
-                   "MuJoCo Warp, many worlds on a GPU; needs the warp extra)")  # fmt: skip
+    p.add_argument(
+        "--engine",
+        default="mujoco",
+        help="physics engine: {engines} (default mujoco, on the CPU; warp: "
+        "MuJoCo Warp, many worlds on a GPU; needs the warp extra)",
+    )
     p.add_argument("--device", default=None, help="engine warp: cuda (default where a GPU is present) | cpu (slow)")
 
 
@@ -183,11 +199,20 @@ def check_engine(args: argparse.Namespace) -> None:
 
 def variant_args(p: argparse.ArgumentParser, many: bool = False) -> None:
     """--variant and --params (``many``: --variant takes a comma list)."""
-    p.add_argument("--variant", default=None, metavar="NAME[,NAME...]" if many else "NAME",
-                   help="the network: {variants} (default paper: Eq. 1-6 as printed; original: the authors' code; "
-                   "see docs/paper-vs-code.md)")  # fmt: skip
-    p.add_argument("--params", type=Path, default=None, metavar="FILE.json",
-                   help="SensoryParams fields on top of the variant, e.g. an `optimize` best.json")  # fmt: skip
+    p.add_argument(
+        "--variant",
+        default=None,
+        metavar="NAME[,NAME...]" if many else "NAME",
+        help="the network: {variants} (default paper: Eq. 1-6 as printed; original: the authors' code; "
+        "see docs/paper-vs-code.md)",
+    )
+    p.add_argument(
+        "--params",
+        type=Path,
+        default=None,
+        metavar="FILE.json",
+        help="SensoryParams fields on top of the variant, e.g. an `optimize` best.json",
+    )
 
 
 def parse_variant(args: argparse.Namespace) -> tuple[str, dict | None]:
@@ -243,12 +268,22 @@ def episode_config(args: argparse.Namespace) -> object:
     try:
         opts = parse_arena_opts(args.arena_opt)
         body_opts = parse_arena_opts(args.body_opt, "--body-opt")
-        cfg = EpisodeConfig(arena=args.arena, arena_opts=opts, controller=args.controller,
-                            steer=parse_steer(args.steer), body=args.body, body_opts=body_opts, steps=args.steps,
-                            seed=args.seed,
-                            reflexes=args.reflexes or args.climb, backbone=args.backbone or args.climb,
-                            variant=variant, params=params, gait=args.gait,
-                            engine=getattr(args, "engine", "mujoco"))  # fmt: skip
+        cfg = EpisodeConfig(
+            arena=args.arena,
+            arena_opts=opts,
+            controller=args.controller,
+            steer=parse_steer(args.steer),
+            body=args.body,
+            body_opts=body_opts,
+            steps=args.steps,
+            seed=args.seed,
+            reflexes=args.reflexes or args.climb,
+            backbone=args.backbone or args.climb,
+            variant=variant,
+            params=params,
+            gait=args.gait,
+            engine=getattr(args, "engine", "mujoco"),
+        )
         make_arena(cfg.arena, **cfg.arena_opts)  # validate the arena's options before any work
     except ValueError as e:
         raise UsageError(str(e)) from None

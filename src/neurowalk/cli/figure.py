@@ -62,16 +62,23 @@ def add_figure_parser(sub: argparse._SubParsersAction) -> None:
         "--seeds", type=int, default=None, help="number of seeds per condition (figures with outcome tables)"
     )
     f.add_argument("--replot", action="store_true", help="redraw from DIR/NAME.json and .npz without rerunning")
-    f.add_argument("--body", default=None, help="{bodies} (figures that take a body; default per figure; see "
-                   "`neurowalk bodies`)")  # fmt: skip
+    f.add_argument(
+        "--body", default=None, help="{bodies} (figures that take a body; default per figure; see `neurowalk bodies`)"
+    )
     climb = "leg reflexes and backbone control on (fig3 fig5 escape-map table2; default out: out/NAME-climb)"
     f.add_argument("--climb", action="store_true", help=climb)
     variant_args(f)
-    f.add_argument("--gait", default=None, help="gait of the physics figures that take one (fig3 fig5 escape-map): "
-                   "{gaits}")  # fmt: skip
+    f.add_argument(
+        "--gait", default=None, help="gait of the physics figures that take one (fig3 fig5 escape-map): {gaits}"
+    )
     f.add_argument("--video", action="store_true", help="also write the example runs' videos (fig8, fig9)")
-    f.add_argument("--arena-opt", action="append", default=[], metavar="size=M",
-                   help="box side of the random environments (table2, fig6; default 1 m, the authors')")  # fmt: skip
+    f.add_argument(
+        "--arena-opt",
+        action="append",
+        default=[],
+        metavar="size=M",
+        help="box side of the random environments (table2, fig6; default 1 m, the authors')",
+    )
     engine_args(f)
 
 
@@ -137,8 +144,10 @@ def _figure(args: argparse.Namespace) -> int:
         if args.seeds is not None:
             takes("--seeds")
             if not 1 <= args.seeds <= MAX_SEEDS:
-                raise UsageError(f"--seeds must be in [1, {MAX_SEEDS:,}] (each seed is a run of every row, held in "
-                                 f"memory until the figure is drawn), got {args.seeds:,}")  # fmt: skip
+                raise UsageError(
+                    f"--seeds must be in [1, {MAX_SEEDS:,}] (each seed is a run of every row, held in "
+                    f"memory until the figure is drawn), got {args.seeds:,}"
+                )
             kwargs["seeds"] = args.seeds
         if args.body is not None:
             from neurowalk.sim.episode import BODIES
@@ -261,8 +270,10 @@ def interrupted_line(name: str, out: Path, stores: bool) -> str:
     if not kept:
         return f"neurowalk: {name} interrupted before any of its runs finished; nothing is kept"
     where = ", ".join(f"{n} in {file}" for file, n in kept.items())
-    return (f"neurowalk: {name} interrupted: {sum(kept.values())} finished runs are kept in {out} ({where}); run "
-            "the same command again to go on from them")  # fmt: skip
+    return (
+        f"neurowalk: {name} interrupted: {sum(kept.values())} finished runs are kept in {out} ({where}); run "
+        "the same command again to go on from them"
+    )
 
 
 def known(what: str, name: str, names: tuple[str, ...]) -> str:

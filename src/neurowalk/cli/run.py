@@ -35,10 +35,13 @@ def add_run_parsers(sub: argparse._SubParsersAction) -> None:
         action="store_true",
         help="replace the run in DIR, finished or not (a run into a folder that holds one is refused)",
     )
-    r.add_argument("--resume", action="store_true",
-                   help="go on with the unfinished run in DIR from its last checkpoint (MuJoCo bodies: every 10,000 "
-                        "steps), or from step 0 where it has none; its own settings are used, those given here are "
-                        "ignored")  # fmt: skip
+    r.add_argument(
+        "--resume",
+        action="store_true",
+        help="go on with the unfinished run in DIR from its last checkpoint (MuJoCo bodies: every 10,000 "
+        "steps), or from step 0 where it has none; its own settings are used, those given here are "
+        "ignored",
+    )
 
     v = sub.add_parser("view", help="watch a closed-loop run live in MuJoCo's viewer (needs a display)")
     episode_args(v)
@@ -86,8 +89,10 @@ def _check_memory(steps: int) -> None:
     """UsageError, before any work, where a run of ``steps`` steps needs more memory than this machine has."""
     need, have = RUN_BASE_BYTES + RUN_BYTES_PER_STEP * steps, machine_memory()
     if have is not None and need > have:
-        raise UsageError(f"--steps {steps:,}: a run keeps {RUN_BYTES_PER_STEP} bytes a step in memory, "
-                         f"{need / 1e9:,.1f} GB in all, more than this machine's {have / 1e9:,.1f} GB")  # fmt: skip
+        raise UsageError(
+            f"--steps {steps:,}: a run keeps {RUN_BYTES_PER_STEP} bytes a step in memory, "
+            f"{need / 1e9:,.1f} GB in all, more than this machine's {have / 1e9:,.1f} GB"
+        )
 
 
 def _is_physics(body: str, body_info: Any) -> bool:
@@ -118,11 +123,14 @@ def _start(args: argparse.Namespace, cfg: Any, out: Path, parts: Any) -> tuple[A
     elif args.resume:
         print(f"neurowalk: --resume: no unfinished run in {out}: starting at step 0", file=sys.stderr)
     elif unfinished and not args.overwrite:
-        raise UsageError(f"{str(out)!r} holds the parts of an unfinished run ({parts.folder.name}/, e.g. a killed "
-                         "one): --resume to go on with it, or --overwrite to start afresh")  # fmt: skip
+        raise UsageError(
+            f"{str(out)!r} holds the parts of an unfinished run ({parts.folder.name}/, e.g. a killed "
+            "one): --resume to go on with it, or --overwrite to start afresh"
+        )
     elif finished and not args.overwrite:
-        raise UsageError(f"{str(out)!r} holds a finished run (summary.json): --overwrite to replace it, or another "
-                         "--out")  # fmt: skip
+        raise UsageError(
+            f"{str(out)!r} holds a finished run (summary.json): --overwrite to replace it, or another --out"
+        )
     _clear(out, parts)
     parts.folder.mkdir()
     write_json(parts.folder / "run.json", {**dataclasses.asdict(cfg), "resumable": _checkpointed(cfg)})
@@ -167,20 +175,28 @@ def _run_into(args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume:
         with signals_held():  # a signal now would lose the finished run: the save finishes first
             _save(out, parts, ep, interrupted)
     except OSError as e:
-        print(f"neurowalk: {write_error(e)}: {_kept(parts)}; free space (or fix the folder) and run again with "
-              "--resume", file=sys.stderr)  # fmt: skip
+        print(
+            f"neurowalk: {write_error(e)}: {_kept(parts)}; free space (or fix the folder) and run again with --resume",
+            file=sys.stderr,
+        )
         return 1
     except Exception as e:  # a failure inside the loop: what it finished is in the parts, and the line says so
         why = str(e).splitlines()[0] if str(e) else ""
-        print(f"neurowalk: the run failed ({type(e).__name__}: {why}): {_kept(parts)}; `--resume` runs it again "
-              "from its last checkpoint", file=sys.stderr)  # fmt: skip
+        print(
+            f"neurowalk: the run failed ({type(e).__name__}: {why}): {_kept(parts)}; `--resume` runs it again "
+            "from its last checkpoint",
+            file=sys.stderr,
+        )
         return 1
     done = ep.summary["steps"]
     if interrupted:
         ckpt = parts.read_checkpoint()
         more = f"from step {ckpt.step}" if ckpt is not None else "from step 0 (no checkpoint yet)"
-        print(f"neurowalk: interrupted: kept the {done} completed steps in {out} (summary.json, trajectory.npz, "
-              f"run.png); `--resume` goes on {more}", file=sys.stderr)  # fmt: skip
+        print(
+            f"neurowalk: interrupted: kept the {done} completed steps in {out} (summary.json, trajectory.npz, "
+            f"run.png); `--resume` goes on {more}",
+            file=sys.stderr,
+        )
         return 130
     written = ["summary.json", "trajectory.npz", "run.png"]
     if args.video:
@@ -251,11 +267,14 @@ def _resume_point(parts: Any) -> tuple[Any, Any]:
             spec["steer"] = tuple(spec["steer"])
         cfg = EpisodeConfig(**spec)
     except FileNotFoundError:
-        raise UsageError(f"--resume: {where!r} holds parts but no run.json (not a run neurowalk can go on "
-                         "with); --overwrite to start afresh") from None  # fmt: skip
+        raise UsageError(
+            f"--resume: {where!r} holds parts but no run.json (not a run neurowalk can go on "
+            "with); --overwrite to start afresh"
+        ) from None
     except (OSError, ValueError, TypeError, AttributeError) as e:
-        raise UsageError(f"--resume: {str(spec_path)!r} is damaged ({type(e).__name__}); --overwrite to start "
-                         "afresh") from None  # fmt: skip
+        raise UsageError(
+            f"--resume: {str(spec_path)!r} is damaged ({type(e).__name__}); --overwrite to start afresh"
+        ) from None
     try:
         ckpt = parts.read_checkpoint()
     except CheckpointError as e:
@@ -291,8 +310,10 @@ def cmd_view(args: argparse.Namespace) -> int:
     if args.body != "amosii":
         raise UsageError(f"view needs --body amosii, got {args.body!r}")
     if not has_display():
-        print("neurowalk view: no display here (DISPLAY is not set); use `neurowalk run --video` for a headless video",
-              file=sys.stderr)  # fmt: skip
+        print(
+            "neurowalk view: no display here (DISPLAY is not set); use `neurowalk run --video` for a headless video",
+            file=sys.stderr,
+        )
         return 1
     from neurowalk.sim.episode import build, seeds
 

@@ -29,23 +29,44 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     """The `sweep` subcommand."""
     s = sub.add_parser("sweep", help="many runs (a grid, or specs from a file), resumable, into DIR/results.sqlite")
     s.add_argument("--arena", default=None, metavar="NAME[,NAME...]", help="arenas: {arenas} (default open)")
-    s.add_argument("--controller", default=None, metavar="NAME[,NAME...]",
-                   help="controllers: {controllers} (default plastic)")  # fmt: skip
+    s.add_argument(
+        "--controller", default=None, metavar="NAME[,NAME...]", help="controllers: {controllers} (default plastic)"
+    )
     s.add_argument("--body", default=None, metavar="NAME[,NAME...]", help="bodies: {bodies} (default amosii)")
     s.add_argument("--seeds", type=int, default=None, help="seeds per condition (default 1)")
     s.add_argument("--seed-start", type=int, default=None, help="first seed (default 0): seeds S, S+1, ...")
     s.add_argument("--steps", type=int, default=None, help="control steps per run (default 1000)")
-    s.add_argument("--arena-opt", action="append", default=[], metavar="KEY=V1[,V2...]",
-                   help="arena option; a comma list adds a grid axis (repeatable)")  # fmt: skip
-    s.add_argument("--body-opt", action="append", default=[], metavar="KEY=V1[,V2...]",
-                   help="body option (see `neurowalk bodies`); a comma list adds a grid axis (repeatable)")  # fmt: skip
-    s.add_argument("--specs", type=Path, default=None, metavar="FILE.jsonl",
-                   help="one run spec (JSON object of EpisodeConfig fields) per line, instead of the grid")  # fmt: skip
+    s.add_argument(
+        "--arena-opt",
+        action="append",
+        default=[],
+        metavar="KEY=V1[,V2...]",
+        help="arena option; a comma list adds a grid axis (repeatable)",
+    )
+    s.add_argument(
+        "--body-opt",
+        action="append",
+        default=[],
+        metavar="KEY=V1[,V2...]",
+        help="body option (see `neurowalk bodies`); a comma list adds a grid axis (repeatable)",
+    )
+    s.add_argument(
+        "--specs",
+        type=Path,
+        default=None,
+        metavar="FILE.jsonl",
+        help="one run spec (JSON object of EpisodeConfig fields) per line, instead of the grid",
+    )
     s.add_argument("--backend", choices=("local", "ray"), default="local", help="local process pool or Ray")
     s.add_argument("--address", default=None, help="Ray cluster to join (backend ray; default: a local instance)")
     s.add_argument("--workers", type=int, default=2, help="processes, or CPUs of a local Ray instance (default 2)")
-    s.add_argument("--retries", type=int, default=0, metavar="N",
-                   help="run a job whose worker died up to N more times (default 0: store it as failed)")  # fmt: skip
+    s.add_argument(
+        "--retries",
+        type=int,
+        default=0,
+        metavar="N",
+        help="run a job whose worker died up to N more times (default 0: store it as failed)",
+    )
     s.add_argument("--gait", default=None, metavar="NAME[,NAME...]", help="gaits: {gaits} (default wave)")
     s.add_argument("--out", type=Path, required=True, help="output folder (the store; resumes what is there)")
     s.add_argument("--export", choices=("parquet", "csv"), default=None, help="also write DIR/results.parquet|csv")
@@ -63,8 +84,19 @@ RUN_BYTES_PER_STEP = 1000
 #: The largest specs file read (a spec is a line of about 100 bytes).
 MAX_SPECS_BYTES = 256 * 2**20
 
-_GRID_FLAGS = ("arena", "controller", "body", "seeds", "seed_start", "steps", "arena_opt", "body_opt", "variant",
-               "params", "gait")  # fmt: skip
+_GRID_FLAGS = (
+    "arena",
+    "controller",
+    "body",
+    "seeds",
+    "seed_start",
+    "steps",
+    "arena_opt",
+    "body_opt",
+    "variant",
+    "params",
+    "gait",
+)
 
 
 def _sweep_specs(args: argparse.Namespace) -> list[dict]:
@@ -78,8 +110,10 @@ def _sweep_specs(args: argparse.Namespace) -> list[dict]:
             raise UsageError(f"--specs replaces the grid options; drop {', '.join(given)}")
         size = args.specs.stat().st_size if args.specs.is_file() else 0
         if size > MAX_SPECS_BYTES:
-            raise UsageError(f"specs file {str(args.specs)!r} holds {size / 2**20:,.0f} MiB, more than a sweep reads "
-                             f"({MAX_SPECS_BYTES / 2**20:,.0f} MiB); split it into several sweeps")  # fmt: skip
+            raise UsageError(
+                f"specs file {str(args.specs)!r} holds {size / 2**20:,.0f} MiB, more than a sweep reads "
+                f"({MAX_SPECS_BYTES / 2**20:,.0f} MiB); split it into several sweeps"
+            )
         try:
             specs = read_jsonl(args.specs)
         except ValueError as e:
@@ -128,9 +162,11 @@ def _sweep_specs(args: argparse.Namespace) -> list[dict]:
 def _check_runs(runs: int, what: str) -> None:
     """UsageError where a sweep of ``runs`` runs is more than one sweep takes (:data:`MAX_RUNS`)."""
     if runs > MAX_RUNS:
-        raise UsageError(f"{what} {runs:,} runs, more than one sweep takes ({MAX_RUNS:,}: every run's spec is held in "
-                         "memory and checked before the first run); use fewer --seeds or split the work into several "
-                         "sweeps")  # fmt: skip
+        raise UsageError(
+            f"{what} {runs:,} runs, more than one sweep takes ({MAX_RUNS:,}: every run's spec is held in "
+            "memory and checked before the first run); use fewer --seeds or split the work into several "
+            "sweeps"
+        )
 
 
 def _check_memory(specs: list[dict], workers: int) -> None:
@@ -140,9 +176,11 @@ def _check_memory(specs: list[dict], workers: int) -> None:
     steps = max(int(float(s.get("steps", EpisodeConfig.steps))) for s in specs)  # checked whole numbers
     need, have = steps * RUN_BYTES_PER_STEP * workers, machine_memory()
     if have is not None and need > have:
-        raise UsageError(f"runs of {steps:,} steps: a sweep's run keeps its trajectory in memory (about "
-                         f"{RUN_BYTES_PER_STEP:,} bytes a step), so {workers} at once need {need / 1e9:,.1f} GB, more "
-                         f"than this machine's {have / 1e9:,.1f} GB; use fewer --steps or --workers")  # fmt: skip
+        raise UsageError(
+            f"runs of {steps:,} steps: a sweep's run keeps its trajectory in memory (about "
+            f"{RUN_BYTES_PER_STEP:,} bytes a step), so {workers} at once need {need / 1e9:,.1f} GB, more "
+            f"than this machine's {have / 1e9:,.1f} GB; use fewer --steps or --workers"
+        )
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
@@ -218,8 +256,15 @@ def _sweep(args: argparse.Namespace, specs: list[dict], out: Path, info: dict, s
         try:
             with deferred():
                 write_json(out / "sweep.json", info)
-            report = run_sweep(specs, store, backend=args.backend, workers=args.workers, address=args.address,
-                               progress=not args.quiet, retries=args.retries)  # fmt: skip
+            report = run_sweep(
+                specs,
+                store,
+                backend=args.backend,
+                workers=args.workers,
+                address=args.address,
+                progress=not args.quiet,
+                retries=args.retries,
+            )
         except ray_backend.RayStartError as e:
             raise UsageError(str(e)) from None
         except KeyboardInterrupt:  # after the store's opening, before the sweep began
@@ -252,11 +297,14 @@ def _wrap_up(args: argparse.Namespace, store: ResultStore, r: SweepReport, info:
     for f in r.failures[:50]:
         print(f"neurowalk: run failed: {f.line()}", file=sys.stderr)
     if len(r.failures) > 50:
-        print(f"neurowalk: ... and {len(r.failures) - 50} more failed runs (all in {out / 'sweep.json'})",
-              file=sys.stderr)  # fmt: skip
+        print(
+            f"neurowalk: ... and {len(r.failures) - 50} more failed runs (all in {out / 'sweep.json'})", file=sys.stderr
+        )
     if r.unique:
-        print(f"sweep: {r.unique} runs: {r.skipped} already done, {r.ok} ok, {r.error} failed, in "
-              f"{r.wall_time_s:.1f} s; wrote {', '.join(str(p) for p in written)}")  # fmt: skip
+        print(
+            f"sweep: {r.unique} runs: {r.skipped} already done, {r.ok} ok, {r.error} failed, in "
+            f"{r.wall_time_s:.1f} s; wrote {', '.join(str(p) for p in written)}"
+        )
 
 
 def _kept(specs: list[dict], store: ResultStore, out: Path) -> str:
@@ -267,27 +315,43 @@ def _kept(specs: list[dict], store: ResultStore, out: Path) -> str:
     done = store.done_keys()
     have = sum(k in done for k in keys)
     left = f"run the same command again to do the other {len(keys) - have}" if have < len(keys) else "none is left"
-    return (f"neurowalk: sweep interrupted: {have} of its {len(keys)} runs are done and kept in "
-            f"{out / 'results.sqlite'}; {left}")  # fmt: skip
+    return (
+        f"neurowalk: sweep interrupted: {have} of its {len(keys)} runs are done and kept in "
+        f"{out / 'results.sqlite'}; {left}"
+    )
 
 
 def add_optimize_parser(sub: argparse._SubParsersAction) -> None:
     """The `optimize` subcommand."""
-    o = sub.add_parser("optimize", help="CMA-ES over the learning parameters on the surrogate: writes DIR/best.json, "
-                       "heldout.json, convergence.png (resumable)")  # fmt: skip
+    o = sub.add_parser(
+        "optimize",
+        help="CMA-ES over the learning parameters on the surrogate: writes DIR/best.json, "
+        "heldout.json, convergence.png (resumable)",
+    )
     o.add_argument("--out", type=Path, default=Path("out/optimize"), help="output folder (default out/optimize)")
     o.add_argument("--quick", action="store_true", help="small search (6 x 5 candidates, 16 environments, 10000 steps)")
     o.add_argument("--variant", default="original", help="base variant: {optimize_bases} (default original)")
-    o.add_argument("--fields", default=None, metavar="NAME[,NAME...]",
-                   help="SensoryParams fields to search (default mu_b,mu_q,gamma_b,gamma_q,k)")  # fmt: skip
-    o.add_argument("--param", action="append", default=[], metavar="FIELD=LO:HI",
-                   help="bounds of a field (adds it to the search), e.g. mu_b=0.001:0.03; repeatable")  # fmt: skip
-    for flag, what in (("population", "candidates per generation (full 8, quick 6)"),
-                       ("generations", "generations (full 12, quick 5)"),
-                       ("environments", "training environments (full 80, quick 16)"),
-                       ("heldout", "held-out environments (full 200, quick 50)"),
-                       ("steps", "control steps per environment (full 20000, quick 10000)"),
-                       ("deadend-seeds", "seeds per dead-end geometry (full 3, quick 2)")):  # fmt: skip
+    o.add_argument(
+        "--fields",
+        default=None,
+        metavar="NAME[,NAME...]",
+        help="SensoryParams fields to search (default mu_b,mu_q,gamma_b,gamma_q,k)",
+    )
+    o.add_argument(
+        "--param",
+        action="append",
+        default=[],
+        metavar="FIELD=LO:HI",
+        help="bounds of a field (adds it to the search), e.g. mu_b=0.001:0.03; repeatable",
+    )
+    for flag, what in (
+        ("population", "candidates per generation (full 8, quick 6)"),
+        ("generations", "generations (full 12, quick 5)"),
+        ("environments", "training environments (full 80, quick 16)"),
+        ("heldout", "held-out environments (full 200, quick 50)"),
+        ("steps", "control steps per environment (full 20000, quick 10000)"),
+        ("deadend-seeds", "seeds per dead-end geometry (full 3, quick 2)"),
+    ):
         o.add_argument(f"--{flag}", type=int, default=None, help=what)
     o.add_argument("--seed", type=int, default=0, help="CMA-ES seed (default 0)")
     o.add_argument("--train-seed", type=int, default=1000, help="table seed of the training environments (1000)")
@@ -342,18 +406,34 @@ def _optimize(args: argparse.Namespace) -> int:
 
     if args.address and args.backend != "ray":
         raise UsageError(f"--address {args.address!r} goes with --backend ray")
-    sizes = {k: getattr(args, k) for k in ("population", "generations", "environments", "heldout", "steps",
-                                           "deadend_seeds") if getattr(args, k) is not None}  # fmt: skip
+    sizes = {
+        k: getattr(args, k)
+        for k in ("population", "generations", "environments", "heldout", "steps", "deadend_seeds")
+        if getattr(args, k) is not None
+    }
     fields = None if args.fields is None else [f.strip() for f in args.fields.split(",")]
     t0 = time.perf_counter()
     try:
         if args.backend == "ray":
             ray_backend.import_ray()
         bounds = dict(parse_bounds(p) for p in args.param)
-        optimize.run(out=args.out, quick=args.quick, variant=args.variant, fields=fields, bounds=bounds,
-                     sizes=sizes, seed=args.seed, train_seed=args.train_seed, heldout_seed=args.heldout_seed,
-                     sigma0=args.sigma0, backend=args.backend, workers=args.workers, address=args.address,
-                     progress=not args.quiet, log=lambda line: print(line, flush=True))  # fmt: skip
+        optimize.run(
+            out=args.out,
+            quick=args.quick,
+            variant=args.variant,
+            fields=fields,
+            bounds=bounds,
+            sizes=sizes,
+            seed=args.seed,
+            train_seed=args.train_seed,
+            heldout_seed=args.heldout_seed,
+            sigma0=args.sigma0,
+            backend=args.backend,
+            workers=args.workers,
+            address=args.address,
+            progress=not args.quiet,
+            log=lambda line: print(line, flush=True),
+        )
     except (ValueError, ray_backend.RayMissingError, ray_backend.RayStartError, optimize.CmaMissingError) as e:
         raise UsageError(str(e)) from None
     except RuntimeError as e:

@@ -13,10 +13,19 @@ from neurowalk.cli.common import UsageError, check_engine, engine_args, out_file
 def add_tool_parsers(sub: argparse._SubParsersAction) -> None:
     """The `calibrate`, `bench`, `arenas` and `export-model` subcommands."""
     c = sub.add_parser("calibrate", help="measure a physics body for its planar surrogate (writes a JSON file)")
-    c.add_argument("--body", default="amosii", help="physics body: {calibrated_bodies} (default amosii, for the body "
-                   "surrogate; wheeled: for surrogate-wheeled)")  # fmt: skip
-    c.add_argument("--out", type=Path, default=None, help="file to write (default out/calibration/ and the name of "
-                   "the shipped file: calibration.json, calibration-wheeled.json)")  # fmt: skip
+    c.add_argument(
+        "--body",
+        default="amosii",
+        help="physics body: {calibrated_bodies} (default amosii, for the body "
+        "surrogate; wheeled: for surrogate-wheeled)",
+    )
+    c.add_argument(
+        "--out",
+        type=Path,
+        default=None,
+        help="file to write (default out/calibration/ and the name of "
+        "the shipped file: calibration.json, calibration-wheeled.json)",
+    )
     c.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     c.add_argument("--quick", action="store_true", help="coarse grid (for a smoke test; not for shipping)")
 
@@ -51,8 +60,11 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
         except (KeyboardInterrupt, Exception) as e:  # while it measured (what it wrote after is answered inside)
             if not interrupted(e):
                 raise
-            print("neurowalk: calibrate interrupted before its measurement ended; nothing written (run it again: a "
-                  "calibration keeps no part of its measurement)", file=sys.stderr)  # fmt: skip
+            print(
+                "neurowalk: calibrate interrupted before its measurement ended; nothing written (run it again: a "
+                "calibration keeps no part of its measurement)",
+                file=sys.stderr,
+            )
             return 130
 
 
@@ -87,14 +99,18 @@ def _calibrate(args: argparse.Namespace) -> int:
             written.append(png)
     except KeyboardInterrupt:
         missing = "" if png in written else ", without its plot"
-        print(f"neurowalk: calibrate interrupted as it ended: wrote {', '.join(map(str, written))}{missing}",
-              file=sys.stderr)  # fmt: skip
+        print(
+            f"neurowalk: calibrate interrupted as it ended: wrote {', '.join(map(str, written))}{missing}",
+            file=sys.stderr,
+        )
         return 130
     v = cal.meta["validation"]
-    print(f"calibration of {sub.surrogate} on {args.body}: lag {cal.tau_s} s + {cal.delay_steps} steps, "
-          f"start-up {cal.startup_steps} steps; "
-          f"held-out error max {v['speed_error_max']:.2%} (speed), {v['yaw_rate_error_max']:.2%} (turning); "
-          f"wrote {args.out}, {png}")  # fmt: skip
+    print(
+        f"calibration of {sub.surrogate} on {args.body}: lag {cal.tau_s} s + {cal.delay_steps} steps, "
+        f"start-up {cal.startup_steps} steps; "
+        f"held-out error max {v['speed_error_max']:.2%} (speed), {v['yaw_rate_error_max']:.2%} (turning); "
+        f"wrote {args.out}, {png}"
+    )
     return 0
 
 
@@ -116,16 +132,22 @@ def cmd_bench(args: argparse.Namespace) -> int:
     r = run_bench(quick=args.quick, workers=args.workers, engine=args.engine, device=args.device, worlds=worlds)
     write_json(args.out / "bench.json", r)
     b = r["batch_physics"]["speedup_vs_single_loop"]
-    line = (f"physics {r['physics']['control_steps_per_s']:.0f} control steps/s, closed loop / bare mj_step "
-            f"{r['closed_loop_vs_bare']['ratio_closed_loop_over_bare']:.2f}; "
-            f"mujoco.batch speed-up {', '.join(f'{k} {v:.2f}x' for k, v in b.items())}")  # fmt: skip
+    line = (
+        f"physics {r['physics']['control_steps_per_s']:.0f} control steps/s, closed loop / bare mj_step "
+        f"{r['closed_loop_vs_bare']['ratio_closed_loop_over_bare']:.2f}; "
+        f"mujoco.batch speed-up {', '.join(f'{k} {v:.2f}x' for k, v in b.items())}"
+    )
     if "surrogate" in r:
-        line += (f"; surrogate {r['surrogate']['env_steps_per_s_pool']:.3g} env steps/s "
-                 f"({r['surrogate_vs_physics']['pool']:.0f}x)")  # fmt: skip
+        line += (
+            f"; surrogate {r['surrogate']['env_steps_per_s_pool']:.3g} env steps/s "
+            f"({r['surrogate_vs_physics']['pool']:.0f}x)"
+        )
     if "warp" in r:
         w = r["warp"]
-        line += (f"; warp on {w['device_name']}: best {w['vs_cpu_loop']['best_control_steps_per_s']:.0f} control "
-                 f"steps/s ({w['vs_cpu_loop']['ratio']:.2f}x the CPU loop)")  # fmt: skip
+        line += (
+            f"; warp on {w['device_name']}: best {w['vs_cpu_loop']['best_control_steps_per_s']:.0f} control "
+            f"steps/s ({w['vs_cpu_loop']['ratio']:.2f}x the CPU loop)"
+        )
     if "table2_surrogate" in r:
         line += f"; Table 2 (50 environments, surrogate) {r['table2_surrogate']['wall_s']:.1f} s"
     print(f"{line}; wrote {args.out / 'bench.json'}")

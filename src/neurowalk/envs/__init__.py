@@ -22,11 +22,17 @@ def register_envs() -> None:
     from gymnasium.envs.registration import register, registry
 
     if "neurowalk/Explore-v0" not in registry:
-        register(id="neurowalk/Explore-v0", entry_point="neurowalk.envs.explore:ExploreEnv",
-                 vector_entry_point="neurowalk.envs.vector:ExploreVectorEnv")  # fmt: skip
+        register(
+            id="neurowalk/Explore-v0",
+            entry_point="neurowalk.envs.explore:ExploreEnv",
+            vector_entry_point="neurowalk.envs.vector:ExploreVectorEnv",
+        )
     if "neurowalk/ExplorePhysics-v0" not in registry:
-        register(id="neurowalk/ExplorePhysics-v0", entry_point="neurowalk.envs.physics:ExplorePhysicsEnv",
-                 vector_entry_point="neurowalk.envs.physics_vector:ExplorePhysicsVectorEnv")  # fmt: skip
+        register(
+            id="neurowalk/ExplorePhysics-v0",
+            entry_point="neurowalk.envs.physics:ExplorePhysicsEnv",
+            vector_entry_point="neurowalk.envs.physics_vector:ExplorePhysicsVectorEnv",
+        )
 
 
 register_envs()

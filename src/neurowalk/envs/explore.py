@@ -44,8 +44,14 @@ class ExploreEnv(ExploreTask):
         render_mode: None, ``"rgb_array"`` or ``"human"``.
     """
 
-    def __init__(self, arena: str | None = None, arena_opts: dict[str, Any] | None = None, max_steps: int = 2000,
-                 noise: float = 0.02, render_mode: str | None = None) -> None:  # fmt: skip
+    def __init__(
+        self,
+        arena: str | None = None,
+        arena_opts: dict[str, Any] | None = None,
+        max_steps: int = 2000,
+        noise: float = 0.02,
+        render_mode: str | None = None,
+    ) -> None:
         super().__init__(arena, arena_opts, max_steps, noise, render_mode)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float64)
         self._walker: Walker | None = None

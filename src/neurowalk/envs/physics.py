@@ -34,8 +34,15 @@ class ExplorePhysicsEnv(ExploreTask):
         action: ``"steering"`` (O1, O2) through the locomotion network, or ``"joints"`` (19 joint targets, rad).
     """
 
-    def __init__(self, arena: str | None = None, arena_opts: dict[str, Any] | None = None, max_steps: int = 2000,
-                 noise: float = 0.02, render_mode: str | None = None, action: str = "steering") -> None:  # fmt: skip
+    def __init__(
+        self,
+        arena: str | None = None,
+        arena_opts: dict[str, Any] | None = None,
+        max_steps: int = 2000,
+        noise: float = 0.02,
+        render_mode: str | None = None,
+        action: str = "steering",
+    ) -> None:
         if action not in ACTIONS:
             raise ValueError(f"unknown action {action!r}; expected one of {', '.join(ACTIONS)}")
         super().__init__(arena, arena_opts, max_steps, noise, render_mode)

@@ -59,9 +59,16 @@ class ExplorePhysicsVectorEnv(VectorEnv):
 
     metadata: ClassVar[dict[str, Any]] = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": []}
 
-    def __init__(self, num_envs: int = 1, arena: str | None = None, arena_opts: dict[str, Any] | None = None,
-                 max_steps: int = 2000, noise: float = 0.02, action: str = "steering",
-                 nthread: int = 2) -> None:  # fmt: skip
+    def __init__(
+        self,
+        num_envs: int = 1,
+        arena: str | None = None,
+        arena_opts: dict[str, Any] | None = None,
+        max_steps: int = 2000,
+        noise: float = 0.02,
+        action: str = "steering",
+        nthread: int = 2,
+    ) -> None:
         from neurowalk.envs.physics import ExplorePhysicsEnv
 
         for name, value in (("num_envs", num_envs), ("nthread", nthread)):
@@ -114,8 +121,9 @@ class ExplorePhysicsVectorEnv(VectorEnv):
         self._extra: list[set[tuple[int, int]]] = [set() for _ in range(n)]  # visited cells off the grid
         self._ring = np.zeros((n, STUCK_WINDOW if self.max_steps + 1 >= STUCK_WINDOW else 0, 2))
 
-    def reset(self, *, seed: int | list[int] | None = None, options: dict[str, Any] | None = None
-              ) -> tuple[np.ndarray, dict[str, Any]]:  # fmt: skip
+    def reset(
+        self, *, seed: int | list[int] | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
         """Every copy anew: copy i from seed ``seed + i`` (or ``seed[i]``); None draws fresh seeds."""
         seeds = copy_seeds(self, seed)
         self._start(np.arange(self.num_envs), seeds)
@@ -132,8 +140,9 @@ class ExplorePhysicsVectorEnv(VectorEnv):
             raise ValueError(f"actions must have shape {shape}, got {a.shape}")
         i = first_bad_row(a, self._low, self._high)
         if i >= 0:
-            raise ValueError(f"actions must be finite numbers within the action space's bounds, got {a[i].tolist()!r}"
-                             f" (copy {i})")  # fmt: skip
+            raise ValueError(
+                f"actions must be finite numbers within the action space's bounds, got {a[i].tolist()!r} (copy {i})"
+            )
         if self.action_kind == "steering":
             self.controllers.outputs[:] = a  # the fixed copies' steering
             self._ctrl[:] = self.controllers.step(self._dist)
@@ -144,10 +153,32 @@ class ExplorePhysicsVectorEnv(VectorEnv):
         self.physics_s += time.perf_counter() - t0
         restart, live = (np.flatnonzero(self.done), np.flatnonzero(~self.done)) if self.done.any() else self._all
         self._sense(live)
-        count_cells(live, self.pose, self.origin, CELL, self.visited, self.free, self.covered, self.ks, self.reward,
-                    self._outside, self._ring, STUCK_RADIUS, self.stuck)  # fmt: skip
-        near_obstacles(live, self._geom_xpos, self._robot, self._robot_r, self._box_c, self._box_r, self._box_h,
-                       self._box_g, self._near)  # fmt: skip
+        count_cells(
+            live,
+            self.pose,
+            self.origin,
+            CELL,
+            self.visited,
+            self.free,
+            self.covered,
+            self.ks,
+            self.reward,
+            self._outside,
+            self._ring,
+            STUCK_RADIUS,
+            self.stuck,
+        )
+        near_obstacles(
+            live,
+            self._geom_xpos,
+            self._robot,
+            self._robot_r,
+            self._box_c,
+            self._box_r,
+            self._box_h,
+            self._box_g,
+            self._near,
+        )
         for i in live[self._near[live]]:  # only the copies within touching distance of a box
             self.contacts[i] += obstacle_contact(self.models[i], self.batch.get_data(int(i), self._data))
         for i in live[self._outside[live]]:  # off the coverage grid (an unbounded arena): a set, as the single env
@@ -210,9 +241,25 @@ class ExplorePhysicsVectorEnv(VectorEnv):
             for i in ids[self._drawn[ids] >= DRAW_BLOCK]:
                 self._draws[i] = self._rngs[i].uniform(-1.0, 1.0, (DRAW_BLOCK, self._n_noise))[:, :2]
                 self._drawn[i] = 0
-        physics_sense(ids, self._sensordata, self._us_adr, self._us_max, self._us_range, self._draws, self._drawn,
-                      self._noise_v, self._noisy, self._gain, self._tau, US_RANGE, self._xpos, self._xmat,
-                      self._trunk, self.obs, self.pose)  # fmt: skip
+        physics_sense(
+            ids,
+            self._sensordata,
+            self._us_adr,
+            self._us_max,
+            self._us_range,
+            self._draws,
+            self._drawn,
+            self._noise_v,
+            self._noisy,
+            self._gain,
+            self._tau,
+            US_RANGE,
+            self._xpos,
+            self._xmat,
+            self._trunk,
+            self.obs,
+            self.pose,
+        )
 
     def _grid(self, i: int, arena: ArenaSpec) -> None:
         """Copy i's coverage grid: origin, free cells (those of the single env's set), nothing visited.
@@ -250,5 +297,9 @@ class ExplorePhysicsVectorEnv(VectorEnv):
     def _info(self) -> dict[str, Any]:
         c, f = self.covered, self.free_count  # no free cells (an unbounded arena): NaN, as the single env
         coverage = c / f if f.all() else np.divide(c, f, out=np.full(f.shape, math.nan), where=f > 0)
-        return {"pose": self.pose.copy(), "coverage": coverage, "stuck": self.stuck.copy(),
-                "contacts": self.contacts.copy()}  # fmt: skip
+        return {
+            "pose": self.pose.copy(),
+            "coverage": coverage,
+            "stuck": self.stuck.copy(),
+            "contacts": self.contacts.copy(),
+        }

@@ -38,8 +38,15 @@ class NetworkPolicy:
     :meth:`reset`; do not mix the two between resets).
     """
 
-    def __init__(self, network: str = "plastic", *, variant: str = "paper", params: dict[str, float] | None = None,
-                 b0: float | None = None, q0: float | None = None) -> None:  # fmt: skip
+    def __init__(
+        self,
+        network: str = "plastic",
+        *,
+        variant: str = "paper",
+        params: dict[str, float] | None = None,
+        b0: float | None = None,
+        q0: float | None = None,
+    ) -> None:
         if network not in NETWORKS:
             raise ValueError(f"unknown network {network!r}; expected one of {', '.join(NETWORKS)}")
         self.network, self.variant = network, variant
@@ -72,8 +79,14 @@ class NetworkPolicy:
         return {"b": self.net.b.tolist(), "q": self.net.q.tolist()}
 
 
-def evaluate(policy: Callable[[np.ndarray], np.ndarray], seeds: Sequence[int], *, steps: int = 20_000,
-             env_kwargs: dict[str, Any] | None = None, progress: bool = False) -> dict[str, Any]:  # fmt: skip
+def evaluate(
+    policy: Callable[[np.ndarray], np.ndarray],
+    seeds: Sequence[int],
+    *,
+    steps: int = 20_000,
+    env_kwargs: dict[str, Any] | None = None,
+    progress: bool = False,
+) -> dict[str, Any]:
     """Run ``policy`` for ``steps`` control steps on ``neurowalk/Explore-v0`` reset with each seed; score it.
 
     Returns ``success`` (runs not stuck at the end: Table 2's rule, the last 3000 steps not within a 0.5 m disc),
@@ -99,8 +112,9 @@ def evaluate(policy: Callable[[np.ndarray], np.ndarray], seeds: Sequence[int], *
             obs, _, _, truncated, info = env.step(policy(obs))
         if bar is not None:
             bar.update(steps)
-        runs.append({"seed": int(seed), "stuck": info["stuck"], "coverage": info["coverage"],
-                     "contacts": info["contacts"]})  # fmt: skip
+        runs.append(
+            {"seed": int(seed), "stuck": info["stuck"], "coverage": info["coverage"], "contacts": info["contacts"]}
+        )
     if bar is not None:
         bar.close()
     return _score(runs, steps)
@@ -114,8 +128,14 @@ def _steps(states: np.ndarray, obs: np.ndarray, p: np.ndarray, out: np.ndarray) 
         out[i, 0], out[i, 1] = states[i, STEER], states[i, STEER + 1]
 
 
-def evaluate_batch(policy: Callable[[np.ndarray], np.ndarray], seeds: Sequence[int], *, steps: int = 20_000,
-                   env_kwargs: dict[str, Any] | None = None, progress: bool = False) -> dict[str, Any]:  # fmt: skip
+def evaluate_batch(
+    policy: Callable[[np.ndarray], np.ndarray],
+    seeds: Sequence[int],
+    *,
+    steps: int = 20_000,
+    env_kwargs: dict[str, Any] | None = None,
+    progress: bool = False,
+) -> dict[str, Any]:
     """:func:`evaluate` for a batched policy ((n, 2) readings in m -> (n, 2) steering), on the vectorised
     ``neurowalk/Explore-v0`` (copy i reset with ``seeds[i]``, all copies in one compiled step).
 
@@ -147,15 +167,29 @@ def evaluate_batch(policy: Callable[[np.ndarray], np.ndarray], seeds: Sequence[i
             bar.update(100 * n)
     if bar is not None:
         bar.close()
-    stuck = [steps + 1 >= STUCK_WINDOW and bool(within_disc(np.ascontiguousarray(window[:, i]), STUCK_RADIUS))
-             for i in range(n)]  # fmt: skip
-    runs = [{"seed": int(s), "stuck": stuck[i], "coverage": float(info["coverage"][i]),
-             "contacts": int(info["contacts"][i])} for i, s in enumerate(seeds)]  # fmt: skip
+    stuck = [
+        steps + 1 >= STUCK_WINDOW and bool(within_disc(np.ascontiguousarray(window[:, i]), STUCK_RADIUS))
+        for i in range(n)
+    ]
+    runs = [
+        {
+            "seed": int(s),
+            "stuck": stuck[i],
+            "coverage": float(info["coverage"][i]),
+            "contacts": int(info["contacts"][i]),
+        }
+        for i, s in enumerate(seeds)
+    ]
     return _score(runs, steps)
 
 
 def _score(runs: list[dict[str, Any]], steps: int) -> dict[str, Any]:
     success = sum(not r["stuck"] for r in runs)
-    return {"success": success, "environments": len(runs), "success_rate": success / len(runs), "steps": steps,
-            "rule": "not stuck at the end: the last 3000 control steps not within a disc of radius 0.5 m",
-            "runs": runs}  # fmt: skip
+    return {
+        "success": success,
+        "environments": len(runs),
+        "success_rate": success / len(runs),
+        "steps": steps,
+        "rule": "not stuck at the end: the last 3000 control steps not within a disc of radius 0.5 m",
+        "runs": runs,
+    }

@@ -28,8 +28,14 @@ class ExploreTask(gym.Env[np.ndarray, np.ndarray], abc.ABC):
 
     metadata: ClassVar[dict[str, Any]] = {"render_modes": ["rgb_array", "human"], "render_fps": 10}
 
-    def __init__(self, arena: str | None, arena_opts: dict[str, Any] | None, max_steps: int, noise: float,
-                 render_mode: str | None) -> None:  # fmt: skip
+    def __init__(
+        self,
+        arena: str | None,
+        arena_opts: dict[str, Any] | None,
+        max_steps: int,
+        noise: float,
+        render_mode: str | None,
+    ) -> None:
         if isinstance(max_steps, bool) or not isinstance(max_steps, int | np.integer) or max_steps < 1:
             raise ValueError(f"max_steps must be a whole number >= 1, got {max_steps!r}")
         if isinstance(noise, bool) or not isinstance(noise, int | float) or not 0 <= noise <= 1:
@@ -60,8 +66,9 @@ class ExploreTask(gym.Env[np.ndarray, np.ndarray], abc.ABC):
         """One control step with a checked ``action``; (readings (2,) m, pose (3,) after it)."""
 
     # -- Gymnasium -------------------------------------------------------------------------------------------------
-    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None
-              ) -> tuple[np.ndarray, dict[str, Any]]:  # fmt: skip
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
         """A new episode: a new environment (unless fixed) and the robot at its start, drawn from ``seed``."""
         super().reset(seed=seed)
         rng = self.np_random

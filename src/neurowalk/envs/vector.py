@@ -58,8 +58,14 @@ class ExploreVectorEnv(VectorEnv):
 
     metadata: ClassVar[dict[str, Any]] = {"autoreset_mode": AutoresetMode.NEXT_STEP, "render_modes": []}
 
-    def __init__(self, num_envs: int = 1, arena: str | None = None, arena_opts: dict[str, Any] | None = None,
-                 max_steps: int = 2000, noise: float = 0.02) -> None:  # fmt: skip
+    def __init__(
+        self,
+        num_envs: int = 1,
+        arena: str | None = None,
+        arena_opts: dict[str, Any] | None = None,
+        max_steps: int = 2000,
+        noise: float = 0.02,
+    ) -> None:
         from neurowalk.envs.explore import ExploreEnv
 
         if isinstance(num_envs, bool) or not isinstance(num_envs, int | np.integer) or num_envs < 1:
@@ -97,8 +103,9 @@ class ExploreVectorEnv(VectorEnv):
 
         self.scratch = np.zeros((numba.config.NUMBA_NUM_THREADS, self.motion.shape[2] + 4))
 
-    def reset(self, *, seed: int | list[int] | None = None, options: dict[str, Any] | None = None
-              ) -> tuple[np.ndarray, dict[str, Any]]:  # fmt: skip
+    def reset(
+        self, *, seed: int | list[int] | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[np.ndarray, dict[str, Any]]:
         """Every copy anew: copy i from seed ``seed + i`` (or ``seed[i]``); None draws fresh seeds."""
         seeds = copy_seeds(self, seed)
         for i, s in enumerate(seeds):
@@ -116,10 +123,38 @@ class ExploreVectorEnv(VectorEnv):
             raise ValueError(f"actions must be finite numbers in [-1, 1], got {bad.tolist()!r}")
         restart = np.flatnonzero(self.done)
         cal = self.cal
-        vector_step(self.ks, self.states, self.rings, a, self.boxes, self.nboxes, self.keys, cal.circles, cal.rays,
-                    cal.us_range, cal.grid, self.motion, cal.alpha(), cal.startup_steps, 1.0 / cal.control_hz,
-                    self.omega, cal.sway_phase, self.gain, NOISE_TAU, self.reach, self.origin, CELL, self.visited,
-                    self.free, self.covered, self.obs, self.reward, self.pose, self.contacts, self.scratch)  # fmt: skip
+        vector_step(
+            self.ks,
+            self.states,
+            self.rings,
+            a,
+            self.boxes,
+            self.nboxes,
+            self.keys,
+            cal.circles,
+            cal.rays,
+            cal.us_range,
+            cal.grid,
+            self.motion,
+            cal.alpha(),
+            cal.startup_steps,
+            1.0 / cal.control_hz,
+            self.omega,
+            cal.sway_phase,
+            self.gain,
+            NOISE_TAU,
+            self.reach,
+            self.origin,
+            CELL,
+            self.visited,
+            self.free,
+            self.covered,
+            self.obs,
+            self.reward,
+            self.pose,
+            self.contacts,
+            self.scratch,
+        )
         truncated = self.ks >= self.max_steps
         reward = self.reward.copy()
         for i in restart:  # next-step autoreset: this step starts their new episode
@@ -132,8 +167,9 @@ class ExploreVectorEnv(VectorEnv):
         """Copy i at the start of a new episode drawn from ``seed``; its first observation into ``obs[i]``."""
         rng = np.random.default_rng(seed)
         if self.arena_name is None:
-            arena = make_arena("random", rng=rng, n_boxes=int(rng.integers(BOXES[0], BOXES[1] + 1)), extent=EXTENT,
-                               size=SIZE)  # fmt: skip
+            arena = make_arena(
+                "random", rng=rng, n_boxes=int(rng.integers(BOXES[0], BOXES[1] + 1)), extent=EXTENT, size=SIZE
+            )
         else:
             arena = make_arena(self.arena_name, rng=rng, **self.arena_opts)
         self._layout(i, arena)
@@ -150,8 +186,19 @@ class ExploreVectorEnv(VectorEnv):
         self.covered[i] = int(self.free[i, c[0], c[1]])  # type: ignore[index]
         seen = np.zeros(2)
         noise = np.array([uniform(self.keys[i], 0), uniform(self.keys[i], 1)])
-        kern.sense(0, self.states[i], self.boxes[i, : self.nboxes[i]], cal.rays, cal.us_range, self.omega,
-                   cal.sway_phase, noise, self.gain, NOISE_TAU, seen)  # fmt: skip
+        kern.sense(
+            0,
+            self.states[i],
+            self.boxes[i, : self.nboxes[i]],
+            cal.rays,
+            cal.us_range,
+            self.omega,
+            cal.sway_phase,
+            noise,
+            self.gain,
+            NOISE_TAU,
+            seen,
+        )
         self.obs[i] = np.minimum(seen, cal.us_range)
 
     def _layout(self, i: int, arena: ArenaSpec) -> None:

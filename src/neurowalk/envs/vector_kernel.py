@@ -33,13 +33,37 @@ def uniform(key: np.uint64, counter: int) -> float:
 
 @jit_parallel
 def vector_step(
-    ks: np.ndarray, states: np.ndarray, rings: np.ndarray, actions: np.ndarray, boxes: np.ndarray,
-    nboxes: np.ndarray, keys: np.ndarray, circles: np.ndarray, rays: np.ndarray, us_range: float,
-    grid: np.ndarray, table: np.ndarray, alpha: float, startup: int, dt: float, omega: float, sway_phase: float,
-    noise_gain: float, noise_tau: float, reach: float, origin: np.ndarray, cell: float, visited: np.ndarray,
-    free: np.ndarray, covered: np.ndarray, obs: np.ndarray, reward: np.ndarray, pose: np.ndarray,
-    contacts: np.ndarray, scratch: np.ndarray,
-) -> None:  # fmt: skip
+    ks: np.ndarray,
+    states: np.ndarray,
+    rings: np.ndarray,
+    actions: np.ndarray,
+    boxes: np.ndarray,
+    nboxes: np.ndarray,
+    keys: np.ndarray,
+    circles: np.ndarray,
+    rays: np.ndarray,
+    us_range: float,
+    grid: np.ndarray,
+    table: np.ndarray,
+    alpha: float,
+    startup: int,
+    dt: float,
+    omega: float,
+    sway_phase: float,
+    noise_gain: float,
+    noise_tau: float,
+    reach: float,
+    origin: np.ndarray,
+    cell: float,
+    visited: np.ndarray,
+    free: np.ndarray,
+    covered: np.ndarray,
+    obs: np.ndarray,
+    reward: np.ndarray,
+    pose: np.ndarray,
+    contacts: np.ndarray,
+    scratch: np.ndarray,
+) -> None:
     """One control step of every copy i: act with ``actions[i]``, count the newly entered cell, sense.
 
     Shapes: ks (N,) steps taken; states (N, RUN_STATE); rings (N, delay + 1, channels); actions (N, 2);
@@ -55,8 +79,24 @@ def vector_step(
         cmd, noise, seen = work[:nc], work[nc : nc + 2], work[nc + 2 : nc + 4]
         b = boxes[i, : nboxes[i]]
         k = ks[i]
-        n, yaw = act(k, states[i], rings[i], actions[i, 0], actions[i, 1], cmd, grid, table, alpha, startup, dt,
-                     omega, sway_phase, circles, b, reach)  # fmt: skip
+        n, yaw = act(
+            k,
+            states[i],
+            rings[i],
+            actions[i, 0],
+            actions[i, 1],
+            cmd,
+            grid,
+            table,
+            alpha,
+            startup,
+            dt,
+            omega,
+            sway_phase,
+            circles,
+            b,
+            reach,
+        )
         contacts[i] += n
         k += 1
         ks[i] = k
@@ -76,8 +116,9 @@ def vector_step(
 
 
 @jit
-def free_mask(boxes: np.ndarray, nboxes: int, x0: float, y0: float, cell: float, nx: int, ny: int,
-              out: np.ndarray) -> None:  # fmt: skip
+def free_mask(
+    boxes: np.ndarray, nboxes: int, x0: float, y0: float, cell: float, nx: int, ny: int, out: np.ndarray
+) -> None:
     """``out[i, j]`` (bool): the centre of grid cell (i, j) (corner ``x0, y0``, side ``cell``) lies in no box.
 
     The test of :meth:`~neurowalk.arenas.spec.Box.contains` on the rows of
@@ -100,10 +141,25 @@ def free_mask(boxes: np.ndarray, nboxes: int, x0: float, y0: float, cell: float,
 
 
 @jit
-def physics_sense(ids: np.ndarray, sensordata: np.ndarray, us_adr: np.ndarray, us_max: float, us_range: float,
-                  draws: np.ndarray, drawn: np.ndarray, noise: np.ndarray, noisy: bool, gain: float, tau: float,
-                  obs_range: float, xpos: np.ndarray, xmat: np.ndarray, trunk: int, obs: np.ndarray,
-                  pose: np.ndarray) -> None:  # fmt: skip
+def physics_sense(
+    ids: np.ndarray,
+    sensordata: np.ndarray,
+    us_adr: np.ndarray,
+    us_max: float,
+    us_range: float,
+    draws: np.ndarray,
+    drawn: np.ndarray,
+    noise: np.ndarray,
+    noisy: bool,
+    gain: float,
+    tau: float,
+    obs_range: float,
+    xpos: np.ndarray,
+    xmat: np.ndarray,
+    trunk: int,
+    obs: np.ndarray,
+    pose: np.ndarray,
+) -> None:
     """Observation and trunk pose of copies ``ids`` after a physics step (``AmosII.observe``, ``trunk_pose``).
 
     Per copy: one step of the ultrasonic channels of its coloured noise (``noise`` (N, 2) += gain * u - tau *
@@ -133,9 +189,21 @@ def physics_sense(ids: np.ndarray, sensordata: np.ndarray, us_adr: np.ndarray, u
 
 
 @jit
-def count_cells(ids: np.ndarray, pose: np.ndarray, origin: np.ndarray, cell: float, visited: np.ndarray,
-                free: np.ndarray, covered: np.ndarray, ks: np.ndarray, reward: np.ndarray, outside: np.ndarray,
-                ring: np.ndarray, radius: float, stuck: np.ndarray) -> None:  # fmt: skip
+def count_cells(
+    ids: np.ndarray,
+    pose: np.ndarray,
+    origin: np.ndarray,
+    cell: float,
+    visited: np.ndarray,
+    free: np.ndarray,
+    covered: np.ndarray,
+    ks: np.ndarray,
+    reward: np.ndarray,
+    outside: np.ndarray,
+    ring: np.ndarray,
+    radius: float,
+    stuck: np.ndarray,
+) -> None:
     """One step's bookkeeping of copies ``ids`` at their new ``pose`` (N, 3): step count, reward, coverage, stuck.
 
     ``ks`` (N,) += 1; the grid cell (side ``cell`` m, corner ``origin`` (N, 2) m) of the trunk: if new in
@@ -183,9 +251,17 @@ def _ring_within(ring: np.ndarray, k: int, radius: float) -> bool:
 
 
 @jit
-def near_obstacles(ids: np.ndarray, geom_xpos: np.ndarray, robot: np.ndarray, robot_r: np.ndarray,
-                   centre: np.ndarray, frame: np.ndarray, half: np.ndarray, grow: np.ndarray,
-                   out: np.ndarray) -> None:  # fmt: skip
+def near_obstacles(
+    ids: np.ndarray,
+    geom_xpos: np.ndarray,
+    robot: np.ndarray,
+    robot_r: np.ndarray,
+    centre: np.ndarray,
+    frame: np.ndarray,
+    half: np.ndarray,
+    grow: np.ndarray,
+    out: np.ndarray,
+) -> None:
     """``out[i]`` (bool) for copies ``ids``: some robot geom's bounding sphere reaches some obstacle.
 
     ``geom_xpos`` (N, ngeom, 3) m; ``robot`` (N, R) the robot's geom ids, ``robot_r`` (N, R) their bounding radii
@@ -201,8 +277,9 @@ def near_obstacles(ids: np.ndarray, geom_xpos: np.ndarray, robot: np.ndarray, ro
         whole = 0.0  # radius (m) of a sphere around cx, cy, cz holding every robot geom's bounding sphere
         for b in range(robot.shape[1]):
             g = robot[i, b]
-            d = math.sqrt((geom_xpos[i, g, 0] - cx) ** 2 + (geom_xpos[i, g, 1] - cy) ** 2
-                          + (geom_xpos[i, g, 2] - cz) ** 2)  # fmt: skip
+            d = math.sqrt(
+                (geom_xpos[i, g, 0] - cx) ** 2 + (geom_xpos[i, g, 1] - cy) ** 2 + (geom_xpos[i, g, 2] - cz) ** 2
+            )
             whole = max(whole, d + robot_r[i, b])
         near = False
         for a in range(centre.shape[1]):
@@ -210,8 +287,15 @@ def near_obstacles(ids: np.ndarray, geom_xpos: np.ndarray, robot: np.ndarray, ro
                 continue
             for b in range(robot.shape[1]):
                 g = robot[i, b]
-                if _reaches(geom_xpos[i, g, 0], geom_xpos[i, g, 1], geom_xpos[i, g, 2], robot_r[i, b] + grow[i, a],
-                            centre[i, a], frame[i, a], half[i, a]):  # fmt: skip
+                if _reaches(
+                    geom_xpos[i, g, 0],
+                    geom_xpos[i, g, 1],
+                    geom_xpos[i, g, 2],
+                    robot_r[i, b] + grow[i, a],
+                    centre[i, a],
+                    frame[i, a],
+                    half[i, a],
+                ):
                     near = True
                     break
             if near:

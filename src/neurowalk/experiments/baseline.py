@@ -33,18 +33,47 @@ from neurowalk.fileio import atomic_write, write_json
 METHODS: tuple[str, ...] = ("neuroevo", "ppo", "rppo")
 NETWORKS: tuple[str, ...] = ("plastic", "plastic-original", "static", "braitenberg")  # NAME[-VARIANT]
 HELDOUT_BASE = 10**9  # reset seeds of the held-out environments: HELDOUT_BASE + i
-FULL = {"generations": 150, "population": 16, "envs": 8, "ppo_steps": 5_000_000, "rppo_steps": 2_000_000,
-        "eval_envs": 200, "eval_steps": 20_000, "episode_steps": 10_000}  # fmt: skip
-QUICK = {"generations": 3, "population": 6, "envs": 4, "ppo_steps": 4096, "rppo_steps": 2048, "eval_envs": 20,
-         "eval_steps": 3000, "episode_steps": 200}  # fmt: skip
-LABELS = {"plastic": "plastic (2 neurons)", "plastic-original": "plastic, authors' code",
-          "static": "static (2 neurons)",
-          "braitenberg": "Braitenberg", "neuroevo": "evolved RNN (CMA-ES)", "ppo": "PPO (MLP)",
-          "rppo": "recurrent PPO (LSTM)"}  # fmt: skip
+FULL = {
+    "generations": 150,
+    "population": 16,
+    "envs": 8,
+    "ppo_steps": 5_000_000,
+    "rppo_steps": 2_000_000,
+    "eval_envs": 200,
+    "eval_steps": 20_000,
+    "episode_steps": 10_000,
+}
+QUICK = {
+    "generations": 3,
+    "population": 6,
+    "envs": 4,
+    "ppo_steps": 4096,
+    "rppo_steps": 2048,
+    "eval_envs": 20,
+    "eval_steps": 3000,
+    "episode_steps": 200,
+}
+LABELS = {
+    "plastic": "plastic (2 neurons)",
+    "plastic-original": "plastic, authors' code",
+    "static": "static (2 neurons)",
+    "braitenberg": "Braitenberg",
+    "neuroevo": "evolved RNN (CMA-ES)",
+    "ppo": "PPO (MLP)",
+    "rppo": "recurrent PPO (LSTM)",
+}
 
 
-LIMITS = {"generations": 100_000, "population": 10_000, "envs": 100_000, "ppo_steps": 10**10, "rppo_steps": 10**10,
-          "eval_envs": 100_000, "eval_steps": 10**7, "episode_steps": 10**7}  # fmt: skip
+LIMITS = {
+    "generations": 100_000,
+    "population": 10_000,
+    "envs": 100_000,
+    "ppo_steps": 10**10,
+    "rppo_steps": 10**10,
+    "eval_envs": 100_000,
+    "eval_steps": 10**7,
+    "episode_steps": 10**7,
+}
 
 
 def sizes_of(quick: bool, overrides: dict[str, int]) -> dict[str, int]:
@@ -55,24 +84,41 @@ def sizes_of(quick: bool, overrides: dict[str, int]) -> dict[str, int]:
         if not low <= value <= LIMITS[key]:
             raise ValueError(f"--{key.replace('_', '-')} must be in [{low}, {LIMITS[key]:,}], got {value}")
     if sizes["generations"] * sizes["envs"] > 1_000_000:
-        raise ValueError(f"--generations x --envs must be <= 1,000,000 (the training seeds' range), got "
-                         f"{sizes['generations']} x {sizes['envs']}")  # fmt: skip
+        raise ValueError(
+            f"--generations x --envs must be <= 1,000,000 (the training seeds' range), got "
+            f"{sizes['generations']} x {sizes['envs']}"
+        )
     return sizes
 
 
-def train_method(method: str, folder: Path, sizes: dict[str, int], seed: int, progress: bool,
-                 log: Callable[[str], None]) -> dict[str, Any]:  # fmt: skip
+def train_method(
+    method: str, folder: Path, sizes: dict[str, int], seed: int, progress: bool, log: Callable[[str], None]
+) -> dict[str, Any]:
     """Train (or resume) one learned method; its record (budget, curve, weights or model path)."""
     if method == "neuroevo":
         from neurowalk.experiments import baseline_rnn
 
-        return baseline_rnn.train(folder, generations=sizes["generations"], population=sizes["population"],
-                                  envs=sizes["envs"], steps=sizes["episode_steps"], seed=seed, progress=progress,
-                                  log=log)  # fmt: skip
+        return baseline_rnn.train(
+            folder,
+            generations=sizes["generations"],
+            population=sizes["population"],
+            envs=sizes["envs"],
+            steps=sizes["episode_steps"],
+            seed=seed,
+            progress=progress,
+            log=log,
+        )
     from neurowalk.experiments import baseline_sb3
 
-    return baseline_sb3.train(method, folder, total_steps=sizes[f"{method}_steps"], steps=sizes["episode_steps"],
-                              seed=seed, progress=progress, log=log)  # fmt: skip
+    return baseline_sb3.train(
+        method,
+        folder,
+        total_steps=sizes[f"{method}_steps"],
+        steps=sizes["episode_steps"],
+        seed=seed,
+        progress=progress,
+        log=log,
+    )
 
 
 def policy_of(name: str, record: dict[str, Any] | None, folder: Path) -> Any:
@@ -114,8 +160,16 @@ def check_methods(methods: Sequence[str], *, available: bool = True) -> None:
             import_sb3(m)
 
 
-def run(out: Path, *, methods: Sequence[str] = METHODS, quick: bool = False, sizes: dict[str, int] | None = None,
-        seed: int = 0, progress: bool = True, log: Callable[[str], None] = print) -> dict[str, Any]:  # fmt: skip
+def run(
+    out: Path,
+    *,
+    methods: Sequence[str] = METHODS,
+    quick: bool = False,
+    sizes: dict[str, int] | None = None,
+    seed: int = 0,
+    progress: bool = True,
+    log: Callable[[str], None] = print,
+) -> dict[str, Any]:
     """Train the methods, score them and the networks, write DIR/baselines.{json,md,png}; the result."""
     from neurowalk.envs.policy import evaluate_batch
 
@@ -132,18 +186,30 @@ def run(out: Path, *, methods: Sequence[str] = METHODS, quick: bool = False, siz
         path = out / "eval" / f"{name}.json"
         settings = {"environments": sz["eval_envs"], "steps": sz["eval_steps"], "first_seed": HELDOUT_BASE}
         done = json.loads(path.read_text()) if path.is_file() else None
-        if done is None or done.get("settings") != settings or (name in records and done.get("trained") !=
-                                                                 records[name]["env_steps"]):  # fmt: skip
+        if (
+            done is None
+            or done.get("settings") != settings
+            or (name in records and done.get("trained") != records[name]["env_steps"])
+        ):
             log(f"scoring {name} on {len(seeds)} held-out environments, {sz['eval_steps']} steps each")
             policy = policy_of(name, records.get(name), out / "training" / name)
-            done = {"settings": settings, "trained": records.get(name, {}).get("env_steps"),
-                    **evaluate_batch(policy, seeds, steps=sz["eval_steps"], progress=progress)}  # fmt: skip
+            done = {
+                "settings": settings,
+                "trained": records.get(name, {}).get("env_steps"),
+                **evaluate_batch(policy, seeds, steps=sz["eval_steps"], progress=progress),
+            }
             path.parent.mkdir(parents=True, exist_ok=True)
             write_json(path, done)
         rows.append(row(name, done, records.get(name)))
-    result = {"sizes": sz, "seed": seed, "heldout_seeds": [seeds[0], seeds[-1]], "rows": rows,
-              "training": {m: {k: v for k, v in r.items() if k != "theta"} for m, r in records.items()},
-              "body": "surrogate", "variant": "paper, but plastic-original: original"}  # fmt: skip
+    result = {
+        "sizes": sz,
+        "seed": seed,
+        "heldout_seeds": [seeds[0], seeds[-1]],
+        "rows": rows,
+        "training": {m: {k: v for k, v in r.items() if k != "theta"} for m, r in records.items()},
+        "body": "surrogate",
+        "variant": "paper, but plastic-original: original",
+    }
     from neurowalk.runners.stopping import deferred
 
     with deferred():  # the table and its numbers agree
@@ -160,27 +226,45 @@ def row(name: str, ev: dict[str, Any], record: dict[str, Any] | None) -> dict[st
     hits = np.array([r["contacts"] for r in ev["runs"]], dtype=float)
     half = 1.959964 / math.sqrt(n)
     lo, hi = wilson(ok, n)
-    return {"name": name, "label": LABELS[name], "kind": "learned" if record else "network", "success": ok, "n": n,
-            "rate": ok / n, "ci95": [lo, hi], "coverage_mean": float(cov.mean()),
-            "coverage_ci95_half": float(half * cov.std(ddof=1)) if n > 1 else math.nan,
-            "contacts_mean": float(hits.mean()), "contacts_ci95_half": float(half * hits.std(ddof=1)) if n > 1
-            else math.nan, "train_env_steps": record["env_steps"] if record else None,
-            "train_wall_s": record["wall_s"] if record else None, "coverage": cov.tolist()}  # fmt: skip
+    return {
+        "name": name,
+        "label": LABELS[name],
+        "kind": "learned" if record else "network",
+        "success": ok,
+        "n": n,
+        "rate": ok / n,
+        "ci95": [lo, hi],
+        "coverage_mean": float(cov.mean()),
+        "coverage_ci95_half": float(half * cov.std(ddof=1)) if n > 1 else math.nan,
+        "contacts_mean": float(hits.mean()),
+        "contacts_ci95_half": float(half * hits.std(ddof=1)) if n > 1 else math.nan,
+        "train_env_steps": record["env_steps"] if record else None,
+        "train_wall_s": record["wall_s"] if record else None,
+        "coverage": cov.tolist(),
+    }
 
 
 def markdown(result: dict[str, Any]) -> str:
     """The table of :func:`run`'s result as Markdown."""
     sz = result["sizes"]
-    lines = [f"Held-out environments: {sz['eval_envs']} (reset seeds {result['heldout_seeds'][0]} to "
-             f"{result['heldout_seeds'][1]}), {sz['eval_steps']:,} control steps each, surrogate body.", "",
-             "| policy | success | rate (95% CI) | coverage (mean ± 95% CI) | collision overlaps per run | training |",
-             "|---|---|---|---|---|---|"]  # fmt: skip
+    lines = [
+        f"Held-out environments: {sz['eval_envs']} (reset seeds {result['heldout_seeds'][0]} to "
+        f"{result['heldout_seeds'][1]}), {sz['eval_steps']:,} control steps each, surrogate body.",
+        "",
+        "| policy | success | rate (95% CI) | coverage (mean ± 95% CI) | collision overlaps per run | training |",
+        "|---|---|---|---|---|---|",
+    ]
     for r in result["rows"]:
-        train = "none (fixed rule)" if r["kind"] == "network" else (
-            f"{r['train_env_steps']:,} env steps, {r['train_wall_s'] / 60:.1f} min")  # fmt: skip
-        lines.append(f"| {r['label']} | {r['success']}/{r['n']} | {r['rate']:.1%} ({r['ci95'][0]:.1%}-"
-                     f"{r['ci95'][1]:.1%}) | {r['coverage_mean']:.1%} ± {r['coverage_ci95_half']:.1%} | "
-                     f"{r['contacts_mean']:.0f} ± {r['contacts_ci95_half']:.0f} | {train} |")  # fmt: skip
+        train = (
+            "none (fixed rule)"
+            if r["kind"] == "network"
+            else (f"{r['train_env_steps']:,} env steps, {r['train_wall_s'] / 60:.1f} min")
+        )
+        lines.append(
+            f"| {r['label']} | {r['success']}/{r['n']} | {r['rate']:.1%} ({r['ci95'][0]:.1%}-"
+            f"{r['ci95'][1]:.1%}) | {r['coverage_mean']:.1%} ± {r['coverage_ci95_half']:.1%} | "
+            f"{r['contacts_mean']:.0f} ± {r['contacts_ci95_half']:.0f} | {train} |"
+        )
     return "\n".join(lines) + "\n"
 
 

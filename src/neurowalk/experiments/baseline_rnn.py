@@ -118,9 +118,20 @@ def episode_returns(theta: np.ndarray, seeds: list[int], steps: int, hidden: int
     return total.reshape(lam, m).mean(axis=1)
 
 
-def train(out: Path, *, generations: int = 300, population: int = 16, envs: int = 16, steps: int = 2000,
-          hidden: int = HIDDEN, sigma0: float = 0.5, seed: int = 0, train_seed: int = 0, progress: bool = True,
-          log: Callable[[str], None] = print) -> dict[str, Any]:  # fmt: skip
+def train(
+    out: Path,
+    *,
+    generations: int = 300,
+    population: int = 16,
+    envs: int = 16,
+    steps: int = 2000,
+    hidden: int = HIDDEN,
+    sigma0: float = 0.5,
+    seed: int = 0,
+    train_seed: int = 0,
+    progress: bool = True,
+    log: Callable[[str], None] = print,
+) -> dict[str, Any]:
     """CMA-ES over the network's weights (resumable from ``out/state.json``); returns the training record.
 
     Returns:
@@ -133,10 +144,19 @@ def train(out: Path, *, generations: int = 300, population: int = 16, envs: int 
     if min(generations, population, envs, steps) < 1 or population < 2:
         raise ValueError("generations, envs and steps must be >= 1 and population >= 2")
     if not 0 <= train_seed < 1000 or generations * envs > 1_000_000:
-        raise ValueError(f"train_seed must be in [0, 1000) and generations * envs <= 1,000,000 (seed range of a "
-                         f"training run), got {train_seed} and {generations * envs}")  # fmt: skip
-    settings = {"population": population, "envs": envs, "steps": steps, "hidden": hidden, "sigma0": sigma0,
-                "seed": seed, "train_seed": train_seed}  # fmt: skip
+        raise ValueError(
+            f"train_seed must be in [0, 1000) and generations * envs <= 1,000,000 (seed range of a "
+            f"training run), got {train_seed} and {generations * envs}"
+        )
+    settings = {
+        "population": population,
+        "envs": envs,
+        "steps": steps,
+        "hidden": hidden,
+        "sigma0": sigma0,
+        "seed": seed,
+        "train_seed": train_seed,
+    }
     Path(out).mkdir(parents=True, exist_ok=True)
     path = Path(out) / "state.json"
     cma_record.refuse_pickle(path.with_name("state.pkl"), "the neuroevolution state")
@@ -144,16 +164,26 @@ def train(out: Path, *, generations: int = 300, population: int = 16, envs: int 
     state = {"settings": settings, "curve": [], "rng": None, "wall_s": 0.0, "env_steps": 0, "generations": []}
     with own_rng(state):
         state["es"] = cma.CMAEvolutionStrategy(
-            np.zeros(n_weights(hidden)), sigma0,
-            {"seed": seed + 1, "randn": np.random.RandomState(seed + 1).randn, "popsize": population,
-             "verbose": -9, "verb_log": 0, "verb_disp": 0})  # fmt: skip
+            np.zeros(n_weights(hidden)),
+            sigma0,
+            {
+                "seed": seed + 1,
+                "randn": np.random.RandomState(seed + 1).randn,
+                "popsize": population,
+                "verbose": -9,
+                "verb_log": 0,
+                "verb_disp": 0,
+            },
+        )
     if saved is not None:
         try:
             gens = [(g["x"], g["scores"]) for g in saved["generations"]]
             state.update(curve=list(saved["curve"]), wall_s=float(saved["wall_s"]), env_steps=int(saved["env_steps"]))
         except (KeyError, TypeError, ValueError) as e:
-            raise ValueError(f"{str(path)!r} is not a readable neurowalk search record ({type(e).__name__}); remove "
-                             "it to start afresh") from None  # fmt: skip
+            raise ValueError(
+                f"{str(path)!r} is not a readable neurowalk search record ({type(e).__name__}); remove "
+                "it to start afresh"
+            ) from None
         cma_record.replay(state["es"], state, gens, path)
         state["generations"] = list(saved["generations"])
     es = state["es"]

@@ -45,9 +45,10 @@ def import_sb3(algo: str) -> Any:
 
         return RecurrentPPO
     except ImportError as e:
-        raise RlMissingError(f"{algo} needs the rl extra ({e.name} is missing): pip install 'neurowalk[rl]' (CPU "
-                             "torch first: pip install torch --index-url https://download.pytorch.org/whl/cpu)"
-                             ) from e  # fmt: skip
+        raise RlMissingError(
+            f"{algo} needs the rl extra ({e.name} is missing): pip install 'neurowalk[rl]' (CPU "
+            "torch first: pip install torch --index-url https://download.pytorch.org/whl/cpu)"
+        ) from e
 
 
 def make_vec_env(n_envs: int, steps: int, train_seed: int, first_round: int = 0) -> Any:
@@ -112,16 +113,40 @@ def make_vec_env(n_envs: int, steps: int, train_seed: int, first_round: int = 0)
 # stable-baselines3's defaults but for rollout sizes that fit 16 copies and a discount whose horizon (1000 steps,
 # 100 s) spans an escape from a corner (tens of seconds of walking at about 1.4 cm/s)
 HYPER: dict[str, dict[str, Any]] = {
-    "ppo": {"n_steps": 256, "batch_size": 512, "n_epochs": 10, "learning_rate": 3e-4, "gamma": 0.999,
-            "policy": "MlpPolicy", "policy_kwargs": {"net_arch": [64, 64]}},
-    "rppo": {"n_steps": 128, "batch_size": 512, "n_epochs": 10, "learning_rate": 3e-4, "gamma": 0.999,
-             "policy": "MlpLstmPolicy", "policy_kwargs": {"lstm_hidden_size": 32, "net_arch": [64]}},
-}  # fmt: skip
+    "ppo": {
+        "n_steps": 256,
+        "batch_size": 512,
+        "n_epochs": 10,
+        "learning_rate": 3e-4,
+        "gamma": 0.999,
+        "policy": "MlpPolicy",
+        "policy_kwargs": {"net_arch": [64, 64]},
+    },
+    "rppo": {
+        "n_steps": 128,
+        "batch_size": 512,
+        "n_epochs": 10,
+        "learning_rate": 3e-4,
+        "gamma": 0.999,
+        "policy": "MlpLstmPolicy",
+        "policy_kwargs": {"lstm_hidden_size": 32, "net_arch": [64]},
+    },
+}
 
 
-def train(algo: str, out: Path, *, total_steps: int, n_envs: int = 16, steps: int = 2000, seed: int = 0,
-          train_seed: int = 0, checkpoint_every: int = 100_000, progress: bool = True,
-          log: Callable[[str], None] = print) -> dict[str, Any]:  # fmt: skip
+def train(
+    algo: str,
+    out: Path,
+    *,
+    total_steps: int,
+    n_envs: int = 16,
+    steps: int = 2000,
+    seed: int = 0,
+    train_seed: int = 0,
+    checkpoint_every: int = 100_000,
+    progress: bool = True,
+    log: Callable[[str], None] = print,
+) -> dict[str, Any]:
     """Train ``algo`` for ``total_steps`` environment steps (resuming from ``out/model.zip``); the training record.
 
     Returns ``env_steps``, ``wall_s`` (summed over sessions), ``hyperparameters``, ``curve`` (mean episode
@@ -141,8 +166,10 @@ def train(algo: str, out: Path, *, total_steps: int, n_envs: int = 16, steps: in
         old = json.loads(prog_path.read_text())
         for key, value in settings.items():
             if old.get(key) != value:
-                raise ValueError(f"{str(out)!r} holds a {old.get('algo')} run with other settings ({key}: "
-                                 f"{old.get(key)!r}, asked {value!r}); use another output folder")  # fmt: skip
+                raise ValueError(
+                    f"{str(out)!r} holds a {old.get('algo')} run with other settings ({key}: "
+                    f"{old.get(key)!r}, asked {value!r}); use another output folder"
+                )
         record = old
     torch.manual_seed(seed)
     rounds = record["env_steps"] // (n_envs * steps)
@@ -182,8 +209,7 @@ def _callback(record: dict[str, Any], n_envs: int, total: int, progress: bool) -
             if progress:
                 from tqdm import tqdm
 
-                self.bar = tqdm(total=total, initial=record["env_steps"], unit="step", desc="training",
-                                mininterval=0.5)  # fmt: skip
+                self.bar = tqdm(total=total, initial=record["env_steps"], unit="step", desc="training", mininterval=0.5)
 
         def _on_step(self) -> bool:
             self.returns += self.locals["rewards"]

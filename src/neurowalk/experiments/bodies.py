@@ -31,7 +31,10 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 BODIES: dict[str, tuple[str, dict[str, float]]] = {
-    "amosii": ("amosii", {}), "wheeled": ("wheeled", {}), "wheeled x0.5": ("wheeled", {"scale": 0.5})}  # fmt: skip
+    "amosii": ("amosii", {}),
+    "wheeled": ("wheeled", {}),
+    "wheeled x0.5": ("wheeled", {"scale": 0.5}),
+}
 NETWORKS = ("plastic", "static", "braitenberg")
 DEAD_ENDS = ("simple-deadlock", "narrow-passage", "corner")
 
@@ -47,8 +50,9 @@ def _slower(steps: int, opts: dict[str, float]) -> int:
 
 
 @register("bodies", "the networks on other robots: dead ends and Table 2 on AMOSII and a wheeled robot at two sizes")
-def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None,
-        workers: int = 2) -> Result:  # fmt: skip
+def run(
+    *, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None, workers: int = 2
+) -> Result:
     """``seeds`` (default 10; 2 with ``quick``) runs per dead end and 5x as many Table 2 environments (default 50;
     quick: 3 environments of 1000 steps, dead ends of 600: a smoke test), per body and network, through the store in
     ``out``."""
@@ -62,10 +66,19 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
     n_env = 3 if quick and seeds is None else 5 * n
     dead_steps, t2_steps = (600, 1000) if quick else (TRAP_STEPS, STEPS)
     envs = environments(n_env, seed)
-    dead = {(b, net, a, s): _dead_end(a, net, body, opts, _slower(dead_steps, opts), seed + s)
-            for b, (body, opts) in BODIES.items() for net in NETWORKS for a in DEAD_ENDS for s in range(n)}  # fmt: skip
-    table = {(b, net, e["seed"]): {**spec(e, net, t2_steps, body), **({"body_opts": opts} if opts else {})}
-             for b, (body, opts) in BODIES.items() for net in NETWORKS for e in envs}  # fmt: skip
+    dead = {
+        (b, net, a, s): _dead_end(a, net, body, opts, _slower(dead_steps, opts), seed + s)
+        for b, (body, opts) in BODIES.items()
+        for net in NETWORKS
+        for a in DEAD_ENDS
+        for s in range(n)
+    }
+    table = {
+        (b, net, e["seed"]): {**spec(e, net, t2_steps, body), **({"body_opts": opts} if opts else {})}
+        for b, (body, opts) in BODIES.items()
+        for net in NETWORKS
+        for e in envs
+    }
     folder = Path(out) if out is not None else Path("out/bodies")
     res = run_store_paths(list(dead.values()), folder, workers)  # the dead ends with their paths (drawn)
     res.update(run_store(list(table.values()), folder, workers)[0])  # Table 2: outcomes only
@@ -75,20 +88,35 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
             escapes = {a: sum(res[spec_key(dead[(b, net, a, s)])]["escaped"] for s in range(n)) for a in DEAD_ENDS}
             t2 = [res[spec_key(table[(b, net, e["seed"])])] for e in envs]
             ok = sum(not r["trapped"] for r in t2)
-            rows.append({"body": b, "network": net, "dead_ends": escapes, "dead_end_runs": n, "table2_success": ok,
-                         "table2_environments": len(t2), "table2_rate": ok / len(t2),
-                         "table2_ci95": list(wilson(ok, len(t2))),
-                         "table2_median_coverage": float(np.median([r["coverage"] for r in t2]))})  # fmt: skip
+            rows.append(
+                {
+                    "body": b,
+                    "network": net,
+                    "dead_ends": escapes,
+                    "dead_end_runs": n,
+                    "table2_success": ok,
+                    "table2_environments": len(t2),
+                    "table2_rate": ok / len(t2),
+                    "table2_ci95": list(wilson(ok, len(t2))),
+                    "table2_median_coverage": float(np.median([r["coverage"] for r in t2])),
+                }
+            )
             for a in DEAD_ENDS:
                 paths[f"{b}|{net}|{a}"] = np.array(res[spec_key(dead[(b, net, a, 0)])]["path"])
-    summary = {"bodies": {b: {"body": body, "body_opts": opts} for b, (body, opts) in BODIES.items()},
-               "networks": list(NETWORKS), "variant": "paper", "dead_end_steps": dead_steps,
-               "dead_end_steps_by_body": {b: _slower(dead_steps, opts) for b, (_, opts) in BODIES.items()},
-               "table2_steps": t2_steps,
-               "table2_seed": seed, "interval": "Wilson score interval, 95%", "rows": rows,
-               "rule": "dead ends: escaped = left the trap's exit region; Table 2: success = not stuck over the "
-                       "last 300 s (3000 steps within a 0.5 m disc)",
-               "store": str(folder / "results.sqlite")}  # fmt: skip
+    summary = {
+        "bodies": {b: {"body": body, "body_opts": opts} for b, (body, opts) in BODIES.items()},
+        "networks": list(NETWORKS),
+        "variant": "paper",
+        "dead_end_steps": dead_steps,
+        "dead_end_steps_by_body": {b: _slower(dead_steps, opts) for b, (_, opts) in BODIES.items()},
+        "table2_steps": t2_steps,
+        "table2_seed": seed,
+        "interval": "Wilson score interval, 95%",
+        "rows": rows,
+        "rule": "dead ends: escaped = left the trap's exit region; Table 2: success = not stuck over the "
+        "last 300 s (3000 steps within a 0.5 m disc)",
+        "store": str(folder / "results.sqlite"),
+    }
     return Result("bodies", summary, arrays=paths)
 
 

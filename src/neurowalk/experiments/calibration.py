@@ -50,8 +50,24 @@ from neurowalk.experiments.calibration_fit import (
 )
 from neurowalk.neural.motor import LocomotionNetwork
 
-__all__ = ["GRID", "HELD_OUT", "SUBJECTS", "WARMUP", "WINDOW", "Subject", "body_velocity", "calibrate", "drive",
-           "fit_lag", "geometry", "plot_calibration", "predict", "subject", "sway_fit", "validation"]  # fmt: skip
+__all__ = [
+    "GRID",
+    "HELD_OUT",
+    "SUBJECTS",
+    "WARMUP",
+    "WINDOW",
+    "Subject",
+    "body_velocity",
+    "calibrate",
+    "drive",
+    "fit_lag",
+    "geometry",
+    "plot_calibration",
+    "predict",
+    "subject",
+    "sway_fit",
+    "validation",
+]
 
 GRID: tuple[float, ...] = (-1.0, -0.5, -0.3, -0.2, -0.1, 0.0, 0.1, 0.2, 0.3, 0.5, 1.0)
 HELD_OUT: tuple[float, ...] = (-0.75, -0.4, -0.15, -0.05, 0.05, 0.15, 0.4, 0.75)
@@ -99,16 +115,30 @@ class Subject:
 NO_SWAY_PERIOD = float(WINDOW)  # control steps: the stored period of a body without a gait (its amplitude is 0)
 SUBJECTS: dict[str, Subject] = {
     "amosii": Subject(
-        "amosii", "surrogate", "trunk", True, None, LAG_DELAYS, LAG_TAUS, 5,
+        "amosii",
+        "surrogate",
+        "trunk",
+        True,
+        None,
+        LAG_DELAYS,
+        LAG_TAUS,
+        5,
         "AMOSII (MuJoCo, open arena, no noise) driven by constant steering through the locomotion network; "
         f"velocity = mean body-frame velocity over {WINDOW} control steps (7 gait cycles) after {WARMUP} steps; "
         f"lag = delay + first-order lag fitted to {len(STEP_CHANGES)} step changes of the steering "
         f"({STEPS_AFTER} steps each; mean error {{lag:.3f}} m); start-up fitted on a forward run from reset; "
         "footprint and rays from the MJCF in the standing pose; yaw sway = sqrt(2) x std of the detrended yaw over "
-        "the same window, its period and phase fitted on the forward run."),
+        "the same window, its period and phase fitted on the forward run.",
+    ),
     "wheeled": Subject(
-        "wheeled", "surrogate-wheeled", CHASSIS_BODY, False, 0.04, tuple(range(9)),
-        (0.0, 0.05, 0.1, 0.2, 0.3, 0.5, 1.0, 2.0), 1,
+        "wheeled",
+        "surrogate-wheeled",
+        CHASSIS_BODY,
+        False,
+        0.04,
+        tuple(range(9)),
+        (0.0, 0.05, 0.1, 0.2, 0.3, 0.5, 1.0, 2.0),
+        1,
         "the wheeled robot (MuJoCo, scale 1, open arena, no noise) driven by constant steering applied to its "
         f"wheels directly (no locomotion network); velocity = mean body-frame velocity over {WINDOW} control steps "
         f"after {WARMUP} steps; lag = delay + first-order lag fitted to {len(STEP_CHANGES)} step changes of the "
@@ -116,8 +146,9 @@ SUBJECTS: dict[str, Subject] = {
         "reset; footprint from the MJCF at rest (the chassis box's outline in circles of 4 cm, the wheels' in "
         "circles of their half width, the casters), rays from its US_L and US_R sites; no gait, so no yaw sway: "
         f"amplitude 0 (the largest measured, sqrt(2) x std of the detrended yaw, is in sway_measured_max_rad), "
-        f"period {NO_SWAY_PERIOD:g} steps and phase 0 (unused)."),
-}  # fmt: skip
+        f"period {NO_SWAY_PERIOD:g} steps and phase 0 (unused).",
+    ),
+}
 
 
 def subject(body: str) -> Subject:
@@ -153,8 +184,9 @@ def _drive_const(args: tuple[float, float, int, str]) -> np.ndarray:
     return drive(np.tile([o1, o2], (steps, 1)), body)
 
 
-def steady_table(grid: Sequence[float], workers: int = 2, progress: bool = True,
-                 body: str = "amosii") -> tuple[np.ndarray, np.ndarray, np.ndarray]:  # fmt: skip
+def steady_table(
+    grid: Sequence[float], workers: int = 2, progress: bool = True, body: str = "amosii"
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Steady velocity (g, g, 3) and measured yaw sway amplitude (g, g) rad at ``grid`` pairs, and the forward
     run's poses (T, 3) (for the sway's period and phase)."""
     pairs = [(a, b) for a in grid for b in grid]
@@ -272,21 +304,29 @@ def surrogate_velocity(cal: Calibration, pairs: Sequence[tuple[float, float]]) -
     """Steady velocity (n, 3) of the surrogate at steering pairs, measured like the physics robot's."""
     out = []
     for a, b in pairs:
-        run = Surrogate(make_arena("open"), cal, noise=0.0).run(WARMUP + WINDOW, np.random.default_rng(0), None, None,
-                                                                  steer=(a, b))  # fmt: skip
+        run = Surrogate(make_arena("open"), cal, noise=0.0).run(
+            WARMUP + WINDOW, np.random.default_rng(0), None, None, steer=(a, b)
+        )
         out.append(body_velocity(run.pose[WARMUP:], cal.control_hz))
     return np.asarray(out)
 
 
-def validation(cal: Calibration, held_out: Sequence[float], workers: int, progress: bool,
-               body: str = "amosii") -> dict[str, Any]:  # fmt: skip
+def validation(
+    cal: Calibration, held_out: Sequence[float], workers: int, progress: bool, body: str = "amosii"
+) -> dict[str, Any]:
     """Surrogate against fresh runs of physics ``body`` at steering pairs between the grid points.
 
     Errors are relative to the full scale: the largest forward speed (m/s) and yaw rate (rad/s) over the grid.
     """
     pairs = [(a, b) for a in held_out for b in held_out]
-    phys = np.array([body_velocity(p[WARMUP:], CONTROL_HZ) for p in _map(
-        _drive_const, [(a, b, WARMUP + WINDOW, body) for a, b in pairs], workers, progress, "validation")])  # fmt: skip
+    phys = np.array(
+        [
+            body_velocity(p[WARMUP:], CONTROL_HZ)
+            for p in _map(
+                _drive_const, [(a, b, WARMUP + WINDOW, body) for a, b in pairs], workers, progress, "validation"
+            )
+        ]
+    )
     sur = surrogate_velocity(cal, pairs)
     speed = np.hypot(phys[:, 0], phys[:, 1]), np.hypot(sur[:, 0], sur[:, 1])
     full_v = float(np.max(np.hypot(cal.velocity[..., 0], cal.velocity[..., 1])))
@@ -305,8 +345,14 @@ def validation(cal: Calibration, held_out: Sequence[float], workers: int, progre
     }
 
 
-def calibrate(grid: Sequence[float] = GRID, held_out: Sequence[float] = HELD_OUT, *, workers: int = 2,
-              progress: bool = True, body: str = "amosii") -> Calibration:  # fmt: skip
+def calibrate(
+    grid: Sequence[float] = GRID,
+    held_out: Sequence[float] = HELD_OUT,
+    *,
+    workers: int = 2,
+    progress: bool = True,
+    body: str = "amosii",
+) -> Calibration:
     """Run every measurement on physics ``body`` (``amosii`` or ``wheeled``, see :data:`SUBJECTS`) and return the
     calibration of its surrogate (with its validation in ``meta``); ``grid`` must hold -1 (the forward run).
 
@@ -370,15 +416,17 @@ def plot_calibration(cal: Calibration) -> Any:
         phys, sur = np.asarray(v["physics"]), np.asarray(v["surrogate"])
         fs = v["full_scale"]
         ax[2].plot(phys[:, 0] / fs["speed_m_s"], sur[:, 0] / fs["speed_m_s"], "o", label="forward speed")
-        ax[2].plot(phys[:, 2] / fs["yaw_rate_rad_s"], sur[:, 2] / fs["yaw_rate_rad_s"], "s", mfc="none",
-                   label="yaw rate")  # fmt: skip
+        ax[2].plot(
+            phys[:, 2] / fs["yaw_rate_rad_s"], sur[:, 2] / fs["yaw_rate_rad_s"], "s", mfc="none", label="yaw rate"
+        )
         ax[2].plot([-1, 1], [-1, 1], "k-", lw=0.8)
         ax[2].set_xlabel("physics (fraction of full scale)")
         ax[2].set_ylabel("surrogate")
         ax[2].set_title(f"held-out pairs: max error {max(v['speed_error_max'], v['yaw_rate_error_max']):.1%}")
         ax[2].legend(fontsize=8)
     name = cal.meta.get("surrogate", "surrogate")
-    fig.suptitle(f"{name} calibration: lag {cal.tau_s:g} s + {cal.delay_steps} steps, "
-                 f"start-up {cal.startup_steps} steps")  # fmt: skip
+    fig.suptitle(
+        f"{name} calibration: lag {cal.tau_s:g} s + {cal.delay_steps} steps, start-up {cal.startup_steps} steps"
+    )
     fig.tight_layout()
     return fig

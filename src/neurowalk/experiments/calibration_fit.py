@@ -53,8 +53,9 @@ def sway_fit(residual: np.ndarray, first_step: int) -> tuple[float, float]:
     return best[1], float(np.angle(np.exp(1j * best[2])))
 
 
-def predict(pose0: np.ndarray, vel0: np.ndarray, commands: np.ndarray, delay: int, alpha: float,
-            dt: float) -> np.ndarray:  # fmt: skip
+def predict(
+    pose0: np.ndarray, vel0: np.ndarray, commands: np.ndarray, delay: int, alpha: float, dt: float
+) -> np.ndarray:
     """Poses (T, 3) of the surrogate's motion model from ``pose0`` and velocity ``vel0`` under commands (T, 3).
 
     ``delay``: control steps; ``alpha``: low-pass gain per step; ``dt``: control period (s).
@@ -76,8 +77,9 @@ def pose_error(pred: np.ndarray, meas: np.ndarray) -> float:
     return float(np.mean(dp + HEADING_WEIGHT_M * dh))
 
 
-def fit_lag(runs: list[StepRun], hz: float, delays: Sequence[int] = LAG_DELAYS,
-            taus: Sequence[float] = LAG_TAUS) -> tuple[int, float, float]:  # fmt: skip
+def fit_lag(
+    runs: list[StepRun], hz: float, delays: Sequence[int] = LAG_DELAYS, taus: Sequence[float] = LAG_TAUS
+) -> tuple[int, float, float]:
     """Best (delay steps, tau s, mean error m) over step-change runs, searched on the grid ``delays`` x ``taus``."""
     best = (0, 0.0, math.inf)
     for delay in delays:

@@ -31,24 +31,42 @@ VARIANTS: dict[str, dict[str, bool]] = {
     "reflexes only": {"reflexes": True, "backbone": False},
     "neither": {"reflexes": False, "backbone": False},
 }
-TRACK_RULE = (f"success: the trunk centre reaches the second platform (0.3 m past its edge) within {TRACK_STEPS} "
-              f"control steps, and never rises to a wall's top (max trunk z < 2 x step + {WALL_HEIGHT} m)")  # fmt: skip
-STEP_RULE = (f"climbed: the trunk centre gets 0.3 m onto the platform within {STEP_STEPS} control steps (steering "
-             f"fixed straight ahead); reliable: at least {RELIABLE:.0%} of the seeds at that height and every lower "
-             "one")  # fmt: skip
+TRACK_RULE = (
+    f"success: the trunk centre reaches the second platform (0.3 m past its edge) within {TRACK_STEPS} "
+    f"control steps, and never rises to a wall's top (max trunk z < 2 x step + {WALL_HEIGHT} m)"
+)
+STEP_RULE = (
+    f"climbed: the trunk centre gets 0.3 m onto the platform within {STEP_STEPS} control steps (steering "
+    f"fixed straight ahead); reliable: at least {RELIABLE:.0%} of the seeds at that height and every lower "
+    "one"
+)
 
 
 def track_spec(step: float, seed: int, steps: int = TRACK_STEPS, variant: str = "paper") -> dict[str, Any]:
     """Run spec of one climbing-track run (plastic network ``variant``, reflexes and backbone control)."""
-    out = {"arena": "climbing-track", "arena_opts": {"step": step}, "controller": "plastic", "steps": steps,
-           "seed": seed, "reflexes": True, "backbone": True}  # fmt: skip
+    out = {
+        "arena": "climbing-track",
+        "arena_opts": {"step": step},
+        "controller": "plastic",
+        "steps": steps,
+        "seed": seed,
+        "reflexes": True,
+        "backbone": True,
+    }
     return {**out, "variant": variant} if variant != "paper" else out
 
 
 def step_spec(height: float, variant: str, seed: int, steps: int = STEP_STEPS) -> dict[str, Any]:
     """Run spec of one single-step run of an ablation ``variant`` (a key of :data:`VARIANTS`)."""
-    return {"arena": "steps", "arena_opts": {"height": height}, "controller": "fixed", "steer": [-1.0, -1.0],
-            "steps": steps, "seed": seed, **{k: v for k, v in VARIANTS[variant].items() if v}}  # fmt: skip
+    return {
+        "arena": "steps",
+        "arena_opts": {"height": height},
+        "controller": "fixed",
+        "steer": [-1.0, -1.0],
+        "steps": steps,
+        "seed": seed,
+        **{k: v for k, v in VARIANTS[variant].items() if v},
+    }
 
 
 def track_success(summary: dict[str, Any], step: float) -> bool:
@@ -71,8 +89,9 @@ def highest_reliable(rates: dict[float, float]) -> float | None:
     return best
 
 
-def run_store(specs: list[dict[str, Any]], folder: Path, workers: int, fn: Any = None,
-              name: str = "results.sqlite") -> tuple[dict[str, dict[str, Any]], Any]:  # fmt: skip
+def run_store(
+    specs: list[dict[str, Any]], folder: Path, workers: int, fn: Any = None, name: str = "results.sqlite"
+) -> tuple[dict[str, dict[str, Any]], Any]:
     """Run ``specs`` through the resumable store ``folder/name``; return (results by spec key, report).
 
     ``fn``: what runs one spec (default :func:`~neurowalk.runners.specs.run_spec`; a module-level function).

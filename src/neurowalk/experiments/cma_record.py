@@ -42,8 +42,10 @@ def own_rng(holder: dict[str, Any]) -> Iterator[None]:
 def refuse_pickle(path: Path, what: str) -> None:
     """ValueError if an older neurowalk's pickled state is at ``path``: it is never read (it could run code)."""
     if path.is_file():
-        raise ValueError(f"{str(path)!r} is {what} of an older neurowalk (a pickle, which neurowalk no longer reads: "
-                         "it could run code); remove it and run again")  # fmt: skip
+        raise ValueError(
+            f"{str(path)!r} is {what} of an older neurowalk (a pickle, which neurowalk no longer reads: "
+            "it could run code); remove it and run again"
+        )
 
 
 def read(path: Path, settings: dict[str, Any]) -> dict[str, Any] | None:
@@ -66,8 +68,10 @@ def read(path: Path, settings: dict[str, Any]) -> dict[str, Any] | None:
         raise ValueError(f"{bad} (bad header); remove it to start the search afresh")
     for key, value in settings.items():
         if old.get(key) != json.loads(json.dumps(plain(value))):
-            raise ValueError(f"{str(path.parent)!r} holds a search with other settings ({key}: {old.get(key)!r}, "
-                             f"asked {value!r}); use another output folder")  # fmt: skip
+            raise ValueError(
+                f"{str(path.parent)!r} holds a search with other settings ({key}: {old.get(key)!r}, "
+                f"asked {value!r}); use another output folder"
+            )
     return saved
 
 
@@ -77,8 +81,9 @@ def write(path: Path, record: dict[str, Any]) -> None:
     atomic_write(path, lambda tmp: Path(tmp).write_text(text + "\n"))
 
 
-def replay(es: Any, holder: dict[str, Any], generations: Iterable[tuple[Sequence[Any], Sequence[float]]],
-           path: Path) -> None:  # fmt: skip
+def replay(
+    es: Any, holder: dict[str, Any], generations: Iterable[tuple[Sequence[Any], Sequence[float]]], path: Path
+) -> None:
     """Tell ``es`` the recorded generations (candidates, scores), checking that it draws those candidates.
 
     Raises:
@@ -93,8 +98,9 @@ def replay(es: Any, holder: dict[str, Any], generations: Iterable[tuple[Sequence
                     raise ValueError("its candidates are not those this seed draws")
                 es.tell(drawn, [float(s) for s in scores])
     except (ValueError, KeyError, TypeError, IndexError) as e:
-        raise ValueError(f"{str(path)!r} is not a readable neurowalk search record ({e}); remove it to start "
-                         "the search afresh") from None  # fmt: skip
+        raise ValueError(
+            f"{str(path)!r} is not a readable neurowalk search record ({e}); remove it to start the search afresh"
+        ) from None
 
 
 def plain(x: Any) -> Any:

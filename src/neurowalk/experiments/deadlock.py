@@ -33,9 +33,12 @@ _NP = arena_options("narrow-passage")
 VARIANTS: dict[str, tuple[str, dict[str, float]]] = {
     "simple-deadlock": ("simple-deadlock", {}),
     "narrow-passage": ("narrow-passage", {}),
-    **{f"narrow-passage {k} {sign}20%": ("narrow-passage", {k: round(_NP[k] * f, 6)})
-       for k in ("gap", "funnel") for sign, f in (("-", 0.8), ("+", 1.2))},
-}  # fmt: skip
+    **{
+        f"narrow-passage {k} {sign}20%": ("narrow-passage", {k: round(_NP[k] * f, 6)})
+        for k in ("gap", "funnel")
+        for sign, f in (("-", 0.8), ("+", 1.2))
+    },
+}
 TRAP_STEPS = 5000  # control steps in a dead end (paper: 5000 time steps)
 LONG_STEPS, QUICK_LONG_STEPS = 30000, 10000  # control steps of the long runs in the original arenas
 TRACES = ("pose", "inputs", "outputs", "b", "q")
@@ -73,13 +76,15 @@ def _spec(cfg: EpisodeConfig) -> dict[str, Any]:
     return {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg)}
 
 
-def stored_runs(configs: list[EpisodeConfig], folder: Path | None, name: str, workers: int, progress: bool, desc: str,
-         traces: bool) -> list[dict[str, Any]]:  # fmt: skip
+def stored_runs(
+    configs: list[EpisodeConfig], folder: Path | None, name: str, workers: int, progress: bool, desc: str, traces: bool
+) -> list[dict[str, Any]]:
     """Outcomes (or, ``traces``, traces) of ``configs``: through the store ``folder/name`` (resumable), or, without a
     folder or on MuJoCo Warp (its runs are the worlds of one model), all at once."""
     if folder is None or any(c.engine == "warp" for c in configs):
-        return run_many(configs, workers=workers, progress=progress, keep=keep_traces if traces else keep_outcome,
-                        desc=desc)  # fmt: skip
+        return run_many(
+            configs, workers=workers, progress=progress, keep=keep_traces if traces else keep_outcome, desc=desc
+        )
     from neurowalk.experiments.climbing import run_store
     from neurowalk.runners.specs import spec_key
 
@@ -87,8 +92,10 @@ def stored_runs(configs: list[EpisodeConfig], folder: Path | None, name: str, wo
     results, _ = run_store(specs, folder, workers, fn=traces_of if traces else outcome_of, name=name)
     want = "pose" if traces else "direction_switches"
     if any(want not in r for r in results.values()):
-        raise RuntimeError(f"{folder / name} holds other runs than this figure's (another figure's or sweep's "
-                           "store); use a fresh output folder")  # fmt: skip
+        raise RuntimeError(
+            f"{folder / name} holds other runs than this figure's (another figure's or sweep's "
+            "store); use a fresh output folder"
+        )
     out = [results[spec_key(s)] for s in specs]
     if traces:
         out = [{**r, **{k: np.asarray(r[k], dtype=float) for k in TRACES}} for r in out]
@@ -99,15 +106,28 @@ def keep_outcome(ep: Episode) -> dict[str, Any]:
     """Outcome of a dead-end run: escaped, trapped, direction switches, turning episodes."""
     tr = ep.trajectory
     eps = metrics.avoidance_episodes(tr.outputs, tr.pose)
-    return {"escaped": ep.summary["escaped"], "trapped": ep.summary["trapped"],
-            "direction_switches": metrics.direction_switches(tr.outputs),
-            "max_turn_deg": max((abs(e["turn_deg"]) for e in eps), default=0.0)}  # fmt: skip
+    return {
+        "escaped": ep.summary["escaped"],
+        "trapped": ep.summary["trapped"],
+        "direction_switches": metrics.direction_switches(tr.outputs),
+        "max_turn_deg": max((abs(e["turn_deg"]) for e in eps), default=0.0),
+    }
 
 
-def outcome_table(seeds: int, *, first_seed: int = 0, variants: dict | None = None, workers: int = 2,
-                  progress: bool = True, body: str = "amosii", climbing: bool = False,
-                  variant: str = "paper", gait: str = "wave", engine: str = "mujoco",
-                  folder: Path | None = None) -> dict:  # fmt: skip
+def outcome_table(
+    seeds: int,
+    *,
+    first_seed: int = 0,
+    variants: dict | None = None,
+    workers: int = 2,
+    progress: bool = True,
+    body: str = "amosii",
+    climbing: bool = False,
+    variant: str = "paper",
+    gait: str = "wave",
+    engine: str = "mujoco",
+    folder: Path | None = None,
+) -> dict:
     """Escape counts per variant and network over seeds ``first_seed`` ... ``first_seed + seeds - 1``.
 
     ``climbing``: run with the leg reflexes and backbone control switched on. ``variant``: the networks'
@@ -123,9 +143,21 @@ def outcome_table(seeds: int, *, first_seed: int = 0, variants: dict | None = No
         for nname, net in NETWORKS.items():
             for seed in range(first_seed, first_seed + seeds):
                 keys.append((vname, nname))
-                configs.append(EpisodeConfig(arena=arena, arena_opts=opts, steps=TRAP_STEPS, seed=seed, body=body,
-                                             reflexes=climbing, backbone=climbing, variant=variant, gait=gait,
-                                             engine=engine, **net))  # fmt: skip
+                configs.append(
+                    EpisodeConfig(
+                        arena=arena,
+                        arena_opts=opts,
+                        steps=TRAP_STEPS,
+                        seed=seed,
+                        body=body,
+                        reflexes=climbing,
+                        backbone=climbing,
+                        variant=variant,
+                        gait=gait,
+                        engine=engine,
+                        **net,
+                    )
+                )
     results = stored_runs(configs, folder, "results.sqlite", workers, progress, f"dead ends ({body})", traces=False)
     table: dict[str, dict[str, dict[str, Any]]] = {}
     runs = []
@@ -140,38 +172,86 @@ def outcome_table(seeds: int, *, first_seed: int = 0, variants: dict | None = No
         for cell in row.values():
             cell["median_direction_switches"] = float(np.median(cell.pop("switches")))
     described = {k: {"arena": a, "options": o} for k, (a, o) in variants.items()}
-    return {"seeds": seeds, "first_seed": first_seed, "steps": TRAP_STEPS, "body": body, "climbing": climbing,
-            "variants": described, "network_variant": variant, "gait": gait, "engine": engine,
-            "counts": table, "runs": runs,
-            "rule": "escaped: the trunk centre reached the exit region behind the trap's mouth within the steps; "
-                    "trapped: the last 3000 steps stayed within a disc of radius 0.5 m"}  # fmt: skip
+    return {
+        "seeds": seeds,
+        "first_seed": first_seed,
+        "steps": TRAP_STEPS,
+        "body": body,
+        "climbing": climbing,
+        "variants": described,
+        "network_variant": variant,
+        "gait": gait,
+        "engine": engine,
+        "counts": table,
+        "runs": runs,
+        "rule": "escaped: the trunk centre reached the exit region behind the trap's mouth within the steps; "
+        "trapped: the last 3000 steps stayed within a disc of radius 0.5 m",
+    }
 
 
-def example_and_long_runs(network: str, long_runs: dict[str, dict[str, Any]], long_steps: int, *, seed: int = 0,
-                          workers: int = 2, progress: bool = True,
-                          climbing: bool = False, variant: str = "paper", gait: str = "wave",
-                          engine: str = "mujoco", folder: Path | None = None) -> dict[str, dict[str, Any]]:  # fmt: skip
+def example_and_long_runs(
+    network: str,
+    long_runs: dict[str, dict[str, Any]],
+    long_steps: int,
+    *,
+    seed: int = 0,
+    workers: int = 2,
+    progress: bool = True,
+    climbing: bool = False,
+    variant: str = "paper",
+    gait: str = "wave",
+    engine: str = "mujoco",
+    folder: Path | None = None,
+) -> dict[str, dict[str, Any]]:
     """Traces of ``network`` in both dead ends, and the long runs {name: config kwargs}, all with ``seed``.
 
     ``climbing``: leg reflexes and backbone control on; the original arenas' boxes are then raised to
     :data:`~neurowalk.arenas.spec.WALL_HEIGHT` (their 0.10 m boxes would be climbable steps). ``folder``: the runs
     go through the resumable store ``folder/traces.sqlite``.
     """
-    net = {**NETWORKS[network], "reflexes": climbing, "backbone": climbing, "variant": variant, "gait": gait,
-           "engine": engine}  # fmt: skip
-    runs = {"simple-deadlock": EpisodeConfig(arena="simple-deadlock", steps=TRAP_STEPS, seed=seed, **net),
-            "narrow-passage": EpisodeConfig(arena="narrow-passage", steps=TRAP_STEPS, seed=seed, **net)}  # fmt: skip
+    net = {
+        **NETWORKS[network],
+        "reflexes": climbing,
+        "backbone": climbing,
+        "variant": variant,
+        "gait": gait,
+        "engine": engine,
+    }
+    runs = {
+        "simple-deadlock": EpisodeConfig(arena="simple-deadlock", steps=TRAP_STEPS, seed=seed, **net),
+        "narrow-passage": EpisodeConfig(arena="narrow-passage", steps=TRAP_STEPS, seed=seed, **net),
+    }
     for k, v in long_runs.items():
         opts = {"height": WALL_HEIGHT} if climbing else {}
-        runs[k] = EpisodeConfig(steps=long_steps, seed=seed, arena_opts=opts, reflexes=climbing, backbone=climbing,
-                                variant=variant, gait=gait, engine=engine, **v)  # fmt: skip
+        runs[k] = EpisodeConfig(
+            steps=long_steps,
+            seed=seed,
+            arena_opts=opts,
+            reflexes=climbing,
+            backbone=climbing,
+            variant=variant,
+            gait=gait,
+            engine=engine,
+            **v,
+        )
     out = stored_runs(list(runs.values()), folder, "traces.sqlite", workers, progress, "example runs", traces=True)
     return dict(zip(runs, out, strict=True))
 
 
-def build(name: str, network: str, long_runs: dict, *, quick: bool, seed: int, seeds: int | None,
-          climbing: bool = False, variant: str = "paper", gait: str = "wave",
-          engine: str = "mujoco", out: Path | None = None) -> Result:  # fmt: skip
+def build(
+    name: str,
+    network: str,
+    long_runs: dict,
+    *,
+    quick: bool,
+    seed: int,
+    seeds: int | None,
+    climbing: bool = False,
+    variant: str = "paper",
+    gait: str = "wave",
+    engine: str = "mujoco",
+    out: Path | None = None,
+) -> Result:
     """Shared by Fig. 3 and Fig. 5: outcome table, example runs, long runs (``climbing``: modules of Fig. 10 on).
 
     ``variant``: every network runs as this variant (``paper`` or ``original``). ``engine``: mujoco or warp.
@@ -185,23 +265,45 @@ def build(name: str, network: str, long_runs: dict, *, quick: bool, seed: int, s
         raise ValueError(f"seeds must be >= 1, got {n_seeds}")
     long_steps = QUICK_LONG_STEPS if quick else LONG_STEPS
     with store_folder(out) as folder:
-        table = outcome_table(n_seeds, first_seed=seed, climbing=climbing, variant=variant, gait=gait, engine=engine,
-                              folder=folder)  # fmt: skip
-        runs = example_and_long_runs(network, long_runs, long_steps, seed=seed, climbing=climbing, variant=variant,
-                                     gait=gait, engine=engine, folder=folder)  # fmt: skip
+        table = outcome_table(
+            n_seeds, first_seed=seed, climbing=climbing, variant=variant, gait=gait, engine=engine, folder=folder
+        )
+        runs = example_and_long_runs(
+            network,
+            long_runs,
+            long_steps,
+            seed=seed,
+            climbing=climbing,
+            variant=variant,
+            gait=gait,
+            engine=engine,
+            folder=folder,
+        )
     arrays = {f"{k}/{field}": v[field] for k, v in runs.items() for field in TRACES}
-    summary = {"network": network, "variant": variant, "gait": gait, "engine": engine, "seed": seed,
-               "climbing": climbing, "table": table,
-               "long_steps": long_steps,
-               "runs": {k: v["summary"] for k, v in runs.items()},
-               "wedged": wedged_counts({k: runs[k]["summary"] for k in long_runs})}  # fmt: skip
+    summary = {
+        "network": network,
+        "variant": variant,
+        "gait": gait,
+        "engine": engine,
+        "seed": seed,
+        "climbing": climbing,
+        "table": table,
+        "long_steps": long_steps,
+        "runs": {k: v["summary"] for k, v in runs.items()},
+        "wedged": wedged_counts({k: runs[k]["summary"] for k in long_runs}),
+    }
     return Result(name, summary, arrays)
 
 
 def wedged_counts(summaries: dict[str, dict[str, Any]]) -> dict[str, dict[str, Any]]:
     """Per long run: number of wedged periods, the longest (s), counts by cause, and time wedged in all (s)."""
-    return {k: {"periods": s["wedged_periods"], "longest_s": s["longest_wedged_s"], "causes": s["wedged_causes"],
-                "total_s": float(sum(p["duration_s"] for p in s["wedged"])),
-                "rule": f"trunk centre within {metrics.WEDGE_RADIUS} m of its mean for more than "
-                        f"{metrics.WEDGE_MIN_S:g} s"}
-            for k, s in summaries.items()}  # fmt: skip
+    return {
+        k: {
+            "periods": s["wedged_periods"],
+            "longest_s": s["longest_wedged_s"],
+            "causes": s["wedged_causes"],
+            "total_s": float(sum(p["duration_s"] for p in s["wedged"])),
+            "rule": f"trunk centre within {metrics.WEDGE_RADIUS} m of its mean for more than {metrics.WEDGE_MIN_S:g} s",
+        }
+        for k, s in summaries.items()
+    }

@@ -33,13 +33,24 @@ def draw_wedged(ax: Axes, periods: list[dict]) -> None:
     for p in periods:
         (x, y), r = p["centre"], max(p.get("extent_m", 0.3), 0.3)
         ax.add_patch(Circle((x, y), r, fill=False, ec="k", lw=1.2, ls="--", zorder=6))
-        spots = [((x, y + r), "center", "bottom"), ((x, y - r), "center", "top"), ((x + r, y), "left", "center"),
-                 ((x - r, y), "right", "center")]  # fmt: skip
+        spots = [
+            ((x, y + r), "center", "bottom"),
+            ((x, y - r), "center", "top"),
+            ((x + r, y), "left", "center"),
+            ((x - r, y), "right", "center"),
+        ]
         clear = [s for s in spots if all(abs(s[0][0] - u) > 0.6 or abs(s[0][1] - v) > 0.35 for u, v in placed)]
         (lx, ly), ha, va = (clear or spots)[0]
         placed.append((lx, ly))
-        ax.annotate(f"{p['duration_s']:.0f} s", (lx, ly), ha=ha, va=va, fontsize=7, zorder=7,
-                    bbox={"boxstyle": "round,pad=0.15", "fc": "w", "ec": "none", "alpha": 0.8})  # fmt: skip
+        ax.annotate(
+            f"{p['duration_s']:.0f} s",
+            (lx, ly),
+            ha=ha,
+            va=va,
+            fontsize=7,
+            zorder=7,
+            bbox={"boxstyle": "round,pad=0.15", "fc": "w", "ec": "none", "alpha": 0.8},
+        )
 
 
 def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool = False) -> Figure:
@@ -75,10 +86,18 @@ def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool
     ax.set_yticks(list(ticks), list(ticks.values()), fontsize=7)
     ax.set(xlabel="time (s)", title="C  narrow passage: inputs I (top), outputs O, weights w = b, c (bottom)")
     ax.legend(loc="upper right", ncol=7, fontsize=7)
-    _io_loop(fig.add_subplot(gs[1, 0]), a["narrow-passage/inputs"][:, 0], a["narrow-passage/outputs"][:, 0],
-             "D  left: I1 vs O1 (time: blue → red)")  # fmt: skip
-    _io_loop(fig.add_subplot(gs[1, 1]), a["narrow-passage/inputs"][:, 1], a["narrow-passage/outputs"][:, 1],
-             "E  right: I2 vs O2")  # fmt: skip
+    _io_loop(
+        fig.add_subplot(gs[1, 0]),
+        a["narrow-passage/inputs"][:, 0],
+        a["narrow-passage/outputs"][:, 0],
+        "D  left: I1 vs O1 (time: blue → red)",
+    )
+    _io_loop(
+        fig.add_subplot(gs[1, 1]),
+        a["narrow-passage/inputs"][:, 1],
+        a["narrow-passage/outputs"][:, 1],
+        "E  right: I2 vs O2",
+    )
     for j, key in enumerate(long_keys[:2]):
         ax = fig.add_subplot(gs[1, 2 + j])
         r = runs[key]
@@ -95,16 +114,21 @@ def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool
         draw_wedged(ax, r.get("wedged", []))
         cov = r["coverage"]
         wedged = f"\nwedged {r['wedged_periods']}x (longest {r['longest_wedged_s']:.0f} s)" if "wedged" in r else ""
-        ax.set_title(f"{'FG'[j]}  {key}: {r['steps']} steps, {'trapped' if r['trapped'] else 'not trapped'}, "
-                     f"coverage {cov:.0%}{wedged}", fontsize=9)  # fmt: skip
+        ax.set_title(
+            f"{'FG'[j]}  {key}: {r['steps']} steps, {'trapped' if r['trapped'] else 'not trapped'}, "
+            f"coverage {cov:.0%}{wedged}",
+            fontsize=9,
+        )
     counts = s["table"]["counts"]
     lines = ["escaped / runs (seeds " + str(s["table"]["seeds"]) + ", 5000 steps):"]
     for v, row in counts.items():
         lines.append(f"{v}: " + ", ".join(f"{n} {c['escaped']}/{c['runs']}" for n, c in row.items()))
     for k, w in s.get("wedged", {}).items():
         causes = ", ".join(f"{c} {n}" for c, n in w["causes"].items()) or "none"
-        lines.append(f"{k}: wedged {w['periods']}x, longest {w['longest_s']:.0f} s, in all {w['total_s']:.0f} s "
-                     f"({causes}; dashed circles)")  # fmt: skip
+        lines.append(
+            f"{k}: wedged {w['periods']}x, longest {w['longest_s']:.0f} s, in all {w['total_s']:.0f} s "
+            f"({causes}; dashed circles)"
+        )
     ax = fig.add_subplot(gs[2, :])
     ax.axis("off")
     ax.text(0, 1, "\n".join(lines), fontsize=8, family="monospace", va="top", transform=ax.transAxes)

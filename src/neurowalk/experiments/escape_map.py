@@ -32,8 +32,17 @@ QUICK_SIZES = 3  # sizes per sweep with --quick (first, middle, last)
 
 
 @register(NAME, "escape rate against trap size for all three networks")
-def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, climbing: bool = False,
-        variant: str = "paper", gait: str = "wave", out: Path | None = None, workers: int = 2) -> Result:  # fmt: skip
+def run(
+    *,
+    quick: bool = False,
+    seed: int = 0,
+    seeds: int | None = None,
+    climbing: bool = False,
+    variant: str = "paper",
+    gait: str = "wave",
+    out: Path | None = None,
+    workers: int = 2,
+) -> Result:
     """Every sweep x network x size x seed; ``seeds`` default 5 (2 with ``quick``); ``climbing``: Fig. 10 modules on.
 
     ``variant``: the networks' variant (``paper`` or ``original``). ``out``: the folder of the resumable result store
@@ -54,9 +63,19 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, climbin
             for net in NETWORKS:
                 for s in range(seed, seed + n):
                     keys.append((label, size, net))
-                    configs.append(EpisodeConfig(arena=arena, arena_opts={opt: size}, controller=net, steps=TRAP_STEPS,
-                                                 seed=s, reflexes=climbing, backbone=climbing,
-                                                 variant=variant, gait=gait))  # fmt: skip
+                    configs.append(
+                        EpisodeConfig(
+                            arena=arena,
+                            arena_opts={opt: size},
+                            controller=net,
+                            steps=TRAP_STEPS,
+                            seed=s,
+                            reflexes=climbing,
+                            backbone=climbing,
+                            variant=variant,
+                            gait=gait,
+                        )
+                    )
     with store_folder(out) as folder:
         results = stored_runs(configs, folder, "results.sqlite", workers, True, "escape map", traces=False)
     counts: dict = {}
@@ -64,11 +83,17 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, climbin
         c = counts.setdefault(label, {}).setdefault(net, {}).setdefault(str(size), {"runs": 0, "escaped": 0})
         c["runs"] += 1
         c["escaped"] += int(bool(r["escaped"]))
-    summary = {"seeds": n, "first_seed": seed, "climbing": climbing, "variant": variant, "gait": gait,
-               "steps": TRAP_STEPS,
-               "sweeps": sweeps,
-               "counts": counts,
-               "rule": "escape rate = runs that reached the exit region behind the trap's mouth / runs"}  # fmt: skip
+    summary = {
+        "seeds": n,
+        "first_seed": seed,
+        "climbing": climbing,
+        "variant": variant,
+        "gait": gait,
+        "steps": TRAP_STEPS,
+        "sweeps": sweeps,
+        "counts": counts,
+        "rule": "escape rate = runs that reached the exit region behind the trap's mouth / runs",
+    }
     return Result(NAME, summary, {})
 
 
@@ -87,7 +112,11 @@ def plot(res: Result) -> Figure:
             marker, line = styles[i % len(styles)]
             # equal rates would hide each other: each network drawn 1.5% above the previous one
             ax.plot(sw["sizes"], rate + 0.015 * (i - 1), marker=marker, ls=line, color=f"C{i}", label=net, alpha=0.85)
-        ax.set(xlabel=label, ylabel="escape rate (networks offset by 0.015)", ylim=(-0.06, 1.06),
-               title=f"{label.split(' (')[0]}: {s['seeds']} seeds per size")  # fmt: skip
+        ax.set(
+            xlabel=label,
+            ylabel="escape rate (networks offset by 0.015)",
+            ylim=(-0.06, 1.06),
+            title=f"{label.split(' (')[0]}: {s['seeds']} seeds per size",
+        )
         ax.legend(fontsize=8)
     return fig

@@ -45,8 +45,15 @@ def key_moments(bj_command: np.ndarray, outputs: np.ndarray, lean: float = 0.26)
 
 
 @register("fig10", "climbing track: climb a step, avoid a wall, climb a second step (paper Fig. 10)")
-def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None,
-        workers: int = 2, variant: str = "paper") -> Result:  # fmt: skip
+def run(
+    *,
+    quick: bool = False,
+    seed: int = 0,
+    seeds: int | None = None,
+    out: Path | None = None,
+    workers: int = 2,
+    variant: str = "paper",
+) -> Result:
     """The example run (step 0.06 m, ``seed``) and the outcome table over ``seeds`` seeds per step height.
 
     ``variant``: the plastic network's variant (``paper`` by default).
@@ -74,16 +81,36 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
         runs = [results[spec_key(track_spec(h, seed + k, variant=variant))] for k in range(n)]
         ok = [track_success(r, h) for r in runs]
         done = [r["exit_step"] for r in runs if r["exit_step"] is not None]
-        table[f"{h:.2f}"] = {"seeds": n, "success": int(sum(ok)), "runs": [
-            {"seed": seed + k, "success": bool(o), "exit_step": r["exit_step"], "max_z_m": r["max_z_m"]}
-            for k, (o, r) in enumerate(zip(ok, runs, strict=True))],
-            "median_exit_step": float(np.median(done)) if done else None}  # fmt: skip
-    summary = {"step_m": step, "seed": seed, "steps": TRACK_STEPS, "variant": variant, "rule": TRACK_RULE,
-               "moments": moments,
-               "example": {k: ep.summary[k] for k in ("exit_step", "max_z_m", "final_z_m", "final_pose")},
-               "table": table, "arena": ep.arena.options}  # fmt: skip
-    arrays = {"t": tr.t, "pose": tr.pose, "z": z, "bj_command": tr.targets[:, -1], "bj_angle": tr.joint_angles[:, -1],
-              "foot_contact": tr.foot_contact, "outputs": tr.outputs, "frames": frames}  # fmt: skip
+        table[f"{h:.2f}"] = {
+            "seeds": n,
+            "success": int(sum(ok)),
+            "runs": [
+                {"seed": seed + k, "success": bool(o), "exit_step": r["exit_step"], "max_z_m": r["max_z_m"]}
+                for k, (o, r) in enumerate(zip(ok, runs, strict=True))
+            ],
+            "median_exit_step": float(np.median(done)) if done else None,
+        }
+    summary = {
+        "step_m": step,
+        "seed": seed,
+        "steps": TRACK_STEPS,
+        "variant": variant,
+        "rule": TRACK_RULE,
+        "moments": moments,
+        "example": {k: ep.summary[k] for k in ("exit_step", "max_z_m", "final_z_m", "final_pose")},
+        "table": table,
+        "arena": ep.arena.options,
+    }
+    arrays = {
+        "t": tr.t,
+        "pose": tr.pose,
+        "z": z,
+        "bj_command": tr.targets[:, -1],
+        "bj_angle": tr.joint_angles[:, -1],
+        "foot_contact": tr.foot_contact,
+        "outputs": tr.outputs,
+        "frames": frames,
+    }
     return Result("fig10", summary, arrays)
 
 
@@ -126,8 +153,9 @@ def plot(res: Result) -> Figure:
     ax.set(ylabel="backbone angle (deg, + up)", title="backbone joint")
     ax.legend(fontsize=8)
     ax = fig.add_subplot(grid[1, :2])
-    ax.imshow(a["foot_contact"].T > 0.5, aspect="auto", interpolation="nearest", cmap="Greys",
-              extent=(t[0], t[-1], 5.5, -0.5))  # fmt: skip
+    ax.imshow(
+        a["foot_contact"].T > 0.5, aspect="auto", interpolation="nearest", cmap="Greys", extent=(t[0], t[-1], 5.5, -0.5)
+    )
     ax.set(yticks=range(6), yticklabels=anatomy.LEGS, xlabel="time (s)", title="foot contacts (black = down)")
     ax = fig.add_subplot(grid[1, 2:])
     ax.plot(t, a["outputs"][:, 0], label="O1 (left)")

@@ -35,8 +35,12 @@ LOOPS = ((2.4, -3.5), (2.0, -3.0), (4.63, -7.04))  # (b, c) of panel E
 
 
 def _thresholds(loop: object) -> dict:
-    return {"switch_on": loop.switch_on, "switch_off": loop.switch_off,  # type: ignore[attr-defined]
-            "width": loop.width, "latched": loop.switch_on is not None and loop.switch_off is None}  # type: ignore[attr-defined]  # fmt: skip
+    return {
+        "switch_on": loop.switch_on,
+        "switch_off": loop.switch_off,  # type: ignore[attr-defined]
+        "width": loop.width,
+        "latched": loop.switch_on is not None and loop.switch_off is None,
+    }  # type: ignore[attr-defined]
 
 
 @register(NAME, "fixed points and hysteresis of the sensory network")
@@ -49,22 +53,35 @@ def run(*, quick: bool = False, seed: int = 0) -> Result:
     for b in b_grid:
         loop = hysteresis_loop(float(b), 0.0, single=True, n_levels=n_levels)
         th = single_neuron_thresholds(float(b))
-        single.append({"b": float(b), **_thresholds(loop),
-                       "switch_on_analytic": th[0] if th else None,
-                       "switch_off_analytic": th[1] if th else None,
-                       "width_analytic": (th[0] - th[1]) if th else 0.0})  # fmt: skip
+        single.append(
+            {
+                "b": float(b),
+                **_thresholds(loop),
+                "switch_on_analytic": th[0] if th else None,
+                "switch_off_analytic": th[1] if th else None,
+                "width_analytic": (th[0] - th[1]) if th else 0.0,
+            }
+        )
     for i, b in enumerate(PANEL_B):
         branch_i, branch_o, stable = single_neuron_branches(b)
         loop = hysteresis_loop(b, 0.0, single=True, n_levels=n_levels)
-        arrays.update({f"n{i}_branch_i": branch_i, f"n{i}_branch_o": branch_o, f"n{i}_stable": stable,
-                       f"n{i}_levels": loop.levels, f"n{i}_out": loop.outputs[:, 0]})  # fmt: skip
+        arrays.update(
+            {
+                f"n{i}_branch_i": branch_i,
+                f"n{i}_branch_o": branch_o,
+                f"n{i}_stable": stable,
+                f"n{i}_levels": loop.levels,
+                f"n{i}_out": loop.outputs[:, 0],
+            }
+        )
     two = []
     for i, (b, c) in enumerate(LOOPS):
         loop = hysteresis_loop(b, c, n_levels=n_levels)
         arrays[f"e{i}_levels"], arrays[f"e{i}_out"] = loop.levels, loop.outputs
         two.append({"b": b, "c": c, **_thresholds(loop)})
-    two_vs_b = [{"b": float(b), "c": -3.5, **_thresholds(hysteresis_loop(float(b), -3.5, n_levels=n_levels))}
-                for b in b_grid]  # fmt: skip
+    two_vs_b = [
+        {"b": float(b), "c": -3.5, **_thresholds(hysteresis_loop(float(b), -3.5, n_levels=n_levels))} for b in b_grid
+    ]
     mb = np.linspace(0.0, 5.0, 11 if quick else 26)
     mc = np.linspace(-8.0, 0.0, 9 if quick else 33)
     arrays.update(map_b=mb, map_c=mc, map_width=hysteresis_width_map(mb, mc, n_levels=n_levels))
@@ -119,8 +136,11 @@ def plot(res: Result) -> Figure:
     ax.plot(b, w, "ko", ms=4, label="one neuron, measured")
     ax.plot(b, w2, "C0s-", ms=4, label="two neurons, c = -3.5")
     ax.axhline(2.0, color="gray", lw=0.6, ls=":")
-    ax.set(xlabel="self connection b", ylabel="hysteresis width (input units)",
-           title="F  hysteresis width grows with b (gaps: latched or never switched)")  # fmt: skip
+    ax.set(
+        xlabel="self connection b",
+        ylabel="hysteresis width (input units)",
+        title="F  hysteresis width grows with b (gaps: latched or never switched)",
+    )
     ax.legend(fontsize=8)
     ax = fig.add_subplot(gs[1, 2:4])
     wm = np.ma.masked_invalid(a["map_width"])

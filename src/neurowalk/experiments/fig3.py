@@ -20,8 +20,10 @@ if TYPE_CHECKING:
 
 NAME = "fig3"
 NETWORK = "static"
-LONG = {"cluttered (static)": {"arena": "cluttered", "controller": "static"},
-        "difficult (static)": {"arena": "difficult", "controller": "static"}}  # fmt: skip
+LONG = {
+    "cluttered (static)": {"arena": "cluttered", "controller": "static"},
+    "difficult (static)": {"arena": "difficult", "controller": "static"},
+}
 
 
 @register(NAME, "static network: dead ends, hysteresis, cluttered and difficult arenas")

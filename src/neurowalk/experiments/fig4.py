@@ -54,8 +54,9 @@ def obstacle_episodes(n_steps: int, rng: np.random.Generator) -> tuple[np.ndarra
 
 
 @register(NAME, "weight changes for constant and changing inputs")
-def run(*, quick: bool = False, seed: int = 0, variant: str = "paper", params: dict[str, float] | None = None
-        ) -> Result:  # fmt: skip
+def run(
+    *, quick: bool = False, seed: int = 0, variant: str = "paper", params: dict[str, float] | None = None
+) -> Result:
     """Compute both panels. ``quick`` shortens panel B; ``variant``/``params``: the network (default Eq. 1-6)."""
     from neurowalk.neural.variants import get_variant
 
@@ -69,12 +70,18 @@ def run(*, quick: bool = False, seed: int = 0, variant: str = "paper", params: d
     for i, (b0, q0) in enumerate((PAPER_START, *OTHER_STARTS)):
         tr = simulate(const, b0=b0, q0=q0, params=p)
         arrays[f"a{i}_b"], arrays[f"a{i}_q"] = tr.b, tr.q
-        converged.append({
-            "b0": b0, "q0": q0,
-            "b1": tr.b[-1, 0], "q1": tr.q[-1, 0], "b2": tr.b[-1, 1], "q2": tr.q[-1, 1],
-            "b1_rel_error": abs(tr.b[-1, 0] - b_star) / b_star,
-            "q1_rel_error": abs(tr.q[-1, 0] - q_star) / q_star,
-        })  # fmt: skip
+        converged.append(
+            {
+                "b0": b0,
+                "q0": q0,
+                "b1": tr.b[-1, 0],
+                "q1": tr.q[-1, 0],
+                "b2": tr.b[-1, 1],
+                "q2": tr.q[-1, 1],
+                "b1_rel_error": abs(tr.b[-1, 0] - b_star) / b_star,
+                "q1_rel_error": abs(tr.q[-1, 0] - q_star) / q_star,
+            }
+        )
 
     rng = np.random.default_rng(seed)
     steps_b = 3000 if quick else 8000
@@ -87,16 +94,25 @@ def run(*, quick: bool = False, seed: int = 0, variant: str = "paper", params: d
     decay = float(np.mean(-db[~reflex][db[~reflex] < 0])) if np.any(db[~reflex] < 0) else 0.0
     summary = {
         "fixed_points": {"b": b_star, "q": q_star, "rule": "sqrt(mu/(gamma*(1-k)))"},
-        "panel_a": {"inputs": [1.0, -1.0], "steps": steps_a, "starts": converged,
-                    "max_b1_rel_error": max(c["b1_rel_error"] for c in converged),
-                    "max_q1_rel_error": max(c["q1_rel_error"] for c in converged)},
-        "panel_b": {"steps": steps_b, "seed": seed, "start": {"b": PAPER_START[0], "q": PAPER_START[1]},
-                    "episodes": episodes,
-                    "mean_db_per_step_reflex_on": growth, "mean_decay_per_step_reflex_off": decay,
-                    "growth_to_decay_ratio": growth / decay if decay > 0 else None},
+        "panel_a": {
+            "inputs": [1.0, -1.0],
+            "steps": steps_a,
+            "starts": converged,
+            "max_b1_rel_error": max(c["b1_rel_error"] for c in converged),
+            "max_q1_rel_error": max(c["q1_rel_error"] for c in converged),
+        },
+        "panel_b": {
+            "steps": steps_b,
+            "seed": seed,
+            "start": {"b": PAPER_START[0], "q": PAPER_START[1]},
+            "episodes": episodes,
+            "mean_db_per_step_reflex_on": growth,
+            "mean_decay_per_step_reflex_off": decay,
+            "growth_to_decay_ratio": growth / decay if decay > 0 else None,
+        },
         "params": vars(p),
         "variant": variant,
-    }  # fmt: skip
+    }
     return Result(NAME, summary, arrays)
 
 

@@ -22,9 +22,11 @@ if TYPE_CHECKING:
 
 NAME = "fig5"
 NETWORK = "plastic"
-LONG = {"difficult (plastic)": {"arena": "difficult", "controller": "plastic"},
-        "difficult (static)": {"arena": "difficult", "controller": "static"},
-        "difficult (braitenberg)": {"arena": "difficult", "controller": "braitenberg"}}  # fmt: skip
+LONG = {
+    "difficult (plastic)": {"arena": "difficult", "controller": "plastic"},
+    "difficult (static)": {"arena": "difficult", "controller": "static"},
+    "difficult (braitenberg)": {"arena": "difficult", "controller": "braitenberg"},
+}
 
 
 @register(NAME, "plastic network: dead ends, weight dynamics, the difficult arena")
@@ -62,12 +64,14 @@ def run(
     runs = res.summary["runs"]
     p, s = runs["difficult (plastic)"], runs["difficult (static)"]
     res.summary["difficult_comparison"] = {
-        "plastic_trapped": p["trapped"], "static_trapped": s["trapped"],
+        "plastic_trapped": p["trapped"],
+        "static_trapped": s["trapped"],
         "braitenberg_trapped": runs["difficult (braitenberg)"]["trapped"],
-        "plastic_coverage": p["coverage"], "static_coverage": s["coverage"],
+        "plastic_coverage": p["coverage"],
+        "static_coverage": s["coverage"],
         "braitenberg_coverage": runs["difficult (braitenberg)"]["coverage"],
         "plastic_covers_more": p["coverage"] > s["coverage"],
-    }  # fmt: skip
+    }
     return res
 
 

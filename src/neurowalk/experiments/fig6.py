@@ -27,8 +27,17 @@ def path_of(spec_: dict[str, Any]) -> dict[str, Any]:
 
 
 @register("fig6", "sixteen random environments: trajectories, start and end, failures marked (paper Fig. 6)")
-def run(*, quick: bool = False, seed: int = 0, body: str = "surrogate", workers: int = 2, size: float = SIZE,
-        variant: str = "paper", params: dict[str, float] | None = None, out: Path | None = None) -> Result:  # fmt: skip
+def run(
+    *,
+    quick: bool = False,
+    seed: int = 0,
+    body: str = "surrogate",
+    workers: int = 2,
+    size: float = SIZE,
+    variant: str = "paper",
+    params: dict[str, float] | None = None,
+    out: Path | None = None,
+) -> Result:
     """The plastic network (``variant``) in the first 16 environments of Table 2 (same seeds), whole paths.
 
     ``out``: the folder of the resumable result store (``results.sqlite``): a rerun goes on from the runs it holds.
@@ -42,15 +51,33 @@ def run(*, quick: bool = False, seed: int = 0, body: str = "surrogate", workers:
     with store_folder(out) as folder:
         stored, _ = run_store(specs, folder, workers, fn=path_of)
     if any("pose" not in r for r in stored.values()):
-        raise RuntimeError(f"{folder / 'results.sqlite'} holds other runs than fig6's (another figure's or sweep's "
-                           "store); use a fresh output folder")  # fmt: skip
+        raise RuntimeError(
+            f"{folder / 'results.sqlite'} holds other runs than fig6's (another figure's or sweep's "
+            "store); use a fresh output folder"
+        )
     runs = [{**stored[spec_key(s)], "pose": np.asarray(stored[spec_key(s)]["pose"], dtype=float)} for s in specs]
     arrays = {f"env{i}/pose": r["pose"] for i, r in enumerate(runs)}
-    rows = [{**e, "success": not r["summary"]["trapped"], "coverage": r["summary"]["coverage"],
-             "final_pose": r["summary"]["final_pose"]} for e, r in zip(envs, runs, strict=True)]  # fmt: skip
-    summary = {"body": body, "steps": steps, "seed": seed, "rule": RULE, "environments": rows, "variant": variant,
-               "params": params, "box_size_m": size,
-               "success": sum(r["success"] for r in rows), "pose_stride": 10}  # fmt: skip
+    rows = [
+        {
+            **e,
+            "success": not r["summary"]["trapped"],
+            "coverage": r["summary"]["coverage"],
+            "final_pose": r["summary"]["final_pose"],
+        }
+        for e, r in zip(envs, runs, strict=True)
+    ]
+    summary = {
+        "body": body,
+        "steps": steps,
+        "seed": seed,
+        "rule": RULE,
+        "environments": rows,
+        "variant": variant,
+        "params": params,
+        "box_size_m": size,
+        "success": sum(r["success"] for r in rows),
+        "pose_stride": 10,
+    }
     return Result("fig6", summary, arrays)
 
 
@@ -76,8 +103,11 @@ def plot(res: Result) -> Figure:
             for side in ax.spines.values():
                 side.set_edgecolor("red")
                 side.set_linewidth(3)
-    fig.suptitle(f"Fig. 6: plastic network ({s.get('variant', 'paper')}) in 16 random environments ({s['body']}, "
-                 f"{s['steps']} steps): "
-                 f"{s['success']}/16 explored; failures framed red", fontsize=11)  # fmt: skip
+    fig.suptitle(
+        f"Fig. 6: plastic network ({s.get('variant', 'paper')}) in 16 random environments ({s['body']}, "
+        f"{s['steps']} steps): "
+        f"{s['success']}/16 explored; failures framed red",
+        fontsize=11,
+    )
     fig.tight_layout()
     return fig

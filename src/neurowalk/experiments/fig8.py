@@ -41,14 +41,25 @@ if TYPE_CHECKING:
 NAME = "fig8"
 ARENA = "narrow-passage"
 QUICK_STEPS = 2500  # control steps per run with ``quick``
-RULE = ("escaped: the trunk centre reached the arena's exit region (0.3 m or more behind the passage's mouth, the "
-        "robot turned around and walked out) within the run's control steps; otherwise not escaped")  # fmt: skip
+RULE = (
+    "escaped: the trunk centre reached the arena's exit region (0.3 m or more behind the passage's mouth, the "
+    "robot turned around and walked out) within the run's control steps; otherwise not escaped"
+)
 
 
 @register(NAME, "narrow passage: snapshots, paths and escapes of the plastic and static networks (paper Fig. 8)")
-def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None, workers: int = 2,
-        steps: int | None = None, video: bool = False, variant: str = "paper",
-        params: dict[str, float] | None = None) -> Result:  # fmt: skip
+def run(
+    *,
+    quick: bool = False,
+    seed: int = 0,
+    seeds: int | None = None,
+    out: Path | None = None,
+    workers: int = 2,
+    steps: int | None = None,
+    video: bool = False,
+    variant: str = "paper",
+    params: dict[str, float] | None = None,
+) -> Result:
     """Escapes over ``seeds`` seeds per network, the example seed ``seed`` in full.
 
     Args:
@@ -82,13 +93,21 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
     for net in NETWORKS:
         runs = [results[spec_key(spec(net, seed + k))] for k in range(n)]
         counts[net] = {
-            "seeds": n, "escaped": sum(bool(r["escaped"]) for r in runs),
-            "runs": [{"seed": seed + k, "escaped": bool(r["escaped"]),
-                      "exit_time_s": None if r["exit_step"] is None else r["exit_step"] / r["control_hz"],
-                      "trapped": r["trapped"], "direction_switches": r["direction_switches"],
-                      "final_pose": r["final_pose"], "final_weights": r["final_weights"]}
-                     for k, r in enumerate(runs)],
-        }  # fmt: skip
+            "seeds": n,
+            "escaped": sum(bool(r["escaped"]) for r in runs),
+            "runs": [
+                {
+                    "seed": seed + k,
+                    "escaped": bool(r["escaped"]),
+                    "exit_time_s": None if r["exit_step"] is None else r["exit_step"] / r["control_hz"],
+                    "trapped": r["trapped"],
+                    "direction_switches": r["direction_switches"],
+                    "final_pose": r["final_pose"],
+                    "final_weights": r["final_weights"],
+                }
+                for k, r in enumerate(runs)
+            ],
+        }
         for k, r in enumerate(runs):
             arrays[f"{net}/path/{k}"] = np.asarray(r["path"])
         ex = examples[net]
@@ -97,16 +116,30 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
         arrays[f"{net}/snapshot_t"] = ex["t"][rows]
         for key in ("t", "pose", "outputs", "b", "q"):
             arrays[f"{net}/example/{key}"] = ex[key]
-    summary = {"arena": ARENA, "arena_opts": arena.options, "geometry": _geometry(arena), "seed": seed, "seeds": n,
-               "steps": steps, "control_hz": examples[NETWORKS[0]]["summary"]["control_hz"], "variant": variant,
-               "params": params, "body": "amosii", "networks": {"plastic": "plastic, weights start at 0",
-                                                                "static": "static (b = 2.4, c = -3.5)"},
-               "rule": RULE, "counts": counts,
-               "escaped": {net: f"{counts[net]['escaped']}/{n}" for net in NETWORKS},
-               "example": {net: {k: examples[net]["summary"][k] for k in ("seed", "escaped", "exit_step", "trapped",
-                                                                           "direction_switches", "final_weights")}
-                           for net in NETWORKS},
-               "snapshots": N_SNAPSHOTS}  # fmt: skip
+    summary = {
+        "arena": ARENA,
+        "arena_opts": arena.options,
+        "geometry": _geometry(arena),
+        "seed": seed,
+        "seeds": n,
+        "steps": steps,
+        "control_hz": examples[NETWORKS[0]]["summary"]["control_hz"],
+        "variant": variant,
+        "params": params,
+        "body": "amosii",
+        "networks": {"plastic": "plastic, weights start at 0", "static": "static (b = 2.4, c = -3.5)"},
+        "rule": RULE,
+        "counts": counts,
+        "escaped": {net: f"{counts[net]['escaped']}/{n}" for net in NETWORKS},
+        "example": {
+            net: {
+                k: examples[net]["summary"][k]
+                for k in ("seed", "escaped", "exit_step", "trapped", "direction_switches", "final_weights")
+            }
+            for net in NETWORKS
+        },
+        "snapshots": N_SNAPSHOTS,
+    }
     if video:
         summary["videos"] = write_videos(NAME, arena, examples, folder)
     return Result(NAME, summary, arrays)
@@ -114,8 +147,12 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
 
 def _geometry(arena: Any) -> dict[str, Any]:
     """The arena's boxes (centre, yaw, sizes; m, rad), start pose and exit region, for the record."""
-    return {"boxes": [[b.x, b.y, b.yaw, b.sx, b.sy, b.h] for b in arena.boxes], "box_fields": "x y yaw sx sy h",
-            "start": list(arena.start), "exit_region": list(arena.exit_region)}  # fmt: skip
+    return {
+        "boxes": [[b.x, b.y, b.yaw, b.sx, b.sy, b.h] for b in arena.boxes],
+        "box_fields": "x y yaw sx sy h",
+        "start": list(arena.start),
+        "exit_region": list(arena.exit_region),
+    }
 
 
 def plot(res: Result) -> Figure:
@@ -136,15 +173,23 @@ def plot(res: Result) -> Figure:
         draw_strip(axes, a[f"{net}/frames"], list(a[f"{net}/snapshot_t"]), f"{net}, seed {ex['seed']}: {how}")
         ax = fig.add_subplot(grid[2, row * 3 : row * 3 + 3])
         paths = [a[f"{net}/path/{k}"] for k in range(c["seeds"])]
-        draw_paths(ax, arena, paths, [r["escaped"] for r in c["runs"]], a[f"{net}/example/pose"],
-                   f"{net}: escaped {c['escaped']}/{c['seeds']} (green: escaped, red: not)")  # fmt: skip
+        draw_paths(
+            ax,
+            arena,
+            paths,
+            [r["escaped"] for r in c["runs"]],
+            a[f"{net}/example/pose"],
+            f"{net}: escaped {c['escaped']}/{c['seeds']} (green: escaped, red: not)",
+        )
     for col, net in enumerate(NETWORKS):
         ax = fig.add_subplot(grid[3, col * 3 : col * 3 + 3])
         e = {k: a[f"{net}/example/{k}"] for k in ("t", "outputs", "b", "q")}
         draw_traces(
             ax, e["t"], e["outputs"], e["b"], e["q"], f"{net}, seed {s['example'][net]['seed']}: steering, weights"
         )
-    fig.suptitle(f"Narrow passage (paper Fig. 8), {s['steps']} control steps per run: escaped "
-                 + ", ".join(f"{net} {s['escaped'][net]}" for net in NETWORKS))  # fmt: skip
+    fig.suptitle(
+        f"Narrow passage (paper Fig. 8), {s['steps']} control steps per run: escaped "
+        + ", ".join(f"{net} {s['escaped'][net]}" for net in NETWORKS)
+    )
     fig.tight_layout()
     return fig

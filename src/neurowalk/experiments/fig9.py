@@ -54,13 +54,15 @@ FACTORS: tuple[float, ...] = (0.8, 1.0, 1.2)  # width and spacing sweep: -20%, 0
 OUT_LEFT, OUT_END = "out (left side)", "out (open end)"
 STUCK_END, STUCK_PATH = "stuck at the dead end", "stuck in the path"
 OUTCOMES: tuple[str, ...] = (OUT_LEFT, OUT_END, STUCK_END, STUCK_PATH)
-RULE = (f"out (left side): the trunk centre got more than {EXIT_MARGIN} m beyond the outer edge of the left obstacle "
-        f"row (the arena's exit region); out (open end): more than {EXIT_MARGIN} m behind the start (the path's "
-        f"open end is {MOUTH} m ahead of it) or more than {EXIT_MARGIN} m beyond the right wall's outer face (round "
-        f"the wall's start); whichever came first, checked on the path sampled every {PATH_EVERY} control steps. "
-        f"Otherwise stuck (still in the path at the end of the run): at the dead end if the trunk centre got "
-        f"alongside the opening before the end wall (within {OPENING} m of it), else in the path. "
-        "Got out = either 'out' outcome.")  # fmt: skip
+RULE = (
+    f"out (left side): the trunk centre got more than {EXIT_MARGIN} m beyond the outer edge of the left obstacle "
+    f"row (the arena's exit region); out (open end): more than {EXIT_MARGIN} m behind the start (the path's "
+    f"open end is {MOUTH} m ahead of it) or more than {EXIT_MARGIN} m beyond the right wall's outer face (round "
+    f"the wall's start); whichever came first, checked on the path sampled every {PATH_EVERY} control steps. "
+    f"Otherwise stuck (still in the path at the end of the run): at the dead end if the trunk centre got "
+    f"alongside the opening before the end wall (within {OPENING} m of it), else in the path. "
+    "Got out = either 'out' outcome."
+)
 
 
 def outcome(xy: np.ndarray, arena: ArenaSpec) -> tuple[str, int | None]:
@@ -87,9 +89,18 @@ def _cell(width_f: float, spacing_f: float) -> dict[str, float]:
 
 
 @register(NAME, "complex path: snapshots, paths and outcome map of the plastic and static networks (paper Fig. 9)")
-def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None, workers: int = 2,
-        steps: int | None = None, video: bool = False, variant: str = "paper",
-        params: dict[str, float] | None = None) -> Result:  # fmt: skip
+def run(
+    *,
+    quick: bool = False,
+    seed: int = 0,
+    seeds: int | None = None,
+    out: Path | None = None,
+    workers: int = 2,
+    steps: int | None = None,
+    video: bool = False,
+    variant: str = "paper",
+    params: dict[str, float] | None = None,
+) -> Result:
     """Outcomes over ``seeds`` seeds per network and geometry, the example seed ``seed`` in full.
 
     Args:
@@ -119,8 +130,9 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
         return make_spec(ARENA, _cell(*cell), net, s, steps, variant=variant, params=params)
 
     main = [spec(net, seed + k) for net in NETWORKS for k in range(n)]  # first: the default geometry
-    results = run_store_paths(main + [spec(net, seed + k, c) for c in cells for net in NETWORKS for k in range(n)],
-                              folder, workers)  # fmt: skip
+    results = run_store_paths(
+        main + [spec(net, seed + k, c) for c in cells for net in NETWORKS for k in range(n)], folder, workers
+    )
     examples = example_runs({net: spec(net, seed) for net in NETWORKS}, workers)
     arena = make_arena(ARENA)
     counts, arrays, cell_counts = {}, {}, []
@@ -129,13 +141,24 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
         rows = []
         for k, r in enumerate(runs):
             label, i = outcome(np.asarray(r["path"]), arena)
-            rows.append({"seed": seed + k, "outcome": label, "got_out": label in (OUT_LEFT, OUT_END),
-                         "out_time_s": None if i is None else min(i * PATH_EVERY, r["steps"]) / r["control_hz"],
-                         "final_pose": r["final_pose"], "final_weights": r["final_weights"],
-                         "direction_switches": r["direction_switches"]})  # fmt: skip
+            rows.append(
+                {
+                    "seed": seed + k,
+                    "outcome": label,
+                    "got_out": label in (OUT_LEFT, OUT_END),
+                    "out_time_s": None if i is None else min(i * PATH_EVERY, r["steps"]) / r["control_hz"],
+                    "final_pose": r["final_pose"],
+                    "final_weights": r["final_weights"],
+                    "direction_switches": r["direction_switches"],
+                }
+            )
             arrays[f"{net}/path/{k}"] = np.asarray(r["path"])
-        counts[net] = {"seeds": n, "got_out": sum(x["got_out"] for x in rows),
-                       **{lab: sum(x["outcome"] == lab for x in rows) for lab in OUTCOMES}, "runs": rows}  # fmt: skip
+        counts[net] = {
+            "seeds": n,
+            "got_out": sum(x["got_out"] for x in rows),
+            **{lab: sum(x["outcome"] == lab for x in rows) for lab in OUTCOMES},
+            "runs": rows,
+        }
         ex = examples[net]
         label, i = outcome(ex["pose"][:, :2], arena)
         ex["outcome"], ex["out_step"] = label, i
@@ -148,27 +171,53 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
         c = make_arena(ARENA, **_cell(fw, fs))
         entry: dict[str, Any] = {"width_factor": fw, "spacing_factor": fs, "arena_opts": c.options}
         for net in NETWORKS:
-            labels = [outcome(np.asarray(results[spec_key(spec(net, seed + k, (fw, fs)))]["path"]), c)[0]
-                      for k in range(n)]  # fmt: skip
-            entry[net] = {"seeds": n, "got_out": sum(lab in (OUT_LEFT, OUT_END) for lab in labels),
-                          **{lab: labels.count(lab) for lab in OUTCOMES}}  # fmt: skip
+            labels = [
+                outcome(np.asarray(results[spec_key(spec(net, seed + k, (fw, fs)))]["path"]), c)[0] for k in range(n)
+            ]
+            entry[net] = {
+                "seeds": n,
+                "got_out": sum(lab in (OUT_LEFT, OUT_END) for lab in labels),
+                **{lab: labels.count(lab) for lab in OUTCOMES},
+            }
         cell_counts.append(entry)
     p_out, s_out = counts["plastic"]["got_out"], counts["static"]["got_out"]
-    summary = {"arena": ARENA, "arena_opts": arena.options, "geometry": _geometry(arena), "seed": seed, "seeds": n,
-               "steps": steps, "control_hz": examples["plastic"]["summary"]["control_hz"], "variant": variant,
-               "params": params, "body": "amosii",
-               "networks": {"plastic": "plastic, weights start at 0", "static": "static (b = 2.4, c = -3.5)"},
-               "rule": RULE, "outcomes": list(OUTCOMES), "counts": counts, "sweep_factors": list(factors),
-               "map": cell_counts,
-               "paper_contrast": {"paper": "plastic went out of the path, static got stuck in it",
-                                  "plastic_got_out": f"{p_out}/{n}", "static_got_out": f"{s_out}/{n}",
-                                  "criterion": "plastic out in >= 80% of the seeds and static in <= 30%",
-                                  "seen": bool(p_out >= 0.8 * n and s_out <= 0.3 * n)},
-               "example": {net: {"seed": seed, "outcome": examples[net]["outcome"],
-                                 "out_time_s": None if examples[net]["out_step"] is None
-                                 else float(examples[net]["t"][examples[net]["out_step"]]),
-                                 "final_weights": examples[net]["summary"]["final_weights"]} for net in NETWORKS},
-               "snapshots": N_SNAPSHOTS}  # fmt: skip
+    summary = {
+        "arena": ARENA,
+        "arena_opts": arena.options,
+        "geometry": _geometry(arena),
+        "seed": seed,
+        "seeds": n,
+        "steps": steps,
+        "control_hz": examples["plastic"]["summary"]["control_hz"],
+        "variant": variant,
+        "params": params,
+        "body": "amosii",
+        "networks": {"plastic": "plastic, weights start at 0", "static": "static (b = 2.4, c = -3.5)"},
+        "rule": RULE,
+        "outcomes": list(OUTCOMES),
+        "counts": counts,
+        "sweep_factors": list(factors),
+        "map": cell_counts,
+        "paper_contrast": {
+            "paper": "plastic went out of the path, static got stuck in it",
+            "plastic_got_out": f"{p_out}/{n}",
+            "static_got_out": f"{s_out}/{n}",
+            "criterion": "plastic out in >= 80% of the seeds and static in <= 30%",
+            "seen": bool(p_out >= 0.8 * n and s_out <= 0.3 * n),
+        },
+        "example": {
+            net: {
+                "seed": seed,
+                "outcome": examples[net]["outcome"],
+                "out_time_s": None
+                if examples[net]["out_step"] is None
+                else float(examples[net]["t"][examples[net]["out_step"]]),
+                "final_weights": examples[net]["summary"]["final_weights"],
+            }
+            for net in NETWORKS
+        },
+        "snapshots": N_SNAPSHOTS,
+    }
     if video:
         summary["videos"] = write_videos(NAME, arena, examples, folder)
     return Result(NAME, summary, arrays)
@@ -177,10 +226,17 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
 def _geometry(arena: ArenaSpec) -> dict[str, Any]:
     """Boxes (x, y, yaw, sx, sy, h; m, rad), start, exit region and the path's key lines (m)."""
     o = arena.options
-    return {"boxes": [[b.x, b.y, b.yaw, b.sx, b.sy, b.h] for b in arena.boxes], "box_fields": "x y yaw sx sy h",
-            "start": list(arena.start), "exit_region": list(arena.exit_region), "open_end_x": MOUTH,
-            "end_wall_x": MOUTH + o["length"], "right_wall_face_y": -o["width"] / 2,
-            "left_obstacle_face_y": o["width"] / 2, "opening_m": OPENING}  # fmt: skip
+    return {
+        "boxes": [[b.x, b.y, b.yaw, b.sx, b.sy, b.h] for b in arena.boxes],
+        "box_fields": "x y yaw sx sy h",
+        "start": list(arena.start),
+        "exit_region": list(arena.exit_region),
+        "open_end_x": MOUTH,
+        "end_wall_x": MOUTH + o["length"],
+        "right_wall_face_y": -o["width"] / 2,
+        "left_obstacle_face_y": o["width"] / 2,
+        "opening_m": OPENING,
+    }
 
 
 def draw_map(ax: Axes, res: Result, net: str) -> None:
@@ -197,8 +253,10 @@ def draw_map(ax: Axes, res: Result, net: str) -> None:
         c = cell[net]
         share[i, j] = c["got_out"] / c["seeds"]
         stuck = c["seeds"] - c["got_out"]
-        text = (f"out {c['got_out']}/{c['seeds']} (left side {c[OUT_LEFT]}, open end {c[OUT_END]})\n"
-                f"stuck {stuck} (dead end {c[STUCK_END]}, path {c[STUCK_PATH]})")  # fmt: skip
+        text = (
+            f"out {c['got_out']}/{c['seeds']} (left side {c[OUT_LEFT]}, open end {c[OUT_END]})\n"
+            f"stuck {stuck} (dead end {c[STUCK_END]}, path {c[STUCK_PATH]})"
+        )
         ax.text(j, i, text, ha="center", va="center", fontsize=7)
     ax.imshow(share, cmap="RdYlGn", vmin=0, vmax=1, origin="lower", alpha=0.6, aspect="auto")
     o = s["map"][0]["arena_opts"]
@@ -206,8 +264,11 @@ def draw_map(ax: Axes, res: Result, net: str) -> None:
     spacings = sorted({c["arena_opts"]["spacing"] for c in s["map"]})
     ax.set_xticks(range(len(f)), [f"{x:.2f}" for x in spacings])
     ax.set_yticks(range(len(f)), [f"{x:.3f}" for x in widths])
-    ax.set(xlabel="obstacle spacing (m)", ylabel="path width (m)",
-           title=f"{net}: outcome map ({o['length']} m path, {s['steps']} steps)")  # fmt: skip
+    ax.set(
+        xlabel="obstacle spacing (m)",
+        ylabel="path width (m)",
+        title=f"{net}: outcome map ({o['length']} m path, {s['steps']} steps)",
+    )
 
 
 def plot(res: Result) -> Figure:
@@ -224,19 +285,34 @@ def plot(res: Result) -> Figure:
         c, ex = s["counts"][net], s["example"][net]
         when = f" at {ex['out_time_s']:.0f} s" if ex["out_time_s"] is not None else ""
         axes = [fig.add_subplot(grid[row, i]) for i in range(N_SNAPSHOTS)]
-        draw_strip(axes, a[f"{net}/frames"], list(a[f"{net}/snapshot_t"]), f"{net}, seed {ex['seed']}: "
-                   f"{ex['outcome']}{when}")  # fmt: skip
+        draw_strip(
+            axes, a[f"{net}/frames"], list(a[f"{net}/snapshot_t"]), f"{net}, seed {ex['seed']}: {ex['outcome']}{when}"
+        )
         ax = fig.add_subplot(grid[2, row * 3 : row * 3 + 3])
         paths = [a[f"{net}/path/{k}"] for k in range(c["seeds"])]
-        draw_paths(ax, arena, paths, [r["got_out"] for r in c["runs"]], a[f"{net}/example/pose"],
-                   f"{net}: got out {c['got_out']}/{c['seeds']} (green: out, red: stuck)")  # fmt: skip
+        draw_paths(
+            ax,
+            arena,
+            paths,
+            [r["got_out"] for r in c["runs"]],
+            a[f"{net}/example/pose"],
+            f"{net}: got out {c['got_out']}/{c['seeds']} (green: out, red: stuck)",
+        )
         draw_map(fig.add_subplot(grid[3, row * 3 : row * 3 + 3]), res, net)
         e = {k: a[f"{net}/example/{k}"] for k in ("t", "outputs", "b", "q")}
-        draw_traces(fig.add_subplot(grid[4, row * 3 : row * 3 + 3]), e["t"], e["outputs"], e["b"], e["q"],
-                    f"{net}, seed {ex['seed']}: steering, weights")  # fmt: skip
+        draw_traces(
+            fig.add_subplot(grid[4, row * 3 : row * 3 + 3]),
+            e["t"],
+            e["outputs"],
+            e["b"],
+            e["q"],
+            f"{net}, seed {ex['seed']}: steering, weights",
+        )
     pc = s["paper_contrast"]
     seen = "as in the paper" if pc["seen"] else "NOT as in the paper"
-    fig.suptitle(f"Complex path (paper Fig. 9): got out of the path plastic {pc['plastic_got_out']}, static "
-                 f"{pc['static_got_out']} ({seen}: {pc['paper']})")  # fmt: skip
+    fig.suptitle(
+        f"Complex path (paper Fig. 9): got out of the path plastic {pc['plastic_got_out']}, static "
+        f"{pc['static_got_out']} ({seen}: {pc['paper']})"
+    )
     fig.tight_layout()
     return fig

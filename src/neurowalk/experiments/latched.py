@@ -28,8 +28,15 @@ SEARCHED = 200  # environments searched for latched spins
 
 
 @register("latched-spin", "the plastic network's failure in Table 2: a latched spin in a pocket (surrogate)")
-def run(*, quick: bool = False, seed: int = 0, variant: str = "paper", params: dict[str, float] | None = None,
-        workers: int = 2, out: Path | None = None) -> Result:  # fmt: skip
+def run(
+    *,
+    quick: bool = False,
+    seed: int = 0,
+    variant: str = "paper",
+    params: dict[str, float] | None = None,
+    workers: int = 2,
+    out: Path | None = None,
+) -> Result:
     """Search the first :data:`SEARCHED` Table 2 environments (``quick``: 40) for latched spins; keep two.
 
     ``out``: the folder of the resumable result store of the search (``results.sqlite``, one summary per run).
@@ -56,11 +63,26 @@ def run(*, quick: bool = False, seed: int = 0, variant: str = "paper", params: d
         arrays[f"env{k}/outputs"] = tr.outputs[::5].copy()
         arrays[f"env{k}/latch"] = (on + tr.q.mean(axis=1))[::5].copy()
         start = _latch_start(tr.outputs)
-        shown.append({**envs[i], "latched_from_step": start, "final_weights": ep.summary["final_weights"],
-                      "end_turn_share": ep.summary["end_turn_share"]})  # fmt: skip
+        shown.append(
+            {
+                **envs[i],
+                "latched_from_step": start,
+                "final_weights": ep.summary["final_weights"],
+                "end_turn_share": ep.summary["end_turn_share"],
+            }
+        )
     counts = {c: classes.count(c) for c in ("latched spin", "wedged", "other")}
-    summary = {"variant": variant, "params": params, "steps": STEPS, "seed": seed, "searched": len(envs),
-               "failures": counts, "shown": shown, "stride": 5, "threshold": THRESHOLD}  # fmt: skip
+    summary = {
+        "variant": variant,
+        "params": params,
+        "steps": STEPS,
+        "seed": seed,
+        "searched": len(envs),
+        "failures": counts,
+        "shown": shown,
+        "stride": 5,
+        "threshold": THRESHOLD,
+    }
     return Result("latched-spin", summary, arrays)
 
 
@@ -99,8 +121,10 @@ def plot(res: Result) -> Figure:
         draw_arena(ax, _arena(env, s["variant"]), pose)
         i0 = env["latched_from_step"] // s["stride"]
         ax.plot(*pose[i0:, :2].T, c="k", lw=0.6)
-        ax.set_title(f"{env['n_boxes']} boxes, seed {env['seed']}: latched from {env['latched_from_step'] / 10:.0f} s",
-                     fontsize=9)  # fmt: skip
+        ax.set_title(
+            f"{env['n_boxes']} boxes, seed {env['seed']}: latched from {env['latched_from_step'] / 10:.0f} s",
+            fontsize=9,
+        )
         axes[k, 1].plot(t, out[:, 0], lw=0.6, label="O1 (left neuron → right legs)")
         axes[k, 1].plot(t, out[:, 1], lw=0.6, label="O2 (right neuron → left legs)")
         axes[k, 1].axvline(env["latched_from_step"] / 10, c="r", ls="--", lw=1)
@@ -114,8 +138,10 @@ def plot(res: Result) -> Figure:
     if not s["shown"]:
         axes[0, 0].text(0.5, 0.5, "no latched spin found", ha="center", transform=axes[0, 0].transAxes)
     f = s["failures"]
-    fig.suptitle(f"Latched spins: plastic ({s['variant']}) on the surrogate, {s['searched']} Table 2 environments: "
-                 f"{f['latched spin']} latched spins, {f['wedged']} wedged, {f['other']} other failures",
-                 fontsize=10)  # fmt: skip
+    fig.suptitle(
+        f"Latched spins: plastic ({s['variant']}) on the surrogate, {s['searched']} Table 2 environments: "
+        f"{f['latched spin']} latched spins, {f['wedged']} wedged, {f['other']} other failures",
+        fontsize=10,
+    )
     fig.tight_layout()
     return fig

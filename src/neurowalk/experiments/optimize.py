@@ -84,8 +84,14 @@ def check_sizes(s: Sizes) -> None:
     """Raise ValueError naming the first size out of range (population >= 2, the rest >= 1; steps <= MAX_STEPS)."""
     from neurowalk.sim.episode import MAX_STEPS
 
-    for name, lo in (("population", 2), ("generations", 1), ("environments", 1), ("heldout", 1), ("steps", 1),
-                     ("deadend_seeds", 1)):  # fmt: skip
+    for name, lo in (
+        ("population", 2),
+        ("generations", 1),
+        ("environments", 1),
+        ("heldout", 1),
+        ("steps", 1),
+        ("deadend_seeds", 1),
+    ):
         v = getattr(s, name)
         if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < lo:
             raise ValueError(f"{name} must be a whole number >= {lo}, got {v!r}")
@@ -105,8 +111,10 @@ def check_seeds(seed: int, train_seed: int, heldout_seed: int, sizes: Sizes) -> 
         if stop > 2**63:
             raise ValueError(f"{name} {first} + its {stop - first} environments: run seeds must stay below 2**63")
     if a[0] < b[1] and b[0] < a[1]:
-        raise ValueError(f"training run seeds {a[0]}-{a[1] - 1} overlap the held-out ones {b[0]}-{b[1] - 1}: "
-                         "choose a train seed and a held-out seed further apart")  # fmt: skip
+        raise ValueError(
+            f"training run seeds {a[0]}-{a[1] - 1} overlap the held-out ones {b[0]}-{b[1] - 1}: "
+            "choose a train seed and a held-out seed further apart"
+        )
 
 
 def deadend_specs(variant: str, params: Mapping[str, float] | None, seeds: int) -> list[dict[str, Any]]:
@@ -116,16 +124,24 @@ def deadend_specs(variant: str, params: Mapping[str, float] | None, seeds: int) 
     out = []
     for arena, opts in VARIANTS.values():
         for s in range(seeds):
-            spec: dict[str, Any] = {"arena": arena, "arena_opts": dict(opts), "controller": "plastic", "body": BODY,
-                                    "steps": TRAP_STEPS, "seed": s, "variant": variant}  # fmt: skip
+            spec: dict[str, Any] = {
+                "arena": arena,
+                "arena_opts": dict(opts),
+                "controller": "plastic",
+                "body": BODY,
+                "steps": TRAP_STEPS,
+                "seed": s,
+                "variant": variant,
+            }
             if params:
                 spec["params"] = dict(params)
             out.append(spec)
     return out
 
 
-def train_specs(variant: str, params: Mapping[str, float] | None, envs: Sequence[dict[str, Any]],
-                steps: int) -> list[dict[str, Any]]:  # fmt: skip
+def train_specs(
+    variant: str, params: Mapping[str, float] | None, envs: Sequence[dict[str, Any]], steps: int
+) -> list[dict[str, Any]]:
     """Run specs of one network on the given random environments (Table 2's spec, surrogate body)."""
     from neurowalk.experiments.random_envs import spec
 
@@ -137,7 +153,12 @@ class Runner:
 
     def __init__(self, folder: Path, backend: str, workers: int, address: str | None, progress: bool) -> None:
         self.folder, self.backend, self.workers, self.address, self.progress = (
-            folder, backend, workers, address, progress)  # fmt: skip
+            folder,
+            backend,
+            workers,
+            address,
+            progress,
+        )
         self.computed = self.skipped = 0
 
     def __call__(self, specs: list[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -149,8 +170,9 @@ class Runner:
         with deferred():  # opened whole (its lock, its tables), or not at all
             store = ResultStore(self.folder / "results.sqlite")
         with store:
-            report = run_sweep(specs, store, backend=self.backend, workers=self.workers, address=self.address,
-                               progress=self.progress)  # fmt: skip
+            report = run_sweep(
+                specs, store, backend=self.backend, workers=self.workers, address=self.address, progress=self.progress
+            )
             results = store.results()
         self.computed += report.ok
         self.skipped += report.skipped
@@ -177,8 +199,9 @@ def load_state(path: Path, settings: dict[str, Any], space: Sequence[Dim]) -> di
     records, stopped = saved.get("records"), saved.get("stopped")
     if not isinstance(records, list):
         raise ValueError(f"{str(path)!r} is not a readable neurowalk search record (no generations)")
-    state = new_state(space, settings["variant"], settings["sigma0"], settings["seed"], settings["population"],
-                      settings)  # fmt: skip
+    state = new_state(
+        space, settings["variant"], settings["sigma0"], settings["seed"], settings["population"], settings
+    )
     try:
         gens = [(r["x"], [f["score"] for f in r["fitness"]]) for r in records]
     except (KeyError, TypeError) as e:
@@ -192,12 +215,14 @@ def load_state(path: Path, settings: dict[str, Any], space: Sequence[Dim]) -> di
 
 def save_state(path: Path, state: dict[str, Any]) -> None:
     """Write the search's record (settings, generations, stop) as JSON, atomically."""
-    cma_record.write(path, {"settings": state["settings"], "records": state["records"],
-                            "stopped": state.get("stopped")})  # fmt: skip
+    cma_record.write(
+        path, {"settings": state["settings"], "records": state["records"], "stopped": state.get("stopped")}
+    )
 
 
-def new_state(space: Sequence[Dim], variant: str, sigma0: float, seed: int, population: int,
-              settings: dict[str, Any]) -> dict[str, Any]:  # fmt: skip
+def new_state(
+    space: Sequence[Dim], variant: str, sigma0: float, seed: int, population: int, settings: dict[str, Any]
+) -> dict[str, Any]:
     """A fresh search: a CMA-ES started at the base variant's values (seeded ``seed + 1``; cma reads 0 as time).
 
     Its samples come from a RandomState of its own (option ``randn``), so that a replayed search draws what an
@@ -208,18 +233,39 @@ def new_state(space: Sequence[Dim], variant: str, sigma0: float, seed: int, popu
     state: dict[str, Any] = {"settings": settings, "records": [], "rng": None}
     with own_rng(state):
         state["es"] = cma.CMAEvolutionStrategy(
-            start_point(space, variant), sigma0,
-            {"seed": seed + 1, "randn": np.random.RandomState(seed + 1).randn, "popsize": population,
-             "bounds": [0.0, 1.0], "verbose": -9, "verb_log": 0, "verb_disp": 0})  # fmt: skip
+            start_point(space, variant),
+            sigma0,
+            {
+                "seed": seed + 1,
+                "randn": np.random.RandomState(seed + 1).randn,
+                "popsize": population,
+                "bounds": [0.0, 1.0],
+                "verbose": -9,
+                "verb_log": 0,
+                "verb_disp": 0,
+            },
+        )
     return state
 
 
-def run(*, out: Path | str = Path("out/optimize"), quick: bool = False, variant: str = "original",
-        fields: Sequence[str] | None = None, bounds: Mapping[str, tuple[float, float] | None] | None = None,
-        sizes: Mapping[str, int] | None = None, seed: int = 0, train_seed: int = TRAIN_SEED,
-        heldout_seed: int = HELDOUT_SEED, sigma0: float = SIGMA0, backend: str = "local", workers: int = 2,
-        address: str | None = None, progress: bool = True,
-        log: Callable[[str], None] | None = None) -> Search:  # fmt: skip
+def run(
+    *,
+    out: Path | str = Path("out/optimize"),
+    quick: bool = False,
+    variant: str = "original",
+    fields: Sequence[str] | None = None,
+    bounds: Mapping[str, tuple[float, float] | None] | None = None,
+    sizes: Mapping[str, int] | None = None,
+    seed: int = 0,
+    train_seed: int = TRAIN_SEED,
+    heldout_seed: int = HELDOUT_SEED,
+    sigma0: float = SIGMA0,
+    backend: str = "local",
+    workers: int = 2,
+    address: str | None = None,
+    progress: bool = True,
+    log: Callable[[str], None] | None = None,
+) -> Search:
     """Run (or resume) a search in ``out``, validate its best candidate, write best.json, heldout.json, plots.
 
     Args:
@@ -258,9 +304,17 @@ def run(*, out: Path | str = Path("out/optimize"), quick: bool = False, variant:
     folder = Path(out)
     make_writable_folder(folder)  # ValueError naming what is wrong
     say = log or (lambda line: None)
-    settings = {"variant": variant, "space": [asdict(d) for d in space], "population": sz.population,
-                "environments": sz.environments, "steps": sz.steps, "deadend_seeds": sz.deadend_seeds,
-                "seed": seed, "train_seed": train_seed, "sigma0": float(sigma0)}  # fmt: skip
+    settings = {
+        "variant": variant,
+        "space": [asdict(d) for d in space],
+        "population": sz.population,
+        "environments": sz.environments,
+        "steps": sz.steps,
+        "deadend_seeds": sz.deadend_seeds,
+        "seed": seed,
+        "train_seed": train_seed,
+        "sigma0": float(sigma0),
+    }
     path = folder / STATE_FILE
     state = load_state(path, settings, space) or new_state(space, variant, sigma0, seed, sz.population, settings)
     runner = Runner(folder, backend, workers, address, progress)
@@ -288,21 +342,33 @@ def run(*, out: Path | str = Path("out/optimize"), quick: bool = False, variant:
             specs = [s for c in cands for s in evaluate(variant, c)]
             results = runner(specs)
             per = len(specs) // len(cands)
-            fits = [fitness(results[i * per : i * per + n], results[i * per + n : (i + 1) * per])
-                    for i in range(len(cands))]  # fmt: skip
+            fits = [
+                fitness(results[i * per : i * per + n], results[i * per + n : (i + 1) * per]) for i in range(len(cands))
+            ]
             with own_rng(state):
                 state["es"].tell(xs, [f["score"] for f in fits])
                 stop = dict(state["es"].stop())
             es = state["es"]
-            records.append({"generation": len(records) + 1, "x": [x.tolist() for x in xs], "params": cands,
-                            "fitness": fits, "mean_x": np.clip(es.mean, 0, 1).tolist(),
-                            "mean": decode(space, es.mean), "sigma": float(es.sigma)})  # fmt: skip
+            records.append(
+                {
+                    "generation": len(records) + 1,
+                    "x": [x.tolist() for x in xs],
+                    "params": cands,
+                    "fitness": fits,
+                    "mean_x": np.clip(es.mean, 0, 1).tolist(),
+                    "mean": decode(space, es.mean),
+                    "sigma": float(es.sigma),
+                }
+            )
             if stop:
                 state["stopped"] = {"generation": len(records), "reason": stop}
             with deferred():  # a generation is saved whole: a Ctrl-C now stops the search after it
                 save_state(path, state)
-            say(report.generation_line(records, sz.generations, base_fit, runner.computed - done_before,
-                                       time.perf_counter() - t0))  # fmt: skip
+            say(
+                report.generation_line(
+                    records, sz.generations, base_fit, runner.computed - done_before, time.perf_counter() - t0
+                )
+            )
         history = records[: sz.generations]
         best = report.best_candidate(history)
         held = environments(sz.heldout, heldout_seed)
@@ -313,11 +379,25 @@ def run(*, out: Path | str = Path("out/optimize"), quick: bool = False, variant:
             from neurowalk.runners import ray_backend
 
             ray_backend.stop()
-    search = Search(best={}, heldout=report.heldout_table(rows, held, held_runs, heldout_seed, sz.steps),
-                    history=history, base_training=base_fit, space=space, runs_computed=runner.computed,
-                    runs_skipped=runner.skipped)  # fmt: skip
-    search.best = report.best_json(search, best, sz, seed=seed, train_seed=train_seed, sigma0=float(sigma0),
-                                   stopped=state.get("stopped"), variant=variant)  # fmt: skip
+    search = Search(
+        best={},
+        heldout=report.heldout_table(rows, held, held_runs, heldout_seed, sz.steps),
+        history=history,
+        base_training=base_fit,
+        space=space,
+        runs_computed=runner.computed,
+        runs_skipped=runner.skipped,
+    )
+    search.best = report.best_json(
+        search,
+        best,
+        sz,
+        seed=seed,
+        train_seed=train_seed,
+        sigma0=float(sigma0),
+        stopped=state.get("stopped"),
+        variant=variant,
+    )
     with deferred():
         report.write(search, folder)
     say(report.final_line(search, folder))

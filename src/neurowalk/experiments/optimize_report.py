@@ -39,23 +39,31 @@ def best_candidate(history: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
     for rec in history:
         for i, f in enumerate(rec["fitness"]):
             if best is None or f["score"] < best["fitness"]["score"]:
-                best = {"generation": rec["generation"], "index": i, "params": dict(rec["params"][i]),
-                        "x": list(rec["x"][i]), "fitness": dict(f)}  # fmt: skip
+                best = {
+                    "generation": rec["generation"],
+                    "index": i,
+                    "params": dict(rec["params"][i]),
+                    "x": list(rec["x"][i]),
+                    "fitness": dict(f),
+                }
     if best is None:
         raise ValueError("no generation was evaluated")
     return best
 
 
-def generation_line(records: Sequence[Mapping[str, Any]], generations: int, base: Mapping[str, Any], computed: int,
-                    wall_s: float) -> str:  # fmt: skip
+def generation_line(
+    records: Sequence[Mapping[str, Any]], generations: int, base: Mapping[str, Any], computed: int, wall_s: float
+) -> str:
     """``generation 3/16: best 0.912 mean 0.861 feasible 7/8; best so far 0.925 (base 0.850); 784 runs in 95 s``."""
     rec = records[-1]
     fits = [f["fitness"] for f in rec["fitness"]]
     feasible = sum(f["feasible"] for f in rec["fitness"])
     so_far = best_candidate(records)["fitness"]["fitness"]
-    return (f"generation {rec['generation']}/{generations}: best {max(fits):.3f} mean {np.mean(fits):.3f} "
-            f"feasible {feasible}/{len(fits)}; best so far {so_far:.3f} (base {base['fitness']:.3f}); "
-            f"sigma {rec['sigma']:.3f}; {computed} runs in {wall_s:.0f} s")  # fmt: skip
+    return (
+        f"generation {rec['generation']}/{generations}: best {max(fits):.3f} mean {np.mean(fits):.3f} "
+        f"feasible {feasible}/{len(fits)}; best so far {so_far:.3f} (base {base['fitness']:.3f}); "
+        f"sigma {rec['sigma']:.3f}; {computed} runs in {wall_s:.0f} s"
+    )
 
 
 def heldout_rows(variant: str, params: Mapping[str, float]) -> dict[str, tuple[str, dict[str, float] | None]]:
@@ -67,9 +75,13 @@ def heldout_rows(variant: str, params: Mapping[str, float]) -> dict[str, tuple[s
     return rows
 
 
-def heldout_table(rows: Mapping[str, tuple[str, dict[str, float] | None]], envs: Sequence[Mapping[str, Any]],
-                  runs: Mapping[str, Sequence[Mapping[str, Any]]], table_seed: int,
-                  steps: int) -> dict[str, Any]:  # fmt: skip
+def heldout_table(
+    rows: Mapping[str, tuple[str, dict[str, float] | None]],
+    envs: Sequence[Mapping[str, Any]],
+    runs: Mapping[str, Sequence[Mapping[str, Any]]],
+    table_seed: int,
+    steps: int,
+) -> dict[str, Any]:
     """The held-out table: per network successes, rate and Wilson 95% interval; paired counts against ``best``."""
     from neurowalk.experiments.random_envs import FAILURE_RULE, RULE, failure_class, wilson
 
@@ -79,37 +91,73 @@ def heldout_table(rows: Mapping[str, tuple[str, dict[str, float] | None]], envs:
         ok = [not r["trapped"] for r in runs[name]]
         classes = [failure_class(dict(r)) for r in runs[name]]
         k = int(sum(ok))
-        table[name] = {"variant": variant, "params": params, "success": k, "failure": n - k,
-                       "environments": n, "success_rate": k / n, "success_rate_95ci": list(wilson(k, n)),
-                       "failure_classes": {c: classes.count(c) for c in ("latched spin", "wedged", "other")},
-                       "median_coverage": float(np.median([r["coverage"] for r in runs[name]]))}  # fmt: skip
+        table[name] = {
+            "variant": variant,
+            "params": params,
+            "success": k,
+            "failure": n - k,
+            "environments": n,
+            "success_rate": k / n,
+            "success_rate_95ci": list(wilson(k, n)),
+            "failure_classes": {c: classes.count(c) for c in ("latched spin", "wedged", "other")},
+            "median_coverage": float(np.median([r["coverage"] for r in runs[name]])),
+        }
     best_ok = [not r["trapped"] for r in runs["best"]]
     paired = {}
     for name in rows:
         if name != "best":
             other = [not r["trapped"] for r in runs[name]]
-            paired[name] = {"best_only": sum(a and not b for a, b in zip(best_ok, other, strict=True)),
-                            f"{name}_only": sum(b and not a for a, b in zip(best_ok, other, strict=True))}  # fmt: skip
+            paired[name] = {
+                "best_only": sum(a and not b for a, b in zip(best_ok, other, strict=True)),
+                f"{name}_only": sum(b and not a for a, b in zip(best_ok, other, strict=True)),
+            }
     per_env = [{**e, **{name: not runs[name][i]["trapped"] for name in rows}} for i, e in enumerate(envs)]
-    return {"environments": n, "table_seed": table_seed, "run_seeds": [envs[0]["seed"], envs[-1]["seed"]],
-            "steps": steps, "body": "surrogate", "box_size_m": 1.0, "rule": RULE, "failure_rule": FAILURE_RULE,
-            "interval": "Wilson score interval, 95%", "rows": table,
-            "paired": paired, "per_environment": per_env}  # fmt: skip
+    return {
+        "environments": n,
+        "table_seed": table_seed,
+        "run_seeds": [envs[0]["seed"], envs[-1]["seed"]],
+        "steps": steps,
+        "body": "surrogate",
+        "box_size_m": 1.0,
+        "rule": RULE,
+        "failure_rule": FAILURE_RULE,
+        "interval": "Wilson score interval, 95%",
+        "rows": table,
+        "paired": paired,
+        "per_environment": per_env,
+    }
 
 
 def command(search: Search, sizes: Sizes, seed: int, train_seed: int, sigma0: float, variant: str) -> str:
     """The command line that reproduces the search (backend, workers and output folder do not change results)."""
     parts = ["neurowalk optimize", f"--variant {variant}", f"--fields {','.join(d.name for d in search.space)}"]
     parts += [f"--param {d.name}={d.lo:g}:{d.hi:g}" for d in search.space]
-    parts += [f"--population {sizes.population}", f"--generations {sizes.generations}",
-              f"--environments {sizes.environments}", f"--heldout {sizes.heldout}", f"--steps {sizes.steps}",
-              f"--deadend-seeds {sizes.deadend_seeds}", f"--seed {seed}", f"--train-seed {train_seed}",
-              f"--heldout-seed {search.heldout['table_seed']}", f"--sigma0 {sigma0:g}"]  # fmt: skip
+    parts += [
+        f"--population {sizes.population}",
+        f"--generations {sizes.generations}",
+        f"--environments {sizes.environments}",
+        f"--heldout {sizes.heldout}",
+        f"--steps {sizes.steps}",
+        f"--deadend-seeds {sizes.deadend_seeds}",
+        f"--seed {seed}",
+        f"--train-seed {train_seed}",
+        f"--heldout-seed {search.heldout['table_seed']}",
+        f"--sigma0 {sigma0:g}",
+    ]
     return " ".join(parts)
 
 
-def best_json(search: Search, best: Mapping[str, Any], sizes: Sizes, *, seed: int, train_seed: int, sigma0: float,
-              stopped: Mapping[str, Any] | None, variant: str) -> dict[str, Any]:  # fmt: skip
+def best_json(
+    search: Search,
+    best: Mapping[str, Any],
+    sizes: Sizes,
+    *,
+    seed: int,
+    train_seed: int,
+    sigma0: float,
+    stopped: Mapping[str, Any] | None,
+    variant: str,
+) -> dict[str, Any]:
     """The contents of best.json: the params file of the best candidate with how it was found."""
     from neurowalk import __version__
     from neurowalk.experiments.deadlock import TRAP_STEPS, VARIANTS
@@ -120,29 +168,60 @@ def best_json(search: Search, best: Mapping[str, Any], sizes: Sizes, *, seed: in
     for rec in search.history:
         fits = [f["fitness"] for f in rec["fitness"]]
         so_far = max(so_far, max(fits))
-        hist.append({"generation": rec["generation"], "best": max(fits), "mean": float(np.mean(fits)),
-                     "feasible": sum(f["feasible"] for f in rec["fitness"]), "best_so_far": so_far,
-                     "sigma": rec["sigma"], "mean_params": rec["mean"]})  # fmt: skip
+        hist.append(
+            {
+                "generation": rec["generation"],
+                "best": max(fits),
+                "mean": float(np.mean(fits)),
+                "feasible": sum(f["feasible"] for f in rec["fitness"]),
+                "best_so_far": so_far,
+                "sigma": rec["sigma"],
+                "mean_params": rec["mean"],
+            }
+        )
     found_by = {
         "command": command(search, sizes, seed, train_seed, sigma0, variant),
         "method": "CMA-ES (cma package), normalised space: log scale for the rates with lo > 0, linear otherwise",
-        "seed": seed, "generations": len(search.history), "population": sizes.population, "sigma0": sigma0,
+        "seed": seed,
+        "generations": len(search.history),
+        "population": sizes.population,
+        "sigma0": sigma0,
         "stopped_early": dict(stopped) if stopped and stopped["generation"] <= len(search.history) else None,
         "space": {d.name: d.describe() for d in search.space},
-        "fitness_rule": FITNESS_RULE, "body": "surrogate", "steps": sizes.steps,
-        "training": {"environments": sizes.environments, "table_seed": train_seed,
-                     "run_seeds": [train_seed, train_seed + sizes.environments - 1], "box_size_m": 1.0},
-        "deadends": {"geometries": {k: {"arena": a, "options": o} for k, (a, o) in VARIANTS.items()},
-                     "seeds": sizes.deadend_seeds, "steps": TRAP_STEPS, "network": "plastic"},
-        "heldout": {"environments": h["environments"], "table_seed": h["table_seed"], "run_seeds": h["run_seeds"],
-                    "rates": {k: {"success": r["success"], "success_rate": r["success_rate"],
-                                  "success_rate_95ci": r["success_rate_95ci"], "variant": r["variant"]}
-                              for k, r in h["rows"].items()}},
+        "fitness_rule": FITNESS_RULE,
+        "body": "surrogate",
+        "steps": sizes.steps,
+        "training": {
+            "environments": sizes.environments,
+            "table_seed": train_seed,
+            "run_seeds": [train_seed, train_seed + sizes.environments - 1],
+            "box_size_m": 1.0,
+        },
+        "deadends": {
+            "geometries": {k: {"arena": a, "options": o} for k, (a, o) in VARIANTS.items()},
+            "seeds": sizes.deadend_seeds,
+            "steps": TRAP_STEPS,
+            "network": "plastic",
+        },
+        "heldout": {
+            "environments": h["environments"],
+            "table_seed": h["table_seed"],
+            "run_seeds": h["run_seeds"],
+            "rates": {
+                k: {
+                    "success": r["success"],
+                    "success_rate": r["success_rate"],
+                    "success_rate_95ci": r["success_rate_95ci"],
+                    "variant": r["variant"],
+                }
+                for k, r in h["rows"].items()
+            },
+        },
         "best": {"generation": best["generation"], "index": best["index"], **best["fitness"]},
         "base_training": dict(search.base_training),
         "history": hist,
         "neurowalk_version": __version__,
-    }  # fmt: skip
+    }
     return {"variant": variant, "params": dict(best["params"]), "found_by": found_by}
 
 
@@ -162,11 +241,15 @@ def write(search: Search, folder: Path) -> list[Path]:
 def final_line(search: Search, folder: Path) -> str:
     """``held-out (200 environments): best 0.930 [0.887, 0.958], base 0.870 [...], paper ...; wrote ...``."""
     rows = search.heldout["rows"]
-    rates = ", ".join(f"{k} {r['success_rate']:.3f} [{r['success_rate_95ci'][0]:.3f}, {r['success_rate_95ci'][1]:.3f}]"
-                      for k, r in rows.items())  # fmt: skip
-    return (f"held-out ({search.heldout['environments']} environments, Wilson 95%): {rates}; "
-            f"{search.runs_computed} runs computed, {search.runs_skipped} from the store; "
-            f"wrote {folder / 'best.json'}, heldout.json, history.json, convergence.png")  # fmt: skip
+    rates = ", ".join(
+        f"{k} {r['success_rate']:.3f} [{r['success_rate_95ci'][0]:.3f}, {r['success_rate_95ci'][1]:.3f}]"
+        for k, r in rows.items()
+    )
+    return (
+        f"held-out ({search.heldout['environments']} environments, Wilson 95%): {rates}; "
+        f"{search.runs_computed} runs computed, {search.runs_skipped} from the store; "
+        f"wrote {folder / 'best.json'}, heldout.json, history.json, convergence.png"
+    )
 
 
 def plot(search: Search) -> Figure:

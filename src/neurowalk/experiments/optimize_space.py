@@ -35,10 +35,18 @@ DEFAULT_FIELDS: tuple[str, ...] = ("mu_b", "mu_q", "gamma_b", "gamma_q", "k")
 #: Default bounds (lo, hi) of every tunable field, around the paper's values (mu_b 0.0065, mu_q 0.015,
 #: gamma 0.0003, k -0.01, a 4.7; the rates span about a factor 6-10 either way).
 DEFAULT_BOUNDS: dict[str, tuple[float, float]] = {
-    "mu_b": (0.001, 0.04), "mu_q": (0.002, 0.1), "gamma_b": (3e-5, 3e-3), "gamma_q": (3e-5, 3e-3),
-    "k": (-0.1, 0.0), "a": (2.0, 8.0), "reflex_threshold": (-0.9, 0.0), "activity_cutoff": (0.0, 0.05),
-    "us_near": (0.0, 0.2), "b_start": (0.0, 5.0), "q_start": (0.0, 8.0),
-}  # fmt: skip
+    "mu_b": (0.001, 0.04),
+    "mu_q": (0.002, 0.1),
+    "gamma_b": (3e-5, 3e-3),
+    "gamma_q": (3e-5, 3e-3),
+    "k": (-0.1, 0.0),
+    "a": (2.0, 8.0),
+    "reflex_threshold": (-0.9, 0.0),
+    "activity_cutoff": (0.0, 0.05),
+    "us_near": (0.0, 0.2),
+    "b_start": (0.0, 5.0),
+    "q_start": (0.0, 8.0),
+}
 #: Fields searched on a log scale (where their lower bound is > 0).
 LOG_FIELDS: tuple[str, ...] = ("mu_b", "mu_q", "gamma_b", "gamma_q")
 DIGITS = 6  # significant digits of a candidate's values
@@ -98,8 +106,9 @@ def parse_bounds(text: str) -> tuple[str, tuple[float, float] | None]:
         raise ValueError(f"--param {text!r}: bounds must be two numbers LO:HI, e.g. {name}=0.001:0.03") from None
 
 
-def make_space(base: str, fields: Sequence[str] | None = None,
-               bounds: Mapping[str, tuple[float, float] | None] | None = None) -> tuple[Dim, ...]:  # fmt: skip
+def make_space(
+    base: str, fields: Sequence[str] | None = None, bounds: Mapping[str, tuple[float, float] | None] | None = None
+) -> tuple[Dim, ...]:
     """The searched fields: ``fields`` (default :data:`DEFAULT_FIELDS`) plus those given ``bounds``, in that order.
 
     Args:
@@ -174,5 +183,14 @@ def fitness(train: Sequence[Mapping[str, Any]], deadends: Sequence[Mapping[str, 
     fit = rate if feasible else rate - 1.0 - (m - escaped) / m
     cover = float(np.mean([r["coverage"] for r in train])) if n else 0.0
     score = -(fit + 0.5 / max(n, m, 1) * cover)
-    return {"fitness": fit, "score": score, "feasible": feasible, "success": success, "environments": n,
-            "success_rate": rate, "escaped": escaped, "deadend_runs": m, "mean_coverage": cover}  # fmt: skip
+    return {
+        "fitness": fit,
+        "score": score,
+        "feasible": feasible,
+        "success": success,
+        "environments": n,
+        "success_rate": rate,
+        "escaped": escaped,
+        "deadend_runs": m,
+        "mean_coverage": cover,
+    }

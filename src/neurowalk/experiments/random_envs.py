@@ -32,8 +32,10 @@ EXTENT = 9.0  # m, side of the walled field (the original's arena is 9 x 9 m)
 SIZE = 1.0  # m, side of each box (the authors' arenas use 1 x 1 m boxes)
 STEPS = 20_000  # control steps per run (2000 s)
 QUICK_STEPS = 5_000
-RULE = ("success: at the end of the run the robot is not stuck: its last 3000 control steps (300 s) did not "
-        "stay within a disc of radius 0.5 m; failure otherwise")  # fmt: skip
+RULE = (
+    "success: at the end of the run the robot is not stuck: its last 3000 control steps (300 s) did not "
+    "stay within a disc of radius 0.5 m; failure otherwise"
+)
 
 
 def environments(n: int, seed: int) -> list[dict[str, Any]]:
@@ -45,18 +47,35 @@ def environments(n: int, seed: int) -> list[dict[str, Any]]:
     return out
 
 
-FAILURE_RULE = ("failure classes (runs stuck at the end): 'latched spin' where the steering commanded a turn in one "
-                "direction for >= 80% of the last 3000 steps; else 'wedged' where both ultrasonic rays were blind (no "
-                "echo nearer than 0.38 m) for >= 50% of them; else 'other'")  # fmt: skip
+FAILURE_RULE = (
+    "failure classes (runs stuck at the end): 'latched spin' where the steering commanded a turn in one "
+    "direction for >= 80% of the last 3000 steps; else 'wedged' where both ultrasonic rays were blind (no "
+    "echo nearer than 0.38 m) for >= 50% of them; else 'other'"
+)
 LATCHED, BLIND = 0.8, 0.5
 
 
-def spec(env: dict[str, Any], controller: str, steps: int, body: str, climbing: bool = False, *, variant: str = "paper",
-         size: float = SIZE, params: dict[str, float] | None = None) -> dict[str, Any]:  # fmt: skip
+def spec(
+    env: dict[str, Any],
+    controller: str,
+    steps: int,
+    body: str,
+    climbing: bool = False,
+    *,
+    variant: str = "paper",
+    size: float = SIZE,
+    params: dict[str, float] | None = None,
+) -> dict[str, Any]:
     """The run spec of one network in one environment (``climbing``: leg reflexes and backbone control on)."""
     opts = {"n_boxes": env["n_boxes"], "extent": EXTENT, "size": size}
-    out: dict[str, Any] = {"arena": "random", "arena_opts": opts, "controller": controller, "body": body,
-                           "steps": steps, "seed": env["seed"]}  # fmt: skip
+    out: dict[str, Any] = {
+        "arena": "random",
+        "arena_opts": opts,
+        "controller": controller,
+        "body": body,
+        "steps": steps,
+        "seed": env["seed"],
+    }
     if variant != "paper":
         out["variant"] = variant
     if params:

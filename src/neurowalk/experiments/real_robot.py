@@ -31,11 +31,25 @@ ROBOT_REACH = 0.35  # m, the robot's feet from its trunk centre (0.33 m) with a 
 VIDEO_EVERY = 4  # control steps per video frame: at 15 fps, 6x real time with 10 Hz control
 
 
-def make_spec(arena: str, arena_opts: dict[str, float], network: str, seed: int, steps: int, *, variant: str = "paper",
-              params: dict[str, float] | None = None) -> dict[str, Any]:  # fmt: skip
+def make_spec(
+    arena: str,
+    arena_opts: dict[str, float],
+    network: str,
+    seed: int,
+    steps: int,
+    *,
+    variant: str = "paper",
+    params: dict[str, float] | None = None,
+) -> dict[str, Any]:
     """Run spec of one run: the ``network`` (a controller name) in ``arena`` for ``steps`` control steps."""
-    spec: dict[str, Any] = {"arena": arena, "arena_opts": dict(arena_opts), "controller": network, "steps": steps,
-                            "seed": seed, "variant": variant}  # fmt: skip
+    spec: dict[str, Any] = {
+        "arena": arena,
+        "arena_opts": dict(arena_opts),
+        "controller": network,
+        "steps": steps,
+        "seed": seed,
+        "variant": variant,
+    }
     if params:
         spec["params"] = dict(params)
     return spec
@@ -78,16 +92,25 @@ def run_store_paths(specs: list[dict[str, Any]], folder: Path, workers: int) -> 
 
     results, _ = run_store(specs, folder, workers, fn=run_with_path)
     if any("path" not in r for r in results.values()):
-        raise RuntimeError(f"{folder / 'results.sqlite'} holds runs without their paths (another sweep's store); "
-                           "use a fresh output folder")  # fmt: skip
+        raise RuntimeError(
+            f"{folder / 'results.sqlite'} holds runs without their paths (another sweep's store); "
+            "use a fresh output folder"
+        )
     return results
 
 
 def keep_example(ep: Episode) -> dict[str, Any]:
     """What the figures draw of an example run: summary, time (T,) s, pose (T, 3), outputs, b, q (T, 2), qpos."""
     tr = ep.trajectory
-    return {"summary": ep.summary, "t": tr.t, "pose": tr.pose, "outputs": tr.outputs, "b": tr.b, "q": tr.q,
-            "qpos": tr.qpos}  # fmt: skip
+    return {
+        "summary": ep.summary,
+        "t": tr.t,
+        "pose": tr.pose,
+        "outputs": tr.outputs,
+        "b": tr.b,
+        "q": tr.q,
+        "qpos": tr.qpos,
+    }
 
 
 def example_runs(specs: dict[str, dict[str, Any]], workers: int = 2) -> dict[str, dict[str, Any]]:
@@ -117,12 +140,17 @@ def camera_view(arena: ArenaSpec, *, aspect: float = 4 / 3, fovy_deg: float = 45
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     span = float(max((hi[0] - lo[0]) / aspect, hi[1] - lo[1])) + 0.3
     distance = 0.5 * span / math.tan(math.radians(fovy_deg) / 2)
-    return {"lookat": [float((lo[0] + hi[0]) / 2), float((lo[1] + hi[1]) / 2), 0.0], "distance": distance,
-            "azimuth": 90.0, "elevation": -70.0}  # fmt: skip
+    return {
+        "lookat": [float((lo[0] + hi[0]) / 2), float((lo[1] + hi[1]) / 2), 0.0],
+        "distance": distance,
+        "azimuth": 90.0,
+        "elevation": -70.0,
+    }
 
 
-def snapshots(arena: ArenaSpec, qpos: np.ndarray, rows: np.ndarray, *, width: int = 400,
-              height: int = 300) -> np.ndarray:  # fmt: skip
+def snapshots(
+    arena: ArenaSpec, qpos: np.ndarray, rows: np.ndarray, *, width: int = 400, height: int = 300
+) -> np.ndarray:
     """Rendered frames (len(rows), height, width, 3) of the run's positions ``qpos`` (T, nq) at ``rows``."""
     from neurowalk.body.physics import AmosII
     from neurowalk.render import render_frames
@@ -152,13 +180,22 @@ def draw_strip(axes: list[Axes], frames: np.ndarray, times: list[float], label: 
         if i >= len(frames):
             continue
         ax.imshow(frames[i])
-        ax.text(0.03, 0.95, f"{times[i]:.0f} s", transform=ax.transAxes, va="top", fontsize=9, color="white",
-                bbox={"facecolor": "black", "alpha": 0.6, "lw": 0})  # fmt: skip
+        ax.text(
+            0.03,
+            0.95,
+            f"{times[i]:.0f} s",
+            transform=ax.transAxes,
+            va="top",
+            fontsize=9,
+            color="white",
+            bbox={"facecolor": "black", "alpha": 0.6, "lw": 0},
+        )
     axes[0].set_title(label, fontsize=9, loc="left")
 
 
-def draw_paths(ax: Axes, arena: ArenaSpec, paths: list[np.ndarray], good: list[bool], example: np.ndarray,
-               title: str) -> None:  # fmt: skip
+def draw_paths(
+    ax: Axes, arena: ArenaSpec, paths: list[np.ndarray], good: list[bool], example: np.ndarray, title: str
+) -> None:
     """Top view of the arena's bounds: every seed's path (green: got out, red: not), the example's coloured by time."""
     from neurowalk.plotting import draw_arena
 

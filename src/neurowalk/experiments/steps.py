@@ -32,8 +32,9 @@ if TYPE_CHECKING:
 
 
 @register("steps", "step-height sweep: highest step climbed, with and without backbone control and reflexes")
-def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None,
-        workers: int = 2) -> Result:  # fmt: skip
+def run(
+    *, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None, workers: int = 2
+) -> Result:
     """Climb rates per variant and height; the highest height each variant climbs reliably."""
     from neurowalk.runners.specs import spec_key
 
@@ -53,11 +54,21 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
             done = [r["exit_step"] for r in runs if r["exit_step"] is not None]
             times[h] = float(np.median(done)) if done else None
         best = highest_reliable(rates)
-        variants[v] = {"modules": VARIANTS[v], "climb_rate": {f"{h:.2f}": r for h, r in rates.items()},
-                       "median_steps_to_climb": {f"{h:.2f}": t for h, t in times.items()},
-                       "highest_reliable_m": best}  # fmt: skip
-    summary = {"heights_m": list(heights), "seeds": n, "seed": seed, "steps": STEP_STEPS, "rule": STEP_RULE,
-               "reliable_share": RELIABLE, "variants": variants}  # fmt: skip
+        variants[v] = {
+            "modules": VARIANTS[v],
+            "climb_rate": {f"{h:.2f}": r for h, r in rates.items()},
+            "median_steps_to_climb": {f"{h:.2f}": t for h, t in times.items()},
+            "highest_reliable_m": best,
+        }
+    summary = {
+        "heights_m": list(heights),
+        "seeds": n,
+        "seed": seed,
+        "steps": STEP_STEPS,
+        "rule": STEP_RULE,
+        "reliable_share": RELIABLE,
+        "variants": variants,
+    }
     return Result("steps", summary)
 
 
@@ -77,8 +88,12 @@ def plot(res: Result) -> Figure:
         rate = np.array(list(d["climb_rate"].values())) + 0.012 * (i - 1.5)  # offset: equal rates stay visible
         ax.plot(np.array(h) * 100, rate, marker=marker, ls=line, label=label, alpha=0.85)
     ax.axhline(s["reliable_share"], color="0.5", ls="--", lw=0.8)
-    ax.set(xlabel="step height (cm)", ylabel=f"climbed (share of {s['seeds']} seeds; lines offset)", ylim=(-0.06, 1.06),
-           title="Single step, steering straight ahead")  # fmt: skip
+    ax.set(
+        xlabel="step height (cm)",
+        ylabel=f"climbed (share of {s['seeds']} seeds; lines offset)",
+        ylim=(-0.06, 1.06),
+        title="Single step, steering straight ahead",
+    )
     ax.legend(fontsize=8)
     fig.tight_layout()
     return fig

@@ -63,14 +63,18 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
     summary = {
         "seeds": n,
         "first_seed": seed,
-        "calibration": {"file_meta": {k: v for k, v in cal.meta.items() if k != "validation"},
-                        "tau_s": cal.tau_s, "delay_steps": cal.delay_steps, "startup_steps": cal.startup_steps},
+        "calibration": {
+            "file_meta": {k: v for k, v in cal.meta.items() if k != "validation"},
+            "tau_s": cal.tau_s,
+            "delay_steps": cal.delay_steps,
+            "startup_steps": cal.startup_steps,
+        },
         "validation": val,
         "physics": phys,
         "surrogate": sur,
         "agreement": agreement(phys["runs"], sur["runs"]),
         "rule": "same outcome: the run escaped on both bodies or on neither (same arena, network and seed)",
-    }  # fmt: skip
+    }
     return Result(NAME, summary)
 
 
@@ -88,8 +92,10 @@ def plot(res: Result) -> Figure:
     ax[0].plot([-1, 1], [-1, 1], "k-", lw=0.8)
     ax[0].set_xlabel("physics (fraction of full scale)")
     ax[0].set_ylabel("surrogate (fraction of full scale)")
-    ax[0].set_title(f"A. held-out steering: max error {v['speed_error_max']:.1%} speed, "
-                    f"{v['yaw_rate_error_max']:.1%} turning", fontsize=9)  # fmt: skip
+    ax[0].set_title(
+        f"A. held-out steering: max error {v['speed_error_max']:.1%} speed, {v['yaw_rate_error_max']:.1%} turning",
+        fontsize=9,
+    )
     ax[0].legend(fontsize=8)
     variants, nets = list(VARIANTS), list(NETWORKS)
     width = 0.8 / len(nets)
@@ -103,8 +109,9 @@ def plot(res: Result) -> Figure:
     ax[1].set_xticks(range(len(variants)), [vn.replace("narrow-passage", "passage") for vn in variants], fontsize=8)
     ax[1].set_ylabel(f"escaped (of {s['seeds']})")
     a = s["agreement"]
-    ax[1].set_title(f"B. dead ends: same outcome in {a['same_outcome']}/{a['runs']} runs ({a['fraction']:.0%})",
-                    fontsize=9)  # fmt: skip
+    ax[1].set_title(
+        f"B. dead ends: same outcome in {a['same_outcome']}/{a['runs']} runs ({a['fraction']:.0%})", fontsize=9
+    )
     ax[1].legend(fontsize=7, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.08))
     fig.tight_layout()
     return fig

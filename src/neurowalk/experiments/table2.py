@@ -50,10 +50,20 @@ def rows(variant: str | None = None, params: dict[str, float] | None = None) -> 
 
 
 @register("table2", "random environments: success and failure counts per network (paper Table 2)")
-def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: str = "surrogate",
-        out: Path | None = None, workers: int = 2, climbing: bool = False, size: float = SIZE,
-        variant: str | None = None, params: dict[str, float] | None = None,
-        engine: str = "mujoco") -> Result:  # fmt: skip
+def run(
+    *,
+    quick: bool = False,
+    seed: int = 0,
+    seeds: int | None = None,
+    body: str = "surrogate",
+    out: Path | None = None,
+    workers: int = 2,
+    climbing: bool = False,
+    size: float = SIZE,
+    variant: str | None = None,
+    params: dict[str, float] | None = None,
+    engine: str = "mujoco",
+) -> Result:
     """``seeds`` environments (default 50; 10 with ``quick``) x the rows, through a resumable store in ``out``.
 
     ``size``: box side (m; the authors' 1 m by default). ``climbing``: leg reflexes and backbone control on
@@ -78,8 +88,9 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
     envs = environments(n, seed)
 
     def spec_of(e: dict[str, Any], r: dict[str, Any], b: str) -> dict[str, Any]:
-        s = spec(e, r["controller"], steps, b, climbing and b == body, variant=r["variant"], size=size,
-                 params=r["params"])  # fmt: skip
+        s = spec(
+            e, r["controller"], steps, b, climbing and b == body, variant=r["variant"], size=size, params=r["params"]
+        )
         return {**s, "engine": engine} if b == "amosii" and engine != "mujoco" else s
 
     surrogate = body_info(body).surrogate  # its own surrogate beside a physics body (amosii, wheeled)
@@ -89,21 +100,38 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, body: s
     folder.mkdir(parents=True, exist_ok=True)
     results, report = run_store(specs, folder, workers)
     _reclassify(results, specs, workers)
-    env_rows = [{**e, **{name: _outcome(results[spec_key(spec_of(e, r, body))]) for name, r in table.items()}}
-                for e in envs]  # fmt: skip
+    env_rows = [
+        {**e, **{name: _outcome(results[spec_key(spec_of(e, r, body))]) for name, r in table.items()}} for e in envs
+    ]
     counts = {name: {**r, **_count(env_rows, name)} for name, r in table.items()}
     agreement = None
     if surrogate is not None:
-        sur = [{name: _outcome(results[spec_key(spec_of(e, r, surrogate))]) for name, r in table.items()}
-               for e in envs]  # fmt: skip
+        sur = [{name: _outcome(results[spec_key(spec_of(e, r, surrogate))]) for name, r in table.items()} for e in envs]
         agreement = {name: _agreement(env_rows, sur, name) for name in table}
-    paper = {**PAPER, "success_rate": PAPER["success"] / PAPER["environments"],
-             "success_rate_95ci": list(wilson(PAPER["success"], PAPER["environments"]))}  # fmt: skip
-    summary = {"body": body, "engine": engine, "climbing": climbing, "steps": steps, "seed": seed, "boxes": list(BOXES),
-               "box_size_m": size, "rule": RULE, "failure_rule": FAILURE_RULE,
-               "interval": "Wilson score interval, 95%", "counts": counts, "environments": env_rows,
-               "paper": paper, "store": str(folder / "results.sqlite"), "sweep": report.counts(),
-               "surrogate": surrogate, "surrogate_agreement": agreement}  # fmt: skip
+    paper = {
+        **PAPER,
+        "success_rate": PAPER["success"] / PAPER["environments"],
+        "success_rate_95ci": list(wilson(PAPER["success"], PAPER["environments"])),
+    }
+    summary = {
+        "body": body,
+        "engine": engine,
+        "climbing": climbing,
+        "steps": steps,
+        "seed": seed,
+        "boxes": list(BOXES),
+        "box_size_m": size,
+        "rule": RULE,
+        "failure_rule": FAILURE_RULE,
+        "interval": "Wilson score interval, 95%",
+        "counts": counts,
+        "environments": env_rows,
+        "paper": paper,
+        "store": str(folder / "results.sqlite"),
+        "sweep": report.counts(),
+        "surrogate": surrogate,
+        "surrogate_agreement": agreement,
+    }
     return Result("table2", summary)
 
 
@@ -129,18 +157,27 @@ def _reclassify(results: dict[str, dict[str, Any]], specs: list[dict[str, Any]],
 
 def _outcome(res: dict[str, Any]) -> dict[str, Any]:
     """One run's Table 2 outcome from its summary."""
-    return {"success": not res["trapped"], "failure_class": failure_class(res),
-            "ever_held_up_300s": res["ever_trapped"], "ever_held_up_1000s": res["ever_held_up_1000s"],
-            "coverage": res["coverage"], "path_length_m": res["path_length_m"],
-            "end_turn_share": res["end_turn_share"], "end_blind_share": res["end_blind_share"]}  # fmt: skip
+    return {
+        "success": not res["trapped"],
+        "failure_class": failure_class(res),
+        "ever_held_up_300s": res["ever_trapped"],
+        "ever_held_up_1000s": res["ever_held_up_1000s"],
+        "coverage": res["coverage"],
+        "path_length_m": res["path_length_m"],
+        "end_turn_share": res["end_turn_share"],
+        "end_blind_share": res["end_blind_share"],
+    }
 
 
 def _agreement(physics: list[dict[str, Any]], surrogate: list[dict[str, Any]], name: str) -> dict[str, Any]:
     """Environment by environment: does the surrogate give row ``name`` the physics outcome?"""
     pairs = [(x["seed"], x[name]["success"], s[name]["success"]) for x, s in zip(physics, surrogate, strict=True)]
-    return {"environments": len(pairs), "same_outcome": sum(p == s for _, p, s in pairs),
-            "surrogate_success": sum(s for _, _, s in pairs),
-            "differ": [{"seed": seed, "physics": p, "surrogate": s} for seed, p, s in pairs if p != s]}  # fmt: skip
+    return {
+        "environments": len(pairs),
+        "same_outcome": sum(p == s for _, p, s in pairs),
+        "surrogate_success": sum(s for _, _, s in pairs),
+        "differ": [{"seed": seed, "physics": p, "surrogate": s} for seed, p, s in pairs if p != s],
+    }
 
 
 def _count(env_rows: list[dict[str, Any]], name: str) -> dict[str, Any]:
@@ -148,13 +185,16 @@ def _count(env_rows: list[dict[str, Any]], name: str) -> dict[str, Any]:
     n = len(env_rows)
     ok = sum(x[name]["success"] for x in env_rows)
     return {
-        "environments": n, "success": ok, "failure": n - ok, "success_rate": ok / n,
+        "environments": n,
+        "success": ok,
+        "failure": n - ok,
+        "success_rate": ok / n,
         "success_rate_95ci": list(wilson(ok, n)),
         "failure_classes": {c: sum(x[name]["failure_class"] == c for x in env_rows) for c in CLASSES},
         "median_coverage": float(np.median([x[name]["coverage"] for x in env_rows])),
         "ever_held_up_300s": sum(x[name]["ever_held_up_300s"] for x in env_rows),
         "ever_held_up_1000s": sum(x[name]["ever_held_up_1000s"] for x in env_rows),
-    }  # fmt: skip
+    }
 
 
 def plot(res: Result) -> Figure:
@@ -181,15 +221,19 @@ def plot(res: Result) -> Figure:
         ax[0].text(i, 0.03, f"{k['success']}/{k['environments']}\n{k['success_rate']:.1%}", ha="center", fontsize=9)
     agree = s.get("surrogate_agreement") or {}
     who = s.get("surrogate") or "surrogate"
-    labels = [f"{c}\n{who} agrees {agree[c]['same_outcome']}/{agree[c]['environments']}" if c in agree else c
-              for c in names]  # fmt: skip
+    labels = [
+        f"{c}\n{who} agrees {agree[c]['same_outcome']}/{agree[c]['environments']}" if c in agree else c for c in names
+    ]
     ax[0].set_xticks(x, labels, fontsize=7 if agree else 8)
     ax[0].set_ylim(0, 1.05)
     ax[0].set_ylabel("success rate (Wilson 95% interval)")
     on = " with climbing modules" if s.get("climbing") else ""
     size = s.get("box_size_m", 0.6)
-    ax[0].set_title(f"Table 2 on {s['body']}{on}: {s['counts'][names[0]]['environments']} random environments, "
-                    f"{size:g} m boxes, {s['steps']} steps", fontsize=9)  # fmt: skip
+    ax[0].set_title(
+        f"Table 2 on {s['body']}{on}: {s['counts'][names[0]]['environments']} random environments, "
+        f"{size:g} m boxes, {s['steps']} steps",
+        fontsize=9,
+    )
     boxes = np.arange(s["boxes"][0], s["boxes"][1] + 1)
     for i, c in enumerate(names):
         fails = [sum(1 for r in s["environments"] if r["n_boxes"] == b and not r[c]["success"]) for b in boxes]

@@ -53,8 +53,7 @@ def single_neuron_thresholds(b: float, a: float = A_DEFAULT) -> tuple[float, flo
 
 
 @jit
-def _sweep(s: np.ndarray, levels: np.ndarray, other: float, p: np.ndarray, settle: int,
-           out: np.ndarray) -> None:  # fmt: skip
+def _sweep(s: np.ndarray, levels: np.ndarray, other: float, p: np.ndarray, settle: int, out: np.ndarray) -> None:
     for j in range(levels.shape[0]):
         for _ in range(settle):
             sensory_step(s, levels[j], other, p)

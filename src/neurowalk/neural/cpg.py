@@ -105,8 +105,9 @@ def pcpg_step(c: np.ndarray, act: float, threshold: float, partial: bool = False
 
 
 @jit
-def _run_cpg(o: np.ndarray, pc: np.ndarray, steps: int, w_self: float, w_cross: float, thr: float, partial: bool,
-             out: np.ndarray) -> None:  # fmt: skip
+def _run_cpg(
+    o: np.ndarray, pc: np.ndarray, steps: int, w_self: float, w_cross: float, thr: float, partial: bool, out: np.ndarray
+) -> None:
     for t in range(steps):
         a0, a1 = o[0], o[1]  # PCPG reads the previous CPG output (one synapse, one step)
         cpg_step(o, w_self, w_cross)

@@ -89,8 +89,18 @@ class LocomotionParams:
     def as_array(self) -> np.ndarray:
         """Pack for the compiled step."""
         c = self.cpg
-        return np.array([c.w_self, c.w_cross + c.mi, c.pcpg_threshold, self.tau, self.tau_l,
-                         self.fti_steer_gain, self.fti_mid_gain, float(c.pcpg_first_partial)])  # fmt: skip
+        return np.array(
+            [
+                c.w_self,
+                c.w_cross + c.mi,
+                c.pcpg_threshold,
+                self.tau,
+                self.tau_l,
+                self.fti_steer_gain,
+                self.fti_mid_gain,
+                float(c.pcpg_first_partial),
+            ]
+        )
 
 
 @jit
@@ -131,8 +141,9 @@ def _vrn(old: np.ndarray, new: np.ndarray, base: int, x_in: float, y_in: float) 
 
 
 @jit
-def presignal_step(x: np.ndarray, buf: np.ndarray, s_right: float, s_left: float, p: np.ndarray,
-                   pre: np.ndarray) -> None:  # fmt: skip
+def presignal_step(
+    x: np.ndarray, buf: np.ndarray, s_right: float, s_left: float, p: np.ndarray, pre: np.ndarray
+) -> None:
     """Advance one network one control step in place and write the delayed pre-motor signals.
 
     Args:
@@ -199,8 +210,9 @@ def presignal_step(x: np.ndarray, buf: np.ndarray, s_right: float, s_left: float
 
 
 @jit
-def locomotion_step(x: np.ndarray, buf: np.ndarray, s_right: float, s_left: float, p: np.ndarray,
-                    targets: np.ndarray) -> None:  # fmt: skip
+def locomotion_step(
+    x: np.ndarray, buf: np.ndarray, s_right: float, s_left: float, p: np.ndarray, targets: np.ndarray
+) -> None:
     """Advance one network one control step in place and write 18 leg targets (rad).
 
     :func:`presignal_step` followed by :func:`motor_map`; ``targets``: (>= 18,) output, actuator order.

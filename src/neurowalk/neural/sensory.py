@@ -97,10 +97,16 @@ class SensoryParams:
         activity cut-off 0.009, reflex gate on US > 0.2 (I > -0.6).
         """
         base: dict[str, float | bool | int | None] = {
-            "activity_cutoff": 0.009, "reflex_threshold": -0.6, "us_near": 0.0, "input_delay": True,
-            "post_learning": True, "steer_delay": 2, "prime_step": True, "b_start": ORIGINAL_B0,
+            "activity_cutoff": 0.009,
+            "reflex_threshold": -0.6,
+            "us_near": 0.0,
+            "input_delay": True,
+            "post_learning": True,
+            "steer_delay": 2,
+            "prime_step": True,
+            "b_start": ORIGINAL_B0,
             "q_start": ORIGINAL_Q0,
-        }  # fmt: skip
+        }
         return cls(**{**base, **changes})  # type: ignore[arg-type]
 
     def as_array(self, learning: bool) -> np.ndarray:
@@ -108,10 +114,23 @@ class SensoryParams:
         lb = float(learning and self.learn_b)
         lq = float(learning and self.learn_q)
         return np.array(
-            [self.a, self.mu_b, self.mu_q, self.gamma_b, self.gamma_q, self.k,
-             self.reflex_threshold, self.activity_cutoff, lb, lq, self.us_near, float(self.input_delay),
-             float(self.post_learning), float(self.steer_delay)]
-        )  # fmt: skip
+            [
+                self.a,
+                self.mu_b,
+                self.mu_q,
+                self.gamma_b,
+                self.gamma_q,
+                self.k,
+                self.reflex_threshold,
+                self.activity_cutoff,
+                lb,
+                lq,
+                self.us_near,
+                float(self.input_delay),
+                float(self.post_learning),
+                float(self.steer_delay),
+            ]
+        )
 
 
 def initial_weights(
@@ -305,8 +324,9 @@ def validate_inputs(inputs: object) -> np.ndarray:
     return np.ascontiguousarray(x)
 
 
-def initial_state(b0: np.ndarray, q0: np.ndarray, o0: object = (0.0, 0.0), prime: np.ndarray | None = None
-                  ) -> np.ndarray:  # fmt: skip
+def initial_state(
+    b0: np.ndarray, q0: np.ndarray, o0: object = (0.0, 0.0), prime: np.ndarray | None = None
+) -> np.ndarray:
     """Packed (STATE_SIZE,) start state with O(-2) = O(-1) = O(0) = o0, steering o0, input neurons 0.
 
     ``prime``: a packed params array to run the original's constructor step with (zero input; the neurons,
@@ -357,8 +377,14 @@ def simulate(
     s = initial_state(b, q, o0, packed if p.prime_step else None)
     out = np.empty((x.shape[0], STATE_SIZE))
     _run(s, x, packed, out)
-    return SensoryTrace(inputs=x, outputs=out[:, 0:2].copy(), b=out[:, 4:6].copy(), q=out[:, 6:8].copy(),
-                        mode=mode, steering=out[:, STEER : STEER + 2].copy())  # fmt: skip
+    return SensoryTrace(
+        inputs=x,
+        outputs=out[:, 0:2].copy(),
+        b=out[:, 4:6].copy(),
+        q=out[:, 6:8].copy(),
+        mode=mode,
+        steering=out[:, STEER : STEER + 2].copy(),
+    )
 
 
 class SensoryNetwork:

@@ -33,8 +33,19 @@ from neurowalk.neural.sensory import SensoryParams
 
 TUNED_FILE = Path(__file__).with_name("data") / "tuned.json"
 #: SensoryParams fields a params file or an optimisation may set (all numbers).
-TUNABLE: tuple[str, ...] = ("a", "mu_b", "mu_q", "gamma_b", "gamma_q", "k", "reflex_threshold", "activity_cutoff",
-                            "us_near", "b_start", "q_start")  # fmt: skip
+TUNABLE: tuple[str, ...] = (
+    "a",
+    "mu_b",
+    "mu_q",
+    "gamma_b",
+    "gamma_q",
+    "k",
+    "reflex_threshold",
+    "activity_cutoff",
+    "us_near",
+    "b_start",
+    "q_start",
+)
 
 
 def variant_names() -> tuple[str, ...]:
@@ -98,8 +109,9 @@ def get_variant(name: str = "paper", overrides: Mapping[str, Any] | None = None)
     if not overrides:
         return v
     extra = check_overrides(overrides)
-    return Variant(f"{v.name}+params", dataclasses.replace(v.sensory, **extra), v.pcpg_first_partial,
-                   {**v.overrides, **extra})  # fmt: skip
+    return Variant(
+        f"{v.name}+params", dataclasses.replace(v.sensory, **extra), v.pcpg_first_partial, {**v.overrides, **extra}
+    )
 
 
 def read_params_file(path: Path | str) -> dict[str, Any]:

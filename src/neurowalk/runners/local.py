@@ -30,8 +30,9 @@ from neurowalk.runners.stopping import deferred, stop_requested
 from neurowalk.sim.episode import Episode, EpisodeConfig, run_episode
 
 
-def run_unordered(fn: Callable[[Any], Any], items: Sequence[Any], *, workers: int = 2,
-                  retries: int = 0) -> Generator[Done, None, None]:  # fmt: skip
+def run_unordered(
+    fn: Callable[[Any], Any], items: Sequence[Any], *, workers: int = 2, retries: int = 0
+) -> Generator[Done, None, None]:
     """Yield a :class:`Done` for every ``fn(item)`` as it finishes (in finishing order).
 
     Args:
@@ -240,8 +241,14 @@ def _one(args: tuple[EpisodeConfig, Callable[[Episode], Any]]) -> Any:
     return keep(run_episode(cfg))
 
 
-def run_many(configs: Sequence[EpisodeConfig], *, workers: int = 2, progress: bool = True,
-             keep: Callable[[Episode], Any] = summary_only, desc: str = "runs") -> list[Any]:  # fmt: skip
+def run_many(
+    configs: Sequence[EpisodeConfig],
+    *,
+    workers: int = 2,
+    progress: bool = True,
+    keep: Callable[[Episode], Any] = summary_only,
+    desc: str = "runs",
+) -> list[Any]:
     """Run every config; return ``keep(episode)`` of each, in order.
 
     Args:

@@ -63,8 +63,9 @@ def stop() -> None:
     import_ray().shutdown()
 
 
-def run_unordered(fn: Callable[[Any], Any], items: Sequence[Any], *, workers: int = 2, address: str | None = None,
-                  retries: int = 0) -> Generator[Done, None, None]:  # fmt: skip
+def run_unordered(
+    fn: Callable[[Any], Any], items: Sequence[Any], *, workers: int = 2, address: str | None = None, retries: int = 0
+) -> Generator[Done, None, None]:
     """Yield a :class:`Done` for every ``fn(item)`` as it finishes, computed as Ray tasks.
 
     Args:

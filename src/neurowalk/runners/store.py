@@ -102,8 +102,15 @@ class ResultStore:
         return _Txn(self._db)
 
     # -- writing (driver only) --------------------------------------------------------------------------------
-    def put(self, key: str, spec: dict[str, Any], *, result: dict[str, Any] | None = None, error: str | None = None,
-            wall_time_s: float | None = None) -> str:  # fmt: skip
+    def put(
+        self,
+        key: str,
+        spec: dict[str, Any],
+        *,
+        result: dict[str, Any] | None = None,
+        error: str | None = None,
+        wall_time_s: float | None = None,
+    ) -> str:
         """Store one finished run (replacing an earlier row of the same key); returns its ``finished_at``.
 
         Exactly one of ``result`` (status 'ok') and ``error`` (status 'error', one line) is given.
@@ -242,8 +249,10 @@ def _lock(path: Path) -> IO[bytes]:
     except OSError as e:
         raise StoreError(f"cannot open result store {str(path)!r}: {e.strerror}") from None
     if f is None:
-        raise StoreError(f"result store {str(path)!r} is in use by another sweep or figure; wait for it to finish "
-                         "or use another output folder")  # fmt: skip
+        raise StoreError(
+            f"result store {str(path)!r} is in use by another sweep or figure; wait for it to finish "
+            "or use another output folder"
+        )
     return f
 
 

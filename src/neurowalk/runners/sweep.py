@@ -75,9 +75,17 @@ def prepare(specs: Iterable[Spec]) -> tuple[list[tuple[str, Spec]], int]:
     return list(seen.items()), n
 
 
-def run_sweep(specs: Iterable[Spec], store: ResultStore, *, backend: str = "local", workers: int = 2,
-              address: str | None = None, progress: bool = True, fn: Callable[[Spec], Any] = run_spec,
-              retries: int = 0) -> SweepReport:  # fmt: skip
+def run_sweep(
+    specs: Iterable[Spec],
+    store: ResultStore,
+    *,
+    backend: str = "local",
+    workers: int = 2,
+    address: str | None = None,
+    progress: bool = True,
+    fn: Callable[[Spec], Any] = run_spec,
+    retries: int = 0,
+) -> SweepReport:
     """Run every spec not yet done into ``store``; return the counts.
 
     Args:
@@ -116,8 +124,9 @@ def run_sweep(specs: Iterable[Spec], store: ResultStore, *, backend: str = "loca
     try:
         if todo:
             results = _backend(backend, fn, [s for _, s in todo], workers, address, retries)
-            bar = tqdm(total=len(todo), unit="run", desc="sweep", disable=not progress, mininterval=0.5,
-                       file=sys.stderr)  # fmt: skip
+            bar = tqdm(
+                total=len(todo), unit="run", desc="sweep", disable=not progress, mininterval=0.5, file=sys.stderr
+            )
             for d in results:
                 key, spec = todo[d.index]
                 with deferred():  # a run is stored whole, or not at all
@@ -137,8 +146,9 @@ def run_sweep(specs: Iterable[Spec], store: ResultStore, *, backend: str = "loca
     return report
 
 
-def _backend(backend: str, fn: Callable[[Spec], Any], items: list[Spec], workers: int, address: str | None,
-             retries: int) -> Any:  # fmt: skip
+def _backend(
+    backend: str, fn: Callable[[Spec], Any], items: list[Spec], workers: int, address: str | None, retries: int
+) -> Any:
     """Results (:class:`Done`, any order) of ``fn`` on ``items``: runs on engine 'warp' as the worlds of one MuJoCo
     Warp model (in this process), the others on the backend."""
     warp = [i for i, s in enumerate(items) if s.get("engine") == "warp"] if fn is run_spec else []
@@ -182,8 +192,9 @@ def warp_runs(items: list[Spec], which: list[int], worlds: int | None = None) ->
             yield Done(i, value=result_of(ep), wall_time_s=wall)
 
 
-def _pool(backend: str, fn: Callable[[Spec], Any], items: list[Spec], workers: int, address: str | None,
-          retries: int) -> Any:  # fmt: skip
+def _pool(
+    backend: str, fn: Callable[[Spec], Any], items: list[Spec], workers: int, address: str | None, retries: int
+) -> Any:
     if backend == "ray":
         from neurowalk.runners import ray_backend
 

@@ -61,8 +61,15 @@ class BatchEpisodes:
             recording).
     """
 
-    def __init__(self, configs: Sequence[EpisodeConfig], *, nthread: int = 2, max_boxes: int | None = None,
-                 persistent: bool = False, compiled: bool = True) -> None:  # fmt: skip
+    def __init__(
+        self,
+        configs: Sequence[EpisodeConfig],
+        *,
+        nthread: int = 2,
+        max_boxes: int | None = None,
+        persistent: bool = False,
+        compiled: bool = True,
+    ) -> None:
         self.configs = list(configs)
         _check(self.configs)
         n = len(self.configs)
@@ -89,8 +96,15 @@ class BatchEpisodes:
         if not self.controllers.compiled:  # act() needs the pose; bound now, as outputs fill only after a call
             self._xpos, self._xmat = self.batch.bind("xpos"), self.batch.bind("xmat")
 
-    def _setup(self, model: mujoco.MjModel, params: BodyParams, n_substeps: int, controllers: Sequence[Any],
-               noises: list[ColoredNoise], compiled: bool) -> None:  # fmt: skip
+    def _setup(
+        self,
+        model: mujoco.MjModel,
+        params: BodyParams,
+        n_substeps: int,
+        controllers: Sequence[Any],
+        noises: list[ColoredNoise],
+        compiled: bool,
+    ) -> None:
         """What every engine shares: the model's sensor layout, the controllers, the noise sources, the timers."""
         self.model, self.params, self.n_substeps = model, params, n_substeps
         self.controllers = BatchControllers(controllers, compiled=compiled)
@@ -153,10 +167,13 @@ class BatchEpisodes:
         nj = len(self._qidx)
         dist, foot = self._sensed
         xpos, xmat = self._xpos[i, self._trunk], self._xmat[i, self._trunk]
-        return Observation(us_distance=dist[i].copy(), foot_contact=foot[i].copy(),
-                           joint_angles=self._qpos[i, self._qidx] + self._noise_now[i, 2 : 2 + nj],
-                           pose=np.array([xpos[0], xpos[1], math.atan2(xmat[3], xmat[0])]),
-                           time=float(self._time[i]))  # fmt: skip
+        return Observation(
+            us_distance=dist[i].copy(),
+            foot_contact=foot[i].copy(),
+            joint_angles=self._qpos[i, self._qidx] + self._noise_now[i, 2 : 2 + nj],
+            pose=np.array([xpos[0], xpos[1], math.atan2(xmat[3], xmat[0])]),
+            time=float(self._time[i]),
+        )
 
     def run(self, *, progress: bool = False) -> list[Episode]:
         """Reset, run every copy for its config's steps, and return one :class:`Episode` per config.
@@ -166,8 +183,17 @@ class BatchEpisodes:
         with ``summary["completed"]`` false (none completed: the interrupt is raised).
         """
         steps, n = self.configs[0].steps, self.n
-        shapes = {"t": (), "inputs": (2,), "outputs": (2,), "b": (2,), "q": (2,), "targets": (self.model.nu,),
-                  "us_distance": (2,), "foot_contact": (6,), "qpos": (self.model.nq,)}  # fmt: skip
+        shapes = {
+            "t": (),
+            "inputs": (2,),
+            "outputs": (2,),
+            "b": (2,),
+            "q": (2,),
+            "targets": (self.model.nu,),
+            "us_distance": (2,),
+            "foot_contact": (6,),
+            "qpos": (self.model.nq,),
+        }
         rec = {name: np.full((steps, n, *shape), np.nan) for name, shape in shapes.items()}
         bar = _progress(steps, n, progress, self.label())
         t0 = time.perf_counter()
@@ -217,8 +243,9 @@ class BatchEpisodes:
         cfg, arena = self.configs[i], self.arenas[i]
         cols = {name: np.ascontiguousarray(a[:, i]) for name, a in rec.items()}
         q = cols["qpos"]
-        tr = Trajectory(pose=poses_from_qpos(q), joint_angles=np.ascontiguousarray(q[:, self._qidx]),
-                        up_z=up_z_from_qpos(q), **cols)  # fmt: skip
+        tr = Trajectory(
+            pose=poses_from_qpos(q), joint_angles=np.ascontiguousarray(q[:, self._qidx]), up_z=up_z_from_qpos(q), **cols
+        )
         done = len(q)
         run_cfg = cfg if done == cfg.steps else replace(cfg, steps=done)  # the summary of the steps done
         summary = summarize(run_cfg, arena, tr, wall, self.warnings(i))
@@ -259,8 +286,9 @@ def _progress(steps: int, n: int, on: bool, desc: str) -> Any:
     return tqdm(total=steps * n, unit="step", desc=desc, mininterval=0.5, smoothing=0.1)
 
 
-def run_batch(configs: Sequence[EpisodeConfig], *, nthread: int = 2, progress: bool = True,
-              max_boxes: int | None = None) -> list[Episode]:  # fmt: skip
+def run_batch(
+    configs: Sequence[EpisodeConfig], *, nthread: int = 2, progress: bool = True, max_boxes: int | None = None
+) -> list[Episode]:
     """Run the configs together in one physics batch; episode i is that of ``run_episode(configs[i])``.
 
     Args:
@@ -276,8 +304,15 @@ def run_batch(configs: Sequence[EpisodeConfig], *, nthread: int = 2, progress: b
     return BatchEpisodes(configs, nthread=nthread, max_boxes=max_boxes).run(progress=progress)
 
 
-def measure_throughput(n_copies: int = 8, steps: int = 300, nthread: int = 2, *, arena: str = "random",
-                       controller: str = "plastic", baseline: bool = True) -> dict[str, Any]:  # fmt: skip
+def measure_throughput(
+    n_copies: int = 8,
+    steps: int = 300,
+    nthread: int = 2,
+    *,
+    arena: str = "random",
+    controller: str = "plastic",
+    baseline: bool = True,
+) -> dict[str, Any]:
     """Physics throughput of a batch against the single loop on the same runs, measured side by side.
 
     Runs ``n_copies`` configs (seeds 0, 1, ...) of ``arena`` and ``controller`` for ``steps`` control steps
@@ -300,11 +335,19 @@ def measure_throughput(n_copies: int = 8, steps: int = 300, nthread: int = 2, *,
     wall = time.perf_counter() - t1
     physics_steps = n_copies * steps * be.n_substeps
     out: dict[str, Any] = {
-        "n_copies": n_copies, "steps": steps, "nthread": nthread, "arena": arena, "controller": controller,
-        "n_substeps": be.n_substeps, "physics_steps": physics_steps, "batch_wall_s": wall,
-        "batch_build_s": t1 - t0, "batch_physics_s": be.timing["physics"], "batch_control_s": be.timing["control"],
+        "n_copies": n_copies,
+        "steps": steps,
+        "nthread": nthread,
+        "arena": arena,
+        "controller": controller,
+        "n_substeps": be.n_substeps,
+        "physics_steps": physics_steps,
+        "batch_wall_s": wall,
+        "batch_build_s": t1 - t0,
+        "batch_physics_s": be.timing["physics"],
+        "batch_control_s": be.timing["control"],
         "batch_physics_steps_per_s": physics_steps / wall,
-    }  # fmt: skip
+    }
     if baseline:
         from neurowalk.sim.episode import run_episode
 

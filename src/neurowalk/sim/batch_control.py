@@ -25,9 +25,18 @@ FIXED, NEURAL = 0, 1  # kinds of copy in the compiled step
 
 
 @jit
-def control_step(kind: np.ndarray, dist: np.ndarray, sens: np.ndarray, sens_p: np.ndarray, loc: np.ndarray,
-                 buf: np.ndarray, loc_p: np.ndarray, inputs: np.ndarray, outputs: np.ndarray,
-                 targets: np.ndarray) -> None:  # fmt: skip
+def control_step(
+    kind: np.ndarray,
+    dist: np.ndarray,
+    sens: np.ndarray,
+    sens_p: np.ndarray,
+    loc: np.ndarray,
+    buf: np.ndarray,
+    loc_p: np.ndarray,
+    inputs: np.ndarray,
+    outputs: np.ndarray,
+    targets: np.ndarray,
+) -> None:
     """One control step of n controllers, in place.
 
     Args:
@@ -121,8 +130,18 @@ class BatchControllers:
             observe: ``observe(i)`` -> copy i's full observation, for controllers stepped by ``act``.
         """
         if self.compiled:
-            control_step(self._kind, dist, self._sens, self._sens_p, self._loc, self._buf, self._loc_p,
-                         self.inputs, self.outputs, self.targets)  # fmt: skip
+            control_step(
+                self._kind,
+                dist,
+                self._sens,
+                self._sens_p,
+                self._loc,
+                self._buf,
+                self._loc_p,
+                self.inputs,
+                self.outputs,
+                self.targets,
+            )
             neural = self._neural
             if neural.size:
                 self.b[neural] = self._sens[neural, 4:6]

@@ -228,8 +228,9 @@ def _walk(obj: Any, path: str, seen: set[int]) -> Iterator[tuple[str, Any, Calla
         yield from _children(items, path, lambda k, v: setattr(obj, k, v), seen)
 
 
-def _children(items: list[tuple[Any, Any]], path: str, setter: Callable[[Any, Any], None] | None,
-              seen: set[int]) -> Iterator[tuple[str, Any, Callable[[Any], None]]]:  # fmt: skip
+def _children(
+    items: list[tuple[Any, Any]], path: str, setter: Callable[[Any, Any], None] | None, seen: set[int]
+) -> Iterator[tuple[str, Any, Callable[[Any], None]]]:
     for key, value in items:
         where = f"{path}/{key}" if path else str(key)
         if not isinstance(value, _Mj) and _skipped(value):

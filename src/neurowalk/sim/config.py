@@ -81,8 +81,10 @@ class EpisodeConfig:
         if self.engine not in ENGINES:
             raise ValueError(f"unknown engine {self.engine!r}; expected one of {', '.join(ENGINES)}")
         if self.engine == "warp" and (self.body != "amosii" or self.reflexes or self.backbone):
-            raise ValueError(f"engine 'warp' runs body 'amosii' without --reflexes/--backbone, got body {self.body!r}"
-                             + (" with climbing controls" if self.reflexes or self.backbone else ""))  # fmt: skip
+            raise ValueError(
+                f"engine 'warp' runs body 'amosii' without --reflexes/--backbone, got body {self.body!r}"
+                + (" with climbing controls" if self.reflexes or self.backbone else "")
+            )
         if not info.physics and self.control_hz != (hz := load_calibration(body=self.body).control_hz):
             raise ValueError(f"body {self.body!r} is calibrated at {hz} Hz, got control_hz {self.control_hz!r}")
         if self.gait != "wave" and self.body == "surrogate":

@@ -44,8 +44,19 @@ from neurowalk.sim.summary import PICTURE_ROWS, RecordKeeper, summarize
 from neurowalk.sim.surrogate_episode import run_surrogate_episode
 from neurowalk.sim.trajectory import Trajectory, poses_from_qpos, up_z_from_qpos
 
-__all__ = ["BODIES", "MAX_STEPS", "PICTURE_ROWS", "Episode", "EpisodeConfig", "Resume", "RunInterruptedError",
-           "build", "run_episode", "seeds", "summarize"]  # fmt: skip
+__all__ = [
+    "BODIES",
+    "MAX_STEPS",
+    "PICTURE_ROWS",
+    "Episode",
+    "EpisodeConfig",
+    "Resume",
+    "RunInterruptedError",
+    "build",
+    "run_episode",
+    "seeds",
+    "summarize",
+]
 
 
 @dataclass(frozen=True)
@@ -60,9 +71,17 @@ class Resume:
     head: Trajectory | Iterable[tuple[int, Trajectory]]
 
 
-def run_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None, chunk: int = 10_000,
-                keep_rows: bool = True, pad_boxes: int | None = None, checkpoint: Any = None,
-                resume: Resume | None = None) -> Episode:  # fmt: skip
+def run_episode(
+    cfg: EpisodeConfig,
+    *,
+    progress: bool = False,
+    sink: Any = None,
+    chunk: int = 10_000,
+    keep_rows: bool = True,
+    pad_boxes: int | None = None,
+    checkpoint: Any = None,
+    resume: Resume | None = None,
+) -> Episode:
     """Run one episode and summarise it.
 
     Args:
@@ -154,8 +173,9 @@ def _run_warp(cfg: EpisodeConfig, progress: bool, sink: Any, chunk: int, resume:
     return ep
 
 
-def _loop(cfg: EpisodeConfig, body: Any, ctrl: Controller, rec: _Recorder, bar: Any, start: int,
-          checkpoint: Any) -> int:  # fmt: skip
+def _loop(
+    cfg: EpisodeConfig, body: Any, ctrl: Controller, rec: _Recorder, bar: Any, start: int, checkpoint: Any
+) -> int:
     """The control loop proper, from step ``start``; returns the number of completed steps."""
     d = body.data
     has_weights = hasattr(ctrl, "b")

@@ -50,8 +50,16 @@ class Record:
     def of(cls, tr: Trajectory) -> Record:
         """The record of a whole trajectory in memory."""
         z = tr.qpos[:, 2] if tr.qpos.shape[1] > 2 else None
-        return cls(tr.pose, tr.outputs, blind_readings(tr.us_distance), None if z is None else float(z[-1]),
-                   None if z is None else float(np.max(z)), float(np.min(tr.up_z)), tr.b[-1], tr.q[-1])  # fmt: skip
+        return cls(
+            tr.pose,
+            tr.outputs,
+            blind_readings(tr.us_distance),
+            None if z is None else float(z[-1]),
+            None if z is None else float(np.max(z)),
+            float(np.min(tr.up_z)),
+            tr.b[-1],
+            tr.q[-1],
+        )
 
 
 class RecordKeeper:
@@ -63,8 +71,16 @@ class RecordKeeper:
 
     def __init__(self, steps: int, nq: int, picture_rows: int) -> None:
         self.stride = max(1, math.ceil(steps / picture_rows))
-        self.rec = Record(np.full((steps, 3), np.nan), np.full((steps, 2), np.nan), np.zeros(steps, dtype=bool),
-                          None, None, 1.0, np.full(2, np.nan), np.full(2, np.nan))  # fmt: skip
+        self.rec = Record(
+            np.full((steps, 3), np.nan),
+            np.full((steps, 2), np.nan),
+            np.zeros(steps, dtype=bool),
+            None,
+            None,
+            1.0,
+            np.full(2, np.nan),
+            np.full(2, np.nan),
+        )
         self.pic = Trajectory.empty(math.ceil(steps / self.stride), nq)
 
     def keep(self, rows: Trajectory, start: int, stop: int) -> None:
@@ -87,8 +103,9 @@ class RecordKeeper:
     def record(self, done: int) -> Record:
         """The record of the first ``done`` steps."""
         r = self.rec
-        return Record(r.pose[:done], r.outputs[:done], r.blind[:done], r.final_z, r.max_z, r.min_up_z, r.final_b,
-                      r.final_q)  # fmt: skip
+        return Record(
+            r.pose[:done], r.outputs[:done], r.blind[:done], r.final_z, r.max_z, r.min_up_z, r.final_b, r.final_q
+        )
 
     def picture(self, done: int) -> Trajectory:
         """Every ``stride``-th row of the first ``done`` steps."""
@@ -104,9 +121,15 @@ PICTURE_ROWS = 10_000  # rows (at most) a streamed run keeps for its picture
 REPLAY_BLOCK = 50_000  # rows of positions replayed at a time (about 10 MB)
 
 
-def summarize(cfg: EpisodeConfig, arena: ArenaSpec, tr: Trajectory | Record, wall_time_s: float,
-              warnings: dict[str, int], *,
-              qpos_rows: Callable[[np.ndarray], np.ndarray] | None = None) -> dict[str, Any]:  # fmt: skip
+def summarize(
+    cfg: EpisodeConfig,
+    arena: ArenaSpec,
+    tr: Trajectory | Record,
+    wall_time_s: float,
+    warnings: dict[str, int],
+    *,
+    qpos_rows: Callable[[np.ndarray], np.ndarray] | None = None,
+) -> dict[str, Any]:
     """summary.json of DESIGN §5, plus steering-run figures.
 
     Args:

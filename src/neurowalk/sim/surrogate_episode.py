@@ -28,13 +28,31 @@ def trajectory_of(run: SurrogateRun, control_hz: float, fixed: bool, first: int 
     if fixed:
         b, q = np.full((steps, 2), np.nan), np.full((steps, 2), np.nan)
     nan = np.broadcast_to(np.nan, (steps, 19))  # read-only views: no memory for what a planar body lacks
-    return Trajectory(t=t, pose=run.pose, inputs=run.inputs, outputs=run.outputs, b=b, q=q, targets=nan,
-                      joint_angles=nan, us_distance=run.us, foot_contact=np.broadcast_to(np.nan, (steps, 6)),
-                      up_z=np.broadcast_to(1.0, (steps,)), qpos=np.empty((steps, 0)))  # fmt: skip
+    return Trajectory(
+        t=t,
+        pose=run.pose,
+        inputs=run.inputs,
+        outputs=run.outputs,
+        b=b,
+        q=q,
+        targets=nan,
+        joint_angles=nan,
+        us_distance=run.us,
+        foot_contact=np.broadcast_to(np.nan, (steps, 6)),
+        up_z=np.broadcast_to(1.0, (steps,)),
+        qpos=np.empty((steps, 0)),
+    )
 
 
-def run_surrogate_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: Any = None, chunk: int = 10_000,
-                          keep_rows: bool = True, picture_rows: int = PICTURE_ROWS) -> Episode:  # fmt: skip
+def run_surrogate_episode(
+    cfg: EpisodeConfig,
+    *,
+    progress: bool = False,
+    sink: Any = None,
+    chunk: int = 10_000,
+    keep_rows: bool = True,
+    picture_rows: int = PICTURE_ROWS,
+) -> Episode:
     """:func:`neurowalk.sim.episode.run_episode` for the planar bodies (same arguments and errors).
 
     ``keep_rows=False`` (with a ``sink``): the run goes in chunks of ``chunk`` rows through one chunk's arrays,
@@ -70,8 +88,17 @@ def run_surrogate_episode(cfg: EpisodeConfig, *, progress: bool = False, sink: A
             bar.update(stop - start)
 
     t0 = time.perf_counter()
-    body.run(cfg.steps, body_rng, state, params, steer=cfg.steer, chunk=chunk, on_chunk=on_chunk, out=run,
-             stream=keeper is not None)  # fmt: skip
+    body.run(
+        cfg.steps,
+        body_rng,
+        state,
+        params,
+        steer=cfg.steer,
+        chunk=chunk,
+        on_chunk=on_chunk,
+        out=run,
+        stream=keeper is not None,
+    )
     wall = time.perf_counter() - t0
     if bar is not None:
         bar.close()

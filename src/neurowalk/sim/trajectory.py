@@ -45,9 +45,20 @@ class Trajectory:
     def empty(cls, steps: int, nq: int) -> Trajectory:
         """Preallocated arrays for ``steps`` rows."""
         n = anatomy.N_ACTUATORS
-        shapes = {"t": (), "pose": (3,), "inputs": (2,), "outputs": (2,), "b": (2,), "q": (2,),
-                  "targets": (n,), "joint_angles": (n,), "us_distance": (2,), "foot_contact": (6,),
-                  "up_z": (), "qpos": (nq,)}  # fmt: skip
+        shapes = {
+            "t": (),
+            "pose": (3,),
+            "inputs": (2,),
+            "outputs": (2,),
+            "b": (2,),
+            "q": (2,),
+            "targets": (n,),
+            "joint_angles": (n,),
+            "us_distance": (2,),
+            "foot_contact": (6,),
+            "up_z": (),
+            "qpos": (nq,),
+        }
         return cls(**{k: np.full((steps, *s), np.nan) for k, s in shapes.items()})
 
     def __len__(self) -> int:
@@ -177,8 +188,11 @@ class PartWriter:
                 for f in fields(Trajectory):
                     with np.load(paths[0], allow_pickle=False) as z:
                         first = z[f.name]
-                    header = {"descr": npformat.dtype_to_descr(first.dtype), "fortran_order": False,
-                              "shape": (total, *first.shape[1:])}  # fmt: skip
+                    header = {
+                        "descr": npformat.dtype_to_descr(first.dtype),
+                        "fortran_order": False,
+                        "shape": (total, *first.shape[1:]),
+                    }
                     with zf.open(f"{f.name}.npy", "w", force_zip64=True) as out:
                         npformat.write_array_header_2_0(out, header)
                         left = total

@@ -75,8 +75,11 @@ def resolve_device(device: str | None = None) -> str:
     if device is None:
         device = "cuda" if has_cuda else "cpu"
         if device == "cpu":
-            print("neurowalk: engine 'warp': no CUDA GPU here, running on Warp's CPU device (slow; --device cpu "
-                  "to choose it and silence this)", file=sys.stderr)  # fmt: skip
+            print(
+                "neurowalk: engine 'warp': no CUDA GPU here, running on Warp's CPU device (slow; --device cpu "
+                "to choose it and silence this)",
+                file=sys.stderr,
+            )
     return device
 
 
@@ -128,8 +131,16 @@ class WarpEpisodes(BatchEpisodes):
         timing: seconds in ``physics`` (Warp steps and copies) and in ``control``.
     """
 
-    def __init__(self, configs: Sequence[EpisodeConfig], *, device: str | None = None, max_boxes: int | None = None,
-                 nconmax: int = 48, njmax: int = 256, compiled: bool = True) -> None:  # fmt: skip
+    def __init__(
+        self,
+        configs: Sequence[EpisodeConfig],
+        *,
+        device: str | None = None,
+        max_boxes: int | None = None,
+        nconmax: int = 48,
+        njmax: int = 256,
+        compiled: bool = True,
+    ) -> None:
         self.configs = list(configs)
         _check(self.configs)
         self.device = resolve_device(device)
@@ -142,8 +153,14 @@ class WarpEpisodes(BatchEpisodes):
         model = mujoco.MjModel.from_xml_string(amosii_xml(params, world=slot_world(self.arenas[0], self.max_boxes)))
         nj = len(joint_qpos_indices(model))
         noises = [ColoredNoise(2 + nj + 6, strength=c.noise) for c in self.configs]  # as AmosII's own source
-        self._setup(model, params, substeps_of(self.configs[0].control_hz, model.opt.timestep),
-                    [build_controller(c) for c in self.configs], noises, compiled)  # fmt: skip
+        self._setup(
+            model,
+            params,
+            substeps_of(self.configs[0].control_hz, model.opt.timestep),
+            [build_controller(c) for c in self.configs],
+            noises,
+            compiled,
+        )
         if not self.controllers.compiled:
             raise ValueError("engine 'warp' steps the controllers compiled only (plastic, static, braitenberg, fixed)")
         slots = np.array([model.geom(f"obstacle_{k}").id for k in range(self.max_boxes)], dtype=int)
@@ -240,8 +257,9 @@ def _check(configs: list[EpisodeConfig]) -> None:
     )
 
 
-def run_warp(configs: Sequence[EpisodeConfig], *, device: str | None = None, progress: bool = True,
-             max_boxes: int | None = None) -> list[Episode]:  # fmt: skip
+def run_warp(
+    configs: Sequence[EpisodeConfig], *, device: str | None = None, progress: bool = True, max_boxes: int | None = None
+) -> list[Episode]:
     """Run the configs (engine ``warp``) as the worlds of one MuJoCo Warp model; one Episode per config.
 
     Each episode's summary is that of ``run_episode`` (``wall_time_s``: the whole run's wall time divided by the
