@@ -6,7 +6,7 @@ steps five ways, interleaved, ``--repeats`` times:
 * ``single``: ``run_episode`` for each config, one after another (the closed loop as it is);
 * ``single_bare``: the same runs' recorded joint targets replayed open-loop through ``AmosII.apply/advance``
   (physics of the single loop, nothing else);
-* ``batch_1`` / ``batch_2``: the closed loop of all copies in one :class:`~neurowalk.sim.batch.BatchEpisodes`
+* ``batch_1`` / ``batch_2``: the closed loop of all copies in one :class:`~neurowalk.sim.batch.MujocoBatchWorlds`
   on 1 / 2 threads;
 * ``batch_bare_1`` / ``batch_bare_2``: the recorded targets replayed through the batch's ``step`` alone.
 
@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from neurowalk.sim.batch import BatchEpisodes
+from neurowalk.sim.batch import MujocoBatchWorlds
 from neurowalk.sim.episode import EpisodeConfig, build, run_episode, seeds
 
 
@@ -54,7 +54,7 @@ def single_bare(configs: list[EpisodeConfig], targets: list[np.ndarray]) -> floa
 
 def batch(configs: list[EpisodeConfig], nthread: int) -> tuple[float, dict[str, float]]:
     """Wall time (s) of the batch's closed loop, and its split into physics and control."""
-    be = BatchEpisodes(configs, nthread=nthread)
+    be = MujocoBatchWorlds(configs, nthread=nthread)
     t0 = time.perf_counter()
     be.run()
     return time.perf_counter() - t0, dict(be.timing)
@@ -62,7 +62,7 @@ def batch(configs: list[EpisodeConfig], nthread: int) -> tuple[float, dict[str, 
 
 def batch_bare(configs: list[EpisodeConfig], targets: list[np.ndarray], nthread: int) -> float:
     """Wall time (s) of replaying the targets through the batch's step alone."""
-    be = BatchEpisodes(configs, nthread=nthread)
+    be = MujocoBatchWorlds(configs, nthread=nthread)
     be.reset()
     ctrl = be.batch.bind("ctrl")
     tg = np.stack(targets, axis=1)  # (steps, n, 19)
@@ -86,7 +86,7 @@ def main() -> None:
     args = ap.parse_args()
     run = {"arena": "random", "controller": "plastic", "steps": args.steps}
     configs = [EpisodeConfig(**run, seed=s) for s in range(args.copies)]
-    BatchEpisodes(configs[:1], nthread=1).run()  # warm-up: compiles the controller kernels if not cached
+    MujocoBatchWorlds(configs[:1], nthread=1).run()  # warm-up: compiles the controller kernels if not cached
     times: dict[str, list[float]] = {k: [] for k in ("single", "single_bare", "batch_1", "batch_2", "batch_bare_1",
                                                      "batch_bare_2")}  # fmt: skip
     splits: dict[str, list[dict[str, float]]] = {"batch_1": [], "batch_2": []}
@@ -99,7 +99,7 @@ def main() -> None:
             times[f"batch_{nthread}"].append(wall)
             splits[f"batch_{nthread}"].append(split)
             times[f"batch_bare_{nthread}"].append(batch_bare(configs, targets, nthread))
-    n_sub = BatchEpisodes(configs[:1]).n_substeps
+    n_sub = MujocoBatchWorlds(configs[:1]).n_substeps
     physics_steps = args.copies * args.steps * n_sub
     med = {k: float(np.median(v)) for k, v in times.items()}
     report = {

@@ -146,7 +146,7 @@ def warp_rates(
     control steps after one untimed run of the same worlds (kernel compilation, CUDA graph capture).
     """
     from neurowalk.sim.episode import EpisodeConfig
-    from neurowalk.sim.warp_engine import WarpEpisodes, device_name, resolve_device
+    from neurowalk.sim.warp_engine import WarpWorlds, device_name, resolve_device
 
     device = resolve_device(device)
     rows = []
@@ -155,7 +155,7 @@ def warp_rates(
             EpisodeConfig(arena="random", arena_opts=ARENA_OPTS, steps=steps, seed=s, engine="warp") for s in range(n)
         ]
         t0 = time.perf_counter()
-        runs = WarpEpisodes(cfgs, device=device)
+        runs = WarpWorlds(cfgs, device=device)
         build = time.perf_counter() - t0
         runs.run()  # untimed: compile, capture
         t0 = time.perf_counter()
@@ -188,7 +188,7 @@ def run_bench(
 ) -> dict[str, Any]:
     """All figures; ``quick`` shortens every measurement (for tests). ``engine`` 'warp': MuJoCo Warp's rates for
     each of ``worlds`` on ``device`` beside the CPU loop and batch (no surrogate figures then)."""
-    from neurowalk.sim.batch import measure_throughput
+    from neurowalk.sim.throughput import measure_throughput
 
     cores = os.cpu_count() or 1
     workers = workers or min(cores, 8)

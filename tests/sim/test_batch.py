@@ -5,8 +5,9 @@ import numpy as np
 import pytest
 
 from neurowalk.body.obstacle_slots import PARK_Z, PARKING_BODY
-from neurowalk.sim.batch import BatchEpisodes, measure_throughput, run_batch
-from neurowalk.sim.episode import EpisodeConfig, build, run_episode, seeds
+from neurowalk.sim.batch import MujocoBatchWorlds, run_batch
+from neurowalk.sim.episode import EngineOptions, EpisodeConfig, build, run_episode, seeds
+from neurowalk.sim.throughput import measure_throughput
 
 STEPS = 100
 FIELDS = ("t", "qpos", "pose", "inputs", "outputs", "b", "q", "targets", "joint_angles", "us_distance",
@@ -42,7 +43,7 @@ def singles():
 
 @pytest.fixture(scope="module")
 def batch():
-    be = BatchEpisodes(CONFIGS, nthread=2)
+    be = MujocoBatchWorlds(CONFIGS, nthread=2)
     return be, be.run()
 
 
@@ -50,8 +51,8 @@ def batch():
 def test_padded_model_runs_bit_for_bit_like_the_plain_model(cfg):
     plain = run_episode(cfg)
     n = len(plain.arena.boxes)
-    assert_same_run(plain, run_episode(cfg, pad_boxes=n))
-    assert_same_run(plain, run_episode(cfg, pad_boxes=n + 6))
+    assert_same_run(plain, run_episode(cfg, options=EngineOptions(pad_boxes=n)))
+    assert_same_run(plain, run_episode(cfg, options=EngineOptions(pad_boxes=n + 6)))
 
 
 def first_box_contact(cfg):
@@ -97,7 +98,7 @@ def test_copies_differ(batch):
 def test_threads_memory_controller_path_and_padding_do_not_change_a_bit(batch, opts):
     _, ref = batch
     configs = CONFIGS[:2]
-    other = BatchEpisodes(configs, **opts)
+    other = MujocoBatchWorlds(configs, **opts)
     for a, b in zip(ref[:2], other.run(), strict=True):
         assert_same_run(a, b)
     if "compiled" in opts:
@@ -119,15 +120,15 @@ def test_padded_models_share_sizes_and_park_out_of_reach(batch):
 
 def test_bad_batches_raise():
     with pytest.raises(ValueError, match="at least one"):
-        BatchEpisodes([])
+        MujocoBatchWorlds([])
     with pytest.raises(ValueError, match="steps"):
-        BatchEpisodes([CONFIGS[0], EpisodeConfig(steps=STEPS + 1)])
+        MujocoBatchWorlds([CONFIGS[0], EpisodeConfig(steps=STEPS + 1)])
     with pytest.raises(ValueError, match="control_hz"):
-        BatchEpisodes([CONFIGS[0], EpisodeConfig(steps=STEPS, control_hz=20.0)])
+        MujocoBatchWorlds([CONFIGS[0], EpisodeConfig(steps=STEPS, control_hz=20.0)])
     with pytest.raises(ValueError, match="obstacle slots"):
-        BatchEpisodes(CONFIGS[:1], max_boxes=3)
+        MujocoBatchWorlds(CONFIGS[:1], max_boxes=3)
     with pytest.raises(ValueError, match="slots"):
-        run_episode(CONFIGS[0], pad_boxes=2)
+        run_episode(CONFIGS[0], options=EngineOptions(pad_boxes=2))
 
 
 def test_run_batch_and_throughput_report():
@@ -142,8 +143,8 @@ def test_a_stopped_batch_keeps_the_completed_steps(monkeypatch):
     """Ctrl-C part-way: every copy's episode holds the steps done, marked not completed; the same rows as a full run."""
     configs = [EpisodeConfig(arena="box", steps=12, seed=s) for s in (0, 1)]
     full = run_batch(configs, progress=False)
-    runs = BatchEpisodes(configs)
-    advance, calls = runs._advance, []
+    runs = MujocoBatchWorlds(configs)
+    advance, calls = runs.advance, []
 
     def stop_at_the_eighth(targets):
         calls.append(1)
@@ -151,7 +152,7 @@ def test_a_stopped_batch_keeps_the_completed_steps(monkeypatch):
             raise KeyboardInterrupt
         advance(targets)
 
-    monkeypatch.setattr(runs, "_advance", stop_at_the_eighth)
+    monkeypatch.setattr(runs, "advance", stop_at_the_eighth)
     eps = runs.run()
     for ep, whole in zip(eps, full, strict=True):
         assert ep.summary["completed"] is False and ep.summary["steps"] == 7 and ep.summary["steps_requested"] == 12

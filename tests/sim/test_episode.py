@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from neurowalk.body.physics import n_substeps
-from neurowalk.sim.episode import EpisodeConfig, run_episode
+from neurowalk.sim.episode import EpisodeConfig, Streaming, run_episode
 
 STEPS = 1000
 
@@ -98,7 +98,7 @@ def test_long_runs_stream_chunks_and_keep_completed_steps_when_stopped(tmp_path)
     cfg = EpisodeConfig(controller="plastic", arena="box", arena_opts={"distance": 0.6}, steps=250)
     whole = run_episode(cfg).trajectory
     parts = PartWriter(tmp_path / "parts")
-    run_episode(cfg, sink=parts, chunk=100)
+    run_episode(cfg, stream=Streaming(sink=parts, chunk=100))
     streamed = parts.read()
     np.testing.assert_array_equal(streamed.qpos, whole.qpos)
     np.testing.assert_array_equal(streamed.pose, whole.pose)
@@ -112,7 +112,7 @@ def test_long_runs_stream_chunks_and_keep_completed_steps_when_stopped(tmp_path)
             raise KeyboardInterrupt
 
     with pytest.raises(RunInterruptedError) as info:
-        run_episode(cfg, sink=stop_on_second, chunk=100)
+        run_episode(cfg, stream=Streaming(sink=stop_on_second, chunk=100))
     ep = info.value.episode
     assert ep.summary["completed"] is False and ep.summary["steps"] == 200 == len(ep.trajectory)
     np.testing.assert_array_equal(ep.trajectory.qpos, whole.qpos[:200])

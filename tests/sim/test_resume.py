@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from neurowalk.sim.checkpoint import Checkpoint
-from neurowalk.sim.episode import EpisodeConfig, Resume, run_episode
+from neurowalk.sim.episode import EpisodeConfig, Resume, Streaming, run_episode
 from neurowalk.sim.trajectory import Trajectory
 
 CFG = EpisodeConfig(arena="random", arena_opts={"n_boxes": 8, "extent": 3.0}, steps=300, seed=5, reflexes=True,
@@ -29,10 +29,16 @@ def test_resume_from_a_checkpoint_is_bit_for_bit_the_whole_run():
     whole = run_episode(CFG).trajectory
     saved: dict[int, Checkpoint] = {}
     pieces: list[tuple[int, Trajectory]] = []
-    run_episode(CFG, chunk=100, sink=lambda rows, start: pieces.append((start, _copy(rows))),
-                checkpoint=lambda ckpt: saved.setdefault(ckpt.step, ckpt))  # fmt: skip
+    run_episode(
+        CFG,
+        stream=Streaming(
+            chunk=100,
+            sink=lambda rows, start: pieces.append((start, _copy(rows))),
+            checkpoint=lambda ckpt: saved.setdefault(ckpt.step, ckpt),
+        ),
+    )
     assert sorted(saved) == [100, 200] and [s for s, _ in pieces] == [0, 100, 200]
-    resumed = run_episode(CFG, chunk=100, resume=Resume(saved[200], pieces[:2])).trajectory
+    resumed = run_episode(CFG, stream=Streaming(chunk=100, resume=Resume(saved[200], pieces[:2]))).trajectory
     _same(resumed, whole)
 
 

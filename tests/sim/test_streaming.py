@@ -8,9 +8,8 @@ from dataclasses import fields
 import numpy as np
 import pytest
 
-from neurowalk.sim import episode
 from neurowalk.sim.checkpoint import Checkpoint
-from neurowalk.sim.episode import EpisodeConfig, Resume, RunInterruptedError, run_episode
+from neurowalk.sim.episode import EpisodeConfig, Resume, RunInterruptedError, Streaming, run_episode
 from neurowalk.sim.trajectory import PartWriter, Trajectory
 
 VOLATILE = ("wall_time_s", "real_time_factor", "resumed_at_step")
@@ -29,9 +28,10 @@ def test_streamed_run_writes_every_row_and_summarises_as_in_memory(tmp_path, mon
     # Pushing into a box for 130 s: a wedged period whose contacts are replayed from the parts on disk.
     cfg = EpisodeConfig(arena="box", arena_opts={"distance": 0.3}, controller="fixed", steer=(-1, -1), steps=1300)
     whole = run_episode(cfg)
-    monkeypatch.setattr(episode, "PICTURE_ROWS", 100)  # a picture of every 13th row
     parts = PartWriter(tmp_path / "parts")
-    streamed = run_episode(cfg, sink=parts, chunk=300, keep_rows=False)
+    streamed = run_episode(
+        cfg, stream=Streaming(sink=parts, chunk=300, keep_rows=False, picture_rows=100)
+    )  # every 13th
     assert whole.summary["wedged_causes"] == {"body contact": 1}
     _same_summary(streamed.summary, whole.summary)
     n = parts.join(tmp_path / "trajectory.npz")
@@ -61,10 +61,15 @@ def test_streamed_run_stopped_and_resumed_from_its_parts_is_the_whole_run(tmp_pa
 
     with pytest.raises(RunInterruptedError) as info:
         run_episode(
-            cfg, sink=stop_after_third, chunk=200, keep_rows=False, checkpoint=lambda c: saved.setdefault(c.step, c)
+            cfg,
+            stream=Streaming(
+                sink=stop_after_third, chunk=200, keep_rows=False, checkpoint=lambda c: saved.setdefault(c.step, c)
+            ),
         )
     assert info.value.episode.summary["steps"] == 600 and sorted(saved) == [200, 400]
-    resumed = run_episode(cfg, sink=parts, chunk=200, keep_rows=False, resume=Resume(saved[400], parts.pieces()))
+    resumed = run_episode(
+        cfg, stream=Streaming(sink=parts, chunk=200, keep_rows=False, resume=Resume(saved[400], parts.pieces()))
+    )
     _same_summary(resumed.summary, whole.summary)
     assert resumed.summary["resumed_at_step"] == 400 and "resumed_at_step" not in whole.summary
     assert parts.join(tmp_path / "t.npz") == 700
@@ -72,13 +77,12 @@ def test_streamed_run_stopped_and_resumed_from_its_parts_is_the_whole_run(tmp_pa
 
 
 def test_streamed_memory_is_bounded_by_the_chunk_not_the_run(tmp_path, monkeypatch):
-    monkeypatch.setattr(episode, "PICTURE_ROWS", 100)
     cfg = EpisodeConfig(arena="open", controller="fixed", steer=(1, 1), steps=2000)
     run_episode(EpisodeConfig(arena="open", controller="fixed", steer=(1, 1), steps=5))  # compile, load
     peaks = {}
     for keep in (True, False):
         tracemalloc.start()
-        run_episode(cfg, sink=lambda rows, start: None, chunk=100, keep_rows=keep)
+        run_episode(cfg, stream=Streaming(sink=lambda rows, start: None, chunk=100, keep_rows=keep, picture_rows=100))
         peaks[keep] = tracemalloc.get_traced_memory()[1]
         tracemalloc.stop()
     row_bytes = sum(8 * int(np.prod(getattr(Trajectory.empty(1, 26), f.name).shape)) for f in fields(Trajectory))
@@ -88,16 +92,15 @@ def test_streamed_memory_is_bounded_by_the_chunk_not_the_run(tmp_path, monkeypat
 
 def test_keep_rows_false_needs_a_sink():
     with pytest.raises(ValueError, match="sink"):
-        run_episode(EpisodeConfig(steps=5), keep_rows=False)
+        run_episode(EpisodeConfig(steps=5), stream=Streaming(keep_rows=False))
 
 
 @pytest.mark.parametrize("body", ["surrogate", "surrogate-wheeled"])
 def test_a_streamed_planar_run_writes_every_row_and_summarises_as_in_memory(body, tmp_path, monkeypatch):
     cfg = EpisodeConfig(arena="cluttered", body=body, steps=2300, seed=3)
     whole = run_episode(cfg)
-    monkeypatch.setattr(episode, "PICTURE_ROWS", 100)
     parts = PartWriter(tmp_path / "parts")
-    streamed = run_episode(cfg, sink=parts, chunk=500, keep_rows=False)
+    streamed = run_episode(cfg, stream=Streaming(sink=parts, chunk=500, keep_rows=False, picture_rows=100))
     _same_summary(streamed.summary, whole.summary)
     assert parts.join(tmp_path / "trajectory.npz") == 2300
     _same_rows(Trajectory.load(tmp_path / "trajectory.npz"), whole.trajectory)
@@ -120,7 +123,7 @@ def test_a_run_stopped_in_its_sink_counts_the_rows_on_disk(body, keep_rows, tmp_
         parts(rows, start)
 
     with pytest.raises(RunInterruptedError) as info:
-        run_episode(cfg, sink=stop_in_the_third, chunk=200, keep_rows=keep_rows)
+        run_episode(cfg, stream=Streaming(sink=stop_in_the_third, chunk=200, keep_rows=keep_rows))
     ep = info.value.episode
     assert ep.summary["steps"] == parts.count() and not ep.summary["completed"]
     if keep_rows:

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from neurowalk.body.obstacle_slots import slot_rows, slot_world
-from neurowalk.sim.episode import EpisodeConfig, build, run_episode
+from neurowalk.sim.episode import EngineOptions, EpisodeConfig, Streaming, build, run_episode
 
 TILTED = EpisodeConfig(arena="box", arena_opts={"distance": 0.38, "angle": 30.0}, controller="fixed", steer=(-1, -1),
                        steps=25, seed=7, engine="warp", noise=0.0)  # fmt: skip
@@ -57,6 +57,7 @@ def test_a_slot_differs_from_an_obstacle_only_in_what_warp_batches_per_world():
 
 
 def test_engine_is_a_config_field_checked_where_made():
+    """A config names its engine; what bodies an engine runs is the body table's, checked when the config is made."""
     with pytest.raises(ValueError, match="unknown engine 'gpu'"):
         EpisodeConfig(engine="gpu")
     with pytest.raises(ValueError, match="engine 'warp' runs body 'amosii'"):
@@ -127,12 +128,12 @@ def test_sensors_equal_at_the_same_states(wp_cpu):
     import warp as wp
 
     from neurowalk.body.amosii_sensors import sensor_layout
-    from neurowalk.sim.warp_engine import WarpEpisodes
+    from neurowalk.sim.warp_engine import WarpWorlds
 
     cfg = replace(TILTED, steps=100, engine="mujoco")
     ref = run_episode(cfg)
     rows = [20, 60, 80, 99]  # walking, nearing the box (rays on it), touching it (first contact at 71)
-    runs = WarpEpisodes([replace(cfg, engine="warp")], device=wp_cpu)
+    runs = WarpWorlds([replace(cfg, engine="warp")], device=wp_cpu)
     runs.reset()
     _, body, _ = build(cfg)
     lay = sensor_layout(body.model)
@@ -164,7 +165,7 @@ def test_a_world_sees_its_boxes_in_slots_another_world_leaves_empty(wp_cpu):
     import warp as wp
 
     from neurowalk.body.amosii_sensors import sensor_layout
-    from neurowalk.sim.warp_engine import WarpEpisodes
+    from neurowalk.sim.warp_engine import WarpWorlds
 
     near = replace(TILTED, arena_opts={"distance": 0.3, "angle": 0.0}, engine="mujoco")
     _, body, _ = build(near)
@@ -173,7 +174,7 @@ def test_a_world_sees_its_boxes_in_slots_another_world_leaves_empty(wp_cpu):
     body.reset(np.random.default_rng(0))
     us_cpu = body.data.sensordata[lay.us].copy()
     assert np.all((us_cpu >= 0) & (us_cpu < 0.4))  # both rays see the box from the start pose
-    runs = WarpEpisodes([replace(near, arena="open", arena_opts={}, engine="warp"), replace(near, engine="warp")],
+    runs = WarpWorlds([replace(near, arena="open", arena_opts={}, engine="warp"), replace(near, engine="warp")],
                         device=wp_cpu)  # fmt: skip
     runs.reset()
     with wp.ScopedDevice(wp_cpu):
@@ -204,11 +205,10 @@ def test_a_sweep_runs_warp_specs_as_worlds_of_one_model(wp_cpu, tmp_path, monkey
     from neurowalk.runners.store import ResultStore
     from neurowalk.runners.sweep import run_sweep
 
-    monkeypatch.setenv("NEUROWALK_WARP_DEVICE", wp_cpu)
     specs = [{"arena": "box", "steps": 8, "seed": s, "engine": "warp"} for s in (0, 1)]
     specs.append({"arena": "box", "steps": 8, "seed": 0})
     with ResultStore(tmp_path / "r.sqlite") as store:
-        report = run_sweep(specs, store, workers=1, progress=False)
+        report = run_sweep(specs, store, workers=1, progress=False, options=EngineOptions(device=wp_cpu))
         results = store.results()
     assert report.ok == 3 and report.error == 0
     for s in specs:
@@ -237,9 +237,8 @@ def test_bench_measures_warp_beside_nothing_else_it_needs(wp_cpu):
 def test_run_many_puts_warp_configs_into_one_model_and_keeps_the_order(wp_cpu, monkeypatch):
     from neurowalk.runners.local import run_many
 
-    monkeypatch.setenv("NEUROWALK_WARP_DEVICE", wp_cpu)
     cfgs = [EpisodeConfig(arena="box", steps=6, seed=s, engine=e) for s, e in ((0, "warp"), (1, "mujoco"), (2, "warp"))]
-    got = run_many(cfgs, workers=1, progress=False)
+    got = run_many(cfgs, workers=1, progress=False, options=EngineOptions(device=wp_cpu))
     for cfg, summary in zip(cfgs, got, strict=True):
         assert summary["final_pose"] == run_episode(cfg).summary["final_pose"]
         assert summary.get("engine", "mujoco") == cfg.engine
@@ -274,10 +273,9 @@ def test_figures_take_the_engine_where_they_can(capsys, tmp_path):
 @warp
 def test_a_stopped_warp_run_keeps_its_steps(wp_cpu, monkeypatch):
     from neurowalk.sim.config import RunInterruptedError
-    from neurowalk.sim.warp_engine import WarpEpisodes
+    from neurowalk.sim.warp_engine import WarpWorlds
 
-    monkeypatch.setenv("NEUROWALK_WARP_DEVICE", wp_cpu)
-    advance, calls = WarpEpisodes._advance, []
+    advance, calls = WarpWorlds.advance, []
 
     def stop_at_the_fourth(self, targets):
         calls.append(1)
@@ -285,9 +283,13 @@ def test_a_stopped_warp_run_keeps_its_steps(wp_cpu, monkeypatch):
             raise KeyboardInterrupt
         advance(self, targets)
 
-    monkeypatch.setattr(WarpEpisodes, "_advance", stop_at_the_fourth)
+    monkeypatch.setattr(WarpWorlds, "advance", stop_at_the_fourth)
     rows = []
     with pytest.raises(RunInterruptedError) as stop:
-        run_episode(EpisodeConfig(arena="box", steps=10, engine="warp"), sink=lambda r, start: rows.append(len(r)))
+        run_episode(
+            EpisodeConfig(arena="box", steps=10, engine="warp"),
+            stream=Streaming(sink=lambda r, start: rows.append(len(r))),
+            options=EngineOptions(device=wp_cpu),
+        )
     assert stop.value.episode.summary["steps"] == 3 and stop.value.episode.summary["completed"] is False
     assert sum(rows) == 3  # the sink got every completed row

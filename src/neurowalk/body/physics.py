@@ -9,8 +9,6 @@ network even with nothing in range.
 
 from __future__ import annotations
 
-import math
-
 import mujoco
 import numpy as np
 
@@ -28,6 +26,7 @@ from neurowalk.body.amosii import (
     up_z,
 )
 from neurowalk.body.amosii_params import STAND_KEY
+from neurowalk.body.common import noisy_distances, place_at_start
 from neurowalk.body.noise import ColoredNoise
 from neurowalk.body.obstacle_slots import padded_world
 from neurowalk.observation import Observation
@@ -123,18 +122,25 @@ class AmosII:
         """Standing pose at the arena's start pose, at rest; noise drawn from ``rng`` from now on."""
         m, d = self.model, self.data
         mujoco.mj_resetDataKeyframe(m, d, self._key)
-        x, y, yaw = self.arena.start
-        d.qpos[0], d.qpos[1] = x, y
-        d.qpos[3:7] = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
+        place_at_start(d.qpos, self.arena.start)
         mujoco.mj_forward(m, d)
         self._noise.reset(rng)
+
+    @property
+    def qidx(self) -> np.ndarray:
+        """(19,) qpos addresses of the joints, actuator order."""
+        return self._qidx
+
+    @property
+    def noise(self) -> ColoredNoise:
+        """The sensor noise source: channels 0-1 ultrasonic, then the 19 joints, then the 6 foot contacts."""
+        return self._noise
 
     def observe(self) -> Observation:
         """Sensor readings now (copies, noisy)."""
         m, d = self.model, self.data
         n = self._noise.step()
-        us = np.maximum(0.0, 1.0 - read_us(m, d) / self._us_range) + n[0:2]  # inf distance -> 0
-        dist = np.where(us > 0.0, self._us_range * (1.0 - us), np.inf)
+        dist = noisy_distances(read_us(m, d), self._us_range, n[0:2])
         nj = len(self._qidx)
         return Observation(
             us_distance=dist,

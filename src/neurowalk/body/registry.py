@@ -37,6 +37,11 @@ class BodyInfo:
         physics: a MuJoCo body (else a planar surrogate). climbs: it can take the climbing controls
             (``--reflexes``, ``--backbone``). options: name -> (default, low, high, meaning).
         surrogate: the planar body calibrated on this physics body (``neurowalk calibrate --body NAME``), if any.
+        engines: the physics engines (a config's ``engine``) it runs on; a planar body runs its own compiled loop.
+        climbs_on: those of its engines that run it with the climbing controls.
+        viewer: ``neurowalk view`` shows it live in MuJoCo's viewer.
+        lockstep: it runs as lock-step worlds (``mujoco.batch``, MuJoCo Warp): one model structure for every arena.
+        gait_refusal: why it takes no gait but the wave gait (None: it takes every gait).
     """
 
     name: str
@@ -48,6 +53,16 @@ class BodyInfo:
     climbs: bool
     options: dict[str, tuple[float, float, float, str]] = field(default_factory=dict)
     surrogate: str | None = None
+    engines: tuple[str, ...] = ("mujoco",)
+    climbs_on: tuple[str, ...] = ("mujoco",)
+    lockstep: bool = False
+    viewer: bool = False
+    gait_refusal: str | None = "takes the steering pair (no legs), no gait;"
+
+    def check_gait(self, gait: str) -> None:
+        """ValueError unless the body takes ``gait`` (a name of :data:`neurowalk.neural.cpg.GAITS`)."""
+        if gait != "wave" and self.gait_refusal is not None:
+            raise ValueError(f"body {self.name!r} {self.gait_refusal} got gait {gait!r}")
 
 
 #: Options of the planar (calibrated) bodies: the measured motion with its speeds or yaw rates scaled.
@@ -66,6 +81,10 @@ BODIES: dict[str, BodyInfo] = {
         True,
         True,
         surrogate="surrogate",
+        engines=("mujoco", "warp"),
+        gait_refusal=None,
+        lockstep=True,
+        viewer=True,
     ),
     "surrogate": BodyInfo(
         "surrogate",
@@ -76,6 +95,7 @@ BODIES: dict[str, BodyInfo] = {
         False,
         False,
         PLANAR_OPTIONS,
+        gait_refusal="is calibrated on the wave gait,",
     ),
     "wheeled": BodyInfo(
         "wheeled",
@@ -122,6 +142,11 @@ def body_info(name: str) -> BodyInfo:
     return BODIES[name]
 
 
+def bodies_where(test: Any) -> tuple[str, ...]:
+    """The names of the registry's bodies whose :class:`BodyInfo` passes ``test`` (e.g. ``lambda b: b.climbs``)."""
+    return tuple(name for name, info in BODIES.items() if test(info))
+
+
 def check_body_opts(name: str, opts: dict[str, Any]) -> dict[str, Any]:
     """The body's options as numbers, each checked against its range; ValueError names a bad key or value."""
     info = body_info(name)
@@ -152,9 +177,15 @@ def make_body(
     *,
     control_hz: float = 10.0,
     noise: float = 0.02,
-    **amosii: Any,
+    climbing: bool = False,
+    pad_boxes: int | None = None,
 ) -> Any:
-    """Build body ``name`` in ``arena`` with its options (``amosii``: AmosII's own keyword arguments)."""
+    """Build body ``name`` in ``arena`` with its options.
+
+    ``climbing``: the controller climbs (a climbing body reads its obstacle-height scanner every step).
+    ``pad_boxes``: AMOSII's model with room for that many obstacle slots (the model :mod:`neurowalk.sim.batch`
+    steps, bit for bit the plain model's physics); other bodies have one model and ignore it.
+    """
     if body_info(name) is MJCF:  # it checks its options and its file as it builds (one compile)
         from neurowalk.body.user_mjcf import UserMjcf
 
@@ -163,7 +194,7 @@ def make_body(
     if name == "amosii":
         from neurowalk.body.physics import AmosII
 
-        return AmosII(arena, control_hz=control_hz, noise=noise, **amosii)
+        return AmosII(arena, control_hz=control_hz, noise=noise, scan_obstacles=climbing, pad_boxes=pad_boxes)
     if not BODIES[name].physics:  # surrogate, surrogate-wheeled: each reads its own calibration file
         from neurowalk.body.surrogate import Surrogate, load_calibration
 

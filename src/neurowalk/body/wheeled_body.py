@@ -22,6 +22,7 @@ import numpy as np
 
 from neurowalk import anatomy
 from neurowalk.arenas.spec import ArenaSpec
+from neurowalk.body.common import noisy_distance, place_at_start
 from neurowalk.body.noise import ColoredNoise
 from neurowalk.body.physics import mujoco_warnings, n_substeps
 from neurowalk.body.wheeled import (
@@ -98,11 +99,19 @@ class Wheeled:
             mujoco.mj_resetDataKeyframe(m, d, self._key)
         else:  # a user's model without a keyframe (neurowalk.body.user_mjcf)
             mujoco.mj_resetData(m, d)
-        x, y, yaw = self.arena.start
-        d.qpos[0], d.qpos[1] = x, y
-        d.qpos[3:7] = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
+        place_at_start(d.qpos, self.arena.start)
         mujoco.mj_forward(m, d)
         self._noise.reset(rng)
+
+    @property
+    def qidx(self) -> np.ndarray | None:
+        """qpos addresses of the joints the body records (a legged user model's 19), or None (wheels)."""
+        return getattr(self, "_qidx", None)
+
+    @property
+    def noise(self) -> ColoredNoise:
+        """The sensor noise source (channels 0-1: the ultrasonic sensors)."""
+        return self._noise
 
     def pose(self) -> np.ndarray:
         """(3,) chassis pose now (x m, y m, yaw rad), without noise."""
@@ -114,10 +123,9 @@ class Wheeled:
         d, r = self.data, self._us_range
         noise = self._noise.step()
         dist = np.empty(2)
-        for i, adr in enumerate(self._us_adr):  # scalar arithmetic: a third of the cost of small-array numpy
+        for i, adr in enumerate(self._us_adr):  # compiled scalar reading: cheaper than small-array numpy
             raw = float(d.sensordata[adr])  # -1: no hit
-            us = (1.0 - raw / r if 0.0 <= raw <= r else 0.0) + noise[i]  # no echo in range -> 0
-            dist[i] = r * (1.0 - us) / self._unit if us > 0.0 else math.inf
+            dist[i] = noisy_distance(raw if 0.0 <= raw <= r else math.inf, r, noise[i]) / self._unit
         return Observation(
             us_distance=dist,
             foot_contact=np.zeros(len(anatomy.LEGS)),

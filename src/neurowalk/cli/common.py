@@ -3,9 +3,12 @@
 from __future__ import annotations
 
 import argparse
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from neurowalk.sim.engine import EngineOptions
 
 
 class UsageError(Exception):
@@ -71,9 +74,9 @@ def registry_names(name: str) -> tuple[str, ...]:
 
         return tuple(sorted(ARENAS))
     if name == "engines":
-        from neurowalk.sim.config import ENGINES
+        from neurowalk.sim.engines import ENGINES
 
-        return ENGINES
+        return tuple(ENGINES)
     if name == "controllers":
         from neurowalk.controller import CONTROLLERS
 
@@ -176,23 +179,26 @@ def engine_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--device", default=None, help="engine warp: cuda (default where a GPU is present) | cpu (slow)")
 
 
-def check_engine(args: argparse.Namespace) -> None:
-    """Check --engine/--device before any work (UsageError naming what to install or use); --device is passed on
-    to worker processes through $NEUROWALK_WARP_DEVICE."""
-    import os
+def check_engine(args: argparse.Namespace, named: Sequence[str] = ()) -> EngineOptions:
+    """Check --engine/--device before any work (UsageError naming what to install or use); the engine options (the
+    device resolved) that the command passes on to the runs. ``named``: engines the runs name themselves (a spec
+    file's), checked as --engine is."""
+    from neurowalk.sim.engine import EngineOptions  # here: the simulation loads once the signals are handled
+    from neurowalk.sim.engines import ENGINES
 
-    from neurowalk.sim.config import ENGINES
-
-    if args.engine not in ENGINES:
-        raise UsageError(f"unknown engine {args.engine!r}; expected one of {', '.join(ENGINES)}")
-    if args.engine == "mujoco":
-        if args.device is not None:
-            raise UsageError(f"--device goes with --engine warp (CPU MuJoCo has no device), got {args.device!r}")
-        return
-    from neurowalk.sim.warp_engine import DEVICE_ENV, resolve_device
-
+    names = list(dict.fromkeys([args.engine, *named]))
+    for name in names:
+        if name not in ENGINES:
+            raise UsageError(f"unknown engine {name!r}; expected one of {', '.join(ENGINES)}")
+    engines = [ENGINES[n] for n in names]
+    chosen = next((e for e in engines if e.devices), engines[0])  # the engine that takes --device, if any
+    if args.device is not None and not chosen.devices:
+        with_device = " or ".join(f"--engine {name}" for name, e in ENGINES.items() if e.devices)
+        raise UsageError(
+            f"--device goes with {with_device} (engine {chosen.name!r} has no device), got {args.device!r}"
+        )
     try:
-        os.environ[DEVICE_ENV] = resolve_device(args.device)
+        return chosen.resolve(EngineOptions(device=args.device))
     except ValueError as e:
         raise UsageError(str(e)) from None
 

@@ -117,7 +117,9 @@ def _figure(args: argparse.Namespace) -> int:
     if not has_display():
         use_headless_gl()  # before MuJoCo is imported: figures with rendered snapshots (fig10)
     with deferred():  # every figure's modules (numba's, MuJoCo's) load whole: a signal now stops it right after
+        from neurowalk.body.registry import bodies_where
         from neurowalk.experiments import FIGURES
+        from neurowalk.sim.config import DEFAULT_ENGINE
 
     if args.name == "list":
         print(figure_listing())
@@ -156,11 +158,12 @@ def _figure(args: argparse.Namespace) -> int:
             kwargs["body"] = known("body", args.body, BODIES)
         if args.climb:
             takes("--climb")
-            if kwargs.get("body", "amosii") != "amosii":
-                raise UsageError(f"--climb needs --body amosii (the {args.body!r} body has no legs)")
+            climbers = bodies_where(lambda b: b.climbs)
+            if kwargs.get("body", climbers[0]) not in climbers:
+                raise UsageError(f"--climb needs --body {climbers[0]} (the {args.body!r} body has no legs)")
             kwargs["climbing"] = True
             if "body" in params:
-                kwargs["body"] = "amosii"
+                kwargs["body"] = kwargs.get("body", climbers[0])
         if args.variant is not None or args.params is not None:
             takes("--variant/--params")
             kwargs["variant"], overrides = parse_variant(args)
@@ -171,14 +174,17 @@ def _figure(args: argparse.Namespace) -> int:
 
             takes("--gait")
             kwargs["gait"] = known("gait", args.gait, tuple(GAITS))
-        if args.engine != "mujoco" or args.device is not None:
+        if args.engine != DEFAULT_ENGINE or args.device is not None:
             takes("--engine")
-            if "body" in params and args.engine == "warp":  # Warp runs the physics AMOSII
-                if kwargs.get("body", "amosii") != "amosii":
-                    raise UsageError(f"--engine warp runs --body amosii, got --body {kwargs['body']!r}")
-                kwargs["body"] = "amosii"
-            check_engine(args)
+            runs = bodies_where(lambda b: args.engine in b.engines)
+            if "body" in params:  # e.g. Warp runs the physics AMOSII only
+                if kwargs.get("body", runs[0]) not in runs:
+                    raise UsageError(f"--engine {args.engine} runs --body {runs[0]}, got --body {kwargs['body']!r}")
+                kwargs["body"] = kwargs.get("body", runs[0])
             kwargs["engine"] = args.engine
+            device = check_engine(args).device
+            if "device" in params:
+                kwargs["device"] = device
         if args.video:
             takes("--video")
             kwargs["video"] = True

@@ -63,7 +63,7 @@ def cmd_run(args: argparse.Namespace) -> int:
         if problem:
             raise UsageError(f"--video: {problem}")
     cfg = episode_config(args)
-    check_engine(args)  # after the config's own checks: a bad body is named before any device is looked for
+    options = check_engine(args)  # after the config's own checks: a bad body is named before a device is looked for
     _check_memory(cfg.steps)
     from neurowalk.fileio import FolderBusyError, folder_lock
     from neurowalk.sim.trajectory import PartWriter
@@ -77,7 +77,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     with lock:
         parts = PartWriter(out / "trajectory.parts")
         cfg, resume = _start(args, cfg, out, parts)
-        return _run_into(args, cfg, out, parts, resume)
+        return _run_into(args, cfg, out, parts, resume, options)
 
 
 #: Memory a streamed run holds per control step (the summary's columns), and what it needs besides (Python, MuJoCo,
@@ -103,10 +103,10 @@ def _is_physics(body: str, body_info: Any) -> bool:
 
 
 def _checkpointed(cfg: Any) -> bool:
-    """Runs that leave a checkpoint every part: MuJoCo bodies on the CPU loop."""
-    from neurowalk.body.registry import body_info
+    """Runs that leave a checkpoint every part: those of a resumable engine (the CPU loop)."""
+    from neurowalk.sim.engines import engine_for
 
-    return bool(body_info(cfg.body).physics) and cfg.engine == "mujoco"
+    return engine_for(cfg).resumable
 
 
 def _start(args: argparse.Namespace, cfg: Any, out: Path, parts: Any) -> tuple[Any, Any]:
@@ -148,12 +148,12 @@ def _clear(out: Path, parts: Any) -> None:
         stale.unlink(missing_ok=True)
 
 
-def _run_into(args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume: Any) -> int:
+def _run_into(args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume: Any, options: Any) -> int:
     """Run ``cfg`` with its rows streamed into ``parts``, then write DIR's files; the exit status."""
     import signal
 
     from neurowalk.fileio import write_error
-    from neurowalk.sim.episode import RunInterruptedError, run_episode
+    from neurowalk.sim.episode import RunInterruptedError, Streaming, run_episode
 
     def _stop(signum: int, frame: object) -> None:
         raise KeyboardInterrupt  # a killed job (SIGTERM) keeps what it finished, like Ctrl-C
@@ -164,11 +164,13 @@ def _run_into(args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume:
         try:
             ep = run_episode(
                 cfg,
-                progress=not args.quiet,
-                sink=parts,
-                keep_rows=False,  # memory bounded by the part size: the rows live in the parts
-                resume=resume,
-                checkpoint=parts.write_checkpoint if _checkpointed(cfg) else None,
+                options=dataclasses.replace(options, progress=not args.quiet),
+                stream=Streaming(
+                    sink=parts,
+                    keep_rows=False,
+                    resume=resume,
+                    checkpoint=parts.write_checkpoint if _checkpointed(cfg) else None,
+                ),
             )
         except RunInterruptedError as stop:
             ep, interrupted = stop.episode, True
@@ -304,11 +306,13 @@ def signals_held() -> Iterator[None]:
 
 def cmd_view(args: argparse.Namespace) -> int:
     """`neurowalk view`: the run live in MuJoCo's viewer."""
+    from neurowalk.body.registry import bodies_where
     from neurowalk.render import has_display, view
 
     cfg = episode_config(args)
-    if args.body != "amosii":
-        raise UsageError(f"view needs --body amosii, got {args.body!r}")
+    viewable = bodies_where(lambda b: b.viewer)
+    if args.body not in viewable:
+        raise UsageError(f"view needs --body {' or '.join(viewable)}, got {args.body!r}")
     if not has_display():
         print(
             "neurowalk view: no display here (DISPLAY is not set); use `neurowalk run --video` for a headless video",

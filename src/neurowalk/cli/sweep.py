@@ -23,6 +23,7 @@ from neurowalk.cli.common import (
 if TYPE_CHECKING:
     from neurowalk.runners.store import ResultStore
     from neurowalk.runners.sweep import SweepReport
+    from neurowalk.sim.engine import EngineOptions
 
 
 def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
@@ -102,10 +103,11 @@ _GRID_FLAGS = (
 def _sweep_specs(args: argparse.Namespace) -> list[dict]:
     """The run specs of `neurowalk sweep`: from --specs, or the grid of the other options."""
     from neurowalk.runners.specs import grid, read_jsonl
+    from neurowalk.sim.config import DEFAULT_ENGINE
 
     if args.specs is not None:
         given = [f"--{f.replace('_', '-')}" for f in _GRID_FLAGS if getattr(args, f) not in (None, [])]
-        given += ["--engine"] if args.engine != "mujoco" else []  # a spec names its own engine
+        given += ["--engine"] if args.engine != DEFAULT_ENGINE else []  # a spec names its own engine
         if given:
             raise UsageError(f"--specs replaces the grid options; drop {', '.join(given)}")
         size = args.specs.stat().st_size if args.specs.is_file() else 0
@@ -140,7 +142,7 @@ def _sweep_specs(args: argparse.Namespace) -> list[dict]:
     for key, values in parse_arena_opts(args.body_opt, "--body-opt").items():
         axes[f"body_opts.{key}"] = values.split(",")
     base: dict = {} if args.steps is None else {"steps": args.steps}
-    if args.engine != "mujoco":
+    if args.engine != DEFAULT_ENGINE:
         base["engine"] = args.engine
     variants = [v.strip() for v in args.variant.split(",")] if args.variant is not None else []
     if not all(variants):
@@ -202,13 +204,13 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                 raise
         if stop_requested() or not opened:
             if opened:
-                opened[0][-1].close()
+                opened[0][3].close()
             print("neurowalk: sweep interrupted before its first run; nothing was run", file=sys.stderr)
             return 130
         return _sweep(args, *opened[0])
 
 
-def _open(args: argparse.Namespace) -> tuple[list[dict], Path, dict, ResultStore]:
+def _open(args: argparse.Namespace) -> tuple[list[dict], Path, dict, ResultStore, EngineOptions]:
     """Check the input and open the store: (specs, output folder, sweep.json's content, the store)."""
     import importlib.util
 
@@ -230,8 +232,8 @@ def _open(args: argparse.Namespace) -> tuple[list[dict], Path, dict, ResultStore
             ray_backend.import_ray()  # a missing ray is bad input; a broken ray install raises as it is
     except (ValueError, ray_backend.RayMissingError) as e:
         raise UsageError(str(e)) from None
-    named = any(isinstance(sp, dict) and sp.get("engine") == "warp" for sp in specs)  # a --specs file's own engine
-    check_engine(argparse.Namespace(engine="warp", device=args.device) if named else args)
+    named = [sp["engine"] for sp in specs if isinstance(sp, dict) and isinstance(sp.get("engine"), str)]
+    options = check_engine(args, named)  # a --specs file's own engines
     if args.export == "parquet" and importlib.util.find_spec("pyarrow") is None:
         raise UsageError("--export parquet needs `pip install neurowalk[parquet]`")
     import neurowalk.runners.sweep  # noqa: F401  (here, with the signals held: it loads the simulation's modules)
@@ -243,10 +245,12 @@ def _open(args: argparse.Namespace) -> tuple[list[dict], Path, dict, ResultStore
         store = ResultStore(out / "results.sqlite")
     except StoreError as e:
         raise UsageError(str(e)) from None
-    return specs, out, info, store
+    return specs, out, info, store, options
 
 
-def _sweep(args: argparse.Namespace, specs: list[dict], out: Path, info: dict, store: ResultStore) -> int:
+def _sweep(
+    args: argparse.Namespace, specs: list[dict], out: Path, info: dict, store: ResultStore, options: EngineOptions
+) -> int:
     from neurowalk.fileio import write_json
     from neurowalk.runners import ray_backend
     from neurowalk.runners.stopping import deferred
@@ -264,6 +268,7 @@ def _sweep(args: argparse.Namespace, specs: list[dict], out: Path, info: dict, s
                 address=args.address,
                 progress=not args.quiet,
                 retries=args.retries,
+                options=options,
             )
         except ray_backend.RayStartError as e:
             raise UsageError(str(e)) from None

@@ -93,7 +93,7 @@ class ExplorePhysicsVectorEnv(VectorEnv):
         self.physics_s = 0.0
         lay = sensor_layout(proto.model)
         self._us_adr, self._us_max, self._us_range, self._trunk = lay.us, lay.us_range, proto.params.us_range, lay.trunk
-        source = proto._noise  # the body's own noise source: its channels, tau and strength (as BatchEpisodes)
+        source = proto.noise  # the body's own noise source: its channels, tau and strength (as MujocoBatchWorlds)
         self._n_noise, self._tau, self._gain = source.n, source.tau, math.sqrt(source.tau) * source.strength
         self._noisy = source.strength > 0
         self._rngs: list[np.random.Generator] = [np.random.default_rng(0)] * n

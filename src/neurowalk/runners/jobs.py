@@ -1,5 +1,5 @@
 """What every job runner shares: a finished job's result, the error of a worker that died, the timed call a worker
-makes, and the grouping of MuJoCo Warp runs into the worlds of one model.
+makes, and the grouping of runs into the worlds of one call of a many-worlds engine (MuJoCo Warp).
 
 The local process pool (:mod:`.local`), Ray (:mod:`.ray_backend`) and the sweep (:mod:`.sweep`) all import it; it
 imports none of them.
@@ -8,9 +8,13 @@ imports none of them.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Hashable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
+
+from neurowalk.sim.config import EpisodeConfig
+from neurowalk.sim.engine import Engine, EngineOptions
+from neurowalk.sim.engines import engine_for
 
 
 class WorkerDiedError(RuntimeError):
@@ -37,16 +41,21 @@ def call_timed(fn: Callable[[Any], Any], item: Any) -> tuple[Any, BaseException 
     return value, error, time.perf_counter() - t0
 
 
-def warp_groups(keys: list[tuple[Any, Any]], worlds: int | None = None) -> Iterator[tuple[list[int], str]]:
-    """Indices of runs that can share one MuJoCo Warp model (same ``keys[i]``: steps and control rate), at most
-    ``worlds`` at a time (default 4096 on a GPU, 16 on the CPU device), with the device to run them on."""
-    from neurowalk.sim.warp_engine import resolve_device
-
-    device = resolve_device()
-    worlds = worlds or (4096 if device == "cuda" else 16)
-    groups: dict[tuple[Any, Any], list[int]] = {}
-    for i, key in enumerate(keys):
-        groups.setdefault(key, []).append(i)
-    for group in groups.values():
-        for c in range(0, len(group), worlds):
-            yield group[c : c + worlds], device
+def world_groups(
+    configs: Sequence[EpisodeConfig], options: EngineOptions, worlds: int | None = None
+) -> Iterator[tuple[list[int], Engine]]:
+    """Indices of the configs that share one call of a many-worlds engine (the same engine and group key), at most
+    ``worlds`` at a time (default: what the engine takes in one call with ``options``), with that engine. Configs of
+    an engine that runs one world at a time are left out (they go to a pool)."""
+    groups: dict[tuple[str, Hashable], list[int]] = {}
+    engines: dict[str, Engine] = {}
+    for i, cfg in enumerate(configs):
+        engine = engine_for(cfg)
+        if engine.many_worlds:
+            engines[engine.name] = engine
+            groups.setdefault((engine.name, engine.group_key(cfg)), []).append(i)
+    for (name, _), group in groups.items():
+        engine = engines[name]
+        size = worlds or engine.worlds_per_call(options) or len(group)
+        for c in range(0, len(group), size):
+            yield group[c : c + size], engine

@@ -19,15 +19,15 @@ import signal
 import sys
 from collections import deque
 from collections.abc import Callable, Generator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from multiprocessing.connection import Connection
 from multiprocessing.connection import wait as mp_wait
 from multiprocessing.reduction import ForkingPickler
 from typing import Any
 
-from neurowalk.runners.jobs import Done, WorkerDiedError, call_timed, warp_groups
+from neurowalk.runners.jobs import Done, WorkerDiedError, call_timed, world_groups
 from neurowalk.runners.stopping import deferred, stop_requested
-from neurowalk.sim.episode import Episode, EpisodeConfig, run_episode
+from neurowalk.sim.episode import EngineOptions, Episode, EpisodeConfig, run_episode
 
 
 def run_unordered(
@@ -248,6 +248,7 @@ def run_many(
     progress: bool = True,
     keep: Callable[[Episode], Any] = summary_only,
     desc: str = "runs",
+    options: EngineOptions | None = None,
 ) -> list[Any]:
     """Run every config; return ``keep(episode)`` of each, in order.
 
@@ -256,6 +257,8 @@ def run_many(
         workers: processes (1 runs them here, one after the other).
         progress: show a progress bar with rate and time left.
         keep: what to keep of each episode (a module-level function, so it can be pickled).
+        options: how the engines run (e.g. MuJoCo Warp's device). Runs of a many-worlds engine run here, as the
+            worlds of shared calls (:func:`~neurowalk.runners.jobs.world_groups`); the others on the pool.
 
     Raises:
         the first error of a run as soon as it arrives (a worker that died: WorkerDiedError).
@@ -264,17 +267,15 @@ def run_many(
         raise ValueError(f"workers must be >= 1, got {workers}")
     from tqdm import tqdm
 
+    options = replace(options or EngineOptions(), progress=progress)
     jobs = [(c, keep) for c in configs]
     out: list[Any] = [None] * len(jobs)
-    warp = [i for i, c in enumerate(configs) if c.engine == "warp"]
-    if warp:  # as the worlds of MuJoCo Warp models, here (the device is this process's)
-        from neurowalk.sim.warp_engine import run_warp
-
-        for chunk, device in warp_groups([(configs[i].steps, configs[i].control_hz) for i in warp]):
-            eps = run_warp([configs[warp[j]] for j in chunk], device=device, progress=progress)
-            for j, ep in zip(chunk, eps, strict=True):
-                out[warp[j]] = keep(ep)
-    rest = [i for i, c in enumerate(configs) if c.engine != "warp"]
+    shared: set[int] = set()
+    for group, engine in world_groups(configs, options):
+        for i, ep in zip(group, engine.run([configs[i] for i in group], options), strict=True):
+            out[i] = keep(ep)
+            shared.add(i)
+    rest = [i for i in range(len(configs)) if i not in shared]
     jobs = [jobs[i] for i in rest]
     if not jobs:
         return out

@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from neurowalk.fileio import to_jsonable
+from neurowalk.sim.config import DEFAULT_ENGINE
 from neurowalk.sim.episode import Episode, EpisodeConfig, RunInterruptedError, run_episode
 
 Spec = dict[str, Any]
@@ -94,7 +95,7 @@ def normalize(spec: Spec) -> Spec:
         out["variant"] = s["variant"]
     if not isinstance(s["engine"], str):
         raise ValueError(f"engine must be a name (mujoco, warp), got {s['engine']!r}")
-    if s["engine"] != "mujoco":
+    if s["engine"] != DEFAULT_ENGINE:
         out["engine"] = s["engine"]
     if not isinstance(s["gait"], str):
         raise ValueError(f"gait must be a name, got {s['gait']!r}")

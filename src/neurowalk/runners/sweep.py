@@ -15,15 +15,18 @@ number of workers.
 from __future__ import annotations
 
 import sys
+import time
 from collections.abc import Callable, Iterable, Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
-from neurowalk.runners.jobs import Done, warp_groups
+from neurowalk.runners.jobs import Done, world_groups
 from neurowalk.runners.local import run_unordered
-from neurowalk.runners.specs import Spec, describe, normalize, run_spec, spec_key
+from neurowalk.runners.specs import Spec, describe, normalize, result_of, run_spec, spec_key, to_config
 from neurowalk.runners.stopping import deferred
 from neurowalk.runners.store import ResultStore
+from neurowalk.sim.config import EpisodeConfig
+from neurowalk.sim.engine import Engine, EngineOptions
 
 BACKENDS = ("local", "ray")
 
@@ -85,6 +88,7 @@ def run_sweep(
     progress: bool = True,
     fn: Callable[[Spec], Any] = run_spec,
     retries: int = 0,
+    options: EngineOptions | None = None,
 ) -> SweepReport:
     """Run every spec not yet done into ``store``; return the counts.
 
@@ -98,13 +102,12 @@ def run_sweep(
         fn: computes one run's result (a JSON-able dict) from its normalised spec; a module-level function.
         retries: how many more times a run whose worker process died is run before it is stored as failed
             (default 0: stored at once as ``WorkerDiedError``).
+        options: how the engines run (e.g. MuJoCo Warp's device).
 
     Raises:
         ValueError: bad spec, backend or worker count (before any run).
         RayMissingError, RayStartError: backend 'ray' without ray installed, or Ray failing to start.
     """
-    import time
-
     from tqdm import tqdm
 
     if backend not in BACKENDS:
@@ -123,7 +126,7 @@ def run_sweep(
     results = bar = None
     try:
         if todo:
-            results = _backend(backend, fn, [s for _, s in todo], workers, address, retries)
+            results = _backend(backend, fn, [s for _, s in todo], workers, address, retries, options or EngineOptions())
             bar = tqdm(
                 total=len(todo), unit="run", desc="sweep", disable=not progress, mininterval=0.5, file=sys.stderr
             )
@@ -147,17 +150,26 @@ def run_sweep(
 
 
 def _backend(
-    backend: str, fn: Callable[[Spec], Any], items: list[Spec], workers: int, address: str | None, retries: int
+    backend: str,
+    fn: Callable[[Spec], Any],
+    items: list[Spec],
+    workers: int,
+    address: str | None,
+    retries: int,
+    options: EngineOptions,
 ) -> Any:
-    """Results (:class:`Done`, any order) of ``fn`` on ``items``: runs on engine 'warp' as the worlds of one MuJoCo
-    Warp model (in this process), the others on the backend."""
-    warp = [i for i, s in enumerate(items) if s.get("engine") == "warp"] if fn is run_spec else []
-    if not warp:
+    """Results (:class:`Done`, any order) of ``fn`` on ``items``: runs of a many-worlds engine (MuJoCo Warp) as the
+    worlds of shared calls, in this process; the others on the backend."""
+    valid = [(i, cfg) for i, cfg in enumerate(_configs(items))] if fn is run_spec else []
+    valid = [(i, cfg) for i, cfg in valid if cfg is not None]
+    shared = [([valid[j][0] for j in group], engine) for group, engine in world_groups([c for _, c in valid], options)]
+    if not shared:
         return _pool(backend, fn, items, workers, address, retries)
-    others = [i for i, s in enumerate(items) if s.get("engine") != "warp"]
+    done = {i for group, _ in shared for i in group}
+    others = [i for i in range(len(items)) if i not in done]
 
     def chained() -> Iterator[Done]:
-        yield from warp_runs(items, warp)
+        yield from world_runs(items, shared, options)
         if others:
             inner = _pool(backend, fn, [items[i] for i in others], workers, address, retries)
             try:
@@ -169,20 +181,25 @@ def _backend(
     return chained()
 
 
-def warp_runs(items: list[Spec], which: list[int], worlds: int | None = None) -> Iterator[Done]:
-    """Run specs ``items[which]`` (engine 'warp') as the worlds of MuJoCo Warp models (:func:`warp_groups`); one
-    :class:`Done` per run, its wall time the batch's divided by its worlds. A batch that raises gives each of its
-    runs that error."""
-    import time
+def _configs(items: list[Spec]) -> list[EpisodeConfig | None]:
+    """Each spec's config; None where it has none (its run reports the error)."""
+    out: list[EpisodeConfig | None] = []
+    for spec in items:
+        try:
+            out.append(to_config(spec))
+        except ValueError:
+            out.append(None)
+    return out
 
-    from neurowalk.runners.specs import result_of, to_config
-    from neurowalk.sim.warp_engine import run_warp
 
-    for chunk, device in warp_groups([(items[i]["steps"], items[i]["control_hz"]) for i in which], worlds):
-        runs = [which[j] for j in chunk]
+def world_runs(items: list[Spec], groups: list[tuple[list[int], Engine]], options: EngineOptions) -> Iterator[Done]:
+    """Run the specs of each group (:func:`~neurowalk.runners.jobs.world_groups`) as the worlds of one call of its
+    engine; one :class:`Done` per run, its wall time the call's divided by its worlds. A call that raises gives each of
+    its runs that error."""
+    for runs, engine in groups:
         t0 = time.perf_counter()
         try:
-            eps = run_warp([to_config(items[i]) for i in runs], device=device, progress=False)
+            eps = engine.run([to_config(items[i]) for i in runs], replace(options, progress=False))
         except Exception as e:
             for i in runs:
                 yield Done(i, error=e)

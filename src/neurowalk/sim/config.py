@@ -22,7 +22,8 @@ from neurowalk.neural.motor import LocomotionParams
 from neurowalk.neural.variants import get_variant
 from neurowalk.sim.trajectory import Trajectory
 
-BODIES: tuple[str, ...] = tuple(REGISTRY)  # the registry's names (neurowalk.body.registry)
+BODIES: tuple[str, ...] = tuple(REGISTRY)
+DEFAULT_ENGINE = "mujoco"  # the CPU loop (sim/engines.py)  # the registry's names (neurowalk.body.registry)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -46,7 +47,7 @@ class EpisodeConfig:
     params: dict[str, float] | None = None  # SensoryParams fields set on top of the variant (a params file)
     gait: str = "wave"  # the CPG's modulatory input by name (neurowalk.neural.cpg.GAITS)
     body_opts: dict[str, Any] = field(default_factory=dict)  # the body's options (neurowalk.body.registry)
-    engine: str = "mujoco"  # physics engine: mujoco (CPU MuJoCo) | warp (MuJoCo Warp, many worlds, GPU or CPU)
+    engine: str = DEFAULT_ENGINE  # physics engine: mujoco (CPU MuJoCo) | warp (MuJoCo Warp, many worlds, GPU or CPU)
 
     def __post_init__(self) -> None:
         if self.controller not in CONTROLLERS:
@@ -80,17 +81,29 @@ class EpisodeConfig:
             raise ValueError(f"unknown gait {self.gait!r}; expected one of {', '.join(GAITS)}")
         if self.engine not in ENGINES:
             raise ValueError(f"unknown engine {self.engine!r}; expected one of {', '.join(ENGINES)}")
-        if self.engine == "warp" and (self.body != "amosii" or self.reflexes or self.backbone):
-            raise ValueError(
-                f"engine 'warp' runs body 'amosii' without --reflexes/--backbone, got body {self.body!r}"
-                + (" with climbing controls" if self.reflexes or self.backbone else "")
-            )
+        climbing = self.reflexes or self.backbone
+        if self.engine not in info.engines or (climbing and self.engine not in info.climbs_on):
+            raise ValueError(engine_refusal(self.engine, self.body, climbing))
         if not info.physics and self.control_hz != (hz := load_calibration(body=self.body).control_hz):
             raise ValueError(f"body {self.body!r} is calibrated at {hz} Hz, got control_hz {self.control_hz!r}")
-        if self.gait != "wave" and self.body == "surrogate":
-            raise ValueError(f"body 'surrogate' is calibrated on the wave gait, got gait {self.gait!r}")
-        if self.gait != "wave" and info.action == "steering":
-            raise ValueError(f"body {self.body!r} takes the steering pair (no legs), no gait; got gait {self.gait!r}")
+        info.check_gait(self.gait)
+
+    @property
+    def climbing(self) -> bool:
+        """The controller climbs: local leg control or backbone joint control is on."""
+        return self.reflexes or self.backbone
+
+
+def engine_refusal(engine: str, body: str, climbing: bool) -> str:
+    """Why ``engine`` cannot run ``body`` (with climbing controls if ``climbing``): the bodies it runs, in words."""
+    runs = [name for name, info in REGISTRY.items() if engine in info.engines]
+    climbs = any(engine in REGISTRY[name].climbs_on for name in runs)
+    return (
+        f"engine {engine!r} runs body {', '.join(repr(n) for n in runs)}"
+        + ("" if climbs else " without --reflexes/--backbone")
+        + f", got body {body!r}"
+        + (" with climbing controls" if climbing else "")
+    )
 
 
 ENGINES: tuple[str, ...] = ("mujoco", "warp")  # physics engines (neurowalk.sim.warp_engine for warp)
@@ -131,8 +144,15 @@ def build(cfg: EpisodeConfig, *, pad_boxes: int | None = None) -> tuple[ArenaSpe
     :mod:`neurowalk.sim.batch` runs; None (default) for the plain model.
     """
     arena = make_arena(cfg.arena, rng=seeds(cfg)[2], **cfg.arena_opts)
-    amosii = {"pad_boxes": pad_boxes, "scan_obstacles": cfg.backbone or cfg.reflexes} if cfg.body == "amosii" else {}
-    body = make_body(cfg.body, arena, cfg.body_opts, control_hz=cfg.control_hz, noise=cfg.noise, **amosii)
+    body = make_body(
+        cfg.body,
+        arena,
+        cfg.body_opts,
+        control_hz=cfg.control_hz,
+        noise=cfg.noise,
+        climbing=cfg.climbing,
+        pad_boxes=pad_boxes,
+    )
     return arena, body, build_controller(cfg)
 
 

@@ -8,7 +8,6 @@ contacts, qpos) are NaN or empty; ``up_z`` is 1.
 from __future__ import annotations
 
 import time
-from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -16,7 +15,9 @@ import numpy as np
 from neurowalk.body.surrogate import Surrogate, SurrogateRun, empty_run
 from neurowalk.controller import NeuralController
 from neurowalk.sim.config import Episode, EpisodeConfig, RunInterruptedError, build, progress_bar, seeds
-from neurowalk.sim.summary import PICTURE_ROWS, RecordKeeper, summarize
+from neurowalk.sim.engine import EngineOptions, OneWorldPerCall, Streaming
+from neurowalk.sim.recorder import finish_episode
+from neurowalk.sim.summary import PICTURE_ROWS, RecordKeeper
 from neurowalk.sim.trajectory import Trajectory
 
 
@@ -103,18 +104,33 @@ def run_surrogate_episode(
     if bar is not None:
         bar.close()
     done = run.done  # the rows handed to the sink: a chunk whose hand-over was interrupted does not count
-    run_cfg = cfg if done == cfg.steps else replace(cfg, steps=max(done, 1))
     if keeper is None:
-        tr = trajectory_of(run, cfg.control_hz, fixed).head(done)
-        summary = summarize(run_cfg, arena, tr, wall, {}) if done else {"steps": 0}
-        ep = Episode(cfg, arena, tr, summary)
+        ep = finish_episode(cfg, arena, trajectory_of(run, cfg.control_hz, fixed).head(done), done, wall, {})
     else:
-        tr = keeper.picture(done)
-        summary = summarize(run_cfg, arena, keeper.record(done), wall, {}) if done else {"steps": 0}
-        ep = Episode(cfg, arena, tr, summary, row_stride=keeper.stride)
-    summary["completed"] = done == cfg.steps
-    summary["steps_requested"] = cfg.steps
+        ep = finish_episode(
+            cfg, arena, keeper.record(done), done, wall, {}, picture=keeper.picture(done), stride=keeper.stride
+        )
+    summary = ep.summary
     summary["surrogate_contacts"] = run.contacts
     if done < cfg.steps:
         raise RunInterruptedError(ep)
     return ep
+
+
+class SurrogateLoop(OneWorldPerCall):
+    """The planar bodies' engine: the surrogate's compiled loop, runs one after another; streams its rows."""
+
+    name = "surrogate"
+
+    def run_one(self, cfg: EpisodeConfig, options: EngineOptions, stream: Streaming) -> Episode:
+        """One run (:func:`run_surrogate_episode`); a planar run is not resumed (it reruns in seconds)."""
+        if stream.resume is not None or stream.checkpoint is not None:
+            raise ValueError(f"a run of body {cfg.body!r} cannot be resumed (no checkpoints); run it again")
+        return run_surrogate_episode(
+            cfg,
+            progress=options.progress,
+            sink=stream.sink,
+            chunk=stream.chunk,
+            keep_rows=stream.keep_rows,
+            picture_rows=stream.picture_rows,
+        )

@@ -9,7 +9,7 @@
         sensordata of all worlds -> noisy distances (n, 2); controllers: one compiled call for all worlds
         ctrl <- targets; n_substeps x mujoco_warp.step (one CUDA graph on a GPU); qpos, sensordata, time -> host
 
-The sensing, noise, controllers and recording are :class:`~neurowalk.sim.batch.BatchEpisodes`'; only the physics
+The sensing, noise, controllers and recording are :class:`~neurowalk.sim.lockstep.LockstepWorlds`'; only the physics
 differs. Warp computes in float32, MuJoCo in float64: a world follows the CPU run closely for a while (joint
 positions within about 1e-6 rad after 200 physics steps) and then drifts apart as any two contact-rich runs do,
 so single runs agree in behaviour and statistics, not bit for bit (tests/sim/test_warp_engine.py states the
@@ -17,7 +17,7 @@ tolerances). On Warp's CPU device a run is repeatable; on a GPU the order of con
 
 The engine needs the ``warp`` extra (``pip install 'neurowalk[warp]'``: ``mujoco-warp``, ``warp-lang``).
 Device: ``cuda`` where a CUDA GPU is present, else ``cpu`` with a warning (about 100-1000x slower than CPU
-MuJoCo: for tests and checks); ``NEUROWALK_WARP_DEVICE`` or ``--device`` chooses.
+MuJoCo: for tests and checks); ``EngineOptions.device`` (``--device``) chooses.
 """
 
 from __future__ import annotations
@@ -25,6 +25,7 @@ from __future__ import annotations
 import os
 import sys
 from collections.abc import Sequence
+from dataclasses import replace
 from typing import Any
 
 import mujoco
@@ -33,16 +34,16 @@ import numpy as np
 from neurowalk.arenas import make_arena
 from neurowalk.body.amosii import amosii_xml, joint_qpos_indices
 from neurowalk.body.amosii_params import BodyParams
+from neurowalk.body.common import place_at_start
 from neurowalk.body.noise import ColoredNoise
 from neurowalk.body.obstacle_slots import slot_rows, slot_world
 from neurowalk.body.physics import n_substeps as substeps_of
-from neurowalk.sim.batch import BatchEpisodes, check_batch, start_qpos
 from neurowalk.sim.config import Episode, EpisodeConfig, build_controller, seeds
+from neurowalk.sim.engine import EngineOptions
+from neurowalk.sim.lockstep import LockstepEngine, LockstepWorlds
 
-__all__ = ["DEVICE_ENV", "WarpEpisodes", "import_warp", "resolve_device", "run_warp"]
+__all__ = ["Warp", "WarpWorlds", "import_warp", "resolve_device", "run_warp"]
 
-DEVICE_ENV = "NEUROWALK_WARP_DEVICE"
-"""Environment variable naming the Warp device (``cpu`` or ``cuda``) when none is given."""
 GEOM_FIELDS = ("pos", "quat", "size", "aabb", "rbound")  # the obstacle rows batched per world
 
 
@@ -59,13 +60,12 @@ def import_warp() -> tuple[Any, Any]:
 
 
 def resolve_device(device: str | None = None) -> str:
-    """The Warp device to run on: ``device``, else $NEUROWALK_WARP_DEVICE, else ``cuda`` if present, else ``cpu``.
+    """The Warp device to run on: ``device``, else ``cuda`` if present, else ``cpu`` (saying so).
 
     Raises:
         ValueError: a device other than cpu/cuda, cuda without a CUDA GPU, or the extra missing.
     """
     wp, _ = import_warp()
-    device = device or os.environ.get(DEVICE_ENV) or None
     if device not in (None, "cpu", "cuda"):
         raise ValueError(f"unknown device {device!r}; expected cpu or cuda")
     _init_quietly(wp)
@@ -116,7 +116,7 @@ def _cpu_name() -> str:
     return platform.processor() or platform.machine()
 
 
-class WarpEpisodes(BatchEpisodes):
+class WarpWorlds(LockstepWorlds):
     """n runs of AMOSII (one per config) as the worlds of one MuJoCo Warp model.
 
     Args:
@@ -141,23 +141,25 @@ class WarpEpisodes(BatchEpisodes):
         njmax: int = 256,
         compiled: bool = True,
     ) -> None:
-        self.configs = list(configs)
-        _check(self.configs)
+        configs = list(configs)
+        Warp().check(configs, EngineOptions(device=device))
         self.device = resolve_device(device)
-        self._wp, self._mjw = import_warp()
-        wp, mjw = self._wp, self._mjw
-        n = len(self.configs)
-        self.arenas = [make_arena(c.arena, rng=seeds(c)[2], **c.arena_opts) for c in self.configs]
-        self.max_boxes = max_boxes if max_boxes is not None else max(len(a.boxes) for a in self.arenas)
+        self.wp, self.mjw = import_warp()
+        wp, mjw = self.wp, self.mjw
+        n = len(configs)
+        arenas = [make_arena(c.arena, rng=seeds(c)[2], **c.arena_opts) for c in configs]
+        self.max_boxes = max_boxes if max_boxes is not None else max(len(a.boxes) for a in arenas)
         params = BodyParams()
-        model = mujoco.MjModel.from_xml_string(amosii_xml(params, world=slot_world(self.arenas[0], self.max_boxes)))
+        model = mujoco.MjModel.from_xml_string(amosii_xml(params, world=slot_world(arenas[0], self.max_boxes)))
         nj = len(joint_qpos_indices(model))
-        noises = [ColoredNoise(2 + nj + 6, strength=c.noise) for c in self.configs]  # as AmosII's own source
-        self._setup(
+        noises = [ColoredNoise(2 + nj + 6, strength=c.noise) for c in configs]  # as AmosII's own source
+        super().__init__(
+            configs,
+            arenas,
             model,
             params,
-            substeps_of(self.configs[0].control_hz, model.opt.timestep),
-            [build_controller(c) for c in self.configs],
+            substeps_of(configs[0].control_hz, model.opt.timestep),
+            [build_controller(c) for c in configs],
             noises,
             compiled,
         )
@@ -178,17 +180,15 @@ class WarpEpisodes(BatchEpisodes):
         self._slots = slots
         self._slot_xpos = np.stack([r["pos"] for r in rows])
         self._slot_xmat = np.stack([_yaw_matrices(r["quat"]) for r in rows])
-        self._qpos = np.zeros((n, model.nq))
-        self._sensordata = np.zeros((n, model.nsensordata))
-        self._time = np.zeros(n)
         self._graph: Any = None
 
-    def _reset_physics(self) -> None:
-        wp, mjw, d, m = self._wp, self._mjw, self.wdata, self.model
-        key = m.key(self._key)
+    def reset_physics(self) -> None:
+        """Every world standing at its arena's start pose, at rest, forward-computed (on the device)."""
+        wp, mjw, d, m = self.wp, self.mjw, self.wdata, self.model
+        key = m.key(self.stand_key)
         qpos = np.tile(key.qpos, (self.n, 1))
         for i, arena in enumerate(self.arenas):
-            qpos[i, 0:2], qpos[i, 3:7] = start_qpos(arena.start)
+            place_at_start(qpos[i], arena.start)
         with wp.ScopedDevice(self.device):
             mjw.reset_data(self.wmodel, d)
             d.qpos.assign(qpos)
@@ -203,8 +203,9 @@ class WarpEpisodes(BatchEpisodes):
         self._t0, self._k = float(key.time[0]), 0
         self._pull()
 
-    def _advance(self, targets: np.ndarray) -> None:
-        wp, mjw = self._wp, self._mjw
+    def advance(self, targets: np.ndarray) -> None:
+        """Set every world's joint targets (n, nu) and take ``n_substeps`` Warp steps (one CUDA graph on a GPU)."""
+        wp, mjw = self.wp, self.mjw
         with wp.ScopedDevice(self.device):
             self.wdata.ctrl.assign(np.asarray(targets, dtype=np.float32))
             if self.device == "cuda":
@@ -224,9 +225,9 @@ class WarpEpisodes(BatchEpisodes):
         """The worlds' positions and sensor readings onto the host (float64); the time counted in float64 (Warp's
         float32 clock would be 0.2 ms off after an hour simulated)."""
         d = self.wdata
-        self._qpos[:] = d.qpos.numpy()
-        self._sensordata[:] = d.sensordata.numpy()
-        self._time[:] = self._t0 + self._k * self.n_substeps * self.model.opt.timestep
+        self.qpos[:] = d.qpos.numpy()
+        self.sensordata[:] = d.sensordata.numpy()
+        self.sim_time[:] = self._t0 + self._k * self.n_substeps * self.model.opt.timestep
 
     def label(self) -> str:
         """What the progress bar calls this run: the engine, the device and the worlds."""
@@ -251,10 +252,34 @@ def _yaw_matrices(quat: np.ndarray) -> np.ndarray:
     return out
 
 
-def _check(configs: list[EpisodeConfig]) -> None:
-    check_batch(
-        configs, "a Warp run", lambda c: c.engine == "warp", "runs configs with engine 'warp', got {!r}", "engine"
-    )
+class Warp(LockstepEngine):
+    """The MuJoCo Warp engine (``engine="warp"``): lock-step AMOSII worlds on a GPU, or on Warp's CPU device."""
+
+    name = "warp"
+    devices = ("cpu", "cuda")
+
+    def check(self, configs: Sequence[EpisodeConfig], options: EngineOptions) -> None:
+        """As every lock-step engine, and every config names this engine."""
+        super().check(configs, options)
+        bad = [c for c in configs if c.engine != self.name]
+        if bad:
+            raise ValueError(f"engine {self.name!r} runs configs with engine {self.name!r}, got {bad[0].engine!r}")
+
+    def worlds_per_call(self, options: EngineOptions) -> int | None:
+        """4096 worlds a call on a GPU, 16 on Warp's CPU device."""
+        return 4096 if resolve_device(options.device) == "cuda" else 16
+
+    def resolve(self, options: EngineOptions) -> EngineOptions:
+        """The device named (checked), or the one found (:func:`resolve_device`); needs the ``warp`` extra."""
+        return replace(options, device=resolve_device(options.device))
+
+    def run(self, configs: Sequence[EpisodeConfig], options: EngineOptions) -> list[Episode]:
+        """One episode per config, with ``engine`` and ``device`` added to its summary."""
+        worlds = WarpWorlds(configs, device=options.device, max_boxes=options.pad_boxes)
+        episodes = worlds.run(progress=options.progress)
+        for ep in episodes:
+            ep.summary["engine"], ep.summary["device"] = self.name, worlds.device
+        return episodes
 
 
 def run_warp(
@@ -265,8 +290,4 @@ def run_warp(
     Each episode's summary is that of ``run_episode`` (``wall_time_s``: the whole run's wall time divided by the
     number of worlds), with ``engine`` and ``device`` added.
     """
-    runs = WarpEpisodes(configs, device=device, max_boxes=max_boxes)
-    episodes = runs.run(progress=progress)
-    for ep in episodes:
-        ep.summary["engine"], ep.summary["device"] = "warp", runs.device
-    return episodes
+    return Warp().run(configs, EngineOptions(device=device, progress=progress, pad_boxes=max_boxes))

@@ -1,0 +1,119 @@
+"""The CPU loop: one MuJoCo world (or a body of any kind), one control step after another; resumable.
+
+.. code-block:: text
+
+    body.reset(rng); controller.reset(rng)
+    for each control step:
+        obs = body.observe()              # copies; sensor noise from the run's Generator
+        targets = controller.act(obs)     # 19 joint targets (rad)
+        body.apply(targets); body.advance()   # n_substeps physics steps
+        record
+
+Every random draw comes from Generators spawned from one seed (``SeedSequence(seed).spawn``), so the same seed
+gives the same trajectory, bit for bit. A long run streams its rows to a sink in chunks (:class:`Streaming`) and,
+with ``keep_rows=False``, keeps in memory only one chunk and the columns its summary needs; it writes checkpoints
+from which a stopped run goes on bit for bit.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import time
+from typing import Any
+
+from neurowalk.controller import Controller
+from neurowalk.sim.checkpoint import advance_keeping_previous, capture, restore
+from neurowalk.sim.config import Episode, EpisodeConfig, RunInterruptedError, build, progress_bar, seeds
+from neurowalk.sim.engine import EngineOptions, OneWorldPerCall, Streaming
+from neurowalk.sim.recorder import Recorder
+
+__all__ = ["CpuLoop"]
+
+
+class CpuLoop(OneWorldPerCall):
+    """The CPU loop (engine ``mujoco``): one world per run, runs one after another; resumable, streams its rows."""
+
+    name = "mujoco"
+    resumable = True
+
+    def run_one(self, cfg: EpisodeConfig, options: EngineOptions, stream: Streaming) -> Episode:
+        """One run, its rows streamed to ``stream.sink`` as it goes, from ``stream.resume`` if given.
+
+        Raises:
+            RunInterruptedError: on KeyboardInterrupt; it carries the episode of the completed steps (the sink has
+                received all of them).
+        """
+        arena, body, ctrl = build(cfg, pad_boxes=options.pad_boxes)
+        body_rng, ctrl_rng, _ = seeds(cfg)
+        body.reset(body_rng)
+        ctrl.reset(ctrl_rng)
+        start = 0
+        if stream.resume is not None:
+            start = stream.resume.checkpoint.step
+            restore(stream.resume.checkpoint, {"body": body, "controller": ctrl})
+        rec = Recorder(cfg.steps, body, stream, start)
+        if stream.resume is not None:
+            rec.restore(stream.resume.head)
+        bar = progress_bar(cfg.steps, options.progress)
+        if bar is not None:
+            bar.update(start)
+        t0 = time.perf_counter()
+        done = start
+        try:
+            done = _loop(cfg, body, ctrl, rec, bar, start, stream.checkpoint)
+        except KeyboardInterrupt:
+            done = rec.done()
+        except OSError:
+            raise  # a write that failed: writing again would fail too
+        except Exception:
+            with contextlib.suppress(Exception):  # a failure in the loop: hand the completed rows on, then report it
+                rec.flush(rec.done())
+            raise
+        wall = time.perf_counter() - t0
+        if bar is not None:
+            bar.close()
+        rec.flush(done)
+        ep = rec.episode(cfg, arena, body, done, wall)
+        if start and done > start and wall > 0:  # this invocation's part of a resumed run: its wall time, its rate
+            ep.summary["resumed_at_step"] = start
+            ep.summary["real_time_factor"] = (done - start) / cfg.control_hz / wall
+        if done < cfg.steps:
+            raise RunInterruptedError(ep)
+        return ep
+
+
+def _loop(cfg: EpisodeConfig, body: Any, ctrl: Controller, rec: Recorder, bar: Any, start: int, checkpoint: Any) -> int:
+    """The control loop proper, from step ``start``; returns the number of completed steps."""
+    d = body.data
+    has_weights = hasattr(ctrl, "b")
+    buf, base = rec.buf, rec.base
+    steering = body.action == "steering"  # the body takes the steering pair (e.g. wheels), not joint targets
+    every = rec.chunk if checkpoint is not None else 0
+    previous = None
+    for k in range(start, cfg.steps):
+        obs = body.observe()
+        targets = ctrl.act(obs)
+        body.apply(ctrl.steering if steering else targets)
+        if every and (k + 1) % every == 0:
+            previous = advance_keeping_previous(body)  # what a checkpoint needs to continue bit for bit
+        else:
+            body.advance()
+        i = k - base
+        buf.inputs[i] = ctrl.inputs
+        buf.outputs[i] = ctrl.steering
+        if has_weights:
+            buf.b[i] = ctrl.b  # type: ignore[attr-defined]
+            buf.q[i] = ctrl.q  # type: ignore[attr-defined]
+        buf.targets[i] = targets
+        buf.us_distance[i] = obs.us_distance
+        buf.foot_contact[i] = obs.foot_contact
+        buf.qpos[i] = d.qpos
+        buf.t[i] = d.time  # last: a row with a time is complete
+        if bar is not None and k % 100 == 99:
+            bar.update(100)
+        if (k + 1) % rec.chunk == 0:
+            rec.flush(k + 1)
+            buf, base = rec.buf, rec.base
+            if checkpoint is not None and k + 1 < cfg.steps:
+                checkpoint(capture(k + 1, {"body": body, "controller": ctrl}, previous))
+    return cfg.steps

@@ -1,0 +1,139 @@
+"""The one recorder of a run's rows and the one episode finisher, for every engine.
+
+:class:`Recorder` is where the CPU loop writes its rows: the whole run in memory, or one chunk at a time handed to
+a sink, keeping only the summary's columns (:class:`~neurowalk.sim.summary.RecordKeeper`). :func:`finish_episode`
+turns the rows of any engine's run (the CPU loop, the surrogate, lock-step worlds) into its :class:`Episode`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import fields, replace
+from typing import Any
+
+import numpy as np
+
+from neurowalk.arenas import ArenaSpec
+from neurowalk.sim.config import Episode, EpisodeConfig
+from neurowalk.sim.engine import Streaming
+from neurowalk.sim.summary import Record, RecordKeeper, summarize
+from neurowalk.sim.trajectory import Trajectory, poses_from_qpos, up_z_from_qpos
+
+__all__ = ["Recorder", "derive_columns", "finish_episode"]
+
+
+class Recorder:
+    """Where the loop writes its rows: the whole run in memory, or one chunk at a time (``keep_rows=False``).
+
+    ``buf`` holds the steps from ``base`` on; :meth:`flush` completes the rows written since the last flush
+    (derived columns), hands them to the sink, copies the summary's columns and the picture's rows out of a
+    chunk buffer and starts the buffer again.
+    """
+
+    def __init__(self, steps: int, body: Any, stream: Streaming, start: int) -> None:
+        qidx = body.qidx - 7 if body.action == "targets" else None  # the 19 joints in qpos[7:] (legged body)
+        sink, keep_rows = stream.sink, stream.keep_rows
+        self.sink, self.keep_rows, self.qidx = sink, keep_rows, qidx
+        self.chunk = stream.chunk if sink is not None or not keep_rows else steps
+        self.flushed = start
+        nq = body.model.nq
+        self.buf = Trajectory.empty(steps if keep_rows else self.chunk, nq)
+        self.base = 0 if keep_rows else start
+        self.keeper = None if keep_rows else RecordKeeper(steps, nq, stream.picture_rows)
+        self.stride = 1 if self.keeper is None else self.keeper.stride
+
+    def done(self) -> int:
+        """Steps completed (rows with a time)."""
+        return self.base + int(np.count_nonzero(~np.isnan(self.buf.t)))
+
+    def restore(self, head: Trajectory | Iterable[tuple[int, Trajectory]]) -> None:
+        """Take the rows before a resumed run's first step (a trajectory, or (start, rows) pieces in order)."""
+        n = self.flushed
+        for start, rows in [(0, head)] if isinstance(head, Trajectory) else head:
+            stop = min(start + len(rows), n)
+            if stop <= start:
+                continue
+            if self.keep_rows:
+                for f in fields(Trajectory):
+                    getattr(self.buf, f.name)[start:stop] = getattr(rows, f.name)[: stop - start]
+            else:
+                self._keep(rows, start, stop)
+
+    def flush(self, stop: int) -> None:
+        """Complete the rows up to step ``stop``, send them to the sink, keep what the summary needs."""
+        start = self.flushed
+        if stop <= start:
+            return
+        a, b = start - self.base, stop - self.base
+        derive_columns(self.buf, self.qidx, a, b)
+        rows = self.buf.rows(a, b)
+        if self.sink is not None:
+            self.sink(rows, start)
+        if not self.keep_rows:
+            self._keep(rows, start, stop)
+            self.buf.t[:] = np.nan  # the buffer starts again at step `stop`
+            self.base = stop
+        self.flushed = stop
+
+    def _keep(self, rows: Trajectory, start: int, stop: int) -> None:
+        self.keeper.keep(rows, start, stop)  # type: ignore[union-attr]
+
+    def episode(self, cfg: EpisodeConfig, arena: ArenaSpec, body: Any, done: int, wall: float) -> Episode:
+        """The episode of the first ``done`` steps."""
+        if self.keep_rows:
+            return finish_episode(cfg, arena, self.buf.head(done), done, wall, body.warnings())
+        self.buf = Trajectory.empty(0, self.buf.qpos.shape[1])  # the chunk buffer is done with
+        keeper = self.keeper
+        assert keeper is not None
+        qpos_rows = getattr(self.sink, "qpos_rows", None)  # replays wedged periods' contacts (PartWriter)
+        return finish_episode(
+            cfg,
+            arena,
+            keeper.record(done),
+            done,
+            wall,
+            body.warnings(),
+            qpos_rows=qpos_rows,
+            picture=keeper.picture(done),
+            stride=self.stride,
+        )
+
+
+def finish_episode(
+    cfg: EpisodeConfig,
+    arena: ArenaSpec,
+    rows: Trajectory | Record,
+    done: int,
+    wall: float,
+    warnings: dict[str, int],
+    *,
+    qpos_rows: Any = None,
+    picture: Trajectory | None = None,
+    stride: int = 1,
+) -> Episode:
+    """The episode of a run's first ``done`` steps, for every engine: its summary (of ``rows``: the whole
+    trajectory, or a streamed run's :class:`~neurowalk.sim.summary.Record`), ``completed`` and ``steps_requested``.
+
+    ``picture``: the rows the episode keeps when they are not ``rows`` (a streamed run's every ``stride``-th row).
+    ``qpos_rows``: replays a streamed run's wedged periods (:func:`~neurowalk.sim.summary.summarize`).
+    """
+    run_cfg = cfg if done == cfg.steps else replace(cfg, steps=max(done, 1))  # the summary of the steps done
+    summary = summarize(run_cfg, arena, rows, wall, warnings, qpos_rows=qpos_rows) if done else {}
+    summary = summary or {"steps": 0}
+    summary["completed"] = done == cfg.steps
+    summary["steps_requested"] = cfg.steps
+    kept = picture if picture is not None else rows
+    assert isinstance(kept, Trajectory)
+    return Episode(cfg, arena, kept, summary, row_stride=stride)
+
+
+def derive_columns(tr: Trajectory, qidx: np.ndarray | None, a: int, b: int) -> Trajectory:
+    """Fill the derived columns (pose, joint angles, up_z) of rows [a, b) of ``tr`` from qpos; return ``tr``.
+
+    ``qidx``: the 19 joints' places in ``qpos[7:]``, or None for a body without them (joint angles NaN).
+    """
+    q = tr.qpos[a:b]
+    tr.pose[a:b] = poses_from_qpos(q)
+    tr.joint_angles[a:b] = q[:, 7:][:, qidx] if qidx is not None else np.nan
+    tr.up_z[a:b] = up_z_from_qpos(q)
+    return tr
