@@ -17,6 +17,7 @@ import math
 import numba
 import numpy as np
 
+from neurowalk.body.common import noisy_distance
 from neurowalk.body.surrogate_kernel import X, Y, act, sense
 from neurowalk.compiled import jit, jit_parallel
 
@@ -178,11 +179,7 @@ def physics_sense(
         for r in range(2):
             d = sensordata[i, us_adr[r]]
             raw = math.inf if (d < 0.0 or d > us_max) else d
-            u = 1.0 - raw / us_range
-            if u < 0.0:
-                u = 0.0
-            u = u + noise[i, r]
-            dist = us_range * (1.0 - u) if u > 0.0 else math.inf
+            dist = noisy_distance(raw, us_range, noise[i, r])
             obs[i, r] = min(dist, obs_range) if math.isfinite(dist) else obs_range
         pose[i, 0], pose[i, 1] = xpos[i, trunk, 0], xpos[i, trunk, 1]
         pose[i, 2] = math.atan2(xmat[i, trunk, 3], xmat[i, trunk, 0])
