@@ -1,12 +1,26 @@
 """neurowalk: adaptive neural control of the walking robot AMOSII (Grinke et al. 2015) on MuJoCo.
 
-The names below load on first use, so that the ``neurowalk`` command starts at once (and a Ctrl-C while it
-starts is answered in one line, by the command, not by a traceback from deep inside an import).
+The public API, in one place::
+
+    from neurowalk import EpisodeConfig, run_episode, run_many, plot_run, make_arena, make_body
+
+    ep = run_episode(EpisodeConfig(arena="corner", steps=3000, seed=0))   # the paper's robot, the CPU loop
+    print(ep.summary["escaped"], ep.summary["final_weights"])
+    plot_run(ep.trajectory, ep.arena, ep.summary).savefig("run.png")
+
+Engines and bodies by name: :data:`ENGINES` (``mujoco``: the CPU loop; ``warp``: MuJoCo Warp), :data:`BODIES`
+(``amosii``, ``surrogate``, ``wheeled``, ...), :class:`EngineOptions` (device, threads) and :class:`Streaming`
+(where a long run's rows go). The names load on first use, so that the ``neurowalk`` command starts at once (and a
+Ctrl-C while it starts is answered in one line, by the command, not by a traceback from deep inside an import).
+
+Where Gymnasium is installed, ``import neurowalk`` registers the environments ``neurowalk/Explore-v0`` and
+``neurowalk/ExplorePhysics-v0`` with it (:mod:`neurowalk.gym_registration`).
 """
 
 import importlib
-import sys
 from typing import Any
+
+from neurowalk.gym_registration import register_when_gymnasium_loads
 
 __version__ = "0.1.0"
 
@@ -19,6 +33,20 @@ _LAZY = {
     "SensoryParams": "neurowalk.neural.sensory",
     "simulate": "neurowalk.neural.sensory",
     "Observation": "neurowalk.observation",
+    "EpisodeConfig": "neurowalk.sim.config",
+    "Episode": "neurowalk.sim.config",
+    "run_episode": "neurowalk.sim.episode",
+    "EngineOptions": "neurowalk.sim.engine",
+    "Streaming": "neurowalk.sim.engine",
+    "Engine": "neurowalk.sim.engine",
+    "ENGINES": "neurowalk.sim.engines",
+    "engine_for": "neurowalk.sim.engines",
+    "run_many": "neurowalk.runners.local",
+    "plot_run": "neurowalk.plotting",
+    "make_arena": "neurowalk.arenas",
+    "ARENAS": "neurowalk.arenas",
+    "make_body": "neurowalk.body.registry",
+    "BODIES": "neurowalk.body.registry",
 }
 
 
@@ -34,19 +62,33 @@ def __dir__() -> list[str]:
     return sorted({*globals(), *_LAZY})
 
 
-if "gymnasium" in sys.modules:  # `import gymnasium, neurowalk`: the environment ids are registered
-    from neurowalk.envs import register_envs
+register_when_gymnasium_loads()
 
-    register_envs()
-
-__all__ = [
-    "ACTUATORS",
-    "LEGS",
+__all__ = [  # noqa: RUF022 (grouped by what they are)
+    "__version__",
+    # running
+    "EpisodeConfig",
+    "Episode",
+    "run_episode",
+    "run_many",
+    "plot_run",
+    # worlds, robots, engines
+    "make_arena",
+    "ARENAS",
+    "make_body",
+    "BODIES",
+    "ENGINES",
+    "Engine",
+    "EngineOptions",
+    "Streaming",
+    "engine_for",
+    # the networks
     "Controller",
     "FixedController",
     "NeuralController",
     "Observation",
     "SensoryParams",
-    "__version__",
     "simulate",
+    "ACTUATORS",
+    "LEGS",
 ]

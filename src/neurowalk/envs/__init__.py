@@ -4,36 +4,18 @@
 (:class:`~neurowalk.envs.explore.ExploreEnv`; vectorised: :class:`~neurowalk.envs.vector.ExploreVectorEnv`).
 ``neurowalk/ExplorePhysics-v0``: the same task on the MuJoCo AMOSII, steered or driven joint by joint
 (:class:`~neurowalk.envs.physics.ExplorePhysicsEnv`; vectorised in one MuJoCo batch:
-:class:`~neurowalk.envs.physics_vector.ExplorePhysicsVectorEnv`). The ids are registered when this package is
-imported, and by ``import neurowalk`` where Gymnasium is imported already: ``import gymnasium, neurowalk;
-gymnasium.make("neurowalk/Explore-v0")``; in any order, ``gymnasium.make("neurowalk.envs:neurowalk/Explore-v0")``.
-(Gymnasium 1.x loads no plugins by entry point.)
+:class:`~neurowalk.envs.physics_vector.ExplorePhysicsVectorEnv`). The ids are registered by ``import neurowalk``
+(:mod:`neurowalk.gym_registration`), in whichever order it and Gymnasium are imported:
+``import neurowalk, gymnasium; gymnasium.make("neurowalk/Explore-v0")``.
 """
 
 from __future__ import annotations
 
 import os
 
-IDS: tuple[str, ...] = ("neurowalk/Explore-v0", "neurowalk/ExplorePhysics-v0")
+from neurowalk.gym_registration import ENVIRONMENTS, register_envs
 
-
-def register_envs() -> None:
-    """Register neurowalk's environment ids with Gymnasium (the ``gymnasium.envs`` entry point calls this)."""
-    from gymnasium.envs.registration import register, registry
-
-    if "neurowalk/Explore-v0" not in registry:
-        register(
-            id="neurowalk/Explore-v0",
-            entry_point="neurowalk.envs.explore:ExploreEnv",
-            vector_entry_point="neurowalk.envs.vector:ExploreVectorEnv",
-        )
-    if "neurowalk/ExplorePhysics-v0" not in registry:
-        register(
-            id="neurowalk/ExplorePhysics-v0",
-            entry_point="neurowalk.envs.physics:ExplorePhysicsEnv",
-            vector_entry_point="neurowalk.envs.physics_vector:ExplorePhysicsVectorEnv",
-        )
-
+IDS: tuple[str, ...] = tuple(ENVIRONMENTS)
 
 register_envs()
 

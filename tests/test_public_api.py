@@ -1,0 +1,46 @@
+"""The public Python API in one place, and the Gymnasium ids registered by ``import neurowalk`` in either order."""
+
+import subprocess
+import sys
+
+import pytest
+
+import neurowalk
+
+
+def test_the_public_names_load_from_the_package():
+    from neurowalk import BODIES, ENGINES, EpisodeConfig, make_arena, make_body, plot_run, run_episode, run_many
+
+    assert set(ENGINES) == {"mujoco", "warp"} and "amosii" in BODIES and "surrogate" in BODIES
+    assert callable(run_many) and callable(plot_run)
+    ep = run_episode(EpisodeConfig(body="surrogate", arena="corner", steps=50))
+    assert ep.summary["steps"] == 50 and ep.trajectory.pose.shape == (50, 3)
+    arena = make_arena("corner")
+    assert make_body("amosii", arena).action == "targets"
+    for name in neurowalk.__all__:
+        assert getattr(neurowalk, name) is not None, name
+
+
+def _python(code: str) -> str:
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    return done.stdout.strip()
+
+
+@pytest.mark.parametrize("order", ["import neurowalk, gymnasium", "import gymnasium, neurowalk"])
+def test_gymnasium_makes_the_environments_after_import_neurowalk_in_either_order(order):
+    pytest.importorskip("gymnasium")
+    out = _python(
+        f"{order}\n"
+        "env = gymnasium.make('neurowalk/Explore-v0')\n"
+        "obs, _ = env.reset(seed=0)\n"
+        "print(obs.shape, 'neurowalk/ExplorePhysics-v0' in gymnasium.registry)"
+    )
+    assert out == "(2,) True"
+
+
+def test_import_neurowalk_does_not_import_gymnasium_or_the_simulation():
+    out = _python(
+        "import sys, neurowalk; print(sorted(m for m in ('gymnasium', 'mujoco', 'numba') if m in sys.modules))"
+    )
+    assert out == "[]"
