@@ -9,12 +9,13 @@ works without importing :mod:`neurowalk.envs` first.
 
 from __future__ import annotations
 
-import importlib.abc
-import importlib.machinery
 import importlib.util
 import sys
-from collections.abc import Sequence
-from types import ModuleType
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from collections.abc import Sequence
+    from types import ModuleType
 
 __all__ = ["ENVIRONMENTS", "RegisterAfterImport", "register_envs", "register_when_gymnasium_loads"]
 
@@ -37,12 +38,12 @@ def register_envs() -> None:
             register(id=env_id, entry_point=entry, vector_entry_point=vector_entry)
 
 
-class RegisterAfterImport(importlib.abc.MetaPathFinder):
-    """Finds ``gymnasium`` as the other finders do, and has its loader register neurowalk's ids after it ran."""
+class RegisterAfterImport:
+    """A meta-path finder (the protocol of ``importlib.abc.MetaPathFinder``, not imported: ``import neurowalk`` stays
+    as light as a Ctrl-C at start-up needs): finds ``gymnasium`` as the other finders do, and has its loader register
+    neurowalk's ids after it ran."""
 
-    def find_spec(
-        self, fullname: str, path: Sequence[str] | None = None, target: ModuleType | None = None
-    ) -> importlib.machinery.ModuleSpec | None:
+    def find_spec(self, fullname: str, path: Sequence[str] | None = None, target: ModuleType | None = None) -> Any:
         if fullname != "gymnasium":
             return None
         sys.meta_path.remove(self)  # once; and find_spec below must not find this finder again
@@ -60,10 +61,8 @@ class RegisterAfterImport(importlib.abc.MetaPathFinder):
 
 
 def register_when_gymnasium_loads() -> None:
-    """Register the ids now if Gymnasium is imported, else right after its import (nothing if it is not installed)."""
+    """Register the ids now if Gymnasium is imported, else right after its import (if it is ever imported)."""
     if "gymnasium" in sys.modules:
         register_envs()
-    elif importlib.util.find_spec("gymnasium") is not None and not any(
-        isinstance(f, RegisterAfterImport) for f in sys.meta_path
-    ):
+    elif not any(isinstance(f, RegisterAfterImport) for f in sys.meta_path):
         sys.meta_path.insert(0, RegisterAfterImport())
