@@ -14,6 +14,17 @@ from neurowalk.arenas.spec import ArenaSpec
 from neurowalk.metrics import BLIND_M, WEDGE_MIN_S, WEDGE_RADIUS
 
 
+def path_length(pose: np.ndarray) -> float:
+    """Length (m) of the trunk centre's path, pose (T, 3)."""
+    return float(np.sum(np.linalg.norm(np.diff(pose[:, :2], axis=0), axis=1)))
+
+
+def heading_change(pose: np.ndarray, start_yaw: float | None = None) -> float:
+    """Net change of heading (rad, counter-clockwise positive), unwrapped over the whole path."""
+    yaw = np.unwrap(np.concatenate([[pose[0, 2] if start_yaw is None else start_yaw], pose[:, 2]]))
+    return float(yaw[-1] - yaw[0])
+
+
 def ever_trapped(pose: np.ndarray, *, window: int = 3000, radius: float = 0.5, stride: int = 100) -> bool:
     """True if any ``window`` steps (starting every ``stride`` steps) stayed within ``radius`` m of their mean.
 

@@ -14,6 +14,8 @@ from metrics_reference import _fitting_windows as ref_fitting_windows
 from metrics_reference import avoidance_episodes as ref_avoidance_episodes
 from metrics_reference import coverage as ref_coverage
 from metrics_reference import ever_trapped as ref_ever_trapped
+from metrics_reference import heading_change as ref_heading_change
+from metrics_reference import path_length as ref_path_length
 from metrics_reference import wedged_periods as ref_wedged_periods
 from neurowalk import metrics, metrics_kernel
 from neurowalk.arenas import make_arena
@@ -31,6 +33,7 @@ def _same(pose: np.ndarray, outputs: np.ndarray, arena: object, blind: np.ndarra
     for cell in (0.25, 0.4):
         assert metrics.coverage(pose, arena, cell) == ref_coverage(pose, arena, cell)  # type: ignore[arg-type]
     assert metrics.avoidance_episodes(outputs, pose) == ref_avoidance_episodes(outputs, pose)
+    _same_path(pose)
     for radius in (0.3, 0.5, 1.0):
         for window, stride in ((1001, 10), (250, 7)):
             new = metrics._fitting_windows(pose[:, :2], window, radius, stride)
@@ -69,6 +72,13 @@ def test_physics_runs_give_the_reference_metrics() -> None:
     ):
         ep = run_episode(cfg)
         _same(ep.trajectory.pose, ep.trajectory.outputs, ep.arena, blind_readings(ep.trajectory.us_distance))
+
+
+def _same_path(pose: np.ndarray) -> None:
+    """Path length and heading change (from the first row's yaw and from others) equal the reference's."""
+    assert metrics.path_length(pose) == ref_path_length(pose)
+    for start in (None, 0.0, 3.0, -np.pi, np.pi):
+        assert metrics.heading_change(pose, start) == ref_heading_change(pose, start)
 
 
 def _agree(new: Callable[[], object], ref: Callable[[], object]) -> None:
@@ -182,3 +192,31 @@ def test_random_walks_give_the_reference_metrics(
     assert metrics.avoidance_episodes(outputs, pose) == ref_avoidance_episodes(outputs, pose)
     hz = window / 100.0  # windows of window + 1 rows
     _agree(lambda: metrics.wedged_periods(pose, control_hz=hz), lambda: ref_wedged_periods(pose, control_hz=hz))
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    n=st.integers(1, 3000),
+    spread=st.sampled_from([0.1, 1.0, 3.0, 10.0]),
+    grid=st.booleans(),
+)
+def test_unwrapped_headings_and_path_lengths(seed: int, n: int, spread: float, grid: bool) -> None:
+    rng = np.random.default_rng(seed)
+    yaw = rng.uniform(-spread, spread, n)
+    if grid:  # multiples of pi / 4: jumps of exactly pi and 2 pi, the unwrap's ties
+        yaw = np.round(yaw * 4 / np.pi) * np.pi / 4
+    pose = np.column_stack([np.cumsum(rng.normal(0, 0.01, (n, 2)), axis=0), yaw])
+    _same_path(pose)
+    outputs = rng.normal(0, 1.2, (n, 2))
+    assert metrics.avoidance_episodes(outputs, pose) == ref_avoidance_episodes(outputs, pose)
+
+
+def test_unwrap_and_steps_on_special_values() -> None:
+    yaw = np.array([0.0, np.pi, 0.0, -np.pi, np.pi, -0.0, 2 * np.pi, np.nan, 1.0, np.inf, 0.5, -np.inf, 4.0])
+    assert np.array_equal(metrics_kernel.unwrap(yaw), np.unwrap(yaw), equal_nan=True)
+    with np.errstate(invalid="ignore"):
+        xy = np.column_stack([yaw, yaw[::-1]])
+        assert np.array_equal(
+            metrics_kernel.step_lengths(xy), np.linalg.norm(np.diff(xy, axis=0), axis=1), equal_nan=True
+        )

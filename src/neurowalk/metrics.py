@@ -12,12 +12,12 @@ from neurowalk.arenas.spec import ArenaSpec
 
 def path_length(pose: np.ndarray) -> float:
     """Length (m) of the trunk centre's path, pose (T, 3)."""
-    return float(np.sum(np.linalg.norm(np.diff(pose[:, :2], axis=0), axis=1)))
+    return float(np.sum(metrics_kernel.step_lengths(_xy(pose))))
 
 
 def heading_change(pose: np.ndarray, start_yaw: float | None = None) -> float:
     """Net change of heading (rad, counter-clockwise positive), unwrapped over the whole path."""
-    yaw = np.unwrap(np.concatenate([[pose[0, 2] if start_yaw is None else start_yaw], pose[:, 2]]))
+    yaw = metrics_kernel.unwrap(np.concatenate([[pose[0, 2] if start_yaw is None else start_yaw], pose[:, 2]]))
     return float(yaw[-1] - yaw[0])
 
 
@@ -52,8 +52,8 @@ def ever_trapped(pose: np.ndarray, *, window: int = 3000, radius: float = 0.5, s
 
 
 def _xy(pose: np.ndarray) -> np.ndarray:
-    """(T, 2) C-ordered float64 copy of the positions (m) of ``pose`` (T, >= 2)."""
-    return np.ascontiguousarray(pose[:, :2], dtype=np.float64)
+    """(T, 2) float64 view (a copy if ``pose`` is not float64) of the positions (m) of ``pose`` (T, >= 2)."""
+    return np.asarray(pose, dtype=np.float64)[:, :2]
 
 
 def _stretch_fits(xy: np.ndarray, s: int, window: int, radius: float) -> bool:
@@ -132,7 +132,7 @@ def avoidance_episodes(
     runs = metrics_kernel.turn_runs(turn_state(outputs, threshold).astype(np.int64), int(max_gap))
     if len(runs) == 0:
         return []
-    yaw = np.unwrap(pose[:, 2])
+    yaw = metrics_kernel.unwrap(np.ascontiguousarray(pose[:, 2], dtype=np.float64))
     turn = np.degrees(yaw[runs[:, 1]] - yaw[np.maximum(runs[:, 0] - 1, 0)])
     return [
         {"start": int(a), "end": int(b), "direction": int(d), "turn_deg": float(deg)}

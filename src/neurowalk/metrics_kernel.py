@@ -288,3 +288,53 @@ def turn_runs(state: np.ndarray, max_gap: int) -> np.ndarray:
     for i in range(len(runs)):
         out[i, 0], out[i, 1], out[i, 2] = runs[i]
     return out
+
+
+@jit
+def _mod(a: float, b: float) -> float:
+    """``np.mod(a, b)`` for b > 0 (numpy's ``npy_remainder``: fmod, moved to the divisor's sign)."""
+    m = np.fmod(a, b)
+    if m != 0.0:  # NaN too, as numpy's ``if (mod)``
+        if (b < 0.0) != (m < 0.0):
+            m += b
+    else:
+        m = math.copysign(0.0, b)
+    return m
+
+
+@jit
+def unwrap(p: np.ndarray) -> np.ndarray:
+    """``np.unwrap(p)`` (T,) rad with its default period 2 pi, operation for operation: a jump of pi or more
+    between neighbours is wrapped into [-pi, pi] and the corrections add up in row order."""
+    n = p.shape[0]
+    up = np.empty(n)
+    if n == 0:
+        return up
+    up[0] = p[0]
+    period = 2.0 * math.pi
+    high = period / 2.0
+    low = -high
+    total = 0.0
+    for i in range(1, n):
+        dd = p[i] - p[i - 1]
+        if abs(dd) < high:
+            ph = 0.0
+        else:
+            ddmod = _mod(dd - low, period) + low
+            if ddmod == low and dd > 0.0:
+                ddmod = high
+            ph = ddmod - dd
+        total = ph if i == 1 else total + ph
+        up[i] = p[i] + total
+    return up
+
+
+@jit
+def step_lengths(xy: np.ndarray) -> np.ndarray:
+    """(T - 1,) lengths (m) of the steps between neighbouring rows of ``xy`` (T, 2): sqrt(dx * dx + dy * dy)."""
+    n = xy.shape[0]
+    out = np.empty(max(n - 1, 0))
+    for i in range(n - 1):
+        dx, dy = xy[i + 1, 0] - xy[i, 0], xy[i + 1, 1] - xy[i, 1]
+        out[i] = math.sqrt(dx * dx + dy * dy)
+    return out

@@ -8,6 +8,7 @@ from __future__ import annotations
 import inspect
 import math
 from collections.abc import Callable
+from functools import cache
 
 import numpy as np
 
@@ -29,7 +30,12 @@ def arena(name: str) -> Callable[[ArenaFactory], ArenaFactory]:
 
 def arena_options(name: str) -> dict[str, float]:
     """Options of arena ``name`` with their defaults."""
-    fn = _factory(name)
+    return dict(_defaults(_factory(name)))
+
+
+@cache
+def _defaults(fn: ArenaFactory) -> dict[str, float]:
+    """A factory's options and defaults (read once: a signature costs some 10 us, and every run builds its arena)."""
     return {k: p.default for k, p in inspect.signature(fn).parameters.items() if k != "rng"}
 
 
