@@ -61,6 +61,27 @@ def turn_state(outputs: np.ndarray, threshold: float = 1.0) -> np.ndarray:
     return np.where(d > threshold, 1, np.where(d < -threshold, -1, 0))
 
 
+def latched_turn_share(outputs: np.ndarray, threshold: float = 1.0) -> float:
+    """Share of the steps (rows of ``outputs``, (T, 2) steering) commanding a turn in the more frequent direction.
+
+    Near 1 for a latched spin (the turn never switches off), near 0 for walking ahead.
+    """
+    if len(outputs) == 0:
+        return 0.0
+    s = turn_state(outputs, threshold)
+    return float(max(np.count_nonzero(s > 0), np.count_nonzero(s < 0)) / len(s))
+
+
+def direction_switches(outputs: np.ndarray, threshold: float = 1.0) -> int:
+    """Number of reversals of the commanded turn (right ↔ left), ignoring steps with no turn.
+
+    Many switches in a short time are the oscillation between two obstacles of paper Fig. 3B.
+    """
+    s = turn_state(outputs, threshold)
+    s = s[s != 0]
+    return int(np.count_nonzero(s[1:] != s[:-1])) if s.size else 0
+
+
 def avoidance_episodes(
     outputs: np.ndarray, pose: np.ndarray, *, threshold: float = 1.0, max_gap: int = 5
 ) -> list[dict]:

@@ -13,9 +13,12 @@ from hypothesis import strategies as st
 from metrics_reference import _fitting_windows as ref_fitting_windows
 from metrics_reference import avoidance_episodes as ref_avoidance_episodes
 from metrics_reference import coverage as ref_coverage
+from metrics_reference import direction_switches as ref_direction_switches
 from metrics_reference import ever_trapped as ref_ever_trapped
 from metrics_reference import heading_change as ref_heading_change
+from metrics_reference import latched_turn_share as ref_latched_turn_share
 from metrics_reference import path_length as ref_path_length
+from metrics_reference import turn_state as ref_turn_state
 from metrics_reference import wedged_periods as ref_wedged_periods
 from neurowalk import metrics, metrics_kernel
 from neurowalk.arenas import make_arena
@@ -33,6 +36,7 @@ def _same(pose: np.ndarray, outputs: np.ndarray, arena: object, blind: np.ndarra
     for cell in (0.25, 0.4):
         assert metrics.coverage(pose, arena, cell) == ref_coverage(pose, arena, cell)  # type: ignore[arg-type]
     assert metrics.avoidance_episodes(outputs, pose) == ref_avoidance_episodes(outputs, pose)
+    _same_turns(outputs)
     _same_path(pose)
     for radius in (0.3, 0.5, 1.0):
         for window, stride in ((1001, 10), (250, 7)):
@@ -72,6 +76,15 @@ def test_physics_runs_give_the_reference_metrics() -> None:
     ):
         ep = run_episode(cfg)
         _same(ep.trajectory.pose, ep.trajectory.outputs, ep.arena, blind_readings(ep.trajectory.us_distance))
+
+
+def _same_turns(outputs: np.ndarray) -> None:
+    """Turn states, switches and the latched share equal the reference's."""
+    for threshold in (1.0, 0.3):
+        got, want = metrics.turn_state(outputs, threshold), ref_turn_state(outputs, threshold)
+        assert got.dtype == want.dtype and np.array_equal(got, want)
+        assert metrics.direction_switches(outputs, threshold) == ref_direction_switches(outputs, threshold)
+        assert metrics.latched_turn_share(outputs, threshold) == ref_latched_turn_share(outputs, threshold)
 
 
 def _same_path(pose: np.ndarray) -> None:
@@ -209,7 +222,10 @@ def test_unwrapped_headings_and_path_lengths(seed: int, n: int, spread: float, g
     pose = np.column_stack([np.cumsum(rng.normal(0, 0.01, (n, 2)), axis=0), yaw])
     _same_path(pose)
     outputs = rng.normal(0, 1.2, (n, 2))
+    if grid:
+        outputs[:: 7 + seed % 5] = [[1.0, 0.0], [np.nan, 0.0], [0.0, 1.0]][seed % 3]  # at the threshold, NaN
     assert metrics.avoidance_episodes(outputs, pose) == ref_avoidance_episodes(outputs, pose)
+    _same_turns(outputs)
 
 
 def test_unwrap_and_steps_on_special_values() -> None:

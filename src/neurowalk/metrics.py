@@ -96,6 +96,8 @@ def exit_step(pose: np.ndarray, arena: ArenaSpec) -> int | None:
 
 def turn_state(outputs: np.ndarray, threshold: float = 1.0) -> np.ndarray:
     """(T,) commanded turn per step from steering (O1, O2): +1 right (O1 - O2 > threshold), -1 left, 0 none."""
+    if outputs.dtype == np.float64 and outputs.ndim == 2:
+        return metrics_kernel.turn_state(outputs, float(threshold))
     d = outputs[:, 0] - outputs[:, 1]
     return np.where(d > threshold, 1, np.where(d < -threshold, -1, 0))
 

@@ -64,7 +64,10 @@ def block_stats(xy: np.ndarray, stride: int, blocks: int) -> np.ndarray:
 def stretch_fits(xy: np.ndarray, s: int, window: int, radius: float, stride: int, stats: np.ndarray) -> int:
     """Whether rows [s, s + window) fit in the disc (see the module doc): 1 yes, 0 no, -1 undecided.
 
-    ``stats``: :func:`block_stats` of ``xy`` with the same ``stride`` (whole blocks are summed from it).
+    ``stats``: :func:`block_stats` of ``xy`` with the same ``stride``: whole blocks are summed, and bounded, from
+    it. A block extreme decisively outside the disc is a point outside; a bounding box decisively inside it holds
+    every point (rounding is monotonic: no computed squared distance exceeds the box's); only a stretch that
+    neither settles is checked point by point.
     """
     e = s + window
     jf, je = -(-s // stride), e // stride  # whole blocks [jf, je) inside the stretch
@@ -72,18 +75,24 @@ def stretch_fits(xy: np.ndarray, s: int, window: int, radius: float, stride: int
         jf, je = e, e  # no whole block: sum row by row
     head, tail = min(jf * stride, e), max(je * stride, s)
     sx, sy, a = 0.0, 0.0, 0.0
+    hx, hy, lx, ly = -math.inf, -math.inf, math.inf, math.inf
     for i in range(s, head):
-        sx += xy[i, 0]
-        sy += xy[i, 1]
-        a = max(a, abs(xy[i, 0]), abs(xy[i, 1]))
+        x, y = xy[i, 0], xy[i, 1]
+        sx += x
+        sy += y
+        a = max(a, abs(x), abs(y))
+        hx, hy, lx, ly = max(hx, x), max(hy, y), min(lx, x), min(ly, y)
     for j in range(jf, je):
         sx += stats[j, 4]
         sy += stats[j, 5]
         a = max(a, stats[j, 6])
+        hx, hy, lx, ly = max(hx, stats[j, 0]), max(hy, stats[j, 1]), min(lx, stats[j, 2]), min(ly, stats[j, 3])
     for i in range(tail, e):
-        sx += xy[i, 0]
-        sy += xy[i, 1]
-        a = max(a, abs(xy[i, 0]), abs(xy[i, 1]))
+        x, y = xy[i, 0], xy[i, 1]
+        sx += x
+        sy += y
+        a = max(a, abs(x), abs(y))
+        hx, hy, lx, ly = max(hx, x), max(hy, y), min(lx, x), min(ly, y)
     if not (math.isfinite(sx) and math.isfinite(sy)):  # a NaN or inf row: no fit for numpy
         for i in range(s, e):
             if not (math.isfinite(xy[i, 0]) and math.isfinite(xy[i, 1])):
@@ -97,6 +106,14 @@ def stretch_fits(xy: np.ndarray, s: int, window: int, radius: float, stride: int
     r_in = (radius * (1.0 - SLACK) - 2.0 * delta) * (1.0 - SLACK)
     out2 = r_out * r_out
     in2 = r_in * r_in if r_in > 0.0 else -1.0
+    for j in range(jf, je):  # a block's extreme coordinate belongs to one of its points
+        ex = max(stats[j, 0] - mx, mx - stats[j, 2])
+        ey = max(stats[j, 1] - my, my - stats[j, 3])
+        if ex * ex > out2 or ey * ey > out2:
+            return 0
+    fx, fy = max(hx - mx, mx - lx), max(hy - my, my - ly)
+    if fx * fx + fy * fy <= in2:
+        return 1
     undecided = False
     for i in range(s, e):
         dx, dy = xy[i, 0] - mx, xy[i, 1] - my
@@ -216,6 +233,7 @@ def fitting_windows(xy: np.ndarray, window: int, radius: float, stride: int) -> 
         csum[i + 1, 0] = csum[i, 0] + xy[i, 0]
         csum[i + 1, 1] = csum[i, 1] + xy[i, 1]
     two_r, r2 = 2.0 * radius, radius * radius
+    cover_count = np.zeros(n + 1, dtype=np.int64)
     todo = []
     for s in starts:
         f = -(-s // stride)
@@ -230,9 +248,14 @@ def fitting_windows(xy: np.ndarray, window: int, radius: float, stride: int) -> 
         fy = _nan_max(_range_max(hi_y, at, cover) - my, my + _range_max(nlo_y, at, cover))
         fit = 1 if fx * fx + fy * fy <= r2 else stretch_fits(xy, s, window, radius, stride, stats)
         if fit == 1:
-            marked[s : s + window] = True
+            cover_count[s] += 1
+            cover_count[s + window] -= 1
         elif fit == -1:
             todo.append(s)
+    inside = 0
+    for i in range(n):  # rows in a marked stretch: a running count of the stretches open at each row
+        inside += cover_count[i]
+        marked[i] = inside > 0
     out = np.empty(len(todo), dtype=np.int64)
     for i in range(len(todo)):
         out[i] = todo[i]
@@ -337,4 +360,16 @@ def step_lengths(xy: np.ndarray) -> np.ndarray:
     for i in range(n - 1):
         dx, dy = xy[i + 1, 0] - xy[i, 0], xy[i + 1, 1] - xy[i, 1]
         out[i] = math.sqrt(dx * dx + dy * dy)
+    return out
+
+
+@jit
+def turn_state(outputs: np.ndarray, threshold: float) -> np.ndarray:
+    """(T,) int64 commanded turn from steering ``outputs`` (T, >= 2): +1 where O1 - O2 > ``threshold``, -1 where
+    it is below ``-threshold``, else 0 (NaN too)."""
+    n = outputs.shape[0]
+    out = np.empty(n, dtype=np.int64)
+    for i in range(n):
+        d = outputs[i, 0] - outputs[i, 1]
+        out[i] = 1 if d > threshold else (-1 if d < -threshold else 0)
     return out
