@@ -12,7 +12,7 @@ LAYERS = (
     ("anatomy", "compiled", "fileio", "gym_registration", "observation"),
     ("neural",),
     ("controller", "gait"),
-    ("body", "arenas", "metrics"),
+    ("body", "arenas", "metrics", "metrics_kernel"),
     ("sim", "render", "plotting"),
     ("runners",),
     ("experiments", "envs", "bench"),

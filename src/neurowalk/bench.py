@@ -5,7 +5,9 @@ Every number is a rate or a ratio against a baseline measured in the same run on
 * physics: control steps per second of the single closed loop (AMOSII, random arena, plastic network),
   and bare ``mj_step`` physics steps per second on the same model;
 * surrogate: environment steps per second of the planar surrogate on the same arenas and network, in
-  one process and over a process pool, and its ratio to the physics control-step rate;
+  one process and over a process pool, and its ratio to the physics control-step rate; its end-to-end rate
+  (build, simulate, summarise through ``run_episode``) as a fraction of its in-loop rate, on the same runs;
+  and ``run_many`` on a pool of ``workers`` processes against one process, end to end;
 * batch physics: aggregate physics steps per second of ``mujoco.batch`` on 1 and ``cores`` threads
   against the single loop on the same runs;
 * Table 2 on the surrogate: wall time of the 50-environment table on a process pool.
@@ -70,6 +72,70 @@ def surrogate_rates(steps: int, envs: int, workers: int) -> dict[str, float]:
         "env_steps_per_s_one_process": steps * envs / loop,
         "env_steps_per_s_pool": steps * envs * workers * 2 / pool_wall,
         "pool_workers": workers,
+    }
+
+
+def _surrogate_configs(first: int, count: int, steps: int) -> list[Any]:
+    from neurowalk.sim.episode import EpisodeConfig
+
+    return [
+        EpisodeConfig(arena="random", arena_opts=ARENA_OPTS, body="surrogate", steps=steps, seed=s)
+        for s in range(first, first + count)
+    ]
+
+
+def surrogate_end_to_end(steps: int, envs: int) -> dict[str, float]:
+    """The surrogate through ``run_episode`` (build, simulate, summarise) against its own simulation, same runs.
+
+    Each run's in-loop time is its ``wall_time_s`` (the compiled loop, noise draws included); its end-to-end
+    time is the whole ``run_episode`` call around it, so the two rates share the machine's state.
+    """
+    from neurowalk.sim.episode import run_episode
+
+    run_episode(_surrogate_configs(0, 1, 100)[0])  # compile / load the numba cache
+    loop = total = 0.0
+    for cfg in _surrogate_configs(0, envs, steps):
+        t0 = time.perf_counter()
+        ep = run_episode(cfg)
+        total += time.perf_counter() - t0
+        loop += ep.summary["wall_time_s"]
+    return {
+        "steps_per_run": steps,
+        "runs": envs,
+        "ms_per_run_in_loop": 1e3 * loop / envs,
+        "ms_per_run_end_to_end": 1e3 * total / envs,
+        "env_steps_per_s_in_loop": steps * envs / loop,
+        "env_steps_per_s_end_to_end": steps * envs / total,
+        "end_to_end_over_in_loop": loop / total,
+        "aim": 0.7,
+    }
+
+
+def surrogate_pool(steps: int, runs: int, workers: int, repeats: int) -> dict[str, float]:
+    """The surrogate end to end on ``runs`` runs: ``run_many`` on ``workers`` processes against one process.
+
+    Median wall times over ``repeats``, one process and pool alternating (the pool starts its workers each time).
+    """
+    from neurowalk.runners.local import run_many
+
+    cfgs = _surrogate_configs(0, runs, steps)
+    run_many(cfgs[:1], workers=1, progress=False)  # compile / load the numba cache here (the workers fork)
+    one, pool = [], []
+    for _ in range(repeats):
+        for n, into in ((1, one), (workers, pool)):
+            t0 = time.perf_counter()
+            run_many(cfgs, workers=n, progress=False)
+            into.append(time.perf_counter() - t0)
+    a, b = float(np.median(one)), float(np.median(pool))
+    return {
+        "steps_per_run": steps,
+        "runs": runs,
+        "workers": workers,
+        "repeats": repeats,
+        "one_process_wall_s": a,
+        "pool_wall_s": b,
+        "speedup": a / b,
+        "aim": 0.9 * workers,
     }
 
 
@@ -230,6 +296,8 @@ def run_bench(
         return out
     sur = surrogate_rates(2000 if quick else 20000, 2 if quick else 10, workers)
     out["surrogate"] = sur
+    out["surrogate_end_to_end"] = surrogate_end_to_end(2000 if quick else 20000, 2 if quick else 40)
+    out["surrogate_pool"] = surrogate_pool(2000 if quick else 20000, 4 if quick else 100, workers, 1 if quick else 3)
     cpu = phys["control_steps_per_s"]
     out["surrogate_vs_physics"] = {
         "one_process": sur["env_steps_per_s_one_process"] / cpu,

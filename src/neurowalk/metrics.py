@@ -6,17 +6,18 @@ import math
 
 import numpy as np
 
+from neurowalk import metrics_kernel
 from neurowalk.arenas.spec import ArenaSpec
 
 
 def path_length(pose: np.ndarray) -> float:
     """Length (m) of the trunk centre's path, pose (T, 3)."""
-    return float(np.sum(np.linalg.norm(np.diff(pose[:, :2], axis=0), axis=1)))
+    return float(np.sum(metrics_kernel.step_lengths(_xy(pose))))
 
 
 def heading_change(pose: np.ndarray, start_yaw: float | None = None) -> float:
     """Net change of heading (rad, counter-clockwise positive), unwrapped over the whole path."""
-    yaw = np.unwrap(np.concatenate([[pose[0, 2] if start_yaw is None else start_yaw], pose[:, 2]]))
+    yaw = metrics_kernel.unwrap(np.concatenate([[pose[0, 2] if start_yaw is None else start_yaw], pose[:, 2]]))
     return float(yaw[-1] - yaw[0])
 
 
@@ -41,17 +42,24 @@ def ever_trapped(pose: np.ndarray, *, window: int = 3000, radius: float = 0.5, s
     """True if any ``window`` steps (starting every ``stride`` steps) stayed within ``radius`` m of their mean.
 
     :func:`trapped` asks this of the last window only; a robot that got stuck for ``window`` steps and
-    then got out counts here.
+    then got out counts here. The stretches start at 0, ``stride``, ... and at ``T - window``; a compiled pass
+    (:func:`neurowalk.metrics_kernel.ever_fits`) decides them, numpy the exact ties.
     """
-    xy = pose[:, :2]
-    starts = list(range(0, xy.shape[0] - window + 1, stride))
-    if xy.shape[0] >= window and starts[-1] != xy.shape[0] - window:
-        starts.append(xy.shape[0] - window)
-    for s in starts:
-        seg = xy[s : s + window]
-        if np.max(np.sum((seg - seg.mean(axis=0)) ** 2, axis=1)) <= radius * radius:
-            return True
-    return False
+    if window < 1 or stride < 1:
+        raise ValueError(f"need window >= 1 and stride >= 1, got {window}, {stride}")
+    found, undecided = metrics_kernel.ever_fits(_xy(pose), int(window), float(radius), int(stride))
+    return bool(found) or any(_stretch_fits(pose[:, :2], int(s), window, radius) for s in undecided)
+
+
+def _xy(pose: np.ndarray) -> np.ndarray:
+    """(T, 2) float64 view (a copy if ``pose`` is not float64) of the positions (m) of ``pose`` (T, >= 2)."""
+    return np.asarray(pose, dtype=np.float64)[:, :2]
+
+
+def _stretch_fits(xy: np.ndarray, s: int, window: int, radius: float) -> bool:
+    """Whether rows [s, s + window) of ``xy`` (T, 2) all lie within ``radius`` (m) of their mean, by numpy."""
+    seg = xy[s : s + window]
+    return bool(np.max(np.sum((seg - seg.mean(axis=0)) ** 2, axis=1)) <= radius * radius)
 
 
 def coverage(pose: np.ndarray, arena: ArenaSpec, cell: float = 0.25) -> float | None:
@@ -62,9 +70,9 @@ def coverage(pose: np.ndarray, arena: ArenaSpec, cell: float = 0.25) -> float | 
     if len(free) == 0:
         return None
     x0, _, y0, _ = arena.bounds
-    key = lambda p: np.floor((p - [x0, y0]) / cell).astype(np.int64)  # noqa: E731
-    visited = {tuple(k) for k in key(pose[:, :2])}
-    return float(np.mean([tuple(k) in visited for k in key(free)]))
+    keys = np.floor((free - [x0, y0]) / cell).astype(np.int64)
+    hits = metrics_kernel.visited_count(_xy(pose), float(x0), float(y0), float(cell), keys)
+    return hits / len(free)
 
 
 def escaped(pose: np.ndarray, arena: ArenaSpec) -> bool | None:
@@ -88,6 +96,8 @@ def exit_step(pose: np.ndarray, arena: ArenaSpec) -> int | None:
 
 def turn_state(outputs: np.ndarray, threshold: float = 1.0) -> np.ndarray:
     """(T,) commanded turn per step from steering (O1, O2): +1 right (O1 - O2 > threshold), -1 left, 0 none."""
+    if outputs.dtype == np.float64 and outputs.ndim == 2:
+        return metrics_kernel.turn_state(outputs, float(threshold))
     d = outputs[:, 0] - outputs[:, 1]
     return np.where(d > threshold, 1, np.where(d < -threshold, -1, 0))
 
@@ -121,30 +131,15 @@ def avoidance_episodes(
     Returns one dict per episode: ``start``, ``end`` (step indices), ``direction`` (+1 right, -1
     left) and ``turn_deg`` (the heading change over the episode, degrees, counter-clockwise +).
     """
-    s = turn_state(outputs, threshold)
-    yaw = np.unwrap(pose[:, 2])
-    episodes: list[dict] = []
-    k, n = 0, len(s)
-    while k < n:
-        if s[k] == 0:
-            k += 1
-            continue
-        direction, start, end = int(s[k]), k, k
-        j = k + 1
-        while j < n and (s[j] == direction or (s[j] == 0 and j - end <= max_gap)):
-            if s[j] == direction:
-                end = j
-            j += 1
-        episodes.append(
-            {
-                "start": start,
-                "end": end,
-                "direction": direction,
-                "turn_deg": float(np.degrees(yaw[end] - yaw[max(start - 1, 0)])),
-            }
-        )
-        k = end + 1
-    return episodes
+    runs = metrics_kernel.turn_runs(turn_state(outputs, threshold).astype(np.int64), int(max_gap))
+    if len(runs) == 0:
+        return []
+    yaw = metrics_kernel.unwrap(np.ascontiguousarray(pose[:, 2], dtype=np.float64))
+    turn = np.degrees(yaw[runs[:, 1]] - yaw[np.maximum(runs[:, 0] - 1, 0)])
+    return [
+        {"start": int(a), "end": int(b), "direction": int(d), "turn_deg": float(deg)}
+        for (a, b, d), deg in zip(runs.tolist(), turn.tolist(), strict=True)
+    ]
 
 
 WEDGE_RADIUS = 0.3
@@ -157,53 +152,27 @@ reaches with nothing in range (0.40 m range, noise std about 3 mm there)."""
 WEDGE_CAUSES = ("both rays blind", "body contact", "other")
 
 
-def _running_max(a: np.ndarray, w: int) -> np.ndarray:
-    """(m - w + 1, ...) maxima of ``a[i : i + w]`` along axis 0, by doubling (O(m log w))."""
-    r, k = a, 1
-    while 2 * k <= w:
-        r, k = np.maximum(r[:-k], r[k:]), 2 * k  # r[i] = max a[i : i + k]
-    m = len(a) - w + 1
-    return np.maximum(r[:m], r[w - k : w - k + m])
-
-
 def _fitting_windows(xy: np.ndarray, window: int, radius: float, stride: int) -> np.ndarray:
     """(T,) bool: rows inside some ``window``-row stretch (started every ``stride`` rows, and at the end) whose
     positions all lie within ``radius`` of their mean.
 
     Cheap bounds first, from the extremes of blocks of ``stride`` rows: a stretch whose whole blocks span more
     than the disc's diameter in x or y cannot fit; one whose covering blocks' bounding box lies within the disc
-    around the stretch's mean fits. Only the stretches in between are checked point by point.
+    around the stretch's mean fits. Only the stretches in between are checked point by point. A compiled pass
+    (:func:`neurowalk.metrics_kernel.fitting_windows`) does all of it; numpy checks the exact ties, 256
+    stretches at a time.
     """
     n = len(xy)
-    marked = np.zeros(n, dtype=bool)
-    if n < window:
-        return marked
-    starts = np.arange(0, n - window + 1, stride)
-    if starts[-1] != n - window:
-        starts = np.append(starts, n - window)
-    cover = -(-window // stride) + 1  # blocks that cover any stretch
-    nb = -(-n // stride)
-    padded = np.concatenate([xy, np.repeat(xy[-1:], (nb + cover) * stride - n, axis=0)])  # repeats add no extremes
-    blocks = padded.reshape(nb + cover, stride, 2)
-    hi, lo = blocks.max(axis=1), blocks.min(axis=1)  # (nb + cover, 2) extremes of each block
-    first, stop = -(-starts // stride), (starts + window) // stride  # whole blocks inside each stretch
-    inner = int(np.min(stop - first))
-    wide = np.any((_running_max(hi, inner) + _running_max(-lo, inner))[first] > 2.0 * radius, axis=1)
-    csum = np.vstack([np.zeros((1, 2)), np.cumsum(xy, axis=0)])
-    mean = (csum[starts + window] - csum[starts]) / window  # (m, 2)
-    at = starts // stride  # the blocks from here on cover the stretch
-    box_hi, box_lo = _running_max(hi, cover)[at], -_running_max(-lo, cover)[at]
-    far = np.maximum(box_hi - mean, mean - box_lo)  # (m, 2) farthest covering-box extent from the mean
-    sure = np.sum(far**2, axis=1) <= radius * radius
-    for s in starts[sure & ~wide]:
-        marked[s : s + window] = True
-    views = np.lib.stride_tricks.sliding_window_view(xy, window, axis=0)  # (n - window + 1, 2, window), no copy
-    todo = starts[~sure & ~wide]
-    for k in range(0, len(todo), 256):  # point by point, 256 stretches at a time
-        chunk = views[todo[k : k + 256]]
-        d2 = np.sum((chunk - chunk.mean(axis=2, keepdims=True)) ** 2, axis=1)
-        for s in todo[k : k + 256][np.max(d2, axis=1) <= radius * radius]:
-            marked[s : s + window] = True
+    if n >= window and n // stride < -(-(n - window) // stride):  # the last stretch holds no block boundary
+        raise ValueError(f"window ({window} rows) shorter than stride ({stride}): the blocks cannot bound it")
+    marked, todo = metrics_kernel.fitting_windows(_xy(xy), int(window), float(radius), int(stride))
+    if len(todo):
+        views = np.lib.stride_tricks.sliding_window_view(xy, window, axis=0)  # (T - window + 1, 2, window)
+        for k in range(0, len(todo), 256):
+            chunk = views[todo[k : k + 256]]
+            d2 = np.sum((chunk - chunk.mean(axis=2, keepdims=True)) ** 2, axis=1)
+            for s in todo[k : k + 256][np.max(d2, axis=1) <= radius * radius]:
+                marked[s : s + window] = True
     return marked
 
 

@@ -66,3 +66,29 @@ def test_dead_ends_have_exit_regions_behind_the_start():
         spec = make_arena(name)
         _, x1, _, _ = spec.exit_region
         assert x1 < spec.start[0] - 0.5
+
+
+def _covered(spec, pts):
+    """Cells covered by some box, box by box through Box.contains (free_cells' definition)."""
+    covered = np.zeros(len(pts), dtype=bool)
+    for b in spec.boxes:
+        covered |= b.contains(pts)
+    return covered
+
+
+@pytest.mark.parametrize("name", sorted(ARENAS))
+def test_free_cells_and_one_point_contains_give_box_contains_answers(name):
+    spec = make_arena(name, rng=np.random.default_rng(3))
+    if spec.bounds is not None:
+        for cell in (0.1, 0.25, 0.7):
+            x0, x1, y0, y1 = spec.bounds
+            xs, ys = np.arange(x0 + cell / 2, x1, cell), np.arange(y0 + cell / 2, y1, cell)
+            pts = np.stack(np.meshgrid(xs, ys, indexing="ij"), axis=-1).reshape(-1, 2)
+            np.testing.assert_array_equal(spec.free_cells(cell), pts[~_covered(spec, pts)])
+    rng = np.random.default_rng(4)
+    for b in spec.boxes:
+        # points near the edges (some exactly on them: a box of side 1 at a whole-metre centre) and far
+        pts = np.vstack([rng.uniform(-1, 1, (200, 2)) * [b.sx, b.sy] + [b.x, b.y], [[b.x + b.sx / 2, b.y]]])
+        many = b.contains(pts, margin=0.05)
+        assert [b.contains(p, margin=0.05)[0] for p in pts] == many.tolist()
+        assert [b.contains(p[None, :])[0] for p in pts] == b.contains(pts).tolist()

@@ -137,3 +137,15 @@ def test_table2_on_the_wheeled_surrogate_alone(tmp_path: Path) -> None:
     plain = table2.run(quick=True, seeds=3, body="surrogate", out=tmp_path / "amosii", workers=2).summary
     rows = [[e[name]["path_length_m"] for name in s["counts"]] for e in s["environments"]]
     assert rows != [[e[name]["path_length_m"] for name in plain["counts"]] for e in plain["environments"]]
+
+
+def test_failed_runs_stored_before_the_classes_are_rerun_with_them() -> None:
+    from neurowalk.runners.specs import run_spec, spec_key
+
+    specs = [spec(e, "braitenberg", 300, "surrogate") for e in environments(3, 7)]
+    keys = [spec_key(s) for s in specs]
+    results = {keys[0]: {"trapped": True}, keys[1]: {"trapped": False}, keys[2]: run_spec(specs[2])}
+    table2._reclassify(results, specs, keys, workers=1)
+    assert results[keys[0]] == run_spec(specs[0]) and "wedged_periods" in results[keys[0]]  # the old one, rerun
+    assert results[keys[1]] == {"trapped": False}  # a success keeps its stored summary
+    assert results[keys[2]] == run_spec(specs[2])

@@ -8,6 +8,7 @@ from __future__ import annotations
 import inspect
 import math
 from collections.abc import Callable
+from functools import cache
 
 import numpy as np
 
@@ -29,8 +30,18 @@ def arena(name: str) -> Callable[[ArenaFactory], ArenaFactory]:
 
 def arena_options(name: str) -> dict[str, float]:
     """Options of arena ``name`` with their defaults."""
-    fn = _factory(name)
-    return {k: p.default for k, p in inspect.signature(fn).parameters.items() if k != "rng"}
+    return _defaults(_factory(name))
+
+
+@cache
+def _takes(fn: ArenaFactory) -> dict[str, inspect.Parameter]:
+    """A factory's parameters (read once: a signature costs some 10 us, and every run builds its arena)."""
+    return dict(inspect.signature(fn).parameters)
+
+
+def _defaults(fn: ArenaFactory) -> dict[str, float]:
+    """A factory's options and their defaults."""
+    return {k: p.default for k, p in _takes(fn).items() if k != "rng"}
 
 
 def _factory(name: str) -> ArenaFactory:
@@ -57,7 +68,7 @@ def make_arena(name: str, *, rng: np.random.Generator | None = None, **options: 
         if isinstance(values[key], float) and not math.isfinite(values[key]):
             raise ValueError(f"arena {name!r}: option {key}={value!r} must be a finite number")
     fn = _factory(name)
-    if "rng" in inspect.signature(fn).parameters:
+    if "rng" in _takes(fn):
         values_rng = {**values, "rng": rng if rng is not None else np.random.default_rng(0)}
         spec = fn(**values_rng)
     else:

@@ -43,8 +43,13 @@ class Box:
 
     def contains(self, points: np.ndarray, margin: float = 0.0) -> np.ndarray:
         """Whether each of (n, 2) points lies inside the footprint grown by ``margin`` (m)."""
-        p = np.atleast_2d(points) - [self.x, self.y]
+        pts = np.atleast_2d(points)
         c, s = math.cos(self.yaw), math.sin(self.yaw)
+        if pts.shape == (1, 2):  # one point (a start, a candidate box): the same arithmetic on floats, faster
+            px, py = float(pts[0, 0]) - self.x, float(pts[0, 1]) - self.y
+            u1, v1 = px * c + py * s, -px * s + py * c
+            return np.array([abs(u1) <= self.sx / 2 + margin and abs(v1) <= self.sy / 2 + margin])
+        p = pts - [self.x, self.y]
         u = p[:, 0] * c + p[:, 1] * s
         v = -p[:, 0] * s + p[:, 1] * c
         return (np.abs(u) <= self.sx / 2 + margin) & (np.abs(v) <= self.sy / 2 + margin)

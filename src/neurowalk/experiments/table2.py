@@ -99,14 +99,20 @@ def run(
     folder = Path(out) if out is not None else Path("out/table2")
     folder.mkdir(parents=True, exist_ok=True)
     results, report = run_store(specs, folder, workers)
-    _reclassify(results, specs, workers)
-    env_rows = [
-        {**e, **{name: _outcome(results[spec_key(spec_of(e, r, body))]) for name, r in table.items()}} for e in envs
-    ]
+    keys = [spec_key(s) for s in specs]  # in the order of specs: body, environment, row
+    _reclassify(results, specs, keys, workers)
+    by_body = {b: keys[i * len(envs) * len(table) : (i + 1) * len(envs) * len(table)] for i, b in enumerate(bodies)}
+
+    def outcomes(b: str) -> list[dict[str, Any]]:
+        """Per environment, each row's outcome on body ``b``."""
+        k = iter(by_body[b])
+        return [{name: _outcome(results[next(k)]) for name in table} for _ in envs]
+
+    env_rows = [{**e, **o} for e, o in zip(envs, outcomes(body), strict=True)]
     counts = {name: {**r, **_count(env_rows, name)} for name, r in table.items()}
     agreement = None
     if surrogate is not None:
-        sur = [{name: _outcome(results[spec_key(spec_of(e, r, surrogate))]) for name, r in table.items()} for e in envs]
+        sur = outcomes(surrogate)
         agreement = {name: _agreement(env_rows, sur, name) for name in table}
     paper = {
         **PAPER,
@@ -135,7 +141,9 @@ def run(
     return Result("table2", summary)
 
 
-def _reclassify(results: dict[str, dict[str, Any]], specs: list[dict[str, Any]], workers: int = 2) -> None:
+def _reclassify(
+    results: dict[str, dict[str, Any]], specs: list[dict[str, Any]], keys: list[str], workers: int = 2
+) -> None:
     """Rerun (deterministic, on ``workers`` processes) the failed runs whose stored summary predates the class keys.
 
     Stores written before the failure classes existed lack ``wedged_periods`` and a blind share by
@@ -144,15 +152,21 @@ def _reclassify(results: dict[str, dict[str, Any]], specs: list[dict[str, Any]],
     from tqdm import tqdm
 
     from neurowalk.runners.local import run_unordered
-    from neurowalk.runners.specs import run_spec, spec_key
+    from neurowalk.runners.specs import run_spec
 
-    old = [s for s in specs if results[spec_key(s)]["trapped"] and "wedged_periods" not in results[spec_key(s)]]
+    stale = [(s, k) for s, k in zip(specs, keys, strict=True) if _predates_classes(results[k])]
+    old, old_keys = [s for s, _ in stale], [k for _, k in stale]
     with tqdm(total=len(old), unit="run", desc="reclassify", disable=not old, mininterval=0.5) as bar:
         for done in run_unordered(run_spec, old, workers=workers):
             if done.error is not None:
                 raise done.error
-            results[spec_key(old[done.index])] = done.value
+            results[old_keys[done.index]] = done.value
             bar.update(1)
+
+
+def _predates_classes(res: dict[str, Any]) -> bool:
+    """A failed run stored before the failure classes existed (no ``wedged_periods``)."""
+    return bool(res["trapped"]) and "wedged_periods" not in res
 
 
 def _outcome(res: dict[str, Any]) -> dict[str, Any]:

@@ -76,14 +76,13 @@ def run_surrogate_episode(
 
     def on_chunk(stop: int) -> None:
         start = last[0]
-        if keeper is None:
-            rows = trajectory_of(run, cfg.control_hz, fixed).rows(start, stop)
-        else:
-            rows = trajectory_of(run, cfg.control_hz, fixed, start).head(stop - start)
-        if sink is not None:
-            sink(rows, start)
         if keeper is not None:
+            rows = trajectory_of(run, cfg.control_hz, fixed, start).head(stop - start)
+            if sink is not None:
+                sink(rows, start)
             keeper.keep(rows, start, stop)
+        elif sink is not None:  # (no views are made when nobody takes them)
+            sink(trajectory_of(run, cfg.control_hz, fixed).rows(start, stop), start)
         last[0] = stop
         if bar is not None:
             bar.update(stop - start)
