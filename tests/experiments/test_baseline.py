@@ -13,8 +13,8 @@ pytest.importorskip("gymnasium")
 pytest.importorskip("cma")
 
 from neurowalk.envs.policy import NetworkPolicy, evaluate, evaluate_batch
-from neurowalk.experiments import baseline, baseline_rnn
-from neurowalk.experiments.baseline_rnn import RecurrentPolicy, n_weights
+from neurowalk.experiments.baselines import comparison, evolved_rnn
+from neurowalk.experiments.baselines.evolved_rnn import RecurrentPolicy, n_weights
 
 
 def test_one_hidden_unit_step_by_hand():
@@ -68,13 +68,13 @@ def test_batched_evaluation_scores_as_the_single_one_without_noise():
 
 def test_neuroevolution_resumes_bit_for_bit(tmp_path):
     kw = {"population": 4, "envs": 2, "steps": 60, "hidden": 2, "progress": False, "log": lambda _: None}
-    whole = baseline_rnn.train(tmp_path / "a", generations=3, **kw)
-    baseline_rnn.train(tmp_path / "b", generations=1, **kw)
-    resumed = baseline_rnn.train(tmp_path / "b", generations=3, **kw)
+    whole = evolved_rnn.train(tmp_path / "a", generations=3, **kw)
+    evolved_rnn.train(tmp_path / "b", generations=1, **kw)
+    resumed = evolved_rnn.train(tmp_path / "b", generations=3, **kw)
     assert whole["theta"] == resumed["theta"] and whole["curve"] == resumed["curve"]
     assert whole["env_steps"] == 3 * 4 * 2 * 60
     with pytest.raises(ValueError, match="other settings"):
-        baseline_rnn.train(tmp_path / "b", generations=3, **{**kw, "envs": 3})
+        evolved_rnn.train(tmp_path / "b", generations=3, **{**kw, "envs": 3})
 
 
 class _Evil:
@@ -91,21 +91,21 @@ def test_the_neuroevolution_state_is_json_and_a_crafted_pickle_runs_nothing(tmp_
     import pickle
 
     kw = {"population": 4, "envs": 2, "steps": 20, "hidden": 2, "progress": False, "log": lambda _: None}
-    baseline_rnn.train(tmp_path / "a", generations=1, **kw)
+    evolved_rnn.train(tmp_path / "a", generations=1, **kw)
     assert json.loads((tmp_path / "a" / "state.json").read_text())["format"] == 1
     (tmp_path / "b").mkdir()
     (tmp_path / "b" / "state.pkl").write_bytes(pickle.dumps({"es": _Evil(tmp_path / "pwned")}))
     with pytest.raises(ValueError, match=r"state\.pkl"):
-        baseline_rnn.train(tmp_path / "b", generations=1, **kw)
+        evolved_rnn.train(tmp_path / "b", generations=1, **kw)
     assert not (tmp_path / "pwned").exists()
     (tmp_path / "a" / "state.json").write_text('{"format": 1, "settings": ')  # cut short
     with pytest.raises(ValueError, match=r"state\.json"):
-        baseline_rnn.train(tmp_path / "a", generations=2, **kw)
+        evolved_rnn.train(tmp_path / "a", generations=2, **kw)
 
 
 def test_run_writes_the_table_plot_and_data_and_reuses_finished_work(tmp_path):
     sizes = {"generations": 2, "population": 4, "envs": 2, "episode_steps": 50, "eval_envs": 3, "eval_steps": 3100}
-    r = baseline.run(tmp_path, methods=["neuroevo"], quick=True, sizes=sizes, progress=False, log=lambda _: None)
+    r = comparison.run(tmp_path, methods=["neuroevo"], quick=True, sizes=sizes, progress=False, log=lambda _: None)
     assert [row["name"] for row in r["rows"]] == ["plastic", "plastic-original", "static", "braitenberg", "neuroevo"]
     for row in r["rows"]:
         lo, hi = row["ci95"]
@@ -116,15 +116,15 @@ def test_run_writes_the_table_plot_and_data_and_reuses_finished_work(tmp_path):
     assert (tmp_path / "baselines.png").stat().st_size > 10_000
     assert "| evolved RNN (CMA-ES) |" in (tmp_path / "baselines.md").read_text()
     stamps = {p.name: p.stat().st_mtime_ns for p in (tmp_path / "eval").iterdir()}
-    again = baseline.run(tmp_path, methods=["neuroevo"], quick=True, sizes=sizes, progress=False, log=lambda _: None)
+    again = comparison.run(tmp_path, methods=["neuroevo"], quick=True, sizes=sizes, progress=False, log=lambda _: None)
     assert again["rows"] == r["rows"]
     assert {p.name: p.stat().st_mtime_ns for p in (tmp_path / "eval").iterdir()} == stamps  # nothing rescored
 
 
 def test_sizes_and_methods_are_checked_before_any_work():
     with pytest.raises(ValueError, match="--eval-envs"):
-        baseline.sizes_of(False, {"eval_envs": 0})
+        comparison.sizes_of(False, {"eval_envs": 0})
     with pytest.raises(ValueError, match="--population"):
-        baseline.sizes_of(True, {"population": 1})
+        comparison.sizes_of(True, {"population": 1})
     with pytest.raises(ValueError, match="'a2c'"):
-        baseline.check_methods(["neuroevo", "a2c"])
+        comparison.check_methods(["neuroevo", "a2c"])

@@ -11,12 +11,12 @@ pytest.importorskip("gymnasium")
 pytest.importorskip("stable_baselines3")
 pytest.importorskip("sb3_contrib")
 
-from neurowalk.experiments import baseline_sb3
-from neurowalk.experiments.baseline_rnn import features
+from neurowalk.experiments.baselines import ppo
+from neurowalk.experiments.baselines.evolved_rnn import features
 
 
 def test_vec_env_ends_every_copy_together_and_restarts_on_the_next_training_seeds():
-    venv = baseline_sb3.make_vec_env(3, 5, train_seed=2)
+    venv = ppo.make_vec_env(3, 5, train_seed=2)
     first = venv.reset()
     assert first.shape == (3, 2) and np.all(np.abs(first) <= 1.0)
     for _k in range(5):
@@ -34,17 +34,17 @@ def test_vec_env_ends_every_copy_together_and_restarts_on_the_next_training_seed
 
 @pytest.mark.parametrize("algo", ["ppo", "rppo"])
 def test_training_checkpoints_and_resumes_and_the_policy_acts_in_bounds(tmp_path, algo):
-    n_steps = baseline_sb3.HYPER[algo]["n_steps"]
+    n_steps = ppo.HYPER[algo]["n_steps"]
     per_rollout = n_steps * 2
     kw = {"n_envs": 2, "steps": 100, "checkpoint_every": per_rollout, "progress": False, "log": lambda _: None}
-    rec = baseline_sb3.train(algo, tmp_path, total_steps=per_rollout, **kw)
+    rec = ppo.train(algo, tmp_path, total_steps=per_rollout, **kw)
     assert rec["env_steps"] == per_rollout and (tmp_path / "model.zip").is_file()
     assert json.loads((tmp_path / "progress.json").read_text())["env_steps"] == per_rollout
-    more = baseline_sb3.train(algo, tmp_path, total_steps=2 * per_rollout, **kw)
+    more = ppo.train(algo, tmp_path, total_steps=2 * per_rollout, **kw)
     assert more["env_steps"] == 2 * per_rollout and len(more["curve"]) >= len(rec["curve"])
     with pytest.raises(ValueError, match="other settings"):
-        baseline_sb3.train(algo, tmp_path, total_steps=3 * per_rollout, **{**kw, "n_envs": 4})
-    policy = baseline_sb3.Sb3Policy(algo, tmp_path / "model.zip")
+        ppo.train(algo, tmp_path, total_steps=3 * per_rollout, **{**kw, "n_envs": 4})
+    policy = ppo.Sb3Policy(algo, tmp_path / "model.zip")
     obs = np.random.default_rng(0).uniform(0, 0.4, size=(5, 2))
     a = policy(obs)
     assert a.shape == (5, 2) and np.all(np.isfinite(a))

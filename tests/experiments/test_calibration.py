@@ -11,8 +11,8 @@ import pytest
 from neurowalk.body.surrogate import load_calibration
 from neurowalk.body.wheeled import WheeledParams
 from neurowalk.cli import main
-from neurowalk.experiments.calibration import body_velocity, calibrate, fit_lag, geometry, predict, sway_fit
-from neurowalk.experiments.calibration_fit import outline
+from neurowalk.experiments.calibration.fit import outline
+from neurowalk.experiments.calibration.physics import body_velocity, calibrate, fit_lag, geometry, predict, sway_fit
 
 
 def test_body_velocity_of_a_circle() -> None:

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from neurowalk.experiments.deadlock import VARIANTS, outcome_table, wedged_counts
+from neurowalk.experiments.suites.deadends import VARIANTS, outcome_table, wedged_counts
 
 
 @pytest.mark.slow
@@ -44,7 +44,7 @@ def test_long_runs_static_explores_cluttered_trapped_in_difficult_plastic_explor
 def _fake_fig5():
     """A fig5 Result with short synthetic traces: one long run wedged twice, the others never."""
     from neurowalk.experiments import Result
-    from neurowalk.experiments.fig5 import LONG
+    from neurowalk.experiments.figures.fig5 import LONG
 
     n = 50
     trace = {"pose": np.zeros((n, 3)), "inputs": np.zeros((n, 2)), "outputs": np.zeros((n, 2)),
@@ -71,7 +71,7 @@ def _fake_fig5():
 def test_wedged_counts_and_the_long_run_panel_circles_each_period():
     import matplotlib.patches as mpatches
 
-    from neurowalk.experiments.fig5 import plot
+    from neurowalk.experiments.figures.fig5 import plot
 
     res = _fake_fig5()
     w = res.summary["wedged"]

@@ -1,6 +1,7 @@
 """The escape map's machinery on a shrunken sweep (the full sweep is `neurowalk figure escape-map`)."""
 
-from neurowalk.experiments import FIGURES, escape_map
+from neurowalk.experiments import FIGURES
+from neurowalk.experiments.figures import escape_map
 
 
 def test_escape_map_counts_every_network_and_size(monkeypatch, tmp_path):

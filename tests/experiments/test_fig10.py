@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from neurowalk.experiments.climbing import climbed, step_spec, track_spec, track_success
-from neurowalk.experiments.fig10 import key_moments
+from neurowalk.experiments.figures.fig10 import key_moments
+from neurowalk.experiments.suites.climbing import climbed, step_spec, track_spec, track_success
 from neurowalk.runners.specs import to_config
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
@@ -57,7 +57,7 @@ def test_flat_walking_is_kept_with_the_modules_on():
 
 @pytest.mark.slow
 def test_dead_end_results_hold_with_the_modules_on():
-    from neurowalk.experiments.deadlock import VARIANTS, outcome_table
+    from neurowalk.experiments.suites.deadends import VARIANTS, outcome_table
 
     variants = {"narrow-passage": VARIANTS["narrow-passage"]}
     narrow = outcome_table(4, variants=variants, progress=False, climbing=True)["counts"]["narrow-passage"]

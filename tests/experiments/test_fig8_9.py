@@ -8,8 +8,9 @@ import pytest
 from neurowalk.arenas import make_arena
 from neurowalk.arenas.generated import MOUTH, OPENING
 from neurowalk.cli import main
-from neurowalk.experiments import FIGURES, fig8, fig9
-from neurowalk.experiments.real_robot import (
+from neurowalk.experiments import FIGURES
+from neurowalk.experiments.figures import fig8, fig9
+from neurowalk.experiments.suites.real_robot import (
     PATH_EVERY,
     camera_view,
     make_spec,

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from neurowalk.experiments import latched
+from neurowalk.experiments.figures import latched
 
 
 def test_latched_spins_hold_while_b_on_plus_mean_q_exceeds_the_input_weight() -> None:

@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from neurowalk.cli import main
-from neurowalk.experiments import optimize
-from neurowalk.experiments.optimize_space import DEFAULT_FIELDS, Dim, fitness, make_space, start_point
+from neurowalk.experiments.optimize import search
+from neurowalk.experiments.optimize.space import DEFAULT_FIELDS, Dim, fitness, make_space, start_point
 from neurowalk.neural.variants import get_variant, read_params_file
 from neurowalk.runners.store import ResultStore
 
@@ -20,9 +20,9 @@ TINY = {"population": 4, "generations": 2, "environments": 3, "heldout": 3, "ste
 RUNS_PER_CANDIDATE = 3 + 6  # training environments + dead ends (6 geometries x 1 seed)
 
 
-def tiny(out: Path, **changes: Any) -> optimize.Search:
+def tiny(out: Path, **changes: Any) -> search.Search:
     """The tiny search of these tests in ``out`` (in this process: workers 1)."""
-    return optimize.run(out=out, sizes={**TINY, **changes}, workers=1, progress=False)
+    return search.run(out=out, sizes={**TINY, **changes}, workers=1, progress=False)
 
 
 def store_keys(folder: Path) -> set[str]:
@@ -31,12 +31,12 @@ def store_keys(folder: Path) -> set[str]:
 
 
 @pytest.fixture(scope="module")
-def searched(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, optimize.Search]:
+def searched(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, search.Search]:
     out = tmp_path_factory.mktemp("search")
     return out, tiny(out)
 
 
-def test_tiny_search_writes_its_files_and_a_rerun_recomputes_nothing(searched: tuple[Path, optimize.Search]) -> None:
+def test_tiny_search_writes_its_files_and_a_rerun_recomputes_nothing(searched: tuple[Path, search.Search]) -> None:
     out, s = searched
     for name in ("best.json", "heldout.json", "history.json", "convergence.png", "cmaes.json", "results.sqlite"):
         assert (out / name).is_file(), name
@@ -60,24 +60,24 @@ def test_tiny_search_writes_its_files_and_a_rerun_recomputes_nothing(searched: t
 
 
 def test_a_search_killed_mid_generation_resumes_and_ends_as_an_uninterrupted_one(
-    searched: tuple[Path, optimize.Search], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    searched: tuple[Path, search.Search], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     out, s = searched
     calls = {"n": 0}
-    real = optimize.Runner.__call__
+    real = search.Runner.__call__
 
-    def killed_after_storing_generation_2(self: optimize.Runner, specs: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    def killed_after_storing_generation_2(self: search.Runner, specs: list[dict[str, Any]]) -> list[dict[str, Any]]:
         res = real(self, specs)
         calls["n"] += 1
         if calls["n"] == 3:  # base, generation 1, generation 2: its runs are stored, CMA-ES not yet told
             raise KeyboardInterrupt
         return res
 
-    monkeypatch.setattr(optimize.Runner, "__call__", killed_after_storing_generation_2)
+    monkeypatch.setattr(search.Runner, "__call__", killed_after_storing_generation_2)
     with pytest.raises(KeyboardInterrupt):
         tiny(tmp_path)
     assert not (tmp_path / "best.json").exists()
-    monkeypatch.setattr(optimize.Runner, "__call__", real)
+    monkeypatch.setattr(search.Runner, "__call__", real)
     stored = store_keys(tmp_path)
     resumed = tiny(tmp_path)
     assert store_keys(tmp_path) - stored <= store_keys(out)  # only the held-out runs were new
@@ -86,7 +86,7 @@ def test_a_search_killed_mid_generation_resumes_and_ends_as_an_uninterrupted_one
     assert resumed.history == s.history
 
 
-def test_more_generations_continue_the_saved_state(searched: tuple[Path, optimize.Search], tmp_path: Path) -> None:
+def test_more_generations_continue_the_saved_state(searched: tuple[Path, search.Search], tmp_path: Path) -> None:
     out, _ = searched
     one = tiny(tmp_path, generations=1)
     assert len(one.history) == 1
@@ -95,7 +95,7 @@ def test_more_generations_continue_the_saved_state(searched: tuple[Path, optimiz
     assert two.runs_computed <= 4 * RUNS_PER_CANDIDATE + 3  # generation 2 and the held-out runs of a new best
 
 
-def test_best_json_is_a_params_file_that_run_accepts(searched: tuple[Path, optimize.Search], tmp_path: Path) -> None:
+def test_best_json_is_a_params_file_that_run_accepts(searched: tuple[Path, search.Search], tmp_path: Path) -> None:
     out, s = searched
     data = read_params_file(out / "best.json")
     assert data["variant"] == "original" and data["params"] == s.best["params"]
@@ -159,11 +159,11 @@ def test_fitness_ranks_every_infeasible_candidate_below_every_feasible_one() -> 
 )
 def test_bad_input_raises_naming_the_value(kwargs: dict[str, Any], word: str, tmp_path: Path) -> None:
     with pytest.raises(ValueError, match=word):
-        optimize.run(out=tmp_path, **{"sizes": TINY, **kwargs}, workers=1, progress=False)
+        search.run(out=tmp_path, **{"sizes": TINY, **kwargs}, workers=1, progress=False)
     assert not (tmp_path / "results.sqlite").exists()
 
 
-def test_an_output_folder_holding_another_search_is_refused(searched: tuple[Path, optimize.Search]) -> None:
+def test_an_output_folder_holding_another_search_is_refused(searched: tuple[Path, search.Search]) -> None:
     out, _ = searched
     with pytest.raises(ValueError, match="population"):
         tiny(out, population=5)
@@ -222,7 +222,7 @@ def test_a_crafted_pickle_as_the_search_state_runs_nothing(tmp_path: Path, capsy
                                      b'"records": [], "stopped": null}'], ids=["empty", "cut", "binary", "json",
                                                                               "newer"])  # fmt: skip
 def test_a_damaged_search_record_is_named_in_one_line_and_left_as_it_was(
-    searched: tuple[Path, optimize.Search], content: bytes, tmp_path: Path, capsys: Any
+    searched: tuple[Path, search.Search], content: bytes, tmp_path: Path, capsys: Any
 ) -> None:
     (tmp_path / "cmaes.json").write_bytes(content)
     with pytest.raises(ValueError, match=r"cmaes\.json") as info:
@@ -232,7 +232,7 @@ def test_a_damaged_search_record_is_named_in_one_line_and_left_as_it_was(
 
 
 def test_a_search_record_whose_candidates_were_edited_is_refused(
-    searched: tuple[Path, optimize.Search], tmp_path: Path
+    searched: tuple[Path, search.Search], tmp_path: Path
 ) -> None:
     out, _ = searched
     record = json.loads((out / "cmaes.json").read_text())

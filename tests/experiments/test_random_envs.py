@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from neurowalk.cli import main
-from neurowalk.experiments import table2
-from neurowalk.experiments.random_envs import BOXES, ROWS, environments, failure_class, spec, wilson
+from neurowalk.experiments.figures import table2
+from neurowalk.experiments.suites.random_envs import BOXES, ROWS, environments, failure_class, spec, wilson
 from neurowalk.runners.store import ResultStore
 
 

@@ -55,7 +55,7 @@ def register(name: str, title: str) -> Callable[[Callable[..., Result]], Callabl
 
 def _load() -> None:
     # Importing the modules fills the registry.
-    from neurowalk.experiments import (  # noqa: F401
+    from neurowalk.experiments.figures import (  # noqa: F401
         bodies,
         escape_map,
         fig2,

@@ -4,7 +4,7 @@ A search's file holds its settings and, per generation, the candidates CMA-ES dr
 Resuming builds a fresh ``cma.CMAEvolutionStrategy`` with the same seed and replays the generations: each
 ``ask`` is checked to draw exactly the recorded candidates, then ``tell`` gets the recorded scores. CMA-ES is
 deterministic given its seed, so the replayed search is the one that was stopped, bit for bit. Used by
-``neurowalk optimize`` (:mod:`.optimize`) and the neuroevolution baseline (:mod:`.baseline_rnn`).
+``neurowalk optimize`` (:mod:`.optimize.search`) and the neuroevolution baseline (:mod:`.baselines.evolved_rnn`).
 """
 
 from __future__ import annotations

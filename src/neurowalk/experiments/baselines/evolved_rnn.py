@@ -15,7 +15,8 @@ environment step. The environments of generation g are those of the reset seeds 
 g * envs + j`` (j < envs; train_seed < 1000), below the held-out environments of ``neurowalk baseline`` (seeds from
 10^9).
 The search is saved as JSON after every generation (``state.json``: each generation's candidates and returns),
-and a rerun replays it into a fresh CMA-ES of the same seed (:mod:`.cma_record`): resumable, bit for bit.
+and a rerun replays it into a fresh CMA-ES of the same seed (:mod:`~neurowalk.experiments.cma_record`):
+resumable, bit for bit.
 """
 
 from __future__ import annotations

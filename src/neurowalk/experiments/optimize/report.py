@@ -21,12 +21,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from neurowalk.experiments.optimize_space import FITNESS_RULE
+from neurowalk.experiments.optimize.space import FITNESS_RULE
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from neurowalk.experiments.optimize import Search, Sizes
+    from neurowalk.experiments.optimize.search import Search, Sizes
 
 
 def best_candidate(history: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
@@ -83,7 +83,7 @@ def heldout_table(
     steps: int,
 ) -> dict[str, Any]:
     """The held-out table: per network successes, rate and Wilson 95% interval; paired counts against ``best``."""
-    from neurowalk.experiments.random_envs import FAILURE_RULE, RULE, failure_class, wilson
+    from neurowalk.experiments.suites.random_envs import FAILURE_RULE, RULE, failure_class, wilson
 
     n = len(envs)
     table: dict[str, Any] = {}
@@ -160,7 +160,7 @@ def best_json(
 ) -> dict[str, Any]:
     """The contents of best.json: the params file of the best candidate with how it was found."""
     from neurowalk import __version__
-    from neurowalk.experiments.deadlock import TRAP_STEPS, VARIANTS
+    from neurowalk.experiments.suites.deadends import TRAP_STEPS, VARIANTS
 
     h = search.heldout
     hist = []

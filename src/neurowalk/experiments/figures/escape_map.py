@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from neurowalk.experiments import Result, register
-from neurowalk.experiments.deadlock import TRAP_STEPS, stored_runs
+from neurowalk.experiments.suites.deadends import TRAP_STEPS, stored_runs
 from neurowalk.sim.episode import EpisodeConfig
 
 if TYPE_CHECKING:
@@ -48,7 +48,7 @@ def run(
     ``variant``: the networks' variant (``paper`` or ``original``). ``out``: the folder of the resumable result store
     (``results.sqlite``): a rerun goes on from the runs it holds.
     """
-    from neurowalk.experiments.climbing import store_folder
+    from neurowalk.experiments.suites.climbing import store_folder
 
     n = seeds if seeds is not None else (2 if quick else 5)
     if n < 1:

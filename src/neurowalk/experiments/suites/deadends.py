@@ -85,7 +85,7 @@ def stored_runs(
         return run_many(
             configs, workers=workers, progress=progress, keep=keep_traces if traces else keep_outcome, desc=desc
         )
-    from neurowalk.experiments.climbing import run_store
+    from neurowalk.experiments.suites.climbing import run_store
     from neurowalk.runners.specs import spec_key
 
     specs = [_spec(c) for c in configs]
@@ -258,7 +258,7 @@ def build(
     ``out``: the runs go through resumable stores there (``results.sqlite``: the outcome table, ``traces.sqlite``:
     the example and long runs), so that an interrupted figure goes on from its finished runs.
     """
-    from neurowalk.experiments.climbing import store_folder
+    from neurowalk.experiments.suites.climbing import store_folder
 
     n_seeds = seeds if seeds is not None else (3 if quick else 10)
     if n_seeds < 1:

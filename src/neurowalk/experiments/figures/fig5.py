@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from neurowalk.experiments import Result, register
-from neurowalk.experiments.deadlock import build
+from neurowalk.experiments.suites.deadends import build
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -77,6 +77,6 @@ def run(
 
 def plot(res: Result) -> Figure:
     """Panels A-G; the counts table printed below."""
-    from neurowalk.experiments.deadlock_plot import plot as draw
+    from neurowalk.experiments.suites.deadends_plot import plot as draw
 
     return draw(res, NETWORK, list(LONG), weights_panel=True)

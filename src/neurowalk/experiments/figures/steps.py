@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from neurowalk.experiments import Result, register
-from neurowalk.experiments.climbing import (
+from neurowalk.experiments.suites.climbing import (
     QUICK_SWEEP_HEIGHTS,
     RELIABLE,
     STEP_RULE,

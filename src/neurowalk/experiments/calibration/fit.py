@@ -1,7 +1,7 @@
 """The fits of the surrogate's calibration: velocities, yaw sway and response lag from measured poses.
 
-Pure functions of pose arrays (no MuJoCo): :mod:`neurowalk.experiments.calibration` measures the physics body and
-hands the poses here. A pose row is (x m, y m, yaw rad) after one control step.
+Pure functions of pose arrays (no MuJoCo): :mod:`.physics` measures the physics body and hands the poses here.
+A pose row is (x m, y m, yaw rad) after one control step.
 """
 
 from __future__ import annotations

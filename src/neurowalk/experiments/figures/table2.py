@@ -1,4 +1,5 @@
-"""Table 2: success and failure counts in random environments, per network (see :mod:`.random_envs`).
+"""Table 2: success and failure counts in random environments, per network (see
+:mod:`neurowalk.experiments.suites.random_envs`).
 
 Rows: the plastic network as the paper's Eq. 1-6 read (``plastic-paper``) and as the authors' code runs it
 (``plastic-original``), beside the static and Braitenberg networks (``plastic-tuned`` too where the tuned
@@ -14,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from neurowalk.experiments import Result, register
-from neurowalk.experiments.random_envs import (
+from neurowalk.experiments.suites.random_envs import (
     BOXES,
     FAILURE_RULE,
     QUICK_STEPS,
@@ -73,7 +74,7 @@ def run(
     environment a world of one model (``--engine warp``; a GPU makes 1000 environments in physics practical).
     """
     from neurowalk.body.registry import body_info
-    from neurowalk.experiments.climbing import run_store
+    from neurowalk.experiments.suites.climbing import run_store
     from neurowalk.runners.specs import spec_key
 
     n = seeds if seeds is not None else (10 if quick else 50)

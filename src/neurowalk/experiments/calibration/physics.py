@@ -15,7 +15,7 @@ full locomotion network and to the wheeled robot directly (its ``apply`` takes t
   robot, against fresh physics runs (errors relative to the full-scale speed and turning rate).
 
 The result is a :class:`~neurowalk.body.surrogate.Calibration` written to a JSON file. The fits themselves are in
-:mod:`neurowalk.experiments.calibration_fit`.
+:mod:`neurowalk.experiments.calibration.fit`.
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ from neurowalk.body import surrogate_kernel as kern
 from neurowalk.body.registry import make_body
 from neurowalk.body.surrogate import CALIBRATION_FILES, Calibration, Surrogate
 from neurowalk.body.wheeled import CHASSIS_BODY
-from neurowalk.experiments.calibration_fit import (
+from neurowalk.experiments.calibration.fit import (
     LAG_DELAYS,
     LAG_TAUS,
     StepRun,

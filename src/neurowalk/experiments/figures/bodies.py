@@ -10,7 +10,7 @@ avoidance". This figure tests it. The same sensory networks (plastic, static, Br
   reach 0.2 m), in the same arenas: a small robot in a world made for a larger one.
 
 Each body runs the dead ends of Fig. 3/5 (simple deadlock, narrow passage, corner; ``seeds`` seeds each,
-:data:`~neurowalk.experiments.deadlock.TRAP_STEPS` steps, twice as many for the half-size robot, which is half as
+:data:`~neurowalk.experiments.suites.deadends.TRAP_STEPS` steps, twice as many for the half-size robot, which is half as
 fast: escaped or not) and Table 2 (the first ``environments``
 random environments of table seed ``seed``, 20,000 steps, Table 2's rule, Wilson 95% intervals). All runs go
 through a resumable result store in the output folder (the dead ends with their sampled paths).
@@ -24,8 +24,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from neurowalk.experiments import Result, register
-from neurowalk.experiments.deadlock import TRAP_STEPS
-from neurowalk.experiments.random_envs import STEPS, environments, spec, wilson
+from neurowalk.experiments.suites.deadends import TRAP_STEPS
+from neurowalk.experiments.suites.random_envs import STEPS, environments, spec, wilson
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -56,8 +56,8 @@ def run(
     """``seeds`` (default 10; 2 with ``quick``) runs per dead end and 5x as many Table 2 environments (default 50;
     quick: 3 environments of 1000 steps, dead ends of 600: a smoke test), per body and network, through the store in
     ``out``."""
-    from neurowalk.experiments.climbing import run_store
-    from neurowalk.experiments.real_robot import run_store_paths
+    from neurowalk.experiments.suites.climbing import run_store
+    from neurowalk.experiments.suites.real_robot import run_store_paths
     from neurowalk.runners.specs import spec_key
 
     n = seeds if seeds is not None else (2 if quick else 10)

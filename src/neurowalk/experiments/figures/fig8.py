@@ -5,7 +5,7 @@ obstacles with a gap narrower than the robot), facing the gap. The paper's robot
 turned right at the obstacle on its left, got stuck in front of the gap, kept turning right as the left
 neuron's weights grew, and escaped at 0:50 min; with the static network it stayed stuck. Here each network
 (plastic from zero weights, and static) runs ``seeds`` seeds (default 10; 3 with ``quick``) for
-:data:`~neurowalk.experiments.deadlock.TRAP_STEPS` control steps (the paper's 5000 time steps of its Fig.
+:data:`~neurowalk.experiments.suites.deadends.TRAP_STEPS` control steps (the paper's 5000 time steps of its Fig.
 5B); the runs go through the resumable store in the output folder.
 
 The figure: a strip of rendered snapshots of the example seed for each network (times written on them), the
@@ -20,8 +20,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from neurowalk.experiments import Result, register
-from neurowalk.experiments.deadlock import TRAP_STEPS
-from neurowalk.experiments.real_robot import (
+from neurowalk.experiments.suites.deadends import TRAP_STEPS
+from neurowalk.experiments.suites.real_robot import (
     N_SNAPSHOTS,
     NETWORKS,
     draw_paths,
@@ -68,7 +68,7 @@ def run(
         seeds: seeds per network (default 10; 3 with ``quick``).
         out: output folder: holds the resumable result store (default ``out/fig8``) and the videos.
         workers: processes.
-        steps: control steps per run (default :data:`~neurowalk.experiments.deadlock.TRAP_STEPS`).
+        steps: control steps per run (default :data:`~neurowalk.experiments.suites.deadends.TRAP_STEPS`).
         video: also write one mp4 per network of the example run into ``out``.
         variant, params: the sensory network's variant and parameter overrides (see ``EpisodeConfig``).
     """

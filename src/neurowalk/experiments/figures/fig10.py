@@ -3,8 +3,9 @@
 One example run (step 0.06 m, the given seed) is drawn in full: top and side views of the path,
 the backbone angle, the foot contacts and the steering over time, and rendered snapshots at the key
 moments (start, first climb, wall avoidance, second climb). The outcome table runs ``seeds`` seeds
-(default 10; 3 with ``quick``) at each step height of :data:`~.climbing.TRACK_HEIGHTS`, through the
-resumable store in the output folder; the success rule is in the json.
+(default 10; 3 with ``quick``) at each step height of
+:data:`~neurowalk.experiments.suites.climbing.TRACK_HEIGHTS`, through the resumable store in the output folder; the
+success rule is in the json.
 """
 
 from __future__ import annotations
@@ -15,7 +16,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from neurowalk.experiments import Result, register
-from neurowalk.experiments.climbing import TRACK_HEIGHTS, TRACK_RULE, TRACK_STEPS, run_store, track_spec, track_success
+from neurowalk.experiments.suites.climbing import (
+    TRACK_HEIGHTS,
+    TRACK_RULE,
+    TRACK_STEPS,
+    run_store,
+    track_spec,
+    track_success,
+)
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from neurowalk.experiments import Result, register
-from neurowalk.experiments.random_envs import QUICK_STEPS, RULE, SIZE, STEPS, environments, spec
+from neurowalk.experiments.suites.random_envs import QUICK_STEPS, RULE, SIZE, STEPS, environments, spec
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -42,7 +42,7 @@ def run(
 
     ``out``: the folder of the resumable result store (``results.sqlite``): a rerun goes on from the runs it holds.
     """
-    from neurowalk.experiments.climbing import run_store, store_folder
+    from neurowalk.experiments.suites.climbing import run_store, store_folder
     from neurowalk.runners.specs import spec_key
 
     steps = QUICK_STEPS if quick else STEPS

@@ -3,8 +3,8 @@
 .. code-block:: text
 
     train (each resumable, in DIR/training/METHOD/):
-        neuroevo   a 4-unit recurrent network evolved by CMA-ES           (experiments/baseline_rnn.py)
-        ppo        PPO, 64-64 MLP                (stable-baselines3)      (experiments/baseline_sb3.py)
+        neuroevo   a 4-unit recurrent network evolved by CMA-ES           (baselines/evolved_rnn.py)
+        ppo        PPO, 64-64 MLP                (stable-baselines3)      (baselines/ppo.py)
         rppo       recurrent PPO, 32-unit LSTM   (sb3-contrib)
         all on neurowalk/Explore-v0 (the surrogate), episodes of 10,000 control steps, reward = area newly covered
     score (DIR/eval/NAME.json), the learned policies and the plastic (variants paper and original), static and
@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from neurowalk.experiments.random_envs import wilson
+from neurowalk.experiments.suites.random_envs import wilson
 from neurowalk.fileio import atomic_write, write_json
 
 METHODS: tuple[str, ...] = ("neuroevo", "ppo", "rppo")
@@ -96,9 +96,9 @@ def train_method(
 ) -> dict[str, Any]:
     """Train (or resume) one learned method; its record (budget, curve, weights or model path)."""
     if method == "neuroevo":
-        from neurowalk.experiments import baseline_rnn
+        from neurowalk.experiments.baselines import evolved_rnn
 
-        return baseline_rnn.train(
+        return evolved_rnn.train(
             folder,
             generations=sizes["generations"],
             population=sizes["population"],
@@ -108,9 +108,9 @@ def train_method(
             progress=progress,
             log=log,
         )
-    from neurowalk.experiments import baseline_sb3
+    from neurowalk.experiments.baselines import ppo
 
-    return baseline_sb3.train(
+    return ppo.train(
         method,
         folder,
         total_steps=sizes[f"{method}_steps"],
@@ -130,10 +130,10 @@ def policy_of(name: str, record: dict[str, Any] | None, folder: Path) -> Any:
         return NetworkPolicy(network, variant=variant or "paper")
     assert record is not None
     if name == "neuroevo":
-        from neurowalk.experiments.baseline_rnn import RecurrentPolicy
+        from neurowalk.experiments.baselines.evolved_rnn import RecurrentPolicy
 
         return RecurrentPolicy(np.array(record["theta"]), record["hidden"])
-    from neurowalk.experiments.baseline_sb3 import Sb3Policy
+    from neurowalk.experiments.baselines.ppo import Sb3Policy
 
     return Sb3Policy(name, folder / "model.zip")
 
@@ -147,13 +147,13 @@ def check_methods(methods: Sequence[str], *, available: bool = True) -> None:
     if not available:
         return
     if "neuroevo" in methods:
-        from neurowalk.experiments.optimize import CmaMissingError
+        from neurowalk.experiments.optimize.search import CmaMissingError
 
         try:
             import cma  # noqa: F401
         except ImportError as e:
             raise CmaMissingError("neuroevo needs cma: pip install 'neurowalk[rl]'") from e
-    from neurowalk.experiments.baseline_sb3 import import_sb3
+    from neurowalk.experiments.baselines.ppo import import_sb3
 
     for m in methods:
         if m != "neuroevo":

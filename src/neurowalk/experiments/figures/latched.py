@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from neurowalk.experiments import Result, register
-from neurowalk.experiments.random_envs import STEPS, environments, failure_class, spec
+from neurowalk.experiments.suites.random_envs import STEPS, environments, failure_class, spec
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -41,7 +41,7 @@ def run(
 
     ``out``: the folder of the resumable result store of the search (``results.sqlite``, one summary per run).
     """
-    from neurowalk.experiments.climbing import run_store, store_folder
+    from neurowalk.experiments.suites.climbing import run_store, store_folder
     from neurowalk.runners.specs import normalize, spec_key, to_config
     from neurowalk.sim.episode import run_episode
 

@@ -3,18 +3,18 @@
 The paper says the learning parameters "could be found by evolutionary algorithms"; this is that search.
 
 * Candidates: SensoryParams fields (default ``mu_b, mu_q, gamma_b, gamma_q, k``) on top of a base variant
-  (default ``original``), searched in a normalised space (log scale for the rates; see :mod:`.optimize_space`).
+  (default ``original``), searched in a normalised space (log scale for the rates; see :mod:`.space`).
 * Objective: Table 2 success rate on training environments (the Table 2 generator, 1 m boxes, table seed
   :data:`TRAIN_SEED`); constraint: every dead end of the Fig. 5 escape suite (simple deadlock, narrow passage,
-  its gap and funnel ±20%, plastic network, :data:`~neurowalk.experiments.deadlock.TRAP_STEPS` steps) escaped;
-  :data:`~neurowalk.experiments.optimize_space.FITNESS_RULE` ranks the infeasible below the feasible.
+  its gap and funnel ±20%, plastic network, :data:`~neurowalk.experiments.suites.deadends.TRAP_STEPS` steps) escaped;
+  :data:`~neurowalk.experiments.optimize.space.FITNESS_RULE` ranks the infeasible below the feasible.
 * Every run goes through the sweep engine into ``DIR/results.sqlite``; the search's record (its settings, and
   each generation's candidates and scores) is written to ``DIR/cmaes.json`` after each generation. A killed
   search is resumed by replaying that record into a fresh CMA-ES of the same seed (its samples are checked to be
   the recorded ones), so it goes on with nothing recomputed and ends as an uninterrupted one would (same seed,
   same result). Nothing is pickled: a results folder cannot run code.
 * Then the best candidate, the base variant and the paper variant walk held-out environments (table seed
-  :data:`HELDOUT_SEED`, Table 2's own), with Wilson 95% intervals; written by :mod:`.optimize_report`.
+  :data:`HELDOUT_SEED`, Table 2's own), with Wilson 95% intervals; written by :mod:`.report`.
 
 Sizes (:data:`FULL`, :data:`QUICK`): the full search, 8 candidates x 12 generations on 80 environments of 20000
 steps (Table 2's run length) and 3 seeds per dead end, then 200 held-out environments: about 9000 runs, 20-35 min
@@ -35,7 +35,7 @@ import numpy as np
 
 from neurowalk.experiments import cma_record
 from neurowalk.experiments.cma_record import own_rng
-from neurowalk.experiments.optimize_space import Dim, decode, fitness, make_space, start_point
+from neurowalk.experiments.optimize.space import Dim, decode, fitness, make_space, start_point
 from neurowalk.fileio import make_writable_folder
 from neurowalk.runners.stopping import deferred
 
@@ -119,7 +119,7 @@ def check_seeds(seed: int, train_seed: int, heldout_seed: int, sizes: Sizes) -> 
 
 def deadend_specs(variant: str, params: Mapping[str, float] | None, seeds: int) -> list[dict[str, Any]]:
     """Run specs of the escape suite: every Fig. 5 dead-end geometry x seeds 0..``seeds``-1, plastic, surrogate."""
-    from neurowalk.experiments.deadlock import TRAP_STEPS, VARIANTS
+    from neurowalk.experiments.suites.deadends import TRAP_STEPS, VARIANTS
 
     out = []
     for arena, opts in VARIANTS.values():
@@ -143,7 +143,7 @@ def train_specs(
     variant: str, params: Mapping[str, float] | None, envs: Sequence[dict[str, Any]], steps: int
 ) -> list[dict[str, Any]]:
     """Run specs of one network on the given random environments (Table 2's spec, surrogate body)."""
-    from neurowalk.experiments.random_envs import spec
+    from neurowalk.experiments.suites.random_envs import spec
 
     return [spec(e, "plastic", steps, BODY, variant=variant, params=dict(params) if params else None) for e in envs]
 
@@ -271,7 +271,7 @@ def run(
     Args:
         out: output folder: results.sqlite, cmaes.json, best.json, heldout.json, history.json, convergence.png.
         quick: the :data:`QUICK` sizes instead of :data:`FULL`; ``sizes`` overrides single ones by name.
-        variant: base variant ('paper' or 'original'); fields/bounds: see :func:`.optimize_space.make_space`.
+        variant: base variant ('paper' or 'original'); fields/bounds: see :func:`.space.make_space`.
         seed: CMA-ES seed; train_seed/heldout_seed: table seeds of the training and held-out environments.
         sigma0: initial step size in the normalised space (0, 1].
         backend, workers, address: the sweep engine's (local process pool or Ray).
@@ -282,8 +282,8 @@ def run(
         CmaMissingError: the ``cma`` package is not installed.
         KeyboardInterrupt: interrupted; the finished runs and generations are kept and a rerun resumes.
     """
-    from neurowalk.experiments import optimize_report as report
-    from neurowalk.experiments.random_envs import environments
+    from neurowalk.experiments.optimize import report
+    from neurowalk.experiments.suites.random_envs import environments
 
     base_sizes = QUICK if quick else FULL
     unknown = sorted(set(sizes or {}) - set(asdict(base_sizes)))

@@ -16,8 +16,8 @@ import numpy as np
 
 from neurowalk.body.surrogate import load_calibration
 from neurowalk.experiments import Result, register
-from neurowalk.experiments.calibration import HELD_OUT, validation
-from neurowalk.experiments.deadlock import NETWORKS, VARIANTS, outcome_table
+from neurowalk.experiments.calibration.physics import HELD_OUT, validation
+from neurowalk.experiments.suites.deadends import NETWORKS, VARIANTS, outcome_table
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -50,7 +50,7 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
 
     ``out``: the folder of the resumable result store of the dead-end runs (``results.sqlite``).
     """
-    from neurowalk.experiments.climbing import store_folder
+    from neurowalk.experiments.suites.climbing import store_folder
 
     n = seeds if seeds is not None else (2 if quick else 10)
     if n < 1:

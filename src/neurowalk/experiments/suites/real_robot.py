@@ -88,7 +88,7 @@ def run_store_paths(specs: list[dict[str, Any]], folder: Path, workers: int) -> 
 
     Returns the results by spec key. A killed figure, rerun with the same folder, runs only what is missing.
     """
-    from neurowalk.experiments.climbing import run_store
+    from neurowalk.experiments.suites.climbing import run_store
 
     results, _ = run_store(specs, folder, workers, fn=run_with_path)
     if any("path" not in r for r in results.values()):

@@ -2,10 +2,10 @@
 
 Both train on the vectorised surrogate environment through :class:`SurrogateVecEnv`, stable-baselines3's ``VecEnv``
 over :class:`~neurowalk.envs.vector.ExploreVectorEnv`: observations are the readings mapped to [-1, 1] as for the
-evolved network (:func:`~neurowalk.experiments.baseline_rnn.features`), the reward is the environment's (m^2 newly
-covered), every episode ends by truncation after ``steps`` control steps (so all copies end together and restart
-on the next training seeds: ``train_seed * 1_000_000 + e * n_envs + j`` for the e-th round of episodes, below the
-held-out seeds of ``neurowalk baseline``). Checkpoints (``model.zip`` and ``progress.json``) are written every
+evolved network (:func:`.evolved_rnn.features`), the reward is the environment's (m^2 newly covered), every
+episode ends by truncation after ``steps`` control steps (so all copies end together and restart on the next
+training seeds: ``train_seed * 1_000_000 + e * n_envs + j`` for the e-th round of episodes, below the held-out
+seeds of ``neurowalk baseline``). Checkpoints (``model.zip`` and ``progress.json``) are written every
 ``checkpoint_every`` steps; a run started again continues from the last one (the same environments onward, not
 the same numbers bit for bit: torch's and stable-baselines3's state between checkpoints is not kept).
 
@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from neurowalk.experiments.baseline_rnn import features
+from neurowalk.experiments.baselines.evolved_rnn import features
 from neurowalk.fileio import write_json
 from neurowalk.runners.stopping import deferred
 

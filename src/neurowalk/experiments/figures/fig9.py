@@ -23,7 +23,7 @@ import numpy as np
 from neurowalk.arenas.deadlocks import EXIT_MARGIN, WALL
 from neurowalk.arenas.generated import MOUTH, OPENING
 from neurowalk.experiments import Result, register
-from neurowalk.experiments.real_robot import (
+from neurowalk.experiments.suites.real_robot import (
     N_SNAPSHOTS,
     NETWORKS,
     PATH_EVERY,
