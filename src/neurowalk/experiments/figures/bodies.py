@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from neurowalk.experiments import Result, register
+from neurowalk.experiments import Result
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.random_envs import STEPS, environments, spec, wilson
 
@@ -49,7 +49,6 @@ def _slower(steps: int, opts: dict[str, float]) -> int:
     return round(steps / min(1.0, opts.get("scale", 1.0)))
 
 
-@register("bodies", "the networks on other robots: dead ends and Table 2 on AMOSII and a wheeled robot at two sizes")
 def run(
     *, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None, workers: int = 2
 ) -> Result:

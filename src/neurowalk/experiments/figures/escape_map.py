@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from neurowalk.experiments import Result, register
+from neurowalk.experiments import Result
 from neurowalk.experiments.suites.deadends import TRAP_STEPS, stored_runs
 from neurowalk.sim.episode import EpisodeConfig
 
@@ -31,7 +31,6 @@ SWEEPS = {
 QUICK_SIZES = 3  # sizes per sweep with --quick (first, middle, last)
 
 
-@register(NAME, "escape rate against trap size for all three networks")
 def run(
     *,
     quick: bool = False,

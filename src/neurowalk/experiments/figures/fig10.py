@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from neurowalk.experiments import Result, register
+from neurowalk.experiments import Result
 from neurowalk.experiments.suites.climbing import (
     TRACK_HEIGHTS,
     TRACK_RULE,
@@ -52,7 +52,6 @@ def key_moments(bj_command: np.ndarray, outputs: np.ndarray, lean: float = 0.26)
     return {"start": 0, "first climb": climb1, "wall avoidance": wall, "second climb": climb2}
 
 
-@register("fig10", "climbing track: climb a step, avoid a wall, climb a second step (paper Fig. 10)")
 def run(
     *,
     quick: bool = False,

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from neurowalk.experiments import Result, register
+from neurowalk.experiments import Result
 from neurowalk.neural.analysis import (
     hysteresis_loop,
     hysteresis_width_map,
@@ -43,7 +43,6 @@ def _thresholds(loop: object) -> dict:
     }  # type: ignore[attr-defined]
 
 
-@register(NAME, "fixed points and hysteresis of the sensory network")
 def run(*, quick: bool = False, seed: int = 0) -> Result:
     """Compute every panel (deterministic; ``seed`` is unused). ``quick`` coarsens the grids."""
     n_levels = 101 if quick else 201

@@ -12,7 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from neurowalk.experiments import Result, register
+from neurowalk.experiments import Result
 from neurowalk.experiments.suites.deadends import build
 
 if TYPE_CHECKING:
@@ -26,7 +26,6 @@ LONG = {
 }
 
 
-@register(NAME, "static network: dead ends, hysteresis, cluttered and difficult arenas")
 def run(
     *,
     quick: bool = False,

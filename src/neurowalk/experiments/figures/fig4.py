@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from neurowalk.experiments import Result, register
+from neurowalk.experiments import Result
 from neurowalk.neural.plasticity import fixed_point
 from neurowalk.neural.sensory import distance_to_input, simulate
 
@@ -53,7 +53,6 @@ def obstacle_episodes(n_steps: int, rng: np.random.Generator) -> tuple[np.ndarra
     return distance_to_input(d), episodes
 
 
-@register(NAME, "weight changes for constant and changing inputs")
 def run(
     *, quick: bool = False, seed: int = 0, variant: str = "paper", params: dict[str, float] | None = None
 ) -> Result:

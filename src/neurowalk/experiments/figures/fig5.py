@@ -14,7 +14,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from neurowalk.experiments import Result, register
+from neurowalk.experiments import Result
 from neurowalk.experiments.suites.deadends import build
 
 if TYPE_CHECKING:
@@ -29,7 +29,6 @@ LONG = {
 }
 
 
-@register(NAME, "plastic network: dead ends, weight dynamics, the difficult arena")
 def run(
     *,
     quick: bool = False,

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from neurowalk.experiments import Result, register
+from neurowalk.experiments import Result
 from neurowalk.experiments.suites.random_envs import QUICK_STEPS, RULE, SIZE, STEPS, environments, spec
 
 if TYPE_CHECKING:
@@ -26,7 +26,6 @@ def path_of(spec_: dict[str, Any]) -> dict[str, Any]:
     return {"summary": result_of(ep), "pose": ep.trajectory.pose[::10].tolist()}
 
 
-@register("fig6", "sixteen random environments: trajectories, start and end, failures marked (paper Fig. 6)")
 def run(
     *,
     quick: bool = False,

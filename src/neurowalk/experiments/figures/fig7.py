@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from neurowalk import anatomy, gait
-from neurowalk.experiments import Result, register
+from neurowalk.experiments import Result
 from neurowalk.neural.cpg import period
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
@@ -32,7 +32,6 @@ def measured_swing(angles: np.ndarray) -> np.ndarray:
     return gait.swing_mask_hysteresis(angles)
 
 
-@register(NAME, "joint angles of all legs: forward, backward, turn right, turn left (physics)")
 def run(*, quick: bool = False, seed: int = 0) -> Result:
     """Run the four conditions (1000 control steps each; 600 with ``quick``)."""
     steps = 600 if quick else 1000

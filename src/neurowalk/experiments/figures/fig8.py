@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from neurowalk.experiments import Result, register
+from neurowalk.experiments import Result
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.real_robot import (
     N_SNAPSHOTS,
@@ -47,7 +47,6 @@ RULE = (
 )
 
 
-@register(NAME, "narrow passage: snapshots, paths and escapes of the plastic and static networks (paper Fig. 8)")
 def run(
     *,
     quick: bool = False,

@@ -22,7 +22,7 @@ import numpy as np
 
 from neurowalk.arenas.deadlocks import EXIT_MARGIN, WALL
 from neurowalk.arenas.generated import MOUTH, OPENING
-from neurowalk.experiments import Result, register
+from neurowalk.experiments import Result
 from neurowalk.experiments.suites.real_robot import (
     N_SNAPSHOTS,
     NETWORKS,
@@ -88,7 +88,6 @@ def _cell(width_f: float, spacing_f: float) -> dict[str, float]:
     return {"width": round(d["width"] * width_f, 6), "spacing": round(d["spacing"] * spacing_f, 6)}
 
 
-@register(NAME, "complex path: snapshots, paths and outcome map of the plastic and static networks (paper Fig. 9)")
 def run(
     *,
     quick: bool = False,

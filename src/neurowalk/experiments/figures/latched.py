@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from neurowalk.experiments import Result, register
+from neurowalk.experiments import Result
 from neurowalk.experiments.suites.random_envs import STEPS, environments, failure_class, spec
 
 if TYPE_CHECKING:
@@ -27,7 +27,6 @@ SHOWN = 2  # environments drawn
 SEARCHED = 200  # environments searched for latched spins
 
 
-@register("latched-spin", "the plastic network's failure in Table 2: a latched spin in a pocket (surrogate)")
 def run(
     *,
     quick: bool = False,

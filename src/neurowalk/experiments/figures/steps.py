@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from neurowalk.experiments import Result, register
+from neurowalk.experiments import Result
 from neurowalk.experiments.suites.climbing import (
     QUICK_SWEEP_HEIGHTS,
     RELIABLE,
@@ -31,7 +31,6 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 
-@register("steps", "step-height sweep: highest step climbed, with and without backbone control and reflexes")
 def run(
     *, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None, workers: int = 2
 ) -> Result:

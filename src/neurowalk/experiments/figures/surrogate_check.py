@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from neurowalk.body.surrogate import load_calibration
-from neurowalk.experiments import Result, register
+from neurowalk.experiments import Result
 from neurowalk.experiments.calibration.physics import HELD_OUT, validation
 from neurowalk.experiments.suites.deadends import NETWORKS, VARIANTS, outcome_table
 
@@ -44,7 +44,6 @@ def agreement(phys_runs: list[list[Any]], sur_runs: list[list[Any]]) -> dict[str
     }
 
 
-@register(NAME, "planar surrogate vs physics: held-out calibration and dead-end outcomes")
 def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None) -> Result:
     """Held-out calibration check and the dead-end suite on both bodies (default 10 seeds; 2 with ``quick``).
 

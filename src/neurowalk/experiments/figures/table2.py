@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from neurowalk.experiments import Result, register
+from neurowalk.experiments import Result
 from neurowalk.experiments.suites.random_envs import (
     BOXES,
     FAILURE_RULE,
@@ -50,7 +50,6 @@ def rows(variant: str | None = None, params: dict[str, float] | None = None) -> 
     return out
 
 
-@register("table2", "random environments: success and failure counts per network (paper Table 2)")
 def run(
     *,
     quick: bool = False,
