@@ -12,6 +12,7 @@ import pytest
 
 from neurowalk.cli import main
 from neurowalk.experiments.optimize import search
+from neurowalk.experiments.optimize.report import Search
 from neurowalk.experiments.optimize.space import DEFAULT_FIELDS, Dim, fitness, make_space, start_point
 from neurowalk.neural.variants import get_variant, read_params_file
 from neurowalk.runners.store import ResultStore
@@ -20,7 +21,7 @@ TINY = {"population": 4, "generations": 2, "environments": 3, "heldout": 3, "ste
 RUNS_PER_CANDIDATE = 3 + 6  # training environments + dead ends (6 geometries x 1 seed)
 
 
-def tiny(out: Path, **changes: Any) -> search.Search:
+def tiny(out: Path, **changes: Any) -> Search:
     """The tiny search of these tests in ``out`` (in this process: workers 1)."""
     return search.run(out=out, sizes={**TINY, **changes}, workers=1, progress=False)
 
@@ -31,12 +32,12 @@ def store_keys(folder: Path) -> set[str]:
 
 
 @pytest.fixture(scope="module")
-def searched(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, search.Search]:
+def searched(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Search]:
     out = tmp_path_factory.mktemp("search")
     return out, tiny(out)
 
 
-def test_tiny_search_writes_its_files_and_a_rerun_recomputes_nothing(searched: tuple[Path, search.Search]) -> None:
+def test_tiny_search_writes_its_files_and_a_rerun_recomputes_nothing(searched: tuple[Path, Search]) -> None:
     out, s = searched
     for name in ("best.json", "heldout.json", "history.json", "convergence.png", "cmaes.json", "results.sqlite"):
         assert (out / name).is_file(), name
@@ -60,7 +61,7 @@ def test_tiny_search_writes_its_files_and_a_rerun_recomputes_nothing(searched: t
 
 
 def test_a_search_killed_mid_generation_resumes_and_ends_as_an_uninterrupted_one(
-    searched: tuple[Path, search.Search], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+    searched: tuple[Path, Search], tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     out, s = searched
     calls = {"n": 0}
@@ -86,7 +87,7 @@ def test_a_search_killed_mid_generation_resumes_and_ends_as_an_uninterrupted_one
     assert resumed.history == s.history
 
 
-def test_more_generations_continue_the_saved_state(searched: tuple[Path, search.Search], tmp_path: Path) -> None:
+def test_more_generations_continue_the_saved_state(searched: tuple[Path, Search], tmp_path: Path) -> None:
     out, _ = searched
     one = tiny(tmp_path, generations=1)
     assert len(one.history) == 1
@@ -95,7 +96,7 @@ def test_more_generations_continue_the_saved_state(searched: tuple[Path, search.
     assert two.runs_computed <= 4 * RUNS_PER_CANDIDATE + 3  # generation 2 and the held-out runs of a new best
 
 
-def test_best_json_is_a_params_file_that_run_accepts(searched: tuple[Path, search.Search], tmp_path: Path) -> None:
+def test_best_json_is_a_params_file_that_run_accepts(searched: tuple[Path, Search], tmp_path: Path) -> None:
     out, s = searched
     data = read_params_file(out / "best.json")
     assert data["variant"] == "original" and data["params"] == s.best["params"]
@@ -163,7 +164,7 @@ def test_bad_input_raises_naming_the_value(kwargs: dict[str, Any], word: str, tm
     assert not (tmp_path / "results.sqlite").exists()
 
 
-def test_an_output_folder_holding_another_search_is_refused(searched: tuple[Path, search.Search]) -> None:
+def test_an_output_folder_holding_another_search_is_refused(searched: tuple[Path, Search]) -> None:
     out, _ = searched
     with pytest.raises(ValueError, match="population"):
         tiny(out, population=5)
@@ -222,7 +223,7 @@ def test_a_crafted_pickle_as_the_search_state_runs_nothing(tmp_path: Path, capsy
                                      b'"records": [], "stopped": null}'], ids=["empty", "cut", "binary", "json",
                                                                               "newer"])  # fmt: skip
 def test_a_damaged_search_record_is_named_in_one_line_and_left_as_it_was(
-    searched: tuple[Path, search.Search], content: bytes, tmp_path: Path, capsys: Any
+    searched: tuple[Path, Search], content: bytes, tmp_path: Path, capsys: Any
 ) -> None:
     (tmp_path / "cmaes.json").write_bytes(content)
     with pytest.raises(ValueError, match=r"cmaes\.json") as info:
@@ -231,9 +232,7 @@ def test_a_damaged_search_record_is_named_in_one_line_and_left_as_it_was(
     assert (tmp_path / "cmaes.json").read_bytes() == content
 
 
-def test_a_search_record_whose_candidates_were_edited_is_refused(
-    searched: tuple[Path, search.Search], tmp_path: Path
-) -> None:
+def test_a_search_record_whose_candidates_were_edited_is_refused(searched: tuple[Path, Search], tmp_path: Path) -> None:
     out, _ = searched
     record = json.loads((out / "cmaes.json").read_text())
     record["records"][0]["x"][0][0] += 0.01

@@ -77,7 +77,7 @@ def _baseline(args: argparse.Namespace) -> int:
         import neurowalk.envs.vector  # noqa: F401
     from neurowalk.experiments.baselines import comparison as baseline
     from neurowalk.experiments.baselines.ppo import RlMissingError
-    from neurowalk.experiments.optimize.search import CmaMissingError
+    from neurowalk.experiments.cma_record import CmaMissingError
 
     methods = [m.strip() for m in args.methods.split(",")]
     sizes = {f.replace("-", "_"): getattr(args, f.replace("-", "_")) for f, _ in _SIZES}

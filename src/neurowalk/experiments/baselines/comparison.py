@@ -27,8 +27,15 @@ from typing import Any
 
 import numpy as np
 
+from neurowalk.envs.policy import NetworkPolicy, evaluate_batch
+from neurowalk.experiments.baselines import evolved_rnn, ppo
+from neurowalk.experiments.baselines.evolved_rnn import RecurrentPolicy
+from neurowalk.experiments.baselines.ppo import Sb3Policy, import_rl
+from neurowalk.experiments.cma_record import import_cma
 from neurowalk.experiments.suites.random_envs import wilson
 from neurowalk.fileio import atomic_write, write_json
+from neurowalk.plotting import pyplot
+from neurowalk.runners.stopping import deferred
 
 METHODS: tuple[str, ...] = ("neuroevo", "ppo", "rppo")
 NETWORKS: tuple[str, ...] = ("plastic", "plastic-original", "static", "braitenberg")  # NAME[-VARIANT]
@@ -96,8 +103,6 @@ def train_method(
 ) -> dict[str, Any]:
     """Train (or resume) one learned method; its record (budget, curve, weights or model path)."""
     if method == "neuroevo":
-        from neurowalk.experiments.baselines import evolved_rnn
-
         return evolved_rnn.train(
             folder,
             generations=sizes["generations"],
@@ -108,8 +113,6 @@ def train_method(
             progress=progress,
             log=log,
         )
-    from neurowalk.experiments.baselines import ppo
-
     return ppo.train(
         method,
         folder,
@@ -123,18 +126,12 @@ def train_method(
 
 def policy_of(name: str, record: dict[str, Any] | None, folder: Path) -> Any:
     """The batched policy of a network or a trained method."""
-    from neurowalk.envs.policy import NetworkPolicy
-
     if name in NETWORKS:
         network, _, variant = name.partition("-")
         return NetworkPolicy(network, variant=variant or "paper")
     assert record is not None
     if name == "neuroevo":
-        from neurowalk.experiments.baselines.evolved_rnn import RecurrentPolicy
-
         return RecurrentPolicy(np.array(record["theta"]), record["hidden"])
-    from neurowalk.experiments.baselines.ppo import Sb3Policy
-
     return Sb3Policy(name, folder / "model.zip")
 
 
@@ -147,17 +144,10 @@ def check_methods(methods: Sequence[str], *, available: bool = True) -> None:
     if not available:
         return
     if "neuroevo" in methods:
-        from neurowalk.experiments.optimize.search import CmaMissingError
-
-        try:
-            import cma  # noqa: F401
-        except ImportError as e:
-            raise CmaMissingError("neuroevo needs cma: pip install 'neurowalk[rl]'") from e
-    from neurowalk.experiments.baselines.ppo import import_sb3
-
+        import_cma(evolved_rnn.CMA_MISSING)
     for m in methods:
         if m != "neuroevo":
-            import_sb3(m)
+            import_rl(m)
 
 
 def run(
@@ -171,8 +161,6 @@ def run(
     log: Callable[[str], None] = print,
 ) -> dict[str, Any]:
     """Train the methods, score them and the networks, write DIR/baselines.{json,md,png}; the result."""
-    from neurowalk.envs.policy import evaluate_batch
-
     check_methods(methods)
     sz = sizes_of(quick, sizes or {})
     out = Path(out)
@@ -210,8 +198,6 @@ def run(
         "body": "surrogate",
         "variant": "paper, but plastic-original: original",
     }
-    from neurowalk.runners.stopping import deferred
-
     with deferred():  # the table and its numbers agree
         write_json(out / "baselines.json", result)
         atomic_write(out / "baselines.md", lambda tmp: Path(tmp).write_text(markdown(result)))
@@ -270,8 +256,6 @@ def markdown(result: dict[str, Any]) -> str:
 
 def plot(result: dict[str, Any], path: Path) -> None:
     """Success rates with their intervals, coverage per environment, and the training curves; to ``path``."""
-    from neurowalk.plotting import pyplot
-
     plt = pyplot()
     rows = result["rows"]
     fig, axes = plt.subplots(1, 3, figsize=(14, 4.2), layout="constrained")

@@ -27,13 +27,16 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from tqdm import tqdm
 
 from neurowalk.compiled import jit
+from neurowalk.envs.vector import ExploreVectorEnv
 from neurowalk.experiments import cma_record
-from neurowalk.experiments.cma_record import own_rng
+from neurowalk.experiments.cma_record import import_cma, own_rng
 from neurowalk.runners.stopping import deferred
 
 HIDDEN = 4
+CMA_MISSING = "neuroevo needs cma: pip install 'neurowalk[rl]'"
 
 
 def n_weights(hidden: int) -> int:
@@ -106,8 +109,6 @@ class RecurrentPolicy:
 
 def episode_returns(theta: np.ndarray, seeds: list[int], steps: int, hidden: int = HIDDEN) -> np.ndarray:
     """Mean return (m^2 newly covered) of each weight set of theta (λ, P) over the environments of ``seeds``."""
-    from neurowalk.envs.vector import ExploreVectorEnv
-
     lam, m = len(theta), len(seeds)
     env = ExploreVectorEnv(lam * m, max_steps=steps)
     obs, _ = env.reset(seed=[s for _ in range(lam) for s in seeds])  # copy c * m + j: candidate c, env j
@@ -140,8 +141,7 @@ def train(
         taken), ``wall_s`` (training time, summed over sessions), ``curve`` (per generation: mean and best
         candidate return, m^2), and the settings.
     """
-    import cma
-
+    cma = import_cma(CMA_MISSING)
     if min(generations, population, envs, steps) < 1 or population < 2:
         raise ValueError("generations, envs and steps must be >= 1 and population >= 2")
     if not 0 <= train_seed < 1000 or generations * envs > 1_000_000:
@@ -190,8 +190,6 @@ def train(
     es = state["es"]
     bar = None
     if progress and len(state["curve"]) < generations:
-        from tqdm import tqdm
-
         bar = tqdm(total=generations, initial=len(state["curve"]), unit="gen", desc="neuroevolution", mininterval=0.5)
     while len(state["curve"]) < generations:
         g = len(state["curve"])

@@ -9,7 +9,8 @@ seeds of ``neurowalk baseline``). Checkpoints (``model.zip`` and ``progress.json
 ``checkpoint_every`` steps; a run started again continues from the last one (the same environments onward, not
 the same numbers bit for bit: torch's and stable-baselines3's state between checkpoints is not kept).
 
-Needs the ``rl`` extra (torch, stable-baselines3, sb3-contrib); see the README for a CPU-only torch.
+Needs the ``rl`` extra (torch, stable-baselines3, sb3-contrib), imported in one place (:func:`import_rl`); see the
+README for a CPU-only torch.
 """
 
 from __future__ import annotations
@@ -18,11 +19,15 @@ import json
 import math
 import time
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import gymnasium as gym
 import numpy as np
+from tqdm import tqdm
 
+from neurowalk.envs.vector import ExploreVectorEnv
 from neurowalk.experiments.baselines.evolved_rnn import features
 from neurowalk.fileio import write_json
 from neurowalk.runners.stopping import deferred
@@ -34,31 +39,42 @@ class RlMissingError(ImportError):
     """stable-baselines3 / sb3-contrib (the ``rl`` extra) is not installed."""
 
 
-def import_sb3(algo: str) -> Any:
-    """The algorithm class of ``algo`` (``ppo``: PPO, ``rppo``: RecurrentPPO); RlMissingError names the install."""
+@dataclass(frozen=True)
+class Rl:
+    """What training and scoring use of the ``rl`` extra."""
+
+    algo: Any  # the algorithm class: stable-baselines3's PPO or sb3-contrib's RecurrentPPO
+    torch: Any
+    vec_env: Any  # stable-baselines3's VecEnv
+    callback: Any  # stable-baselines3's BaseCallback
+
+
+def import_rl(algo: str) -> Rl:
+    """The ``rl`` extra for ``algo`` (``ppo``: PPO, ``rppo``: RecurrentPPO); RlMissingError names the install."""
     try:
         if algo == "ppo":
             from stable_baselines3 import PPO
 
-            return PPO
-        from sb3_contrib import RecurrentPPO
+            algo_class = PPO
+        else:
+            from sb3_contrib import RecurrentPPO
 
-        return RecurrentPPO
+            algo_class = RecurrentPPO
+        import torch
+        from stable_baselines3.common.callbacks import BaseCallback
+        from stable_baselines3.common.vec_env import VecEnv
     except ImportError as e:
         raise RlMissingError(
             f"{algo} needs the rl extra ({e.name} is missing): pip install 'neurowalk[rl]' (CPU "
             "torch first: pip install torch --index-url https://download.pytorch.org/whl/cpu)"
         ) from e
+    return Rl(algo_class, torch, VecEnv, BaseCallback)
 
 
 def make_vec_env(n_envs: int, steps: int, train_seed: int, first_round: int = 0) -> Any:
     """A :class:`SurrogateVecEnv` (built here, as its base class comes from stable-baselines3)."""
-    import gymnasium as gym
-    from stable_baselines3.common.vec_env import VecEnv
 
-    from neurowalk.envs.vector import ExploreVectorEnv
-
-    class SurrogateVecEnv(VecEnv):
+    class SurrogateVecEnv(import_rl("ppo").vec_env):  # either algorithm's: both take stable-baselines3's VecEnv
         """``n_envs`` copies of the surrogate task as a stable-baselines3 ``VecEnv`` (see the module text)."""
 
         def __init__(self) -> None:
@@ -152,9 +168,7 @@ def train(
     Returns ``env_steps``, ``wall_s`` (summed over sessions), ``hyperparameters``, ``curve`` (mean episode
     return of each round of episodes, m^2) and the settings; the model is ``out/model.zip``.
     """
-    import torch
-
-    cls = import_sb3(algo)
+    rl = import_rl(algo)
     if total_steps < 1 or n_envs < 1 or steps < 1:
         raise ValueError(f"total_steps, n_envs and steps must be >= 1, got {total_steps}, {n_envs}, {steps}")
     out = Path(out)
@@ -171,16 +185,16 @@ def train(
                     f"{old.get(key)!r}, asked {value!r}); use another output folder"
                 )
         record = old
-    torch.manual_seed(seed)
+    rl.torch.manual_seed(seed)
     rounds = record["env_steps"] // (n_envs * steps)
     venv = make_vec_env(n_envs, steps, train_seed, first_round=rounds)
     hyper = dict(HYPER[algo])
     policy = hyper.pop("policy")
     if record["env_steps"]:
-        model = cls.load(model_path, env=venv, device="cpu")
+        model = rl.algo.load(model_path, env=venv, device="cpu")
     else:
-        model = cls(policy, venv, seed=seed, device="cpu", verbose=0, **hyper)
-    callback = _callback(record, n_envs, total_steps, progress)
+        model = rl.algo(policy, venv, seed=seed, device="cpu", verbose=0, **hyper)
+    callback = _callback(rl, record, n_envs, total_steps, progress)
     while record["env_steps"] < total_steps:
         chunk = min(checkpoint_every, total_steps - record["env_steps"])
         t0 = time.perf_counter()
@@ -196,10 +210,8 @@ def train(
     return {**record, "hyperparameters": HYPER[algo]}
 
 
-def _callback(record: dict[str, Any], n_envs: int, total: int, progress: bool) -> Any:
-    from stable_baselines3.common.callbacks import BaseCallback
-
-    class Progress(BaseCallback):
+def _callback(rl: Rl, record: dict[str, Any], n_envs: int, total: int, progress: bool) -> Any:
+    class Progress(rl.callback):
         """Progress bar over env steps; the mean return of each round of episodes into the record's curve."""
 
         def __init__(self) -> None:
@@ -207,8 +219,6 @@ def _callback(record: dict[str, Any], n_envs: int, total: int, progress: bool) -
             self.bar = None
             self.returns = np.zeros(n_envs)
             if progress:
-                from tqdm import tqdm
-
                 self.bar = tqdm(total=total, initial=record["env_steps"], unit="step", desc="training", mininterval=0.5)
 
         def _on_step(self) -> bool:
@@ -234,7 +244,7 @@ class Sb3Policy:
     -> (n, 2) steering, deterministic (the mean action), with the LSTM's state kept per copy for ``rppo``."""
 
     def __init__(self, algo: str, path: Path) -> None:
-        self.model = import_sb3(algo).load(path, device="cpu")
+        self.model = import_rl(algo).algo.load(path, device="cpu")
         self.recurrent = algo == "rppo"
         self.reset()
 

@@ -16,17 +16,35 @@ Nothing here depends on the machine (no wall times, no paths), so the same seed 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from neurowalk.experiments.optimize.space import FITNESS_RULE
+from neurowalk import __version__
+from neurowalk.experiments.optimize.settings import Sizes
+from neurowalk.experiments.optimize.space import FITNESS_RULE, Dim
+from neurowalk.experiments.suites import deadends
+from neurowalk.experiments.suites.random_envs import FAILURE_RULE, RULE, failure_class, wilson
+from neurowalk.fileio import atomic_write, write_json
+from neurowalk.plotting import pyplot
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from neurowalk.experiments.optimize.search import Search, Sizes
+
+@dataclass
+class Search:
+    """What a search produced: ``best`` (the best.json contents), ``heldout``, ``history`` and run counts."""
+
+    best: dict[str, Any]
+    heldout: dict[str, Any]
+    history: list[dict[str, Any]]  # per generation: every candidate's values and fitness
+    base_training: dict[str, Any]  # the base variant's fitness on the training set
+    space: tuple[Dim, ...]
+    runs_computed: int  # runs computed by this call (0 when everything was in the store)
+    runs_skipped: int  # runs found in the store
 
 
 def best_candidate(history: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
@@ -83,8 +101,6 @@ def heldout_table(
     steps: int,
 ) -> dict[str, Any]:
     """The held-out table: per network successes, rate and Wilson 95% interval; paired counts against ``best``."""
-    from neurowalk.experiments.suites.random_envs import FAILURE_RULE, RULE, failure_class, wilson
-
     n = len(envs)
     table: dict[str, Any] = {}
     for name, (variant, params) in rows.items():
@@ -159,9 +175,6 @@ def best_json(
     variant: str,
 ) -> dict[str, Any]:
     """The contents of best.json: the params file of the best candidate with how it was found."""
-    from neurowalk import __version__
-    from neurowalk.experiments.suites.deadends import TRAP_STEPS, VARIANTS
-
     h = search.heldout
     hist = []
     so_far = -np.inf
@@ -198,9 +211,9 @@ def best_json(
             "box_size_m": 1.0,
         },
         "deadends": {
-            "geometries": {k: {"arena": a, "options": o} for k, (a, o) in VARIANTS.items()},
+            "geometries": {k: {"arena": a, "options": o} for k, (a, o) in deadends.VARIANTS.items()},
             "seeds": sizes.deadend_seeds,
-            "steps": TRAP_STEPS,
+            "steps": deadends.TRAP_STEPS,
             "network": "plastic",
         },
         "heldout": {
@@ -227,8 +240,6 @@ def best_json(
 
 def write(search: Search, folder: Path) -> list[Path]:
     """Write best.json, heldout.json, history.json and convergence.png into ``folder``; return their paths."""
-    from neurowalk.fileio import atomic_write, write_json
-
     paths = [folder / n for n in ("best.json", "heldout.json", "history.json", "convergence.png")]
     write_json(paths[0], search.best)
     write_json(paths[1], search.heldout)
@@ -256,8 +267,6 @@ def plot(search: Search) -> Figure:
     """Left: best, mean and best-so-far fitness per generation (base on the training set dashed). Right: the
     distribution mean of every field per generation (lines) and each generation's best candidate (dots), in
     normalised coordinates (0 = lo, 1 = hi)."""
-    from neurowalk.plotting import pyplot
-
     plt = pyplot()
     fig, ax = plt.subplots(1, 2, figsize=(12, 4.5))
     g = np.array([r["generation"] for r in search.history])

@@ -5,131 +5,69 @@ The paper says the learning parameters "could be found by evolutionary algorithm
 * Candidates: SensoryParams fields (default ``mu_b, mu_q, gamma_b, gamma_q, k``) on top of a base variant
   (default ``original``), searched in a normalised space (log scale for the rates; see :mod:`.space`).
 * Objective: Table 2 success rate on training environments (the Table 2 generator, 1 m boxes, table seed
-  :data:`TRAIN_SEED`); constraint: every dead end of the Fig. 5 escape suite (simple deadlock, narrow passage,
-  its gap and funnel ±20%, plastic network, :data:`~neurowalk.experiments.suites.deadends.TRAP_STEPS` steps) escaped;
-  :data:`~neurowalk.experiments.optimize.space.FITNESS_RULE` ranks the infeasible below the feasible.
+  :data:`~.settings.TRAIN_SEED`); constraint: every dead end of the Fig. 5 escape suite (simple deadlock, narrow
+  passage, its gap and funnel ±20%, plastic network, :data:`~neurowalk.experiments.suites.deadends.TRAP_STEPS`
+  steps) escaped; :data:`~.space.FITNESS_RULE` ranks the infeasible below the feasible.
 * Every run goes through the sweep engine into ``DIR/results.sqlite``; the search's record (its settings, and
   each generation's candidates and scores) is written to ``DIR/cmaes.json`` after each generation. A killed
   search is resumed by replaying that record into a fresh CMA-ES of the same seed (its samples are checked to be
   the recorded ones), so it goes on with nothing recomputed and ends as an uninterrupted one would (same seed,
   same result). Nothing is pickled: a results folder cannot run code.
 * Then the best candidate, the base variant and the paper variant walk held-out environments (table seed
-  :data:`HELDOUT_SEED`, Table 2's own), with Wilson 95% intervals; written by :mod:`.report`.
+  :data:`~.settings.HELDOUT_SEED`, Table 2's own), with Wilson 95% intervals; written by :mod:`.report`.
 
-Sizes (:data:`FULL`, :data:`QUICK`): the full search, 8 candidates x 12 generations on 80 environments of 20000
-steps (Table 2's run length) and 3 seeds per dead end, then 200 held-out environments: about 9000 runs, 20-35 min
-on 2 shared cores. ``quick``: 6 x 5 candidates on 16 environments of 10000 steps, 50 held-out environments: about
-a minute (at 5000 steps nearly every candidate succeeds everywhere, so the objective would be flat).
+Sizes and seeds: :mod:`.settings`.
 """
 
 from __future__ import annotations
 
-import importlib.util
 import time
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from neurowalk.experiments import cma_record
-from neurowalk.experiments.cma_record import own_rng
+from neurowalk.experiments.cma_record import import_cma, own_rng
+from neurowalk.experiments.optimize import report
+from neurowalk.experiments.optimize.report import Search
+from neurowalk.experiments.optimize.settings import (
+    BODY,
+    CMA_MISSING,
+    FULL,
+    HELDOUT_SEED,
+    OLD_STATE_FILE,
+    QUICK,
+    SIGMA0,
+    STATE_FILE,
+    TRAIN_SEED,
+    check_seeds,
+    check_sizes,
+)
 from neurowalk.experiments.optimize.space import Dim, decode, fitness, make_space, start_point
+from neurowalk.experiments.suites import deadends
+from neurowalk.experiments.suites.random_envs import environments, spec
 from neurowalk.fileio import make_writable_folder
+from neurowalk.runners import ray_backend
+from neurowalk.runners.specs import spec_key
 from neurowalk.runners.stopping import deferred
-
-BODY = "surrogate"
-TRAIN_SEED = 1000  # table seed of the training environments (run seeds 1000, 1001, ...)
-HELDOUT_SEED = 0  # table seed of the held-out environments: Table 2's own (run seeds 0, 1, ...)
-SIGMA0 = 0.2  # initial CMA-ES step size in the normalised space (the bounds are 1 apart)
-STATE_FILE = "cmaes.json"
-OLD_STATE_FILE = "cmaes.pkl"  # older versions' pickled state: never read
-
-
-class CmaMissingError(ImportError):
-    """The ``cma`` package (extra ``neurowalk[optimize]``) is not installed."""
-
-
-@dataclass(frozen=True)
-class Sizes:
-    """How big a search is: candidates per generation, generations, environments, steps, dead-end seeds."""
-
-    population: int  # candidates per generation (CMA-ES lambda)
-    generations: int
-    environments: int  # training environments per candidate
-    heldout: int  # held-out environments per validated network
-    steps: int  # control steps per environment run (10 Hz)
-    deadend_seeds: int  # runs per dead-end geometry (seeds 0 ...)
-
-
-FULL = Sizes(population=8, generations=12, environments=80, heldout=200, steps=20_000, deadend_seeds=3)
-QUICK = Sizes(population=6, generations=5, environments=16, heldout=50, steps=10_000, deadend_seeds=2)
-
-
-@dataclass
-class Search:
-    """What a search produced: ``best`` (the best.json contents), ``heldout``, ``history`` and run counts."""
-
-    best: dict[str, Any]
-    heldout: dict[str, Any]
-    history: list[dict[str, Any]]  # per generation: every candidate's values and fitness
-    base_training: dict[str, Any]  # the base variant's fitness on the training set
-    space: tuple[Dim, ...]
-    runs_computed: int  # runs computed by this call (0 when everything was in the store)
-    runs_skipped: int  # runs found in the store
-
-
-def check_sizes(s: Sizes) -> None:
-    """Raise ValueError naming the first size out of range (population >= 2, the rest >= 1; steps <= MAX_STEPS)."""
-    from neurowalk.sim.episode import MAX_STEPS
-
-    for name, lo in (
-        ("population", 2),
-        ("generations", 1),
-        ("environments", 1),
-        ("heldout", 1),
-        ("steps", 1),
-        ("deadend_seeds", 1),
-    ):
-        v = getattr(s, name)
-        if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < lo:
-            raise ValueError(f"{name} must be a whole number >= {lo}, got {v!r}")
-    if s.steps > MAX_STEPS:
-        raise ValueError(f"steps must be at most {MAX_STEPS:,} (the longest run), got {s.steps!r}")
-
-
-def check_seeds(seed: int, train_seed: int, heldout_seed: int, sizes: Sizes) -> None:
-    """Seeds >= 0 (CMA-ES's < 2**32 - 1, run seeds < 2**63); training and held-out run seeds must not overlap."""
-    for name, v in (("seed", seed), ("train_seed", train_seed), ("heldout_seed", heldout_seed)):
-        if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < 0:
-            raise ValueError(f"{name} must be a whole number >= 0, got {v!r}")
-    if seed >= 2**32 - 1:
-        raise ValueError(f"seed must be below 2**32 - 1 (the CMA-ES random state), got {seed!r}")
-    a, b = (train_seed, train_seed + sizes.environments), (heldout_seed, heldout_seed + sizes.heldout)
-    for name, (first, stop) in (("train_seed", a), ("heldout_seed", b)):
-        if stop > 2**63:
-            raise ValueError(f"{name} {first} + its {stop - first} environments: run seeds must stay below 2**63")
-    if a[0] < b[1] and b[0] < a[1]:
-        raise ValueError(
-            f"training run seeds {a[0]}-{a[1] - 1} overlap the held-out ones {b[0]}-{b[1] - 1}: "
-            "choose a train seed and a held-out seed further apart"
-        )
+from neurowalk.runners.store import ResultStore
+from neurowalk.runners.sweep import run_sweep
 
 
 def deadend_specs(variant: str, params: Mapping[str, float] | None, seeds: int) -> list[dict[str, Any]]:
     """Run specs of the escape suite: every Fig. 5 dead-end geometry x seeds 0..``seeds``-1, plastic, surrogate."""
-    from neurowalk.experiments.suites.deadends import TRAP_STEPS, VARIANTS
-
     out = []
-    for arena, opts in VARIANTS.values():
+    for arena, opts in deadends.VARIANTS.values():
         for s in range(seeds):
             spec: dict[str, Any] = {
                 "arena": arena,
                 "arena_opts": dict(opts),
                 "controller": "plastic",
                 "body": BODY,
-                "steps": TRAP_STEPS,
+                "steps": deadends.TRAP_STEPS,
                 "seed": s,
                 "variant": variant,
             }
@@ -143,8 +81,6 @@ def train_specs(
     variant: str, params: Mapping[str, float] | None, envs: Sequence[dict[str, Any]], steps: int
 ) -> list[dict[str, Any]]:
     """Run specs of one network on the given random environments (Table 2's spec, surrogate body)."""
-    from neurowalk.experiments.suites.random_envs import spec
-
     return [spec(e, "plastic", steps, BODY, variant=variant, params=dict(params) if params else None) for e in envs]
 
 
@@ -163,10 +99,6 @@ class Runner:
 
     def __call__(self, specs: list[dict[str, Any]]) -> list[dict[str, Any]]:
         """The results of ``specs`` (summaries, in order), computing only those not in the store."""
-        from neurowalk.runners.specs import spec_key
-        from neurowalk.runners.store import ResultStore
-        from neurowalk.runners.sweep import run_sweep
-
         with deferred():  # opened whole (its lock, its tables), or not at all
             store = ResultStore(self.folder / "results.sqlite")
         with store:
@@ -228,8 +160,7 @@ def new_state(
     Its samples come from a RandomState of its own (option ``randn``), so that a replayed search draws what an
     uninterrupted one would.
     """
-    import cma
-
+    cma = import_cma(CMA_MISSING)
     state: dict[str, Any] = {"settings": settings, "records": [], "rng": None}
     with own_rng(state):
         state["es"] = cma.CMAEvolutionStrategy(
@@ -270,7 +201,8 @@ def run(
 
     Args:
         out: output folder: results.sqlite, cmaes.json, best.json, heldout.json, history.json, convergence.png.
-        quick: the :data:`QUICK` sizes instead of :data:`FULL`; ``sizes`` overrides single ones by name.
+        quick: the :data:`~.settings.QUICK` sizes instead of :data:`~.settings.FULL`; ``sizes`` overrides single
+            ones by name.
         variant: base variant ('paper' or 'original'); fields/bounds: see :func:`.space.make_space`.
         seed: CMA-ES seed; train_seed/heldout_seed: table seeds of the training and held-out environments.
         sigma0: initial step size in the normalised space (0, 1].
@@ -282,9 +214,6 @@ def run(
         CmaMissingError: the ``cma`` package is not installed.
         KeyboardInterrupt: interrupted; the finished runs and generations are kept and a rerun resumes.
     """
-    from neurowalk.experiments.optimize import report
-    from neurowalk.experiments.suites.random_envs import environments
-
     base_sizes = QUICK if quick else FULL
     unknown = sorted(set(sizes or {}) - set(asdict(base_sizes)))
     if unknown:
@@ -295,8 +224,7 @@ def run(
     if not (isinstance(sigma0, int | float) and 0 < sigma0 <= 1):
         raise ValueError(f"sigma0 must be in (0, 1] (the normalised space), got {sigma0!r}")
     space = make_space(variant, fields, bounds)
-    if importlib.util.find_spec("cma") is None:
-        raise CmaMissingError("neurowalk optimize needs the cma package: `pip install neurowalk[optimize]`")
+    import_cma(CMA_MISSING)  # CmaMissingError before any work
     if backend not in ("local", "ray"):
         raise ValueError(f"unknown backend {backend!r}; expected local or ray")
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
@@ -320,8 +248,6 @@ def run(
     runner = Runner(folder, backend, workers, address, progress)
     started = False
     if backend == "ray":
-        from neurowalk.runners import ray_backend
-
         started = ray_backend.start(workers=workers, address=address)  # one Ray instance for every generation
     try:
         envs = environments(sz.environments, train_seed)
@@ -376,8 +302,6 @@ def run(
         held_runs = {name: runner(train_specs(v, p, held, sz.steps)) for name, (v, p) in rows.items()}
     finally:
         if started:
-            from neurowalk.runners import ray_backend
-
             ray_backend.stop()
     search = Search(
         best={},

@@ -28,6 +28,8 @@ from typing import Any
 
 import numpy as np
 
+from neurowalk.neural.variants import TUNABLE, get_variant
+
 #: Variants a search can start from (the tuned variant is itself a search's result).
 BASES: tuple[str, ...] = ("paper", "original")
 #: Fields searched unless others are named: the learning rule's rates and offset (DESIGN §3, Eq. 3-4).
@@ -120,8 +122,6 @@ def make_space(
         ValueError: unknown field or variant, lo >= hi, a non-finite bound, or a bound the parameters refuse
             (e.g. a negative rate); the message names the value.
     """
-    from neurowalk.neural.variants import TUNABLE, get_variant
-
     if base not in BASES:
         raise ValueError(f"base variant must be {' or '.join(map(repr, BASES))}, got {base!r}")
     names = list(DEFAULT_FIELDS if fields is None else fields)
@@ -158,8 +158,6 @@ def decode(space: Sequence[Dim], x: Sequence[float] | np.ndarray) -> dict[str, f
 
 def start_point(space: Sequence[Dim], base: str) -> np.ndarray:
     """Normalised coordinates, shape (len(space),), of the base variant's own values (clipped into the bounds)."""
-    from neurowalk.neural.variants import get_variant
-
     sensory = get_variant(base).sensory
     out = []
     for d in space:
