@@ -701,7 +701,7 @@ def tripwires(places: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
     import neurowalk.bench
     import neurowalk.body.registry
     import neurowalk.experiments.baselines.comparison
-    import neurowalk.experiments.calibration.physics
+    import neurowalk.experiments.calibration.calibrate
     import neurowalk.experiments.optimize.search
     import neurowalk.render
     import neurowalk.runners.store
@@ -720,7 +720,7 @@ def tripwires(places: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
         (neurowalk.sim.episode, "build"),
         (neurowalk.runners.sweep, "run_sweep"),
         (neurowalk.runners.store, "ResultStore"),
-        (neurowalk.experiments.calibration.physics, "calibrate"),
+        (neurowalk.experiments.calibration.calibrate, "calibrate"),
         (neurowalk.bench, "run_bench"),
         (neurowalk.body.registry, "body_xml"),
         (neurowalk.experiments.optimize.search, "new_state"),

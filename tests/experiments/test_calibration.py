@@ -11,8 +11,9 @@ import pytest
 from neurowalk.body.surrogate import load_calibration
 from neurowalk.body.wheeled import WheeledParams
 from neurowalk.cli import main
-from neurowalk.experiments.calibration.fit import outline
-from neurowalk.experiments.calibration.physics import body_velocity, calibrate, fit_lag, geometry, predict, sway_fit
+from neurowalk.experiments.calibration.calibrate import calibrate
+from neurowalk.experiments.calibration.fit import body_velocity, fit_lag, outline, predict, sway_fit
+from neurowalk.experiments.calibration.physics import geometry
 
 
 def test_body_velocity_of_a_circle() -> None:

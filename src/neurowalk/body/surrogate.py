@@ -10,7 +10,7 @@ through them. Box heights are ignored: every box is a wall to the surrogate.
 The same model, calibrated on the physics wheeled robot (``neurowalk calibrate --body wheeled``, stored in
 ``body/data/calibration-wheeled.json``), is the body ``surrogate-wheeled``: no gait, so no yaw sway.
 
-The surrogate reads only its data file; :mod:`neurowalk.experiments.calibration.physics` measures and writes it.
+The surrogate reads only its data file; :mod:`neurowalk.experiments.calibration` measures and writes it.
 """
 
 from __future__ import annotations

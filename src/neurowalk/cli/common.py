@@ -63,7 +63,7 @@ def registry_names(name: str) -> tuple[str, ...]:
 
         return tuple(b for b, info in BODIES.items() if name == "bodies" or info.physics)
     if name == "calibrated_bodies":
-        from neurowalk.experiments.calibration.physics import SUBJECTS
+        from neurowalk.experiments.calibration.subjects import SUBJECTS
 
         return tuple(SUBJECTS)
     if name == "arenas":

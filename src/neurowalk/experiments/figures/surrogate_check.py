@@ -16,7 +16,8 @@ import numpy as np
 
 from neurowalk.body.surrogate import load_calibration
 from neurowalk.experiments import Result
-from neurowalk.experiments.calibration.physics import HELD_OUT, validation
+from neurowalk.experiments.calibration.calibrate import validation
+from neurowalk.experiments.calibration.subjects import HELD_OUT
 from neurowalk.experiments.suites.deadends import NETWORKS, VARIANTS, outcome_table
 
 if TYPE_CHECKING:
