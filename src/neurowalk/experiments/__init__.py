@@ -6,8 +6,8 @@
   real-robot runs).
 * :mod:`.optimize`, :mod:`.calibration`, :mod:`.baselines`: the studies of ``neurowalk optimize``, ``calibrate``
   and ``baseline``.
-* :mod:`.output` writes a figure's numbers and picture; :mod:`.cma_record` keeps a CMA-ES search (optimize and
-  the evolved baseline).
+* :mod:`.output` writes a figure's numbers and picture; :mod:`.stores` keeps a figure's runs; :mod:`.cma_record`
+  keeps a CMA-ES search (optimize and the evolved baseline).
 
 :data:`FIGURES` maps a figure name to its :class:`Experiment`; the CLI, the tests and batch runs look them up
 there. It is a table written out below: a figure's module is imported when its ``run`` or ``plot`` is first used,

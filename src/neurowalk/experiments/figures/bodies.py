@@ -23,9 +23,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result
+from neurowalk.experiments.stores import run_store
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.random_envs import STEPS, environments, spec, wilson
+from neurowalk.experiments.suites.real_robot import run_store_paths
+from neurowalk.plotting import draw_arena, pyplot
+from neurowalk.runners.specs import spec_key
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -55,10 +60,6 @@ def run(
     """``seeds`` (default 10; 2 with ``quick``) runs per dead end and 5x as many Table 2 environments (default 50;
     quick: 3 environments of 1000 steps, dead ends of 600: a smoke test), per body and network, through the store in
     ``out``."""
-    from neurowalk.experiments.suites.climbing import run_store
-    from neurowalk.experiments.suites.real_robot import run_store_paths
-    from neurowalk.runners.specs import spec_key
-
     n = seeds if seeds is not None else (2 if quick else 10)
     if n < 1:
         raise ValueError(f"seeds must be >= 1, got {n}")
@@ -121,9 +122,6 @@ def run(
 
 def plot(res: Result) -> Figure:
     """Paths in the narrow passage per body (plastic vs static); dead-end escapes; Table 2 success with intervals."""
-    from neurowalk.arenas import make_arena
-    from neurowalk.plotting import draw_arena, pyplot
-
     plt = pyplot()
     s = res.summary
     bodies = list(s["bodies"])

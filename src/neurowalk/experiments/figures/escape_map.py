@@ -15,7 +15,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from neurowalk.experiments import Result
+from neurowalk.experiments.stores import store_folder
 from neurowalk.experiments.suites.deadends import TRAP_STEPS, stored_runs
+from neurowalk.plotting import pyplot
 from neurowalk.sim.episode import EpisodeConfig
 
 if TYPE_CHECKING:
@@ -47,8 +49,6 @@ def run(
     ``variant``: the networks' variant (``paper`` or ``original``). ``out``: the folder of the resumable result store
     (``results.sqlite``): a rerun goes on from the runs it holds.
     """
-    from neurowalk.experiments.suites.climbing import store_folder
-
     n = seeds if seeds is not None else (2 if quick else 5)
     if n < 1:
         raise ValueError(f"seeds must be >= 1, got {n}")
@@ -98,8 +98,6 @@ def run(
 
 def plot(res: Result) -> Figure:
     """One panel per sweep: escape rate against size, one line per network."""
-    from neurowalk.plotting import pyplot
-
     plt = pyplot()
     s = res.summary
     fig, axes = plt.subplots(1, len(s["sweeps"]), figsize=(5 * len(s["sweeps"]), 4), constrained_layout=True)

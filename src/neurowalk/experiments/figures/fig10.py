@@ -14,16 +14,24 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
+from matplotlib.patches import Polygon
 
+from neurowalk import anatomy
+from neurowalk.arenas import make_arena
+from neurowalk.body.physics import AmosII
 from neurowalk.experiments import Result
+from neurowalk.experiments.stores import run_store
 from neurowalk.experiments.suites.climbing import (
     TRACK_HEIGHTS,
     TRACK_RULE,
     TRACK_STEPS,
-    run_store,
     track_spec,
     track_success,
 )
+from neurowalk.plotting import draw_arena, pyplot
+from neurowalk.render import render_frames
+from neurowalk.runners.specs import spec_key, to_config
+from neurowalk.sim.episode import run_episode
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -65,11 +73,6 @@ def run(
 
     ``variant``: the plastic network's variant (``paper`` by default).
     """
-    from neurowalk.body.physics import AmosII
-    from neurowalk.render import render_frames
-    from neurowalk.runners.specs import spec_key, to_config
-    from neurowalk.sim.episode import run_episode
-
     n = seeds if seeds is not None else (3 if quick else 10)
     if n < 1:
         raise ValueError(f"seeds must be >= 1, got {n}")
@@ -123,11 +126,6 @@ def run(
 
 def _draw_track(ax: object, arena_opts: dict, pose: np.ndarray) -> None:
     """Top view: floors shaded by height, walls dark, the path coloured by time."""
-    from matplotlib.patches import Polygon
-
-    from neurowalk.arenas import make_arena
-    from neurowalk.plotting import draw_arena
-
     arena = make_arena("climbing-track", **arena_opts)
     draw_arena(ax, arena, pose)  # type: ignore[arg-type]
     top = max(b.h for b in arena.boxes)
@@ -139,9 +137,6 @@ def _draw_track(ax: object, arena_opts: dict, pose: np.ndarray) -> None:
 
 def plot(res: Result) -> Figure:
     """Top view, side view, backbone angle, foot contacts, steering, and the four snapshots."""
-    from neurowalk import anatomy
-    from neurowalk.plotting import pyplot
-
     plt = pyplot()
     s, a = res.summary, res.arrays
     fig = plt.figure(figsize=(15, 10))

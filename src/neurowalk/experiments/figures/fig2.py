@@ -25,6 +25,7 @@ from neurowalk.neural.analysis import (
     single_neuron_branches,
     single_neuron_thresholds,
 )
+from neurowalk.plotting import pyplot
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -98,10 +99,7 @@ def run(*, quick: bool = False, seed: int = 0) -> Result:
 
 def plot(res: Result) -> Figure:
     """Seven panels, B-G, as described in the module docstring."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     a, s = res.arrays, res.summary
     fig = plt.figure(figsize=(14, 8), constrained_layout=True)

@@ -18,6 +18,8 @@ import numpy as np
 from neurowalk.experiments import Result
 from neurowalk.neural.plasticity import fixed_point
 from neurowalk.neural.sensory import distance_to_input, simulate
+from neurowalk.neural.variants import get_variant
+from neurowalk.plotting import pyplot
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -57,8 +59,6 @@ def run(
     *, quick: bool = False, seed: int = 0, variant: str = "paper", params: dict[str, float] | None = None
 ) -> Result:
     """Compute both panels. ``quick`` shortens panel B; ``variant``/``params``: the network (default Eq. 1-6)."""
-    from neurowalk.neural.variants import get_variant
-
     p = get_variant(variant, params).sensory
     b_star = fixed_point(p.mu_b, p.gamma_b, p.k)
     q_star = fixed_point(p.mu_q, p.gamma_q, p.k)
@@ -117,10 +117,7 @@ def run(
 
 def plot(res: Result) -> Figure:
     """Panel A (weights for constant inputs, several starts) and panel B (changing inputs)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    plt = pyplot()
 
     s, a = res.summary, res.arrays
     fig = plt.figure(figsize=(12, 8), constrained_layout=True)

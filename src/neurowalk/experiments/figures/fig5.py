@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 
 from neurowalk.experiments import Result
 from neurowalk.experiments.suites.deadends import build
+from neurowalk.experiments.suites.deadends_plot import plot as draw
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -76,6 +77,4 @@ def run(
 
 def plot(res: Result) -> Figure:
     """Panels A-G; the counts table printed below."""
-    from neurowalk.experiments.suites.deadends_plot import plot as draw
-
     return draw(res, NETWORK, list(LONG), weights_panel=True)

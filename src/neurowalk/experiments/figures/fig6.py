@@ -7,8 +7,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result
+from neurowalk.experiments.stores import run_store, store_folder
 from neurowalk.experiments.suites.random_envs import QUICK_STEPS, RULE, SIZE, STEPS, environments, spec
+from neurowalk.plotting import draw_arena, pyplot
+from neurowalk.runners.specs import normalize, result_of, spec_key, to_config
+from neurowalk.sim.episode import EpisodeConfig, RunInterruptedError, run_episode, seeds
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -16,9 +21,6 @@ if TYPE_CHECKING:
 
 def path_of(spec_: dict[str, Any]) -> dict[str, Any]:
     """The stored result of one run: its summary and its pose every 10th control step (a list)."""
-    from neurowalk.runners.specs import normalize, result_of, to_config
-    from neurowalk.sim.episode import RunInterruptedError, run_episode
-
     try:
         ep = run_episode(to_config(normalize(spec_)))
     except RunInterruptedError:
@@ -41,9 +43,6 @@ def run(
 
     ``out``: the folder of the resumable result store (``results.sqlite``): a rerun goes on from the runs it holds.
     """
-    from neurowalk.experiments.suites.climbing import run_store, store_folder
-    from neurowalk.runners.specs import spec_key
-
     steps = QUICK_STEPS if quick else STEPS
     envs = environments(16, seed)
     specs = [spec(e, "plastic", steps, body, variant=variant, size=size, params=params) for e in envs]
@@ -82,14 +81,9 @@ def run(
 
 def plot(res: Result) -> Figure:
     """4 x 4 panels: arena, path, start (red) and end (green) dots; a failure framed in red."""
-    from neurowalk.arenas import make_arena
-    from neurowalk.plotting import draw_arena, pyplot
-
     plt = pyplot()
     s = res.summary
     fig, axes = plt.subplots(4, 4, figsize=(12, 12))
-    from neurowalk.sim.episode import EpisodeConfig, seeds
-
     for i, (ax, env) in enumerate(zip(axes.flat, s["environments"], strict=False)):
         opts = spec(env, "plastic", 1, "surrogate", size=s.get("box_size_m", 0.6))["arena_opts"]
         arena = make_arena("random", rng=seeds(EpisodeConfig(seed=env["seed"]))[2], **opts)

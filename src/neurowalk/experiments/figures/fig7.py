@@ -16,6 +16,7 @@ import numpy as np
 from neurowalk import anatomy, gait
 from neurowalk.experiments import Result
 from neurowalk.neural.cpg import period
+from neurowalk.plotting import pyplot
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
 if TYPE_CHECKING:
@@ -65,8 +66,6 @@ def run(*, quick: bool = False, seed: int = 0) -> Result:
 
 def plot(res: Result) -> Figure:
     """Four columns (A-D), 18 stacked joint traces each (degrees), swing phases shaded grey."""
-    from neurowalk.plotting import pyplot
-
     plt = pyplot()
     fig, axes = plt.subplots(1, 4, figsize=(16, 10), sharey=True, constrained_layout=True)
     rows = [(j, leg) for leg in anatomy.LEGS for j in anatomy.LEG_JOINTS]

@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.real_robot import (
@@ -34,6 +35,8 @@ from neurowalk.experiments.suites.real_robot import (
     snapshots,
     write_videos,
 )
+from neurowalk.plotting import pyplot
+from neurowalk.runners.specs import spec_key
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -81,9 +84,6 @@ def run(
 
     def spec(net: str, s: int) -> dict[str, Any]:
         return make_spec(ARENA, {}, net, s, steps, variant=variant, params=params)
-
-    from neurowalk.arenas import make_arena
-    from neurowalk.runners.specs import spec_key
 
     results = run_store_paths([spec(net, seed + k) for net in NETWORKS for k in range(n)], folder, workers)
     examples = example_runs({net: spec(net, seed) for net in NETWORKS}, workers)
@@ -156,9 +156,6 @@ def _geometry(arena: Any) -> dict[str, Any]:
 
 def plot(res: Result) -> Figure:
     """Snapshot strips (one row per network), top views of every seed's path, steering and weights."""
-    from neurowalk.arenas import make_arena
-    from neurowalk.plotting import pyplot
-
     plt = pyplot()
     s, a = res.summary, res.arrays
     arena = make_arena(s["arena"], **s["arena_opts"])

@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from neurowalk.arenas import arena_options, make_arena
 from neurowalk.arenas.deadlocks import EXIT_MARGIN, WALL
 from neurowalk.arenas.generated import MOUTH, OPENING
 from neurowalk.experiments import Result
@@ -37,6 +38,8 @@ from neurowalk.experiments.suites.real_robot import (
     snapshots,
     write_videos,
 )
+from neurowalk.plotting import pyplot
+from neurowalk.runners.specs import spec_key
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -82,8 +85,6 @@ def outcome(xy: np.ndarray, arena: ArenaSpec) -> tuple[str, int | None]:
 
 
 def _cell(width_f: float, spacing_f: float) -> dict[str, float]:
-    from neurowalk.arenas import arena_options
-
     d = arena_options(ARENA)
     return {"width": round(d["width"] * width_f, 6), "spacing": round(d["spacing"] * spacing_f, 6)}
 
@@ -112,9 +113,6 @@ def run(
         video: also write one mp4 per network of the example run into ``out``.
         variant, params: the sensory network's variant and parameter overrides (see ``EpisodeConfig``).
     """
-    from neurowalk.arenas import make_arena
-    from neurowalk.runners.specs import spec_key
-
     n = seeds if seeds is not None else (3 if quick else 10)
     if n < 1:
         raise ValueError(f"seeds must be >= 1, got {n}")
@@ -272,9 +270,6 @@ def draw_map(ax: Axes, res: Result, net: str) -> None:
 
 def plot(res: Result) -> Figure:
     """Rows: snapshot strips (plastic, static), top views, outcome maps, steering and weights of the examples."""
-    from neurowalk.arenas import make_arena
-    from neurowalk.plotting import pyplot
-
     plt = pyplot()
     s, a = res.summary, res.arrays
     arena = make_arena(s["arena"], **s["arena_opts"])

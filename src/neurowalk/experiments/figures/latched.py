@@ -16,8 +16,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result
+from neurowalk.experiments.stores import run_store, store_folder
 from neurowalk.experiments.suites.random_envs import STEPS, environments, failure_class, spec
+from neurowalk.metrics import turn_state
+from neurowalk.plotting import draw_arena, pyplot
+from neurowalk.runners.specs import normalize, spec_key, to_config
+from neurowalk.sim.episode import EpisodeConfig, run_episode, seeds
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -40,10 +46,6 @@ def run(
 
     ``out``: the folder of the resumable result store of the search (``results.sqlite``, one summary per run).
     """
-    from neurowalk.experiments.suites.climbing import run_store, store_folder
-    from neurowalk.runners.specs import normalize, spec_key, to_config
-    from neurowalk.sim.episode import run_episode
-
     envs = environments(40 if quick else SEARCHED, seed)
     specs = [spec(e, "plastic", STEPS, "surrogate", variant=variant, params=params) for e in envs]
     with store_folder(out) as folder:
@@ -87,8 +89,6 @@ def run(
 
 def _latch_start(outputs: np.ndarray) -> int:
     """First step of the final unbroken run of one turn direction (the latch)."""
-    from neurowalk.metrics import turn_state
-
     s = turn_state(outputs)
     last = s[-1]
     k = len(s) - 1
@@ -98,17 +98,12 @@ def _latch_start(outputs: np.ndarray) -> int:
 
 
 def _arena(env: dict[str, Any], variant: str) -> Any:
-    from neurowalk.arenas import make_arena
-    from neurowalk.sim.episode import EpisodeConfig, seeds
-
     opts = spec(env, "plastic", 1, "surrogate", variant=variant)["arena_opts"]
     return make_arena("random", rng=seeds(EpisodeConfig(seed=env["seed"]))[2], **opts)
 
 
 def plot(res: Result) -> Figure:
     """Per environment: the path (the pocket framed), steering over time, b_on + mean q against 4.7."""
-    from neurowalk.plotting import draw_arena, pyplot
-
     plt = pyplot()
     s = res.summary
     n = max(1, len(s["shown"]))

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from neurowalk.experiments import Result
+from neurowalk.experiments.stores import run_store
 from neurowalk.experiments.suites.climbing import (
     QUICK_SWEEP_HEIGHTS,
     RELIABLE,
@@ -23,9 +24,10 @@ from neurowalk.experiments.suites.climbing import (
     VARIANTS,
     climbed,
     highest_reliable,
-    run_store,
     step_spec,
 )
+from neurowalk.plotting import pyplot
+from neurowalk.runners.specs import spec_key
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -35,8 +37,6 @@ def run(
     *, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None, workers: int = 2
 ) -> Result:
     """Climb rates per variant and height; the highest height each variant climbs reliably."""
-    from neurowalk.runners.specs import spec_key
-
     n = seeds if seeds is not None else (3 if quick else 10)
     if n < 1:
         raise ValueError(f"seeds must be >= 1, got {n}")
@@ -73,8 +73,6 @@ def run(
 
 def plot(res: Result) -> Figure:
     """Climb rate against step height, one line per variant, the reliability threshold dashed."""
-    from neurowalk.plotting import pyplot
-
     plt = pyplot()
     s = res.summary
     fig, ax = plt.subplots(figsize=(7, 4.5))

@@ -18,7 +18,9 @@ from neurowalk.body.surrogate import load_calibration
 from neurowalk.experiments import Result
 from neurowalk.experiments.calibration.calibrate import validation
 from neurowalk.experiments.calibration.subjects import HELD_OUT
+from neurowalk.experiments.stores import store_folder
 from neurowalk.experiments.suites.deadends import NETWORKS, VARIANTS, outcome_table
+from neurowalk.plotting import pyplot
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -50,8 +52,6 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
 
     ``out``: the folder of the resumable result store of the dead-end runs (``results.sqlite``).
     """
-    from neurowalk.experiments.suites.climbing import store_folder
-
     n = seeds if seeds is not None else (2 if quick else 10)
     if n < 1:
         raise ValueError(f"seeds must be >= 1, got {n}")
@@ -80,8 +80,6 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
 
 def plot(res: Result) -> Figure:
     """A: held-out calibration scatter; B: escape counts per variant and network, physics vs surrogate."""
-    from neurowalk.plotting import pyplot
-
     plt = pyplot()
     s = res.summary
     fig, ax = plt.subplots(1, 2, figsize=(14, 5.5), gridspec_kw={"width_ratios": [1, 2.2]})

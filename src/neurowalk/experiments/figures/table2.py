@@ -13,8 +13,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from tqdm import tqdm
 
+from neurowalk.body.registry import body_info
 from neurowalk.experiments import Result
+from neurowalk.experiments.stores import run_store
 from neurowalk.experiments.suites.random_envs import (
     BOXES,
     FAILURE_RULE,
@@ -28,6 +31,10 @@ from neurowalk.experiments.suites.random_envs import (
     spec,
     wilson,
 )
+from neurowalk.neural.variants import variant_names
+from neurowalk.plotting import pyplot
+from neurowalk.runners.local import run_unordered
+from neurowalk.runners.specs import run_spec, spec_key
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -38,8 +45,6 @@ CLASSES = ("latched spin", "wedged", "other")
 
 def rows(variant: str | None = None, params: dict[str, float] | None = None) -> dict[str, dict[str, Any]]:
     """Table rows: name -> {"controller", "variant", "params"}; extra rows for a named variant or a params file."""
-    from neurowalk.neural.variants import variant_names
-
     out = {name: {"controller": c, "variant": v, "params": None} for name, (c, v) in ROWS.items()}
     if "tuned" in variant_names():
         out["plastic-tuned"] = {"controller": "plastic", "variant": "tuned", "params": None}
@@ -72,10 +77,6 @@ def run(
     environment (``surrogate_agreement``). ``engine``: ``warp`` runs the AMOSII physics rows on MuJoCo Warp, every
     environment a world of one model (``--engine warp``; a GPU makes 1000 environments in physics practical).
     """
-    from neurowalk.body.registry import body_info
-    from neurowalk.experiments.suites.climbing import run_store
-    from neurowalk.runners.specs import spec_key
-
     n = seeds if seeds is not None else (10 if quick else 50)
     if n < 1:
         raise ValueError(f"seeds (environments) must be >= 1, got {n}")
@@ -141,11 +142,6 @@ def _reclassify(results: dict[str, dict[str, Any]], specs: list[dict[str, Any]],
     Stores written before the failure classes existed lack ``wedged_periods`` and a blind share by
     :data:`~neurowalk.metrics.BLIND_M`; the rerun gives the same run, bit for bit, with them.
     """
-    from tqdm import tqdm
-
-    from neurowalk.runners.local import run_unordered
-    from neurowalk.runners.specs import run_spec, spec_key
-
     old = [s for s in specs if results[spec_key(s)]["trapped"] and "wedged_periods" not in results[spec_key(s)]]
     with tqdm(total=len(old), unit="run", desc="reclassify", disable=not old, mininterval=0.5) as bar:
         for done in run_unordered(run_spec, old, workers=workers):
@@ -199,8 +195,6 @@ def _count(env_rows: list[dict[str, Any]], name: str) -> dict[str, Any]:
 
 def plot(res: Result) -> Figure:
     """Success rates with 95% intervals beside the paper's; failures by clutter and by class."""
-    from neurowalk.plotting import pyplot
-
     plt = pyplot()
     s = res.summary
     fig, ax = plt.subplots(1, 3, figsize=(16, 4.8), gridspec_kw={"width_ratios": [1.4, 1, 1]})

@@ -47,8 +47,7 @@ from neurowalk.experiments.optimize.settings import (
     check_sizes,
 )
 from neurowalk.experiments.optimize.space import Dim, decode, fitness, make_space, start_point
-from neurowalk.experiments.suites import deadends
-from neurowalk.experiments.suites.random_envs import environments, spec
+from neurowalk.experiments.suites import deadends, random_envs
 from neurowalk.fileio import make_writable_folder
 from neurowalk.runners import ray_backend
 from neurowalk.runners.specs import spec_key
@@ -81,7 +80,10 @@ def train_specs(
     variant: str, params: Mapping[str, float] | None, envs: Sequence[dict[str, Any]], steps: int
 ) -> list[dict[str, Any]]:
     """Run specs of one network on the given random environments (Table 2's spec, surrogate body)."""
-    return [spec(e, "plastic", steps, BODY, variant=variant, params=dict(params) if params else None) for e in envs]
+    return [
+        random_envs.spec(e, "plastic", steps, BODY, variant=variant, params=dict(params) if params else None)
+        for e in envs
+    ]
 
 
 class Runner:
@@ -102,16 +104,16 @@ class Runner:
         with deferred():  # opened whole (its lock, its tables), or not at all
             store = ResultStore(self.folder / "results.sqlite")
         with store:
-            report = run_sweep(
+            swept = run_sweep(
                 specs, store, backend=self.backend, workers=self.workers, address=self.address, progress=self.progress
             )
             results = store.results()
-        self.computed += report.ok
-        self.skipped += report.skipped
-        if report.interrupted:
+        self.computed += swept.ok
+        self.skipped += swept.skipped
+        if swept.interrupted:
             raise KeyboardInterrupt
         keys = [spec_key(s) for s in specs]
-        missing = [f.line() for f in report.failures] or [k[:12] for k in keys if k not in results]
+        missing = [f.line() for f in swept.failures] or [k[:12] for k in keys if k not in results]
         if missing:
             raise RuntimeError(f"{len(missing)} runs failed ({missing[0]}); rerun to retry them")
         return [results[k] for k in keys]
@@ -250,7 +252,7 @@ def run(
     if backend == "ray":
         started = ray_backend.start(workers=workers, address=address)  # one Ray instance for every generation
     try:
-        envs = environments(sz.environments, train_seed)
+        envs = random_envs.environments(sz.environments, train_seed)
 
         def evaluate(vname: str, params: Mapping[str, float] | None) -> list[dict[str, Any]]:
             return train_specs(vname, params, envs, sz.steps) + deadend_specs(vname, params, sz.deadend_seeds)
@@ -297,7 +299,7 @@ def run(
             )
         history = records[: sz.generations]
         best = report.best_candidate(history)
-        held = environments(sz.heldout, heldout_seed)
+        held = random_envs.environments(sz.heldout, heldout_seed)
         rows = report.heldout_rows(variant, best["params"])
         held_runs = {name: runner(train_specs(v, p, held, sz.steps)) for name, (v, p) in rows.items()}
     finally:

@@ -1,4 +1,4 @@
-"""Climbing outcomes shared by ``fig10`` and ``steps``: run specs, success rules, the resumable sweep.
+"""Climbing outcomes shared by ``fig10`` and ``steps``: run specs and success rules.
 
 * On ``climbing-track`` (plastic network, reflexes and backbone control on) a run succeeds when the
   trunk centre reaches the second platform (0.3 m beyond its edge) within :data:`TRACK_STEPS` control
@@ -11,10 +11,6 @@
 
 from __future__ import annotations
 
-import contextlib
-import tempfile
-from collections.abc import Iterator
-from pathlib import Path
 from typing import Any
 
 from neurowalk.arenas.spec import WALL_HEIGHT
@@ -87,42 +83,3 @@ def highest_reliable(rates: dict[float, float]) -> float | None:
             break
         best = h
     return best
-
-
-def run_store(
-    specs: list[dict[str, Any]], folder: Path, workers: int, fn: Any = None, name: str = "results.sqlite"
-) -> tuple[dict[str, dict[str, Any]], Any]:
-    """Run ``specs`` through the resumable store ``folder/name``; return (results by spec key, report).
-
-    ``fn``: what runs one spec (default :func:`~neurowalk.runners.specs.run_spec`; a module-level function).
-    Each run is stored as it finishes: an interrupted figure (KeyboardInterrupt, raised here once the store is
-    closed) keeps its finished runs, and the same call again runs only the others.
-    """
-    from neurowalk.runners.specs import spec_key
-    from neurowalk.runners.stopping import deferred
-    from neurowalk.runners.store import ResultStore
-    from neurowalk.runners.sweep import run_sweep
-
-    folder.mkdir(parents=True, exist_ok=True)
-    with deferred():  # opened whole (its lock, its tables), or not at all
-        store = ResultStore(folder / name)
-    with store:
-        report = run_sweep(specs, store, workers=workers, **({"fn": fn} if fn is not None else {}))
-        results = store.results()
-    if report.interrupted:
-        raise KeyboardInterrupt
-    missing = [s for s in specs if spec_key(s) not in results]
-    if missing:
-        raise RuntimeError(f"{len(missing)} runs failed (see {folder / name}); rerun to retry them")
-    return {spec_key(s): results[spec_key(s)] for s in specs}, report
-
-
-@contextlib.contextmanager
-def store_folder(out: Path | None) -> Iterator[Path]:
-    """The folder of a figure's stores: ``out``, or (a figure run from Python without one) a temporary folder,
-    removed afterwards."""
-    if out is not None:
-        yield Path(out)
-        return
-    with tempfile.TemporaryDirectory(prefix="neurowalk-") as tmp:
-        yield Path(tmp)

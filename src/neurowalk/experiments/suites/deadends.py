@@ -11,6 +11,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 from typing import Any
 
@@ -20,7 +21,9 @@ from neurowalk import metrics
 from neurowalk.arenas import arena_options
 from neurowalk.arenas.spec import WALL_HEIGHT
 from neurowalk.experiments import Result
+from neurowalk.experiments.stores import run_store, store_folder
 from neurowalk.runners.local import run_many
+from neurowalk.runners.specs import normalize, spec_key, to_config
 from neurowalk.sim.episode import Episode, EpisodeConfig, RunInterruptedError, run_episode
 
 NETWORKS: dict[str, dict[str, Any]] = {
@@ -51,8 +54,6 @@ def keep_traces(ep: Episode) -> dict[str, Any]:
 
 
 def _episode(spec: dict[str, Any]) -> Episode:
-    from neurowalk.runners.specs import normalize, to_config
-
     try:
         return run_episode(to_config(normalize(spec)))
     except RunInterruptedError:
@@ -71,8 +72,6 @@ def traces_of(spec: dict[str, Any]) -> dict[str, Any]:
 
 def _spec(cfg: EpisodeConfig) -> dict[str, Any]:
     """The run spec of ``cfg`` (its fields; the store keys it after normalising)."""
-    import dataclasses
-
     return {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg)}
 
 
@@ -85,9 +84,6 @@ def stored_runs(
         return run_many(
             configs, workers=workers, progress=progress, keep=keep_traces if traces else keep_outcome, desc=desc
         )
-    from neurowalk.experiments.suites.climbing import run_store
-    from neurowalk.runners.specs import spec_key
-
     specs = [_spec(c) for c in configs]
     results, _ = run_store(specs, folder, workers, fn=traces_of if traces else outcome_of, name=name)
     want = "pose" if traces else "direction_switches"
@@ -258,8 +254,6 @@ def build(
     ``out``: the runs go through resumable stores there (``results.sqlite``: the outcome table, ``traces.sqlite``:
     the example and long runs), so that an interrupted figure goes on from its finished runs.
     """
-    from neurowalk.experiments.suites.climbing import store_folder
-
     n_seeds = seeds if seeds is not None else (3 if quick else 10)
     if n_seeds < 1:
         raise ValueError(f"seeds must be >= 1, got {n_seeds}")

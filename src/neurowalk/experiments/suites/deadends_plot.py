@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
+from matplotlib.patches import Circle
 
 from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result
@@ -27,8 +28,6 @@ def draw_wedged(ax: Axes, periods: list[dict]) -> None:
     A label goes above its circle, or below it, or beside it, whichever is first clear of the labels placed
     before (so that nearby periods' labels do not cover each other).
     """
-    from matplotlib.patches import Circle
-
     placed: list[tuple[float, float]] = []
     for p in periods:
         (x, y), r = p["centre"], max(p.get("extent_m", 0.3), 0.3)

@@ -18,6 +18,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from neurowalk.body.physics import AmosII
+from neurowalk.experiments.stores import run_store
+from neurowalk.fileio import to_jsonable
+from neurowalk.plotting import draw_arena
+from neurowalk.render import render_frames, render_video
+from neurowalk.runners.local import run_many
+from neurowalk.runners.specs import MACHINE_KEYS, normalize, to_config
+from neurowalk.sim.episode import RunInterruptedError, run_episode
+
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
@@ -60,10 +69,6 @@ def run_with_path(spec: dict[str, Any]) -> dict[str, Any]:
 
     The path holds every :data:`PATH_EVERY`-th row of the trunk's pose and the last row, rounded to 1 mm.
     """
-    from neurowalk.fileio import to_jsonable
-    from neurowalk.runners.specs import MACHINE_KEYS, normalize, to_config
-    from neurowalk.sim.episode import RunInterruptedError, run_episode
-
     try:
         ep = run_episode(to_config(normalize(spec)))
     except RunInterruptedError:
@@ -88,8 +93,6 @@ def run_store_paths(specs: list[dict[str, Any]], folder: Path, workers: int) -> 
 
     Returns the results by spec key. A killed figure, rerun with the same folder, runs only what is missing.
     """
-    from neurowalk.experiments.suites.climbing import run_store
-
     results, _ = run_store(specs, folder, workers, fn=run_with_path)
     if any("path" not in r for r in results.values()):
         raise RuntimeError(
@@ -115,9 +118,6 @@ def keep_example(ep: Episode) -> dict[str, Any]:
 
 def example_runs(specs: dict[str, dict[str, Any]], workers: int = 2) -> dict[str, dict[str, Any]]:
     """Run each spec of {network: spec} in full; :func:`keep_example` of each, by network."""
-    from neurowalk.runners.local import run_many
-    from neurowalk.runners.specs import normalize, to_config
-
     configs = [to_config(normalize(s)) for s in specs.values()]
     out = run_many(configs, workers=workers, keep=keep_example, desc="example runs")
     return dict(zip(specs, out, strict=True))
@@ -152,18 +152,12 @@ def snapshots(
     arena: ArenaSpec, qpos: np.ndarray, rows: np.ndarray, *, width: int = 400, height: int = 300
 ) -> np.ndarray:
     """Rendered frames (len(rows), height, width, 3) of the run's positions ``qpos`` (T, nq) at ``rows``."""
-    from neurowalk.body.physics import AmosII
-    from neurowalk.render import render_frames
-
     view = camera_view(arena, aspect=width / height)
     return render_frames(AmosII(arena).model, qpos[rows], view=view, width=width, height=height)
 
 
 def write_videos(name: str, arena: ArenaSpec, examples: dict[str, dict[str, Any]], out: Path) -> list[str]:
     """One mp4 per network's example run in ``out`` (camera tracking the trunk); the paths written."""
-    from neurowalk.body.physics import AmosII
-    from neurowalk.render import render_video
-
     model = AmosII(arena).model
     paths = []
     for net, ex in examples.items():
@@ -197,8 +191,6 @@ def draw_paths(
     ax: Axes, arena: ArenaSpec, paths: list[np.ndarray], good: list[bool], example: np.ndarray, title: str
 ) -> None:
     """Top view of the arena's bounds: every seed's path (green: got out, red: not), the example's coloured by time."""
-    from neurowalk.plotting import draw_arena
-
     draw_arena(ax, arena, example)
     for p, ok in zip(paths, good, strict=True):
         ax.plot(p[:, 0], p[:, 1], color="tab:green" if ok else "tab:red", lw=0.7, alpha=0.5, zorder=1.5)
