@@ -700,9 +700,9 @@ def tripwires(places: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
     """Replace the entry points of real work by functions that raise :class:`WorkStartedError`."""
     import neurowalk.bench
     import neurowalk.body.registry
-    import neurowalk.experiments.baseline
-    import neurowalk.experiments.calibration
-    import neurowalk.experiments.optimize
+    import neurowalk.experiments.baselines.comparison
+    import neurowalk.experiments.calibration.calibrate
+    import neurowalk.experiments.optimize.search
     import neurowalk.render
     import neurowalk.runners.store
     import neurowalk.runners.sweep
@@ -720,12 +720,12 @@ def tripwires(places: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
         (neurowalk.sim.episode, "build"),
         (neurowalk.runners.sweep, "run_sweep"),
         (neurowalk.runners.store, "ResultStore"),
-        (neurowalk.experiments.calibration, "calibrate"),
+        (neurowalk.experiments.calibration.calibrate, "calibrate"),
         (neurowalk.bench, "run_bench"),
         (neurowalk.body.registry, "body_xml"),
-        (neurowalk.experiments.optimize, "new_state"),
-        (neurowalk.experiments.optimize, "Runner"),
-        (neurowalk.experiments.baseline, "run"),
+        (neurowalk.experiments.optimize.search, "new_state"),
+        (neurowalk.experiments.optimize.search, "Runner"),
+        (neurowalk.experiments.baselines.comparison, "run"),
         (neurowalk.render, "view"),
         (output, "load"),
         (output, "save_data"),

@@ -48,7 +48,7 @@ def test_help_offers_only_the_variants_there_are(command, capsys, monkeypatch):
 def test_each_name_the_registries_show_is_accepted_by_its_check():
     from neurowalk.arenas import make_arena
     from neurowalk.body.registry import body_info
-    from neurowalk.experiments.calibration import subject
+    from neurowalk.experiments.calibration.subjects import subject
     from neurowalk.neural.variants import get_variant
     from neurowalk.sim.episode import EpisodeConfig
 

@@ -141,7 +141,7 @@ def surrogate_pool(steps: int, runs: int, workers: int, repeats: int) -> dict[st
 
 def table2_time(workers: int) -> dict[str, float]:
     """Wall time of the 50-environment Table 2 on the surrogate (fresh store, full length runs)."""
-    from neurowalk.experiments.table2 import run
+    from neurowalk.experiments.figures.table2 import run
 
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()

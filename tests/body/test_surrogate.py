@@ -13,7 +13,9 @@ from neurowalk.arenas.spec import ArenaSpec, Box
 from neurowalk.body import surrogate_kernel as kern
 from neurowalk.body.registry import make_body
 from neurowalk.body.surrogate import Calibration, Surrogate, box_rows, load_calibration
-from neurowalk.experiments.calibration import WARMUP, WINDOW, body_velocity, drive
+from neurowalk.experiments.calibration.fit import body_velocity
+from neurowalk.experiments.calibration.physics import drive
+from neurowalk.experiments.calibration.subjects import WARMUP, WINDOW
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
 

@@ -22,14 +22,14 @@ import numpy as np
 import pytest
 
 from neurowalk.cli import main
-from neurowalk.experiments import deadlock
+from neurowalk.experiments.suites import deadends
 
 SMALL = """
 import sys
-from neurowalk.experiments import deadlock
-deadlock.TRAP_STEPS = 150
-deadlock.QUICK_LONG_STEPS = 200
-deadlock.VARIANTS = {k: deadlock.VARIANTS[k] for k in ("simple-deadlock", "narrow-passage")}
+from neurowalk.experiments.suites import deadends
+deadends.TRAP_STEPS = 150
+deadends.QUICK_LONG_STEPS = 200
+deadends.VARIANTS = {k: deadends.VARIANTS[k] for k in ("simple-deadlock", "narrow-passage")}
 from neurowalk.cli import main
 sys.exit(main(sys.argv[1:]))
 """
@@ -41,9 +41,9 @@ MACHINE = ("wall_time_s", "real_time_factor")
 
 @pytest.fixture
 def small(monkeypatch):
-    monkeypatch.setattr(deadlock, "TRAP_STEPS", 150)
-    monkeypatch.setattr(deadlock, "QUICK_LONG_STEPS", 200)
-    monkeypatch.setattr(deadlock, "VARIANTS", {k: deadlock.VARIANTS[k] for k in ("simple-deadlock", "narrow-passage")})
+    monkeypatch.setattr(deadends, "TRAP_STEPS", 150)
+    monkeypatch.setattr(deadends, "QUICK_LONG_STEPS", 200)
+    monkeypatch.setattr(deadends, "VARIANTS", {k: deadends.VARIANTS[k] for k in ("simple-deadlock", "narrow-passage")})
 
 
 def _count(db: Path) -> int:

@@ -258,7 +258,7 @@ def test_walking_and_turning_in_the_open_match_cpu_mujoco(wp_cpu):
 
 def test_figures_take_the_engine_where_they_can(capsys, tmp_path):
     from neurowalk.cli import main
-    from neurowalk.experiments.table2 import run
+    from neurowalk.experiments.figures.table2 import run
 
     with pytest.raises(ValueError, match="engine 'warp' runs body 'amosii'"):
         run(body="surrogate", engine="warp", out=tmp_path / "t")

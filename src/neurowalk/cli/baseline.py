@@ -75,9 +75,9 @@ def _baseline(args: argparse.Namespace) -> int:
 
     with deferred():  # the simulation's modules (numba's) load whole: a signal waits for their end
         import neurowalk.envs.vector  # noqa: F401
-    from neurowalk.experiments import baseline
-    from neurowalk.experiments.baseline_sb3 import RlMissingError
-    from neurowalk.experiments.optimize import CmaMissingError
+    from neurowalk.experiments.baselines import comparison as baseline
+    from neurowalk.experiments.baselines.ppo import RlMissingError
+    from neurowalk.experiments.cma_record import CmaMissingError
 
     methods = [m.strip() for m in args.methods.split(",")]
     sizes = {f.replace("-", "_"): getattr(args, f.replace("-", "_")) for f, _ in _SIZES}

@@ -66,7 +66,7 @@ def registry_names(name: str) -> tuple[str, ...]:
 
         return tuple(b for b, info in BODIES.items() if name == "bodies" or info.physics)
     if name == "calibrated_bodies":
-        from neurowalk.experiments.calibration import SUBJECTS
+        from neurowalk.experiments.calibration.subjects import SUBJECTS
 
         return tuple(SUBJECTS)
     if name == "arenas":
@@ -86,7 +86,7 @@ def registry_names(name: str) -> tuple[str, ...]:
 
         return tuple(GAITS)
     if name == "optimize_bases":
-        from neurowalk.experiments.optimize_space import BASES
+        from neurowalk.experiments.optimize.space import BASES
 
         return BASES
     raise ValueError(f"unknown registry {name!r}; expected one of {', '.join(REGISTRIES)}")

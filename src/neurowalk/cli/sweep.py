@@ -388,7 +388,7 @@ def cmd_optimize(args: argparse.Namespace) -> int:
 def _optimize_kept(out: Path) -> str:
     """The line of an interrupted search: the finished runs in its store and whether its state is saved (read from
     the files)."""
-    from neurowalk.experiments.optimize import STATE_FILE
+    from neurowalk.experiments.optimize.settings import STATE_FILE
     from neurowalk.runners.store import count_finished
 
     runs, state = count_finished(out / "results.sqlite"), out / STATE_FILE
@@ -405,8 +405,9 @@ def _optimize(args: argparse.Namespace) -> int:
 
     with deferred():  # the simulation's modules (numba's, MuJoCo's) load whole: a signal waits for their end
         import neurowalk.runners.sweep  # noqa: F401
-    from neurowalk.experiments import optimize
-    from neurowalk.experiments.optimize_space import parse_bounds
+    from neurowalk.experiments.cma_record import CmaMissingError
+    from neurowalk.experiments.optimize import search as optimize
+    from neurowalk.experiments.optimize.space import parse_bounds
     from neurowalk.runners import ray_backend
 
     if args.address and args.backend != "ray":
@@ -439,7 +440,7 @@ def _optimize(args: argparse.Namespace) -> int:
             progress=not args.quiet,
             log=lambda line: print(line, flush=True),
         )
-    except (ValueError, ray_backend.RayMissingError, ray_backend.RayStartError, optimize.CmaMissingError) as e:
+    except (ValueError, ray_backend.RayMissingError, ray_backend.RayStartError, CmaMissingError) as e:
         raise UsageError(str(e)) from None
     except RuntimeError as e:
         print(f"neurowalk: optimize: {e}", file=sys.stderr)

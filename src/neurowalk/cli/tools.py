@@ -75,7 +75,8 @@ def _calibrate(args: argparse.Namespace) -> int:
 
     with deferred():  # the simulation's modules (numba's, MuJoCo's) load whole: a signal waits for their end
         from neurowalk.body.surrogate import CALIBRATION_FILES
-        from neurowalk.experiments.calibration import calibrate, plot_calibration, subject
+        from neurowalk.experiments.calibration.calibrate import calibrate, plot_calibration
+        from neurowalk.experiments.calibration.subjects import subject
     from neurowalk.fileio import atomic_write, write_json
 
     try:

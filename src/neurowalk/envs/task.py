@@ -19,7 +19,7 @@ from neurowalk.compiled import jit
 
 CELL = 0.25  # m, side of a coverage cell
 STUCK_WINDOW, STUCK_RADIUS = 3000, 0.5  # Table 2's rule: steps, m
-BOXES, EXTENT, SIZE = (2, 20), 9.0, 1.0  # Table 2's environments (neurowalk.experiments.random_envs)
+BOXES, EXTENT, SIZE = (2, 20), 9.0, 1.0  # Table 2's environments (neurowalk.experiments.suites.random_envs)
 US_RANGE = 0.4  # m, the ultrasonic range: what "no echo" is reported as
 
 

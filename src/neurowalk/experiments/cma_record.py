@@ -4,7 +4,8 @@ A search's file holds its settings and, per generation, the candidates CMA-ES dr
 Resuming builds a fresh ``cma.CMAEvolutionStrategy`` with the same seed and replays the generations: each
 ``ask`` is checked to draw exactly the recorded candidates, then ``tell`` gets the recorded scores. CMA-ES is
 deterministic given its seed, so the replayed search is the one that was stopped, bit for bit. Used by
-``neurowalk optimize`` (:mod:`.optimize`) and the neuroevolution baseline (:mod:`.baseline_rnn`).
+``neurowalk optimize`` (:mod:`.optimize.search`) and the neuroevolution baseline (:mod:`.baselines.evolved_rnn`).
+The ``cma`` package (extra ``optimize``, or ``rl``) is imported in one place, :func:`import_cma`.
 """
 
 from __future__ import annotations
@@ -20,6 +21,20 @@ import numpy as np
 from neurowalk.fileio import atomic_write
 
 FORMAT = 1  # the format of a search record this code writes and reads
+
+
+class CmaMissingError(ImportError):
+    """The ``cma`` package (extra ``neurowalk[optimize]``) is not installed."""
+
+
+def import_cma(missing: str) -> Any:
+    """The ``cma`` module; CmaMissingError with the message ``missing`` (what needs it, how to install it) where it is
+    not installed."""
+    try:
+        import cma
+    except ImportError as e:
+        raise CmaMissingError(missing) from e
+    return cma
 
 
 @contextmanager

@@ -1,0 +1,270 @@
+"""PPO and recurrent PPO (stable-baselines3, sb3-contrib) on ``neurowalk/Explore-v0``: the learned baselines.
+
+Both train on the vectorised surrogate environment through :class:`SurrogateVecEnv`, stable-baselines3's ``VecEnv``
+over :class:`~neurowalk.envs.vector.ExploreVectorEnv`: observations are the readings mapped to [-1, 1] as for the
+evolved network (:func:`.evolved_rnn.features`), the reward is the environment's (m^2 newly covered), every
+episode ends by truncation after ``steps`` control steps (so all copies end together and restart on the next
+training seeds: ``train_seed * 1_000_000 + e * n_envs + j`` for the e-th round of episodes, below the held-out
+seeds of ``neurowalk baseline``). Checkpoints (``model.zip`` and ``progress.json``) are written every
+``checkpoint_every`` steps; a run started again continues from the last one (the same environments onward, not
+the same numbers bit for bit: torch's and stable-baselines3's state between checkpoints is not kept).
+
+Needs the ``rl`` extra (torch, stable-baselines3, sb3-contrib), imported in one place (:func:`import_rl`); see the
+README for a CPU-only torch.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from tqdm import tqdm
+
+from neurowalk.envs.vector import ExploreVectorEnv
+from neurowalk.experiments.baselines.evolved_rnn import features
+from neurowalk.fileio import write_json
+from neurowalk.runners.stopping import deferred
+
+ALGOS: tuple[str, ...] = ("ppo", "rppo")
+
+
+class RlMissingError(ImportError):
+    """stable-baselines3 / sb3-contrib (the ``rl`` extra) is not installed."""
+
+
+@dataclass(frozen=True)
+class Rl:
+    """What training and scoring use of the ``rl`` extra."""
+
+    algo: Any  # the algorithm class: stable-baselines3's PPO or sb3-contrib's RecurrentPPO
+    torch: Any
+    vec_env: Any  # stable-baselines3's VecEnv
+    callback: Any  # stable-baselines3's BaseCallback
+
+
+def import_rl(algo: str) -> Rl:
+    """The ``rl`` extra for ``algo`` (``ppo``: PPO, ``rppo``: RecurrentPPO); RlMissingError names the install."""
+    try:
+        if algo == "ppo":
+            from stable_baselines3 import PPO
+
+            algo_class = PPO
+        else:
+            from sb3_contrib import RecurrentPPO
+
+            algo_class = RecurrentPPO
+        import torch
+        from stable_baselines3.common.callbacks import BaseCallback
+        from stable_baselines3.common.vec_env import VecEnv
+    except ImportError as e:
+        raise RlMissingError(
+            f"{algo} needs the rl extra ({e.name} is missing): pip install 'neurowalk[rl]' (CPU "
+            "torch first: pip install torch --index-url https://download.pytorch.org/whl/cpu)"
+        ) from e
+    return Rl(algo_class, torch, VecEnv, BaseCallback)
+
+
+def make_vec_env(n_envs: int, steps: int, train_seed: int, first_round: int = 0) -> Any:
+    """A :class:`SurrogateVecEnv` (built here, as its base class comes from stable-baselines3)."""
+
+    class SurrogateVecEnv(import_rl("ppo").vec_env):  # either algorithm's: both take stable-baselines3's VecEnv
+        """``n_envs`` copies of the surrogate task as a stable-baselines3 ``VecEnv`` (see the module text)."""
+
+        def __init__(self) -> None:
+            self.env = ExploreVectorEnv(n_envs, max_steps=steps)
+            space = gym.spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float64)
+            super().__init__(n_envs, space, self.env.single_action_space)
+            self.round = first_round
+            self._actions = np.zeros((n_envs, 2))
+
+        def _new_round(self) -> np.ndarray:
+            base = train_seed * 1_000_000 + self.round * n_envs
+            self.round += 1
+            return features(self.env.reset(seed=[base + j for j in range(n_envs)])[0])
+
+        def reset(self) -> np.ndarray:
+            return self._new_round()
+
+        def step_async(self, actions: np.ndarray) -> None:
+            self._actions = np.clip(np.asarray(actions, dtype=np.float64).reshape(n_envs, 2), -1.0, 1.0)
+
+        def step_wait(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]]]:
+            obs, reward, _, truncated, _ = self.env.step(self._actions)
+            x = features(obs)
+            infos: list[dict[str, Any]] = [{} for _ in range(n_envs)]
+            if truncated.all():  # every copy ends together (same max_steps, no termination)
+                for i in range(n_envs):
+                    infos[i] = {"terminal_observation": x[i], "TimeLimit.truncated": True}
+                x = self._new_round()
+            return x, reward.astype(np.float32), truncated.copy(), infos
+
+        def close(self) -> None:
+            self.env.close()
+
+        def get_attr(self, attr_name: str, indices: Any = None) -> list[Any]:
+            return [getattr(self.env, attr_name)] * len(self._idx(indices))
+
+        def set_attr(self, attr_name: str, value: Any, indices: Any = None) -> None:
+            setattr(self.env, attr_name, value)
+
+        def env_method(self, method_name: str, *args: Any, indices: Any = None, **kwargs: Any) -> list[Any]:
+            return [getattr(self.env, method_name)(*args, **kwargs)] * len(self._idx(indices))
+
+        def env_is_wrapped(self, wrapper_class: type, indices: Any = None) -> list[bool]:
+            return [False] * len(self._idx(indices))
+
+        def _idx(self, indices: Any) -> list[int]:
+            return list(range(n_envs)) if indices is None else list(np.atleast_1d(indices))
+
+    return SurrogateVecEnv()
+
+
+# stable-baselines3's defaults but for rollout sizes that fit 16 copies and a discount whose horizon (1000 steps,
+# 100 s) spans an escape from a corner (tens of seconds of walking at about 1.4 cm/s)
+HYPER: dict[str, dict[str, Any]] = {
+    "ppo": {
+        "n_steps": 256,
+        "batch_size": 512,
+        "n_epochs": 10,
+        "learning_rate": 3e-4,
+        "gamma": 0.999,
+        "policy": "MlpPolicy",
+        "policy_kwargs": {"net_arch": [64, 64]},
+    },
+    "rppo": {
+        "n_steps": 128,
+        "batch_size": 512,
+        "n_epochs": 10,
+        "learning_rate": 3e-4,
+        "gamma": 0.999,
+        "policy": "MlpLstmPolicy",
+        "policy_kwargs": {"lstm_hidden_size": 32, "net_arch": [64]},
+    },
+}
+
+
+def train(
+    algo: str,
+    out: Path,
+    *,
+    total_steps: int,
+    n_envs: int = 16,
+    steps: int = 2000,
+    seed: int = 0,
+    train_seed: int = 0,
+    checkpoint_every: int = 100_000,
+    progress: bool = True,
+    log: Callable[[str], None] = print,
+) -> dict[str, Any]:
+    """Train ``algo`` for ``total_steps`` environment steps (resuming from ``out/model.zip``); the training record.
+
+    Returns ``env_steps``, ``wall_s`` (summed over sessions), ``hyperparameters``, ``curve`` (mean episode
+    return of each round of episodes, m^2) and the settings; the model is ``out/model.zip``.
+    """
+    rl = import_rl(algo)
+    if total_steps < 1 or n_envs < 1 or steps < 1:
+        raise ValueError(f"total_steps, n_envs and steps must be >= 1, got {total_steps}, {n_envs}, {steps}")
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    settings = {"algo": algo, "n_envs": n_envs, "steps": steps, "seed": seed, "train_seed": train_seed}
+    prog_path, model_path = out / "progress.json", out / "model.zip"
+    record: dict[str, Any] = {**settings, "env_steps": 0, "wall_s": 0.0, "curve": []}
+    if prog_path.is_file() and model_path.is_file():
+        old = json.loads(prog_path.read_text())
+        for key, value in settings.items():
+            if old.get(key) != value:
+                raise ValueError(
+                    f"{str(out)!r} holds a {old.get('algo')} run with other settings ({key}: "
+                    f"{old.get(key)!r}, asked {value!r}); use another output folder"
+                )
+        record = old
+    rl.torch.manual_seed(seed)
+    rounds = record["env_steps"] // (n_envs * steps)
+    venv = make_vec_env(n_envs, steps, train_seed, first_round=rounds)
+    hyper = dict(HYPER[algo])
+    policy = hyper.pop("policy")
+    if record["env_steps"]:
+        model = rl.algo.load(model_path, env=venv, device="cpu")
+    else:
+        model = rl.algo(policy, venv, seed=seed, device="cpu", verbose=0, **hyper)
+    callback = _callback(rl, record, n_envs, total_steps, progress)
+    while record["env_steps"] < total_steps:
+        chunk = min(checkpoint_every, total_steps - record["env_steps"])
+        t0 = time.perf_counter()
+        model.learn(chunk, reset_num_timesteps=False, callback=callback)
+        record["wall_s"] += time.perf_counter() - t0
+        record["env_steps"] = int(model.num_timesteps)
+        with deferred():  # the model and its progress agree: a Ctrl-C now stops the training after this checkpoint
+            model.save(out / ".model.tmp.zip")
+            (out / ".model.tmp.zip").replace(model_path)
+            write_json(prog_path, {**record, "hyperparameters": HYPER[algo]})
+    callback.close()
+    log(f"{algo}: {record['env_steps']:,} env steps, {record['wall_s']:.0f} s")
+    return {**record, "hyperparameters": HYPER[algo]}
+
+
+def _callback(rl: Rl, record: dict[str, Any], n_envs: int, total: int, progress: bool) -> Any:
+    class Progress(rl.callback):
+        """Progress bar over env steps; the mean return of each round of episodes into the record's curve."""
+
+        def __init__(self) -> None:
+            super().__init__()
+            self.bar = None
+            self.returns = np.zeros(n_envs)
+            if progress:
+                self.bar = tqdm(total=total, initial=record["env_steps"], unit="step", desc="training", mininterval=0.5)
+
+        def _on_step(self) -> bool:
+            self.returns += self.locals["rewards"]
+            if self.locals["dones"].all():
+                record["curve"].append(float(self.returns.mean()))
+                self.returns[:] = 0.0
+                if self.bar is not None:
+                    self.bar.set_postfix(ret=f"{record['curve'][-1]:.2f} m2")
+            if self.bar is not None:
+                self.bar.update(n_envs)
+            return True
+
+        def close(self) -> None:
+            if self.bar is not None:
+                self.bar.close()
+
+    return Progress()
+
+
+class Sb3Policy:
+    """A trained model as a batched policy for :func:`~neurowalk.envs.policy.evaluate_batch`: (n, 2) readings in m
+    -> (n, 2) steering, deterministic (the mean action), with the LSTM's state kept per copy for ``rppo``."""
+
+    def __init__(self, algo: str, path: Path) -> None:
+        self.model = import_rl(algo).algo.load(path, device="cpu")
+        self.recurrent = algo == "rppo"
+        self.reset()
+
+    def reset(self) -> None:
+        """Episode start: the LSTM's state back to zero."""
+        self.state: Any = None
+        self.start: np.ndarray | None = None
+
+    def __call__(self, obs: np.ndarray) -> np.ndarray:
+        x = features(obs)
+        if not self.recurrent:
+            return self.model.predict(x, deterministic=True)[0]
+        if self.start is None:
+            self.start = np.ones(len(x), dtype=bool)
+        action, self.state = self.model.predict(x, state=self.state, episode_start=self.start, deterministic=True)
+        self.start = np.zeros(len(x), dtype=bool)
+        return action
+
+
+def budget_round(total: int, n_envs: int, algo: str) -> int:
+    """``total`` env steps rounded up to whole rollouts of ``algo`` with ``n_envs`` copies."""
+    per = HYPER[algo]["n_steps"] * n_envs
+    return int(math.ceil(total / per) * per)

@@ -1,0 +1,180 @@
+"""Fig. 10: walking, climbing and wall avoidance on the climbing track (paper §3, third experiment).
+
+One example run (step 0.06 m, the given seed) is drawn in full: top and side views of the path,
+the backbone angle, the foot contacts and the steering over time, and rendered snapshots at the key
+moments (start, first climb, wall avoidance, second climb). The outcome table runs ``seeds`` seeds
+(default 10; 3 with ``quick``) at each step height of
+:data:`~neurowalk.experiments.suites.climbing.TRACK_HEIGHTS`, through the resumable store in the output folder; the
+success rule is in the json.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+from matplotlib.patches import Polygon
+
+from neurowalk import anatomy
+from neurowalk.arenas import make_arena
+from neurowalk.body.physics import AmosII
+from neurowalk.experiments import Result
+from neurowalk.experiments.stores import run_store
+from neurowalk.experiments.suites.climbing import (
+    TRACK_HEIGHTS,
+    TRACK_RULE,
+    TRACK_STEPS,
+    track_spec,
+    track_success,
+)
+from neurowalk.plotting import draw_arena, pyplot
+from neurowalk.render import render_frames
+from neurowalk.runners.specs import spec_key, to_config
+from neurowalk.sim.episode import run_episode
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+MOMENTS: tuple[str, ...] = ("start", "first climb", "wall avoidance", "second climb")
+
+
+def key_moments(bj_command: np.ndarray, outputs: np.ndarray, lean: float = 0.26) -> dict[str, int | None]:
+    """Control steps of the key moments of a track run from the backbone command (T,) rad and steering (T, 2).
+
+    A climb is the first step the backbone leans down (below -``lean`` rad: front legs on the step,
+    rear segment being lifted); wall avoidance is the first strong turn (|O1 - O2| > 1) after the first
+    climb; the second climb is the first climb after that. None where it never happens.
+    """
+
+    def first(mask: np.ndarray, after: int | None) -> int | None:
+        if after is None:
+            return None
+        idx = np.flatnonzero(mask[after:])
+        return int(idx[0]) + after if len(idx) else None
+
+    down = bj_command < -lean
+    climb1 = first(down, 0)
+    wall = first(np.abs(outputs[:, 0] - outputs[:, 1]) > 1.0, climb1)
+    climb2 = first(down, wall)
+    return {"start": 0, "first climb": climb1, "wall avoidance": wall, "second climb": climb2}
+
+
+def run(
+    *,
+    quick: bool = False,
+    seed: int = 0,
+    seeds: int | None = None,
+    out: Path | None = None,
+    workers: int = 2,
+    variant: str = "paper",
+) -> Result:
+    """The example run (step 0.06 m, ``seed``) and the outcome table over ``seeds`` seeds per step height.
+
+    ``variant``: the plastic network's variant (``paper`` by default).
+    """
+    n = seeds if seeds is not None else (3 if quick else 10)
+    if n < 1:
+        raise ValueError(f"seeds must be >= 1, got {n}")
+    step = TRACK_HEIGHTS[0]
+    ep = run_episode(to_config(track_spec(step, seed, variant=variant)), progress=True)
+    tr = ep.trajectory
+    z = tr.qpos[:, 2]
+    moments = key_moments(tr.targets[:, -1], tr.outputs)
+    rows = [moments[m] if moments[m] is not None else len(z) - 1 for m in MOMENTS]
+    model = AmosII(ep.arena).model
+    frames = render_frames(model, tr.qpos[rows], distance=1.4, elevation=-50.0)
+    specs = [track_spec(h, seed + k, variant=variant) for h in TRACK_HEIGHTS for k in range(n)]
+    results, _ = run_store(specs, Path(out) if out is not None else Path("out/fig10"), workers)
+    table = {}
+    for h in TRACK_HEIGHTS:
+        runs = [results[spec_key(track_spec(h, seed + k, variant=variant))] for k in range(n)]
+        ok = [track_success(r, h) for r in runs]
+        done = [r["exit_step"] for r in runs if r["exit_step"] is not None]
+        table[f"{h:.2f}"] = {
+            "seeds": n,
+            "success": int(sum(ok)),
+            "runs": [
+                {"seed": seed + k, "success": bool(o), "exit_step": r["exit_step"], "max_z_m": r["max_z_m"]}
+                for k, (o, r) in enumerate(zip(ok, runs, strict=True))
+            ],
+            "median_exit_step": float(np.median(done)) if done else None,
+        }
+    summary = {
+        "step_m": step,
+        "seed": seed,
+        "steps": TRACK_STEPS,
+        "variant": variant,
+        "rule": TRACK_RULE,
+        "moments": moments,
+        "example": {k: ep.summary[k] for k in ("exit_step", "max_z_m", "final_z_m", "final_pose")},
+        "table": table,
+        "arena": ep.arena.options,
+    }
+    arrays = {
+        "t": tr.t,
+        "pose": tr.pose,
+        "z": z,
+        "bj_command": tr.targets[:, -1],
+        "bj_angle": tr.joint_angles[:, -1],
+        "foot_contact": tr.foot_contact,
+        "outputs": tr.outputs,
+        "frames": frames,
+    }
+    return Result("fig10", summary, arrays)
+
+
+def _draw_track(ax: object, arena_opts: dict, pose: np.ndarray) -> None:
+    """Top view: floors shaded by height, walls dark, the path coloured by time."""
+    arena = make_arena("climbing-track", **arena_opts)
+    draw_arena(ax, arena, pose)  # type: ignore[arg-type]
+    top = max(b.h for b in arena.boxes)
+    for b in sorted(arena.boxes, key=lambda b: b.h):
+        wall = b.h >= top - 1e-9
+        colour = "0.15" if wall else (0.95 - 3.0 * b.h, 0.85 - 3.5 * b.h, 0.7 - 3.5 * b.h)
+        ax.add_patch(Polygon(b.corners(), closed=True, color=colour, zorder=1.2 if wall else 1.1))  # type: ignore[attr-defined]
+
+
+def plot(res: Result) -> Figure:
+    """Top view, side view, backbone angle, foot contacts, steering, and the four snapshots."""
+    plt = pyplot()
+    s, a = res.summary, res.arrays
+    fig = plt.figure(figsize=(15, 10))
+    grid = fig.add_gridspec(3, 4, height_ratios=[1.3, 1, 1])
+    top = fig.add_subplot(grid[0, 0])
+    _draw_track(top, s["arena"], a["pose"])
+    top.set_title(f"top view (step {s['step_m']} m, seed {s['seed']})")
+    side = fig.add_subplot(grid[0, 1])
+    path = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(a["pose"][:, :2], axis=0).T))])
+    side.plot(path, a["z"], lw=1)
+    side.set(xlabel="path length (m)", ylabel="trunk height (m)", title="side view")
+    t = a["t"]
+    ax = fig.add_subplot(grid[0, 2:])
+    ax.plot(t, np.degrees(a["bj_command"]), label="command")
+    ax.plot(t, np.degrees(a["bj_angle"]), label="measured", alpha=0.7)
+    ax.set(ylabel="backbone angle (deg, + up)", title="backbone joint")
+    ax.legend(fontsize=8)
+    ax = fig.add_subplot(grid[1, :2])
+    ax.imshow(
+        a["foot_contact"].T > 0.5, aspect="auto", interpolation="nearest", cmap="Greys", extent=(t[0], t[-1], 5.5, -0.5)
+    )
+    ax.set(yticks=range(6), yticklabels=anatomy.LEGS, xlabel="time (s)", title="foot contacts (black = down)")
+    ax = fig.add_subplot(grid[1, 2:])
+    ax.plot(t, a["outputs"][:, 0], label="O1 (left)")
+    ax.plot(t, a["outputs"][:, 1], label="O2 (right)")
+    ax.set(xlabel="time (s)", ylabel="steering", title="steering signals")
+    ax.legend(fontsize=8)
+    for k in s["moments"].values():
+        if k is not None:
+            for axis in fig.axes[2:]:
+                axis.axvline(t[k], color="0.5", lw=0.8, ls="--")
+    for i, name in enumerate(MOMENTS):
+        ax = fig.add_subplot(grid[2, i])
+        ax.imshow(a["frames"][i])
+        k = s["moments"][name]
+        ax.set_title(f"{name}: t = {t[k]:.0f} s" if k is not None else f"{name}: did not happen", fontsize=9)
+        ax.axis("off")
+    ok = ", ".join(f"{h} m: {v['success']}/{v['seeds']}" for h, v in s["table"].items())
+    fig.suptitle(f"Climbing track: reached the second platform in {ok}")
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,191 @@
+"""Fig. 8: escape from a narrow passage, the paper's first real-robot experiment, in simulation.
+
+The robot (physics body ``amosii``) starts inside the ``narrow-passage`` arena (a funnel whose end is two
+obstacles with a gap narrower than the robot), facing the gap. The paper's robot walked toward the gap,
+turned right at the obstacle on its left, got stuck in front of the gap, kept turning right as the left
+neuron's weights grew, and escaped at 0:50 min; with the static network it stayed stuck. Here each network
+(plastic from zero weights, and static) runs ``seeds`` seeds (default 10; 3 with ``quick``) for
+:data:`~neurowalk.experiments.suites.deadends.TRAP_STEPS` control steps (the paper's 5000 time steps of its Fig.
+5B); the runs go through the resumable store in the output folder.
+
+The figure: a strip of rendered snapshots of the example seed for each network (times written on them), the
+top view of every seed's path per network with the escape count, and the example runs' steering and weights.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from neurowalk.arenas import make_arena
+from neurowalk.experiments import Result
+from neurowalk.experiments.suites.deadends import TRAP_STEPS
+from neurowalk.experiments.suites.real_robot import (
+    N_SNAPSHOTS,
+    NETWORKS,
+    draw_paths,
+    draw_strip,
+    draw_traces,
+    example_runs,
+    make_spec,
+    run_store_paths,
+    snapshot_rows,
+    snapshots,
+    write_videos,
+)
+from neurowalk.plotting import pyplot
+from neurowalk.runners.specs import spec_key
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+NAME = "fig8"
+ARENA = "narrow-passage"
+QUICK_STEPS = 2500  # control steps per run with ``quick``
+RULE = (
+    "escaped: the trunk centre reached the arena's exit region (0.3 m or more behind the passage's mouth, the "
+    "robot turned around and walked out) within the run's control steps; otherwise not escaped"
+)
+
+
+def run(
+    *,
+    quick: bool = False,
+    seed: int = 0,
+    seeds: int | None = None,
+    out: Path | None = None,
+    workers: int = 2,
+    steps: int | None = None,
+    video: bool = False,
+    variant: str = "paper",
+    params: dict[str, float] | None = None,
+) -> Result:
+    """Escapes over ``seeds`` seeds per network, the example seed ``seed`` in full.
+
+    Args:
+        quick: 3 seeds and :data:`QUICK_STEPS` control steps per run.
+        seed: the first seed and the example run's seed; seeds ``seed`` ... ``seed + seeds - 1`` run.
+        seeds: seeds per network (default 10; 3 with ``quick``).
+        out: output folder: holds the resumable result store (default ``out/fig8``) and the videos.
+        workers: processes.
+        steps: control steps per run (default :data:`~neurowalk.experiments.suites.deadends.TRAP_STEPS`).
+        video: also write one mp4 per network of the example run into ``out``.
+        variant, params: the sensory network's variant and parameter overrides (see ``EpisodeConfig``).
+    """
+    n = seeds if seeds is not None else (3 if quick else 10)
+    if n < 1:
+        raise ValueError(f"seeds must be >= 1, got {n}")
+    steps = steps if steps is not None else (QUICK_STEPS if quick else TRAP_STEPS)
+    if steps < 1:
+        raise ValueError(f"steps must be >= 1, got {steps}")
+    folder = Path(out) if out is not None else Path("out") / NAME
+
+    def spec(net: str, s: int) -> dict[str, Any]:
+        return make_spec(ARENA, {}, net, s, steps, variant=variant, params=params)
+
+    results = run_store_paths([spec(net, seed + k) for net in NETWORKS for k in range(n)], folder, workers)
+    examples = example_runs({net: spec(net, seed) for net in NETWORKS}, workers)
+    arena = make_arena(ARENA)
+    counts, arrays = {}, {}
+    for net in NETWORKS:
+        runs = [results[spec_key(spec(net, seed + k))] for k in range(n)]
+        counts[net] = {
+            "seeds": n,
+            "escaped": sum(bool(r["escaped"]) for r in runs),
+            "runs": [
+                {
+                    "seed": seed + k,
+                    "escaped": bool(r["escaped"]),
+                    "exit_time_s": None if r["exit_step"] is None else r["exit_step"] / r["control_hz"],
+                    "trapped": r["trapped"],
+                    "direction_switches": r["direction_switches"],
+                    "final_pose": r["final_pose"],
+                    "final_weights": r["final_weights"],
+                }
+                for k, r in enumerate(runs)
+            ],
+        }
+        for k, r in enumerate(runs):
+            arrays[f"{net}/path/{k}"] = np.asarray(r["path"])
+        ex = examples[net]
+        rows = snapshot_rows(len(ex["t"]), ex["summary"]["exit_step"])
+        arrays[f"{net}/frames"] = snapshots(arena, ex["qpos"], rows)
+        arrays[f"{net}/snapshot_t"] = ex["t"][rows]
+        for key in ("t", "pose", "outputs", "b", "q"):
+            arrays[f"{net}/example/{key}"] = ex[key]
+    summary = {
+        "arena": ARENA,
+        "arena_opts": arena.options,
+        "geometry": _geometry(arena),
+        "seed": seed,
+        "seeds": n,
+        "steps": steps,
+        "control_hz": examples[NETWORKS[0]]["summary"]["control_hz"],
+        "variant": variant,
+        "params": params,
+        "body": "amosii",
+        "networks": {"plastic": "plastic, weights start at 0", "static": "static (b = 2.4, c = -3.5)"},
+        "rule": RULE,
+        "counts": counts,
+        "escaped": {net: f"{counts[net]['escaped']}/{n}" for net in NETWORKS},
+        "example": {
+            net: {
+                k: examples[net]["summary"][k]
+                for k in ("seed", "escaped", "exit_step", "trapped", "direction_switches", "final_weights")
+            }
+            for net in NETWORKS
+        },
+        "snapshots": N_SNAPSHOTS,
+    }
+    if video:
+        summary["videos"] = write_videos(NAME, arena, examples, folder)
+    return Result(NAME, summary, arrays)
+
+
+def _geometry(arena: Any) -> dict[str, Any]:
+    """The arena's boxes (centre, yaw, sizes; m, rad), start pose and exit region, for the record."""
+    return {
+        "boxes": [[b.x, b.y, b.yaw, b.sx, b.sy, b.h] for b in arena.boxes],
+        "box_fields": "x y yaw sx sy h",
+        "start": list(arena.start),
+        "exit_region": list(arena.exit_region),
+    }
+
+
+def plot(res: Result) -> Figure:
+    """Snapshot strips (one row per network), top views of every seed's path, steering and weights."""
+    plt = pyplot()
+    s, a = res.summary, res.arrays
+    arena = make_arena(s["arena"], **s["arena_opts"])
+    fig = plt.figure(figsize=(15, 10.5))
+    grid = fig.add_gridspec(4, N_SNAPSHOTS, height_ratios=[1, 1, 1.7, 1.1])
+    for row, net in enumerate(NETWORKS):
+        c = s["counts"][net]
+        axes = [fig.add_subplot(grid[row, i]) for i in range(N_SNAPSHOTS)]
+        ex = s["example"][net]
+        how = f"escaped at {ex['exit_step'] / s['control_hz']:.0f} s" if ex["escaped"] else "did not escape"
+        draw_strip(axes, a[f"{net}/frames"], list(a[f"{net}/snapshot_t"]), f"{net}, seed {ex['seed']}: {how}")
+        ax = fig.add_subplot(grid[2, row * 3 : row * 3 + 3])
+        paths = [a[f"{net}/path/{k}"] for k in range(c["seeds"])]
+        draw_paths(
+            ax,
+            arena,
+            paths,
+            [r["escaped"] for r in c["runs"]],
+            a[f"{net}/example/pose"],
+            f"{net}: escaped {c['escaped']}/{c['seeds']} (green: escaped, red: not)",
+        )
+    for col, net in enumerate(NETWORKS):
+        ax = fig.add_subplot(grid[3, col * 3 : col * 3 + 3])
+        e = {k: a[f"{net}/example/{k}"] for k in ("t", "outputs", "b", "q")}
+        draw_traces(
+            ax, e["t"], e["outputs"], e["b"], e["q"], f"{net}, seed {s['example'][net]['seed']}: steering, weights"
+        )
+    fig.suptitle(
+        f"Narrow passage (paper Fig. 8), {s['steps']} control steps per run: escaped "
+        + ", ".join(f"{net} {s['escaped'][net]}" for net in NETWORKS)
+    )
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,312 @@
+"""Fig. 9: navigation in a complex path, the paper's second real-robot experiment, in simulation.
+
+The ``complex-path`` arena (a wall on the right, small obstacles on the left, a dead end; its geometry and the
+reasons for it are in :mod:`neurowalk.arenas.generated`). The paper's robot entered the path, turned right at
+an obstacle on its left, walked to the end, turned left away from the dead end and went out of the path at
+3:20 min; with the static network it got stuck in the path. Each network (plastic from zero weights, and
+static) runs ``seeds`` seeds (default 10; 3 with ``quick``) for :data:`PATH_STEPS` control steps; then width
+and obstacle spacing are swept by -20%, 0, +20% (a 3 x 3 map, ``seeds`` seeds per cell; no sweep with
+``quick``). Every run goes through the resumable store in the output folder. The outcome rule is
+:func:`outcome` (written into the json).
+
+The figure: a strip of rendered snapshots of the example seed for each network (times written on them), the
+top view of every seed's path, the outcome map of each network, and the example runs' steering and weights.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from neurowalk.arenas import arena_options, make_arena
+from neurowalk.arenas.deadlocks import EXIT_MARGIN, WALL
+from neurowalk.arenas.generated import MOUTH, OPENING
+from neurowalk.experiments import Result
+from neurowalk.experiments.suites.real_robot import (
+    N_SNAPSHOTS,
+    NETWORKS,
+    PATH_EVERY,
+    draw_paths,
+    draw_strip,
+    draw_traces,
+    example_runs,
+    make_spec,
+    run_store_paths,
+    snapshot_rows,
+    snapshots,
+    write_videos,
+)
+from neurowalk.plotting import pyplot
+from neurowalk.runners.specs import spec_key
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from neurowalk.arenas.spec import ArenaSpec
+
+NAME = "fig9"
+ARENA = "complex-path"
+# 800 s: three times the 259 s the robot needs to walk the 3 m path straight on open floor (1.16 cm/s), after
+# the paper's timeline (the end reached at 1:08 min, out of the path at 3:20 min: 2.9 times as long).
+PATH_STEPS = 8000
+QUICK_STEPS = 3000
+FACTORS: tuple[float, ...] = (0.8, 1.0, 1.2)  # width and spacing sweep: -20%, 0, +20%
+OUT_LEFT, OUT_END = "out (left side)", "out (open end)"
+STUCK_END, STUCK_PATH = "stuck at the dead end", "stuck in the path"
+OUTCOMES: tuple[str, ...] = (OUT_LEFT, OUT_END, STUCK_END, STUCK_PATH)
+RULE = (
+    f"out (left side): the trunk centre got more than {EXIT_MARGIN} m beyond the outer edge of the left obstacle "
+    f"row (the arena's exit region); out (open end): more than {EXIT_MARGIN} m behind the start (the path's "
+    f"open end is {MOUTH} m ahead of it) or more than {EXIT_MARGIN} m beyond the right wall's outer face (round "
+    f"the wall's start); whichever came first, checked on the path sampled every {PATH_EVERY} control steps. "
+    f"Otherwise stuck (still in the path at the end of the run): at the dead end if the trunk centre got "
+    f"alongside the opening before the end wall (within {OPENING} m of it), else in the path. "
+    "Got out = either 'out' outcome."
+)
+
+
+def outcome(xy: np.ndarray, arena: ArenaSpec) -> tuple[str, int | None]:
+    """Outcome of a ``complex-path`` run from its trunk path ``xy`` (n, 2) m: (one of :data:`OUTCOMES`, row out).
+
+    The row is the first row of ``xy`` outside the path (None when it never got out); see :data:`RULE`.
+    """
+    o = arena.options
+    left = xy[:, 1] >= arena.exit_region[2]
+    back = (xy[:, 0] <= arena.start[0] - EXIT_MARGIN) | (xy[:, 1] <= -o["width"] / 2 - WALL - EXIT_MARGIN)
+    out = np.flatnonzero(left | back)
+    if len(out):
+        i = int(out[0])
+        return (OUT_LEFT if left[i] else OUT_END), i
+    reached = bool(np.any(xy[:, 0] >= MOUTH + o["length"] - OPENING))
+    return (STUCK_END if reached else STUCK_PATH), None
+
+
+def _cell(width_f: float, spacing_f: float) -> dict[str, float]:
+    d = arena_options(ARENA)
+    return {"width": round(d["width"] * width_f, 6), "spacing": round(d["spacing"] * spacing_f, 6)}
+
+
+def run(
+    *,
+    quick: bool = False,
+    seed: int = 0,
+    seeds: int | None = None,
+    out: Path | None = None,
+    workers: int = 2,
+    steps: int | None = None,
+    video: bool = False,
+    variant: str = "paper",
+    params: dict[str, float] | None = None,
+) -> Result:
+    """Outcomes over ``seeds`` seeds per network and geometry, the example seed ``seed`` in full.
+
+    Args:
+        quick: 3 seeds, :data:`QUICK_STEPS` control steps per run, the default geometry only (no sweep).
+        seed: the first seed and the example run's seed; seeds ``seed`` ... ``seed + seeds - 1`` run.
+        seeds: seeds per network and geometry (default 10; 3 with ``quick``).
+        out: output folder: holds the resumable result store (default ``out/fig9``) and the videos.
+        workers: processes.
+        steps: control steps per run (default :data:`PATH_STEPS`).
+        video: also write one mp4 per network of the example run into ``out``.
+        variant, params: the sensory network's variant and parameter overrides (see ``EpisodeConfig``).
+    """
+    n = seeds if seeds is not None else (3 if quick else 10)
+    if n < 1:
+        raise ValueError(f"seeds must be >= 1, got {n}")
+    steps = steps if steps is not None else (QUICK_STEPS if quick else PATH_STEPS)
+    if steps < 1:
+        raise ValueError(f"steps must be >= 1, got {steps}")
+    folder = Path(out) if out is not None else Path("out") / NAME
+    factors = (1.0,) if quick else FACTORS
+    cells = [(fw, fs) for fw in factors for fs in factors]
+
+    def spec(net: str, s: int, cell: tuple[float, float] = (1.0, 1.0)) -> dict[str, Any]:
+        return make_spec(ARENA, _cell(*cell), net, s, steps, variant=variant, params=params)
+
+    main = [spec(net, seed + k) for net in NETWORKS for k in range(n)]  # first: the default geometry
+    results = run_store_paths(
+        main + [spec(net, seed + k, c) for c in cells for net in NETWORKS for k in range(n)], folder, workers
+    )
+    examples = example_runs({net: spec(net, seed) for net in NETWORKS}, workers)
+    arena = make_arena(ARENA)
+    counts, arrays, cell_counts = {}, {}, []
+    for net in NETWORKS:
+        runs = [results[spec_key(spec(net, seed + k))] for k in range(n)]
+        rows = []
+        for k, r in enumerate(runs):
+            label, i = outcome(np.asarray(r["path"]), arena)
+            rows.append(
+                {
+                    "seed": seed + k,
+                    "outcome": label,
+                    "got_out": label in (OUT_LEFT, OUT_END),
+                    "out_time_s": None if i is None else min(i * PATH_EVERY, r["steps"]) / r["control_hz"],
+                    "final_pose": r["final_pose"],
+                    "final_weights": r["final_weights"],
+                    "direction_switches": r["direction_switches"],
+                }
+            )
+            arrays[f"{net}/path/{k}"] = np.asarray(r["path"])
+        counts[net] = {
+            "seeds": n,
+            "got_out": sum(x["got_out"] for x in rows),
+            **{lab: sum(x["outcome"] == lab for x in rows) for lab in OUTCOMES},
+            "runs": rows,
+        }
+        ex = examples[net]
+        label, i = outcome(ex["pose"][:, :2], arena)
+        ex["outcome"], ex["out_step"] = label, i
+        snap = snapshot_rows(len(ex["t"]), i)
+        arrays[f"{net}/frames"] = snapshots(arena, ex["qpos"], snap, width=480, height=270)
+        arrays[f"{net}/snapshot_t"] = ex["t"][snap]
+        for key in ("t", "pose", "outputs", "b", "q"):
+            arrays[f"{net}/example/{key}"] = ex[key]
+    for fw, fs in cells:
+        c = make_arena(ARENA, **_cell(fw, fs))
+        entry: dict[str, Any] = {"width_factor": fw, "spacing_factor": fs, "arena_opts": c.options}
+        for net in NETWORKS:
+            labels = [
+                outcome(np.asarray(results[spec_key(spec(net, seed + k, (fw, fs)))]["path"]), c)[0] for k in range(n)
+            ]
+            entry[net] = {
+                "seeds": n,
+                "got_out": sum(lab in (OUT_LEFT, OUT_END) for lab in labels),
+                **{lab: labels.count(lab) for lab in OUTCOMES},
+            }
+        cell_counts.append(entry)
+    p_out, s_out = counts["plastic"]["got_out"], counts["static"]["got_out"]
+    summary = {
+        "arena": ARENA,
+        "arena_opts": arena.options,
+        "geometry": _geometry(arena),
+        "seed": seed,
+        "seeds": n,
+        "steps": steps,
+        "control_hz": examples["plastic"]["summary"]["control_hz"],
+        "variant": variant,
+        "params": params,
+        "body": "amosii",
+        "networks": {"plastic": "plastic, weights start at 0", "static": "static (b = 2.4, c = -3.5)"},
+        "rule": RULE,
+        "outcomes": list(OUTCOMES),
+        "counts": counts,
+        "sweep_factors": list(factors),
+        "map": cell_counts,
+        "paper_contrast": {
+            "paper": "plastic went out of the path, static got stuck in it",
+            "plastic_got_out": f"{p_out}/{n}",
+            "static_got_out": f"{s_out}/{n}",
+            "criterion": "plastic out in >= 80% of the seeds and static in <= 30%",
+            "seen": bool(p_out >= 0.8 * n and s_out <= 0.3 * n),
+        },
+        "example": {
+            net: {
+                "seed": seed,
+                "outcome": examples[net]["outcome"],
+                "out_time_s": None
+                if examples[net]["out_step"] is None
+                else float(examples[net]["t"][examples[net]["out_step"]]),
+                "final_weights": examples[net]["summary"]["final_weights"],
+            }
+            for net in NETWORKS
+        },
+        "snapshots": N_SNAPSHOTS,
+    }
+    if video:
+        summary["videos"] = write_videos(NAME, arena, examples, folder)
+    return Result(NAME, summary, arrays)
+
+
+def _geometry(arena: ArenaSpec) -> dict[str, Any]:
+    """Boxes (x, y, yaw, sx, sy, h; m, rad), start, exit region and the path's key lines (m)."""
+    o = arena.options
+    return {
+        "boxes": [[b.x, b.y, b.yaw, b.sx, b.sy, b.h] for b in arena.boxes],
+        "box_fields": "x y yaw sx sy h",
+        "start": list(arena.start),
+        "exit_region": list(arena.exit_region),
+        "open_end_x": MOUTH,
+        "end_wall_x": MOUTH + o["length"],
+        "right_wall_face_y": -o["width"] / 2,
+        "left_obstacle_face_y": o["width"] / 2,
+        "opening_m": OPENING,
+    }
+
+
+def draw_map(ax: Axes, res: Result, net: str) -> None:
+    """Outcome map of ``net``: width factor (rows) x spacing factor (columns), cells shaded by the share that got out.
+
+    Each cell writes how many seeds got out (left side / open end) and how many stayed stuck (at the dead end /
+    in the path).
+    """
+    s = res.summary
+    f = s["sweep_factors"]
+    share = np.full((len(f), len(f)), np.nan)
+    for cell in s["map"]:
+        i, j = f.index(cell["width_factor"]), f.index(cell["spacing_factor"])
+        c = cell[net]
+        share[i, j] = c["got_out"] / c["seeds"]
+        stuck = c["seeds"] - c["got_out"]
+        text = (
+            f"out {c['got_out']}/{c['seeds']} (left side {c[OUT_LEFT]}, open end {c[OUT_END]})\n"
+            f"stuck {stuck} (dead end {c[STUCK_END]}, path {c[STUCK_PATH]})"
+        )
+        ax.text(j, i, text, ha="center", va="center", fontsize=7)
+    ax.imshow(share, cmap="RdYlGn", vmin=0, vmax=1, origin="lower", alpha=0.6, aspect="auto")
+    o = s["map"][0]["arena_opts"]
+    widths = sorted({c["arena_opts"]["width"] for c in s["map"]})
+    spacings = sorted({c["arena_opts"]["spacing"] for c in s["map"]})
+    ax.set_xticks(range(len(f)), [f"{x:.2f}" for x in spacings])
+    ax.set_yticks(range(len(f)), [f"{x:.3f}" for x in widths])
+    ax.set(
+        xlabel="obstacle spacing (m)",
+        ylabel="path width (m)",
+        title=f"{net}: outcome map ({o['length']} m path, {s['steps']} steps)",
+    )
+
+
+def plot(res: Result) -> Figure:
+    """Rows: snapshot strips (plastic, static), top views, outcome maps, steering and weights of the examples."""
+    plt = pyplot()
+    s, a = res.summary, res.arrays
+    arena = make_arena(s["arena"], **s["arena_opts"])
+    fig = plt.figure(figsize=(17, 12.8))
+    grid = fig.add_gridspec(5, N_SNAPSHOTS, height_ratios=[1.45, 1.45, 3.2, 3.0, 2.5])
+    for row, net in enumerate(NETWORKS):
+        c, ex = s["counts"][net], s["example"][net]
+        when = f" at {ex['out_time_s']:.0f} s" if ex["out_time_s"] is not None else ""
+        axes = [fig.add_subplot(grid[row, i]) for i in range(N_SNAPSHOTS)]
+        draw_strip(
+            axes, a[f"{net}/frames"], list(a[f"{net}/snapshot_t"]), f"{net}, seed {ex['seed']}: {ex['outcome']}{when}"
+        )
+        ax = fig.add_subplot(grid[2, row * 3 : row * 3 + 3])
+        paths = [a[f"{net}/path/{k}"] for k in range(c["seeds"])]
+        draw_paths(
+            ax,
+            arena,
+            paths,
+            [r["got_out"] for r in c["runs"]],
+            a[f"{net}/example/pose"],
+            f"{net}: got out {c['got_out']}/{c['seeds']} (green: out, red: stuck)",
+        )
+        draw_map(fig.add_subplot(grid[3, row * 3 : row * 3 + 3]), res, net)
+        e = {k: a[f"{net}/example/{k}"] for k in ("t", "outputs", "b", "q")}
+        draw_traces(
+            fig.add_subplot(grid[4, row * 3 : row * 3 + 3]),
+            e["t"],
+            e["outputs"],
+            e["b"],
+            e["q"],
+            f"{net}, seed {ex['seed']}: steering, weights",
+        )
+    pc = s["paper_contrast"]
+    seen = "as in the paper" if pc["seen"] else "NOT as in the paper"
+    fig.suptitle(
+        f"Complex path (paper Fig. 9): got out of the path plastic {pc['plastic_got_out']}, static "
+        f"{pc['static_got_out']} ({seen}: {pc['paper']})"
+    )
+    fig.tight_layout()
+    return fig

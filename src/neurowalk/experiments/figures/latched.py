@@ -1,0 +1,141 @@
+"""The latched spin: how the plastic network fails in Table 2 (the paper's "very small confined spaces").
+
+A neuron that is on (O ≈ 1) while its partner is off (O ≈ -1) keeps itself on with no echo at all
+(I = -1) while its drive b_on·1 + c·(-1) + 4.7·(-1) stays positive, i.e. while b_on + (q1 + q2)/2 > 4.7
+(tanh saturation aside; facts §3.4: b ≥ 3, c ≥ 4 never switch off without decay). In a pocket between a
+box and a wall the turn grows these weights with every echo, the turn never switches off, and the
+robot spins in place: the body is never blocked. This figure finds the first Table 2 environments whose
+plastic run ends in a latched spin (the Table 2 failure rule) on the surrogate, reruns them with their
+trajectories, and draws the path in the pocket, the steering, and b_on + mean q against 4.7.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from neurowalk.arenas import make_arena
+from neurowalk.experiments import Result
+from neurowalk.experiments.stores import run_store, store_folder
+from neurowalk.experiments.suites.random_envs import STEPS, environments, failure_class, spec
+from neurowalk.metrics import turn_state
+from neurowalk.plotting import draw_arena, pyplot
+from neurowalk.runners.specs import normalize, spec_key, to_config
+from neurowalk.sim.episode import EpisodeConfig, run_episode, seeds
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+THRESHOLD = 4.7  # the input weight: the latch holds while b_on + mean q exceeds it
+SHOWN = 2  # environments drawn
+SEARCHED = 200  # environments searched for latched spins
+
+
+def run(
+    *,
+    quick: bool = False,
+    seed: int = 0,
+    variant: str = "paper",
+    params: dict[str, float] | None = None,
+    workers: int = 2,
+    out: Path | None = None,
+) -> Result:
+    """Search the first :data:`SEARCHED` Table 2 environments (``quick``: 40) for latched spins; keep two.
+
+    ``out``: the folder of the resumable result store of the search (``results.sqlite``, one summary per run).
+    """
+    envs = environments(40 if quick else SEARCHED, seed)
+    specs = [spec(e, "plastic", STEPS, "surrogate", variant=variant, params=params) for e in envs]
+    with store_folder(out) as folder:
+        stored, _ = run_store(specs, folder, workers)
+    summaries = [stored[spec_key(s)] for s in specs]
+    cfgs = [to_config(normalize(s)) for s in specs]
+    classes = [failure_class(s) for s in summaries]
+    chosen = [i for i, c in enumerate(classes) if c == "latched spin"][:SHOWN]
+    arrays: dict[str, np.ndarray] = {}
+    shown = []
+    for k, i in enumerate(chosen):
+        ep = run_episode(cfgs[i])
+        tr = ep.trajectory
+        on = np.where(tr.outputs[:, 0:1] > tr.outputs[:, 1:2], tr.b[:, 0:1], tr.b[:, 1:2])[:, 0]
+        arrays[f"env{k}/pose"] = tr.pose[::5].copy()
+        arrays[f"env{k}/outputs"] = tr.outputs[::5].copy()
+        arrays[f"env{k}/latch"] = (on + tr.q.mean(axis=1))[::5].copy()
+        start = _latch_start(tr.outputs)
+        shown.append(
+            {
+                **envs[i],
+                "latched_from_step": start,
+                "final_weights": ep.summary["final_weights"],
+                "end_turn_share": ep.summary["end_turn_share"],
+            }
+        )
+    counts = {c: classes.count(c) for c in ("latched spin", "wedged", "other")}
+    summary = {
+        "variant": variant,
+        "params": params,
+        "steps": STEPS,
+        "seed": seed,
+        "searched": len(envs),
+        "failures": counts,
+        "shown": shown,
+        "stride": 5,
+        "threshold": THRESHOLD,
+    }
+    return Result("latched-spin", summary, arrays)
+
+
+def _latch_start(outputs: np.ndarray) -> int:
+    """First step of the final unbroken run of one turn direction (the latch)."""
+    s = turn_state(outputs)
+    last = s[-1]
+    k = len(s) - 1
+    while k > 0 and s[k - 1] == last:
+        k -= 1
+    return int(k)
+
+
+def _arena(env: dict[str, Any], variant: str) -> Any:
+    opts = spec(env, "plastic", 1, "surrogate", variant=variant)["arena_opts"]
+    return make_arena("random", rng=seeds(EpisodeConfig(seed=env["seed"]))[2], **opts)
+
+
+def plot(res: Result) -> Figure:
+    """Per environment: the path (the pocket framed), steering over time, b_on + mean q against 4.7."""
+    plt = pyplot()
+    s = res.summary
+    n = max(1, len(s["shown"]))
+    fig, axes = plt.subplots(n, 3, figsize=(15, 4.6 * n), squeeze=False, gridspec_kw={"width_ratios": [1, 1.3, 1.3]})
+    for k, env in enumerate(s["shown"]):
+        pose, out, latch = (res.arrays[f"env{k}/{key}"] for key in ("pose", "outputs", "latch"))
+        t = np.arange(len(pose)) * s["stride"] / 10.0
+        ax = axes[k, 0]
+        draw_arena(ax, _arena(env, s["variant"]), pose)
+        i0 = env["latched_from_step"] // s["stride"]
+        ax.plot(*pose[i0:, :2].T, c="k", lw=0.6)
+        ax.set_title(
+            f"{env['n_boxes']} boxes, seed {env['seed']}: latched from {env['latched_from_step'] / 10:.0f} s",
+            fontsize=9,
+        )
+        axes[k, 1].plot(t, out[:, 0], lw=0.6, label="O1 (left neuron → right legs)")
+        axes[k, 1].plot(t, out[:, 1], lw=0.6, label="O2 (right neuron → left legs)")
+        axes[k, 1].axvline(env["latched_from_step"] / 10, c="r", ls="--", lw=1)
+        axes[k, 1].set(xlabel="time (s)", ylabel="steering", ylim=(-1.1, 1.1))
+        axes[k, 1].legend(fontsize=7, loc="lower left")
+        axes[k, 2].plot(t, latch, c="k", lw=0.8, label="b_on + (q1 + q2)/2")
+        axes[k, 2].axhline(s["threshold"], c="r", ls="--", label=f"{s['threshold']} (input weight): latch holds above")
+        axes[k, 2].axvline(env["latched_from_step"] / 10, c="r", ls="--", lw=1)
+        axes[k, 2].set(xlabel="time (s)", ylabel="weights")
+        axes[k, 2].legend(fontsize=7, loc="lower right")
+    if not s["shown"]:
+        axes[0, 0].text(0.5, 0.5, "no latched spin found", ha="center", transform=axes[0, 0].transAxes)
+    f = s["failures"]
+    fig.suptitle(
+        f"Latched spins: plastic ({s['variant']}) on the surrogate, {s['searched']} Table 2 environments: "
+        f"{f['latched spin']} latched spins, {f['wedged']} wedged, {f['other']} other failures",
+        fontsize=10,
+    )
+    fig.tight_layout()
+    return fig

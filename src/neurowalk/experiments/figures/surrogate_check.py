@@ -1,0 +1,115 @@
+"""The planar surrogate against physics: calibration on held-out steering, and escape outcomes run by run.
+
+A. Forward speed and yaw rate of the surrogate against fresh physics runs at steering pairs between
+the calibration grid points (errors relative to full scale). B. The dead-end suite of Fig. 3/5
+(simple deadlock, narrow passage and its ±20% variants; four networks; ``--seeds`` seeds) run on
+both bodies with the same seeds: escape counts side by side, and the fraction of runs whose outcome
+(escaped or not) is the same on both.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from neurowalk.body.surrogate import load_calibration
+from neurowalk.experiments import Result
+from neurowalk.experiments.calibration.calibrate import validation
+from neurowalk.experiments.calibration.subjects import HELD_OUT
+from neurowalk.experiments.stores import store_folder
+from neurowalk.experiments.suites.deadends import NETWORKS, VARIANTS, outcome_table
+from neurowalk.plotting import pyplot
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+NAME = "surrogate"
+QUICK_HELD_OUT = (-0.4, -0.05, 0.15, 0.75)
+
+
+def agreement(phys_runs: list[list[Any]], sur_runs: list[list[Any]]) -> dict[str, Any]:
+    """Per-run comparison of two outcome lists ([variant, network, seed, escaped, trapped] each)."""
+    p = {tuple(r[:3]): r[3] for r in phys_runs}
+    s = {tuple(r[:3]): r[3] for r in sur_runs}
+    keys = sorted(set(p) & set(s))
+    same = [p[k] == s[k] for k in keys]
+    by_variant: dict[str, list[bool]] = {}
+    for k, ok in zip(keys, same, strict=True):
+        by_variant.setdefault(k[0], []).append(ok)
+    return {
+        "runs": len(keys),
+        "same_outcome": int(sum(same)),
+        "fraction": float(np.mean(same)) if keys else None,
+        "by_variant": {v: float(np.mean(x)) for v, x in by_variant.items()},
+        "differ": [[*k, p[k], s[k]] for k, ok in zip(keys, same, strict=True) if not ok],
+    }
+
+
+def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None) -> Result:
+    """Held-out calibration check and the dead-end suite on both bodies (default 10 seeds; 2 with ``quick``).
+
+    ``out``: the folder of the resumable result store of the dead-end runs (``results.sqlite``).
+    """
+    n = seeds if seeds is not None else (2 if quick else 10)
+    if n < 1:
+        raise ValueError(f"seeds must be >= 1, got {n}")
+    cal = load_calibration()
+    val = validation(cal, QUICK_HELD_OUT if quick else HELD_OUT, workers=2, progress=True)
+    with store_folder(out) as folder:
+        phys = outcome_table(n, first_seed=seed, body="amosii", folder=folder)
+        sur = outcome_table(n, first_seed=seed, body="surrogate", folder=folder)
+    summary = {
+        "seeds": n,
+        "first_seed": seed,
+        "calibration": {
+            "file_meta": {k: v for k, v in cal.meta.items() if k != "validation"},
+            "tau_s": cal.tau_s,
+            "delay_steps": cal.delay_steps,
+            "startup_steps": cal.startup_steps,
+        },
+        "validation": val,
+        "physics": phys,
+        "surrogate": sur,
+        "agreement": agreement(phys["runs"], sur["runs"]),
+        "rule": "same outcome: the run escaped on both bodies or on neither (same arena, network and seed)",
+    }
+    return Result(NAME, summary)
+
+
+def plot(res: Result) -> Figure:
+    """A: held-out calibration scatter; B: escape counts per variant and network, physics vs surrogate."""
+    plt = pyplot()
+    s = res.summary
+    fig, ax = plt.subplots(1, 2, figsize=(14, 5.5), gridspec_kw={"width_ratios": [1, 2.2]})
+    v = s["validation"]
+    phys, sur, fs = np.asarray(v["physics"]), np.asarray(v["surrogate"]), v["full_scale"]
+    ax[0].plot(phys[:, 0] / fs["speed_m_s"], sur[:, 0] / fs["speed_m_s"], "o", label="forward speed")
+    ax[0].plot(phys[:, 2] / fs["yaw_rate_rad_s"], sur[:, 2] / fs["yaw_rate_rad_s"], "s", mfc="none", label="yaw rate")
+    ax[0].plot([-1, 1], [-1, 1], "k-", lw=0.8)
+    ax[0].set_xlabel("physics (fraction of full scale)")
+    ax[0].set_ylabel("surrogate (fraction of full scale)")
+    ax[0].set_title(
+        f"A. held-out steering: max error {v['speed_error_max']:.1%} speed, {v['yaw_rate_error_max']:.1%} turning",
+        fontsize=9,
+    )
+    ax[0].legend(fontsize=8)
+    variants, nets = list(VARIANTS), list(NETWORKS)
+    width = 0.8 / len(nets)
+    for j, net in enumerate(nets):
+        x = np.arange(len(variants)) + (j - (len(nets) - 1) / 2) * width
+        pc = [s["physics"]["counts"][vn][net]["escaped"] for vn in variants]
+        sc = [s["surrogate"]["counts"][vn][net]["escaped"] for vn in variants]
+        ax[1].bar(x, pc, width * 0.9, color=f"C{j}", alpha=0.45, label=f"{net} (physics)")
+        ax[1].plot(x, sc, "k_", ms=14, mew=2.5)
+    ax[1].plot([], [], "k_", ms=14, mew=2.5, label="surrogate")
+    ax[1].set_xticks(range(len(variants)), [vn.replace("narrow-passage", "passage") for vn in variants], fontsize=8)
+    ax[1].set_ylabel(f"escaped (of {s['seeds']})")
+    a = s["agreement"]
+    ax[1].set_title(
+        f"B. dead ends: same outcome in {a['same_outcome']}/{a['runs']} runs ({a['fraction']:.0%})", fontsize=9
+    )
+    ax[1].legend(fontsize=7, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.08))
+    fig.tight_layout()
+    return fig

@@ -1,0 +1,53 @@
+"""A figure's runs kept in resumable result stores in its output folder.
+
+:func:`run_store` runs specs through a store (each run stored as it finishes, so an interrupted figure keeps its
+finished runs and the same call again runs only the others); :func:`store_folder` is the folder of a figure's stores.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import tempfile
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+from neurowalk.runners.specs import spec_key
+from neurowalk.runners.stopping import deferred
+from neurowalk.runners.store import ResultStore
+from neurowalk.runners.sweep import run_sweep
+
+
+def run_store(
+    specs: list[dict[str, Any]], folder: Path, workers: int, fn: Any = None, name: str = "results.sqlite"
+) -> tuple[dict[str, dict[str, Any]], Any]:
+    """Run ``specs`` through the resumable store ``folder/name``; return (results by spec key, report).
+
+    ``fn``: what runs one spec (default :func:`~neurowalk.runners.specs.run_spec`; a module-level function).
+    Each run is stored as it finishes: an interrupted figure (KeyboardInterrupt, raised here once the store is
+    closed) keeps its finished runs, and the same call again runs only the others.
+    """
+    folder.mkdir(parents=True, exist_ok=True)
+    with deferred():  # opened whole (its lock, its tables), or not at all
+        store = ResultStore(folder / name)
+    with store:
+        report = run_sweep(specs, store, workers=workers, **({"fn": fn} if fn is not None else {}))
+        results = store.results()
+    if report.interrupted:
+        raise KeyboardInterrupt
+    keys = [spec_key(s) for s in specs]  # once: a key costs a config's checks
+    missing = [k for k in keys if k not in results]
+    if missing:
+        raise RuntimeError(f"{len(missing)} runs failed (see {folder / name}); rerun to retry them")
+    return {k: results[k] for k in keys}, report
+
+
+@contextlib.contextmanager
+def store_folder(out: Path | None) -> Iterator[Path]:
+    """The folder of a figure's stores: ``out``, or (a figure run from Python without one) a temporary folder,
+    removed afterwards."""
+    if out is not None:
+        yield Path(out)
+        return
+    with tempfile.TemporaryDirectory(prefix="neurowalk-") as tmp:
+        yield Path(tmp)

@@ -1,0 +1,209 @@
+"""Shared by ``fig8`` and ``fig9``, the paper's real-robot experiments in simulation (physics body ``amosii``).
+
+* Runs: one spec per network and seed, through the resumable SQLite store in the figure's output folder
+  (:func:`run_store_paths`); each stored result is the run's summary plus its top-view path, sampled every
+  :data:`PATH_EVERY` control steps, so that a figure can draw every seed's path without rerunning.
+* The example seed of each network is run again in full (:func:`example_runs`) for the snapshot strip, the
+  neural traces and, on request, a video.
+* Snapshots: rendered offscreen from a fixed camera over the arena, as the paper's photos are taken, at
+  moments evenly spread from the start to the moment the robot got out (or the end of the run); the strip
+  writes each frame's time on it.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from neurowalk.body.physics import AmosII
+from neurowalk.experiments.stores import run_store
+from neurowalk.fileio import to_jsonable
+from neurowalk.plotting import draw_arena
+from neurowalk.render import render_frames, render_video
+from neurowalk.runners.local import run_many
+from neurowalk.runners.specs import MACHINE_KEYS, normalize, to_config
+from neurowalk.sim.episode import RunInterruptedError, run_episode
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+    from neurowalk.arenas.spec import ArenaSpec
+    from neurowalk.sim.episode import Episode
+
+NETWORKS: tuple[str, ...] = ("plastic", "static")
+PATH_EVERY = 10  # control steps between stored path points (1 s at 10 Hz)
+N_SNAPSHOTS = 6
+ROBOT_REACH = 0.35  # m, the robot's feet from its trunk centre (0.33 m) with a margin: framed at the start
+VIDEO_EVERY = 4  # control steps per video frame: at 15 fps, 6x real time with 10 Hz control
+
+
+def make_spec(
+    arena: str,
+    arena_opts: dict[str, float],
+    network: str,
+    seed: int,
+    steps: int,
+    *,
+    variant: str = "paper",
+    params: dict[str, float] | None = None,
+) -> dict[str, Any]:
+    """Run spec of one run: the ``network`` (a controller name) in ``arena`` for ``steps`` control steps."""
+    spec: dict[str, Any] = {
+        "arena": arena,
+        "arena_opts": dict(arena_opts),
+        "controller": network,
+        "steps": steps,
+        "seed": seed,
+        "variant": variant,
+    }
+    if params:
+        spec["params"] = dict(params)
+    return spec
+
+
+def run_with_path(spec: dict[str, Any]) -> dict[str, Any]:
+    """One run's summary (as :func:`~neurowalk.runners.specs.run_spec`) plus ``path``: (n, 2) x, y in m.
+
+    The path holds every :data:`PATH_EVERY`-th row of the trunk's pose and the last row, rounded to 1 mm.
+    """
+    try:
+        ep = run_episode(to_config(normalize(spec)))
+    except RunInterruptedError:
+        raise KeyboardInterrupt from None
+    summary = to_jsonable(ep.summary)
+    for k in MACHINE_KEYS:
+        summary.pop(k, None)
+    summary["path"] = np.round(sampled(ep.trajectory.pose[:, :2]), 3).tolist()
+    return summary
+
+
+def sampled(xy: np.ndarray) -> np.ndarray:
+    """Rows 0, :data:`PATH_EVERY`, 2 :data:`PATH_EVERY`, ... and the last row of ``xy`` (T, k)."""
+    idx = np.arange(0, len(xy), PATH_EVERY)
+    if idx[-1] != len(xy) - 1:
+        idx = np.append(idx, len(xy) - 1)
+    return xy[idx]
+
+
+def run_store_paths(specs: list[dict[str, Any]], folder: Path, workers: int) -> dict[str, dict[str, Any]]:
+    """Run ``specs`` (with :func:`run_with_path`) through the resumable store ``folder/results.sqlite``.
+
+    Returns the results by spec key. A killed figure, rerun with the same folder, runs only what is missing.
+    """
+    results, _ = run_store(specs, folder, workers, fn=run_with_path)
+    if any("path" not in r for r in results.values()):
+        raise RuntimeError(
+            f"{folder / 'results.sqlite'} holds runs without their paths (another sweep's store); "
+            "use a fresh output folder"
+        )
+    return results
+
+
+def keep_example(ep: Episode) -> dict[str, Any]:
+    """What the figures draw of an example run: summary, time (T,) s, pose (T, 3), outputs, b, q (T, 2), qpos."""
+    tr = ep.trajectory
+    return {
+        "summary": ep.summary,
+        "t": tr.t,
+        "pose": tr.pose,
+        "outputs": tr.outputs,
+        "b": tr.b,
+        "q": tr.q,
+        "qpos": tr.qpos,
+    }
+
+
+def example_runs(specs: dict[str, dict[str, Any]], workers: int = 2) -> dict[str, dict[str, Any]]:
+    """Run each spec of {network: spec} in full; :func:`keep_example` of each, by network."""
+    configs = [to_config(normalize(s)) for s in specs.values()]
+    out = run_many(configs, workers=workers, keep=keep_example, desc="example runs")
+    return dict(zip(specs, out, strict=True))
+
+
+def snapshot_rows(n_rows: int, end: int | None, n: int = N_SNAPSHOTS) -> np.ndarray:
+    """``n`` control steps evenly spread from 0 to ``end`` (the step the robot got out; None: the last row)."""
+    last = n_rows - 1 if end is None else min(int(end), n_rows - 1)
+    return np.unique(np.linspace(0, last, n).round().astype(int))
+
+
+def camera_view(arena: ArenaSpec, *, aspect: float = 4 / 3, fovy_deg: float = 45.0) -> dict[str, Any]:
+    """A fixed camera over the arena's boxes and the robot at its start, x to the right of the frame.
+
+    Returns the look-at point (m), distance (m), azimuth and elevation (deg) that frame the boxes in a picture of
+    width/height ``aspect`` (MuJoCo's vertical field of view ``fovy_deg``).
+    """
+    start = np.array([arena.start[:2]]) + np.array([[-1, -1], [1, 1]]) * ROBOT_REACH
+    pts = np.vstack([b.corners() for b in arena.boxes] + [start])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    span = float(max((hi[0] - lo[0]) / aspect, hi[1] - lo[1])) + 0.3
+    distance = 0.5 * span / math.tan(math.radians(fovy_deg) / 2)
+    return {
+        "lookat": [float((lo[0] + hi[0]) / 2), float((lo[1] + hi[1]) / 2), 0.0],
+        "distance": distance,
+        "azimuth": 90.0,
+        "elevation": -70.0,
+    }
+
+
+def snapshots(
+    arena: ArenaSpec, qpos: np.ndarray, rows: np.ndarray, *, width: int = 400, height: int = 300
+) -> np.ndarray:
+    """Rendered frames (len(rows), height, width, 3) of the run's positions ``qpos`` (T, nq) at ``rows``."""
+    view = camera_view(arena, aspect=width / height)
+    return render_frames(AmosII(arena).model, qpos[rows], view=view, width=width, height=height)
+
+
+def write_videos(name: str, arena: ArenaSpec, examples: dict[str, dict[str, Any]], out: Path) -> list[str]:
+    """One mp4 per network's example run in ``out`` (camera tracking the trunk); the paths written."""
+    model = AmosII(arena).model
+    paths = []
+    for net, ex in examples.items():
+        path = Path(out) / f"{name}-{net}-seed{ex['summary']['seed']}.mp4"
+        render_video(model, ex["qpos"], path, every=VIDEO_EVERY, distance=1.6, progress=True)
+        paths.append(str(path))
+    return paths
+
+
+def draw_strip(axes: list[Axes], frames: np.ndarray, times: list[float], label: str) -> None:
+    """The snapshot strip: one frame per axis, its time (s) written on it; ``label`` on the first."""
+    for i, ax in enumerate(axes):
+        ax.axis("off")
+        if i >= len(frames):
+            continue
+        ax.imshow(frames[i])
+        ax.text(
+            0.03,
+            0.95,
+            f"{times[i]:.0f} s",
+            transform=ax.transAxes,
+            va="top",
+            fontsize=9,
+            color="white",
+            bbox={"facecolor": "black", "alpha": 0.6, "lw": 0},
+        )
+    axes[0].set_title(label, fontsize=9, loc="left")
+
+
+def draw_paths(
+    ax: Axes, arena: ArenaSpec, paths: list[np.ndarray], good: list[bool], example: np.ndarray, title: str
+) -> None:
+    """Top view of the arena's bounds: every seed's path (green: got out, red: not), the example's coloured by time."""
+    draw_arena(ax, arena, example)
+    for p, ok in zip(paths, good, strict=True):
+        ax.plot(p[:, 0], p[:, 1], color="tab:green" if ok else "tab:red", lw=0.7, alpha=0.5, zorder=1.5)
+    ax.set_title(title, fontsize=9)
+
+
+def draw_traces(ax: Axes, t: np.ndarray, outputs: np.ndarray, b: np.ndarray, q: np.ndarray, title: str) -> None:
+    """Steering (O1, O2) and, where the network has them, the weights b1, b2 and c = -(q1 + q2)/2 over time (s)."""
+    ax.plot(t, outputs[:, 0], lw=0.7, label="O1 (left)")
+    ax.plot(t, outputs[:, 1], lw=0.7, label="O2 (right)")
+    if np.isfinite(b).any():
+        ax.plot(t, b[:, 0], "C2", lw=1, label="b1")
+        ax.plot(t, b[:, 1], "C3", lw=1, label="b2")
+        ax.plot(t, -0.5 * q.sum(axis=1), "k", lw=1, label="c")
+    ax.set(xlabel="time (s)", title=title)
+    ax.legend(fontsize=7, ncol=5, loc="lower right")

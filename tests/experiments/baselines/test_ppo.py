@@ -1,0 +1,52 @@
+"""PPO / recurrent PPO baselines (the ``rl`` extra; skipped without stable-baselines3 and sb3-contrib)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+pytest.importorskip("gymnasium")
+pytest.importorskip("stable_baselines3")
+pytest.importorskip("sb3_contrib")
+
+from neurowalk.experiments.baselines import ppo
+from neurowalk.experiments.baselines.evolved_rnn import features
+
+
+def test_vec_env_ends_every_copy_together_and_restarts_on_the_next_training_seeds():
+    venv = ppo.make_vec_env(3, 5, train_seed=2)
+    first = venv.reset()
+    assert first.shape == (3, 2) and np.all(np.abs(first) <= 1.0)
+    for _k in range(5):
+        venv.step_async(np.full((3, 2), -1.0))
+        obs, reward, dones, infos = venv.step_wait()
+        assert reward.shape == (3,) and np.all(reward >= 0.0)
+    assert dones.all() and all(i["TimeLimit.truncated"] for i in infos)
+    last = np.array([i["terminal_observation"] for i in infos])
+    assert not np.array_equal(last, obs)  # obs is already the next round's first observation
+    from neurowalk.envs.vector import ExploreVectorEnv
+
+    ref = ExploreVectorEnv(3, max_steps=5)  # round 1 of train_seed 2: seeds 2,000,003..5
+    np.testing.assert_array_equal(features(ref.reset(seed=[2_000_003, 2_000_004, 2_000_005])[0]), obs)
+
+
+@pytest.mark.parametrize("algo", ["ppo", "rppo"])
+def test_training_checkpoints_and_resumes_and_the_policy_acts_in_bounds(tmp_path, algo):
+    n_steps = ppo.HYPER[algo]["n_steps"]
+    per_rollout = n_steps * 2
+    kw = {"n_envs": 2, "steps": 100, "checkpoint_every": per_rollout, "progress": False, "log": lambda _: None}
+    rec = ppo.train(algo, tmp_path, total_steps=per_rollout, **kw)
+    assert rec["env_steps"] == per_rollout and (tmp_path / "model.zip").is_file()
+    assert json.loads((tmp_path / "progress.json").read_text())["env_steps"] == per_rollout
+    more = ppo.train(algo, tmp_path, total_steps=2 * per_rollout, **kw)
+    assert more["env_steps"] == 2 * per_rollout and len(more["curve"]) >= len(rec["curve"])
+    with pytest.raises(ValueError, match="other settings"):
+        ppo.train(algo, tmp_path, total_steps=3 * per_rollout, **{**kw, "n_envs": 4})
+    policy = ppo.Sb3Policy(algo, tmp_path / "model.zip")
+    obs = np.random.default_rng(0).uniform(0, 0.4, size=(5, 2))
+    a = policy(obs)
+    assert a.shape == (5, 2) and np.all(np.isfinite(a))
+    policy.reset()
+    np.testing.assert_array_equal(policy(obs), a)  # deterministic, and reset() restarts the LSTM's state

@@ -1,0 +1,17 @@
+"""The escape map's machinery on a shrunken sweep (the full sweep is `neurowalk figure escape-map`)."""
+
+from neurowalk.experiments import FIGURES
+from neurowalk.experiments.figures import escape_map
+
+
+def test_escape_map_counts_every_network_and_size(monkeypatch, tmp_path):
+    monkeypatch.setattr(escape_map, "TRAP_STEPS", 150)
+    monkeypatch.setattr(escape_map, "SWEEPS", {"simple-deadlock width (m)": ("simple-deadlock", "width", (0.8, 1.4))})
+    res = escape_map.run(seeds=1)
+    counts = res.summary["counts"]["simple-deadlock width (m)"]
+    assert set(counts) == {"plastic", "static", "braitenberg"}
+    for net in counts.values():
+        assert set(net) == {"0.8", "1.4"} and all(c["runs"] == 1 and 0 <= c["escaped"] <= 1 for c in net.values())
+    fig = FIGURES["escape-map"].plot(res)
+    fig.savefig(tmp_path / "map.png")
+    assert (tmp_path / "map.png").stat().st_size > 10_000

@@ -1,0 +1,141 @@
+"""Fig. 8 (narrow passage) and Fig. 9 (complex path): outcome rules, resumable store, smoke runs of both figures."""
+
+import json
+
+import numpy as np
+import pytest
+
+from neurowalk.arenas import make_arena
+from neurowalk.arenas.generated import MOUTH, OPENING
+from neurowalk.cli import main
+from neurowalk.experiments import FIGURES
+from neurowalk.experiments.figures import fig8, fig9
+from neurowalk.experiments.suites.real_robot import (
+    PATH_EVERY,
+    camera_view,
+    make_spec,
+    run_store_paths,
+    sampled,
+    snapshot_rows,
+)
+
+
+def test_both_figures_are_registered_with_the_options_the_cli_passes():
+    import inspect
+
+    for name in ("fig8", "fig9"):
+        params = inspect.signature(FIGURES[name].run).parameters
+        for key in ("quick", "seed", "seeds", "out", "video", "variant", "params"):
+            assert key in params, (name, key)
+        assert params["video"].default is False and params["variant"].default == "paper"
+
+
+def test_specs_carry_the_network_variant_and_overrides():
+    s = make_spec("narrow-passage", {}, "static", 3, 100, variant="original", params={"a": 4.0})
+    assert s["controller"] == "static" and s["seed"] == 3 and s["steps"] == 100
+    assert s["variant"] == "original" and s["params"] == {"a": 4.0}
+    assert "params" not in make_spec("narrow-passage", {}, "plastic", 0, 100)
+
+
+def test_snapshot_rows_end_where_the_robot_got_out():
+    assert list(snapshot_rows(1000, 500, 6)) == [0, 100, 200, 300, 400, 500]
+    assert snapshot_rows(1000, None, 6)[-1] == 999
+    assert list(sampled(np.arange(25)[:, None])[:, 0]) == [0, 10, 20, 24]
+    assert PATH_EVERY == 10
+
+
+def test_camera_frames_the_whole_path_and_the_start():
+    v = camera_view(make_arena("complex-path"), aspect=16 / 9)
+    assert 1.0 < v["lookat"][0] < 2.5 and v["distance"] > 2.0
+
+
+@pytest.mark.parametrize(
+    "xy,label,row",
+    [
+        ([[0, 0], [1.0, 0.1], [3.0, 0.3], [3.0, 1.0]], fig9.OUT_LEFT, 3),
+        ([[0, 0], [0.5, 0], [-0.1, 0], [-0.4, 0]], fig9.OUT_END, 3),
+        ([[0, 0], [0.2, -0.3], [0.1, -0.7]], fig9.OUT_END, 2),  # round the right wall's start
+        ([[0, 0], [1.0, 0.0], [MOUTH + 3.0 - OPENING + 0.1, 0.0], [2.0, 0.0]], fig9.STUCK_END, None),
+        ([[0, 0], [1.0, 0.0], [1.2, 0.05]], fig9.STUCK_PATH, None),
+    ],
+)
+def test_fig9_outcome_rule(xy, label, row):
+    assert fig9.outcome(np.asarray(xy, dtype=float), make_arena("complex-path")) == (label, row)
+
+
+def test_store_resumes_instead_of_rerunning(tmp_path):
+    from neurowalk.runners.store import ResultStore
+
+    specs = [make_spec("narrow-passage", {}, net, 0, 30) for net in ("plastic", "static")]
+    first = run_store_paths(specs, tmp_path, workers=1)
+    with ResultStore(tmp_path / "results.sqlite") as store:
+        before = {r["key"]: r["finished_at"] for r in store.rows()}
+    more = [*specs, make_spec("narrow-passage", {}, "plastic", 1, 30)]
+    again = run_store_paths(more, tmp_path, workers=1)
+    with ResultStore(tmp_path / "results.sqlite") as store:
+        after = {r["key"]: r["finished_at"] for r in store.rows()}
+    assert len(after) == 3 and all(after[k] == t for k, t in before.items())  # the first two were not rerun
+    assert all(again[k] == v for k, v in first.items())
+    assert all(len(r["path"]) == 4 for r in again.values())  # rows 0, 10, 20 and the last (29)
+
+
+def _check_strip_and_paths(s: dict, a: dict, seeds: int) -> None:
+    for net in ("plastic", "static"):
+        frames = a[f"{net}/frames"]
+        assert frames.ndim == 4 and frames.shape[-1] == 3 and frames.dtype == np.uint8
+        assert frames.std() > 5  # a rendered scene, not a blank image
+        assert (
+            len(a[f"{net}/snapshot_t"]) == len(frames) and a[f"{net}/snapshot_t"][0] < 0.15
+        )  # row 0: after the first step
+        for k in range(seeds):
+            assert a[f"{net}/path/{k}"].shape[1] == 2
+        assert len(s["counts"][net]["runs"]) == seeds
+    assert s["rule"] and s["geometry"]["boxes"] and s["body"] == "amosii"
+
+
+def test_fig8_quick_from_the_command_line_then_replot(tmp_path):
+    assert main(["figure", "fig8", "--quick", "--seeds", "1", "--out", str(tmp_path)]) == 0
+    s = json.loads((tmp_path / "fig8.json").read_text())
+    with np.load(tmp_path / "fig8.npz") as z:
+        a = {k: z[k] for k in z.files}
+    _check_strip_and_paths(s, a, 1)
+    assert s["steps"] == fig8.QUICK_STEPS and s["seeds"] == 1
+    for net in ("plastic", "static"):
+        c = s["counts"][net]
+        assert c["escaped"] == sum(r["escaped"] for r in c["runs"]) and s["escaped"][net] == f"{c['escaped']}/1"
+        assert a[f"{net}/path/0"][0] == pytest.approx([0.0, 0.0], abs=0.02)
+        assert s["example"][net]["escaped"] == c["runs"][0]["escaped"]  # the example reruns the stored seed
+    png = (tmp_path / "fig8.png").stat().st_mtime_ns
+    assert main(["figure", "fig8", "--replot", "--out", str(tmp_path)]) == 0
+    assert (tmp_path / "fig8.png").stat().st_mtime_ns >= png and (tmp_path / "fig8.png").stat().st_size > 50_000
+
+
+def test_fig9_quick_from_the_command_line(tmp_path):
+    assert main(["figure", "fig9", "--quick", "--seeds", "1", "--out", str(tmp_path)]) == 0
+    s = json.loads((tmp_path / "fig9.json").read_text())
+    with np.load(tmp_path / "fig9.npz") as z:
+        a = {k: z[k] for k in z.files}
+    _check_strip_and_paths(s, a, 1)
+    assert s["steps"] == fig9.QUICK_STEPS and s["sweep_factors"] == [1.0] and len(s["map"]) == 1
+    for net in ("plastic", "static"):
+        c = s["counts"][net]
+        assert sum(c[lab] for lab in fig9.OUTCOMES) == 1
+        assert s["map"][0][net]["got_out"] == c["got_out"]  # the map's default cell is the same runs
+        assert s["example"][net]["outcome"] == c["runs"][0]["outcome"]
+    assert s["geometry"]["right_wall_face_y"] == pytest.approx(-0.23)
+    assert isinstance(s["paper_contrast"]["seen"], bool)
+    assert (tmp_path / "fig9.png").stat().st_size > 50_000
+
+
+def test_videos_are_written_on_request(tmp_path):
+    res = fig8.run(seeds=1, steps=40, out=tmp_path, video=True)
+    assert len(res.summary["videos"]) == 2
+    for path in res.summary["videos"]:
+        assert path.endswith(".mp4") and (tmp_path / path.split("/")[-1]).stat().st_size > 1000
+
+
+def test_bad_seeds_and_steps_are_refused(tmp_path):
+    with pytest.raises(ValueError, match="seeds"):
+        fig8.run(seeds=0, out=tmp_path)
+    with pytest.raises(ValueError, match="steps"):
+        fig9.run(seeds=1, steps=0, out=tmp_path)

@@ -1,0 +1,87 @@
+"""The paper's result in physics, on a smaller count than `neurowalk figure fig5 --seeds 10`."""
+
+import numpy as np
+import pytest
+
+from neurowalk.experiments.suites.deadends import VARIANTS, outcome_table, wedged_counts
+
+
+@pytest.mark.slow
+def test_plastic_escapes_the_narrow_passage_static_does_not_both_escape_simple_deadlock():
+    variants = {k: VARIANTS[k] for k in ("simple-deadlock", "narrow-passage")}
+    counts = outcome_table(4, variants=variants, progress=False)["counts"]
+    narrow, simple = counts["narrow-passage"], counts["simple-deadlock"]
+    assert narrow["plastic"]["escaped"] >= 3
+    assert narrow["static"]["escaped"] <= 1
+    assert narrow["static"]["trapped"] >= 3
+    assert simple["plastic"]["escaped"] >= 3 and simple["static"]["escaped"] >= 3
+    # The trapped static robot oscillates: it reverses its turn far more often than the plastic one.
+    assert narrow["static"]["median_direction_switches"] > narrow["plastic"]["median_direction_switches"]
+    assert set(narrow) == {"plastic", "plastic, start b=2.4 q=3.5", "static", "braitenberg"}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("climbing", [False, True], ids=["modules off", "reflexes and backbone on"])
+def test_long_runs_static_explores_cluttered_trapped_in_difficult_plastic_explores_difficult(climbing):
+    from neurowalk.arenas.spec import WALL_HEIGHT
+    from neurowalk.runners.local import run_many
+    from neurowalk.sim.episode import EpisodeConfig
+
+    # With climbing on, the original 0.10 m boxes would be steps: they are raised to wall height.
+    on = {"reflexes": True, "backbone": True, "arena_opts": {"height": WALL_HEIGHT}} if climbing else {}
+    cfgs = [EpisodeConfig(arena="cluttered", controller="static", steps=30000, **on),
+            EpisodeConfig(arena="difficult", controller="static", steps=30000, **on),
+            EpisodeConfig(arena="difficult", controller="plastic", steps=30000, **on)]  # fmt: skip
+    clut_static, diff_static, diff_plastic = run_many(cfgs, progress=False)
+    assert not clut_static["trapped"]
+    assert diff_static["trapped"] and not diff_plastic["trapped"]
+    assert diff_plastic["coverage"] > diff_static["coverage"]
+    for s in (clut_static, diff_static, diff_plastic):  # wedged periods are counted, each with its cause
+        assert sum(s["wedged_causes"].values()) == s["wedged_periods"] == len(s["wedged"])
+    assert diff_static["wedged"][-1]["end"] == 29999  # trapped: wedged until the end
+
+
+def _fake_fig5():
+    """A fig5 Result with short synthetic traces: one long run wedged twice, the others never."""
+    from neurowalk.experiments import Result
+    from neurowalk.experiments.figures.fig5 import LONG
+
+    n = 50
+    trace = {"pose": np.zeros((n, 3)), "inputs": np.zeros((n, 2)), "outputs": np.zeros((n, 2)),
+             "b": np.ones((n, 2)), "q": np.ones((n, 2))}  # fmt: skip
+    base = {"arena_opts": {}, "escaped": None, "trapped": False, "coverage": 0.1, "steps": n, "wedged_periods": 0,
+            "longest_wedged_s": 0.0, "wedged_causes": {}, "wedged": []}  # fmt: skip
+    periods = [{"start": 0, "end": 2000, "duration_s": 200.1, "centre": [5.0, -2.0], "extent_m": 0.35,
+                "cause": "body contact"},
+               {"start": 5000, "end": 6200, "duration_s": 120.1, "centre": [3.4, -0.9], "extent_m": 0.2,
+                "cause": "both rays blind"}]  # fmt: skip
+    runs = {"simple-deadlock": {**base, "arena": "simple-deadlock", "escaped": True},
+            "narrow-passage": {**base, "arena": "narrow-passage", "escaped": True}}  # fmt: skip
+    for k, v in LONG.items():
+        runs[k] = {**base, "arena": v["arena"]}
+    runs["difficult (plastic)"].update(wedged_periods=2, longest_wedged_s=200.1, wedged=periods,
+                                       wedged_causes={"body contact": 1, "both rays blind": 1})  # fmt: skip
+    table = {"seeds": 1, "counts": {"narrow-passage": {"plastic": {"escaped": 1, "runs": 1}}}}
+    summary = {"network": "plastic", "seed": 0, "climbing": False, "table": table, "runs": runs,
+               "wedged": wedged_counts({k: runs[k] for k in LONG})}  # fmt: skip
+    arrays = {f"{k}/{f}": v for k in runs for f, v in trace.items()}
+    return Result("fig5", summary, arrays)
+
+
+def test_wedged_counts_and_the_long_run_panel_circles_each_period():
+    import matplotlib.patches as mpatches
+
+    from neurowalk.experiments.figures.fig5 import plot
+
+    res = _fake_fig5()
+    w = res.summary["wedged"]
+    assert w["difficult (plastic)"]["periods"] == 2 and w["difficult (plastic)"]["longest_s"] == 200.1
+    assert w["difficult (plastic)"]["total_s"] == pytest.approx(320.2)
+    assert w["difficult (plastic)"]["causes"] == {"body contact": 1, "both rays blind": 1}
+    assert w["difficult (static)"] == {**w["difficult (static)"], "periods": 0, "longest_s": 0.0, "total_s": 0.0}
+    fig = plot(res)
+    circles = [p for ax in fig.axes for p in ax.patches if isinstance(p, mpatches.Circle)]
+    assert sorted(c.radius for c in circles) == [0.3, 0.35]  # at least the disc radius, else the extent
+    labels = [t.get_text() for ax in fig.axes for t in ax.texts]
+    assert "200 s" in labels and "120 s" in labels
+    assert any("wedged 2x (longest 200 s)" in ax.get_title() for ax in fig.axes)
