@@ -19,6 +19,7 @@ import os
 import platform
 import tempfile
 import time
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any
 
@@ -26,13 +27,18 @@ import mujoco
 import numpy as np
 
 import neurowalk
+from neurowalk.experiments.figures.table2 import run as table2_run
+from neurowalk.runners.local import run_many
+from neurowalk.sim.config import DEFAULT_ENGINE
+from neurowalk.sim.episode import EpisodeConfig, build, run_episode
+from neurowalk.sim.throughput import measure_throughput
+from neurowalk.sim.warp_engine import WarpWorlds, device_name, resolve_device
 
 ARENA_OPTS = {"n_boxes": 10, "extent": 9.0, "size": 0.6}
 
 
 def physics_rates(steps: int, seeds: int) -> dict[str, float]:
     """Control steps/s of the single loop and bare mj_step steps/s on the same model (wall time, no build)."""
-    from neurowalk.sim.episode import EpisodeConfig, build, run_episode
 
     cfgs = [EpisodeConfig(arena="random", arena_opts=ARENA_OPTS, steps=steps, seed=s) for s in range(seeds)]
     run_episode(EpisodeConfig(arena="open", steps=5))  # warm the compiled kernels
@@ -52,7 +58,6 @@ def physics_rates(steps: int, seeds: int) -> dict[str, float]:
 
 
 def _surrogate_run(seed: int, steps: int) -> float:
-    from neurowalk.sim.episode import EpisodeConfig, run_episode
 
     cfg = EpisodeConfig(arena="random", arena_opts=ARENA_OPTS, body="surrogate", steps=steps, seed=seed)
     return run_episode(cfg).summary["wall_time_s"]
@@ -60,7 +65,6 @@ def _surrogate_run(seed: int, steps: int) -> float:
 
 def surrogate_rates(steps: int, envs: int, workers: int) -> dict[str, float]:
     """Environment steps/s of the surrogate: in-loop rate in one process, and end-to-end over a pool."""
-    from concurrent.futures import ProcessPoolExecutor
 
     _surrogate_run(0, 100)  # compile / load the numba cache
     loop = sum(_surrogate_run(s, steps) for s in range(envs))
@@ -76,7 +80,6 @@ def surrogate_rates(steps: int, envs: int, workers: int) -> dict[str, float]:
 
 
 def _surrogate_configs(first: int, count: int, steps: int) -> list[Any]:
-    from neurowalk.sim.episode import EpisodeConfig
 
     return [
         EpisodeConfig(arena="random", arena_opts=ARENA_OPTS, body="surrogate", steps=steps, seed=s)
@@ -90,7 +93,6 @@ def surrogate_end_to_end(steps: int, envs: int) -> dict[str, float]:
     Each run's in-loop time is its ``wall_time_s`` (the compiled loop, noise draws included); its end-to-end
     time is the whole ``run_episode`` call around it, so the two rates share the machine's state.
     """
-    from neurowalk.sim.episode import run_episode
 
     run_episode(_surrogate_configs(0, 1, 100)[0])  # compile / load the numba cache
     loop = total = 0.0
@@ -116,7 +118,6 @@ def surrogate_pool(steps: int, runs: int, workers: int, repeats: int) -> dict[st
 
     Median wall times over ``repeats``, one process and pool alternating (the pool starts its workers each time).
     """
-    from neurowalk.runners.local import run_many
 
     cfgs = _surrogate_configs(0, runs, steps)
     run_many(cfgs[:1], workers=1, progress=False)  # compile / load the numba cache here (the workers fork)
@@ -141,11 +142,10 @@ def surrogate_pool(steps: int, runs: int, workers: int, repeats: int) -> dict[st
 
 def table2_time(workers: int) -> dict[str, float]:
     """Wall time of the 50-environment Table 2 on the surrogate (fresh store, full length runs)."""
-    from neurowalk.experiments.figures.table2 import run
 
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
-        res = run(out=Path(tmp), workers=workers)
+        res = table2_run(out=Path(tmp), workers=workers)
         wall = time.perf_counter() - t0
     counts = res.summary["counts"]
     return {
@@ -159,7 +159,6 @@ def table2_time(workers: int) -> dict[str, float]:
 
 def _bare(cfg: Any, targets: np.ndarray) -> float:
     """Wall time (s) of bare ``mj_step`` replaying joint ``targets`` (steps, 19) on the config's model."""
-    from neurowalk.sim.episode import build
 
     _, body, _ = build(cfg)
     body.reset(np.random.default_rng(0))
@@ -178,7 +177,6 @@ def closed_loop_ratio(steps: int = 3000, repeats: int = 5) -> dict[str, Any]:
     nothing but ``ctrl[:] = ...; mj_step(nstep)`` per control step. Median wall times over ``repeats``,
     interleaved; the budget of the ratio is 1.15.
     """
-    from neurowalk.sim.episode import EpisodeConfig, run_episode
 
     cfg = EpisodeConfig(arena="box", controller="plastic", steps=steps, seed=0)
     run_episode(EpisodeConfig(arena="box", steps=5))  # warm the compiled kernels
@@ -211,8 +209,6 @@ def warp_rates(
     Worlds are random arenas (as :func:`physics_rates`), plastic network; each measurement runs ``steps``
     control steps after one untimed run of the same worlds (kernel compilation, CUDA graph capture).
     """
-    from neurowalk.sim.episode import EpisodeConfig
-    from neurowalk.sim.warp_engine import WarpWorlds, device_name, resolve_device
 
     device = resolve_device(device)
     rows = []
@@ -248,13 +244,12 @@ def run_bench(
     quick: bool = False,
     workers: int | None = None,
     progress: bool = True,
-    engine: str = "mujoco",
+    engine: str = DEFAULT_ENGINE,
     device: str | None = None,
     worlds: tuple[int, ...] = (1, 64, 1024, 4096),
 ) -> dict[str, Any]:
     """All figures; ``quick`` shortens every measurement (for tests). ``engine`` 'warp': MuJoCo Warp's rates for
     each of ``worlds`` on ``device`` beside the CPU loop and batch (no surrogate figures then)."""
-    from neurowalk.sim.throughput import measure_throughput
 
     cores = os.cpu_count() or 1
     workers = workers or min(cores, 8)
@@ -282,7 +277,7 @@ def run_bench(
         },
         "quick": quick,
     }
-    if engine == "warp":
+    if engine != DEFAULT_ENGINE:  # the GPU engine (MuJoCo Warp): its rates by number of worlds
         w = warp_rates(worlds, 2 if quick else 5, device, progress)
         best = max(r["control_steps_per_s"] for r in w["rows"])
         cpu = phys["control_steps_per_s"]

@@ -125,12 +125,12 @@ def cmd_bench(args: argparse.Namespace) -> int:
         raise UsageError(f"--worlds expects whole numbers separated by commas, got {args.worlds!r}") from None
     if not worlds or min(worlds) < 1:
         raise UsageError(f"--worlds expects numbers >= 1, got {args.worlds!r}")
-    check_engine(args)
+    device = check_engine(args).device
     from neurowalk.bench import run_bench
     from neurowalk.fileio import write_json
 
     out_folder(args.out)
-    r = run_bench(quick=args.quick, workers=args.workers, engine=args.engine, device=args.device, worlds=worlds)
+    r = run_bench(quick=args.quick, workers=args.workers, engine=args.engine, device=device, worlds=worlds)
     write_json(args.out / "bench.json", r)
     b = r["batch_physics"]["speedup_vs_single_loop"]
     line = (

@@ -16,22 +16,29 @@ from neurowalk.runners.specs import spec_key
 from neurowalk.runners.stopping import deferred
 from neurowalk.runners.store import ResultStore
 from neurowalk.runners.sweep import run_sweep
+from neurowalk.sim.engine import EngineOptions
 
 
 def run_store(
-    specs: list[dict[str, Any]], folder: Path, workers: int, fn: Any = None, name: str = "results.sqlite"
+    specs: list[dict[str, Any]],
+    folder: Path,
+    workers: int,
+    fn: Any = None,
+    name: str = "results.sqlite",
+    options: EngineOptions | None = None,
 ) -> tuple[dict[str, dict[str, Any]], Any]:
     """Run ``specs`` through the resumable store ``folder/name``; return (results by spec key, report).
 
     ``fn``: what runs one spec (default :func:`~neurowalk.runners.specs.run_spec`; a module-level function).
     Each run is stored as it finishes: an interrupted figure (KeyboardInterrupt, raised here once the store is
-    closed) keeps its finished runs, and the same call again runs only the others.
+    closed) keeps its finished runs, and the same call again runs only the others. ``options``: how the engines run
+    (e.g. MuJoCo Warp's device).
     """
     folder.mkdir(parents=True, exist_ok=True)
     with deferred():  # opened whole (its lock, its tables), or not at all
         store = ResultStore(folder / name)
     with store:
-        report = run_sweep(specs, store, workers=workers, **({"fn": fn} if fn is not None else {}))
+        report = run_sweep(specs, store, workers=workers, options=options, **({"fn": fn} if fn is not None else {}))
         results = store.results()
     if report.interrupted:
         raise KeyboardInterrupt

@@ -23,6 +23,7 @@ from neurowalk.experiments.calibration.fit import body_velocity, fit_lag, sway_f
 from neurowalk.experiments.calibration.physics import fit_startup, geometry, steady_poses, steady_table, step_runs
 from neurowalk.experiments.calibration.subjects import (
     CONTROL_HZ,
+    DEFAULT_SUBJECT,
     FORWARD,
     GRID,
     HELD_OUT,
@@ -81,7 +82,7 @@ def calibrate(
     *,
     workers: int = 2,
     progress: bool = True,
-    body: str = "amosii",
+    body: str = DEFAULT_SUBJECT,
 ) -> Calibration:
     """Run every measurement on physics ``body`` (``amosii`` or ``wheeled``, see :data:`SUBJECTS`) and return the
     calibration of its surrogate (with its validation in ``meta``); ``grid`` must hold -1 (the forward run).
@@ -108,7 +109,7 @@ def calibrate(
     cal = Calibration(*motion, tau, delay, 0, CONTROL_HZ, circles, rays, us_range)
     startup = fit_startup(cal, body)
     meta = {
-        "command": "neurowalk calibrate" + ("" if body == "amosii" else f" --body {body}"),
+        "command": "neurowalk calibrate" + ("" if body == DEFAULT_SUBJECT else f" --body {body}"),
         "neurowalk_version": neurowalk.__version__,
         "mujoco_version": mujoco.__version__,
         "how": sub.how.format(lag=lag_err),

@@ -52,6 +52,7 @@ class Subject:
     how: str
 
 
+DEFAULT_SUBJECT = "amosii"  # what `neurowalk calibrate` measures without --body: the paper's robot
 NO_SWAY_PERIOD = float(WINDOW)  # control steps: the stored period of a body without a gait (its amplitude is 0)
 SUBJECTS: dict[str, Subject] = {
     "amosii": Subject(

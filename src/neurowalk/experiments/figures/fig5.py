@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING
 from neurowalk.experiments import Result
 from neurowalk.experiments.suites.deadends import build
 from neurowalk.experiments.suites.deadends_plot import plot as draw
+from neurowalk.sim.config import DEFAULT_ENGINE
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -38,7 +39,8 @@ def run(
     climbing: bool = False,
     variant: str = "paper",
     gait: str = "wave",
-    engine: str = "mujoco",
+    engine: str = DEFAULT_ENGINE,
+    device: str | None = None,
     out: Path | None = None,
 ) -> Result:
     """Outcome table over ``seeds`` seeds (default 10; 3 with ``quick``), example and long runs.
@@ -59,6 +61,7 @@ def run(
         variant=variant,
         gait=gait,
         engine=engine,
+        device=device,
         out=out,
     )
     runs = res.summary["runs"]

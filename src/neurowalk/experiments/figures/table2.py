@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from tqdm import tqdm
 
-from neurowalk.body.registry import body_info
+from neurowalk.body.registry import bodies_where, body_info
 from neurowalk.experiments import Result
 from neurowalk.experiments.stores import run_store
 from neurowalk.experiments.suites.random_envs import (
@@ -35,6 +35,8 @@ from neurowalk.neural.variants import variant_names
 from neurowalk.plotting import pyplot
 from neurowalk.runners.local import run_unordered
 from neurowalk.runners.specs import run_spec, spec_key
+from neurowalk.sim.config import DEFAULT_ENGINE, engine_refusal
+from neurowalk.sim.engine import EngineOptions
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -67,7 +69,8 @@ def run(
     size: float = SIZE,
     variant: str | None = None,
     params: dict[str, float] | None = None,
-    engine: str = "mujoco",
+    engine: str = DEFAULT_ENGINE,
+    device: str | None = None,
 ) -> Result:
     """``seeds`` environments (default 50; 10 with ``quick``) x the rows, through a resumable store in ``out``.
 
@@ -75,15 +78,18 @@ def run(
     (physics body only). ``variant``/``params``: an extra plastic row (``--params FILE``). A physics body with a
     calibrated surrogate (AMOSII: ``surrogate``, wheeled: ``surrogate-wheeled``) runs it beside, environment for
     environment (``surrogate_agreement``). ``engine``: ``warp`` runs the AMOSII physics rows on MuJoCo Warp, every
-    environment a world of one model (``--engine warp``; a GPU makes 1000 environments in physics practical).
+    environment a world of one model (``--engine warp``; a GPU makes 1000 environments in physics practical), on
+    ``device``.
     """
     n = seeds if seeds is not None else (10 if quick else 50)
     if n < 1:
         raise ValueError(f"seeds (environments) must be >= 1, got {n}")
-    if engine != "mujoco" and body != "amosii":
-        raise ValueError(f"engine {engine!r} runs body 'amosii', got body {body!r}")
-    if climbing and body != "amosii":
-        raise ValueError(f"climbing needs body 'amosii' (the surrogate has no legs), got body {body!r}")
+    info = body_info(body)
+    if engine not in info.engines:
+        raise ValueError(engine_refusal(engine, body, climbing))
+    if climbing and not info.climbs:
+        climbers = ", ".join(repr(b) for b in bodies_where(lambda b: b.climbs))
+        raise ValueError(f"climbing needs body {climbers} (the surrogate has no legs), got body {body!r}")
     steps = QUICK_STEPS if quick else STEPS
     table = rows(variant, params)
     envs = environments(n, seed)
@@ -92,14 +98,14 @@ def run(
         s = spec(
             e, r["controller"], steps, b, climbing and b == body, variant=r["variant"], size=size, params=r["params"]
         )
-        return {**s, "engine": engine} if b == "amosii" and engine != "mujoco" else s
+        return {**s, "engine": engine} if b == body else s  # the physics rows on the engine; a surrogate: its loop
 
     surrogate = body_info(body).surrogate  # its own surrogate beside a physics body (amosii, wheeled)
     bodies = [body] if surrogate is None else [body, surrogate]
     specs = [spec_of(e, r, b) for b in bodies for e in envs for r in table.values()]
     folder = Path(out) if out is not None else Path("out/table2")
     folder.mkdir(parents=True, exist_ok=True)
-    results, report = run_store(specs, folder, workers)
+    results, report = run_store(specs, folder, workers, options=EngineOptions(device=device))
     keys = [spec_key(s) for s in specs]  # in the order of specs: body, environment, row
     _reclassify(results, specs, keys, workers)
     by_body = {b: keys[i * len(envs) * len(table) : (i + 1) * len(envs) * len(table)] for i, b in enumerate(bodies)}

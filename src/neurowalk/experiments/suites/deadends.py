@@ -24,7 +24,9 @@ from neurowalk.experiments import Result
 from neurowalk.experiments.stores import run_store, store_folder
 from neurowalk.runners.local import run_many
 from neurowalk.runners.specs import normalize, spec_key, to_config
-from neurowalk.sim.episode import Episode, EpisodeConfig, RunInterruptedError, run_episode
+from neurowalk.sim.config import DEFAULT_ENGINE
+from neurowalk.sim.engines import engine_for
+from neurowalk.sim.episode import EngineOptions, Episode, EpisodeConfig, RunInterruptedError, run_episode
 
 NETWORKS: dict[str, dict[str, Any]] = {
     "plastic": {"controller": "plastic"},
@@ -76,14 +78,22 @@ def _spec(cfg: EpisodeConfig) -> dict[str, Any]:
 
 
 def stored_runs(
-    configs: list[EpisodeConfig], folder: Path | None, name: str, workers: int, progress: bool, desc: str, traces: bool
+    configs: list[EpisodeConfig],
+    folder: Path | None,
+    name: str,
+    workers: int,
+    progress: bool,
+    desc: str,
+    traces: bool,
+    device: str | None = None,
 ) -> list[dict[str, Any]]:
     """Outcomes (or, ``traces``, traces) of ``configs``: through the store ``folder/name`` (resumable), or, without a
-    folder or on MuJoCo Warp (its runs are the worlds of one model), all at once."""
-    if folder is None or any(c.engine == "warp" for c in configs):
-        return run_many(
-            configs, workers=workers, progress=progress, keep=keep_traces if traces else keep_outcome, desc=desc
-        )
+    folder or on a many-worlds engine such as MuJoCo Warp (its runs are the worlds of one model, on ``device``), all
+    at once."""
+    if folder is None or any(engine_for(c).many_worlds for c in configs):
+        keep = keep_traces if traces else keep_outcome
+        options = EngineOptions(device=device)
+        return run_many(configs, workers=workers, progress=progress, keep=keep, desc=desc, options=options)
     specs = [_spec(c) for c in configs]
     results, _ = run_store(specs, folder, workers, fn=traces_of if traces else outcome_of, name=name)
     want = "pose" if traces else "direction_switches"
@@ -121,7 +131,8 @@ def outcome_table(
     climbing: bool = False,
     variant: str = "paper",
     gait: str = "wave",
-    engine: str = "mujoco",
+    engine: str = DEFAULT_ENGINE,
+    device: str | None = None,
     folder: Path | None = None,
 ) -> dict:
     """Escape counts per variant and network over seeds ``first_seed`` ... ``first_seed + seeds - 1``.
@@ -154,7 +165,9 @@ def outcome_table(
                         **net,
                     )
                 )
-    results = stored_runs(configs, folder, "results.sqlite", workers, progress, f"dead ends ({body})", traces=False)
+    results = stored_runs(
+        configs, folder, "results.sqlite", workers, progress, f"dead ends ({body})", traces=False, device=device
+    )
     table: dict[str, dict[str, dict[str, Any]]] = {}
     runs = []
     for (vname, nname), r, cfg in zip(keys, results, configs, strict=True):
@@ -196,7 +209,8 @@ def example_and_long_runs(
     climbing: bool = False,
     variant: str = "paper",
     gait: str = "wave",
-    engine: str = "mujoco",
+    engine: str = DEFAULT_ENGINE,
+    device: str | None = None,
     folder: Path | None = None,
 ) -> dict[str, dict[str, Any]]:
     """Traces of ``network`` in both dead ends, and the long runs {name: config kwargs}, all with ``seed``.
@@ -230,7 +244,9 @@ def example_and_long_runs(
             engine=engine,
             **v,
         )
-    out = stored_runs(list(runs.values()), folder, "traces.sqlite", workers, progress, "example runs", traces=True)
+    out = stored_runs(
+        list(runs.values()), folder, "traces.sqlite", workers, progress, "example runs", traces=True, device=device
+    )
     return dict(zip(runs, out, strict=True))
 
 
@@ -245,7 +261,8 @@ def build(
     climbing: bool = False,
     variant: str = "paper",
     gait: str = "wave",
-    engine: str = "mujoco",
+    engine: str = DEFAULT_ENGINE,
+    device: str | None = None,
     out: Path | None = None,
 ) -> Result:
     """Shared by Fig. 3 and Fig. 5: outcome table, example runs, long runs (``climbing``: modules of Fig. 10 on).
@@ -260,7 +277,14 @@ def build(
     long_steps = QUICK_LONG_STEPS if quick else LONG_STEPS
     with store_folder(out) as folder:
         table = outcome_table(
-            n_seeds, first_seed=seed, climbing=climbing, variant=variant, gait=gait, engine=engine, folder=folder
+            n_seeds,
+            first_seed=seed,
+            climbing=climbing,
+            variant=variant,
+            gait=gait,
+            engine=engine,
+            device=device,
+            folder=folder,
         )
         runs = example_and_long_runs(
             network,
@@ -271,6 +295,7 @@ def build(
             variant=variant,
             gait=gait,
             engine=engine,
+            device=device,
             folder=folder,
         )
     arrays = {f"{k}/{field}": v[field] for k, v in runs.items() for field in TRACES}
