@@ -919,3 +919,15 @@ def test_the_list_touches_every_figure_arena_option_spec_field_and_flag():
     flags = {f"{name} {o}" for name, p in _commands().items() for a in p._actions for o in a.option_strings
              if o.startswith("--") and o not in ("--help", "--quiet")}  # fmt: skip
     assert flags <= covered["flag"], sorted(flags - covered["flag"])
+
+
+def test_a_huge_worker_count_is_refused_in_one_line_by_every_command(capsys, tmp_path):
+    """A 400-digit --workers is bad input (exit 2, one line), not an OverflowError deep in a command."""
+    from neurowalk.cli import main
+
+    huge = str(10**400)
+    for argv in (["sweep", "--seeds", "1"], ["optimize"], ["calibrate"], ["bench"]):
+        assert main([*argv, "--workers", huge, "--out", str(tmp_path / "o")]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert err == ["neurowalk: error: --workers must be at most 4,096, got a number of 401 digits"]
+    assert not (tmp_path / "o").exists()

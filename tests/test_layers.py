@@ -70,3 +70,67 @@ def test_the_check_catches_an_upward_import_and_a_private_name(tmp_path: Path) -
     found = violations(tmp_path)
     assert any("neural.bad (layer 1) imports sim.episode (layer 4)" in b for b in found)
     assert any("imports private _secret from arenas.spec" in b for b in found)
+
+
+def _module_of(pkg: Path, target: list[str]) -> str | None:
+    """The module (dotted, below neurowalk) that an import target names: the longest prefix that is a file."""
+    for n in range(len(target), 0, -1):
+        p = pkg.joinpath(*target[:n])
+        if p.with_suffix(".py").is_file():
+            return ".".join(target[:n])
+    return None
+
+
+def circles(pkg: Path = PKG) -> list[list[str]]:
+    """Groups of modules that import each other, directly or through others (imports inside functions count: they
+    hide a circle, they do not remove it); package ``__init__`` files, which only re-export, are left out."""
+    graph: dict[str, set[str]] = {}
+    for f in sorted(pkg.rglob("*.py")):
+        if f.name == "__init__.py":
+            continue
+        me = ".".join(f.relative_to(pkg).with_suffix("").parts)
+        for _, target, names in _imports(f):
+            for t in [[*target, n] for n in names] or [target]:
+                mod = _module_of(pkg, t)
+                if mod and mod != me:
+                    graph.setdefault(me, set()).add(mod)
+    index: dict[str, int] = {}
+    low: dict[str, int] = {}
+    stack: list[str] = []
+    out: list[list[str]] = []
+
+    def visit(v: str) -> None:  # Tarjan's strongly connected components
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        for w in sorted(graph.get(v, ())):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                out.append(sorted(comp))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return out
+
+
+def test_no_modules_import_each_other() -> None:
+    assert circles() == []
+
+
+def test_the_circle_check_finds_a_circle_through_a_function(tmp_path: Path) -> None:
+    (tmp_path / "sim").mkdir()
+    (tmp_path / "sim" / "a.py").write_text("from neurowalk.sim.b import x\n")
+    (tmp_path / "sim" / "b.py").write_text("def f():\n    from neurowalk.sim.c import y\n")
+    (tmp_path / "sim" / "c.py").write_text("from neurowalk.sim import a\n")
+    assert circles(tmp_path) == [["sim.a", "sim.b", "sim.c"]]

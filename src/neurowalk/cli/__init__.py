@@ -14,7 +14,7 @@ from collections.abc import Sequence
 
 from neurowalk import __version__
 from neurowalk.cli.baseline import add_baseline_parser, cmd_baseline
-from neurowalk.cli.common import Parser, UsageError, one_line, out_file, out_folder
+from neurowalk.cli.common import Parser, UsageError, check_workers, one_line, out_file, out_folder
 from neurowalk.cli.figure import add_figure_parser, cmd_figure, figure_listing
 from neurowalk.cli.run import add_run_parsers, cmd_run, cmd_view, signals_held
 from neurowalk.cli.sweep import add_optimize_parser, add_sweep_parser, cmd_optimize, cmd_sweep
@@ -77,6 +77,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = None
     try:
         args = parse(list(sys.argv[1:] if argv is None else argv))
+        check_workers(getattr(args, "workers", None))  # every command's --workers, in one place
         return _COMMANDS[args.command](args)
     except UsageError as e:
         print(f"neurowalk: error: {one_line(str(e))}", file=sys.stderr)

@@ -179,6 +179,18 @@ def engine_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--device", default=None, help="engine warp: cuda (default where a GPU is present) | cpu (slow)")
 
 
+MAX_WORKERS = 4096  # processes or Ray CPUs one command asks for
+
+
+def check_workers(workers: int | None) -> None:
+    """UsageError unless ``--workers`` is None (the default) or a count from 1 to :data:`MAX_WORKERS`."""
+    if workers is not None and workers < 1:
+        raise UsageError(f"--workers must be >= 1, got {workers}")
+    if workers is not None and workers > MAX_WORKERS:
+        shown = str(workers) if workers < 10**12 else f"a number of {len(str(workers))} digits"
+        raise UsageError(f"--workers must be at most {MAX_WORKERS:,}, got {shown}")
+
+
 def check_engine(args: argparse.Namespace, named: Sequence[str] = ()) -> EngineOptions:
     """Check --engine/--device before any work (UsageError naming what to install or use); the engine options (the
     device resolved) that the command passes on to the runs. ``named``: engines the runs name themselves (a spec

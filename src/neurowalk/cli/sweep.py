@@ -218,8 +218,6 @@ def _open(args: argparse.Namespace) -> tuple[list[dict], Path, dict, ResultStore
     from neurowalk.runners.specs import check_specs
     from neurowalk.runners.store import ResultStore, StoreError
 
-    if args.workers < 1:
-        raise UsageError(f"--workers must be >= 1, got {args.workers}")
     if args.retries < 0:
         raise UsageError(f"--retries must be >= 0, got {args.retries}")
     if args.address and args.backend != "ray":

@@ -7,7 +7,14 @@ import argparse
 import sys
 from pathlib import Path
 
-from neurowalk.cli.common import UsageError, check_engine, engine_args, out_file, out_folder, parse_arena_opts
+from neurowalk.cli.common import (
+    UsageError,
+    check_engine,
+    engine_args,
+    out_file,
+    out_folder,
+    parse_arena_opts,
+)
 
 
 def add_tool_parsers(sub: argparse._SubParsersAction) -> None:
@@ -69,8 +76,6 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
 
 
 def _calibrate(args: argparse.Namespace) -> int:
-    if args.workers < 1:
-        raise UsageError(f"--workers must be >= 1, got {args.workers}")
     from neurowalk.runners.stopping import deferred
 
     with deferred():  # the simulation's modules (numba's, MuJoCo's) load whole: a signal waits for their end
@@ -117,8 +122,6 @@ def _calibrate(args: argparse.Namespace) -> int:
 
 def cmd_bench(args: argparse.Namespace) -> int:
     """`neurowalk bench`: the performance figures into DIR/bench.json."""
-    if args.workers is not None and args.workers < 1:
-        raise UsageError(f"--workers must be >= 1, got {args.workers}")
     try:
         worlds = tuple(int(w) for w in args.worlds.split(","))
     except ValueError:
