@@ -140,18 +140,18 @@ def surrogate_pool(steps: int, runs: int, workers: int, repeats: int) -> dict[st
     }
 
 
-def table2_time(workers: int) -> dict[str, float]:
-    """Wall time of the 50-environment Table 2 on the surrogate (fresh store, full length runs)."""
-
+def table2_time(workers: int, environments: int = 50) -> dict[str, float]:
+    """Wall time of Table 2 on the surrogate over ``environments`` environments (fresh store, full length runs): what
+    ``neurowalk figure table2 --seeds N`` costs to compute (the picture aside)."""
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
-        res = table2_run(out=Path(tmp), workers=workers)
+        res = table2_run(out=Path(tmp), workers=workers, seeds=environments)
         wall = time.perf_counter() - t0
     counts = res.summary["counts"]
     return {
         "wall_s": wall,
-        "environments": 50,
-        "runs": 50 * len(counts),
+        "environments": environments,
+        "runs": environments * len(counts),
         "steps_per_run": res.summary["steps"],
         "success": {name: c["success"] for name, c in counts.items()},
     }
@@ -302,4 +302,6 @@ def run_bench(
     if not quick:
         out["table2_surrogate"] = table2_time(workers)
         out["table2_surrogate"]["aim_s"] = 60
+        out["table2_surrogate_1000"] = table2_time(workers, 1000)
+        out["table2_surrogate_1000"]["aim_s"] = 60
     return out
