@@ -63,8 +63,6 @@ def make_writable_folder(path: Path) -> None:
     The check is a real write, not ``os.access`` (which lets root "write" where nothing can be, e.g. /proc).
     Raises ValueError saying what is wrong (a file in the way, no permission, a name too long, ...).
     """
-    import tempfile
-
     try:
         if path.exists() and not path.is_dir():
             raise ValueError(f"{str(path)!r} is a file, not a folder")

@@ -5,7 +5,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import matplotlib
 import numpy as np
+from matplotlib.collections import LineCollection
+from matplotlib.patches import Polygon, Rectangle
 
 from neurowalk.arenas.spec import ArenaSpec
 from neurowalk.sim.trajectory import Trajectory
@@ -17,18 +20,14 @@ if TYPE_CHECKING:
 
 def pyplot() -> Any:
     """matplotlib.pyplot on the non-interactive Agg backend."""
-    import matplotlib
-
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # here, not at the top: after Agg is chosen, and only when neurowalk draws
 
     return plt
 
 
 def draw_arena(ax: Axes, arena: ArenaSpec, pose: np.ndarray | None = None, *, margin: float = 0.5) -> None:
     """Boxes (grey), exit region (green), the path coloured by time (dark blue → dark red), start/end dots."""
-    from matplotlib.patches import Polygon, Rectangle
-
     for b in arena.boxes:
         ax.add_patch(Polygon(b.corners(), closed=True, color="0.55"))
     if arena.exit_region is not None:
@@ -36,8 +35,6 @@ def draw_arena(ax: Axes, arena: ArenaSpec, pose: np.ndarray | None = None, *, ma
         ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, color="green", alpha=0.12, lw=0))
     pts = [b.corners() for b in arena.boxes]
     if pose is not None:
-        from matplotlib.collections import LineCollection
-
         xy = pose[:, :2]
         seg = np.stack([xy[:-1], xy[1:]], axis=1)
         lc = LineCollection(seg, cmap="jet", lw=1.5)

@@ -9,11 +9,18 @@ from __future__ import annotations
 
 import os
 import sys
+import time
+import warnings
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
+import imageio_ffmpeg
 import numpy as np
+from tqdm import tqdm
+
+from neurowalk.body.amosii_params import TRUNK_BODY
+from neurowalk.fileio import atomic_write
 
 
 def has_display() -> bool:
@@ -30,9 +37,7 @@ def use_headless_gl() -> None:
 
 def check_gl() -> str | None:
     """None if offscreen rendering works here, else one line saying why (call after :func:`use_headless_gl`)."""
-    import warnings
-
-    import mujoco
+    import mujoco  # here, not at the top: use_headless_gl must set MUJOCO_GL before MuJoCo is imported
 
     try:
         model = mujoco.MjModel.from_xml_string("<mujoco><worldbody><geom size='0.1'/></worldbody></mujoco>")
@@ -80,16 +85,10 @@ def render_video(
         samples: multisampling (anti-aliasing) samples per pixel; 2 by default (MuJoCo's default 4 costs a
             fifth more time with software GL).
     """
-    import imageio_ffmpeg
-
-    from neurowalk.fileio import atomic_write
-
     path = Path(path)
     rows = range(0, len(qpos), every)
     bar = None
     if progress:
-        from tqdm import tqdm
-
         bar = tqdm(total=len(rows), unit="frame", desc="video", mininterval=0.5)
 
     def write(tmp: str) -> None:
@@ -140,9 +139,7 @@ def iter_frames(
     computed per frame (no dynamics, no collision detection). ``samples``: multisampling samples per pixel
     (default: the model's ``vis.quality.offsamples``, MuJoCo's 4).
     """
-    import mujoco
-
-    from neurowalk.body.amosii_params import TRUNK_BODY
+    import mujoco  # here, not at the top: use_headless_gl must set MUJOCO_GL before MuJoCo is imported
 
     data = mujoco.MjData(model)
     cam = mujoco.MjvCamera()
@@ -176,9 +173,7 @@ def iter_frames(
 
 def view(model: object, data: object, step: object, control_hz: float = 10.0) -> None:
     """Open MuJoCo's passive viewer and call ``step()`` (one control step) in real time until it closes."""
-    import time
-
-    import mujoco.viewer
+    import mujoco.viewer  # here, not at the top: use_headless_gl must set MUJOCO_GL before MuJoCo is imported
 
     with mujoco.viewer.launch_passive(model, data) as v:
         period = 1.0 / control_hz

@@ -22,9 +22,17 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+import mujoco
 import numpy as np
 
 from neurowalk.arenas import ArenaSpec
+from neurowalk.body.amosii import amosii_xml
+from neurowalk.body.amosii_params import BodyParams
+from neurowalk.body.physics import AmosII, obstacle_contacts
+from neurowalk.body.surrogate import Surrogate, load_calibration
+from neurowalk.body.user_mjcf import UserMjcf, check_opts
+from neurowalk.body.wheeled import WheeledParams, wheeled_xml
+from neurowalk.body.wheeled_body import Wheeled
 
 
 @dataclass(frozen=True)
@@ -151,8 +159,6 @@ def check_body_opts(name: str, opts: dict[str, Any]) -> dict[str, Any]:
     """The body's options as numbers, each checked against its range; ValueError names a bad key or value."""
     info = body_info(name)
     if info is MJCF:
-        from neurowalk.body.user_mjcf import check_opts
-
         return check_opts(name, opts)
     out = {}
     for key, value in opts.items():
@@ -187,25 +193,16 @@ def make_body(
     steps, bit for bit the plain model's physics); other bodies have one model and ignore it.
     """
     if body_info(name) is MJCF:  # it checks its options and its file as it builds (one compile)
-        from neurowalk.body.user_mjcf import UserMjcf
-
         return UserMjcf(name, arena, opts, control_hz=control_hz, noise=noise)
     options = check_body_opts(name, opts or {})
     if name == "amosii":
-        from neurowalk.body.physics import AmosII
-
         return AmosII(arena, control_hz=control_hz, noise=noise, scan_obstacles=climbing, pad_boxes=pad_boxes)
     if not BODIES[name].physics:  # surrogate, surrogate-wheeled: each reads its own calibration file
-        from neurowalk.body.surrogate import Surrogate, load_calibration
-
         cal = load_calibration(body=name)
         body = Surrogate(arena, cal.scaled(**options) if options else cal, noise=noise, name=name)
         if control_hz != body.control_hz:
             raise ValueError(f"body {name!r} is calibrated at {body.control_hz} Hz, got control_hz {control_hz}")
         return body
-    from neurowalk.body.wheeled import WheeledParams
-    from neurowalk.body.wheeled_body import Wheeled
-
     return Wheeled(arena, WheeledParams(**options), control_hz=control_hz, noise=noise)
 
 
@@ -214,11 +211,7 @@ def replay_contacts(name: str, opts: dict[str, Any], arena: ArenaSpec, qpos: np.
     fresh model of its arena (collision depends on positions only): the robot touching any geom of the world but
     a plane."""
     if name == "amosii":
-        from neurowalk.body.physics import obstacle_contacts
-
         return obstacle_contacts(arena, qpos)
-    import mujoco
-
     model = make_body(name, arena, opts, noise=0.0).model
     if qpos.ndim != 2 or qpos.shape[1] != model.nq:
         raise ValueError(f"qpos must have shape (T, {model.nq}), got {qpos.shape}")
@@ -240,13 +233,8 @@ def body_xml(name: str, opts: dict[str, Any] | None = None, world: str = "") -> 
     ``to_mjcf()``); ValueError for a planar body."""
     options = check_body_opts(name, opts or {})
     if name == "amosii":
-        from neurowalk.body.amosii import amosii_xml
-        from neurowalk.body.amosii_params import BodyParams
-
         return amosii_xml(BodyParams(), world=world)
     if name == "wheeled":
-        from neurowalk.body.wheeled import WheeledParams, wheeled_xml
-
         return wheeled_xml(WheeledParams(**options), world=world)
     raise ValueError(f"body {name!r} has no built-in MuJoCo model to export")
 

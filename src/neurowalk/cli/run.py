@@ -49,6 +49,10 @@ def add_run_parsers(sub: argparse._SubParsersAction) -> None:
 
 def cmd_run(args: argparse.Namespace) -> int:
     """`neurowalk run`: one closed-loop run into DIR (resumable where it is a physics run)."""
+    if args.video:
+        from neurowalk.render import use_headless_gl
+
+        use_headless_gl()  # before MuJoCo is imported (the body registry imports it)
     from neurowalk.body.registry import body_info
 
     if args.video and not _is_physics(args.body, body_info):
@@ -56,9 +60,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     if args.resume and args.overwrite:
         raise UsageError("--resume and --overwrite exclude each other: go on with the run in DIR, or start afresh")
     if args.video:
-        from neurowalk.render import check_gl, use_headless_gl
+        from neurowalk.render import check_gl
 
-        use_headless_gl()
         problem = check_gl()  # before the run, not after it
         if problem:
             raise UsageError(f"--video: {problem}")

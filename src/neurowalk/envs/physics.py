@@ -14,10 +14,12 @@ from __future__ import annotations
 
 from typing import Any
 
+import mujoco
 import numpy as np
 from gymnasium import spaces
 
-from neurowalk.arenas import ArenaSpec
+from neurowalk.arenas import ArenaSpec, make_arena
+from neurowalk.body.amosii_params import TRUNK_BODY
 from neurowalk.body.amosii_sensors import obstacle_contact, trunk_pose
 from neurowalk.body.physics import AmosII
 from neurowalk.controller import FixedController
@@ -50,8 +52,6 @@ class ExplorePhysicsEnv(ExploreTask):
         if action == "steering":
             self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float64)
         else:
-            from neurowalk.arenas import make_arena
-
             model = AmosII(make_arena("open")).model
             lo, hi = model.actuator_ctrlrange[:, 0].copy(), model.actuator_ctrlrange[:, 1].copy()
             self.action_space = spaces.Box(lo, hi, dtype=np.float64)
@@ -63,10 +63,6 @@ class ExplorePhysicsEnv(ExploreTask):
         """``rgb_array``: (480, 640, 3) uint8, MuJoCo's view of the robot; ``human``: the overhead picture."""
         if self.render_mode != "rgb_array" or self.body is None:
             return super().render()
-        import mujoco
-
-        from neurowalk.body.amosii_params import TRUNK_BODY
-
         if self._renderer is None:
             self._renderer = mujoco.Renderer(self.body.model, 480, 640)
             self._camera = mujoco.MjvCamera()

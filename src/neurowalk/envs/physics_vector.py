@@ -34,6 +34,7 @@ from neurowalk.body.amosii_params import STAND_KEY
 from neurowalk.body.amosii_sensors import obstacle_contact, sensor_layout
 from neurowalk.body.physics import AmosII
 from neurowalk.controller import FixedController
+from neurowalk.envs.physics import ExplorePhysicsEnv
 from neurowalk.envs.task import BOXES, CELL, EXTENT, SIZE, STUCK_RADIUS, STUCK_WINDOW, US_RANGE
 from neurowalk.envs.vector import copy_seeds
 from neurowalk.envs.vector_kernel import count_cells, first_bad_row, near_obstacles, physics_sense
@@ -69,8 +70,6 @@ class ExplorePhysicsVectorEnv(VectorEnv):
         action: str = "steering",
         nthread: int = 2,
     ) -> None:
-        from neurowalk.envs.physics import ExplorePhysicsEnv
-
         for name, value in (("num_envs", num_envs), ("nthread", nthread)):
             if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
                 raise ValueError(f"{name} must be a whole number >= 1, got {value!r}")

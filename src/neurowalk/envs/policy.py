@@ -16,8 +16,12 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
+from tqdm import tqdm
 
 from neurowalk.compiled import jit
+from neurowalk.envs.explore import ExploreEnv
+from neurowalk.envs.task import STUCK_RADIUS, STUCK_WINDOW, within_disc
+from neurowalk.envs.vector import ExploreVectorEnv
 from neurowalk.neural.sensory import STEER, SensoryNetwork, sensory_input, sensory_step
 from neurowalk.neural.variants import get_variant
 
@@ -92,16 +96,12 @@ def evaluate(
     Returns ``success`` (runs not stuck at the end: Table 2's rule, the last 3000 steps not within a 0.5 m disc),
     ``environments``, ``success_rate``, and per run (in seed order) ``runs``: seed, stuck, coverage, contacts.
     """
-    from neurowalk.envs.explore import ExploreEnv
-
     if not len(seeds):
         raise ValueError("evaluate needs at least one seed")
     env = ExploreEnv(max_steps=steps, **(env_kwargs or {}))
     runs = []
     bar = None
     if progress:
-        from tqdm import tqdm
-
         bar = tqdm(total=len(seeds) * steps, unit="step", desc="evaluate", mininterval=0.5)
     for seed in seeds:
         obs, info = env.reset(seed=int(seed))
@@ -143,9 +143,6 @@ def evaluate_batch(
     environment's (the same statistics, other draws), so the two functions' scores differ run by run. Returns the
     dict of :func:`evaluate`.
     """
-    from neurowalk.envs.task import STUCK_RADIUS, STUCK_WINDOW, within_disc
-    from neurowalk.envs.vector import ExploreVectorEnv
-
     if not len(seeds):
         raise ValueError("evaluate_batch needs at least one seed")
     n = len(seeds)
@@ -157,8 +154,6 @@ def evaluate_batch(
     window[0] = info["pose"][:, :2]
     bar = None
     if progress:
-        from tqdm import tqdm
-
         bar = tqdm(total=n * steps, unit="step", desc="evaluate", mininterval=0.5)
     for k in range(1, steps + 1):
         obs, _, _, _, info = env.step(np.clip(policy(obs), -1.0, 1.0))

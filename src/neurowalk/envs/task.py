@@ -16,6 +16,7 @@ import numpy as np
 
 from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.compiled import jit
+from neurowalk.plotting import draw_arena, pyplot
 
 CELL = 0.25  # m, side of a coverage cell
 STUCK_WINDOW, STUCK_RADIUS = 3000, 0.5  # Table 2's rule: steps, m
@@ -115,8 +116,6 @@ class ExploreTask(gym.Env[np.ndarray, np.ndarray], abc.ABC):
         """``rgb_array``: (height, width, 3) uint8 overhead picture of the arena and path; ``human``: in a window."""
         if self.render_mode is None or self.arena is None:
             return None
-        from neurowalk.plotting import draw_arena, pyplot
-
         plt = pyplot()
         if self._figure is None:
             self._figure = plt.figure(figsize=(4, 4), dpi=80)
@@ -133,8 +132,6 @@ class ExploreTask(gym.Env[np.ndarray, np.ndarray], abc.ABC):
 
     def close(self) -> None:
         if self._figure is not None:
-            from neurowalk.plotting import pyplot
-
             pyplot().close(self._figure)
             self._figure = None
 

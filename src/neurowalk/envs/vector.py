@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 from typing import Any, ClassVar
 
+import numba
 import numpy as np
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
@@ -23,7 +24,7 @@ from gymnasium.vector.utils import batch_space
 from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.body import surrogate_kernel as kern
 from neurowalk.body.surrogate import NOISE_TAU, box_rows, load_calibration
-from neurowalk.envs.explore import BOXES, CELL, EXTENT, SIZE
+from neurowalk.envs.explore import BOXES, CELL, EXTENT, SIZE, ExploreEnv
 from neurowalk.envs.vector_kernel import free_mask, uniform, vector_step
 
 MAX_BOXES = 64  # obstacle rows per copy (Table 2: at most 20 boxes and 4 walls)
@@ -66,8 +67,6 @@ class ExploreVectorEnv(VectorEnv):
         max_steps: int = 2000,
         noise: float = 0.02,
     ) -> None:
-        from neurowalk.envs.explore import ExploreEnv
-
         if isinstance(num_envs, bool) or not isinstance(num_envs, int | np.integer) or num_envs < 1:
             raise ValueError(f"num_envs must be a whole number >= 1, got {num_envs!r}")
         single = ExploreEnv(arena=arena, arena_opts=arena_opts, max_steps=max_steps, noise=noise)  # checks them
@@ -99,8 +98,6 @@ class ExploreVectorEnv(VectorEnv):
         self.gain = math.sqrt(NOISE_TAU) * noise  # the surrogate's coloured noise
         self.visited: np.ndarray | None = None
         self.free: np.ndarray | None = None
-        import numba
-
         self.scratch = np.zeros((numba.config.NUMBA_NUM_THREADS, self.motion.shape[2] + 4))
 
     def reset(

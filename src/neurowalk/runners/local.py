@@ -14,6 +14,8 @@ interpreter exit waits on one; a driver killed outright takes its workers with i
 from __future__ import annotations
 
 import contextlib
+import ctypes
+import multiprocessing
 import os
 import signal
 import sys
@@ -24,6 +26,8 @@ from multiprocessing.connection import Connection
 from multiprocessing.connection import wait as mp_wait
 from multiprocessing.reduction import ForkingPickler
 from typing import Any
+
+from tqdm import tqdm
 
 from neurowalk.runners.jobs import Done, WorkerDiedError, call_timed, world_groups
 from neurowalk.runners.stopping import deferred, stop_requested
@@ -105,8 +109,6 @@ class _Pool:
     """Up to ``size`` worker processes, started as jobs need them, one job each at a time."""
 
     def __init__(self, size: int) -> None:
-        import multiprocessing
-
         self.size = size
         self.ctx = multiprocessing.get_context()
         self.workers: list[_Worker] = []
@@ -224,8 +226,6 @@ def die_with_parent(parent: int) -> None:
     died before that was set (the worker's parent is no longer ``parent``) ends the worker at once.
     """
     if sys.platform.startswith("linux"):
-        import ctypes
-
         ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # 1 = PR_SET_PDEATHSIG
     if os.getppid() != parent:
         os._exit(1)
@@ -265,8 +265,6 @@ def run_many(
     """
     if workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")
-    from tqdm import tqdm
-
     options = replace(options or EngineOptions(), progress=progress)
     jobs = [(c, keep) for c in configs]
     out: list[Any] = [None] * len(jobs)

@@ -19,7 +19,10 @@ import math
 from pathlib import Path
 from typing import Any
 
+from neurowalk.arenas import ARENAS, arena_options, make_arena
+from neurowalk.body.registry import check_body_opts
 from neurowalk.fileio import to_jsonable
+from neurowalk.neural.variants import check_overrides
 from neurowalk.sim.config import DEFAULT_ENGINE
 from neurowalk.sim.episode import Episode, EpisodeConfig, RunInterruptedError, run_episode
 
@@ -44,8 +47,6 @@ def normalize(spec: Spec) -> Spec:
         ValueError: unknown field, unknown arena/option/controller/body, or a value of the wrong kind (the
             message names it).
     """
-    from neurowalk.arenas import arena_options
-
     if not isinstance(spec, dict):
         raise ValueError(f"a run spec is a JSON object of {', '.join(FIELDS)}; got {spec!r}")
     unknown = sorted(set(spec) - set(FIELDS))
@@ -102,16 +103,12 @@ def normalize(spec: Spec) -> Spec:
     if s["gait"] != "wave":
         out["gait"] = s["gait"]
     if s["params"] is not None:
-        from neurowalk.neural.variants import check_overrides
-
         params = check_overrides(s["params"])  # raises on a value that is not an object of fields
         if params:
             out["params"] = params
     if not isinstance(s["body_opts"], dict):
         raise ValueError(f"body_opts must be an object of option values, got {s['body_opts']!r}")
     if s["body_opts"]:
-        from neurowalk.body.registry import check_body_opts
-
         out["body_opts"] = check_body_opts(out["body"], s["body_opts"])  # raises on an unknown body or option
     to_config(out)  # the config's own checks (controller, body, steps, seed, steer, b0/q0)
     return out
@@ -221,8 +218,6 @@ def read_jsonl(path: Path) -> list[Spec]:
 
 def describe(spec: Spec) -> str:
     """A short human description of a spec, e.g. ``box gap=0.3 plastic amosii seed=3 steps=300``."""
-    from neurowalk.arenas import ARENAS, arena_options
-
     s = {**_DEFAULTS, **spec}
     defaults = arena_options(s["arena"]) if s["arena"] in ARENAS else {}
     given = {k: v for k, v in (spec.get("arena_opts") or {}).items() if k not in defaults or defaults[k] != v}
@@ -234,8 +229,6 @@ def describe(spec: Spec) -> str:
 
 def check_specs(specs: list[Spec]) -> None:
     """:func:`check_spec` every spec, building each distinct arena once; raises ValueError on the first bad one."""
-    from neurowalk.arenas import make_arena
-
     built: set[str] = set()
     for spec in specs:
         s = normalize(spec)

@@ -24,7 +24,9 @@ import sqlite3
 from pathlib import Path
 from typing import IO, Any
 
+import neurowalk
 from neurowalk.fileio import atomic_write, exclusive_lock, to_jsonable
+from neurowalk.runners.specs import DEFAULTS, FIELDS
 
 SCHEMA_VERSION = 1
 RUN_COLUMNS = ("key", "spec", "status", "result", "error", "wall_time_s", "finished_at")
@@ -77,8 +79,6 @@ class ResultStore:
         db.execute("PRAGMA journal_mode = WAL")
         db.execute("PRAGMA synchronous = NORMAL")  # WAL + NORMAL: a killed process loses no committed run
         if not tables:
-            import neurowalk
-
             meta = {
                 "schema_version": str(SCHEMA_VERSION),
                 "created_at": _now(),
@@ -168,8 +168,6 @@ class ResultStore:
         stored spec leaves out (a later switch at its default: variant, gait, engine, reflexes, ...) shows its
         default; nested values (dicts, lists) are JSON strings. Returns (column names, rows).
         """
-        from neurowalk.runners.specs import DEFAULTS, FIELDS
-
         rows = self.rows()
         extra: dict[str, None] = {}
         for r in rows:

@@ -20,6 +20,9 @@ from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field, replace
 from typing import Any
 
+from tqdm import tqdm
+
+from neurowalk.runners import ray_backend
 from neurowalk.runners.jobs import Done, world_groups
 from neurowalk.runners.local import run_unordered
 from neurowalk.runners.specs import Spec, describe, normalize, result_of, run_spec, spec_key, to_config
@@ -108,8 +111,6 @@ def run_sweep(
         ValueError: bad spec, backend or worker count (before any run).
         RayMissingError, RayStartError: backend 'ray' without ray installed, or Ray failing to start.
     """
-    from tqdm import tqdm
-
     if backend not in BACKENDS:
         raise ValueError(f"unknown backend {backend!r}; expected one of {', '.join(BACKENDS)}")
     if int(workers) != workers or workers < 1:
@@ -213,8 +214,6 @@ def _pool(
     backend: str, fn: Callable[[Spec], Any], items: list[Spec], workers: int, address: str | None, retries: int
 ) -> Any:
     if backend == "ray":
-        from neurowalk.runners import ray_backend
-
         ray_backend.import_ray()  # the install hint now, not at the first result
         return ray_backend.run_unordered(fn, items, workers=workers, address=address, retries=retries)
     return run_unordered(fn, items, workers=workers, retries=retries)

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from tqdm import tqdm
 
 from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.body.registry import BODIES as REGISTRY
@@ -180,6 +181,4 @@ def progress_bar(total: int, on: bool, desc: str = "episode") -> Any:
     """A tqdm bar over ``total`` control steps (rate, time left), or None when ``on`` is false."""
     if not on:
         return None
-    from tqdm import tqdm
-
     return tqdm(total=total, unit="step", desc=desc, mininterval=0.5, smoothing=0.1)

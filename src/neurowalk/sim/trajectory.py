@@ -3,13 +3,16 @@
 from __future__ import annotations
 
 import shutil
+import zipfile
 from collections.abc import Iterator
 from dataclasses import dataclass, fields
 from pathlib import Path
 
 import numpy as np
+from numpy.lib import format as npformat
 
 from neurowalk import anatomy
+from neurowalk.fileio import atomic_write
 from neurowalk.sim.checkpoint import Checkpoint, CheckpointError
 
 CHECKPOINT = "checkpoint.npz"  # a streamed physics run's last checkpoint, in its parts folder
@@ -74,8 +77,6 @@ class Trajectory:
 
     def save(self, path: str | Path) -> None:
         """Write ``trajectory.npz`` (compressed) atomically."""
-        from neurowalk.fileio import atomic_write
-
         arrays = {f.name: getattr(self, f.name) for f in fields(self)}
         atomic_write(Path(path), lambda tmp: np.savez_compressed(Path(tmp), **arrays))
 
@@ -172,12 +173,6 @@ class PartWriter:
         The file is the one :meth:`Trajectory.save` writes of :meth:`read` (same arrays, compressed), built one
         column and one part at a time; written atomically. Returns the number of rows.
         """
-        import zipfile
-
-        from numpy.lib import format as npformat
-
-        from neurowalk.fileio import atomic_write
-
         paths = self.paths()
         if not paths:
             raise ValueError(f"no trajectory parts in {str(self.folder)!r}")

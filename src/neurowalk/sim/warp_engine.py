@@ -23,7 +23,9 @@ MuJoCo: for tests and checks); ``EngineOptions.device`` (``--device``) chooses.
 from __future__ import annotations
 
 import os
+import platform
 import sys
+import tempfile
 from collections.abc import Sequence
 from dataclasses import replace
 from typing import Any
@@ -86,8 +88,6 @@ def resolve_device(device: str | None = None) -> str:
 def _init_quietly(wp: Any) -> None:
     """``wp.init()`` without its native line "Could not find or load the NVIDIA CUDA driver" on a machine with no
     GPU (the device is named by :func:`resolve_device` itself); any other native output is passed on."""
-    import tempfile
-
     sys.stderr.flush()
     saved = os.dup(2)
     with tempfile.TemporaryFile() as tmp:
@@ -111,8 +111,6 @@ def device_name(device: str) -> str:
 
 
 def _cpu_name() -> str:
-    import platform
-
     return platform.processor() or platform.machine()
 
 
@@ -238,9 +236,9 @@ class WarpWorlds(LockstepWorlds):
         bits = int(self.wdata.overflow.numpy()[i]) if hasattr(self.wdata, "overflow") else 0
         if not bits:
             return {}
-        from mujoco_warp import OverflowType
-
-        return {f"WARP_OVERFLOW_{o.name}": 1 for o in OverflowType if o.value and o.name != "ALL" and bits & o.value}
+        _, mjw = import_warp()
+        flags = mjw.OverflowType
+        return {f"WARP_OVERFLOW_{o.name}": 1 for o in flags if o.value and o.name != "ALL" and bits & o.value}
 
 
 def _yaw_matrices(quat: np.ndarray) -> np.ndarray:
