@@ -100,7 +100,7 @@ def test_an_item_or_result_that_cannot_be_pickled_is_that_jobs_error():
     assert done[0].error is None and done[2].error is None
 
 
-def _run(tmp_path, retries: int, once: bool) -> tuple[list[local.Done], list[str]]:
+def _run(tmp_path, retries: int, once: bool) -> tuple[list[local.JobResult], list[str]]:
     log = tmp_path / "log"
     items = [{"seed": s, "steps": 1, "log": str(log), "once": once} for s in range(6)]
     done = list(local.run_unordered(sweep_fns.die_counting, items, workers=2, retries=retries))

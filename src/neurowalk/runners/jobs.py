@@ -22,7 +22,7 @@ class WorkerDiedError(RuntimeError):
 
 
 @dataclass
-class Done:
+class JobResult:
     """One finished job: ``value`` or ``error`` (the exception it raised, or a WorkerDiedError)."""
 
     index: int  # position of the job in the input

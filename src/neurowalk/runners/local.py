@@ -29,15 +29,15 @@ from typing import Any
 
 from tqdm import tqdm
 
-from neurowalk.runners.jobs import Done, WorkerDiedError, call_timed, world_groups
+from neurowalk.runners.jobs import JobResult, WorkerDiedError, call_timed, world_groups
 from neurowalk.runners.stopping import deferred, stop_requested
 from neurowalk.sim.episode import EngineOptions, Episode, EpisodeConfig, run_episode
 
 
 def run_unordered(
     fn: Callable[[Any], Any], items: Sequence[Any], *, workers: int = 2, retries: int = 0
-) -> Generator[Done, None, None]:
-    """Yield a :class:`Done` for every ``fn(item)`` as it finishes (in finishing order).
+) -> Generator[JobResult, None, None]:
+    """Yield a :class:`JobResult` for every ``fn(item)`` as it finishes (in finishing order).
 
     Args:
         fn: a module-level function (pickled by reference into the workers).
@@ -45,7 +45,7 @@ def run_unordered(
         workers: processes; 1 runs the jobs here, one after the other (so a crash would end this process).
         retries: how many more times a job whose worker died is run before it is reported (default 0: never).
 
-    A job that raises gives a Done with that exception (so does a job whose item or result cannot be pickled).
+    A job that raises gives a JobResult with that exception (so does a job whose item or result cannot be pickled).
     A job whose worker dies gives a :class:`WorkerDiedError` (or, with ``retries``, runs again first, on a fresh
     worker); the other workers go on.
     """
@@ -57,7 +57,7 @@ def run_unordered(
         for i, item in enumerate(items):
             if stop_requested():
                 raise KeyboardInterrupt
-            yield Done(i, *call_timed(fn, item))
+            yield JobResult(i, *call_timed(fn, item))
         return
     deaths = dict.fromkeys(range(len(items)), 0)
     todo = deque(range(len(items)))
@@ -70,7 +70,7 @@ def run_unordered(
                 try:
                     job = ForkingPickler.dumps((fn, items[i], i))
                 except Exception as e:  # an item (or fn) that cannot be pickled: that job's error
-                    yield Done(i, error=e)
+                    yield JobResult(i, error=e)
                     continue
                 if not pool.submit(job, i):
                     todo.appendleft(i)  # its worker had died before it got the job: not the job's fault
@@ -84,7 +84,7 @@ def run_unordered(
                     continue
                 deaths[i] += 1
                 if deaths[i] > retries:
-                    yield Done(i, error=WorkerDiedError(_died(deaths[i])))
+                    yield JobResult(i, error=WorkerDiedError(_died(deaths[i])))
                 else:
                     todo.appendleft(i)
         finished = True
@@ -137,11 +137,11 @@ class _Pool:
             w.job = index
         return True
 
-    def wait(self) -> list[tuple[int, Done | None]]:
-        """Wait for at least one busy worker to finish or die: [(job, its Done, or None if its worker died)]."""
+    def wait(self) -> list[tuple[int, JobResult | None]]:
+        """Wait for at least one busy worker to finish or die: [(job, its JobResult, or None if its worker died)]."""
         busy = [w for w in self.workers if w.job is not None]
         ready = set(mp_wait([w.conn for w in busy] + [w.proc.sentinel for w in busy]))
-        out: list[tuple[int, Done | None]] = []
+        out: list[tuple[int, JobResult | None]] = []
         for w in busy:
             if w.conn not in ready and w.proc.sentinel not in ready:
                 continue
@@ -160,7 +160,7 @@ class _Pool:
                 _, value, error, wall = ForkingPickler.loads(data)
             except Exception as e:  # e.g. an exception class that cannot be rebuilt here
                 value, error, wall = None, e, None
-            out.append((i, Done(i, value, error, wall)))
+            out.append((i, JobResult(i, value, error, wall)))
         return out
 
     def _drop(self, w: _Worker) -> None:
@@ -236,7 +236,7 @@ def summary_only(ep: Episode) -> dict[str, Any]:
     return ep.summary
 
 
-def _one(args: tuple[EpisodeConfig, Callable[[Episode], Any]]) -> Any:
+def _run_and_keep(args: tuple[EpisodeConfig, Callable[[Episode], Any]]) -> Any:
     cfg, keep = args
     return keep(run_episode(cfg))
 
@@ -278,7 +278,7 @@ def run_many(
     if not jobs:
         return out
     with tqdm(total=len(jobs), unit="run", desc=desc, disable=not progress, mininterval=0.5) as bar:
-        results = run_unordered(_one, jobs, workers=1 if len(jobs) <= 1 else workers)
+        results = run_unordered(_run_and_keep, jobs, workers=1 if len(jobs) <= 1 else workers)
         try:
             for d in results:
                 if d.error is not None:

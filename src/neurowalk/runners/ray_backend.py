@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable, Generator, Sequence
 from typing import Any
 
-from neurowalk.runners.jobs import Done, WorkerDiedError, call_timed
+from neurowalk.runners.jobs import JobResult, WorkerDiedError, call_timed
 
 INSTALL_HINT = "the ray backend needs `pip install neurowalk[ray]`"
 
@@ -65,8 +65,8 @@ def stop() -> None:
 
 def run_unordered(
     fn: Callable[[Any], Any], items: Sequence[Any], *, workers: int = 2, address: str | None = None, retries: int = 0
-) -> Generator[Done, None, None]:
-    """Yield a :class:`Done` for every ``fn(item)`` as it finishes, computed as Ray tasks.
+) -> Generator[JobResult, None, None]:
+    """Yield a :class:`JobResult` for every ``fn(item)`` as it finishes, computed as Ray tasks.
 
     Args:
         fn: a module-level function, importable on the workers.
@@ -99,16 +99,16 @@ def run_unordered(
             stop()
 
 
-def _collect(ray: Any, ref: Any, i: int) -> Done:
-    """The Done of a finished task (its value, its caught exception, or the Ray error that ended it)."""
+def _collect(ray: Any, ref: Any, i: int) -> JobResult:
+    """The JobResult of a finished task (its value, its caught exception, or the Ray error that ended it)."""
     try:
         value, error, wall = ray.get(ref)
     except ray.exceptions.RayTaskError as e:  # raised outside fn, e.g. fn could not be unpickled on the worker
         cause = getattr(e, "cause", None)
-        return Done(i, error=cause if isinstance(cause, Exception) else RuntimeError(_first_line(e)))
+        return JobResult(i, error=cause if isinstance(cause, Exception) else RuntimeError(_first_line(e)))
     except ray.exceptions.RayError as e:  # WorkerCrashedError, NodeDiedError, ObjectLostError, OutOfMemoryError...
-        return Done(i, error=WorkerDiedError(f"the Ray worker died while running this job ({type(e).__name__})"))
-    return Done(i, value, error, wall)
+        return JobResult(i, error=WorkerDiedError(f"the Ray worker died while running this job ({type(e).__name__})"))
+    return JobResult(i, value, error, wall)
 
 
 def _first_line(e: BaseException) -> str:

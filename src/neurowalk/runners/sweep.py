@@ -23,7 +23,7 @@ from typing import Any
 from tqdm import tqdm
 
 from neurowalk.runners import ray_backend
-from neurowalk.runners.jobs import Done, world_groups
+from neurowalk.runners.jobs import JobResult, world_groups
 from neurowalk.runners.local import run_unordered
 from neurowalk.runners.specs import Spec, describe, normalize, result_of, run_spec, spec_key, to_config
 from neurowalk.runners.stopping import deferred
@@ -159,7 +159,7 @@ def _backend(
     retries: int,
     options: EngineOptions,
 ) -> Any:
-    """Results (:class:`Done`, any order) of ``fn`` on ``items``: runs of a many-worlds engine (MuJoCo Warp) as the
+    """Results (:class:`JobResult`, any order) of ``fn`` on ``items``: runs of a many-worlds engine (MuJoCo Warp) as the
     worlds of shared calls, in this process; the others on the backend."""
     valid = [(i, cfg) for i, cfg in enumerate(_configs(items))] if fn is run_spec else []
     valid = [(i, cfg) for i, cfg in valid if cfg is not None]
@@ -169,13 +169,13 @@ def _backend(
     done = {i for group, _ in shared for i in group}
     others = [i for i in range(len(items)) if i not in done]
 
-    def chained() -> Iterator[Done]:
+    def chained() -> Iterator[JobResult]:
         yield from world_runs(items, shared, options)
         if others:
             inner = _pool(backend, fn, [items[i] for i in others], workers, address, retries)
             try:
                 for d in inner:
-                    yield Done(others[d.index], d.value, d.error, d.wall_time_s)
+                    yield JobResult(others[d.index], d.value, d.error, d.wall_time_s)
             finally:
                 inner.close()
 
@@ -193,21 +193,23 @@ def _configs(items: list[Spec]) -> list[EpisodeConfig | None]:
     return out
 
 
-def world_runs(items: list[Spec], groups: list[tuple[list[int], Engine]], options: EngineOptions) -> Iterator[Done]:
+def world_runs(
+    items: list[Spec], groups: list[tuple[list[int], Engine]], options: EngineOptions
+) -> Iterator[JobResult]:
     """Run the specs of each group (:func:`~neurowalk.runners.jobs.world_groups`) as the worlds of one call of its
-    engine; one :class:`Done` per run, its wall time the call's divided by its worlds. A call that raises gives each of
-    its runs that error."""
+    engine; one :class:`JobResult` per run, its wall time the call's divided by its worlds. A call that raises gives
+    each of its runs that error."""
     for runs, engine in groups:
         t0 = time.perf_counter()
         try:
             eps = engine.run([to_config(items[i]) for i in runs], replace(options, progress=False))
         except Exception as e:
             for i in runs:
-                yield Done(i, error=e)
+                yield JobResult(i, error=e)
             continue
         wall = (time.perf_counter() - t0) / len(runs)
         for i, ep in zip(runs, eps, strict=True):
-            yield Done(i, value=result_of(ep), wall_time_s=wall)
+            yield JobResult(i, value=result_of(ep), wall_time_s=wall)
 
 
 def _pool(
@@ -219,10 +221,10 @@ def _pool(
     return run_unordered(fn, items, workers=workers, retries=retries)
 
 
-def _store(store: ResultStore, key: str, spec: Spec, d: Done, report: SweepReport) -> None:
+def _store(store: ResultStore, key: str, spec: Spec, d: JobResult, report: SweepReport) -> None:
     """Write one finished run and count it."""
     if d.error is None and not isinstance(d.value, dict):
-        d = Done(d.index, error=TypeError(f"a run's result must be a dict, got {type(d.value).__name__}"))
+        d = JobResult(d.index, error=TypeError(f"a run's result must be a dict, got {type(d.value).__name__}"))
     if d.error is None:
         store.put(key, spec, result=d.value, wall_time_s=d.wall_time_s)
         report.ok += 1
