@@ -931,3 +931,17 @@ def test_a_huge_worker_count_is_refused_in_one_line_by_every_command(capsys, tmp
         err = capsys.readouterr().err.strip().splitlines()
         assert err == ["neurowalk: error: --workers must be at most 4,096, got a number of 401 digits"]
     assert not (tmp_path / "o").exists()
+
+
+def test_an_option_given_as_dashes_or_an_empty_engine_is_one_line(capsys, tmp_path):
+    """Found by the hypothesis fuzz: argparse reads `--variant=--` as an empty list; `--engine ''` names no engine."""
+    from neurowalk.cli import main
+
+    cases = {
+        ("figure", "fig3", "--variant=--"): "neurowalk: error: --variant expects a value, got '--'",
+        ("figure", "fig3", "--seeds=--"): "neurowalk: error: --seeds expects a value, got '--'",
+        ("figure", "table2", "--engine", ""): "neurowalk: error: unknown engine ''; expected one of mujoco, warp",
+    }
+    for argv, line in cases.items():
+        assert main([*argv, "--out", str(tmp_path / "o")]) == 2
+        assert capsys.readouterr().err.strip().splitlines() == [line]

@@ -61,6 +61,10 @@ def parse(argv: list[str]) -> argparse.Namespace:
         if a == "--steer":
             argv[i : i + 2] = [f"--steer={argv[i + 1]}"]
             break
+    for a in argv:  # argparse reads `--name=--` as an empty list, not as the text "--"
+        name, eq, value = a.partition("=")
+        if a.startswith("--") and eq and value == "--":
+            raise UsageError(f"{name} expects a value, got '--'")
     return _parser().parse_args(argv)
 
 

@@ -177,6 +177,8 @@ def _figure(args: argparse.Namespace) -> int:
         if args.engine != DEFAULT_ENGINE or args.device is not None:
             takes("--engine")
             runs = bodies_where(lambda b: args.engine in b.engines)
+            if not runs:  # no body runs on it: not an engine's name
+                check_engine(args)
             if "body" in params:  # e.g. Warp runs the physics AMOSII only
                 if kwargs.get("body", runs[0]) not in runs:
                     raise UsageError(f"--engine {args.engine} runs --body {runs[0]}, got --body {kwargs['body']!r}")
