@@ -23,8 +23,8 @@ from neurowalk.neural.motor import LocomotionParams
 from neurowalk.neural.variants import get_variant
 from neurowalk.sim.trajectory import Trajectory
 
-BODIES: tuple[str, ...] = tuple(REGISTRY)
-DEFAULT_ENGINE = "mujoco"  # the CPU loop (sim/engines.py)  # the registry's names (neurowalk.body.registry)
+BODIES: tuple[str, ...] = tuple(REGISTRY)  # the registry's names (neurowalk.body.registry)
+DEFAULT_ENGINE = "mujoco"  # the CPU loop (sim/engines.py)
 
 
 @dataclass(frozen=True, kw_only=True)
