@@ -30,6 +30,7 @@ import neurowalk
 from neurowalk.experiments.figures.table2 import run as table2_run
 from neurowalk.runners.local import run_many
 from neurowalk.sim.config import DEFAULT_ENGINE
+from neurowalk.sim.engines import ENGINES
 from neurowalk.sim.episode import EpisodeConfig, build, run_episode
 from neurowalk.sim.throughput import measure_throughput
 from neurowalk.sim.warp_engine import WarpWorlds, device_name, resolve_device
@@ -277,7 +278,7 @@ def run_bench(
         },
         "quick": quick,
     }
-    if engine != DEFAULT_ENGINE:  # the GPU engine (MuJoCo Warp): its rates by number of worlds
+    if ENGINES[engine].devices:  # an engine on a device (MuJoCo Warp): its rates by number of worlds
         w = warp_rates(worlds, 2 if quick else 5, device, progress)
         best = max(r["control_steps_per_s"] for r in w["rows"])
         cpu = phys["control_steps_per_s"]

@@ -142,8 +142,7 @@ def _sweep_specs(args: argparse.Namespace) -> list[dict]:
     for key, values in parse_arena_opts(args.body_opt, "--body-opt").items():
         axes[f"body_opts.{key}"] = values.split(",")
     base: dict = {} if args.steps is None else {"steps": args.steps}
-    if args.engine != DEFAULT_ENGINE:
-        base["engine"] = args.engine
+    base["engine"] = args.engine  # the canonical spec leaves the default out
     variants = [v.strip() for v in args.variant.split(",")] if args.variant is not None else []
     if not all(variants):
         raise UsageError(f"--variant expects NAME[,NAME...], got {args.variant!r}")

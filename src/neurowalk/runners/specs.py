@@ -23,7 +23,6 @@ from neurowalk.arenas import ARENAS, arena_options, make_arena
 from neurowalk.body.registry import check_body_opts
 from neurowalk.fileio import to_jsonable
 from neurowalk.neural.variants import check_overrides
-from neurowalk.sim.config import DEFAULT_ENGINE
 from neurowalk.sim.episode import Episode, EpisodeConfig, RunInterruptedError, run_episode
 
 Spec = dict[str, Any]
@@ -92,16 +91,13 @@ def normalize(spec: Spec) -> Spec:
             out[key] = True
     if not isinstance(s["variant"], str):
         raise ValueError(f"variant must be a name, got {s['variant']!r}")
-    if s["variant"] != "paper":
-        out["variant"] = s["variant"]
     if not isinstance(s["engine"], str):
         raise ValueError(f"engine must be a name (mujoco, warp), got {s['engine']!r}")
-    if s["engine"] != DEFAULT_ENGINE:
-        out["engine"] = s["engine"]
     if not isinstance(s["gait"], str):
         raise ValueError(f"gait must be a name, got {s['gait']!r}")
-    if s["gait"] != "wave":
-        out["gait"] = s["gait"]
+    for key in ("variant", "engine", "gait"):  # names: kept where they are not the default
+        if s[key] != _DEFAULTS[key]:
+            out[key] = s[key]
     if s["params"] is not None:
         params = check_overrides(s["params"])  # raises on a value that is not an object of fields
         if params:

@@ -256,13 +256,6 @@ class Warp(LockstepEngine):
     name = "warp"
     devices = ("cpu", "cuda")
 
-    def check(self, configs: Sequence[EpisodeConfig], options: EngineOptions) -> None:
-        """As every lock-step engine, and every config names this engine."""
-        super().check(configs, options)
-        bad = [c for c in configs if c.engine != self.name]
-        if bad:
-            raise ValueError(f"engine {self.name!r} runs configs with engine {self.name!r}, got {bad[0].engine!r}")
-
     def worlds_per_call(self, options: EngineOptions) -> int | None:
         """4096 worlds a call on a GPU, 16 on Warp's CPU device."""
         return 4096 if resolve_device(options.device) == "cuda" else 16
