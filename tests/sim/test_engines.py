@@ -14,7 +14,7 @@ import pytest
 
 from neurowalk.metrics import exit_step, forward_displacement, heading_change
 from neurowalk.sim.engine import Engine, EngineOptions
-from neurowalk.sim.engines import BATCH, ENGINES
+from neurowalk.sim.engines import BATCH, ENGINES, call_groups
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
 WALK = EpisodeConfig(arena="open", controller="fixed", steer=(-1.0, -1.0), steps=150, noise=0.0)
@@ -31,14 +31,11 @@ class Simulator:
     def __call__(self, configs: list[EpisodeConfig]) -> list:
         """Configs of one group key share a call (many worlds); the episodes come back in the configs' order."""
         configs = [replace(c, engine=self.config_engine) for c in configs]
-        groups: dict = {}
-        for i, cfg in enumerate(configs):
-            groups.setdefault(self.engine.group_key(cfg), []).append(i)
         out: list = [None] * len(configs)
-        for idx in groups.values():
+        for idx, engine in call_groups(configs, self.options, engine_of=lambda c: self.engine):
             batch = [configs[i] for i in idx]
-            self.engine.check(batch, self.options)
-            for i, ep in zip(idx, self.engine.run(batch, self.options), strict=True):
+            engine.check(batch, self.options)
+            for i, ep in zip(idx, engine.run(batch, self.options), strict=True):
                 out[i] = ep
         return out
 
@@ -113,3 +110,17 @@ def test_the_plastic_network_escapes_a_dead_end(simulator):
     for ep in simulator(cfgs):
         step = exit_step(ep.trajectory.pose, ep.arena)
         assert ep.summary["escaped"] and step is not None and step < 5000
+
+
+def test_run_configs_groups_by_engine_and_keeps_the_order():
+    """Mixed bodies and lengths: each episode is its config's, in the configs' order, as run_episode gives it."""
+    from neurowalk.sim.engines import run_configs
+
+    cfgs = [
+        EpisodeConfig(arena="box", steps=30, seed=1),
+        EpisodeConfig(arena="box", body="surrogate", steps=40, seed=1),
+        EpisodeConfig(arena="box", steps=20, seed=2),
+    ]
+    for cfg, ep in zip(cfgs, run_configs(cfgs), strict=True):
+        assert ep.config == cfg
+        np.testing.assert_array_equal(ep.trajectory.pose, run_episode(cfg).trajectory.pose)

@@ -8,13 +8,13 @@ imports none of them.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Hashable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass
 from typing import Any
 
 from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.engine import Engine, EngineOptions
-from neurowalk.sim.engines import engine_for
+from neurowalk.sim.engines import call_groups
 
 
 class WorkerDiedError(RuntimeError):
@@ -44,18 +44,8 @@ def call_timed(fn: Callable[[Any], Any], item: Any) -> tuple[Any, BaseException 
 def world_groups(
     configs: Sequence[EpisodeConfig], options: EngineOptions, worlds: int | None = None
 ) -> Iterator[tuple[list[int], Engine]]:
-    """Indices of the configs that share one call of a many-worlds engine (the same engine and group key), at most
-    ``worlds`` at a time (default: what the engine takes in one call with ``options``), with that engine. Configs of
-    an engine that runs one world at a time are left out (they go to a pool)."""
-    groups: dict[tuple[str, Hashable], list[int]] = {}
-    engines: dict[str, Engine] = {}
-    for i, cfg in enumerate(configs):
-        engine = engine_for(cfg)
+    """The :func:`~neurowalk.sim.engines.call_groups` of many-worlds engines (MuJoCo Warp): runs that share one call.
+    Configs of an engine that runs one world at a time are left out (they go to a pool)."""
+    for group, engine in call_groups(configs, options, worlds=worlds):
         if engine.many_worlds:
-            engines[engine.name] = engine
-            groups.setdefault((engine.name, engine.group_key(cfg)), []).append(i)
-    for (name, _), group in groups.items():
-        engine = engines[name]
-        size = worlds or engine.worlds_per_call(options) or len(group)
-        for c in range(0, len(group), size):
-            yield group[c : c + size], engine
+            yield group, engine

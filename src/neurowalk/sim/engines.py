@@ -4,7 +4,8 @@
 
     engine_for(cfg)      ENGINES[cfg.engine]  (mujoco: the CPU loop; warp: MuJoCo Warp)
                          a planar body: the surrogate's compiled loop, whatever physics engine is named
-    run_configs(cfgs)    groups the configs by (engine, engine.group_key(cfg)); one call per group
+    call_groups(cfgs)    groups the configs by (engine, engine.group_key(cfg)), as many as a call takes
+    run_configs(cfgs)    one call per group
 
 No other module compares an engine's name: what an engine can do, it says itself (:class:`~.engine.Engine`).
 ``mujoco.batch`` (:class:`~neurowalk.sim.batch.MujocoBatch`) runs the same configs as the CPU loop, bit for bit, as
@@ -13,7 +14,7 @@ lock-step worlds on threads; it is an engine object, not a config value.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Hashable, Iterator, Sequence
 
 from neurowalk.body.registry import body_info
 from neurowalk.sim.batch import MujocoBatch
@@ -24,7 +25,7 @@ from neurowalk.sim.engine import Engine, EngineOptions
 from neurowalk.sim.surrogate_episode import SurrogateLoop
 from neurowalk.sim.warp_engine import Warp
 
-__all__ = ["ENGINES", "PLANAR", "engine_for", "run_configs"]
+__all__ = ["BATCH", "ENGINES", "PLANAR", "call_groups", "engine_for", "run_configs"]
 
 ENGINES: dict[str, Engine] = {engine.name: engine for engine in (CpuLoop(), Warp())}
 """The physics engines a config may name (``EpisodeConfig.engine``, ``--engine``)."""
@@ -40,21 +41,38 @@ def engine_for(cfg: EpisodeConfig) -> Engine:
     return ENGINES[cfg.engine] if body_info(cfg.body).physics else PLANAR
 
 
-def run_configs(configs: Sequence[EpisodeConfig], options: EngineOptions | None = None) -> list[Episode]:
-    """Every config's episode, in order: configs that may share a call (same engine and group key) share one.
+def call_groups(
+    configs: Sequence[EpisodeConfig],
+    options: EngineOptions,
+    *,
+    engine_of: Callable[[EpisodeConfig], Engine] = engine_for,
+    worlds: int | None = None,
+) -> Iterator[tuple[list[int], Engine]]:
+    """Indices of the configs that share one call (the same engine and ``engine.group_key``), at most ``worlds`` at a
+    time (default: what the engine takes in one call with ``options``), with that engine (``engine_of(cfg)``)."""
+    groups: dict[tuple[str, Hashable], list[int]] = {}
+    engines: dict[str, Engine] = {}
+    for i, cfg in enumerate(configs):
+        engine = engine_of(cfg)
+        engines[engine.name] = engine
+        groups.setdefault((engine.name, engine.group_key(cfg)), []).append(i)
+    for (name, _), group in groups.items():
+        engine = engines[name]
+        size = worlds or engine.worlds_per_call(options) or len(group)
+        for c in range(0, len(group), size):
+            yield group[c : c + size], engine
 
-    Stopped part-way (KeyboardInterrupt), a group's runs hold their completed steps; runs that had not started are
+
+def run_configs(configs: Sequence[EpisodeConfig], options: EngineOptions | None = None) -> list[Episode]:
+    """Every config's episode, in order: configs that may share a call (:func:`call_groups`) share one.
+
+    Stopped part-way (KeyboardInterrupt), a call's runs hold their completed steps; runs that had not started are
     None.
     """
     options = options or EngineOptions()
-    groups: dict[tuple[str, object], list[int]] = {}
-    for i, cfg in enumerate(configs):
-        engine = engine_for(cfg)
-        groups.setdefault((engine.name, engine.group_key(cfg)), []).append(i)
     out: list[Episode | None] = [None] * len(configs)
-    for idx in groups.values():
+    for idx, engine in call_groups(configs, options):
         batch = [configs[i] for i in idx]
-        engine = engine_for(batch[0])
         engine.check(batch, options)
         for i, ep in zip(idx, engine.run(batch, options), strict=False):
             out[i] = ep
