@@ -86,9 +86,9 @@ def test_bad_config_raises():
         EpisodeConfig(controller="wheeled")
     with pytest.raises(ValueError, match="steer"):
         EpisodeConfig(controller="fixed")
-    with pytest.raises(ValueError, match="whole number"):
-        n_substeps(7.0, 0.005)
     assert n_substeps(10.0, 0.005) == 20
+    assert n_substeps(27.0, 0.005) == 7  # 7.41 steps of 5 ms: 7 steps of 5.29 ms (set_control_rate)
+    assert n_substeps(1000.0, 0.005) == 1
 
 
 def test_long_runs_stream_chunks_and_keep_completed_steps_when_stopped(tmp_path):

@@ -1,6 +1,7 @@
 """AMOSII in MuJoCo as a body of the control loop: reset in an arena, observe, act, advance.
 
-One control step = ``n_substeps`` physics steps (checked to be a whole number once, at build).
+One control step = ``n_substeps`` physics steps, the physics step fitted to the control rate at build
+(:func:`set_control_rate`).
 Observations are copies; sensor noise (the original's coloured noise, on the ultrasonic signal,
 joint angles and foot contacts) comes from the run's Generator. The ultrasonic noise acts on the
 normalised signal US = max(0, 1 - d/range) as in the original, so a little of it reaches the
@@ -33,13 +34,28 @@ from neurowalk.observation import Observation
 
 
 def n_substeps(control_hz: float, timestep: float) -> int:
-    """Physics steps per control step; raises unless 1/control_hz is a whole multiple of timestep."""
-    if not control_hz > 0:
-        raise ValueError(f"control_hz must be > 0, got {control_hz!r}")
-    ratio = 1.0 / (control_hz * timestep)
-    n = round(ratio)
-    if n < 1 or abs(ratio - n) > 1e-9 * ratio:
-        raise ValueError(f"control period 1/{control_hz} s is not a whole number of {timestep} s physics steps")
+    """Physics steps per control step: the whole number nearest ``1 / (control_hz * timestep)`` (at least 1).
+
+    Where the control period is not a whole number of ``timestep`` steps (27 Hz at 0.005 s: 7.41 steps),
+    :func:`set_control_rate` shortens or lengthens the physics step so that it is (7 steps of 5.29 ms).
+    """
+    if not control_hz > 0 or not timestep > 0:
+        raise ValueError(f"control_hz and timestep must be > 0, got {control_hz!r}, {timestep!r}")
+    return max(1, round(1.0 / (control_hz * timestep)))
+
+
+def set_control_rate(model: mujoco.MjModel, control_hz: float) -> int:
+    """Fit ``model``'s physics step to the control rate; returns the physics steps per control step.
+
+    One control step is ``n`` physics steps of ``1 / (control_hz * n)`` s, ``n`` the whole number nearest the
+    model's own step (:func:`n_substeps`): the model's timestep is kept where the period is a whole number of it
+    (10 Hz at 0.005 s: 20 steps) and changed by at most half a step's worth where not (27 Hz: 7 steps of 5.29 ms
+    instead of 5 ms), so the control period is exact at every rate.
+    """
+    n = n_substeps(control_hz, model.opt.timestep)
+    dt = 1.0 / (control_hz * n)
+    if abs(dt - model.opt.timestep) > 1e-12 * dt:
+        model.opt.timestep = dt
     return n
 
 
@@ -111,7 +127,7 @@ class AmosII:
         self.model = mujoco.MjModel.from_xml_string(amosii_xml(self.params, world=world))
         self.data = mujoco.MjData(self.model)
         self.control_hz = control_hz
-        self.n_substeps = n_substeps(control_hz, self.model.opt.timestep)
+        self.n_substeps = set_control_rate(self.model, control_hz)
         self.scan_obstacles = scan_obstacles
         self._qidx = joint_qpos_indices(self.model)
         self._us_range = self.params.us_range

@@ -38,7 +38,7 @@ import numpy as np
 from neurowalk import anatomy
 from neurowalk.arenas.spec import ArenaSpec
 from neurowalk.body.noise import ColoredNoise
-from neurowalk.body.physics import n_substeps
+from neurowalk.body.physics import set_control_rate
 from neurowalk.body.wheeled_body import Wheeled
 from neurowalk.observation import Observation
 
@@ -171,7 +171,7 @@ class UserMjcf(Wheeled):
 
     Args:
         body: ``mjcf:PATH``. arena: where it drives. opts: the options (module text).
-        control_hz: control rate (Hz); 1/control_hz must be a whole number of the file's timestep.
+        control_hz: control rate (Hz); the file's timestep is fitted to it (``set_control_rate``).
         noise: strength of the coloured ultrasonic noise.
     """
 
@@ -192,7 +192,7 @@ class UserMjcf(Wheeled):
         self.model = _compile(body, arena)
         self.data = mujoco.MjData(self.model)
         self.control_hz = control_hz
-        self.n_substeps = n_substeps(control_hz, self.model.opt.timestep)
+        self.n_substeps = set_control_rate(self.model, control_hz)
         lay = _Layout(self.model, options, body)
         self._us_adr, self._us_range, self._unit = tuple(lay.us), float(options["range"]), 1.0
         self._omega_max, self._chassis, self._key = lay.speed, lay.root, lay.key

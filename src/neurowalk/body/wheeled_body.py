@@ -24,7 +24,7 @@ from neurowalk import anatomy
 from neurowalk.arenas.spec import ArenaSpec
 from neurowalk.body.common import noisy_distance, place_at_start
 from neurowalk.body.noise import ColoredNoise
-from neurowalk.body.physics import mujoco_warnings, n_substeps
+from neurowalk.body.physics import mujoco_warnings, set_control_rate
 from neurowalk.body.wheeled import (
     CHASSIS_BODY,
     LEFT_WHEEL,
@@ -64,7 +64,7 @@ class Wheeled:
     Args:
         arena: where it drives.
         params: the robot's numbers (default ``WheeledParams()``: AMOSII's footprint, speed and sensors).
-        control_hz: control rate (Hz); 1/control_hz must be a whole number of physics steps (0.01 s by default).
+        control_hz: control rate (Hz); the physics step (0.01 s) is fitted to it (``set_control_rate``).
         noise: strength of the coloured ultrasonic noise (0 switches it off).
     """
 
@@ -80,7 +80,7 @@ class Wheeled:
         self.model = mujoco.MjModel.from_xml_string(wheeled_xml(self.params, world=arena.to_mjcf()))
         self.data = mujoco.MjData(self.model)
         self.control_hz = control_hz
-        self.n_substeps = n_substeps(control_hz, self.model.opt.timestep)
+        self.n_substeps = set_control_rate(self.model, control_hz)
         m = self.model
         self._us_adr = tuple(int(m.sensor_adr[m.sensor(name).id]) for name in anatomy.US_SENSORS)
         self._us_range = self.params.scaled("us_range")

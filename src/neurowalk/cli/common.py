@@ -160,12 +160,25 @@ def episode_args(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--body-opt", action="append", default=[], metavar="KEY=VALUE", help="body option, e.g. scale=0.5")
     p.add_argument("--steps", type=int, default=1000, help="control steps (10 Hz: 1000 = 100 s)")
+    control_hz_arg(p)
     p.add_argument("--seed", type=int, default=0, help="seed of every random draw")
     p.add_argument("--reflexes", action="store_true", help="local leg control: searching and elevation reflexes")
     p.add_argument("--backbone", action="store_true", help="backbone joint control and climbable-step detection")
     p.add_argument("--climb", action="store_true", help="both --reflexes and --backbone (climbing)")
     variant_args(p)
     p.add_argument("--gait", default="wave", help="{gaits} (default wave)")
+
+
+def control_hz_arg(p: argparse.ArgumentParser, default: float | None = 10.0, metavar: str = "HZ") -> None:
+    """--control-hz: control steps per second (the networks step once per control step; physics follows)."""
+    p.add_argument(
+        "--control-hz",
+        type=float if metavar == "HZ" else str,
+        default=default,
+        metavar=metavar,
+        help="control rate, Hz (default 10, the authors' simulator; 27: the real AMOSII). The networks keep their "
+        "step semantics (a CPG period is so many steps), so the robot walks faster at a higher rate",
+    )
 
 
 def engine_args(p: argparse.ArgumentParser) -> None:
@@ -295,6 +308,7 @@ def episode_config(args: argparse.Namespace) -> object:
             body_opts=body_opts,
             steps=args.steps,
             seed=args.seed,
+            control_hz=args.control_hz,
             reflexes=args.reflexes or args.climb,
             backbone=args.backbone or args.climb,
             variant=variant,

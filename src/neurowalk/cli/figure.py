@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 from neurowalk.cli.common import (
     UsageError,
     check_engine,
+    control_hz_arg,
     engine_args,
     out_folder,
     parse_arena_opts,
@@ -36,6 +37,7 @@ _TAKES = {
     "--video": ("video", " (fig8 and fig9 do)"),
     "--arena-opt": ("size", " (table2 and fig6 take size=M)"),
     "--engine": ("engine", " (fig3, fig5 and table2 do)"),
+    "--control-hz": ("control_hz", " (the physics figures do)"),
 }
 
 
@@ -79,7 +81,15 @@ def add_figure_parser(sub: argparse._SubParsersAction) -> None:
         metavar="size=M",
         help="box side of the random environments (table2, fig6; default 1 m, the authors')",
     )
+    control_hz_arg(f, default=None)
     engine_args(f)
+
+
+def _rate_suffix(control_hz: float | None) -> str:
+    """The default output folder's suffix for a control rate: "" at the default 10 Hz, else "-27hz"."""
+    if control_hz is None or control_hz == 10.0:
+        return ""
+    return f"-{control_hz:g}hz"
 
 
 def _check_takes(name: str, params: Mapping[str, object], flag: str, given: str = "", ok: bool = True) -> None:
@@ -131,7 +141,7 @@ def _figure(args: argparse.Namespace) -> int:
     from neurowalk.experiments import output
 
     exp = FIGURES[args.name]
-    out = args.out or Path("out") / (f"{args.name}-climb" if args.climb else args.name)
+    out = args.out or Path("out") / (args.name + ("-climb" if args.climb else "") + _rate_suffix(args.control_hz))
     t0 = time.perf_counter()
     if args.replot:
         if not (out / f"{args.name}.json").is_file():
@@ -187,6 +197,11 @@ def _figure(args: argparse.Namespace) -> int:
             device = check_engine(args).device
             if "device" in params:
                 kwargs["device"] = device
+        if args.control_hz is not None:
+            takes("--control-hz")
+            if not 0 < args.control_hz <= 1000:  # also NaN
+                raise UsageError(f"--control-hz must be a number in (0, 1000] Hz, got {args.control_hz}")
+            kwargs["control_hz"] = args.control_hz
         if args.video:
             takes("--video")
             kwargs["video"] = True

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 from neurowalk.cli.common import (
     UsageError,
     check_engine,
+    control_hz_arg,
     engine_args,
     machine_memory,
     out_folder,
@@ -37,6 +38,7 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--seeds", type=int, default=None, help="seeds per condition (default 1)")
     s.add_argument("--seed-start", type=int, default=None, help="first seed (default 0): seeds S, S+1, ...")
     s.add_argument("--steps", type=int, default=None, help="control steps per run (default 1000)")
+    control_hz_arg(s, default=None, metavar="HZ[,HZ...]")
     s.add_argument(
         "--arena-opt",
         action="append",
@@ -92,6 +94,7 @@ _GRID_FLAGS = (
     "seeds",
     "seed_start",
     "steps",
+    "control_hz",
     "arena_opt",
     "body_opt",
     "variant",
@@ -151,6 +154,11 @@ def _sweep_specs(args: argparse.Namespace) -> list[dict]:
         variants = variants or [file_variant]
     if variants:
         axes["variant"] = variants
+    if args.control_hz is not None:
+        try:
+            axes["control_hz"] = [float(v) for v in args.control_hz.split(",")]
+        except ValueError:
+            raise UsageError(f"--control-hz expects HZ[,HZ...], got {args.control_hz!r}") from None
     if args.gait is not None:
         axes["gait"] = [g.strip() for g in args.gait.split(",")]
         if not all(axes["gait"]):

@@ -39,7 +39,7 @@ from neurowalk.body.amosii_params import BodyParams
 from neurowalk.body.common import place_at_start
 from neurowalk.body.noise import ColoredNoise
 from neurowalk.body.obstacle_slots import slot_rows, slot_world
-from neurowalk.body.physics import n_substeps as substeps_of
+from neurowalk.body.physics import set_control_rate
 from neurowalk.sim.config import Episode, EpisodeConfig, build_controller, seeds
 from neurowalk.sim.engine import EngineOptions
 from neurowalk.sim.lockstep import LockstepEngine, LockstepWorlds
@@ -156,7 +156,7 @@ class WarpWorlds(LockstepWorlds):
             arenas,
             model,
             params,
-            substeps_of(configs[0].control_hz, model.opt.timestep),
+            set_control_rate(model, configs[0].control_hz),
             [build_controller(c) for c in configs],
             noises,
             compiled,
