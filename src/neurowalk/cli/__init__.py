@@ -16,6 +16,7 @@ from neurowalk import __version__
 from neurowalk.cli.baseline import add_baseline_parser, cmd_baseline
 from neurowalk.cli.common import Parser, UsageError, check_workers, one_line, out_file, out_folder
 from neurowalk.cli.figure import add_figure_parser, cmd_figure, figure_listing
+from neurowalk.cli.reproduce import add_reproduce_parser, cmd_reproduce
 from neurowalk.cli.run import add_run_parsers, cmd_run, cmd_view, signals_held
 from neurowalk.cli.sweep import add_optimize_parser, add_sweep_parser, cmd_optimize, cmd_sweep
 from neurowalk.cli.tools import add_tool_parsers, cmd_arenas, cmd_bench, cmd_bodies, cmd_calibrate, cmd_export
@@ -27,6 +28,7 @@ _signals_held = signals_held  # its name here before the split, which the tests 
 
 _COMMANDS = {
     "figure": cmd_figure,
+    "reproduce": cmd_reproduce,
     "run": cmd_run,
     "view": cmd_view,
     "calibrate": cmd_calibrate,
@@ -45,6 +47,7 @@ def _parser() -> argparse.ArgumentParser:
     p.add_argument("--version", action="version", version=f"neurowalk {__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=Parser)
     add_figure_parser(sub)
+    add_reproduce_parser(sub)
     add_run_parsers(sub)  # run, view
     add_tool_parsers(sub)  # calibrate, bench, arenas, bodies, export-model
     add_sweep_parser(sub)

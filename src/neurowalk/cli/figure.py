@@ -38,18 +38,30 @@ _TAKES = {
     "--arena-opt": ("size", " (table2 and fig6 take size=M)"),
     "--engine": ("engine", " (fig3, fig5 and table2 do)"),
     "--control-hz": ("control_hz", " (the physics figures do)"),
+    "--workers": ("workers", " (figures of many runs do)"),
 }
 
 
 MAX_SEEDS = 100_000  # the most environments or seeds a figure takes (--seeds)
 
 
-def figure_listing() -> str:
-    """The figures, one per line: name and one-line description, aligned."""
+def figure_listing(times: bool = False) -> str:
+    """The figures, one per line: name and one-line description, aligned; ``times``: then the committed run's
+    times of ``--quick`` and full, and the machine they were measured on."""
     from neurowalk.experiments import FIGURES
 
     width = max(len(n) for n in FIGURES) + 2
-    return "\n".join(f"{name:<{width}}{exp.title}" for name, exp in sorted(FIGURES.items()))
+    if not times:
+        return "\n".join(f"{name:<{width}}{exp.title}" for name, exp in sorted(FIGURES.items()))
+    from neurowalk.experiments.reproduce.timing import describe, figure_times
+
+    lines = []
+    for name, exp in sorted(FIGURES.items()):
+        took = describe(name)
+        lines.append(f"{name:<{width}}{exp.title}" + (f" [{took}]" if took else ""))
+    machine = figure_times().get("machine")
+    lines.append(f"[times: the committed `neurowalk reproduce` run, docs/results/, on {machine or 'no machine yet'}]")
+    return "\n".join(lines)
 
 
 def add_figure_parser(sub: argparse._SubParsersAction) -> None:
@@ -82,6 +94,7 @@ def add_figure_parser(sub: argparse._SubParsersAction) -> None:
         help="box side of the random environments (table2, fig6; default 1 m, the authors')",
     )
     control_hz_arg(f, default=None)
+    f.add_argument("--workers", type=int, default=None, help="processes of figures of many runs (default 2)")
     engine_args(f)
 
 
@@ -132,7 +145,7 @@ def _figure(args: argparse.Namespace) -> int:
         from neurowalk.sim.config import DEFAULT_ENGINE
 
     if args.name == "list":
-        print(figure_listing())
+        print(figure_listing(times=True))
         return 0
     if args.name not in FIGURES:
         raise UsageError(f"unknown figure {args.name!r}; available: {', '.join(sorted(FIGURES))}")
@@ -197,6 +210,9 @@ def _figure(args: argparse.Namespace) -> int:
             device = check_engine(args).device
             if "device" in params:
                 kwargs["device"] = device
+        if args.workers is not None:
+            takes("--workers")
+            kwargs["workers"] = args.workers
         if args.control_hz is not None:
             takes("--control-hz")
             if not 0 < args.control_hz <= 1000:  # also NaN

@@ -77,6 +77,9 @@ def _figure(name: str, title: str, module: str) -> Experiment:
 
 
 FIGURES: dict[str, Experiment] = {
+    "table1": _figure(
+        "table1", "walking direction for each sign of the outputs O1, O2, and speed (paper Table 1)", "table1"
+    ),
     "fig2": _figure("fig2", "fixed points and hysteresis of the sensory network", "fig2"),
     "fig3": _figure("fig3", "static network: dead ends, hysteresis, cluttered and difficult arenas", "fig3"),
     "fig4": _figure("fig4", "weight changes for constant and changing inputs", "fig4"),

@@ -1,0 +1,108 @@
+"""The `reproduce` command: every result of the paper, judged, into DIR/NAME.json and DIR/report.md."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from neurowalk.cli.common import UsageError, out_folder
+
+
+def add_reproduce_parser(sub: argparse._SubParsersAction) -> None:
+    """The `reproduce` subcommand."""
+    r = sub.add_parser(
+        "reproduce",
+        help="run every experiment of the paper and judge each result: DIR/NAME.json, DIR/report.md (resumable)",
+    )
+    r.add_argument("--quick", action="store_true", help="each figure's --quick (fewer seeds, shorter runs)")
+    r.add_argument("--only", default=None, metavar="NAME[,NAME...]", help="these results only (default: all)")
+    r.add_argument("--out", type=Path, default=None, help="output folder (default out/reproduce, or -quick)")
+    r.add_argument("--workers", type=int, default=None, help="processes of the figures of many runs (default 2)")
+    r.add_argument("--list", action="store_true", help="list the results and their commands, run nothing")
+
+
+def cmd_reproduce(args: argparse.Namespace) -> int:
+    """`neurowalk reproduce`: run each figure command not yet finished in DIR, judge its results, write the report.
+
+    Exit 0 where every run finished, 1 where one failed (the others still ran), 130 on a stop (SIGINT or SIGTERM),
+    with one line saying which results are on disk.
+    """
+    from neurowalk.runners.stopping import stop_on_signals
+
+    with stop_on_signals():
+        return _reproduce(args)
+
+
+def _reproduce(args: argparse.Namespace) -> int:
+    from neurowalk.experiments.reproduce import runner
+    from neurowalk.experiments.reproduce.plan import ITEMS, PLAN
+    from neurowalk.experiments.reproduce.report import write_report
+    from neurowalk.experiments.reproduce.timing import expected_seconds
+    from neurowalk.fileio import folder_lock
+
+    items = list(PLAN)
+    if args.only is not None:
+        names = [n.strip() for n in args.only.split(",")]
+        unknown = [n for n in names if n not in ITEMS]
+        if unknown or not all(names):
+            raise UsageError(f"--only: unknown result {unknown[0] if unknown else ''!r}; results: {', '.join(ITEMS)}")
+        items = [i for i in PLAN if i.name in names]
+    out = args.out or Path("out") / ("reproduce-quick" if args.quick else "reproduce")
+    runs, run_of = runner.runs_of(items, args.quick, args.workers)
+    if args.list:
+        for item in items:
+            print(f"{item.name:<15} {' '.join(run_of[item.name].command(out))}")
+        return 0
+    out_folder(out)
+    lock = folder_lock(out, "reproduce")
+    expected = {r.name: expected_seconds(r.figure, args.quick) for r in runs}
+    failed: dict[str, str] = {}
+    from tqdm import tqdm
+
+    bar = tqdm(total=round(sum(expected.values())), unit="s", desc="reproduce", file=sys.stderr, dynamic_ncols=True)
+    base, t0 = 0.0, time.perf_counter()
+    try:
+        for k, run in enumerate(runs):
+            bar.set_description(f"reproduce {k + 1}/{len(runs)} {run.name}")
+            record = runner.done(run, out)
+            if record is None:
+                try:
+                    record = runner.execute(
+                        run, out, tick=lambda s, b=base, e=expected[run.name]: _show(bar, b + min(s, 0.95 * e))
+                    )
+                except runner.RunFailedError as e:
+                    for item in items:
+                        if run_of[item.name] is run:
+                            failed[item.name] = str(e)
+                    print(f"neurowalk: {e}", file=sys.stderr)
+            if record is not None:
+                for item in items:
+                    if run_of[item.name] is run:
+                        runner.write_item(item, run, record, out, args.quick)
+            base += expected[run.name]
+            _show(bar, base)
+            write_report(out, args.quick, failed)
+    except KeyboardInterrupt:
+        bar.close()
+        report = write_report(out, args.quick, failed)
+        kept = [i.name for i in items if (out / f"{i.name}.json").is_file()]
+        print(
+            f"neurowalk: reproduce interrupted: {len(kept)} results are in {out} ({', '.join(kept) or 'none'}), "
+            f"listed in {report}; the figures keep their finished runs: run the same command again to go on",
+            file=sys.stderr,
+        )
+        return 130
+    finally:
+        lock.close()
+    bar.close()
+    report = write_report(out, args.quick, failed)
+    print(runner.summary_line(out, args.quick, report, time.perf_counter() - t0))
+    return 1 if failed else 0
+
+
+def _show(bar: object, n: float) -> None:
+    """Move the progress bar to ``n`` expected seconds."""
+    bar.n = round(n)  # type: ignore[attr-defined]
+    bar.refresh()  # type: ignore[attr-defined]

@@ -1,0 +1,118 @@
+"""Table 1: the walking direction for each sign of the sensory network's outputs, and speed against amplitude.
+
+The paper's Table 1: (O1, O2) both negative: forward; both positive: backward; O1 negative, O2 positive: turn left;
+O1 positive, O2 negative: turn right; both zero: stop; "the amplitude determines the walking speed". Here the
+physics AMOSII on the open floor is steered by constant outputs (controller ``fixed``) through the whole
+locomotion network: every sign pair of {-1, 0, 1}^2 (nine runs), and forward walking at amplitudes 0 to 1
+(O1 = O2 = -a). Each run's first :data:`WARMUP` control steps (the delay lines filling) are left out of the
+measures: speed along the start heading (m/s) and turning rate (deg/s, positive: left), both per second of
+simulated time at the run's control rate. A run's direction is named from them by :func:`direction`.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from neurowalk.experiments import Result
+from neurowalk.plotting import pyplot
+from neurowalk.sim.episode import EpisodeConfig, run_episode
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+NAME = "table1"
+WARMUP = 300  # control steps before the delay lines are full and the gait is steady
+#: The paper's Table 1: (sign of O1, sign of O2) -> walking direction.
+PAPER = {
+    (-1, -1): "forward",
+    (1, 1): "backward",
+    (-1, 1): "turn left",
+    (1, -1): "turn right",
+    (0, 0): "stop",
+}
+MOVING = 0.002  # m/s: slower than this (and turning slower than TURNING) is standing still
+TURNING = 0.5  # deg/s: a turn is at least this fast and faster (in deg/s) than 100x the speed (in m/s)
+
+
+def direction(speed: float, turn_rate: float) -> str:
+    """The walking direction of a run from its speed along the start heading (m/s) and turning rate (deg/s).
+
+    ``stop`` where neither moves (:data:`MOVING`, :data:`TURNING`); a turn where the rotation dominates (turn rate
+    in deg/s over 100 times the speed in m/s: 1 deg/s against 1 cm/s); else forward or backward by the sign of the
+    speed.
+    """
+    if abs(speed) < MOVING and abs(turn_rate) < TURNING:
+        return "stop"
+    if abs(turn_rate) >= TURNING and abs(turn_rate) > 100 * abs(speed):
+        return "turn left" if turn_rate > 0 else "turn right"
+    return "forward" if speed > 0 else "backward"
+
+
+def _measure(steer: tuple[float, float], steps: int, seed: int, control_hz: float) -> tuple[dict, np.ndarray]:
+    """Speed (m/s) and turning rate (deg/s) after the warm-up of one constant-steer run, and its (T, 2) path."""
+    ep = run_episode(EpisodeConfig(controller="fixed", steer=steer, steps=steps, seed=seed, control_hz=control_hz))
+    pose = ep.trajectory.pose[WARMUP:]
+    seconds = (len(pose) - 1) / control_hz
+    heading = np.array([np.cos(pose[0, 2]), np.sin(pose[0, 2])])
+    speed = float((pose[-1, :2] - pose[0, :2]) @ heading / seconds)
+    turn = float(np.degrees(np.sum(np.diff(np.unwrap(pose[:, 2])))) / seconds)
+    return {"speed_m_per_s": speed, "turn_rate_deg_per_s": turn, "direction": direction(speed, turn)}, pose[:, :2]
+
+
+def run(*, quick: bool = False, seed: int = 0, control_hz: float = 10.0) -> Result:
+    """Nine sign pairs and six amplitudes, ``600`` control steps each (quick: ``450``), seed ``seed``."""
+    steps = 450 if quick else 600
+    amplitudes = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)
+    signs, arrays = [], {}
+    for i, (s1, s2) in enumerate((a, b) for a in (-1, 0, 1) for b in (-1, 0, 1)):
+        m, path = _measure((float(s1), float(s2)), steps, seed, control_hz)
+        signs.append({"O1": s1, "O2": s2, **m, "paper": PAPER.get((s1, s2))})
+        arrays[f"path{i}"] = path
+    speeds = []
+    for a in amplitudes:
+        m, _ = _measure((-a, -a), steps, seed, control_hz)
+        speeds.append({"amplitude": a, **m})
+    summary = {
+        "steps": steps,
+        "warmup_steps": WARMUP,
+        "control_hz": control_hz,
+        "seed": seed,
+        "signs": signs,
+        "amplitude": speeds,
+        "rule": {"moving_m_per_s": MOVING, "turning_deg_per_s": TURNING, "turn_over_speed": 100},
+        "notes": "speed along the start heading and turning rate (positive: left) after the warm-up",
+    }
+    return Result(NAME, summary, arrays)
+
+
+def plot(res: Result) -> Figure:
+    """Left: the nine paths by sign pair, named by measured and paper direction; right: speed against amplitude."""
+    plt = pyplot()
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 5.5), constrained_layout=True)
+    s = res.summary
+    for i, row in enumerate(s["signs"]):
+        path = 3.0 * (res.arrays[f"path{i}"] - res.arrays[f"path{i}"][0])  # drawn 3x
+        x0, y0 = 0.6 * (row["O2"] + 1), -0.6 * (row["O1"] - 1)  # a 3 x 3 grid: O1 down, O2 across
+        ax.plot(x0 + path[:, 0], y0 + path[:, 1], lw=1.5)
+        ax.plot(x0, y0, "o", color="C3", ms=4)
+        paper = row["paper"] or "-"
+        ok = row["paper"] is None or row["paper"] == row["direction"]
+        label = f"({row['O1']:+d}, {row['O2']:+d})\n{row['direction']}\npaper: {paper}"
+        ax.text(x0, y0 - 0.22, label, ha="center", va="top", fontsize=7, color="k" if ok else "C3")
+    ax.set_aspect("equal")
+    ax.set_xlim(-0.4, 1.6)
+    ax.set_ylim(-0.5, 1.6)
+    ax.set_xticks([])
+    ax.set_yticks([])
+    ax.set_title(
+        f"paths by the signs of (O1, O2), start heading +x (drawn 3x), {s['steps']} steps at {s['control_hz']:g} Hz"
+    )
+    amp = [r["amplitude"] for r in s["amplitude"]]
+    bx.plot(amp, [100 * r["speed_m_per_s"] for r in s["amplitude"]], "o-")
+    bx.set_xlabel("amplitude a (O1 = O2 = -a)")
+    bx.set_ylabel("forward speed (cm/s)")
+    bx.set_title("the amplitude sets the walking speed")
+    fig.suptitle("Table 1: walking direction from the sensory network's outputs (physics AMOSII)")
+    return fig

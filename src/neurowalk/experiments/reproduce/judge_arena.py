@@ -1,0 +1,173 @@
+"""Judges of the arena experiments: the dead ends and long runs (Fig. 3, 5), the random environments (Fig. 6,
+Table 2), and the studies beyond the paper (escape map, latched spin, other bodies, the surrogate check).
+
+The paper shows one run per dead end and arena; neurowalk runs several seeds of each dead end and judges by
+:func:`~neurowalk.experiments.reproduce.claims.outcome`; the long runs are one run each, as in the paper.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from neurowalk.experiments.reproduce.claims import Claim, holds, outcome, rate
+
+
+def _dead_end(s: dict[str, Any], arena: str, network: str, want: str, what: str) -> Claim:
+    """An outcome claim of the dead-end table: ``want`` is ``escaped`` or ``trapped``."""
+    cell = s["table"]["counts"][arena][network]
+    return outcome(what, want, cell[want], cell["runs"])
+
+
+def _long(s: dict[str, Any], name: str) -> dict[str, Any]:
+    """The summary of the figure's long run ``name``."""
+    return s["runs"][name]
+
+
+def fig3(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """Static network: escapes the simple dead end, trapped in the narrow passage, explores the cluttered arena,
+    trapped in the difficult one."""
+    clut, diff = _long(s, "cluttered (static)"), _long(s, "difficult (static)")
+    return [
+        _dead_end(s, "simple-deadlock", "static", "escaped", "static network escapes the simple dead end (Fig. 3A)"),
+        _dead_end(
+            s, "narrow-passage", "static", "trapped", "static network is trapped in the narrow passage (Fig. 3B)"
+        ),
+        holds(
+            "static network explores the cluttered arena without getting stuck (Fig. 3F)",
+            "not stuck",
+            not clut["trapped"],
+            f"coverage {clut['coverage']:.1%}",
+            f"one run of {clut['steps']} control steps; stuck: held in a 0.5 m disc over its last 300 s",
+        ),
+        holds(
+            "static network is trapped in the difficult arena (Fig. 3G)",
+            "trapped",
+            bool(diff["trapped"]),
+            f"coverage {diff['coverage']:.1%}",
+            f"one run of {diff['steps']} control steps; longest wedged period {diff['longest_wedged_s']:.0f} s",
+        ),
+    ]
+
+
+def fig5(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """Plastic network: escapes both dead ends; explores the difficult arena (covers more than the static one)."""
+    p, st = _long(s, "difficult (plastic)"), _long(s, "difficult (static)")
+    return [
+        _dead_end(s, "simple-deadlock", "plastic", "escaped", "plastic network escapes the simple dead end (Fig. 5A)"),
+        _dead_end(s, "narrow-passage", "plastic", "escaped", "plastic network escapes the narrow passage (Fig. 5B)"),
+        holds(
+            "plastic network explores the difficult arena, not trapped (Fig. 5F)",
+            "escapes all deadlocks, explores the whole environment",
+            not p["trapped"] and p["coverage"] > st["coverage"],
+            f"coverage {p['coverage']:.1%} (static {st['coverage']:.1%})",
+            f"one run of {p['steps']} control steps: not stuck at the end and more of the free area visited than the "
+            "static network's run in the same arena",
+        ),
+    ]
+
+
+def table2(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """The plastic network's count of explored environments against the paper's 49 of 50."""
+    paper = s["paper"]
+    claims = []
+    for name, c in s["counts"].items():
+        if c["controller"] != "plastic":
+            continue
+        claims.append(
+            rate(
+                f"{name}: environments where the robot is not stuck at the end ({s['body']}, {s['steps']} steps)",
+                paper["success"],
+                paper["environments"],
+                c["success"],
+                c["environments"],
+            )
+        )
+    return claims
+
+
+def latched_spin(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """Beyond the paper: the plastic network's failures in random environments are mostly latched spins."""
+    f = s["failures"]
+    total = sum(f.values())
+    return [
+        holds(
+            "the plastic network's failures in random environments are mostly latched spins (a turn held by the "
+            "learned weights)",
+            "beyond the paper: neurowalk's diagnosis",
+            total > 0 and f["latched spin"] > total / 2,
+            f"{f['latched spin']} of {total} failures",
+            f"failure classes of {s['searched']} surrogate runs of {s['steps']} steps: {f}",
+        )
+    ]
+
+
+def bodies(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """Beyond the paper: on every body the plastic network escapes at least as many dead ends as the static one and
+    succeeds at least as often in random environments."""
+    rows = {(r["body"], r["network"]): r for r in s["rows"]}
+    claims = []
+    for body in s["bodies"]:
+        p, st = rows[(body, "plastic")], rows[(body, "static")]
+        claims.append(
+            holds(
+                f"{body}: the plastic network escapes at least as many dead ends as the static one",
+                "beyond the paper",
+                p["dead_ends"] >= st["dead_ends"],
+                f"plastic {p['dead_ends']}/{p['dead_end_runs']}, static {st['dead_ends']}/{st['dead_end_runs']}",
+                "escaped dead-end runs of each network on the body",
+            )
+        )
+        claims.append(
+            holds(
+                f"{body}: the plastic network is not stuck in at least as many random environments as the static one",
+                "beyond the paper",
+                p["table2_success"] >= st["table2_success"],
+                f"plastic {p['table2_success']}/{p['table2_environments']}, static "
+                f"{st['table2_success']}/{st['table2_environments']}",
+                "Table 2 successes (not stuck at the end) of each network on the body",
+            )
+        )
+    return claims
+
+
+def surrogate(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """Beyond the paper: the planar surrogate and the physics robot agree on the dead-end outcomes."""
+    a = s["agreement"]
+    return [
+        holds(
+            "the planar surrogate ends the dead-end runs as the physics robot does in at least 80% of them",
+            "beyond the paper: the surrogate stands in for the physics in Table 2",
+            a["fraction"] is not None and a["fraction"] >= 0.8,
+            f"{a['same_outcome']}/{a['runs']}",
+            s["rule"],
+        )
+    ]
+
+
+def escape_map(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """Beyond the paper: over every trap size swept, the plastic network escapes at least as often as the static
+    one, and the static one at least as often as the Braitenberg vehicle (no memory)."""
+    claims = []
+    for label, by_net in s["counts"].items():
+        total = {
+            net: (sum(c["escaped"] for c in cells.values()), sum(c["runs"] for c in cells.values()))
+            for net, cells in by_net.items()
+        }
+        (p, n), (st, _), (br, _) = total["plastic"], total["static"], total["braitenberg"]
+        claims.append(
+            holds(
+                f"{label}: escapes, plastic >= static >= Braitenberg",
+                "beyond the paper: memory and plasticity widen the traps escaped",
+                p >= st >= br,
+                f"plastic {p}/{n}, static {st}/{n}, Braitenberg {br}/{n}",
+                f"escaped runs over the sizes {s['sweeps'][label]['sizes']}, {s['seeds']} seeds each",
+            )
+        )
+    return claims
+
+
+def fig6(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """Sixteen random environments: the paper's one failure in sixteen."""
+    rows = s["environments"]
+    ok = sum(bool(r["success"]) for r in rows)
+    return [rate(f"random environments explored ({s['body']}, {s['steps']} steps; Fig. 6)", 15, 16, ok, len(rows))]

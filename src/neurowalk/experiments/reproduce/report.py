@@ -1,0 +1,100 @@
+"""``DIR/report.md``: every item of the plan in one table, paper against neurowalk, then each item's results."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+from neurowalk.experiments.reproduce.plan import PLAN
+from neurowalk.fileio import atomic_write
+
+MARK = {"reproduced": "reproduced", "partly": "partly", "not": "**not**"}
+
+
+def read_records(out: Path, quick: bool) -> dict[str, dict[str, Any]]:
+    """The item records (``DIR/NAME.json``) in ``out`` made in the same mode (quick or full), by item name."""
+    records = {}
+    for item in PLAN:
+        try:
+            rec = json.loads((out / f"{item.name}.json").read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            continue
+        if isinstance(rec, dict) and rec.get("quick") == quick and rec.get("name") == item.name:
+            records[item.name] = rec
+    return records
+
+
+def _cell(v: Any, unit: str = "") -> str:
+    """A value for a table cell: numbers rounded, lists and dicts shortened, pipes escaped."""
+    if isinstance(v, float):
+        text = f"{v:.3g}"
+    elif isinstance(v, dict):
+        text = ", ".join(f"{k} {_cell(x)}" for k, x in v.items())
+    elif isinstance(v, list):
+        text = ", ".join(_cell(x) for x in v)
+    else:
+        text = "-" if v is None else str(v)
+    text = text + (f" {unit}" if unit and v is not None and not isinstance(v, str) else "")
+    return text.replace("|", "\\|")
+
+
+def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
+    """The report's markdown for the records in ``out`` (``failed``: item name -> why its run failed)."""
+    records, failed = read_records(out, quick), failed or {}
+    counts = {v: sum(r["verdict"] == v for r in records.values()) for v in MARK}
+    lines = [
+        "# neurowalk reproduce: the paper against neurowalk",
+        "",
+        f"{'Quick' if quick else 'Full'} reproduction: {len(records)} of {len(PLAN)} results measured; "
+        f"{counts['reproduced']} reproduced, {counts['partly']} partly, {counts['not']} not"
+        + (f"; {len(failed)} failed to run" if failed else "")
+        + ". Each result's file `NAME.json` holds the command, versions, seeds, wall time, the measured values "
+        "with 95% intervals where they are rates, the paper's values and the rule of each verdict.",
+        "",
+        "| result | the paper | verdict | why | figure | time |",
+        "|---|---|---|---|---|---|",
+    ]
+    for item in PLAN:
+        rec = records.get(item.name)
+        if rec is None:
+            why = f"failed: {failed[item.name]}" if item.name in failed else "not run"
+            lines.append(f"| {item.name} | {_cell(item.paper)} | - | {_cell(why)} | - | - |")
+            continue
+        png = f"[{rec['figure']}.png]({rec['files']['png']})"
+        lines.append(
+            f"| [{item.name}](#{item.name}) | {_cell(item.paper)} | {MARK[rec['verdict']]} | {_cell(rec['reason'])} "
+            f"| {png} | {rec['wall_time_s']:.0f} s |"
+        )
+    for item in PLAN:
+        rec = records.get(item.name)
+        if rec is None:
+            continue
+        lines += [
+            "",
+            f"## {item.name}",
+            "",
+            f"{item.paper}. Command: `{rec['command']}` ({rec['wall_time_s']:.0f} s; control rate "
+            f"{rec['control_hz']:g} Hz; neurowalk {rec['versions']['neurowalk']}, MuJoCo {rec['versions']['mujoco']}; "
+            f"{rec['versions']['machine']}).",
+            "",
+            f"![{item.name}]({rec['files']['png']})",
+            "",
+            "| result | paper | neurowalk | 95% interval | verdict | rule |",
+            "|---|---|---|---|---|---|",
+        ]
+        for c in rec["claims"]:
+            ci = "-" if c["interval"] is None else f"{c['interval'][0]:.0%}-{c['interval'][1]:.0%}"
+            lines.append(
+                f"| {_cell(c['what'])} | {_cell(c['paper'], c['unit'])} | {_cell(c['measured'], c['unit'])} | {ci} "
+                f"| {MARK[c['verdict']]} | {_cell(c['rule'])} |"
+            )
+    return "\n".join(lines) + "\n"
+
+
+def write_report(out: Path, quick: bool, failed: dict[str, str] | None = None) -> Path:
+    """Write ``DIR/report.md`` (atomically) from the records in ``out``; its path."""
+    path = out / "report.md"
+    text = render(out, quick, failed)
+    atomic_write(path, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
+    return path

@@ -1,0 +1,179 @@
+"""Run the plan of :mod:`.plan`: each figure once (a subprocess, `neurowalk figure ...`), each item judged.
+
+Layout of the output folder ``DIR``:
+
+* ``DIR/RUN/``: a figure's own output (``FIG.png``, ``FIG.json``, ``FIG.npz``, its result stores) and ``log.txt``,
+  the command's output. ``RUN`` is the name of the first item that uses the run; items that read the same run
+  (Table 1's and Fig. 7's share none; the long runs share Fig. 5's) judge the same files.
+* ``DIR/RUN/command.json``: written after the command succeeded; a later ``reproduce`` skips the run where it
+  names the same command (and otherwise runs it again: the figure's stores keep finished runs).
+* ``DIR/NAME.json``: an item's result (:func:`item_record`), written after its run.
+* ``DIR/report.md``: the table of all items (:mod:`.report`).
+
+A stop (Ctrl-C, SIGTERM) stops the running figure, which keeps its finished runs in its stores; what is on disk
+is what the summary line says.
+"""
+
+from __future__ import annotations
+
+import inspect
+import json
+import os
+import platform
+import shlex
+import signal
+import subprocess
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from neurowalk.experiments import FIGURES
+from neurowalk.experiments.reproduce.claims import overall
+from neurowalk.experiments.reproduce.plan import Item
+from neurowalk.fileio import write_json
+
+
+@dataclass(frozen=True)
+class Run:
+    """One figure command: the items judged from it share its folder ``DIR/name``."""
+
+    name: str
+    figure: str
+    args: tuple[str, ...]
+
+    def command(self, out: Path) -> list[str]:
+        """The command's words, as a user types them (``neurowalk figure ...``)."""
+        return ["neurowalk", "figure", self.figure, "--out", str(out / self.name), *self.args]
+
+
+def runs_of(items: list[Item], quick: bool, workers: int | None) -> tuple[list[Run], dict[str, Run]]:
+    """The distinct figure commands of ``items`` in order, and each item's run (by item name); ``workers`` goes to
+    the figures that take it."""
+    runs: dict[tuple[str, tuple[str, ...]], Run] = {}
+    of: dict[str, Run] = {}
+    for item in items:
+        args = item.args(quick)
+        if workers is not None and "workers" in inspect.signature(FIGURES[item.figure].run).parameters:
+            args = (*args, "--workers", str(workers))
+        key = (item.figure, args)
+        if key not in runs:
+            runs[key] = Run(item.name, item.figure, args)
+        of[item.name] = runs[key]
+    return list(runs.values()), of
+
+
+def versions() -> dict[str, str]:
+    """Versions of what a result depends on, and the machine."""
+    import matplotlib
+    import mujoco
+    import numba
+    import numpy
+
+    from neurowalk import __version__
+
+    return {
+        "neurowalk": __version__,
+        "python": platform.python_version(),
+        "numpy": numpy.__version__,
+        "mujoco": mujoco.__version__,
+        "numba": numba.__version__,
+        "matplotlib": matplotlib.__version__,
+        "machine": f"{platform.system()} {platform.machine()}, {os.cpu_count()} cores",
+    }
+
+
+def done(run: Run, out: Path) -> dict[str, Any] | None:
+    """The record of ``run``'s finished command in ``out`` (None where it has not finished with this command)."""
+    path = out / run.name / "command.json"
+    try:
+        rec = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    ok = isinstance(rec, dict) and rec.get("command") == shlex.join(run.command(out))
+    return rec if ok and (out / run.name / f"{run.figure}.json").is_file() else None
+
+
+class RunFailedError(RuntimeError):
+    """A figure command exited with an error; names the command, its status and its log."""
+
+
+def execute(run: Run, out: Path, tick: Any = None) -> dict[str, Any]:
+    """Run ``run``'s command (its output into ``DIR/RUN/log.txt``); its record (command, wall time, versions).
+
+    ``tick(elapsed_s)`` is called about twice a second while it runs (the progress display). A stop (SIGINT or
+    SIGTERM here) is passed on to the command, which keeps its finished runs; then KeyboardInterrupt.
+    """
+    folder = out / run.name
+    folder.mkdir(parents=True, exist_ok=True)
+    words = run.command(out)
+    t0 = time.perf_counter()
+    with open(folder / "log.txt", "wb") as log:
+        proc = subprocess.Popen([sys.executable, "-m", "neurowalk", *words[1:]], stdout=log, stderr=subprocess.STDOUT)
+        try:
+            while proc.poll() is None:
+                try:
+                    proc.wait(timeout=0.5)
+                except subprocess.TimeoutExpired:
+                    if tick is not None:
+                        tick(time.perf_counter() - t0)
+        except KeyboardInterrupt:
+            proc.send_signal(signal.SIGINT)
+            proc.wait()
+            raise
+    wall = time.perf_counter() - t0
+    if proc.returncode == 130:
+        raise KeyboardInterrupt
+    if proc.returncode != 0:
+        raise RunFailedError(f"`{shlex.join(words)}` exited with status {proc.returncode}; see {folder / 'log.txt'}")
+    record = {"command": shlex.join(words), "wall_time_s": round(wall, 1), "versions": versions()}
+    write_json(folder / "command.json", record)
+    return record
+
+
+def item_record(item: Item, run: Run, record: dict[str, Any], out: Path, quick: bool) -> dict[str, Any]:
+    """An item's result: its command, versions, seeds, wall time, claims and verdict, judged from the run's json."""
+    summary = json.loads((out / run.name / f"{run.figure}.json").read_text(encoding="utf-8"))
+    claims = item.judge(summary, quick)
+    verdict, reason = overall(claims)
+    return {
+        "name": item.name,
+        "paper": item.paper,
+        "figure": run.figure,
+        "quick": quick,
+        "command": record["command"],
+        "wall_time_s": record["wall_time_s"],
+        "versions": record["versions"],
+        "seed": _seed(run.args),
+        "seeds": summary.get("seeds"),
+        "control_hz": summary.get("control_hz", 10.0),
+        "files": {
+            "png": f"{run.name}/{run.figure}.png",
+            "json": f"{run.name}/{run.figure}.json",
+        },
+        "claims": [c.to_json() for c in claims],
+        "verdict": verdict,
+        "reason": reason,
+    }
+
+
+def write_item(item: Item, run: Run, record: dict[str, Any], out: Path, quick: bool) -> Path:
+    """Judge ``item`` from its finished run and write ``DIR/NAME.json``; its path."""
+    path = out / f"{item.name}.json"
+    write_json(path, item_record(item, run, record, out, quick))
+    return path
+
+
+def summary_line(out: Path, quick: bool, report: Path, wall: float) -> str:
+    """The closing line: how many results were reproduced, partly and not, and where the report is."""
+    from neurowalk.experiments.reproduce.report import read_records
+
+    records = read_records(out, quick).values()
+    counts = ", ".join(f"{sum(r['verdict'] == v for r in records)} {v}" for v in ("reproduced", "partly", "not"))
+    return f"reproduce: {len(records)} results ({counts}) in {wall:.0f} s; wrote {report}"
+
+
+def _seed(args: tuple[str, ...]) -> int:
+    """The --seed of a figure command's arguments (0, the figures' default, where none is given)."""
+    return int(args[args.index("--seed") + 1]) if "--seed" in args else 0

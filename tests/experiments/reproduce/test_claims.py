@@ -1,0 +1,71 @@
+"""The verdict rules of neurowalk reproduce: each verdict where the rule says, the Wilson interval's properties."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from neurowalk.experiments.reproduce.claims import Claim, holds, outcome, overall, rate, timing, value, wilson
+
+
+@given(st.integers(0, 500), st.integers(1, 500))
+def test_wilson_interval_holds_the_rate_and_narrows_with_n(k, n):
+    k = min(k, n)
+    lo, hi = wilson(k, n)
+    assert 0.0 <= lo <= k / n <= hi <= 1.0
+    lo4, hi4 = wilson(4 * k, 4 * n)  # the same rate on four times the runs
+    assert hi4 - lo4 < hi - lo + 1e-12
+
+
+def test_wilson_known_value_and_bad_counts():
+    lo, hi = wilson(49, 50)  # the paper's 49/50: about 89.5%-99.6%
+    assert lo == pytest.approx(0.8950, abs=1e-3) and hi == pytest.approx(0.9965, abs=1e-3)
+    assert wilson(0, 0) == (0.0, 1.0)
+    with pytest.raises(ValueError):
+        wilson(3, 2)
+
+
+def test_outcome_reproduced_only_where_the_papers_outcome_is_typical():
+    assert outcome("escapes", "escaped", 10, 10).verdict == "reproduced"
+    assert outcome("escapes", "escaped", 0, 10).verdict == "not"
+    assert outcome("escapes", "escaped", 5, 10).verdict == "partly"
+    assert outcome("escapes", "escaped", 1, 1).verdict == "partly"  # one run says little: the interval spans 1/2
+
+
+def test_rate_compares_the_papers_rate_with_the_interval():
+    assert rate("t2", 49, 50, 48, 50).verdict == "reproduced"
+    assert rate("t2", 49, 50, 44, 50).verdict == "partly"  # 88% against 98%: outside the interval, within 10 points
+    assert rate("t2", 49, 50, 25, 50).verdict == "not"
+    c = rate("t2", 49, 50, 48, 50)
+    assert c.measured == "48/50" and c.paper == "49/50" and c.interval[0] < 0.96 < c.interval[1]
+
+
+def test_timing_factor_rule_and_missing_event():
+    assert timing("escape", 50, 60).verdict == "reproduced"
+    assert timing("escape", 50, 120).verdict == "partly"
+    assert timing("escape", 50, 20).verdict == "partly"  # the factor counts both ways
+    assert timing("escape", 50, 400).verdict == "not"
+    assert timing("escape", 50, None).verdict == "not"
+    assert timing("escape", 50, math.nan).measured is None
+
+
+def test_value_tolerances():
+    assert value("b*", 4.63, 4.64, 0.05).verdict == "reproduced"
+    assert value("b*", 4.63, 4.73, 0.05).verdict == "partly"
+    assert value("b*", 4.63, 5.63, 0.05).verdict == "not"
+
+
+def test_overall_and_bad_verdicts():
+    yes = holds("a", "x", True, 1, "why")
+    no = holds("b", "x", False, 0, "why")
+    assert overall([yes, yes])[0] == "reproduced"
+    assert overall([no, no])[0] == "not"
+    verdict, reason = overall([yes, no])
+    assert verdict == "partly" and "b" in reason
+    assert overall([])[0] == "not"
+    with pytest.raises(ValueError, match="verdict"):
+        Claim("a", 1, 1, "maybe", "rule")
+    assert yes.to_json()["interval"] is None

@@ -1,0 +1,63 @@
+"""neurowalk reproduce end to end on two quick results: records, report, resume, bad input, and the plan's shape."""
+
+from __future__ import annotations
+
+import json
+import shlex
+
+from neurowalk.cli import main
+from neurowalk.experiments import FIGURES
+from neurowalk.experiments.reproduce.claims import VERDICTS
+from neurowalk.experiments.reproduce.plan import ITEMS, PLAN
+from neurowalk.experiments.reproduce.runner import runs_of
+
+
+def test_plan_names_real_figures_and_unique_results():
+    assert len(ITEMS) == len(PLAN)
+    assert all(item.figure in FIGURES for item in PLAN)
+    names = {i.name for i in PLAN}
+    for must in ("table1", "table2", "table2-physics", "fig8-27hz", "fig9-27hz", "fig10-27hz"):
+        assert must in names
+    assert {f"fig{k}" for k in range(2, 11)} <= names  # every figure of the paper
+
+
+def test_results_with_the_same_command_share_one_run():
+    runs, of = runs_of([ITEMS["table2"], ITEMS["table2-1000"]], quick=True, workers=None)
+    assert len(runs) == 1 and of["table2"] is of["table2-1000"]  # quick: the same command
+    runs, of = runs_of([ITEMS["table2"], ITEMS["table2-1000"]], quick=False, workers=None)
+    assert len(runs) == 2 and "--seeds" in of["table2-1000"].args
+    runs, _ = runs_of([ITEMS["fig8"], ITEMS["fig2"]], quick=True, workers=3)
+    assert "--workers" in runs[0].args and "--workers" not in runs[1].args  # fig2 takes none
+
+
+def test_quick_reproduction_of_two_results_records_judges_and_resumes(tmp_path, capsys):
+    out = tmp_path / "rep"
+    assert main(["reproduce", "--quick", "--only", "fig2,fig4", "--out", str(out)]) == 0
+    line = capsys.readouterr().out
+    assert "reproduce: 2 results" in line and str(out / "report.md") in line
+    for name in ("fig2", "fig4"):
+        rec = json.loads((out / f"{name}.json").read_text())
+        assert rec["quick"] is True and rec["verdict"] in VERDICTS and rec["claims"]
+        assert shlex.split(rec["command"])[:3] == ["neurowalk", "figure", name] and "--quick" in rec["command"]
+        assert rec["versions"]["mujoco"] and rec["wall_time_s"] > 0
+        assert (out / rec["files"]["png"]).is_file() and (out / rec["files"]["json"]).is_file()
+        assert all(c["verdict"] in VERDICTS and c["rule"] for c in rec["claims"])
+    report = (out / "report.md").read_text()
+    assert "| [fig2](#fig2) |" in report and "| table2 |" in report and "not run" in report
+    stamp = (out / "fig2" / "fig2.json").stat().st_mtime_ns
+    assert main(["reproduce", "--quick", "--only", "fig2", "--out", str(out)]) == 0  # resumes: nothing rerun
+    assert (out / "fig2" / "fig2.json").stat().st_mtime_ns == stamp
+
+
+def test_bad_input_exits_2_naming_the_value(tmp_path, capsys):
+    assert main(["reproduce", "--only", "fig2,nonsense", "--out", str(tmp_path)]) == 2
+    assert "nonsense" in capsys.readouterr().err
+    assert main(["reproduce", "--workers", "0", "--out", str(tmp_path)]) == 2
+    assert "--workers" in capsys.readouterr().err
+
+
+def test_list_names_every_command_and_runs_nothing(tmp_path, capsys):
+    assert main(["reproduce", "--list", "--quick", "--out", str(tmp_path / "x")]) == 0
+    text = capsys.readouterr().out
+    assert all(item.name in text for item in PLAN) and "--control-hz 27" in text
+    assert not (tmp_path / "x").exists()
