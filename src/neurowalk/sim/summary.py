@@ -120,6 +120,9 @@ def blind_readings(us_distance: np.ndarray) -> np.ndarray:
     return np.all(~(us < metrics.BLIND_M), axis=1)
 
 
+STUCK_S = 300.0
+"""Simulated time (s) of the stuck window of ``trapped``, ``ever_trapped`` and the end shares, at any control rate
+(3000 control steps at 10 Hz)."""
 PICTURE_ROWS = 10_000  # rows (at most) a streamed run keeps for its picture
 REPLAY_BLOCK = 50_000  # rows of positions replayed at a time (about 10 MB)
 
@@ -149,6 +152,7 @@ def summarize(
         rec = tr
     pose = rec.pose
     sim_time = cfg.steps / cfg.control_hz
+    stuck = round(STUCK_S * cfg.control_hz)  # the stuck window in control steps
     weights = None
     if not np.isnan(rec.final_b).any():
         c = -0.5 * float(rec.final_q.sum())
@@ -181,11 +185,11 @@ def summarize(
         "max_z_m": rec.max_z,
         "exit_step": metrics.exit_step(pose, arena),
         "escaped": metrics.escaped(pose, arena),
-        "trapped": metrics.trapped(pose),
-        "ever_trapped": metrics.ever_trapped(pose),
+        "trapped": metrics.trapped(pose, window=stuck),
+        "ever_trapped": metrics.ever_trapped(pose, window=stuck),
         "ever_held_up_1000s": metrics.ever_trapped(pose, window=round(1000 * cfg.control_hz)),
-        "end_turn_share": metrics.latched_turn_share(rec.outputs[-3000:]),
-        "end_blind_share": float(np.mean(rec.blind[-3000:])),
+        "end_turn_share": metrics.latched_turn_share(rec.outputs[-stuck:]),
+        "end_blind_share": float(np.mean(rec.blind[-stuck:])),
         "coverage": metrics.coverage(pose, arena),
         "path_length_m": metrics.path_length(pose),
         "forward_displacement_m": metrics.forward_displacement(pose, arena.start),

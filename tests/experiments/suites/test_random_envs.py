@@ -2,16 +2,18 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from neurowalk.arenas import make_arena
 from neurowalk.cli import main
 from neurowalk.experiments.figures import table2
 from neurowalk.experiments.suites.random_envs import BOXES, ROWS, environments, failure_class, spec, wilson
 from neurowalk.runners.store import ResultStore
+from neurowalk.sim.config import EpisodeConfig
+from neurowalk.sim.summary import Record, summarize
 
 
 def test_environments_are_drawn_from_the_seed_with_2_to_20_boxes() -> None:
@@ -31,11 +33,38 @@ def test_wilson_interval_contains_the_rate_and_narrows_with_more_runs() -> None:
     assert wilson(0, 10)[0] == 0.0 and wilson(10, 10)[1] == pytest.approx(1.0)
 
 
+def test_wilson_interval_properties() -> None:
+    """Symmetric in successes and failures, within [0, 1], growing with the successes; a value worked by hand."""
+    for n in (1, 7, 50):
+        for k in range(n + 1):
+            lo, hi = wilson(k, n)
+            assert 0.0 <= lo <= k / n <= hi <= 1.0
+            assert (lo, hi) == pytest.approx((1 - wilson(n - k, n)[1], 1 - wilson(n - k, n)[0]))
+            if k:
+                assert wilson(k - 1, n)[0] < lo and wilson(k - 1, n)[1] < hi
+    assert wilson(5, 10) == pytest.approx((0.2366, 0.7634), abs=1e-4)  # (p + z²/2n ± z·sqrt(...)) / (1 + z²/n)
+    assert wilson(0, 0) == (0.0, 1.0)
+
+
+def test_the_stuck_window_is_300_s_at_any_control_rate() -> None:
+    """At 27 Hz a robot still for its last 200 s (5400 steps, more than 3000) is not stuck; still for 400 s it is."""
+    hz = 27.0
+    cfg = EpisodeConfig(arena="open", body="amosii", steps=13_500, control_hz=hz)
+    for still_s, stuck in ((200.0, False), (400.0, True)):
+        still = round(still_s * hz)
+        x = np.concatenate([np.linspace(0.0, 10.0, 13_500 - still), np.full(still, 10.0)])
+        pose = np.stack([x, np.zeros_like(x), np.zeros_like(x)], axis=1)
+        rec = Record(pose, np.zeros((len(x), 2)), np.zeros(len(x), bool), None, None, 1.0, np.full(2, np.nan),
+                     np.full(2, np.nan))  # fmt: skip
+        s = summarize(cfg, make_arena("open"), rec, 1.0, {})
+        assert s["trapped"] is stuck and s["ever_trapped"] is stuck, still_s
+
+
 def test_table2_resumes_from_its_store_without_rerunning(tmp_path: Path) -> None:
     n = len(table2.rows())
     r1 = table2.run(quick=True, seeds=3, out=tmp_path, workers=1)
     assert r1.summary["sweep"]["ok"] == 3 * n and r1.summary["sweep"]["skipped"] == 0
-    assert "not stuck" in r1.summary["rule"] and r1.summary["box_size_m"] == 1.0
+    assert "not stuck" in r1.summary["rule"] and r1.summary["box_size_m"] == 1.0 and r1.summary["control_hz"] == 10.0
     with ResultStore(tmp_path / "results.sqlite") as store:
         first = {row["key"]: row["finished_at"] for row in store.rows()}
     r2 = table2.run(quick=True, seeds=4, out=tmp_path, workers=1)
@@ -44,16 +73,6 @@ def test_table2_resumes_from_its_store_without_rerunning(tmp_path: Path) -> None
         again = {row["key"]: row["finished_at"] for row in store.rows()}
     assert len(again) == 4 * n and all(again[k] == t for k, t in first.items())
     assert r2.summary["environments"][:3] == r1.summary["environments"]
-
-
-def test_fig6_draws_sixteen_environments_and_marks_failures(tmp_path: Path) -> None:
-    assert main(["figure", "fig6", "--quick", "--out", str(tmp_path)]) == 0
-    s = json.loads((tmp_path / "fig6.json").read_text())
-    assert len(s["environments"]) == 16 and s["body"] == "surrogate"
-    assert s["success"] == sum(e["success"] for e in s["environments"])
-    with np.load(tmp_path / "fig6.npz") as z:
-        assert z["env0/pose"].shape == (500, 3)  # 5000 steps, every 10th
-    assert (tmp_path / "fig6.png").stat().st_size > 10_000
 
 
 def test_figure_rejects_a_body_it_cannot_use(capsys: pytest.CaptureFixture[str]) -> None:

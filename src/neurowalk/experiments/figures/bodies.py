@@ -12,8 +12,10 @@ avoidance". This figure tests it. The same sensory networks (plastic, static, Br
 Each body runs the dead ends of Fig. 3/5 (simple deadlock, narrow passage, corner; ``seeds`` seeds each,
 :data:`~neurowalk.experiments.suites.deadends.TRAP_STEPS` steps, twice as many for the half-size robot, which is half as
 fast: escaped or not) and Table 2 (the first ``environments``
-random environments of table seed ``seed``, 20,000 steps, Table 2's rule, Wilson 95% intervals). All runs go
-through a resumable result store in the output folder (the dead ends with their sampled paths).
+random environments of table seed ``seed``, 2000 s: 20,000 steps at 10 Hz, both of Table 2's rules (not stuck;
+coverage), Wilson 95% intervals). ``control_hz`` sets every run's control rate; the durations stay in seconds
+(a dead end 500 s, Table 2 2000 s). All runs go through a resumable result store in the output folder (the dead
+ends with their sampled paths).
 """
 
 from __future__ import annotations
@@ -27,7 +29,20 @@ from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result
 from neurowalk.experiments.stores import run_store
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
-from neurowalk.experiments.suites.random_envs import STEPS, environments, spec, wilson
+from neurowalk.experiments.suites.random_envs import (
+    COVERAGE_CELL_M,
+    DURATION_S,
+    HELD_UP_RULE,
+    RULE,
+    check_rate,
+    coverage_rule,
+    coverage_threshold,
+    environments,
+    held_up,
+    spec,
+    steps_at,
+    wilson,
+)
 from neurowalk.experiments.suites.real_robot import run_store_paths
 from neurowalk.plotting import draw_arena, pyplot
 from neurowalk.runners.specs import spec_key
@@ -44,8 +59,17 @@ NETWORKS = ("plastic", "static", "braitenberg")
 DEAD_ENDS = ("simple-deadlock", "narrow-passage", "corner")
 
 
-def _dead_end(arena: str, net: str, body: str, opts: dict[str, float], steps: int, seed: int) -> dict[str, Any]:
-    out: dict[str, Any] = {"arena": arena, "controller": net, "body": body, "steps": steps, "seed": seed}
+def _dead_end(
+    arena: str, net: str, body: str, opts: dict[str, float], steps: int, seed: int, control_hz: float
+) -> dict[str, Any]:
+    out: dict[str, Any] = {
+        "arena": arena,
+        "controller": net,
+        "body": body,
+        "steps": steps,
+        "seed": seed,
+        "control_hz": float(control_hz),
+    }
     return {**out, "body_opts": opts} if opts else out
 
 
@@ -54,31 +78,65 @@ def _slower(steps: int, opts: dict[str, float]) -> int:
     return round(steps / min(1.0, opts.get("scale", 1.0)))
 
 
-def run(
-    *, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None, workers: int = 2
-) -> Result:
-    """``seeds`` (default 10; 2 with ``quick``) runs per dead end and 5x as many Table 2 environments (default 50;
-    quick: 3 environments of 1000 steps, dead ends of 600: a smoke test), per body and network, through the store in
-    ``out``."""
+def plan(*, quick: bool = False, seed: int = 0, seeds: int | None = None, control_hz: float = 10.0) -> dict[str, Any]:
+    """What :func:`run` runs: ``n`` seeds per dead end, ``envs``, ``dead_steps`` and ``t2_steps`` (at 10 Hz and the
+    default body size), the durations in seconds, and the specs ``dead`` ((body, network, dead end, seed) -> spec)
+    and ``table`` ((body, network, environment seed) -> spec), every one at ``control_hz``.
+
+    ValueError on a bad ``seeds`` or a body of :data:`BODIES` that cannot run at ``control_hz``.
+    """
     n = seeds if seeds is not None else (2 if quick else 10)
     if n < 1:
         raise ValueError(f"seeds must be >= 1, got {n}")
+    for body, _ in BODIES.values():
+        check_rate(body, control_hz)
     n_env = 3 if quick and seeds is None else 5 * n
-    dead_steps, t2_steps = (600, 1000) if quick else (TRAP_STEPS, STEPS)
+    dead_s, t2_s = (60.0, 100.0) if quick else (TRAP_STEPS / 10.0, DURATION_S)  # TRAP_STEPS: 5000 steps at 10 Hz
+    dead_steps, t2_steps = steps_at(dead_s, control_hz), steps_at(t2_s, control_hz)
     envs = environments(n_env, seed)
     dead = {
-        (b, net, a, s): _dead_end(a, net, body, opts, _slower(dead_steps, opts), seed + s)
+        (b, net, a, s): _dead_end(a, net, body, opts, _slower(dead_steps, opts), seed + s, control_hz)
         for b, (body, opts) in BODIES.items()
         for net in NETWORKS
         for a in DEAD_ENDS
         for s in range(n)
     }
     table = {
-        (b, net, e["seed"]): {**spec(e, net, t2_steps, body), **({"body_opts": opts} if opts else {})}
+        (b, net, e["seed"]): {
+            **spec(e, net, t2_steps, body, control_hz=control_hz),
+            **({"body_opts": opts} if opts else {}),
+        }
         for b, (body, opts) in BODIES.items()
         for net in NETWORKS
         for e in envs
     }
+    return {
+        "n": n,
+        "envs": envs,
+        "dead_steps": dead_steps,
+        "t2_steps": t2_steps,
+        "dead_end_s": dead_s,
+        "table2_s": t2_s,
+        "dead": dead,
+        "table": table,
+    }
+
+
+def run(
+    *,
+    quick: bool = False,
+    seed: int = 0,
+    seeds: int | None = None,
+    out: Path | None = None,
+    workers: int = 2,
+    control_hz: float = 10.0,
+) -> Result:
+    """``seeds`` (default 10; 2 with ``quick``) runs per dead end and 5x as many Table 2 environments (default 50;
+    quick: 3 environments of 100 s, dead ends of 60 s: a smoke test), per body and network, through the store in
+    ``out``, at ``control_hz`` (durations in seconds of simulated time, whatever the rate)."""
+    p = plan(quick=quick, seed=seed, seeds=seeds, control_hz=control_hz)
+    n, envs, dead, table = p["n"], p["envs"], p["dead"], p["table"]
+    threshold = coverage_threshold(p["table2_s"])
     folder = Path(out) if out is not None else Path("out/bodies")
     res = run_store_paths(list(dead.values()), folder, workers)  # the dead ends with their paths (drawn)
     res.update(run_store(list(table.values()), folder, workers)[0])  # Table 2: outcomes only
@@ -88,6 +146,9 @@ def run(
             escapes = {a: sum(res[spec_key(dead[(b, net, a, s)])]["escaped"] for s in range(n)) for a in DEAD_ENDS}
             t2 = [res[spec_key(table[(b, net, e["seed"])])] for e in envs]
             ok = sum(not r["trapped"] for r in t2)
+            cov = np.array([r["coverage"] for r in t2], dtype=float)
+            ok_cov = int(np.sum(cov >= threshold))
+            q1, median, q3 = (float(v) for v in np.percentile(cov, [25, 50, 75]))
             rows.append(
                 {
                     "body": b,
@@ -95,10 +156,17 @@ def run(
                     "dead_ends": escapes,
                     "dead_end_runs": n,
                     "table2_success": ok,
+                    "table2_failure": len(t2) - ok,
                     "table2_environments": len(t2),
                     "table2_rate": ok / len(t2),
                     "table2_ci95": list(wilson(ok, len(t2))),
-                    "table2_median_coverage": float(np.median([r["coverage"] for r in t2])),
+                    "table2_success_coverage": ok_cov,
+                    "table2_failure_coverage": len(t2) - ok_cov,
+                    "table2_coverage_rate": ok_cov / len(t2),
+                    "table2_coverage_ci95": list(wilson(ok_cov, len(t2))),
+                    "table2_median_coverage": median,
+                    "table2_coverage_quartiles": [q1, q3],
+                    "table2_held_up_300s_success": sum(not r["trapped"] and held_up(r) for r in t2),
                 }
             )
             for a in DEAD_ENDS:
@@ -107,14 +175,20 @@ def run(
         "bodies": {b: {"body": body, "body_opts": opts} for b, (body, opts) in BODIES.items()},
         "networks": list(NETWORKS),
         "variant": "paper",
-        "dead_end_steps": dead_steps,
-        "dead_end_steps_by_body": {b: _slower(dead_steps, opts) for b, (_, opts) in BODIES.items()},
-        "table2_steps": t2_steps,
+        "control_hz": control_hz,
+        "dead_end_steps": p["dead_steps"],
+        "dead_end_s": p["dead_end_s"],
+        "dead_end_steps_by_body": {b: _slower(p["dead_steps"], opts) for b, (_, opts) in BODIES.items()},
+        "table2_steps": p["t2_steps"],
+        "table2_s": p["table2_s"],
         "table2_seed": seed,
         "interval": "Wilson score interval, 95%",
         "rows": rows,
-        "rule": "dead ends: escaped = left the trap's exit region; Table 2: success = not stuck over the "
-        "last 300 s (3000 steps within a 0.5 m disc)",
+        "rule": "dead ends: escaped = left the trap's exit region; Table 2: " + RULE,
+        "coverage_rule": "Table 2: " + coverage_rule(p["table2_s"]),
+        "coverage_threshold": threshold,
+        "coverage_cell_m": COVERAGE_CELL_M,
+        "held_up_rule": HELD_UP_RULE,
         "store": str(folder / "results.sqlite"),
     }
     return Result("bodies", summary, arrays=paths)
@@ -150,15 +224,32 @@ def plot(res: Result) -> Figure:
     ax.legend(fontsize=8)
     ax.set_title(f"dead ends, {s['dead_end_steps']} steps (half-size robot: twice as many)", fontsize=10)
     ax = fig.add_subplot(grid[1, 1:])
-    rate = np.array([r["table2_rate"] for r in rows])
-    ci = np.array([r["table2_ci95"] for r in rows])
-    ax.bar(x, rate, color=[f"C{bodies.index(r['body'])}" for r in rows], alpha=0.7)
-    ax.errorbar(x, rate, yerr=np.maximum(0.0, [rate - ci[:, 0], ci[:, 1] - rate]), fmt="none", c="k", capsize=3)
-    for i, r in enumerate(rows):
-        ax.text(i, 0.02, f"{r['table2_success']}/{r['table2_environments']}", ha="center", fontsize=7)
+    both = all("table2_coverage_rate" in r for r in rows)  # a json of the code before the coverage rule
+    width = 0.4 if both else 0.8
+    rules = [("table2_success", "table2_rate", "table2_ci95", "not stuck", 0.7, None)]
+    if both:
+        rules.append(
+            ("table2_success_coverage", "table2_coverage_rate", "table2_coverage_ci95", "coverage rule", 0.35, "//")
+        )
+    colours = [f"C{bodies.index(r['body'])}" for r in rows]
+    for j, (ok_key, rate_key, ci_key, label, alpha, hatch) in enumerate(rules):
+        dx = (j - (len(rules) - 1) / 2) * width
+        rate = np.array([r[rate_key] for r in rows])
+        ci = np.array([r[ci_key] for r in rows])
+        ax.bar(x + dx, rate, width, color=colours, alpha=alpha, hatch=hatch, edgecolor="k", lw=0.5, label=label)
+        yerr = np.maximum(0.0, [rate - ci[:, 0], ci[:, 1] - rate])
+        ax.errorbar(x + dx, rate, yerr=yerr, fmt="none", c="k", capsize=3)
+        for i, r in enumerate(rows):
+            ax.text(i + dx, 0.02, f"{r[ok_key]}/{r['table2_environments']}", ha="center", fontsize=6)
     ax.set_xticks(x, labels, fontsize=8)
     ax.set_ylim(0, 1.05)
     ax.set_ylabel("Table 2 success (Wilson 95% interval)")
-    ax.set_title(f"Table 2, {rows[0]['table2_environments']} environments, {s['table2_steps']} steps", fontsize=10)
+    if both:
+        ax.legend(fontsize=8, loc="upper right")
+    title = f"Table 2, {rows[0]['table2_environments']} environments, {s['table2_steps']} steps"
+    title += f" at {s.get('control_hz', 10.0):g} Hz"
+    if "coverage_threshold" in s:
+        title += f"; coverage rule: >= {s['coverage_threshold']:.2%} of the free {s['coverage_cell_m']:g} m cells"
+    ax.set_title(title, fontsize=10)
     fig.suptitle("The same networks on other robots (paper variant)")
     return fig

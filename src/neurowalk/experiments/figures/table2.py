@@ -3,8 +3,11 @@
 
 Rows: the plastic network as the paper's Eq. 1-6 read (``plastic-paper``) and as the authors' code runs it
 (``plastic-original``), beside the static and Braitenberg networks (``plastic-tuned`` too where the tuned
-variant is shipped, ``plastic-params`` for a ``--params`` file). Each row: successes, environments, rate
-and Wilson 95% interval; the paper's 49/50 with its own interval; each failure's class.
+variant is shipped, ``plastic-params`` for a ``--params`` file). Each row, under two success rules (the
+not-stuck rule, and the coverage rule closer to the paper's "explores the environment"): successes, failures,
+rate and Wilson 95% interval; coverage (median and quartiles); the paper's 49/50 with its own interval; each
+failure's class; the runs held up for 300 s or more that still count as a success under the not-stuck rule.
+Every environment row holds each network's coverage and both outcomes.
 """
 
 from __future__ import annotations
@@ -20,15 +23,24 @@ from neurowalk.experiments import Result
 from neurowalk.experiments.stores import run_store
 from neurowalk.experiments.suites.random_envs import (
     BOXES,
+    COVERAGE_CELL_M,
+    DURATION_S,
     FAILURE_RULE,
-    QUICK_STEPS,
+    HELD_UP_RULE,
+    QUICK_DURATION_S,
     ROWS,
     RULE,
     SIZE,
-    STEPS,
+    STUCK_S,
+    calibrated_rate,
+    check_rate,
+    coverage_rule,
+    coverage_threshold,
     environments,
     failure_class,
+    held_up,
     spec,
+    steps_at,
     wilson,
 )
 from neurowalk.neural.variants import variant_names
@@ -57,6 +69,76 @@ def rows(variant: str | None = None, params: dict[str, float] | None = None) -> 
     return out
 
 
+def plan(
+    *,
+    quick: bool = False,
+    seed: int = 0,
+    seeds: int | None = None,
+    body: str = "surrogate",
+    climbing: bool = False,
+    size: float = SIZE,
+    variant: str | None = None,
+    params: dict[str, float] | None = None,
+    engine: str = DEFAULT_ENGINE,
+    control_hz: float = 10.0,
+) -> dict[str, Any]:
+    """What :func:`run` runs, checked before any run: ``envs``, ``table`` (rows), ``bodies`` (the body, and its
+    surrogate beside a physics body where the surrogate runs at ``control_hz``), ``steps``, ``duration_s``,
+    ``specs`` (body by body, environment by environment, row by row), ``surrogate`` and ``surrogate_note``.
+
+    ValueError on a bad size of the table, an engine or climbing the body cannot run, or a rate it cannot run at (a
+    planar surrogate runs at its calibration rate, 10 Hz, only).
+    """
+    n = seeds if seeds is not None else (10 if quick else 50)
+    if n < 1:
+        raise ValueError(f"seeds (environments) must be >= 1, got {n}")
+    info = body_info(body)
+    if engine not in info.engines:
+        raise ValueError(engine_refusal(engine, body, climbing))
+    if climbing and not info.climbs:
+        climbers = ", ".join(repr(b) for b in bodies_where(lambda b: b.climbs))
+        raise ValueError(f"climbing needs body {climbers} (the surrogate has no legs), got body {body!r}")
+    check_rate(body, control_hz)
+    duration = QUICK_DURATION_S if quick else DURATION_S
+    steps = steps_at(duration, control_hz)
+    table = rows(variant, params)
+    envs = environments(n, seed)
+    surrogate = info.surrogate  # its own surrogate beside a physics body (amosii, wheeled)
+    note = None
+    if surrogate is not None and calibrated_rate(surrogate) != control_hz:
+        note = (
+            f"the surrogate {surrogate!r} is calibrated at {calibrated_rate(surrogate):g} Hz: not run beside "
+            f"{body!r} at {control_hz:g} Hz"
+        )
+        surrogate = None
+    bodies = [body] if surrogate is None else [body, surrogate]
+
+    def spec_of(e: dict[str, Any], r: dict[str, Any], b: str) -> dict[str, Any]:
+        s = spec(
+            e,
+            r["controller"],
+            steps,
+            b,
+            climbing and b == body,
+            variant=r["variant"],
+            size=size,
+            params=r["params"],
+            control_hz=control_hz,
+        )
+        return {**s, "engine": engine} if b == body else s  # the physics rows on the engine; a surrogate: its loop
+
+    return {
+        "envs": envs,
+        "table": table,
+        "bodies": bodies,
+        "steps": steps,
+        "duration_s": duration,
+        "specs": [spec_of(e, r, b) for b in bodies for e in envs for r in table.values()],
+        "surrogate": surrogate,
+        "surrogate_note": note,
+    }
+
+
 def run(
     *,
     quick: bool = False,
@@ -71,38 +153,33 @@ def run(
     params: dict[str, float] | None = None,
     engine: str = DEFAULT_ENGINE,
     device: str | None = None,
+    control_hz: float = 10.0,
 ) -> Result:
     """``seeds`` environments (default 50; 10 with ``quick``) x the rows, through a resumable store in ``out``.
 
     ``size``: box side (m; the authors' 1 m by default). ``climbing``: leg reflexes and backbone control on
     (physics body only). ``variant``/``params``: an extra plastic row (``--params FILE``). A physics body with a
     calibrated surrogate (AMOSII: ``surrogate``, wheeled: ``surrogate-wheeled``) runs it beside, environment for
-    environment (``surrogate_agreement``). ``engine``: ``warp`` runs the AMOSII physics rows on MuJoCo Warp, every
-    environment a world of one model (``--engine warp``; a GPU makes 1000 environments in physics practical), on
-    ``device``.
+    environment (``surrogate_agreement``), at the surrogate's 10 Hz only. ``engine``: ``warp`` runs the AMOSII
+    physics rows on MuJoCo Warp, every environment a world of one model (``--engine warp``; a GPU makes 1000
+    environments in physics practical), on ``device``. ``control_hz``: the control rate of every run (a physics
+    body; ValueError for a surrogate at another rate than its 10 Hz); runs last 2000 s (quick: 500 s) of simulated
+    time and the stuck window is 300 s at any rate.
     """
-    n = seeds if seeds is not None else (10 if quick else 50)
-    if n < 1:
-        raise ValueError(f"seeds (environments) must be >= 1, got {n}")
-    info = body_info(body)
-    if engine not in info.engines:
-        raise ValueError(engine_refusal(engine, body, climbing))
-    if climbing and not info.climbs:
-        climbers = ", ".join(repr(b) for b in bodies_where(lambda b: b.climbs))
-        raise ValueError(f"climbing needs body {climbers} (the surrogate has no legs), got body {body!r}")
-    steps = QUICK_STEPS if quick else STEPS
-    table = rows(variant, params)
-    envs = environments(n, seed)
-
-    def spec_of(e: dict[str, Any], r: dict[str, Any], b: str) -> dict[str, Any]:
-        s = spec(
-            e, r["controller"], steps, b, climbing and b == body, variant=r["variant"], size=size, params=r["params"]
-        )
-        return {**s, "engine": engine} if b == body else s  # the physics rows on the engine; a surrogate: its loop
-
-    surrogate = body_info(body).surrogate  # its own surrogate beside a physics body (amosii, wheeled)
-    bodies = [body] if surrogate is None else [body, surrogate]
-    specs = [spec_of(e, r, b) for b in bodies for e in envs for r in table.values()]
+    p = plan(
+        quick=quick,
+        seed=seed,
+        seeds=seeds,
+        body=body,
+        climbing=climbing,
+        size=size,
+        variant=variant,
+        params=params,
+        engine=engine,
+        control_hz=control_hz,
+    )
+    envs, table, bodies, specs, surrogate = p["envs"], p["table"], p["bodies"], p["specs"], p["surrogate"]
+    threshold = coverage_threshold(p["duration_s"])
     folder = Path(out) if out is not None else Path("out/table2")
     folder.mkdir(parents=True, exist_ok=True)
     results, report = run_store(specs, folder, workers, options=EngineOptions(device=device))
@@ -113,7 +190,7 @@ def run(
     def outcomes(b: str) -> list[dict[str, Any]]:
         """Per environment, each row's outcome on body ``b``."""
         k = iter(by_body[b])
-        return [{name: _outcome(results[next(k)]) for name in table} for _ in envs]
+        return [{name: _outcome(results[next(k)], threshold) for name in table} for _ in envs]
 
     env_rows = [{**e, **o} for e, o in zip(envs, outcomes(body), strict=True)]
     counts = {name: {**r, **_count(env_rows, name)} for name, r in table.items()}
@@ -130,12 +207,19 @@ def run(
         "body": body,
         "engine": engine,
         "climbing": climbing,
-        "steps": steps,
+        "steps": p["steps"],
+        "control_hz": control_hz,
+        "duration_s": p["duration_s"],
+        "stuck_window_s": STUCK_S,
         "seed": seed,
         "boxes": list(BOXES),
         "box_size_m": size,
         "rule": RULE,
+        "coverage_rule": coverage_rule(p["duration_s"]),
+        "coverage_threshold": threshold,
+        "coverage_cell_m": COVERAGE_CELL_M,
         "failure_rule": FAILURE_RULE,
+        "held_up_rule": HELD_UP_RULE,
         "interval": "Wilson score interval, 95%",
         "counts": counts,
         "environments": env_rows,
@@ -143,6 +227,7 @@ def run(
         "store": str(folder / "results.sqlite"),
         "sweep": report.counts(),
         "surrogate": surrogate,
+        "surrogate_note": p["surrogate_note"],
         "surrogate_agreement": agreement,
     }
     return Result("table2", summary)
@@ -171,13 +256,16 @@ def _predates_classes(res: dict[str, Any]) -> bool:
     return bool(res["trapped"]) and "wedged_periods" not in res
 
 
-def _outcome(res: dict[str, Any]) -> dict[str, Any]:
-    """One run's Table 2 outcome from its summary."""
+def _outcome(res: dict[str, Any], threshold: float) -> dict[str, Any]:
+    """One run's Table 2 outcome from its summary, under both rules (coverage rule: ``coverage >= threshold``)."""
     return {
         "success": not res["trapped"],
+        "success_coverage": res["coverage"] is not None and res["coverage"] >= threshold,
         "failure_class": failure_class(res),
+        "held_up_300s": held_up(res),
         "ever_held_up_300s": res["ever_trapped"],
         "ever_held_up_1000s": res["ever_held_up_1000s"],
+        "longest_wedged_s": res.get("longest_wedged_s"),
         "coverage": res["coverage"],
         "path_length_m": res["path_length_m"],
         "end_turn_share": res["end_turn_share"],
@@ -197,74 +285,121 @@ def _agreement(physics: list[dict[str, Any]], surrogate: list[dict[str, Any]], n
 
 
 def _count(env_rows: list[dict[str, Any]], name: str) -> dict[str, Any]:
-    """Counts of one row over the environments: successes, rate, Wilson interval, failure classes."""
+    """Counts of one row over the environments under both rules: successes, failures, rates with Wilson intervals;
+    failure classes; coverage (median, quartiles); the runs held up for 300 s that still count as a success."""
     n = len(env_rows)
-    ok = sum(x[name]["success"] for x in env_rows)
+    runs = [x[name] for x in env_rows]
+    ok = sum(r["success"] for r in runs)
+    ok_cov = sum(r["success_coverage"] for r in runs)
+    cov = np.array([np.nan if r["coverage"] is None else r["coverage"] for r in runs], dtype=float)
+    q1, median, q3 = (float(v) for v in np.nanpercentile(cov, [25, 50, 75])) if np.isfinite(cov).any() else [None] * 3
     return {
         "environments": n,
         "success": ok,
         "failure": n - ok,
         "success_rate": ok / n,
         "success_rate_95ci": list(wilson(ok, n)),
-        "failure_classes": {c: sum(x[name]["failure_class"] == c for x in env_rows) for c in CLASSES},
-        "median_coverage": float(np.median([x[name]["coverage"] for x in env_rows])),
-        "ever_held_up_300s": sum(x[name]["ever_held_up_300s"] for x in env_rows),
-        "ever_held_up_1000s": sum(x[name]["ever_held_up_1000s"] for x in env_rows),
+        "success_coverage": ok_cov,
+        "failure_coverage": n - ok_cov,
+        "success_coverage_rate": ok_cov / n,
+        "success_coverage_rate_95ci": list(wilson(ok_cov, n)),
+        "success_both": sum(r["success"] and r["success_coverage"] for r in runs),
+        "success_not_stuck_only": sum(r["success"] and not r["success_coverage"] for r in runs),
+        "success_coverage_only": sum(r["success_coverage"] and not r["success"] for r in runs),
+        "failure_classes": {c: sum(r["failure_class"] == c for r in runs) for c in CLASSES},
+        "median_coverage": median,
+        "coverage_quartiles": [q1, q3],
+        "held_up_300s_success": sum(r["success"] and r["held_up_300s"] for r in runs),
+        "ever_held_up_300s": sum(r["ever_held_up_300s"] for r in runs),
+        "ever_held_up_1000s": sum(r["ever_held_up_1000s"] for r in runs),
     }
 
 
 def plot(res: Result) -> Figure:
-    """Success rates with 95% intervals beside the paper's; failures by clutter and by class."""
+    """Success rates under both rules with 95% intervals beside the paper's; coverage per network with the rule's
+    threshold; failures by clutter and by class; the rules and the grid in words below."""
     plt = pyplot()
     s = res.summary
-    fig, ax = plt.subplots(1, 3, figsize=(16, 4.8), gridspec_kw={"width_ratios": [1.4, 1, 1]})
+    fig, ax = plt.subplots(1, 4, figsize=(21, 5.4), gridspec_kw={"width_ratios": [1.6, 1.1, 1, 1]})
     names = list(s["counts"])
-    rate = np.array([s["counts"][c]["success_rate"] for c in names])
-    ci = np.array([s["counts"][c]["success_rate_95ci"] for c in names])
+    both = all("success_coverage" in s["counts"][c] for c in names)  # a json of the code before the coverage rule
     x = np.arange(len(names))
-    ax[0].bar(x, rate, color=[f"C{i}" for i in range(len(names))], alpha=0.7)
-    ax[0].errorbar(x, rate, yerr=np.maximum(0.0, [rate - ci[:, 0], ci[:, 1] - rate]), fmt="none", c="k", capsize=4)
+    width = 0.38 if both else 0.8
+    rules = [("success", "success_rate", "not stuck", 0.7, None)]
+    if both:
+        rules.append(("success_coverage", "success_coverage_rate", "coverage rule", 0.35, "//"))
+    for j, (ok_key, rate_key, label, alpha, hatch) in enumerate(rules):
+        dx = (j - (len(rules) - 1) / 2) * width
+        rate = np.array([s["counts"][c][rate_key] for c in names])
+        ci = np.array([s["counts"][c][rate_key + "_95ci"] for c in names])
+        colours = [f"C{i}" for i in range(len(names))]
+        ax[0].bar(x + dx, rate, width, color=colours, alpha=alpha, hatch=hatch, edgecolor="k", lw=0.5, label=label)
+        yerr = np.maximum(0.0, [rate - ci[:, 0], ci[:, 1] - rate])
+        ax[0].errorbar(x + dx, rate, yerr=yerr, fmt="none", c="k", capsize=3)
+        for i, c in enumerate(names):
+            k = s["counts"][c]
+            ax[0].text(i + dx, 0.03, f"{k[ok_key]}/{k['environments']}\n{k[rate_key]:.0%}", ha="center", fontsize=7)
     paper = s.get("paper", PAPER)
     if "success_rate_95ci" in paper:
         lo, hi = paper["success_rate_95ci"]
         ax[0].axhspan(lo, hi, color="0.85", zorder=0, label=f"paper 49/50, 95% interval {lo:.1%}-{hi:.1%}")
         ax[0].axhline(paper["success_rate"], c="0.5", lw=1, zorder=0)
-        ax[0].legend(fontsize=8, loc="upper right")
-    for i, c in enumerate(names):
-        k = s["counts"][c]
-        ax[0].text(i, 0.03, f"{k['success']}/{k['environments']}\n{k['success_rate']:.1%}", ha="center", fontsize=9)
+    ax[0].legend(fontsize=7, loc="upper right")
     agree = s.get("surrogate_agreement") or {}
     who = s.get("surrogate") or "surrogate"
     labels = [
         f"{c}\n{who} agrees {agree[c]['same_outcome']}/{agree[c]['environments']}" if c in agree else c for c in names
     ]
     ax[0].set_xticks(x, labels, fontsize=7 if agree else 8)
-    ax[0].set_ylim(0, 1.05)
+    ax[0].set_ylim(0, 1.12)
     ax[0].set_ylabel("success rate (Wilson 95% interval)")
     on = " with climbing modules" if s.get("climbing") else ""
     size = s.get("box_size_m", 0.6)
+    hz = s.get("control_hz", 10.0)
     ax[0].set_title(
         f"Table 2 on {s['body']}{on}: {s['counts'][names[0]]['environments']} random environments, "
-        f"{size:g} m boxes, {s['steps']} steps",
+        f"{size:g} m boxes, {s['steps']} steps at {hz:g} Hz",
         fontsize=9,
     )
+    cov = [[np.nan if r[c]["coverage"] is None else r[c]["coverage"] for r in s["environments"]] for c in names]
+    ax[1].boxplot(cov, positions=x, widths=0.5, showfliers=False)
+    for i, v in enumerate(cov):
+        jitter = np.linspace(-0.15, 0.15, len(v)) if len(v) > 1 else np.zeros(len(v))
+        ax[1].plot(i + jitter, v, ".", c=f"C{i}", ms=3, alpha=0.6)
+    if "coverage_threshold" in s:
+        ax[1].axhline(s["coverage_threshold"], c="k", ls="--", lw=1, label=f"threshold {s['coverage_threshold']:.2%}")
+        ax[1].legend(fontsize=7)
+    ax[1].set_xticks(x, names, fontsize=8)
+    ax[1].yaxis.set_major_formatter(lambda v, _: f"{v:.1%}")
+    cell = s.get("coverage_cell_m", 0.25)
+    ax[1].set_ylabel(f"coverage: share of the free {cell:g} m cells visited")
+    ax[1].set_title("coverage per environment", fontsize=9)
     boxes = np.arange(s["boxes"][0], s["boxes"][1] + 1)
     for i, c in enumerate(names):
         fails = [sum(1 for r in s["environments"] if r["n_boxes"] == b and not r[c]["success"]) for b in boxes]
-        ax[1].plot(boxes, fails, "o-", c=f"C{i}", label=c, ms=3)
-    ax[1].set_xlabel("boxes in the environment")
-    ax[1].set_ylabel("failures")
-    ax[1].legend(fontsize=8)
-    ax[1].set_title("failures by clutter", fontsize=9)
+        ax[2].plot(boxes, fails, "o-", c=f"C{i}", label=c, ms=3)
+        if both:
+            fails = [
+                sum(1 for r in s["environments"] if r["n_boxes"] == b and not r[c]["success_coverage"]) for b in boxes
+            ]
+            ax[2].plot(boxes, fails, "s--", c=f"C{i}", ms=2, lw=0.8, alpha=0.6)
+    ax[2].set_xlabel("boxes in the environment")
+    ax[2].set_ylabel("failures")
+    ax[2].legend(fontsize=7)
+    ax[2].set_title("failures by clutter" + (" (solid: not stuck, dashed: coverage rule)" if both else ""), fontsize=9)
     bottom = np.zeros(len(names))
     for j, cls in enumerate(CLASSES):
         v = np.array([s["counts"][c].get("failure_classes", {}).get(cls, 0) for c in names])
-        ax[2].bar(x, v, bottom=bottom, color=["C3", "C1", "0.6"][j], label=cls)
+        ax[3].bar(x, v, bottom=bottom, color=["C3", "C1", "0.6"][j], label=cls)
         bottom += v
-    ax[2].set_xticks(x, names, fontsize=8)
-    ax[2].set_ylabel("failures")
-    ax[2].legend(fontsize=8)
-    ax[2].set_title("failures by class", fontsize=9)
-    fig.text(0.01, 0.01, s["rule"] + "\n" + s.get("failure_rule", ""), fontsize=7)
-    fig.tight_layout(rect=(0, 0.07, 1, 1))
+    held = [s["counts"][c].get("held_up_300s_success") for c in names]
+    ax[3].set_xticks(x, [c if h is None else f"{c}\nheld up: {h}" for c, h in zip(names, held, strict=True)])
+    ax[3].tick_params(axis="x", labelsize=7)
+    ax[3].set_ylabel("failures (not-stuck rule)")
+    ax[3].set_ylim(0, max(1.0, float(bottom.max())) * 1.15)
+    ax[3].legend(fontsize=7, loc="upper left")
+    ax[3].set_title("failures by class (held up: successes held up >= 300 s)", fontsize=9)
+    notes = [s["rule"], s.get("coverage_rule", ""), s.get("failure_rule", ""), s.get("held_up_rule", "")]
+    fig.text(0.01, 0.01, "\n".join(n for n in notes if n), fontsize=7)
+    fig.tight_layout(rect=(0, 0.1, 1, 1))
     return fig

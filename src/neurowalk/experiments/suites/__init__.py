@@ -2,7 +2,8 @@
 
 * :mod:`.deadends`: the dead ends of Fig. 3 and 5 (simple deadlock, narrow passage and its ±20% geometries) and
   the long runs in the original arenas; :mod:`.deadends_plot` draws them.
-* :mod:`.random_envs`: the random environments of Table 2 and Fig. 6.
+* :mod:`.random_envs`: the random environments of Table 2 and Fig. 6, and their two success rules (not stuck;
+  coverage); :mod:`.confinement`: the traps and confined spaces a path met there (Fig. 6's classes).
 * :mod:`.climbing`: the climbing track of Fig. 10 and the step-height sweep.
 * :mod:`.real_robot`: the runs, snapshots and drawings of Fig. 8 and 9 (physics AMOSII).
 """
