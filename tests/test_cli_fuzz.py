@@ -93,6 +93,10 @@ P_FOLDER = f"{FILES_DIR}/a-folder"
 M_BLIND = _file("blind.xml", '<mujoco><worldbody><body><freejoint/><geom size="0.1"/></body></worldbody></mujoco>')
 
 RUN_CASES = [
+    run("control_hz", "--control-hz", "0"),
+    run("control_hz", "--control-hz", "-27"),
+    run("fast", "--control-hz", "fast"),
+    run("calibrated", "--body", "surrogate", "--control-hz", "27"),
     run("maze", "--arena", "maze"),
     run("no such file", "--body", f"mjcf:{FILES_DIR}/none.xml"),
     run("US_L", "--body", f"mjcf:{M_BLIND}"),
@@ -222,6 +226,7 @@ VIEW_CASES = [
     case("funnel", "view", "--arena", "narrow-passage", "--arena-opt", "funnel=nan"),
     case("--out", "view", "--out", GOOD),
     case("seed", "view", "--seed", "-2"),
+    case("control_hz", "view", "--control-hz", "0"),
     case("reflexes", "view", "--body", "surrogate", "--reflexes"),
     case("backbone", "view", "--body", "surrogate", "--backbone"),
     case("reflexes", "view", "--body", "surrogate", "--climb"),
@@ -237,6 +242,14 @@ def fig(word: str, name: str, *args: str, xfail: str | None = None) -> Any:
 
 
 FIGURE_CASES = [
+    fig("--seeds", "table1", "--seeds", "3"),
+    fig("--control-hz", "fig2", "--control-hz", "27"),
+    fig("control-hz", "fig8", "--quick", "--control-hz", "0"),
+    fig("control-hz", "fig8", "--quick", "--control-hz", "nan"),
+    fig("fast", "fig8", "--quick", "--control-hz", "fast"),
+    fig("surrogate", "table2", "--quick", "--control-hz", "27"),
+    fig("--workers", "fig2", "--workers", "2"),
+    fig("workers", "fig8", "--quick", "--workers", "0"),
     fig("fig99", "fig99"),
     fig("''", ""),
     fig("FIG2", "FIG2"),
@@ -309,6 +322,8 @@ def sweep(word: str, *args: str, xfail: str | None = None) -> Any:
 
 
 SWEEP_CASES = [
+    sweep("--control-hz", "--control-hz", "10,x"),
+    sweep("control_hz", "--control-hz", "0"),
     sweep("maze", "--arena", "open,maze"),
     sweep("open,,box", "--arena", "open,,box"),
     sweep("wheeled", "--controller", "plastic,wheeled"),
@@ -492,6 +507,15 @@ SPECS_FILE_CASES = [
 
 # --- calibrate, bench, arenas, export-model ------------------------------------------------------------------------
 
+REPRODUCE_CASES = [
+    case("nonsense", "reproduce", "--only", "fig2,nonsense", "--out", GOOD),
+    case("result", "reproduce", "--only", "", "--out", GOOD),
+    case("fig99", "reproduce", "--list", "--only", "fig99", "--out", GOOD),
+    case("workers", "reproduce", "--quick", "--workers", "0", "--out", GOOD),
+    case("--quick", "reproduce", "--quick=yes", "--out", GOOD),
+    case("summary.json", "reproduce", "--quick", "--only", "fig2", "--out", f"{GOOD}/summary.json/rep"),
+]
+
 OTHER_CASES = [
     case("workers", "calibrate", "--workers", "0", "--out", f"{GOOD}/cal.json"),
     case("workers", "calibrate", "--workers", "-1", "--out", f"{GOOD}/cal.json"),
@@ -663,7 +687,7 @@ ENGINE_CASES = [
 ]
 
 CASES = [*TOP_CASES, *RUN_CASES, *VIEW_CASES, *FIGURE_CASES, *SWEEP_CASES, *SPEC_CASES, *SPECS_FILE_CASES,
-         *OTHER_CASES, *OPTIMIZE_CASES, *BASELINE_CASES, *ENGINE_CASES]  # fmt: skip
+         *REPRODUCE_CASES, *OTHER_CASES, *OPTIMIZE_CASES, *BASELINE_CASES, *ENGINE_CASES]  # fmt: skip
 
 
 # --- fixtures --------------------------------------------------------------------------------------------------------

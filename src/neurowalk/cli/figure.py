@@ -218,6 +218,14 @@ def _figure(args: argparse.Namespace) -> int:
             if not 0 < args.control_hz <= 1000:  # also NaN
                 raise UsageError(f"--control-hz must be a number in (0, 1000] Hz, got {args.control_hz}")
             kwargs["control_hz"] = args.control_hz
+            if "body" in params:  # a planar surrogate runs at its calibration's rate only: refused before any work
+                from neurowalk.sim.config import EpisodeConfig
+
+                body = kwargs.get("body", params["body"].default)
+                try:
+                    EpisodeConfig(body=body, control_hz=args.control_hz)
+                except ValueError as e:
+                    raise UsageError(f"--control-hz {args.control_hz:g}: {e} (add --body amosii)") from None
         if args.video:
             takes("--video")
             kwargs["video"] = True
@@ -233,6 +241,7 @@ def _figure(args: argparse.Namespace) -> int:
                 raise UsageError(f"--arena-opt size={opts['size']}: {e}") from None
         if "out" in params:
             kwargs["out"] = out  # the figure keeps a resumable result store there
+        existed = out.exists()
         out_folder(out)
         from neurowalk.runners.store import StoreError
         from neurowalk.sim.episode import RunInterruptedError
@@ -241,6 +250,10 @@ def _figure(args: argparse.Namespace) -> int:
             result = exp.run(**kwargs)
         except StoreError as e:
             raise UsageError(str(e)) from None
+        except ValueError as e:  # a figure checks its settings before it runs (e.g. a surrogate at 27 Hz)
+            if not existed and not any(out.iterdir()):
+                out.rmdir()  # made for this command, still empty: leave nothing behind
+            raise UsageError(f"figure {args.name}: {e}") from None
         except (KeyboardInterrupt, Exception) as e:  # RunInterruptedError: a run in this process, stopped part-way
             if not (interrupted(e) or isinstance(e, RunInterruptedError)):
                 raise

@@ -61,7 +61,13 @@ def _reproduce(args: argparse.Namespace) -> int:
     failed: dict[str, str] = {}
     from tqdm import tqdm
 
-    bar = tqdm(total=round(sum(expected.values())), unit="s", desc="reproduce", file=sys.stderr, dynamic_ncols=True)
+    bar = tqdm(
+        total=round(sum(expected.values())),
+        desc="reproduce",
+        file=sys.stderr,
+        dynamic_ncols=True,
+        bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed} so far, about {remaining} left",
+    )  # weighted by each figure's time in the committed run
     base, t0 = 0.0, time.perf_counter()
     try:
         for k, run in enumerate(runs):

@@ -20,6 +20,8 @@ import math
 from dataclasses import asdict, dataclass
 from typing import Any
 
+from neurowalk.experiments.suites.random_envs import wilson
+
 VERDICTS: tuple[str, ...] = ("reproduced", "partly", "not")
 
 
@@ -54,20 +56,6 @@ class Claim:
         d = asdict(self)
         d["interval"] = None if self.interval is None else [float(x) for x in self.interval]
         return d
-
-
-def wilson(successes: int, n: int, z: float = 1.959964) -> tuple[float, float]:
-    """Wilson score 95% interval of a success rate ``successes / n`` (``z`` = 1.96); (0, 1) where ``n`` is 0."""
-    if not 0 <= successes <= n:
-        raise ValueError(f"need 0 <= successes <= n, got {successes} of {n}")
-    if n == 0:
-        return (0.0, 1.0)
-    p = successes / n
-    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
-    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    lo = 0.0 if successes == 0 else max(0.0, centre - half)  # exact at the ends (rounding leaves 1 - 1e-16)
-    hi = 1.0 if successes == n else min(1.0, centre + half)
-    return (lo, hi)
 
 
 def outcome(what: str, paper: str, k: int, n: int) -> Claim:

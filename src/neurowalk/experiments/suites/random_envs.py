@@ -189,7 +189,9 @@ def failure_class(summary: dict[str, Any]) -> str | None:
 
 
 def wilson(successes: int, n: int, z: float = 1.959964) -> tuple[float, float]:
-    """Wilson score 95% interval of a success rate (``z`` = 1.96)."""
+    """Wilson score 95% interval of a success rate (``z`` = 1.96); (0, 1) where ``n`` is 0."""
+    if not 0 <= successes <= n:
+        raise ValueError(f"need 0 <= successes <= n, got {successes} of {n}")
     if n == 0:
         return (0.0, 1.0)
     p = successes / n
