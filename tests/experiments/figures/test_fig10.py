@@ -3,8 +3,15 @@
 import numpy as np
 import pytest
 
+from neurowalk.experiments.figures import fig10
 from neurowalk.experiments.figures.fig10 import key_moments
-from neurowalk.experiments.suites.climbing import climbed, step_spec, track_spec, track_success
+from neurowalk.experiments.suites.climbing import (
+    climbed,
+    first_platform_step,
+    step_spec,
+    track_spec,
+    track_success,
+)
 from neurowalk.runners.specs import to_config
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
@@ -74,3 +81,54 @@ def test_key_moments_order_climbs_and_the_turn_between():
     m = key_moments(bj, out)
     assert m == {"start": 0, "first climb": 10, "wall avoidance": 30, "second climb": 60}
     assert key_moments(np.zeros(100), out)["first climb"] is None
+
+
+def test_track_and_step_runs_last_their_seconds_at_the_rate():
+    assert track_spec(0.06, 0)["steps"] == 12_000 and track_spec(0.06, 0)["control_hz"] == 10.0  # as before
+    assert track_spec(0.06, 0, control_hz=27.0)["steps"] == 32_400  # 1200 s
+    assert step_spec(0.04, "neither", 0)["steps"] == 3000
+    assert step_spec(0.04, "neither", 0, control_hz=27.0) == {
+        **step_spec(0.04, "neither", 0),
+        "steps": 8100,
+        "control_hz": 27.0,
+    }
+
+
+class _StopError(Exception):
+    pass
+
+
+@pytest.mark.parametrize(("quick", "hz", "steps"), [(True, 10.0, 12_000), (True, 27.0, 12_000), (False, 27.0, 32_400)])
+def test_fig10_runs_at_its_control_rate(monkeypatch, tmp_path, quick, hz, steps):
+    seen = []
+
+    def run_episode(cfg, **kwargs):
+        seen.append(cfg)
+        raise _StopError
+
+    monkeypatch.setattr(fig10, "run_episode", run_episode)
+    with pytest.raises(_StopError):
+        fig10.run(quick=quick, seeds=1, out=tmp_path, control_hz=hz)
+    assert seen[0].control_hz == hz and seen[0].steps == steps  # a quick run at 27 Hz: 444 s, not 1200 s
+
+
+def test_first_platform_is_the_trunk_centre_0_3_m_past_its_edge():
+    x = np.linspace(0.0, 1.5, 16)  # 0.1 m a row; the first platform's edge is at x = 0.7 m
+    pose = np.column_stack([x, np.zeros_like(x), np.zeros_like(x)])
+    assert first_platform_step(pose, 0.06) == 10  # x = 1.0
+    assert first_platform_step(pose[:10], 0.06) is None
+
+
+def test_a_27_hz_track_run_reports_its_events_on_the_27_hz_clock(tmp_path):
+    res = fig10.run(seeds=1, steps=1800, out=tmp_path, control_hz=27.0)
+    s = res.summary
+    assert s["control_hz"] == 27.0 and s["duration_s"] == pytest.approx(1800 / 27.0)
+    row = s["table"]["0.06"]["runs"][0]
+    k = row["first_platform_step"]
+    assert k is not None and k == s["example"]["first_platform_step"]  # the example is the stored seed
+    assert row["first_platform_time_s"] == pytest.approx(k / 27.0)
+    first = s["real_robot"]["events"]["on the first platform"]
+    assert first["paper_s"] == 23.0 and first["sim"]["times_s"] == [row["first_platform_time_s"]]
+    assert s["real_robot"]["same_clock"] and s["real_robot"]["control_hz"] == 27.0
+    assert res.arrays["t"][-1] == pytest.approx(1800 / 27.0, rel=1e-3)
+    assert s["moments_s"]["first climb"] == pytest.approx(s["moments"]["first climb"] / 27.0)

@@ -11,13 +11,15 @@ from neurowalk.cli import main
 from neurowalk.experiments import FIGURES
 from neurowalk.experiments.figures import fig8, fig9
 from neurowalk.experiments.suites.real_robot import (
-    PATH_EVERY,
     camera_view,
     make_spec,
+    path_every,
     run_store_paths,
     sampled,
     snapshot_rows,
+    video_every,
 )
+from neurowalk.experiments.suites.timing import steps_for
 
 
 def test_both_figures_are_registered_with_the_options_the_cli_passes():
@@ -25,9 +27,10 @@ def test_both_figures_are_registered_with_the_options_the_cli_passes():
 
     for name in ("fig8", "fig9"):
         params = inspect.signature(FIGURES[name].run).parameters
-        for key in ("quick", "seed", "seeds", "out", "video", "variant", "params"):
+        for key in ("quick", "seed", "seeds", "out", "video", "variant", "params", "control_hz"):
             assert key in params, (name, key)
         assert params["video"].default is False and params["variant"].default == "paper"
+        assert params["control_hz"].default == 10.0
 
 
 def test_specs_carry_the_network_variant_and_overrides():
@@ -35,13 +38,44 @@ def test_specs_carry_the_network_variant_and_overrides():
     assert s["controller"] == "static" and s["seed"] == 3 and s["steps"] == 100
     assert s["variant"] == "original" and s["params"] == {"a": 4.0}
     assert "params" not in make_spec("narrow-passage", {}, "plastic", 0, 100)
+    assert (
+        s["control_hz"] == 10.0 and make_spec("narrow-passage", {}, "static", 3, 100, control_hz=27)["control_hz"] == 27
+    )
+
+
+class _StopError(Exception):
+    pass
+
+
+@pytest.mark.parametrize(
+    "fig,quick,seconds", [(fig8, True, fig8.QUICK_S), (fig8, False, fig8.RUN_S), (fig9, True, fig9.QUICK_S)]
+)
+@pytest.mark.parametrize("hz", [10.0, 27.0])
+def test_runs_last_their_seconds_at_the_figures_control_rate(monkeypatch, tmp_path, fig, quick, seconds, hz):
+    seen = []
+
+    def store(specs, folder, workers):
+        seen.extend(specs)
+        raise _StopError
+
+    monkeypatch.setattr(fig, "run_store_paths", store)
+    with pytest.raises(_StopError):
+        fig.run(quick=quick, seeds=2, out=tmp_path, control_hz=hz)
+    assert seen and all(s["control_hz"] == hz for s in seen)
+    assert {s["steps"] for s in seen} == {round(seconds * hz)}
+    if hz == 10.0:  # today's runs, to the step
+        assert seen[0]["steps"] == {fig8.QUICK_S: 2500, fig8.RUN_S: 5000, fig9.QUICK_S: 3000}[seconds]
+
+
+def test_path_points_and_video_frames_are_spaced_in_seconds():
+    assert path_every(10.0) == 10 and path_every(27.0) == 27  # 1 s
+    assert video_every(10.0) == 4 and video_every(27.0) == 11  # 0.4 s of simulated time a frame
 
 
 def test_snapshot_rows_end_where_the_robot_got_out():
     assert list(snapshot_rows(1000, 500, 6)) == [0, 100, 200, 300, 400, 500]
     assert snapshot_rows(1000, None, 6)[-1] == 999
-    assert list(sampled(np.arange(25)[:, None])[:, 0]) == [0, 10, 20, 24]
-    assert PATH_EVERY == 10
+    assert list(sampled(np.arange(25)[:, None], 10)[:, 0]) == [0, 10, 20, 24]
 
 
 def test_camera_frames_the_whole_path_and_the_start():
@@ -99,7 +133,10 @@ def test_fig8_quick_from_the_command_line_then_replot(tmp_path):
     with np.load(tmp_path / "fig8.npz") as z:
         a = {k: z[k] for k in z.files}
     _check_strip_and_paths(s, a, 1)
-    assert s["steps"] == fig8.QUICK_STEPS and s["seeds"] == 1
+    assert s["steps"] == steps_for(fig8.QUICK_S, 10.0) == 2500 and s["seeds"] == 1
+    assert s["control_hz"] == 10.0 and s["duration_s"] == fig8.QUICK_S
+    rr = s["real_robot"]
+    assert rr["events"]["escaped"]["paper_s"] == 50.0 and not rr["same_clock"] and rr["note"]
     for net in ("plastic", "static"):
         c = s["counts"][net]
         assert c["escaped"] == sum(r["escaped"] for r in c["runs"]) and s["escaped"][net] == f"{c['escaped']}/1"
@@ -116,7 +153,8 @@ def test_fig9_quick_from_the_command_line(tmp_path):
     with np.load(tmp_path / "fig9.npz") as z:
         a = {k: z[k] for k in z.files}
     _check_strip_and_paths(s, a, 1)
-    assert s["steps"] == fig9.QUICK_STEPS and s["sweep_factors"] == [1.0] and len(s["map"]) == 1
+    assert s["steps"] == steps_for(fig9.QUICK_S, 10.0) == 3000 and s["sweep_factors"] == [1.0] and len(s["map"]) == 1
+    assert s["real_robot"]["events"]["out of the path"]["paper_s"] == 200.0
     for net in ("plastic", "static"):
         c = s["counts"][net]
         assert sum(c[lab] for lab in fig9.OUTCOMES) == 1
@@ -139,3 +177,20 @@ def test_bad_seeds_and_steps_are_refused(tmp_path):
         fig8.run(seeds=0, out=tmp_path)
     with pytest.raises(ValueError, match="steps"):
         fig9.run(seeds=1, steps=0, out=tmp_path)
+
+
+def test_a_27_hz_run_reports_times_on_the_27_hz_clock(tmp_path):
+    steps = 300
+    res = fig9.run(seeds=1, steps=steps, out=tmp_path, control_hz=27.0)
+    s, a = res.summary, res.arrays
+    assert s["control_hz"] == 27.0 and s["duration_s"] == pytest.approx(steps / 27.0)
+    assert s["path_every_steps"] == 27
+    assert len(a["plastic/path/0"]) == len(range(0, steps, 27)) + 1  # a point a second and the last
+    t = a["plastic/example/t"]
+    assert t[-1] == pytest.approx(steps / 27.0, rel=1e-3)  # 11.1 s, not the 30 s of 300 steps at 10 Hz
+    assert a["plastic/snapshot_t"][-1] == pytest.approx(t[-1])
+    rr = s["real_robot"]
+    assert rr["control_hz"] == 27.0 and rr["same_clock"]
+    for e in rr["events"].values():
+        assert e["sim"]["runs"] == 1
+        assert all(x is None or x <= steps / 27.0 for x in e["sim"]["times_s"])

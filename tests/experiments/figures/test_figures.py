@@ -24,7 +24,32 @@ def test_fig4_writes_files_and_converges_from_every_start(fig4):
         assert run["q1"] == pytest.approx(s["fixed_points"]["q"], rel=0.01)
     assert s["fixed_points"]["b"] == pytest.approx(4.63, abs=0.01)
     # Panel B: growth while the reflex is on is much faster than decay after it.
-    assert s["panel_b"]["growth_to_decay_ratio"] > 5
+    b = s["panel_b"]
+    assert b["growth_to_decay_ratio"] > 5
+    # ... on inputs recorded in a physics run, which the offline replay reproduces
+    assert (b["arena"], b["body"], b["steps"], b["seed"], b["control_hz"]) == ("difficult", "amosii", 3000, 0, 10.0)
+    assert b["replay_max_abs_diff_from_run"] < 1e-9
+    assert {e["side"] for e in b["episodes"]} >= {"left", "right"}  # walls met on both sides
+
+
+def test_fig4_panel_b_runs_at_the_figures_control_rate(monkeypatch):
+    from neurowalk.experiments.figures import fig4
+
+    seen = []
+
+    class StopError(Exception):
+        pass
+
+    def run_episode(cfg, **kwargs):
+        seen.append(cfg)
+        raise StopError
+
+    monkeypatch.setattr(fig4, "run_episode", run_episode)
+    with pytest.raises(StopError):
+        fig4.run(quick=True, seed=3, control_hz=27.0)
+    cfg = seen[0]
+    assert (cfg.control_hz, cfg.seed, cfg.steps, cfg.arena, cfg.controller) == (27.0, 3, 3000, "difficult", "plastic")
+    assert (cfg.b0, cfg.q0) == fig4.PAPER_START
 
 
 def test_fig4_replot_and_seed_determinism(fig4, tmp_path):

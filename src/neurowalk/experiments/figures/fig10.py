@@ -4,8 +4,12 @@ One example run (step 0.06 m, the given seed) is drawn in full: top and side vie
 the backbone angle, the foot contacts and the steering over time, and rendered snapshots at the key
 moments (start, first climb, wall avoidance, second climb). The outcome table runs ``seeds`` seeds
 (default 10; 3 with ``quick``) at each step height of
-:data:`~neurowalk.experiments.suites.climbing.TRACK_HEIGHTS`, through the resumable store in the output folder; the
-success rule is in the json.
+:data:`~neurowalk.experiments.suites.climbing.TRACK_HEIGHTS`, through the resumable store ``track.sqlite`` in the
+output folder; the success rule is in the json. Every run lasts
+:data:`~neurowalk.experiments.suites.climbing.TRACK_S` s of simulated time at the control rate ``control_hz`` (10 Hz
+by default, the authors' simulator; 27 Hz is the real robot's); with ``quick`` at a high rate, at most
+:data:`QUICK_MAX_STEPS` control steps. The json's ``real_robot`` entry puts the paper's times (on the first
+platform at 0:23 min, on the second at 1:14 min, with the controller at 27 Hz) beside the simulated ones.
 """
 
 from __future__ import annotations
@@ -24,10 +28,13 @@ from neurowalk.experiments.stores import run_store
 from neurowalk.experiments.suites.climbing import (
     TRACK_HEIGHTS,
     TRACK_RULE,
-    TRACK_STEPS,
+    TRACK_S,
+    first_platform_step,
+    run_track,
     track_spec,
     track_success,
 )
+from neurowalk.experiments.suites.timing import SIM_HZ, quick_note, quick_seconds, real_robot_entry, steps_for
 from neurowalk.plotting import draw_arena, pyplot
 from neurowalk.render import render_frames
 from neurowalk.runners.specs import spec_key, to_config
@@ -37,6 +44,9 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 MOMENTS: tuple[str, ...] = ("start", "first climb", "wall avoidance", "second climb")
+QUICK_MAX_STEPS = 12_000  # control steps of a quick run at most (TRACK_S at 10 Hz; 444 s at 27 Hz)
+PAPER_FIRST_S = 23.0  # the real robot climbed onto the first platform at 0:17-0:23 min (paper §3, Fig. 10)
+PAPER_SECOND_S = 74.0  # and onto the second platform at 1:14 min
 
 
 def key_moments(bj_command: np.ndarray, outputs: np.ndarray, lean: float = 0.26) -> dict[str, int | None]:
@@ -68,48 +78,99 @@ def run(
     out: Path | None = None,
     workers: int = 2,
     variant: str = "paper",
+    control_hz: float = SIM_HZ,
+    steps: int | None = None,
 ) -> Result:
     """The example run (step 0.06 m, ``seed``) and the outcome table over ``seeds`` seeds per step height.
 
-    ``variant``: the plastic network's variant (``paper`` by default).
+    ``variant``: the plastic network's variant (``paper`` by default). ``control_hz``: the control rate of every
+    run (Hz); runs last :data:`~neurowalk.experiments.suites.climbing.TRACK_S` s (with ``quick``, at most
+    :data:`QUICK_MAX_STEPS` control steps), or ``steps`` control steps where given.
     """
     n = seeds if seeds is not None else (3 if quick else 10)
     if n < 1:
         raise ValueError(f"seeds must be >= 1, got {n}")
+    seconds = quick_seconds(TRACK_S, QUICK_MAX_STEPS, control_hz) if quick else TRACK_S
+    steps = steps if steps is not None else steps_for(seconds, control_hz)
+    if steps < 1:
+        raise ValueError(f"steps must be >= 1, got {steps}")
+
+    def spec(h: float, s: int) -> dict:
+        return track_spec(h, s, steps, variant=variant, control_hz=control_hz)
+
     step = TRACK_HEIGHTS[0]
-    ep = run_episode(to_config(track_spec(step, seed, variant=variant)), progress=True)
+    ep = run_episode(to_config(spec(step, seed)), progress=True)
     tr = ep.trajectory
     z = tr.qpos[:, 2]
     moments = key_moments(tr.targets[:, -1], tr.outputs)
     rows = [moments[m] if moments[m] is not None else len(z) - 1 for m in MOMENTS]
     model = AmosII(ep.arena).model
     frames = render_frames(model, tr.qpos[rows], distance=1.4, elevation=-50.0)
-    specs = [track_spec(h, seed + k, variant=variant) for h in TRACK_HEIGHTS for k in range(n)]
-    results, _ = run_store(specs, Path(out) if out is not None else Path("out/fig10"), workers)
+    specs = [spec(h, seed + k) for h in TRACK_HEIGHTS for k in range(n)]
+    folder = Path(out) if out is not None else Path("out/fig10")
+    results, _ = run_store(specs, folder, workers, fn=run_track, name="track.sqlite")
+
+    def secs(k: int | None) -> float | None:
+        return None if k is None else k / control_hz
+
     table = {}
     for h in TRACK_HEIGHTS:
-        runs = [results[spec_key(track_spec(h, seed + k, variant=variant))] for k in range(n)]
+        runs = [results[spec_key(spec(h, seed + k))] for k in range(n)]
         ok = [track_success(r, h) for r in runs]
         done = [r["exit_step"] for r in runs if r["exit_step"] is not None]
         table[f"{h:.2f}"] = {
             "seeds": n,
             "success": int(sum(ok)),
             "runs": [
-                {"seed": seed + k, "success": bool(o), "exit_step": r["exit_step"], "max_z_m": r["max_z_m"]}
+                {
+                    "seed": seed + k,
+                    "success": bool(o),
+                    "exit_step": r["exit_step"],
+                    "exit_time_s": secs(r["exit_step"]),
+                    "first_platform_step": r["first_platform_step"],
+                    "first_platform_time_s": secs(r["first_platform_step"]),
+                    "max_z_m": r["max_z_m"],
+                }
                 for k, (o, r) in enumerate(zip(ok, runs, strict=True))
             ],
             "median_exit_step": float(np.median(done)) if done else None,
+            "median_exit_time_s": float(np.median(done)) / control_hz if done else None,
         }
+    first = table[f"{step:.2f}"]["runs"]
     summary = {
         "step_m": step,
         "seed": seed,
-        "steps": TRACK_STEPS,
+        "steps": steps,
+        "control_hz": float(control_hz),
+        "duration_s": steps / control_hz,
+        "quick_note": quick_note(TRACK_S, seconds, control_hz) if quick else None,
         "variant": variant,
         "rule": TRACK_RULE,
         "moments": moments,
-        "example": {k: ep.summary[k] for k in ("exit_step", "max_z_m", "final_z_m", "final_pose")},
+        "moments_s": {m: secs(k) for m, k in moments.items()},
+        "example": {
+            **{k: ep.summary[k] for k in ("exit_step", "max_z_m", "final_z_m", "final_pose")},
+            "first_platform_step": first_platform_step(tr.pose, step),
+        },
         "table": table,
         "arena": ep.arena.options,
+        "real_robot": real_robot_entry(
+            {
+                "on the first platform": (
+                    PAPER_FIRST_S,
+                    "detected the platform as a climbable obstacle and climbed onto it (0:17-0:23 min)",
+                    [r["first_platform_time_s"] for r in first],
+                ),
+                "on the second platform": (
+                    PAPER_SECOND_S,
+                    "after avoiding the wall, climbed onto the second platform (1:14 min)",
+                    [r["exit_time_s"] for r in first],
+                ),
+            },
+            control_hz,
+            steps / control_hz,
+            f"the {n} seeds at step {step} m; on a platform: the trunk centre 0.3 m past its edge",
+        ),
     }
     arrays = {
         "t": tr.t,
@@ -175,6 +236,7 @@ def plot(res: Result) -> Figure:
         ax.set_title(f"{name}: t = {t[k]:.0f} s" if k is not None else f"{name}: did not happen", fontsize=9)
         ax.axis("off")
     ok = ", ".join(f"{h} m: {v['success']}/{v['seeds']}" for h, v in s["table"].items())
-    fig.suptitle(f"Climbing track: reached the second platform in {ok}")
+    rate = f" ({s['steps'] / s['control_hz']:.0f} s at {s['control_hz']:g} Hz)" if "control_hz" in s else ""
+    fig.suptitle(f"Climbing track: reached the second platform in {ok}{rate}")
     fig.tight_layout()
     return fig

@@ -4,7 +4,12 @@ AMOSII in MuJoCo on the open floor, steered by constant signals through the full
 network (paper Table 1): forward (O1, O2) = (-1, -1), backward (1, 1), turn right (1, -1), turn
 left (-1, 1). Swing phases (CTr elevated) are shaded. The json holds the numbers behind the
 picture, measured from the physics: leg order of the swings, swing fraction, legs in swing at
-once, gait period, speed and turning rate.
+once, gait period, speed and turning rate. Every number comes from one window, stated in the json
+(``window``): from the end of the :data:`WARMUP` control steps to the end of the run; the picture
+draws the first :data:`SHOWN` control steps of it. The run's control rate ``control_hz`` (10 Hz by
+default, the authors' simulator; 27 Hz is the real robot's) turns control steps into seconds: the
+networks count in control steps (the CPG period is 87.5 of them), so at 27 Hz the gait is 2.7 times
+as fast in seconds, and so are the speed and turning rate.
 """
 
 from __future__ import annotations
@@ -15,6 +20,7 @@ import numpy as np
 
 from neurowalk import anatomy, gait
 from neurowalk.experiments import Result
+from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.neural.cpg import period
 from neurowalk.plotting import pyplot
 from neurowalk.sim.episode import EpisodeConfig, run_episode
@@ -25,7 +31,7 @@ if TYPE_CHECKING:
 NAME = "fig7"
 CONDITIONS = {"forward": (-1.0, -1.0), "backward": (1.0, 1.0), "turn right": (1.0, -1.0), "turn left": (-1.0, 1.0)}
 WARMUP = 300  # control steps before the delay lines are full and the gait is steady
-WINDOW = 200  # control steps shown (20 s, about 2.3 cycles)
+SHOWN = 200  # control steps drawn (about 2.3 gait cycles; 20 s at 10 Hz)
 
 
 def measured_swing(angles: np.ndarray) -> np.ndarray:
@@ -33,17 +39,39 @@ def measured_swing(angles: np.ndarray) -> np.ndarray:
     return gait.swing_mask_hysteresis(angles)
 
 
-def run(*, quick: bool = False, seed: int = 0) -> Result:
-    """Run the four conditions (1000 control steps each; 600 with ``quick``)."""
+def run(*, quick: bool = False, seed: int = 0, control_hz: float = SIM_HZ) -> Result:
+    """Run the four conditions (1000 control steps each; 600 with ``quick``) at ``control_hz`` Hz.
+
+    Gait numbers, speed (m/s) and turning rate (deg/s) are measured over rows :data:`WARMUP` to the last of each
+    run (the ``window`` of the json).
+    """
     steps = 600 if quick else 1000
-    summary: dict = {"steps": steps, "control_hz": 10.0, "warmup_steps": WARMUP, "seed": seed, "conditions": {}}
+    duration = (steps - 1 - WARMUP) / control_hz  # s from the window's first row to its last
+    window = {
+        "from_step": WARMUP,
+        "to_step": steps - 1,
+        "from_s": WARMUP / control_hz,
+        "to_s": (steps - 1) / control_hz,
+        "duration_s": duration,
+        "shown_steps": SHOWN,
+        "what": "every number of a condition: the rows from the end of the warm-up to the last of the run; the "
+        "picture draws the first shown_steps of them",
+    }
+    summary: dict = {
+        "steps": steps,
+        "control_hz": float(control_hz),
+        "warmup_steps": WARMUP,
+        "window": window,
+        "seed": seed,
+        "conditions": {},
+    }
     arrays: dict[str, np.ndarray] = {}
     for i, (name, steer) in enumerate(CONDITIONS.items()):
-        ep = run_episode(EpisodeConfig(controller="fixed", steer=steer, steps=steps, seed=seed))
+        ep = run_episode(EpisodeConfig(controller="fixed", steer=steer, steps=steps, seed=seed, control_hz=control_hz))
         tr, s = ep.trajectory, ep.summary
         angles = tr.joint_angles[WARMUP:]
         swing = measured_swing(angles)
-        duration = (steps - WARMUP) / 10.0
+        ctr3 = angles[:, anatomy.CTR_INDICES[2]]
         pose = tr.pose[WARMUP:]
         fwd = (pose[-1, :2] - pose[0, :2]) @ np.array([np.cos(pose[0, 2]), np.sin(pose[0, 2])])
         yaw = np.unwrap(pose[:, 2])
@@ -53,26 +81,28 @@ def run(*, quick: bool = False, seed: int = 0) -> Result:
             "swing_fraction_per_leg": dict(zip(anatomy.LEGS, swing.mean(axis=0).round(4).tolist(), strict=True)),
             **gait.duty_summary(swing),
             "stroke_direction": dict(zip(anatomy.LEGS, gait.stroke_direction(angles, swing).tolist(), strict=True)),
-            "period_s": period(angles[:, anatomy.CTR_INDICES[2]] - angles[:, anatomy.CTR_INDICES[2]].mean()) / 10.0,
+            "period_s": period(ctr3 - ctr3.mean()) / control_hz,
             "speed_m_per_s": fwd / duration,
             "turning_rate_deg_per_s": float(np.degrees(yaw[-1] - yaw[0]) / duration),
             "min_up_z": s["min_up_z"],
             "simulation_warnings": s["simulation_warnings"],
         }
-        arrays[f"c{i}_angles"] = angles[:WINDOW]
-        arrays[f"c{i}_swing"] = swing[:WINDOW]
+        arrays[f"c{i}_angles"] = angles[:SHOWN]
+        arrays[f"c{i}_swing"] = swing[:SHOWN]
     return Result(NAME, summary, arrays)
 
 
 def plot(res: Result) -> Figure:
-    """Four columns (A-D), 18 stacked joint traces each (degrees), swing phases shaded grey."""
+    """Four columns (A-D), 18 stacked joint traces each (degrees) over time (s), swing phases shaded grey."""
     plt = pyplot()
+    hz = res.summary["control_hz"]
+    w = res.summary.get("window")
     fig, axes = plt.subplots(1, 4, figsize=(16, 10), sharey=True, constrained_layout=True)
     rows = [(j, leg) for leg in anatomy.LEGS for j in anatomy.LEG_JOINTS]
     for i, (name, ax) in enumerate(zip(res.summary["conditions"], axes, strict=True)):
         ang = np.degrees(res.arrays[f"c{i}_angles"])
         sw = res.arrays[f"c{i}_swing"].astype(bool)
-        t = np.arange(ang.shape[0]) / 10.0
+        t = np.arange(ang.shape[0]) / hz
         for r, (j, leg) in enumerate(rows):
             k = anatomy.joint_index(j, leg)
             y = ang[:, k]
@@ -82,12 +112,16 @@ def plot(res: Result) -> Figure:
             ax.fill_between(t, base - 0.5, base + 0.5, where=sw[:, li], color="0.85", step="mid", lw=0)
             ax.plot(t, base + (y - y.mean()) / span, color=f"C{'TCF'.index(j[0])}", lw=1.0)
             if i == 0:
-                ax.text(-0.5, base, f"{anatomy.actuator_name(j, leg)}", ha="right", va="center", fontsize=8)
-            ax.text(t[-1] + 0.3, base, f"{np.ptp(y):.0f}°", va="center", fontsize=6, color="0.4")
+                ax.text(-t[-1] / 40, base, f"{anatomy.actuator_name(j, leg)}", ha="right", va="center", fontsize=8)
+            ax.text(t[-1] * 1.015, base, f"{np.ptp(y):.0f}°", va="center", fontsize=6, color="0.4")
         c = res.summary["conditions"][name]
         rates = f"{c['speed_m_per_s'] * 100:+.1f} cm/s, {c['turning_rate_deg_per_s']:+.2f} °/s"
         ax.set_title(f"{'ABCD'[i]}  {name}  {tuple(c['steer'])}\n{rates}; order {' '.join(c['leg_order'])}", fontsize=9)
-        ax.set_xlabel("time (s)")
+        ax.set_xlabel("time after the warm-up (s)")
         ax.set_yticks([])
-    fig.suptitle("Joint angles (each trace scaled to its range, printed right); grey: swing phase (CTr elevated)")
+    over = f"; speed and turning rate over t = {w['from_s']:.1f}-{w['to_s']:.1f} s" if w else ""
+    fig.suptitle(
+        f"Joint angles at {hz:g} Hz control (each trace scaled to its range, printed right); grey: swing phase "
+        f"(CTr elevated){over}"
+    )
     return fig

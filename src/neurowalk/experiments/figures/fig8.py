@@ -3,10 +3,12 @@
 The robot (physics body ``amosii``) starts inside the ``narrow-passage`` arena (a funnel whose end is two
 obstacles with a gap narrower than the robot), facing the gap. The paper's robot walked toward the gap,
 turned right at the obstacle on its left, got stuck in front of the gap, kept turning right as the left
-neuron's weights grew, and escaped at 0:50 min; with the static network it stayed stuck. Here each network
-(plastic from zero weights, and static) runs ``seeds`` seeds (default 10; 3 with ``quick``) for
-:data:`~neurowalk.experiments.suites.deadends.TRAP_STEPS` control steps (the paper's 5000 time steps of its Fig.
-5B); the runs go through the resumable store in the output folder.
+neuron's weights grew, and escaped at 0:50 min (its controller ran at 27 Hz); with the static network it stayed
+stuck. Here each network (plastic from zero weights, and static) runs ``seeds`` seeds (default 10; 3 with
+``quick``) for :data:`RUN_S` s of simulated time (:data:`QUICK_S` with ``quick``), at the control rate
+``control_hz`` (10 Hz by default, the authors' simulator; 27 Hz is the real robot's); the runs go through the
+resumable store in the output folder. The json's ``real_robot`` entry puts the paper's escape time beside the
+simulated ones (a fair comparison at 27 Hz only).
 
 The figure: a strip of rendered snapshots of the example seed for each network (times written on them), the
 top view of every seed's path per network with the escape count, and the example runs' steering and weights.
@@ -21,7 +23,6 @@ import numpy as np
 
 from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result
-from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.real_robot import (
     N_SNAPSHOTS,
     NETWORKS,
@@ -35,6 +36,7 @@ from neurowalk.experiments.suites.real_robot import (
     snapshots,
     write_videos,
 )
+from neurowalk.experiments.suites.timing import SIM_HZ, real_robot_entry, steps_for
 from neurowalk.plotting import pyplot
 from neurowalk.runners.specs import spec_key
 
@@ -43,10 +45,13 @@ if TYPE_CHECKING:
 
 NAME = "fig8"
 ARENA = "narrow-passage"
-QUICK_STEPS = 2500  # control steps per run with ``quick``
+RUN_S = 500.0  # s per run: the paper's 5000 time steps of its Fig. 5B at 10 Hz
+QUICK_S = 250.0  # s per run with ``quick``
+PAPER_ESCAPE_S = 50.0  # the real robot escaped at 0:50 min (paper §3, Fig. 8)
 RULE = (
     "escaped: the trunk centre reached the arena's exit region (0.3 m or more behind the passage's mouth, the "
-    "robot turned around and walked out) within the run's control steps; otherwise not escaped"
+    "robot turned around and walked out) within the run's control steps; otherwise not escaped. Escape time: the "
+    "first control step in the exit region / control_hz"
 )
 
 
@@ -61,29 +66,32 @@ def run(
     video: bool = False,
     variant: str = "paper",
     params: dict[str, float] | None = None,
+    control_hz: float = SIM_HZ,
 ) -> Result:
     """Escapes over ``seeds`` seeds per network, the example seed ``seed`` in full.
 
     Args:
-        quick: 3 seeds and :data:`QUICK_STEPS` control steps per run.
+        quick: 3 seeds and :data:`QUICK_S` s per run.
         seed: the first seed and the example run's seed; seeds ``seed`` ... ``seed + seeds - 1`` run.
         seeds: seeds per network (default 10; 3 with ``quick``).
         out: output folder: holds the resumable result store (default ``out/fig8``) and the videos.
         workers: processes.
-        steps: control steps per run (default :data:`~neurowalk.experiments.suites.deadends.TRAP_STEPS`).
+        steps: control steps per run (default: :data:`RUN_S` s, or :data:`QUICK_S` s with ``quick``, at
+            ``control_hz``: ``round(seconds * control_hz)``).
         video: also write one mp4 per network of the example run into ``out``.
         variant, params: the sensory network's variant and parameter overrides (see ``EpisodeConfig``).
+        control_hz: the control rate of every run (Hz).
     """
     n = seeds if seeds is not None else (3 if quick else 10)
     if n < 1:
         raise ValueError(f"seeds must be >= 1, got {n}")
-    steps = steps if steps is not None else (QUICK_STEPS if quick else TRAP_STEPS)
+    steps = steps if steps is not None else steps_for(QUICK_S if quick else RUN_S, control_hz)
     if steps < 1:
         raise ValueError(f"steps must be >= 1, got {steps}")
     folder = Path(out) if out is not None else Path("out") / NAME
 
     def spec(net: str, s: int) -> dict[str, Any]:
-        return make_spec(ARENA, {}, net, s, steps, variant=variant, params=params)
+        return make_spec(ARENA, {}, net, s, steps, variant=variant, params=params, control_hz=control_hz)
 
     results = run_store_paths([spec(net, seed + k) for net in NETWORKS for k in range(n)], folder, workers)
     examples = example_runs({net: spec(net, seed) for net in NETWORKS}, workers)
@@ -122,7 +130,8 @@ def run(
         "seed": seed,
         "seeds": n,
         "steps": steps,
-        "control_hz": examples[NETWORKS[0]]["summary"]["control_hz"],
+        "control_hz": float(control_hz),
+        "duration_s": steps / control_hz,
         "variant": variant,
         "params": params,
         "body": "amosii",
@@ -138,6 +147,18 @@ def run(
             for net in NETWORKS
         },
         "snapshots": N_SNAPSHOTS,
+        "real_robot": real_robot_entry(
+            {
+                "escaped": (
+                    PAPER_ESCAPE_S,
+                    "successfully escaped from the passage (0:50 min)",
+                    [r["exit_time_s"] for r in counts["plastic"]["runs"]],
+                )
+            },
+            control_hz,
+            steps / control_hz,
+            f"the plastic network's {n} seeds (the static network did not escape on the real robot)",
+        ),
     }
     if video:
         summary["videos"] = write_videos(NAME, arena, examples, folder)
@@ -184,8 +205,8 @@ def plot(res: Result) -> Figure:
             ax, e["t"], e["outputs"], e["b"], e["q"], f"{net}, seed {s['example'][net]['seed']}: steering, weights"
         )
     fig.suptitle(
-        f"Narrow passage (paper Fig. 8), {s['steps']} control steps per run: escaped "
-        + ", ".join(f"{net} {s['escaped'][net]}" for net in NETWORKS)
+        f"Narrow passage (paper Fig. 8), {s['steps'] / s['control_hz']:.0f} s per run at {s['control_hz']:g} Hz: "
+        "escaped " + ", ".join(f"{net} {s['escaped'][net]}" for net in NETWORKS)
     )
     fig.tight_layout()
     return fig

@@ -3,11 +3,14 @@
 The ``complex-path`` arena (a wall on the right, small obstacles on the left, a dead end; its geometry and the
 reasons for it are in :mod:`neurowalk.arenas.generated`). The paper's robot entered the path, turned right at
 an obstacle on its left, walked to the end, turned left away from the dead end and went out of the path at
-3:20 min; with the static network it got stuck in the path. Each network (plastic from zero weights, and
-static) runs ``seeds`` seeds (default 10; 3 with ``quick``) for :data:`PATH_STEPS` control steps; then width
-and obstacle spacing are swept by -20%, 0, +20% (a 3 x 3 map, ``seeds`` seeds per cell; no sweep with
-``quick``). Every run goes through the resumable store in the output folder. The outcome rule is
-:func:`outcome` (written into the json).
+3:20 min (its controller ran at 27 Hz); with the static network it got stuck in the path. Each network (plastic
+from zero weights, and static) runs ``seeds`` seeds (default 10; 3 with ``quick``) for :data:`PATH_S` s of
+simulated time (:data:`QUICK_S` with ``quick``) at the control rate ``control_hz`` (10 Hz by default, the authors'
+simulator; 27 Hz is the real robot's); then width and obstacle spacing are swept by -20%, 0, +20% (a 3 x 3 map,
+``seeds`` seeds per cell; no sweep with ``quick``). Every run goes through the resumable store in the output
+folder. The outcome rule is :func:`outcome` (written into the json). The json's ``real_robot`` entry puts the
+paper's times (end of the path reached, out of the path) beside the simulated ones (a fair comparison at 27 Hz
+only).
 
 The figure: a strip of rendered snapshots of the example seed for each network (times written on them), the
 top view of every seed's path, the outcome map of each network, and the example runs' steering and weights.
@@ -27,17 +30,19 @@ from neurowalk.experiments import Result
 from neurowalk.experiments.suites.real_robot import (
     N_SNAPSHOTS,
     NETWORKS,
-    PATH_EVERY,
+    PATH_EVERY_S,
     draw_paths,
     draw_strip,
     draw_traces,
     example_runs,
     make_spec,
+    path_every,
     run_store_paths,
     snapshot_rows,
     snapshots,
     write_videos,
 )
+from neurowalk.experiments.suites.timing import SIM_HZ, real_robot_entry, steps_for
 from neurowalk.plotting import pyplot
 from neurowalk.runners.specs import spec_key
 
@@ -49,10 +54,13 @@ if TYPE_CHECKING:
 
 NAME = "fig9"
 ARENA = "complex-path"
-# 800 s: three times the 259 s the robot needs to walk the 3 m path straight on open floor (1.16 cm/s), after
-# the paper's timeline (the end reached at 1:08 min, out of the path at 3:20 min: 2.9 times as long).
-PATH_STEPS = 8000
-QUICK_STEPS = 3000
+# 800 s: three times the 259 s the robot needs at 10 Hz to walk the 3 m path straight on open floor (1.16 cm/s),
+# after the paper's timeline (the end reached at 1:08 min, out of the path at 3:20 min: 2.9 times as long). At
+# 27 Hz the robot walks 2.7 times as fast, so the same seconds leave more room.
+PATH_S = 800.0
+QUICK_S = 300.0
+PAPER_END_S = 68.0  # the real robot approached the end of the path at 1:08 min (paper §3, Fig. 9)
+PAPER_OUT_S = 200.0  # and went out of the path at 3:20 min
 FACTORS: tuple[float, ...] = (0.8, 1.0, 1.2)  # width and spacing sweep: -20%, 0, +20%
 OUT_LEFT, OUT_END = "out (left side)", "out (open end)"
 STUCK_END, STUCK_PATH = "stuck at the dead end", "stuck in the path"
@@ -61,10 +69,11 @@ RULE = (
     f"out (left side): the trunk centre got more than {EXIT_MARGIN} m beyond the outer edge of the left obstacle "
     f"row (the arena's exit region); out (open end): more than {EXIT_MARGIN} m behind the start (the path's "
     f"open end is {MOUTH} m ahead of it) or more than {EXIT_MARGIN} m beyond the right wall's outer face (round "
-    f"the wall's start); whichever came first, checked on the path sampled every {PATH_EVERY} control steps. "
+    f"the wall's start); whichever came first, checked on the path sampled every {PATH_EVERY_S:g} s of simulated "
+    "time. "
     f"Otherwise stuck (still in the path at the end of the run): at the dead end if the trunk centre got "
     f"alongside the opening before the end wall (within {OPENING} m of it), else in the path. "
-    "Got out = either 'out' outcome."
+    "Got out = either 'out' outcome. Reached the end: the first path point alongside the opening."
 )
 
 
@@ -80,8 +89,14 @@ def outcome(xy: np.ndarray, arena: ArenaSpec) -> tuple[str, int | None]:
     if len(out):
         i = int(out[0])
         return (OUT_LEFT if left[i] else OUT_END), i
-    reached = bool(np.any(xy[:, 0] >= MOUTH + o["length"] - OPENING))
+    reached = reached_end(xy, arena) is not None
     return (STUCK_END if reached else STUCK_PATH), None
+
+
+def reached_end(xy: np.ndarray, arena: ArenaSpec) -> int | None:
+    """First row of the trunk path ``xy`` (n, 2) m alongside the opening before the end wall (None: never)."""
+    idx = np.flatnonzero(xy[:, 0] >= MOUTH + arena.options["length"] - OPENING)
+    return int(idx[0]) if len(idx) else None
 
 
 def _cell(width_f: float, spacing_f: float) -> dict[str, float]:
@@ -100,23 +115,26 @@ def run(
     video: bool = False,
     variant: str = "paper",
     params: dict[str, float] | None = None,
+    control_hz: float = SIM_HZ,
 ) -> Result:
     """Outcomes over ``seeds`` seeds per network and geometry, the example seed ``seed`` in full.
 
     Args:
-        quick: 3 seeds, :data:`QUICK_STEPS` control steps per run, the default geometry only (no sweep).
+        quick: 3 seeds, :data:`QUICK_S` s per run, the default geometry only (no sweep).
         seed: the first seed and the example run's seed; seeds ``seed`` ... ``seed + seeds - 1`` run.
         seeds: seeds per network and geometry (default 10; 3 with ``quick``).
         out: output folder: holds the resumable result store (default ``out/fig9``) and the videos.
         workers: processes.
-        steps: control steps per run (default :data:`PATH_STEPS`).
+        steps: control steps per run (default: :data:`PATH_S` s, or :data:`QUICK_S` s with ``quick``, at
+            ``control_hz``: ``round(seconds * control_hz)``).
         video: also write one mp4 per network of the example run into ``out``.
         variant, params: the sensory network's variant and parameter overrides (see ``EpisodeConfig``).
+        control_hz: the control rate of every run (Hz).
     """
     n = seeds if seeds is not None else (3 if quick else 10)
     if n < 1:
         raise ValueError(f"seeds must be >= 1, got {n}")
-    steps = steps if steps is not None else (QUICK_STEPS if quick else PATH_STEPS)
+    steps = steps if steps is not None else steps_for(QUICK_S if quick else PATH_S, control_hz)
     if steps < 1:
         raise ValueError(f"steps must be >= 1, got {steps}")
     folder = Path(out) if out is not None else Path("out") / NAME
@@ -124,7 +142,7 @@ def run(
     cells = [(fw, fs) for fw in factors for fs in factors]
 
     def spec(net: str, s: int, cell: tuple[float, float] = (1.0, 1.0)) -> dict[str, Any]:
-        return make_spec(ARENA, _cell(*cell), net, s, steps, variant=variant, params=params)
+        return make_spec(ARENA, _cell(*cell), net, s, steps, variant=variant, params=params, control_hz=control_hz)
 
     main = [spec(net, seed + k) for net in NETWORKS for k in range(n)]  # first: the default geometry
     results = run_store_paths(
@@ -132,7 +150,13 @@ def run(
     )
     examples = example_runs({net: spec(net, seed) for net in NETWORKS}, workers)
     arena = make_arena(ARENA)
+    every = path_every(control_hz)
     counts, arrays, cell_counts = {}, {}, []
+
+    def path_time_s(row: int | None, r: dict[str, Any]) -> float | None:
+        """Time (s) of a row of a stored path (every ``every``-th control step, and the last)."""
+        return None if row is None else min(row * every, r["steps"] - 1) / r["control_hz"]
+
     for net in NETWORKS:
         runs = [results[spec_key(spec(net, seed + k))] for k in range(n)]
         rows = []
@@ -143,7 +167,8 @@ def run(
                     "seed": seed + k,
                     "outcome": label,
                     "got_out": label in (OUT_LEFT, OUT_END),
-                    "out_time_s": None if i is None else min(i * PATH_EVERY, r["steps"]) / r["control_hz"],
+                    "end_time_s": path_time_s(reached_end(np.asarray(r["path"]), arena), r),
+                    "out_time_s": path_time_s(i, r),
                     "final_pose": r["final_pose"],
                     "final_weights": r["final_weights"],
                     "direction_switches": r["direction_switches"],
@@ -185,7 +210,9 @@ def run(
         "seed": seed,
         "seeds": n,
         "steps": steps,
-        "control_hz": examples["plastic"]["summary"]["control_hz"],
+        "control_hz": float(control_hz),
+        "duration_s": steps / control_hz,
+        "path_every_steps": every,
         "variant": variant,
         "params": params,
         "body": "amosii",
@@ -214,6 +241,24 @@ def run(
             for net in NETWORKS
         },
         "snapshots": N_SNAPSHOTS,
+        "real_robot": real_robot_entry(
+            {
+                "reached the end": (
+                    PAPER_END_S,
+                    "walked toward the end of the path (0:47 min) and approached it (1:08 min)",
+                    [r["end_time_s"] for r in counts["plastic"]["runs"]],
+                ),
+                "out of the path": (
+                    PAPER_OUT_S,
+                    "finally went out of the path (3:20 min)",
+                    [r["out_time_s"] for r in counts["plastic"]["runs"]],
+                ),
+            },
+            control_hz,
+            steps / control_hz,
+            f"the plastic network's {n} seeds in the default geometry (the static network got stuck on the real "
+            f"robot); times from the path sampled every {PATH_EVERY_S:g} s",
+        ),
     }
     if video:
         summary["videos"] = write_videos(NAME, arena, examples, folder)
@@ -264,7 +309,8 @@ def draw_map(ax: Axes, res: Result, net: str) -> None:
     ax.set(
         xlabel="obstacle spacing (m)",
         ylabel="path width (m)",
-        title=f"{net}: outcome map ({o['length']} m path, {s['steps']} steps)",
+        title=f"{net}: outcome map ({o['length']} m path, {s['steps'] / s['control_hz']:.0f} s at "
+        f"{s['control_hz']:g} Hz)",
     )
 
 

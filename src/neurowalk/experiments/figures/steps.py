@@ -2,8 +2,11 @@
 
 The robot walks straight at a single step (arena ``steps``, steering fixed forward) with reflexes and
 backbone control both on, each alone, and neither; ``seeds`` seeds (default 10; 3 with ``quick``) per
-height and variant, through the resumable store in the output folder. The json gives each
-variant's climb rate per height and its highest step climbed reliably (rule in the json).
+height and variant, through the resumable store in the output folder. Every run lasts
+:data:`~neurowalk.experiments.suites.climbing.STEP_S` s of simulated time at the control rate ``control_hz`` (10 Hz by
+default; with ``quick`` at a high rate, at most :data:`QUICK_MAX_STEPS` control steps). The json gives each
+variant's climb rate per height, the median time to climb (s) and its highest step climbed reliably (rule in the
+json).
 """
 
 from __future__ import annotations
@@ -19,35 +22,55 @@ from neurowalk.experiments.suites.climbing import (
     QUICK_SWEEP_HEIGHTS,
     RELIABLE,
     STEP_RULE,
-    STEP_STEPS,
+    STEP_S,
     SWEEP_HEIGHTS,
     VARIANTS,
     climbed,
     highest_reliable,
     step_spec,
 )
+from neurowalk.experiments.suites.timing import SIM_HZ, quick_note, quick_seconds, steps_for
 from neurowalk.plotting import pyplot
 from neurowalk.runners.specs import spec_key
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
+QUICK_MAX_STEPS = 3000  # control steps of a quick run at most (STEP_S at 10 Hz; 111 s at 27 Hz)
+
 
 def run(
-    *, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None, workers: int = 2
+    *,
+    quick: bool = False,
+    seed: int = 0,
+    seeds: int | None = None,
+    out: Path | None = None,
+    workers: int = 2,
+    control_hz: float = SIM_HZ,
 ) -> Result:
-    """Climb rates per variant and height; the highest height each variant climbs reliably."""
+    """Climb rates per variant and height; the highest height each variant climbs reliably.
+
+    ``control_hz``: the control rate of every run (Hz); runs last
+    :data:`~neurowalk.experiments.suites.climbing.STEP_S` s (with ``quick``, at most :data:`QUICK_MAX_STEPS`
+    control steps).
+    """
     n = seeds if seeds is not None else (3 if quick else 10)
     if n < 1:
         raise ValueError(f"seeds must be >= 1, got {n}")
     heights = QUICK_SWEEP_HEIGHTS if quick else SWEEP_HEIGHTS
-    specs = [step_spec(h, v, seed + k) for v in VARIANTS for h in heights for k in range(n)]
+    seconds = quick_seconds(STEP_S, QUICK_MAX_STEPS, control_hz) if quick else STEP_S
+    steps = steps_for(seconds, control_hz)
+
+    def spec(h: float, v: str, s: int) -> dict:
+        return step_spec(h, v, s, steps, control_hz=control_hz)
+
+    specs = [spec(h, v, seed + k) for v in VARIANTS for h in heights for k in range(n)]
     results, _ = run_store(specs, Path(out) if out is not None else Path("out/steps"), workers)
     variants = {}
     for v in VARIANTS:
         rates, times = {}, {}
         for h in heights:
-            runs = [results[spec_key(step_spec(h, v, seed + k))] for k in range(n)]
+            runs = [results[spec_key(spec(h, v, seed + k))] for k in range(n)]
             ok = [climbed(r) for r in runs]
             rates[h] = sum(ok) / n
             done = [r["exit_step"] for r in runs if r["exit_step"] is not None]
@@ -57,13 +80,17 @@ def run(
             "modules": VARIANTS[v],
             "climb_rate": {f"{h:.2f}": r for h, r in rates.items()},
             "median_steps_to_climb": {f"{h:.2f}": t for h, t in times.items()},
+            "median_time_to_climb_s": {f"{h:.2f}": None if t is None else t / control_hz for h, t in times.items()},
             "highest_reliable_m": best,
         }
     summary = {
         "heights_m": list(heights),
         "seeds": n,
         "seed": seed,
-        "steps": STEP_STEPS,
+        "steps": steps,
+        "control_hz": float(control_hz),
+        "duration_s": steps / control_hz,
+        "quick_note": quick_note(STEP_S, seconds, control_hz) if quick else None,
         "rule": STEP_RULE,
         "reliable_share": RELIABLE,
         "variants": variants,
@@ -89,7 +116,8 @@ def plot(res: Result) -> Figure:
         xlabel="step height (cm)",
         ylabel=f"climbed (share of {s['seeds']} seeds; lines offset)",
         ylim=(-0.06, 1.06),
-        title="Single step, steering straight ahead",
+        title=f"Single step, steering straight ahead ({s['steps'] / s.get('control_hz', 10.0):.0f} s per run"
+        f" at {s.get('control_hz', 10.0):g} Hz)",
     )
     ax.legend(fontsize=8)
     fig.tight_layout()

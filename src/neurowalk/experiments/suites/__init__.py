@@ -6,4 +6,6 @@
   coverage); :mod:`.confinement`: the traps and confined spaces a path met there (Fig. 6's classes).
 * :mod:`.climbing`: the climbing track of Fig. 10 and the step-height sweep.
 * :mod:`.real_robot`: the runs, snapshots and drawings of Fig. 8 and 9 (physics AMOSII).
+* :mod:`.timing`: run lengths in seconds of simulated time at a run's control rate, and the comparison of
+  simulated event times with the real robot's (Fig. 8-10).
 """

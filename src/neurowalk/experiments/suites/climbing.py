@@ -1,23 +1,34 @@
 """Climbing outcomes shared by ``fig10`` and ``steps``: run specs and success rules.
 
 * On ``climbing-track`` (plastic network, reflexes and backbone control on) a run succeeds when the
-  trunk centre reaches the second platform (0.3 m beyond its edge) within :data:`TRACK_STEPS` control
-  steps and the trunk never rose to the top of a wall (``max_z`` below the wall tops, 2 x step + 0.20 m).
+  trunk centre reaches the second platform (0.3 m beyond its edge) within :data:`TRACK_S` s of simulated
+  time and the trunk never rose to the top of a wall (``max_z`` below the wall tops, 2 x step + 0.20 m).
+  :func:`run_track` also records when the trunk centre first got 0.3 m onto the first platform.
 * On ``steps`` (steering fixed straight ahead, so only the climbing modules decide) a run climbs when
-  the trunk centre gets 0.3 m onto the platform within :data:`STEP_STEPS` steps. The highest step
+  the trunk centre gets 0.3 m onto the platform within :data:`STEP_S` s. The highest step
   climbed reliably is the highest height at which at least :data:`RELIABLE` of the seeds climbed, all
   lower heights included.
+
+Run lengths are in seconds of simulated time, turned into control steps at the run's control rate
+(:func:`~neurowalk.experiments.suites.timing.steps_for`; at 10 Hz, the default, 12,000 and 3000 steps).
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-from neurowalk.arenas.spec import WALL_HEIGHT
+import numpy as np
 
-TRACK_STEPS = 12_000  # 1200 s at 10 Hz
+from neurowalk.arenas.climbing import track_regions
+from neurowalk.arenas.spec import WALL_HEIGHT
+from neurowalk.experiments.suites.timing import SIM_HZ, steps_for
+from neurowalk.runners.specs import normalize, result_of, to_config
+from neurowalk.sim.episode import RunInterruptedError, run_episode
+
+TRACK_S = 1200.0  # s of simulated time per climbing-track run (12,000 control steps at 10 Hz)
 TRACK_HEIGHTS = (0.06, 0.08, 0.10)  # m
-STEP_STEPS = 3000  # 300 s
+STEP_S = 300.0  # s per single-step run (3000 control steps at 10 Hz)
+ONTO = 0.3  # m: "on a platform" = the trunk centre this far past its edge
 SWEEP_HEIGHTS = (0.02, 0.04, 0.06, 0.08, 0.10, 0.12, 0.14)  # m
 QUICK_SWEEP_HEIGHTS = (0.04, 0.08, 0.12)  # m
 RELIABLE = 0.8  # share of seeds
@@ -28,41 +39,70 @@ VARIANTS: dict[str, dict[str, bool]] = {
     "neither": {"reflexes": False, "backbone": False},
 }
 TRACK_RULE = (
-    f"success: the trunk centre reaches the second platform (0.3 m past its edge) within {TRACK_STEPS} "
-    f"control steps, and never rises to a wall's top (max trunk z < 2 x step + {WALL_HEIGHT} m)"
+    f"success: the trunk centre reaches the second platform ({ONTO} m past its edge) within {TRACK_S:g} s of "
+    f"simulated time, and never rises to a wall's top (max trunk z < 2 x step + {WALL_HEIGHT} m)"
 )
 STEP_RULE = (
-    f"climbed: the trunk centre gets 0.3 m onto the platform within {STEP_STEPS} control steps (steering "
+    f"climbed: the trunk centre gets {ONTO} m onto the platform within {STEP_S:g} s of simulated time (steering "
     f"fixed straight ahead); reliable: at least {RELIABLE:.0%} of the seeds at that height and every lower "
     "one"
 )
 
 
-def track_spec(step: float, seed: int, steps: int = TRACK_STEPS, variant: str = "paper") -> dict[str, Any]:
-    """Run spec of one climbing-track run (plastic network ``variant``, reflexes and backbone control)."""
+def track_spec(
+    step: float, seed: int, steps: int | None = None, variant: str = "paper", control_hz: float = SIM_HZ
+) -> dict[str, Any]:
+    """Run spec of one climbing-track run (plastic network ``variant``, reflexes and backbone control) at
+    ``control_hz`` Hz, ``steps`` control steps long (default :data:`TRACK_S` s at that rate)."""
     out = {
         "arena": "climbing-track",
         "arena_opts": {"step": step},
         "controller": "plastic",
-        "steps": steps,
+        "steps": steps if steps is not None else steps_for(TRACK_S, control_hz),
         "seed": seed,
+        "control_hz": float(control_hz),
         "reflexes": True,
         "backbone": True,
     }
     return {**out, "variant": variant} if variant != "paper" else out
 
 
-def step_spec(height: float, variant: str, seed: int, steps: int = STEP_STEPS) -> dict[str, Any]:
-    """Run spec of one single-step run of an ablation ``variant`` (a key of :data:`VARIANTS`)."""
+def step_spec(
+    height: float, variant: str, seed: int, steps: int | None = None, control_hz: float = SIM_HZ
+) -> dict[str, Any]:
+    """Run spec of one single-step run of an ablation ``variant`` (a key of :data:`VARIANTS`) at ``control_hz``
+    Hz, ``steps`` control steps long (default :data:`STEP_S` s at that rate)."""
     return {
         "arena": "steps",
         "arena_opts": {"height": height},
         "controller": "fixed",
         "steer": [-1.0, -1.0],
-        "steps": steps,
+        "steps": steps if steps is not None else steps_for(STEP_S, control_hz),
         "seed": seed,
+        "control_hz": float(control_hz),
         **{k: v for k, v in VARIANTS[variant].items() if v},
     }
+
+
+def first_platform_step(pose: np.ndarray, step: float) -> int | None:
+    """First row of a climbing-track run's ``pose`` (T, 3) with the trunk centre :data:`ONTO` m onto the first
+    platform (x at least that far past its edge, within the first corridor); None if never."""
+    x0, x1, y0, y1, _ = track_regions(step)["first platform"]
+    x, y = pose[:, 0], pose[:, 1]
+    idx = np.flatnonzero((x >= x0 + ONTO) & (x <= x1) & (y >= y0) & (y <= y1))
+    return int(idx[0]) if len(idx) else None
+
+
+def run_track(spec: dict[str, Any]) -> dict[str, Any]:
+    """One climbing-track run's summary (as :func:`~neurowalk.runners.specs.run_spec`) plus ``first_platform_step``
+    (:func:`first_platform_step`; the second platform is the summary's ``exit_step``)."""
+    try:
+        ep = run_episode(cfg := to_config(normalize(spec)))
+    except RunInterruptedError:
+        raise KeyboardInterrupt from None
+    summary = result_of(ep)
+    summary["first_platform_step"] = first_platform_step(ep.trajectory.pose, cfg.arena_opts["step"])
+    return summary
 
 
 def track_success(summary: dict[str, Any], step: float) -> bool:

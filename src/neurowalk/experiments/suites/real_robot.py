@@ -1,8 +1,12 @@
 """Shared by ``fig8`` and ``fig9``, the paper's real-robot experiments in simulation (physics body ``amosii``).
 
+* Durations: a run's length is set in seconds of simulated time and turned into control steps at the run's control
+  rate (:func:`~neurowalk.experiments.suites.timing.steps_for`), so that a run covers the same time at 10 Hz (the
+  authors' simulator) as at 27 Hz (the real robot's controller).
 * Runs: one spec per network and seed, through the resumable SQLite store in the figure's output folder
   (:func:`run_store_paths`); each stored result is the run's summary plus its top-view path, sampled every
-  :data:`PATH_EVERY` control steps, so that a figure can draw every seed's path without rerunning.
+  :data:`PATH_EVERY_S` s (:func:`path_every` control steps), so that a figure can draw every seed's path without
+  rerunning.
 * The example seed of each network is run again in full (:func:`example_runs`) for the snapshot strip, the
   neural traces and, on request, a video.
 * Snapshots: rendered offscreen from a fixed camera over the arena, as the paper's photos are taken, at
@@ -20,6 +24,7 @@ import numpy as np
 
 from neurowalk.body.physics import AmosII
 from neurowalk.experiments.stores import run_store
+from neurowalk.experiments.suites.timing import SIM_HZ, steps_for
 from neurowalk.fileio import to_jsonable
 from neurowalk.plotting import draw_arena
 from neurowalk.render import render_frames, render_video
@@ -34,10 +39,21 @@ if TYPE_CHECKING:
     from neurowalk.sim.episode import Episode
 
 NETWORKS: tuple[str, ...] = ("plastic", "static")
-PATH_EVERY = 10  # control steps between stored path points (1 s at 10 Hz)
+PATH_EVERY_S = 1.0  # s of simulated time between stored path points (10 control steps at 10 Hz)
 N_SNAPSHOTS = 6
 ROBOT_REACH = 0.35  # m, the robot's feet from its trunk centre (0.33 m) with a margin: framed at the start
-VIDEO_EVERY = 4  # control steps per video frame: at 15 fps, 6x real time with 10 Hz control
+VIDEO_FPS = 15.0  # frames per second of the videos
+VIDEO_SPEEDUP = 6.0  # the videos play at 6x simulated time (4 control steps a frame at 10 Hz)
+
+
+def path_every(control_hz: float) -> int:
+    """Control steps between stored path points: :data:`PATH_EVERY_S` s at ``control_hz`` Hz (at least 1)."""
+    return steps_for(PATH_EVERY_S, control_hz)
+
+
+def video_every(control_hz: float) -> int:
+    """Control steps per video frame: :data:`VIDEO_SPEEDUP` x simulated time at :data:`VIDEO_FPS` (at least 1)."""
+    return steps_for(VIDEO_SPEEDUP / VIDEO_FPS, control_hz)
 
 
 def make_spec(
@@ -49,14 +65,17 @@ def make_spec(
     *,
     variant: str = "paper",
     params: dict[str, float] | None = None,
+    control_hz: float = SIM_HZ,
 ) -> dict[str, Any]:
-    """Run spec of one run: the ``network`` (a controller name) in ``arena`` for ``steps`` control steps."""
+    """Run spec of one run: the ``network`` (a controller name) in ``arena`` for ``steps`` control steps at
+    ``control_hz`` Hz."""
     spec: dict[str, Any] = {
         "arena": arena,
         "arena_opts": dict(arena_opts),
         "controller": network,
         "steps": steps,
         "seed": seed,
+        "control_hz": float(control_hz),
         "variant": variant,
     }
     if params:
@@ -67,22 +86,23 @@ def make_spec(
 def run_with_path(spec: dict[str, Any]) -> dict[str, Any]:
     """One run's summary (as :func:`~neurowalk.runners.specs.run_spec`) plus ``path``: (n, 2) x, y in m.
 
-    The path holds every :data:`PATH_EVERY`-th row of the trunk's pose and the last row, rounded to 1 mm.
+    The path holds every :func:`path_every`-th row (every :data:`PATH_EVERY_S` s at the run's control rate) of the
+    trunk's pose and the last row, rounded to 1 mm.
     """
     try:
-        ep = run_episode(to_config(normalize(spec)))
+        ep = run_episode(cfg := to_config(normalize(spec)))
     except RunInterruptedError:
         raise KeyboardInterrupt from None
     summary = to_jsonable(ep.summary)
     for k in MACHINE_KEYS:
         summary.pop(k, None)
-    summary["path"] = np.round(sampled(ep.trajectory.pose[:, :2]), 3).tolist()
+    summary["path"] = np.round(sampled(ep.trajectory.pose[:, :2], path_every(cfg.control_hz)), 3).tolist()
     return summary
 
 
-def sampled(xy: np.ndarray) -> np.ndarray:
-    """Rows 0, :data:`PATH_EVERY`, 2 :data:`PATH_EVERY`, ... and the last row of ``xy`` (T, k)."""
-    idx = np.arange(0, len(xy), PATH_EVERY)
+def sampled(xy: np.ndarray, every: int) -> np.ndarray:
+    """Rows 0, ``every``, 2 ``every``, ... and the last row of ``xy`` (T, k)."""
+    idx = np.arange(0, len(xy), every)
     if idx[-1] != len(xy) - 1:
         idx = np.append(idx, len(xy) - 1)
     return xy[idx]
@@ -157,12 +177,14 @@ def snapshots(
 
 
 def write_videos(name: str, arena: ArenaSpec, examples: dict[str, dict[str, Any]], out: Path) -> list[str]:
-    """One mp4 per network's example run in ``out`` (camera tracking the trunk); the paths written."""
+    """One mp4 per network's example run in ``out`` (camera tracking the trunk, :data:`VIDEO_SPEEDUP` x simulated
+    time); the paths written."""
     model = AmosII(arena).model
     paths = []
     for net, ex in examples.items():
         path = Path(out) / f"{name}-{net}-seed{ex['summary']['seed']}.mp4"
-        render_video(model, ex["qpos"], path, every=VIDEO_EVERY, distance=1.6, progress=True)
+        every = video_every(ex["summary"]["control_hz"])
+        render_video(model, ex["qpos"], path, fps=VIDEO_FPS, every=every, distance=1.6, progress=True)
         paths.append(str(path))
     return paths
 
