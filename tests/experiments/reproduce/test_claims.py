@@ -30,9 +30,11 @@ def test_wilson_known_value_and_bad_counts():
 
 def test_outcome_reproduced_only_where_the_papers_outcome_is_typical():
     assert outcome("escapes", "escaped", 10, 10).verdict == "reproduced"
+    assert outcome("escapes", "escaped", 2, 3).verdict == "reproduced"
     assert outcome("escapes", "escaped", 0, 10).verdict == "not"
-    assert outcome("escapes", "escaped", 5, 10).verdict == "partly"
-    assert outcome("escapes", "escaped", 1, 1).verdict == "partly"  # one run says little: the interval spans 1/2
+    assert outcome("escapes", "escaped", 6, 10).verdict == "partly"
+    assert outcome("escapes", "escaped", 0, 0).verdict == "not"
+    assert outcome("escapes", "escaped", 3, 3).interval[0] < 0.5  # the interval says how little three runs say
 
 
 def test_rate_compares_the_papers_rate_with_the_interval():

@@ -3,8 +3,8 @@
 Each rule is stated in the claim's ``rule`` so the report says how a verdict was reached:
 
 * :func:`outcome`: the paper shows one run with an outcome (escaped, trapped, climbed); neurowalk runs several
-  seeds. Reproduced where the outcome is the typical one (the Wilson 95% interval of its share lies above 1/2),
-  not where it is the rare one (the interval lies below 1/2), partly in between.
+  seeds. Reproduced where at least two thirds of them end that way, partly where some do, not where none does
+  (the Wilson 95% interval of the share is reported beside it).
 * :func:`rate`: the paper gives a count of a number (49 of 50). Reproduced where the paper's rate lies inside the
   measured 95% interval, partly where the two rates are within 10 points, not otherwise.
 * :func:`timing`: the paper gives the time of an event on the real robot. Reproduced within a factor of 1.5,
@@ -61,10 +61,10 @@ class Claim:
 def outcome(what: str, paper: str, k: int, n: int) -> Claim:
     """The paper's single run ended in ``paper``; ``k`` of neurowalk's ``n`` seeds end the same way."""
     lo, hi = wilson(k, n)
-    verdict = "reproduced" if lo > 0.5 else "not" if hi < 0.5 else "partly"
+    verdict = "reproduced" if 3 * k >= 2 * n > 0 else "partly" if k > 0 else "not"
     rule = (
-        f"{k} of {n} runs end as the paper's ({paper}); 95% interval {lo:.0%}-{hi:.0%}: reproduced above 50%, "
-        "not below, partly across"
+        f"{k} of {n} runs end as the paper's one run did ({paper}; 95% interval {lo:.0%}-{hi:.0%}): reproduced "
+        "where two thirds or more do, partly where some do, not where none does"
     )
     return Claim(what, paper, f"{k}/{n}", verdict, rule, (lo, hi))
 
