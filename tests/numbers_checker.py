@@ -21,14 +21,16 @@ from pathlib import Path
 SOURCES = ("docs/results/", "docs/benchmarks/")
 NUMBER = re.compile(r"(?<![\w.])[-+−]?\d[\d,]*(?:\.\d+)?")
 LINK = re.compile(r"\[([^\]]*)\]\(([^)\s]+)\)")
-#: Text before a number that makes it a name, not a result: "Fig. 8", "Table 2", "§2.2", "Eq. 3", "issue 28".
+#: Text before a number that makes it a name, not a result: "Fig. 8", "Table 2", "§2.2", "Eq. 3", "issue 28", and
+#: the end of a range of such names: "Eq. 1-6", "Fig. 3-5".
 NAMING = re.compile(
     r"(?:Fig(?:ure|s)?\.?|Tables?|§|Eqs?\.|Equations?|issues?|sections?|Python|panels?|step|Video|"
-    r"Supplementary\s+Video)\s*$",
+    r"Supplementary\s+Video)\s*(?:\d+[-–])?$",
     re.IGNORECASE,
 )
-#: Numbers of the paper's model and of the robot that the text names (not results): counts of parts.
-WORDS = re.compile(r"^(?:19-DOF|19 DOF|two-neuron|\d+-neuron)")
+#: Numbers of the paper's model and of the robot that the text names (not results): counts of parts. AMOSII's 19
+#: joints (its 19 DOF) are named as such too: "the 19 joint targets", "AMOSII's 19 actuator names".
+WORDS = re.compile(r"^(?:19-DOF|19 DOF|19 (?:joint|actuator)|two-neuron|\d+-neuron)")
 YEAR = re.compile(r"^(?:19|20)\d\d$")
 
 

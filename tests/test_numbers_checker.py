@@ -38,3 +38,17 @@ def test_sourced_numbers_pass_and_others_are_named(tmp_path):
     missing = _doc(tmp_path, "see [10/10](docs/results/fig8.json#claims/3/measured)\n")
     assert len(missing) == 1 and "no such source" in missing[0]
     assert _doc(tmp_path, "```\nneurowalk figure fig8 --seeds 10\n```\n<!-- 12 -->\n") == []
+
+
+def test_the_robots_19_joints_name_a_part_count(tmp_path):
+    """AMOSII's 19 joints are a count of its parts, as "19-DOF" is; other counts of joints are not exempt."""
+    assert _doc(tmp_path, "the 19 joint targets, AMOSII's 19 actuator names, its 19 joints\n") == []
+    bad = _doc(tmp_path, "18 joint targets and 19 legs\n")
+    assert len(bad) == 2 and "'18' has no source" in bad[0] and "'19' has no source" in bad[1]
+
+
+def test_a_range_of_names_is_a_name(tmp_path):
+    """A range of names ("Eq. 1-6") names each; a range after anything else is still two numbers to source."""
+    assert _doc(tmp_path, "the network of Eq. 1-6 and of Fig. 3-5\n") == []
+    bad = _doc(tmp_path, "after 1-6 runs\n")
+    assert len(bad) == 2 and "'1' has no source" in bad[0] and "'6' has no source" in bad[1]

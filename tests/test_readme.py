@@ -21,9 +21,14 @@ def test_readme_starts_with_two_commands_and_ci_runs_the_test_one():
     assert tests in (ROOT / ".ci" / "run").read_text()
 
 
+#: The pages whose code blocks hold the commands a reader copies: the README's tour and the full list in the manual.
+COMMAND_PAGES = ("README.md", "docs/usage.md")
+
+
 def _neurowalk_commands() -> list[str]:
-    """Every `neurowalk ...` command in the README's code blocks (continuation lines joined, comments cut)."""
-    text = (ROOT / "README.md").read_text()
+    """Every `neurowalk ...` command in the code blocks of :data:`COMMAND_PAGES` (continuation lines joined, comments
+    cut)."""
+    text = "\n".join((ROOT / page).read_text() for page in COMMAND_PAGES)
     cmds = []
     for block in re.findall(r"```[a-z]*\n(.*?)```", text, re.S):
         joined = re.sub(r"\\\n\s*", " ", block)
@@ -37,6 +42,7 @@ def _neurowalk_commands() -> list[str]:
 
 
 def test_every_readme_command_parses():
+    """The commands of the README and of docs/usage.md parse as written."""
     import shlex
 
     from neurowalk.cli import parse
@@ -59,7 +65,8 @@ def test_the_command_check_catches_a_bad_command():
 
 
 def test_each_readme_command_writes_to_its_own_folder():
-    """Following the README overwrites nothing: every command that writes results has its own output path."""
+    """Following the README and docs/usage.md overwrites nothing: every command that writes results has its own
+    output path."""
     import shlex
 
     from neurowalk.cli import parse
