@@ -70,9 +70,9 @@ def _long_path(ax: Axes, r: dict, pose: np.ndarray, step: np.ndarray, mark: int 
 
 def _long_title(letter: str, key: str, r: dict, hz: float) -> str:
     cov = r["coverage"]
-    wedged = f"\nwedged {r['wedged_periods']}x (longest {r['longest_wedged_s']:.0f} s)" if "wedged" in r else ""
+    wedged = f", wedged {r['wedged_periods']}x (longest {r['longest_wedged_s']:.0f} s)" if "wedged" in r else ""
     return (
-        f"{letter}  {key}: {r['steps']:,} steps ({r['steps'] / hz:,.0f} s), "
+        f"{letter}  {key}: {r['steps']:,} steps ({r['steps'] / hz:,.0f} s)\n"
         f"{'trapped' if r['trapped'] else 'not trapped'}, coverage {cov:.0%}{wedged}"
     )
 
