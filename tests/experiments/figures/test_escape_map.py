@@ -15,3 +15,17 @@ def test_escape_map_counts_every_network_and_size(monkeypatch, tmp_path):
     fig = FIGURES["escape-map"].plot(res)
     fig.savefig(tmp_path / "map.png")
     assert (tmp_path / "map.png").stat().st_size > 10_000
+
+
+def test_escape_map_runs_at_the_control_rate(monkeypatch):
+    seen = []
+
+    def stored_runs(configs, *args, **kwargs):
+        seen.extend(configs)
+        return [{"escaped": False} for _ in configs]
+
+    monkeypatch.setattr(escape_map, "stored_runs", stored_runs)
+    res = escape_map.run(quick=True, control_hz=20.0)
+    assert seen and all(c.control_hz == 20.0 and c.steps == escape_map.TRAP_STEPS for c in seen)
+    assert res.summary["control_hz"] == 20.0 and res.summary["seconds"] == escape_map.TRAP_STEPS / 20.0
+    assert res.summary["seeds"] == escape_map.QUICK_SEEDS and res.summary["quick"] is True

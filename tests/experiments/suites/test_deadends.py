@@ -65,6 +65,8 @@ def _fake_fig5():
     summary = {"network": "plastic", "seed": 0, "climbing": False, "table": table, "runs": runs,
                "wedged": wedged_counts({k: runs[k] for k in LONG})}  # fmt: skip
     arrays = {f"{k}/{f}": v for k in runs for f, v in trace.items()}
+    for k in LONG:
+        arrays[f"{k}/step"], arrays[f"{k}/coverage"] = np.arange(n) * 10, np.linspace(0, 0.1, n)
     return Result("fig5", summary, arrays)
 
 
@@ -78,6 +80,9 @@ def test_wedged_counts_and_the_long_run_panel_circles_each_period():
     assert w["difficult (plastic)"]["periods"] == 2 and w["difficult (plastic)"]["longest_s"] == 200.1
     assert w["difficult (plastic)"]["total_s"] == pytest.approx(320.2)
     assert w["difficult (plastic)"]["causes"] == {"body contact": 1, "both rays blind": 1}
+    assert w["difficult (plastic)"]["over_300s"] == {"periods": 0, "causes": {}}  # 200 s and 120 s
+    assert [(p["start_step"], p["start_s"], p["cause"]) for p in w["difficult (plastic)"]["list"]] == [
+        (0, 0.0, "body contact"), (5000, 500.0, "both rays blind")]  # fmt: skip
     assert w["difficult (static)"] == {**w["difficult (static)"], "periods": 0, "longest_s": 0.0, "total_s": 0.0}
     fig = plot(res)
     circles = [p for ax in fig.axes for p in ax.patches if isinstance(p, mpatches.Circle)]
@@ -85,3 +90,30 @@ def test_wedged_counts_and_the_long_run_panel_circles_each_period():
     labels = [t.get_text() for ax in fig.axes for t in ax.texts]
     assert "200 s" in labels and "120 s" in labels
     assert any("wedged 2x (longest 200 s)" in ax.get_title() for ax in fig.axes)
+
+
+def test_wedged_periods_over_300_s_are_counted_with_their_causes():
+    periods = [{"start": 10, "end": 4000, "duration_s": 399.1, "cause": "latched turn"},
+               {"start": 5000, "end": 6200, "duration_s": 120.1, "cause": "body contact"},
+               {"start": 7000, "end": 12000, "duration_s": 500.1, "cause": "body contact"}]  # fmt: skip
+    s = {"wedged_periods": 3, "longest_wedged_s": 500.1, "wedged": periods,
+         "wedged_causes": {"latched turn": 1, "body contact": 2}}  # fmt: skip
+    w = wedged_counts({"run": s}, control_hz=20.0)["run"]
+    assert w["over_300s"] == {"periods": 2, "causes": {"latched turn": 1, "body contact": 1}}
+    assert [p["start_s"] for p in w["list"]] == [0.5, 250.0, 350.0]  # steps / rate
+
+
+def test_the_dead_ends_get_the_control_rate_and_keep_their_control_steps(monkeypatch):
+    from neurowalk.experiments.suites import deadends
+
+    seen = []
+
+    def stored_runs(configs, *args, **kwargs):
+        seen.extend(configs)
+        return [{"escaped": True, "trapped": False, "direction_switches": 0} for _ in configs]
+
+    monkeypatch.setattr(deadends, "stored_runs", stored_runs)
+    t = outcome_table(1, control_hz=27.0, progress=False)
+    assert len(seen) == len(VARIANTS) * len(deadends.NETWORKS)
+    assert all(c.control_hz == 27.0 and c.steps == 5000 for c in seen)
+    assert t["control_hz"] == 27.0 and t["seconds"] == pytest.approx(5000 / 27.0)

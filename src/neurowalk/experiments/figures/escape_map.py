@@ -1,10 +1,10 @@
 """Escape map: escape rate against trap size, for the plastic, static and Braitenberg networks.
 
-Three sweeps, 5000 control steps per run: the simple deadlock's width (0.6-1.6 m), the narrow
-passage's gap between its end obstacles, and the narrow passage's width at the mouth (its end is
-narrower by the funnel). Where each network works and where it fails: the plastic network's long
-turns escape narrow passages that trap the static one, but in a very tight space (some wall always
-within reflex range) its weights stay grown and it keeps turning on the spot.
+Three sweeps, 5000 control steps per run (at any ``control_hz``: the networks' steps; seconds follow the
+rate): the simple deadlock's width (0.6-1.6 m), the narrow passage's gap between its end obstacles, and the
+narrow passage's width at the mouth (its end is narrower by the funnel). Where each network works and where it
+fails: the plastic network's long turns escape narrow passages that trap the static one, but in a very tight
+space (some wall always within reflex range) its weights stay grown and it keeps turning on the spot.
 """
 
 from __future__ import annotations
@@ -31,6 +31,7 @@ SWEEPS = {
     "narrow-passage width (m)": ("narrow-passage", "width", (1.0, 1.2, 1.4, 1.6, 1.8, 2.0)),
 }
 QUICK_SIZES = 3  # sizes per sweep with --quick (first, middle, last)
+QUICK_SEEDS = 1  # seeds per size with --quick (unless --seeds)
 
 
 def run(
@@ -43,13 +44,15 @@ def run(
     gait: str = "wave",
     out: Path | None = None,
     workers: int = 2,
+    control_hz: float = 10.0,
 ) -> Result:
-    """Every sweep x network x size x seed; ``seeds`` default 5 (2 with ``quick``); ``climbing``: Fig. 10 modules on.
+    """Every sweep x network x size x seed; ``seeds`` default 5 (1 with ``quick``); ``climbing``: Fig. 10 modules on.
 
     ``variant``: the networks' variant (``paper`` or ``original``). ``out``: the folder of the resumable result store
-    (``results.sqlite``): a rerun goes on from the runs it holds.
+    (``results.sqlite``): a rerun goes on from the runs it holds. ``control_hz``: every run's control rate (each
+    keeps its :data:`TRAP_STEPS` control steps).
     """
-    n = seeds if seeds is not None else (2 if quick else 5)
+    n = seeds if seeds is not None else (QUICK_SEEDS if quick else 5)
     if n < 1:
         raise ValueError(f"seeds must be >= 1, got {n}")
     keys, configs = [], []
@@ -69,6 +72,7 @@ def run(
                             controller=net,
                             steps=TRAP_STEPS,
                             seed=s,
+                            control_hz=control_hz,
                             reflexes=climbing,
                             backbone=climbing,
                             variant=variant,
@@ -88,7 +92,10 @@ def run(
         "climbing": climbing,
         "variant": variant,
         "gait": gait,
+        "quick": quick,
         "steps": TRAP_STEPS,
+        "control_hz": control_hz,
+        "seconds": TRAP_STEPS / control_hz,
         "sweeps": sweeps,
         "counts": counts,
         "rule": "escape rate = runs that reached the exit region behind the trap's mouth / runs",
@@ -113,7 +120,8 @@ def plot(res: Result) -> Figure:
             xlabel=label,
             ylabel="escape rate (networks offset by 0.015)",
             ylim=(-0.06, 1.06),
-            title=f"{label.split(' (')[0]}: {s['seeds']} seeds per size",
+            title=f"{label.split(' (')[0]}: {s['seeds']} seeds per size, {s['steps']} control steps "
+            f"({s['steps'] / s.get('control_hz', 10.0):g} s)",
         )
         ax.legend(fontsize=8)
     return fig

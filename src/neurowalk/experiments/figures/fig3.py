@@ -1,10 +1,18 @@
 """Fig. 3: the static network (b = 2.4, c = -3.5) in dead ends and in the original arenas.
 
-A. Simple deadlock: escaped. B. Narrow passage (a gap between the end obstacles): trapped,
-oscillating. C. Neural activations in the narrow passage. D-E. Input against output, coloured by
-time: the hysteresis loops. F. The cluttered arena: explored without getting trapped. G. The
-difficult arena (sharp corners, narrow passages): trapped. The json holds the escape counts of all
-networks (Braitenberg beside static and plastic) over ``--seeds`` seeds and ±20% geometry changes.
+Panels as the paper's caption names them: A. Simple deadlock: escaped. B. Narrow passage (a gap between the end
+obstacles): trapped, oscillating. C. Neural activations in the narrow passage. D-E. Input against output, coloured
+by time: the hysteresis loops. F. The cluttered arena (obstacles, no sharp corners or narrow passages): explored
+without getting trapped; red the first 7,000 control steps, gray the further 33,000. G. The difficult arena (sharp
+corners, narrow passages): trapped; red dot the start, green dot the position after 7,000 control steps.
+
+Run lengths: the dead ends 5000 control steps; the long runs :data:`LONG_STEPS` = 40,000 control steps (4,000 s at
+10 Hz), the paper's 70,000 + 330,000 time steps read as physics steps of the authors' simulator, ten to a control
+step (the reading and its argument: :mod:`neurowalk.experiments.suites.deadends`; the json's
+``time_step_reading``); :data:`MARK_STEP` = 7,000 is the paper's 70,000. ``--quick``: long runs of
+:data:`~neurowalk.experiments.suites.deadends.QUICK_LONG_STEPS`. The json holds the escape counts of all networks
+(Braitenberg beside static and plastic) over ``--seeds`` seeds and ±20% geometry changes, and the wedged periods
+of the long runs with their causes.
 """
 
 from __future__ import annotations
@@ -13,7 +21,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from neurowalk.experiments import Result
-from neurowalk.experiments.suites.deadends import build
+from neurowalk.experiments.suites.deadends import build, control_steps_of
 from neurowalk.experiments.suites.deadends_plot import plot as draw
 from neurowalk.sim.config import DEFAULT_ENGINE
 
@@ -25,6 +33,18 @@ NETWORK = "static"
 LONG = {
     "cluttered (static)": {"arena": "cluttered", "controller": "static"},
     "difficult (static)": {"arena": "difficult", "controller": "static"},
+}
+PAPER_TIME_STEPS = {"initial (red line, green dot)": 70_000, "further (gray line)": 330_000}
+LONG_STEPS = control_steps_of(sum(PAPER_TIME_STEPS.values()))  # 40,000 control steps
+MARK_STEP = control_steps_of(PAPER_TIME_STEPS["initial (red line, green dot)"])  # 7,000 control steps
+PANELS = {
+    "A": "simple deadlock: escaped",
+    "B": "narrow passage: trapped",
+    "C": "neural activations in the narrow passage (B)",
+    "D": "left input against output (hysteresis)",
+    "E": "right input against output (hysteresis)",
+    "F": "cluttered arena: explored (red: first 7,000 control steps, gray: the rest)",
+    "G": "difficult arena: trapped (green dot: after 7,000 control steps)",
 }
 
 
@@ -39,28 +59,36 @@ def run(
     engine: str = DEFAULT_ENGINE,
     device: str | None = None,
     out: Path | None = None,
+    control_hz: float = 10.0,
 ) -> Result:
-    """Outcome table over ``seeds`` seeds (default 10; 3 with ``quick``), example and long runs.
+    """Outcome table over ``seeds`` seeds (default 10; 1 with ``quick``), example and long runs.
 
     ``climbing``: with the leg reflexes and backbone control of Fig. 10 switched on. ``variant``: the networks'
     variant (``paper`` or ``original``). ``gait``: the locomotion network's gait (``wave`` by default). ``engine``:
     ``mujoco`` (default) or ``warp`` (MuJoCo Warp, the runs as worlds of one model). ``out``: the folder of the
     resumable result stores (``results.sqlite``, ``traces.sqlite``): a rerun goes on from the runs they hold.
+    ``control_hz``: every run's control rate; the runs keep their control steps, seconds follow the rate.
     """
-    return build(
+    res = build(
         NAME,
         NETWORK,
         LONG,
         quick=quick,
         seed=seed,
         seeds=seeds,
+        long_steps=LONG_STEPS,
+        paper_time_steps=PAPER_TIME_STEPS,
+        mark_step=MARK_STEP,
         climbing=climbing,
         variant=variant,
         gait=gait,
         engine=engine,
         device=device,
         out=out,
+        control_hz=control_hz,
     )
+    res.summary["panels"] = PANELS
+    return res
 
 
 def plot(res: Result) -> Figure:

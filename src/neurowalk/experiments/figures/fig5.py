@@ -1,12 +1,21 @@
 """Fig. 5: the plastic network in dead ends and in the difficult arena.
 
-A. Simple deadlock and B. narrow passage: escaped, by a long turn in one direction once the
-weights have grown. C. Neural activations and weights in the narrow passage. D-E. Input against
-output, coloured by time: switching between hysteresis and single-attractor states. F. The
-difficult arena: plastic explores. G. Its weights over time. The json compares it with static and
-Braitenberg over the same number of steps (trapping, coverage) and holds the escape counts of every
-network over ``--seeds`` seeds and ±20% geometry changes, the plastic network started from zero (as
-in the paper's exploration experiment) and from b = 2.4, q = 3.5 (its Fig. 4 start).
+Panels as the paper's caption and text name them: A. Simple deadlock and B. narrow passage: escaped, by a long turn
+in one direction once the weights have grown. C. Neural activations and weights in the narrow passage (B).
+D-E. Input against output, coloured by time: switching between hysteresis and single-attractor states. F. The
+difficult arena: the plastic network, started from zero weights, explores. G. Its four weights (self b1, b2;
+inhibitions c1 = -q1, c2 = -q2) over the whole long run. Beside them (not in the paper): the coverage over time of
+the plastic, static and Braitenberg networks in the same arena, and the wedged periods of each run (start,
+duration, cause).
+
+Run lengths: the dead ends 5000 control steps; the long runs :data:`LONG_STEPS` = 100,000 control steps (10,000 s
+at 10 Hz), the paper's 1,000,000 time steps read as physics steps of the authors' simulator, ten to a control step
+(the reading and its argument: :mod:`neurowalk.experiments.suites.deadends`; the json's ``time_step_reading``).
+The long runs are streamed and keep every 10th control step and the last (``long_rows`` in the json).
+``--quick``: long runs of :data:`~neurowalk.experiments.suites.deadends.QUICK_LONG_STEPS`. The json compares
+plastic with static and Braitenberg over the same number of steps (trapping, coverage, wedged periods) and holds
+the escape counts of every network over ``--seeds`` seeds and ±20% geometry changes, the plastic network started
+from zero (as in the paper's exploration experiment) and from b = 2.4, q = 3.5 (its Fig. 4 start).
 """
 
 from __future__ import annotations
@@ -14,8 +23,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from neurowalk.experiments import Result
-from neurowalk.experiments.suites.deadends import build
+from neurowalk.experiments.suites.deadends import WEDGED_LONG_S, build, control_steps_of
 from neurowalk.experiments.suites.deadends_plot import plot as draw
 from neurowalk.sim.config import DEFAULT_ENGINE
 
@@ -29,6 +40,18 @@ LONG = {
     "difficult (static)": {"arena": "difficult", "controller": "static"},
     "difficult (braitenberg)": {"arena": "difficult", "controller": "braitenberg"},
 }
+PAPER_TIME_STEPS = {"difficult-arena run (F, G)": 1_000_000}
+LONG_STEPS = control_steps_of(PAPER_TIME_STEPS["difficult-arena run (F, G)"])  # 100,000 control steps
+PANELS = {
+    "A": "simple deadlock: escaped",
+    "B": "narrow passage: escaped",
+    "C": "neural activations and weights in the narrow passage (B)",
+    "D": "left input against output",
+    "E": "right input against output",
+    "F": "difficult arena: the plastic network's path over the long run",
+    "G": "the plastic network's weights b1, b2, c1, c2 over the whole long run",
+}
+WEIGHTS = ("b1", "b2", "c1", "c2")  # G: b (self) and c = -q (inhibition) of the left and right neuron
 
 
 def run(
@@ -42,13 +65,15 @@ def run(
     engine: str = DEFAULT_ENGINE,
     device: str | None = None,
     out: Path | None = None,
+    control_hz: float = 10.0,
 ) -> Result:
-    """Outcome table over ``seeds`` seeds (default 10; 3 with ``quick``), example and long runs.
+    """Outcome table over ``seeds`` seeds (default 10; 1 with ``quick``), example and long runs.
 
     ``climbing``: with the leg reflexes and backbone control of Fig. 10 switched on. ``variant``: the networks'
     variant (``paper`` or ``original``). ``gait``: the locomotion network's gait (``wave`` by default). ``engine``:
     ``mujoco`` (default) or ``warp`` (MuJoCo Warp, the runs as worlds of one model). ``out``: the folder of the
     resumable result stores (``results.sqlite``, ``traces.sqlite``): a rerun goes on from the runs they hold.
+    ``control_hz``: every run's control rate; the runs keep their control steps, seconds follow the rate.
     """
     res = build(
         NAME,
@@ -57,27 +82,60 @@ def run(
         quick=quick,
         seed=seed,
         seeds=seeds,
+        long_steps=LONG_STEPS,
+        paper_time_steps=PAPER_TIME_STEPS,
         climbing=climbing,
         variant=variant,
         gait=gait,
         engine=engine,
         device=device,
         out=out,
+        control_hz=control_hz,
     )
-    runs = res.summary["runs"]
-    p, s = runs["difficult (plastic)"], runs["difficult (static)"]
-    res.summary["difficult_comparison"] = {
+    s = res.summary
+    s["panels"] = PANELS
+    runs, wedged = s["runs"], s["wedged"]
+    p, st, br = (runs[f"difficult ({n})"] for n in ("plastic", "static", "braitenberg"))
+    over = f"over_{WEDGED_LONG_S:g}s"
+    s["difficult_comparison"] = {
+        "steps": s["long_steps"],
         "plastic_trapped": p["trapped"],
-        "static_trapped": s["trapped"],
-        "braitenberg_trapped": runs["difficult (braitenberg)"]["trapped"],
+        "static_trapped": st["trapped"],
+        "braitenberg_trapped": br["trapped"],
         "plastic_coverage": p["coverage"],
-        "static_coverage": s["coverage"],
-        "braitenberg_coverage": runs["difficult (braitenberg)"]["coverage"],
-        "plastic_covers_more": p["coverage"] > s["coverage"],
+        "static_coverage": st["coverage"],
+        "braitenberg_coverage": br["coverage"],
+        "plastic_covers_more": p["coverage"] > st["coverage"],
+        **{f"{n}_wedged": wedged[f"difficult ({n})"]["periods"] for n in ("plastic", "static", "braitenberg")},
+        **{f"{n}_wedged_{over}": wedged[f"difficult ({n})"][over] for n in ("plastic", "static", "braitenberg")},
     }
+    s["fig5g"] = weights_over_run(res, "difficult (plastic)")
     return res
 
 
+def weights_over_run(res: Result, key: str) -> dict:
+    """What panel G draws, in numbers: the four weights' first, last, least and greatest values over the long run
+    ``key``, the steps its rows cover and their stride."""
+    a, s = res.arrays, res.summary
+    step = a[f"{key}/step"]
+    w = np.column_stack([a[f"{key}/b"], 0.0 - a[f"{key}/q"]]) + 0.0  # b1, b2, c1 = -q1, c2 = -q2 (no -0.0)
+    finite = bool(np.isfinite(w).all())
+    return {
+        "run": key,
+        "weights": list(WEIGHTS),
+        "rows": len(step),
+        "first_step": int(step[0]),
+        "last_step": int(step[-1]),
+        "stride": s["long_rows"]["stride"],
+        "seconds": float((step[-1] + 1) / s["control_hz"]),
+        "finite": finite,
+        "start": dict(zip(WEIGHTS, w[0].tolist(), strict=True)),
+        "end": dict(zip(WEIGHTS, w[-1].tolist(), strict=True)),
+        "min": dict(zip(WEIGHTS, np.nanmin(w, axis=0).tolist(), strict=True)) if finite else None,
+        "max": dict(zip(WEIGHTS, np.nanmax(w, axis=0).tolist(), strict=True)) if finite else None,
+    }
+
+
 def plot(res: Result) -> Figure:
-    """Panels A-G; the counts table printed below."""
+    """Panels A-G, the coverage over time, the wedged periods; the counts table printed below."""
     return draw(res, NETWORK, list(LONG), weights_panel=True)

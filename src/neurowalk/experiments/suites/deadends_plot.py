@@ -52,18 +52,101 @@ def draw_wedged(ax: Axes, periods: list[dict]) -> None:
         )
 
 
+def _long_path(ax: Axes, r: dict, pose: np.ndarray, step: np.ndarray, mark: int | None) -> None:
+    """A long run's path: time-coloured; with ``mark``, red up to that step and gray after it (paper Fig. 3F), a
+    red dot at the start and a green one at the mark (Fig. 3G)."""
+    arena = make_arena(r["arena"], **r["arena_opts"])
+    if mark is None:
+        draw_arena(ax, arena, pose)
+        return
+    draw_arena(ax, arena)
+    i = int(np.searchsorted(step, mark))  # the first kept row at or after the mark
+    ax.plot(pose[i:, 0], pose[i:, 1], color="0.6", lw=0.6, label=f"after step {mark:,}")
+    ax.plot(pose[: i + 1, 0], pose[: i + 1, 1], color="#CC5050", lw=0.9, label=f"steps 0-{mark:,}")
+    ax.plot(*pose[0, :2], "o", color="red", ms=7, zorder=5, label="start")
+    ax.plot(*pose[min(i, len(pose) - 1), :2], "o", color="limegreen", mec="k", ms=7, zorder=5, label=f"step {mark:,}")
+    ax.legend(fontsize=6, loc="lower left")
+
+
+def _long_title(letter: str, key: str, r: dict, hz: float) -> str:
+    cov = r["coverage"]
+    wedged = f", wedged {r['wedged_periods']}x (longest {r['longest_wedged_s']:.0f} s)" if "wedged" in r else ""
+    return (
+        f"{letter}  {key}: {r['steps']:,} steps ({r['steps'] / hz:,.0f} s)\n"
+        f"{'trapped' if r['trapped'] else 'not trapped'}, coverage {cov:.0%}{wedged}"
+    )
+
+
+def _weights(ax: Axes, a: dict, key: str, r: dict, hz: float) -> None:
+    """Paper Fig. 5G: the four weights of the long run ``key`` over time, its wedged periods shaded."""
+    tl = a[f"{key}/step"] / hz
+    b, q = a[f"{key}/b"], a[f"{key}/q"]
+    ax.plot(tl, b[:, 0], color="red", lw=0.7, label="b1")
+    ax.plot(tl, b[:, 1], color="blue", lw=0.7, label="b2")
+    ax.plot(tl, 0.0 - q[:, 0], color="green", lw=0.7, label="c1")
+    ax.plot(tl, 0.0 - q[:, 1], color="purple", lw=0.7, label="c2")
+    for i, p in enumerate(r.get("wedged", [])):
+        ax.axvspan(p["start"] / hz, (p["end"] + 1) / hz, color="0.85", zorder=0, label="wedged" if i == 0 else None)
+    ax.axhline(0, color="k", lw=0.5)
+    stride = int(np.median(np.diff(a[f"{key}/step"]))) if len(tl) > 1 else 1
+    ax.set(
+        xlabel="time (s)",
+        ylabel="weight",
+        xlim=(0, tl[-1]),
+        title=f"G  {key}: weights over the whole run (every {stride}th control step; shaded: wedged periods)",
+    )
+    ax.legend(fontsize=7, ncol=5, loc="upper right")
+
+
+def _coverage(ax: Axes, a: dict, keys: list[str], hz: float) -> None:
+    """The share of the free area visited over time, one line per long run (not in the paper)."""
+    for key in keys:
+        ax.plot(a[f"{key}/step"] / hz, a[f"{key}/coverage"], lw=1, label=key)
+    ax.set(xlabel="time (s)", ylabel="coverage", ylim=(0, 1), title="coverage over time (not in the paper)")
+    ax.legend(fontsize=7)
+
+
+def _wedged_lines(s: dict, hz: float, most: int = 12) -> list[str]:
+    lines = []
+    for k, w in s.get("wedged", {}).items():
+        causes = ", ".join(f"{c} {n}" for c, n in w["causes"].items()) or "none"
+        over = next((v for name, v in w.items() if name.startswith("over_")), None)
+        longer = f"; over 300 s: {over['periods']}" if over is not None else ""
+        lines.append(
+            f"{k}: wedged {w['periods']}x, longest {w['longest_s']:.0f} s, in all {w['total_s']:.0f} s "
+            f"({causes}{longer})"
+        )
+        periods = w.get("list", [])
+        shown = ", ".join(f"{p['start_s']:.0f} s +{p['duration_s']:.0f} s {p['cause']}" for p in periods[:most])
+        if periods:
+            lines.append(f"    start +duration cause: {shown}" + (" ..." if len(periods) > most else ""))
+    return lines
+
+
 def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool = False) -> Figure:
-    """Panels A-G for the figure's ``network`` and the outcome table; ``weights_panel``: G shows weights."""
+    """Panels A-G for the figure's ``network`` and the outcome table.
+
+    Fig. 3 (``weights_panel`` False): F and G the paths of the first two long runs, red up to ``mark_step`` and gray
+    after. Fig. 5 (``weights_panel``): F the path of the first long run, beside it the coverage over time of every
+    long run, and G (a row of its own) the first long run's weights over the whole run.
+    """
     plt = pyplot()
     s, a = res.summary, res.arrays
-    fig = plt.figure(figsize=(18, 11), constrained_layout=True)
-    gs = fig.add_gridspec(3, 4, height_ratios=[1, 1, 0.28])
+    hz = float(s.get("control_hz", 10.0))
+    fig = plt.figure(figsize=(18, 15 if weights_panel else 11), constrained_layout=True)
+    ratios = [1, 1, 0.6, 0.34] if weights_panel else [1, 1, 0.28]
+    gs = fig.add_gridspec(len(ratios), 4, height_ratios=ratios)
     runs = s["runs"]
     notes = []
     if s.get("variant", "paper") != "paper":
         notes.append(f"network variant: {s['variant']} (the authors' code)")
     if s.get("climbing"):
         notes.append("with leg reflexes and backbone joint control switched on (Fig. 10's modules)")
+    if s.get("quick"):
+        full = s.get("long_steps_full", s["long_steps"])
+        notes.append(f"--quick: long runs of {s['long_steps']:,} control steps (the full figure's: {full:,})")
+    if hz != 10.0:
+        notes.append(f"control rate {hz:g} Hz")
     if notes:
         fig.suptitle("; ".join(notes))
     for i, name in enumerate(("simple-deadlock", "narrow-passage")):
@@ -72,7 +155,7 @@ def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool
         outcome = "escaped" if runs[name]["escaped"] else ("trapped" if runs[name]["trapped"] else "not out")
         ax.set_title(f"{'AB'[i]}  {name}, {network}: {outcome}")
     ax = fig.add_subplot(gs[0, 2:])
-    t = np.arange(len(a["narrow-passage/inputs"])) / 10.0
+    t = np.arange(len(a["narrow-passage/inputs"])) / hz
     ax.plot(t, a["narrow-passage/inputs"][:, 0] + 2.5, "C0", lw=0.6, label="I1 (left)")
     ax.plot(t, a["narrow-passage/inputs"][:, 1] + 2.5, "C1", lw=0.6, label="I2 (right)")
     ax.plot(t, a["narrow-passage/outputs"][:, 0], "C0", lw=1.0, label="O1")
@@ -97,38 +180,26 @@ def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool
         a["narrow-passage/outputs"][:, 1],
         "E  right: I2 vs O2",
     )
-    for j, key in enumerate(long_keys[:2]):
+    mark = s.get("mark_step")
+    paths = long_keys[:1] if weights_panel else long_keys[:2]
+    for j, key in enumerate(paths):
         ax = fig.add_subplot(gs[1, 2 + j])
         r = runs[key]
-        if weights_panel and j == 1:  # paper Fig. 5G: the weights of the long run over time
-            key0 = long_keys[0]
-            tl = np.arange(len(a[f"{key0}/b"])) / 10.0
-            ax.plot(tl, a[f"{key0}/b"][:, 0], "C0", lw=0.8, label="b1")
-            ax.plot(tl, a[f"{key0}/b"][:, 1], "C1", lw=0.8, label="b2")
-            ax.plot(tl, -0.5 * a[f"{key0}/q"].sum(axis=1), "k", lw=0.8, label="c")
-            ax.set(xlabel="time (s)", ylabel="weight", title=f"G  {key0}: weights over time")
-            ax.legend(fontsize=7, ncol=3)
-            continue
-        draw_arena(ax, make_arena(r["arena"], **r["arena_opts"]), a[f"{key}/pose"])
+        _long_path(ax, r, a[f"{key}/pose"], a[f"{key}/step"], mark)
         draw_wedged(ax, r.get("wedged", []))
-        cov = r["coverage"]
-        wedged = f"\nwedged {r['wedged_periods']}x (longest {r['longest_wedged_s']:.0f} s)" if "wedged" in r else ""
-        ax.set_title(
-            f"{'FG'[j]}  {key}: {r['steps']} steps, {'trapped' if r['trapped'] else 'not trapped'}, "
-            f"coverage {cov:.0%}{wedged}",
-            fontsize=9,
-        )
+        ax.set_title(_long_title("FG"[j], key, r, hz), fontsize=9)
+    if weights_panel:  # paper Fig. 5G: the weights of the long run over time; the coverage curves beside F
+        _coverage(fig.add_subplot(gs[1, 3]), a, long_keys, hz)
+        _weights(fig.add_subplot(gs[2, :]), a, long_keys[0], runs[long_keys[0]], hz)
     counts = s["table"]["counts"]
-    lines = ["escaped / runs (seeds " + str(s["table"]["seeds"]) + ", 5000 steps):"]
+    steps = s["table"].get("steps", 5000)
+    lines = [f"escaped / runs (seeds {s['table']['seeds']}, {steps} control steps, {steps / hz:g} s):"]
     for v, row in counts.items():
         lines.append(f"{v}: " + ", ".join(f"{n} {c['escaped']}/{c['runs']}" for n, c in row.items()))
-    for k, w in s.get("wedged", {}).items():
-        causes = ", ".join(f"{c} {n}" for c, n in w["causes"].items()) or "none"
-        lines.append(
-            f"{k}: wedged {w['periods']}x, longest {w['longest_s']:.0f} s, in all {w['total_s']:.0f} s "
-            f"({causes}; dashed circles)"
-        )
-    ax = fig.add_subplot(gs[2, :])
+    wedged = _wedged_lines(s, hz)
+    if wedged:
+        lines += ["wedged periods of the long runs (dashed circles on the paths):", *wedged]
+    ax = fig.add_subplot(gs[-1, :])
     ax.axis("off")
     ax.text(0, 1, "\n".join(lines), fontsize=8, family="monospace", va="top", transform=ax.transAxes)
     return fig

@@ -1,0 +1,156 @@
+"""Fig. 3 and Fig. 5: the long runs' length by the stated reading of "time step", the control rate in every run,
+the panels named as the paper names them, and Fig. 5G's weights over the whole long run.
+
+The figures' runs are replaced by stand-ins here (:func:`fake_runs`), except in the streamed long-run tests, which
+run a few thousand control steps.
+"""
+
+import numpy as np
+import pytest
+
+from neurowalk.experiments.figures import fig3, fig5
+from neurowalk.experiments.suites import deadends
+from neurowalk.sim.episode import EpisodeConfig
+
+
+def fake_runs(seen: list[EpisodeConfig]):
+    """A stand-in for :func:`deadends.stored_runs`: records the configs, returns results of the right shape."""
+
+    def stored_runs(configs, folder, name, workers, progress, desc, traces, device=None):
+        seen.extend(configs)
+        out = []
+        for c in configs:
+            summary = {"arena": c.arena, "arena_opts": {}, "steps": c.steps, "escaped": None, "trapped": False,
+                       "coverage": 0.1, "wedged_periods": 0, "longest_wedged_s": 0.0, "wedged_causes": {},
+                       "wedged": [], "control_hz": c.control_hz}  # fmt: skip
+            if traces == "long":
+                step = deadends.sample_steps(c.steps, deadends.LONG_STRIDE)
+                n = len(step)
+                out.append({"summary": summary, "step": step, "pose": np.zeros((n, 3)), "inputs": np.zeros((n, 2)),
+                            "outputs": np.zeros((n, 2)), "b": np.ones((n, 2)), "q": np.ones((n, 2)),
+                            "coverage": np.linspace(0, 0.1, n)})  # fmt: skip
+            elif traces:
+                n = c.steps
+                out.append({"summary": {**summary, "escaped": True}, "pose": np.zeros((n, 3)),
+                            "inputs": np.zeros((n, 2)), "outputs": np.zeros((n, 2)), "b": np.ones((n, 2)),
+                            "q": np.ones((n, 2))})  # fmt: skip
+            else:
+                out.append({"escaped": True, "trapped": False, "direction_switches": 1, "max_turn_deg": 90.0})
+        return out
+
+    return stored_runs
+
+
+@pytest.fixture
+def faked(monkeypatch):
+    seen: list[EpisodeConfig] = []
+    monkeypatch.setattr(deadends, "stored_runs", fake_runs(seen))
+    return seen
+
+
+def test_the_long_runs_are_the_papers_time_steps_read_as_physics_steps():
+    # Fig. 5: 1,000,000 time steps; Fig. 3: 70,000 + 330,000 (the green dot at 70,000): ten physics steps to a
+    # control step in the authors' simulator (controlinterval 10 of 0.01 s).
+    assert deadends.PHYSICS_PER_CONTROL == 10
+    assert fig5.LONG_STEPS == 100_000 and fig3.LONG_STEPS == 40_000 and fig3.MARK_STEP == 7_000
+    assert deadends.TRAP_STEPS == 5000  # the dead ends' 5000 time steps are control steps
+    assert deadends.QUICK_LONG_STEPS < fig3.LONG_STEPS
+
+
+@pytest.mark.parametrize(("fig", "quick", "long_steps"), [
+    (fig5, False, 100_000), (fig5, True, deadends.QUICK_LONG_STEPS),
+    (fig3, False, 40_000), (fig3, True, deadends.QUICK_LONG_STEPS),
+])  # fmt: skip
+def test_every_run_gets_the_control_rate_and_the_long_runs_their_length(faked, fig, quick, long_steps):
+    res = fig.run(quick=quick, seeds=1, control_hz=20.0)
+    assert faked and all(c.control_hz == 20.0 for c in faked)
+    long_cfgs = [c for c in faked if c.arena in ("cluttered", "difficult")]
+    dead_ends = [c for c in faked if c.arena not in ("cluttered", "difficult")]
+    assert len(long_cfgs) == len(fig.LONG) and all(c.steps == long_steps for c in long_cfgs)
+    assert dead_ends and all(c.steps == 5000 for c in dead_ends)  # control steps at any rate
+    s = res.summary
+    assert s["control_hz"] == 20.0 and s["table"]["control_hz"] == 20.0 and s["table"]["seconds"] == 250.0
+    assert s["quick"] is quick and s["long_steps"] == long_steps and s["long_s"] == long_steps / 20.0
+    assert s["long_steps_full"] == fig.LONG_STEPS
+    reading = s["time_step_reading"]
+    assert reading["physics_per_control_step"] == 10 and reading["this_run_long_steps"] == long_steps
+    assert sum(reading["control_steps"].values()) == fig.LONG_STEPS
+    assert sum(reading["paper_time_steps"].values()) == fig.LONG_STEPS * 10
+    if fig is fig3:
+        assert s["mark_step"] == 7_000  # below the quick runs' length too
+    if quick:
+        assert set(s["table"]["variants"]) == set(deadends.QUICK_VARIANTS)
+
+
+def test_the_panels_are_named_as_the_papers(faked):
+    for fig, long_panels in ((fig3, {"F": "cluttered", "G": "difficult"}), (fig5, {"F": "difficult (plastic)"})):
+        res = fig.run(quick=True, seeds=1)
+        assert list(res.summary["panels"]) == list("ABCDEFG")
+        titles = [ax.get_title() for ax in fig.plot(res).axes]
+        for letter in "ABCDEFG":
+            assert sum(t.startswith(f"{letter}  ") for t in titles) == 1, (fig.NAME, letter, titles)
+        for letter, what in long_panels.items():
+            assert what in next(t for t in titles if t.startswith(f"{letter}  "))
+    g = next(t for t in titles if t.startswith("G  "))
+    assert "weights" in g and "difficult (plastic)" in g  # Fig. 5G: the weights over the long run
+    assert "coverage over time (not in the paper)" in titles
+
+
+def test_fig5g_covers_the_whole_run(faked):
+    res = fig5.run(seeds=1)
+    g = res.summary["fig5g"]
+    step = res.arrays["difficult (plastic)/step"]
+    assert g["first_step"] == step[0] == 0 and g["last_step"] == step[-1] == fig5.LONG_STEPS - 1
+    assert g["stride"] == deadends.LONG_STRIDE == 10 and set(np.diff(step)) <= {10, 9}
+    assert g["rows"] == len(step) == fig5.LONG_STEPS // 10 + 1 and g["finite"]
+    assert g["weights"] == ["b1", "b2", "c1", "c2"] and g["seconds"] == 10_000.0
+    assert res.arrays["difficult (plastic)/b"].shape == (len(step), 2)
+
+
+@pytest.fixture(scope="module")
+def streamed():
+    """A long run of 3,001 control steps in the difficult arena, streamed, and the same run held in memory."""
+    from neurowalk.sim.episode import run_episode
+
+    spec = {"arena": "difficult", "controller": "plastic", "steps": 3001}
+    return deadends.long_traces_of(spec), run_episode(EpisodeConfig(**spec))
+
+
+def test_a_streamed_long_run_keeps_every_tenth_row_and_the_summary_of_the_whole_run(streamed):
+    kept, whole = streamed
+    step = np.asarray(kept["step"])
+    assert step[0] == 0 and step[-1] == 3000 and set(np.diff(step)) == {10}  # 3000 is a tenth step itself
+    tr = whole.trajectory
+    for k in deadends.TRACES:
+        assert np.array_equal(np.asarray(kept[k]), getattr(tr, k)[step]), k  # bit for bit the rows of the run
+    assert np.isfinite(np.asarray(kept["b"])).all() and np.isfinite(np.asarray(kept["q"])).all()
+    machine = ("wall_time_s", "real_time_factor")
+    a = {k: v for k, v in kept["summary"].items() if k not in machine}
+    b = {k: v for k, v in whole.summary.items() if k not in machine}
+    assert a == b
+    assert whole.summary["wedged_periods"] >= 1  # the contacts of a wedged period are replayed for its cause
+    assert kept["coverage"][-1] == whole.summary["coverage"]
+    assert bool(np.all(np.diff(kept["coverage"]) >= 0))
+
+
+def test_first_visits_give_the_coverage_of_every_prefix():
+    from neurowalk import metrics
+    from neurowalk.arenas import make_arena
+
+    arena = make_arena("difficult")
+    rng = np.random.default_rng(3)
+    walk = np.cumsum(rng.normal(0, 0.05, (2000, 2)), axis=0) + np.array([3.0, -1.0])
+    pose = np.column_stack([walk, np.zeros(2000)])
+    pose[100] = np.nan
+    fv = deadends.FirstVisits(arena)
+    for start in range(0, 2000, 300):  # in chunks, as a streamed run hands them over
+        fv.add(pose[start : start + 300], start)
+    at = np.array([0, 99, 100, 101, 777, 1999])
+    want = [metrics.coverage(pose[: s + 1], arena) for s in at]
+    assert fv.curve(at).tolist() == pytest.approx(want, abs=0)
+
+
+def test_sample_steps_keep_the_first_and_the_last():
+    assert deadends.sample_steps(25, 10).tolist() == [0, 10, 20, 24]
+    assert deadends.sample_steps(21, 10).tolist() == [0, 10, 20]
+    assert deadends.sample_steps(1, 10).tolist() == [0]
