@@ -10,6 +10,8 @@ from __future__ import annotations
 from typing import Any
 
 from neurowalk.experiments.reproduce.claims import Claim, holds, outcome, rate
+from neurowalk.neural.plasticity import fixed_point
+from neurowalk.neural.variants import get_variant
 
 
 def _dead_end(s: dict[str, Any], arena: str, network: str, want: str, what: str) -> Claim:
@@ -44,14 +46,29 @@ def fig3(s: dict[str, Any], quick: bool) -> list[Claim]:
             "trapped",
             bool(diff["trapped"]),
             f"coverage {diff['coverage']:.1%}",
-            f"one run of {diff['steps']} control steps; longest wedged period {diff['longest_wedged_s']:.0f} s",
+            f"one run of {diff['steps']} control steps ({s['time_step_reading']['long_runs']}); longest wedged "
+            f"period {diff['longest_wedged_s']:.0f} s",
         ),
     ]
 
 
 def fig5(s: dict[str, Any], quick: bool) -> list[Claim]:
-    """Plastic network: escapes both dead ends; explores the difficult arena (covers more than the static one)."""
+    """Plastic network: escapes both dead ends; explores the difficult arena (covers more than the static one) with
+    no long wedged period; its weights adapt stably over the whole long run (Fig. 5G)."""
     p, st = _long(s, "difficult (plastic)"), _long(s, "difficult (static)")
+    wedged = s["wedged"]["difficult (plastic)"]
+    over = next(v for k, v in wedged.items() if k.startswith("over_"))
+    g = s["fig5g"]
+    sensory = get_variant(s["variant"]).sensory
+    b_star = fixed_point(sensory.mu_b, sensory.gamma_b, sensory.k)
+    q_star = fixed_point(sensory.mu_q, sensory.gamma_q, sensory.k)
+    whole = g["first_step"] <= g["stride"] and g["last_step"] == s["long_steps"] - 1
+    bounded = (
+        g["finite"]
+        and max(g["max"]["b1"], g["max"]["b2"]) <= 1.01 * b_star
+        and min(g["min"]["c1"], g["min"]["c2"]) >= -1.01 * q_star
+        and min(g["min"]["b1"], g["min"]["b2"]) >= 0.0
+    )
     return [
         _dead_end(s, "simple-deadlock", "plastic", "escaped", "plastic network escapes the simple dead end (Fig. 5A)"),
         _dead_end(s, "narrow-passage", "plastic", "escaped", "plastic network escapes the narrow passage (Fig. 5B)"),
@@ -60,8 +77,26 @@ def fig5(s: dict[str, Any], quick: bool) -> list[Claim]:
             "escapes all deadlocks, explores the whole environment",
             not p["trapped"] and p["coverage"] > st["coverage"],
             f"coverage {p['coverage']:.1%} (static {st['coverage']:.1%})",
-            f"one run of {p['steps']} control steps: not stuck at the end and more of the free area visited than the "
-            "static network's run in the same arena",
+            f"one run of {p['steps']} control steps ({s['time_step_reading']['long_runs']}): not stuck at the end and "
+            "more of the free area visited than the static network's run in the same arena",
+        ),
+        holds(
+            "no wedged period over 300 s in the plastic network's long run (Fig. 5F: escapes all deadlocks)",
+            "escapes from all deadlocks, corners",
+            over["periods"] == 0,
+            f"{over['periods']} over 300 s; {wedged['periods']} in all, longest {wedged['longest_s']:.0f} s",
+            f"wedged: held still against an obstacle (sim.summary); causes over 300 s: {over['causes'] or '-'}",
+        ),
+        holds(
+            "the weights adapt stably over the whole long run (Fig. 5G)",
+            "stable adaptation",
+            whole and bounded,
+            {
+                "max b": round(max(g["max"]["b1"], g["max"]["b2"]), 3),
+                "min c": round(min(g["min"]["c1"], g["min"]["c2"]), 3),
+            },
+            f"rows from step {g['first_step']} to {g['last_step']} every {g['stride']}; finite, b within [0, b*] and "
+            f"c within [-q*, 0] (1% margin), b* = {b_star:.3f} and q* = {q_star:.3f} the learning rule's fixed points",
         ),
     ]
 

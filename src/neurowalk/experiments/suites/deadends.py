@@ -271,9 +271,11 @@ def _spec(cfg: EpisodeConfig) -> dict[str, Any]:
     return {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg)}
 
 
-_KEEP = {"outcome": (keep_outcome, outcome_of, "direction_switches", ()),
-         "traces": (keep_traces, traces_of, "pose", TRACES),
-         "long": (keep_long_traces, long_traces_of, "step", LONG_TRACES)}  # fmt: skip
+_KEEP = {
+    "outcome": (keep_outcome, outcome_of, "direction_switches", ()),
+    "traces": (keep_traces, traces_of, "pose", TRACES),
+    "long": (keep_long_traces, long_traces_of, "step", LONG_TRACES),
+}
 
 
 def stored_runs(
