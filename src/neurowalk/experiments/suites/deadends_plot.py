@@ -106,7 +106,9 @@ def _coverage(ax: Axes, a: dict, keys: list[str], hz: float) -> None:
     ax.legend(fontsize=7)
 
 
-def _wedged_lines(s: dict, hz: float, most: int = 12) -> list[str]:
+def _wedged_lines(s: dict, most: int = 30, per_line: int = 6) -> list[str]:
+    """The text of the long runs' wedged periods: per run its counts, then its periods (start, duration, cause),
+    ``per_line`` to a line, the first ``most`` of them."""
     lines = []
     for k, w in s.get("wedged", {}).items():
         causes = ", ".join(f"{c} {n}" for c, n in w["causes"].items()) or "none"
@@ -116,10 +118,12 @@ def _wedged_lines(s: dict, hz: float, most: int = 12) -> list[str]:
             f"{k}: wedged {w['periods']}x, longest {w['longest_s']:.0f} s, in all {w['total_s']:.0f} s "
             f"({causes}{longer})"
         )
-        periods = w.get("list", [])
-        shown = ", ".join(f"{p['start_s']:.0f} s +{p['duration_s']:.0f} s {p['cause']}" for p in periods[:most])
-        if periods:
-            lines.append(f"    start +duration cause: {shown}" + (" ..." if len(periods) > most else ""))
+        periods = [f"{p['start_s']:.0f} s +{p['duration_s']:.0f} s {p['cause']}" for p in w.get("list", [])[:most]]
+        for i in range(0, len(periods), per_line):
+            head = "    start +duration cause: " if i == 0 else "    "
+            lines.append(head + ", ".join(periods[i : i + per_line]))
+        if len(w.get("list", [])) > most:
+            lines.append(f"    ... and {len(w['list']) - most} more (the json's wedged/{k}/list)")
     return lines
 
 
@@ -133,8 +137,17 @@ def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool
     plt = pyplot()
     s, a = res.summary, res.arrays
     hz = float(s.get("control_hz", 10.0))
-    fig = plt.figure(figsize=(18, 15 if weights_panel else 11), constrained_layout=True)
-    ratios = [1, 1, 0.6, 0.34] if weights_panel else [1, 1, 0.28]
+    counts = s["table"]["counts"]
+    steps = s["table"].get("steps", 5000)
+    lines = [f"escaped / runs (seeds {s['table']['seeds']}, {steps} control steps, {steps / hz:g} s):"]
+    for v, row in counts.items():
+        lines.append(f"{v}: " + ", ".join(f"{n} {c['escaped']}/{c['runs']}" for n, c in row.items()))
+    wedged = _wedged_lines(s)
+    if wedged:
+        lines += ["wedged periods of the long runs (dashed circles on the paths):", *wedged]
+    text_h = 0.15 * len(lines)  # inches: 8 pt lines
+    fig = plt.figure(figsize=(18, (13.5 if weights_panel else 9.5) + text_h), constrained_layout=True)
+    ratios = [4, 4, 2.4, text_h] if weights_panel else [4, 4, text_h]
     gs = fig.add_gridspec(len(ratios), 4, height_ratios=ratios)
     runs = s["runs"]
     notes = []
@@ -191,14 +204,6 @@ def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool
     if weights_panel:  # paper Fig. 5G: the weights of the long run over time; the coverage curves beside F
         _coverage(fig.add_subplot(gs[1, 3]), a, long_keys, hz)
         _weights(fig.add_subplot(gs[2, :]), a, long_keys[0], runs[long_keys[0]], hz)
-    counts = s["table"]["counts"]
-    steps = s["table"].get("steps", 5000)
-    lines = [f"escaped / runs (seeds {s['table']['seeds']}, {steps} control steps, {steps / hz:g} s):"]
-    for v, row in counts.items():
-        lines.append(f"{v}: " + ", ".join(f"{n} {c['escaped']}/{c['runs']}" for n, c in row.items()))
-    wedged = _wedged_lines(s, hz)
-    if wedged:
-        lines += ["wedged periods of the long runs (dashed circles on the paths):", *wedged]
     ax = fig.add_subplot(gs[-1, :])
     ax.axis("off")
     ax.text(0, 1, "\n".join(lines), fontsize=8, family="monospace", va="top", transform=ax.transAxes)
