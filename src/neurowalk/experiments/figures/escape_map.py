@@ -30,7 +30,7 @@ SWEEPS = {
     "narrow-passage gap (m)": ("narrow-passage", "gap", (0.15, 0.2, 0.25, 0.3, 0.36, 0.42)),
     "narrow-passage width (m)": ("narrow-passage", "width", (1.0, 1.2, 1.4, 1.6, 1.8, 2.0)),
 }
-QUICK_SIZES = 3  # sizes per sweep with --quick (first, middle, last)
+QUICK_SIZES = 2  # sizes per sweep with --quick (the smallest and the largest)
 QUICK_SEEDS = 1  # seeds per size with --quick (unless --seeds)
 
 
@@ -59,7 +59,7 @@ def run(
     sweeps = {}
     for label, (arena, opt, sizes) in SWEEPS.items():
         if quick:
-            sizes = (sizes[0], sizes[len(sizes) // 2], sizes[-1])
+            sizes = (sizes[0], sizes[-1])[:QUICK_SIZES]
         sweeps[label] = {"arena": arena, "option": opt, "sizes": list(sizes)}
         for size in sizes:
             for net in NETWORKS:
