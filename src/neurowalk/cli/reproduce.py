@@ -66,7 +66,7 @@ def _reproduce(args: argparse.Namespace) -> int:
         desc="reproduce",
         file=sys.stderr,
         dynamic_ncols=True,
-        bar_format="{desc}: {percentage:3.0f}%|{bar}| {elapsed} so far, about {remaining} left",
+        bar_format="{desc} {percentage:3.0f}%|{bar}| {elapsed} so far, about {remaining} left",
     )  # weighted by each figure's time in the committed run
     base, t0 = 0.0, time.perf_counter()
     try:

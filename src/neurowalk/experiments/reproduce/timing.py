@@ -46,7 +46,7 @@ def measured_times(full: Path, quick: Path) -> dict[str, Any]:
             if path.parent.name != figure:  # another command of the figure (other flags)
                 continue
             figures.setdefault(figure, {"quick_s": None, "full_s": None})[key] = rec["wall_time_s"]
-            if key == "full_s":
+            if key == "full_s" or machine is None:
                 machine = rec["versions"]["machine"]
     return {"machine": machine, "figures": dict(sorted(figures.items()))}
 

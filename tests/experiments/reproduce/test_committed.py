@@ -1,0 +1,40 @@
+"""The committed reproduction (docs/results/): its report is what its records render, every result has its record
+with a verdict, and the times `figure list` shows are the committed runs' times."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from neurowalk.experiments.reproduce.claims import VERDICTS
+from neurowalk.experiments.reproduce.plan import PLAN
+from neurowalk.experiments.reproduce.report import render
+from neurowalk.experiments.reproduce.timing import TIMES, measured_times
+
+RESULTS = Path(__file__).parents[3] / "docs" / "results"
+QUICK = RESULTS / "quick"
+
+
+def test_the_quick_reproduction_has_a_verdict_for_every_result_and_its_report():
+    for item in PLAN:
+        rec = json.loads((QUICK / f"{item.name}.json").read_text())
+        assert rec["quick"] is True and rec["verdict"] in VERDICTS, item.name
+        assert rec["claims"] and all(c["verdict"] in VERDICTS for c in rec["claims"]), item.name
+        assert (QUICK / rec["files"]["json"]).is_file(), item.name  # the numbers it was judged from
+    assert (QUICK / "report.md").read_text() == render(QUICK, quick=True)
+
+
+def test_quick_reproduction_took_under_fifteen_minutes():
+    """The acceptance line, read from the committed run's records (not timed here)."""
+    total = sum(json.loads(p.read_text())["wall_time_s"] for p in QUICK.glob("*/command.json"))
+    assert 0 < total < 15 * 60
+
+
+def test_every_quick_figure_took_under_ninety_seconds():
+    """The acceptance line for each figure's --quick, from the committed quick run's records."""
+    took = {p.parent.name: json.loads(p.read_text())["wall_time_s"] for p in QUICK.glob("*/command.json")}
+    assert took and all(t < 90 for t in took.values()), {k: t for k, t in took.items() if t >= 90}
+
+
+def test_figure_times_are_the_committed_runs():
+    assert json.loads(TIMES.read_text()) == measured_times(RESULTS, QUICK)
