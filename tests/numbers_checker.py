@@ -1,15 +1,20 @@
 """Where every number in the README and docs comes from: the checker behind tests/test_numbers.py.
 
-A number that is a result is written as a link to its source, a JSON file under docs/results/ or
-docs/benchmarks/, with the key path after ``#`` (keys joined by ``/``, list items by index):
+A number that is a result is written as a link to its source, a committed JSON result file (:data:`SOURCES`):
+docs/results/ (`neurowalk reproduce`), docs/benchmarks/ (`neurowalk bench`, benchmarks/), docs/baselines/
+(`neurowalk baseline`) or docs/optimize/ (`neurowalk optimize`), with the key path after ``#`` (keys joined by
+``/``, list items by index, a space in a key written ``%20``: the path is URL-decoded key by key):
 
     the plastic network escaped [10/10](docs/results/fig8.json#claims/0/measured) of the narrow passages
 
 The link's text must show the value at that key: the same string, or the same number as rounded in the text (a
-``%`` after it: the value is a share, shown times 100). A string value holding several numbers (a rule, a
-command) backs any number in the text that it contains. Every other number in the prose must be one that states
-no result: a figure, table, equation or section number, a year, a version, a count of the paper's model
-(:data:`WORDS`), or inside code (a command, a path), which the checker leaves alone.
+``%`` after it: the value is a share, shown times 100; `` min`` or `` h`` after it: the value is in seconds). A
+string value holding several numbers (a rule, a command) backs any number in the text that it contains. A link
+to a whole source file (no ``#key``) names the file and states nothing: its text is prose, where a number that
+is not a name is flagged. Every other number in the prose must be one that states no result: a figure, table,
+equation or section number (also with "Fig." or "Table" at the end of one line and the number at the start of
+the next), a year (also followed by a comma or other punctuation), a version, a count of the paper's model
+(:data:`WORDS`), or inside code (a command, a path, a setting such as `seed 0`), which the checker leaves alone.
 """
 
 from __future__ import annotations
@@ -17,9 +22,13 @@ from __future__ import annotations
 import json
 import re
 from pathlib import Path
+from urllib.parse import unquote
 
-SOURCES = ("docs/results/", "docs/benchmarks/")
-NUMBER = re.compile(r"(?<![\w.])[-+−]?\d[\d,]*(?:\.\d+)?")
+#: The committed result files: `neurowalk reproduce`'s run, `neurowalk bench`'s, and the two studies' (`neurowalk
+#: baseline`, `neurowalk optimize`).
+SOURCES = ("docs/results/", "docs/benchmarks/", "docs/baselines/", "docs/optimize/")
+#: A number: digits with thousands commas and a decimal part; a comma after it (a year in "2014,") is not its own.
+NUMBER = re.compile(r"(?<![\w.])[-+−]?\d(?:[\d,]*\d)?(?:\.\d+)?")
 LINK = re.compile(r"\[([^\]]*)\]\(([^)\s]+)\)")
 #: Text before a number that makes it a name, not a result: "Fig. 8", "Table 2", "§2.2", "Eq. 3", "issue 28", and
 #: the end of a range of such names: "Eq. 1-6", "Fig. 3-5".
@@ -50,7 +59,7 @@ def lookup(root: Path, doc: Path, target: str) -> tuple[object, str] | None:
     if not rel.startswith(SOURCES) or not rel.endswith(".json"):
         return None
     value: object = json.loads(path.read_text(encoding="utf-8"))
-    for part in key.split("/") if key else []:
+    for part in (unquote(k) for k in key.split("/")) if key else []:
         if isinstance(value, list):
             value = value[int(part)]
         elif isinstance(value, dict):
@@ -76,7 +85,7 @@ def shows(text: str, value: object) -> bool:
     shown = m.group(0)
     x = float(value) * (100.0 if text[m.end() : m.end() + 1] == "%" else 1.0)
     digits = len(shown.split(".")[1]) if "." in shown else 0
-    scale = {" min": 60.0, " h": 3600.0}.get(text[m.end() : m.end() + 4].rstrip(), 1.0) if digits == 0 else 1.0
+    scale = {" min": 60.0, " h": 3600.0}.get(text[m.end() : m.end() + 4].rstrip(), 1.0)
     return round(x / scale, digits) == _number(shown)
 
 
@@ -84,7 +93,7 @@ def problems(root: Path, doc: Path) -> list[str]:
     """Every number of ``doc`` (a markdown file under ``root``) that differs from its source or has none."""
     found = []
     text = prose(doc.read_text(encoding="utf-8"))
-    spans = []
+    spans, files = [], []
     for m in LINK.finditer(text):
         spans.append((m.start(2) - 2, m.end(2) + 1))  # the target's own numbers are not claims
         try:
@@ -94,8 +103,11 @@ def problems(root: Path, doc: Path) -> list[str]:
             found.append(f"{doc.name}: [{m.group(1)}]({m.group(2)}): no such source ({type(e).__name__}: {e})")
             continue
         if got is not None:
-            spans.append((m.start(1), m.end(1)))
             value, where = got
+            if not where.partition("#")[2]:  # the whole file: its name, no claim; its text is prose
+                files.append((m.start(1), m.end(1)))
+                continue
+            spans.append((m.start(1), m.end(1)))
             if not shows(m.group(1), value):
                 found.append(f"{doc.name}: {m.group(1)!r} differs from its source {where} = {value!r}")
     for m in NUMBER.finditer(text):
@@ -103,10 +115,13 @@ def problems(root: Path, doc: Path) -> list[str]:
             continue
         line_start = text.rfind("\n", 0, m.start()) + 1
         before, after = text[line_start : m.start()], text[m.start() : m.start() + 12]
+        if not before.strip():  # "Fig." at the end of the line before, its number starting this one
+            before = text[text.rfind("\n", 0, max(line_start - 1, 0)) + 1 : m.start()]
         if text[line_start:].startswith("#") or NAMING.search(before) or YEAR.match(m.group(0)):
             continue
         if WORDS.match(after) or re.match(r"\d+\.\d+\.\d+", after):
             continue
         lineno = text.count("\n", 0, m.start()) + 1
-        found.append(f"{doc.name}:{lineno}: {m.group(0)!r} has no source ({before[-40:]}{after})")
+        whole = " (a link to a whole file: a value needs its #key)" if any(a <= m.start() < b for a, b in files) else ""
+        found.append(f"{doc.name}:{lineno}: {m.group(0)!r} has no source{whole} ({before[-40:]}{after})")
     return found

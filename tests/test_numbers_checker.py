@@ -1,4 +1,5 @@
-"""The number-source checker (tests/numbers.py) finds what it must: wrong values, unsourced numbers, bad keys."""
+"""The number-source checker (tests/numbers_checker.py) finds what it must: wrong values, unsourced numbers, bad
+keys."""
 
 from __future__ import annotations
 
@@ -23,6 +24,7 @@ def test_shows_rounds_as_the_text_does():
     assert shows("41 s", 41.26) and shows("41.3 s", 41.26) and not shows("42 s", 41.26)
     assert shows("300 s", "held 300 s in 0.5 m") and not shows("200 s", "held 300 s in 0.5 m")
     assert shows("2 min", 120.0) and not shows("3 min", 120.0)
+    assert shows("3.3 min", 197.8) and shows("7.0 min", 417.3) and not shows("3.2 min", 197.8)
     assert not shows("1", True)
 
 
@@ -52,3 +54,43 @@ def test_a_range_of_names_is_a_name(tmp_path):
     assert _doc(tmp_path, "the network of Eq. 1-6 and of Fig. 3-5\n") == []
     bad = _doc(tmp_path, "after 1-6 runs\n")
     assert len(bad) == 2 and "'1' has no source" in bad[0] and "'6' has no source" in bad[1]
+
+
+def test_a_year_before_punctuation_is_a_year(tmp_path):
+    """ "2014," or "2015;" is a year, as "2014" is; a number before a comma is still a number to source."""
+    assert _doc(tmp_path, "(Manoonpong et al. 2013, Grinke et al. 2015; in 2014.)\n") == []
+    bad = _doc(tmp_path, "after 300, 500 runs\n")
+    assert len(bad) == 2 and "'300' has no source" in bad[0] and "'500' has no source" in bad[1]
+
+
+def test_a_link_to_a_whole_source_file_names_it(tmp_path):
+    """A link with no #key names a result file: no claim, so its text may hold no result, only names."""
+    text = "see [the Fig. 8 run](docs/results/fig8.json) and [`fig8.json`](docs/results/fig8.json)\n"
+    assert _doc(tmp_path, text) == []
+    bad = _doc(tmp_path, "escaped [10/10](docs/results/fig8.json)\n")
+    assert len(bad) == 2 and all("has no source (a link to a whole file: a value needs its #key)" in b for b in bad)
+
+
+def test_the_studies_are_sources_and_spaces_in_keys_are_escaped(tmp_path):
+    """docs/baselines/ and docs/optimize/ hold results; a key with a space is linked with %20."""
+    for study in ("baselines", "optimize"):
+        (tmp_path / "docs" / study).mkdir(parents=True)
+        (tmp_path / "docs" / study / "out.json").write_text(json.dumps({"failure classes": {"latched spin": 7}}))
+    text = (
+        "[7](docs/baselines/out.json#failure%20classes/latched%20spin) and "
+        "[7 spins](docs/optimize/out.json#failure%20classes/latched%20spin)\n"
+    )
+    assert _doc(tmp_path, text) == []
+    bad = _doc(tmp_path, "[8](docs/optimize/out.json#failure%20classes/latched%20spin)\n")
+    assert len(bad) == 1 and "differs" in bad[0] and "latched%20spin = 7" in bad[0]
+    (tmp_path / "docs" / "other").mkdir()
+    (tmp_path / "docs" / "other" / "out.json").write_text(json.dumps({"n": 7}))
+    bad = _doc(tmp_path, "[7](docs/other/out.json#n)\n")
+    assert len(bad) == 1 and "'7' has no source" in bad[0]
+
+
+def test_a_name_broken_over_two_lines_is_a_name(tmp_path):
+    """ "Fig." or "Table" ending one line and its number starting the next is a name; a bare number there is not."""
+    assert _doc(tmp_path, "as in Fig.\n8 and Table\n2, and §\n2.2\n") == []
+    bad = _doc(tmp_path, "as in the runs\n8 of them\n")
+    assert len(bad) == 1 and "'8' has no source" in bad[0]
