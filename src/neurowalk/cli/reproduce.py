@@ -86,7 +86,12 @@ def _reproduce(args: argparse.Namespace) -> int:
             if record is not None:
                 for item in items:
                     if run_of[item.name] is run:
-                        runner.write_item(item, run, record, out, args.quick)
+                        try:
+                            runner.write_item(item, run, record, out, args.quick)
+                        except (KeyError, TypeError, ValueError, IndexError) as e:  # numbers not of the judge's shape
+                            failed[item.name] = f"its judge could not read {run.figure}.json ({type(e).__name__}: {e})"
+                            (out / f"{item.name}.json").unlink(missing_ok=True)  # no verdict of an older run kept
+                            print(f"neurowalk: {item.name}: {failed[item.name]}", file=sys.stderr)
             base += expected[run.name]
             _show(bar, base)
             write_report(out, args.quick, failed)

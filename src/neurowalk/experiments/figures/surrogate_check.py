@@ -48,11 +48,11 @@ def agreement(phys_runs: list[list[Any]], sur_runs: list[list[Any]]) -> dict[str
 
 
 def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None) -> Result:
-    """Held-out calibration check and the dead-end suite on both bodies (default 10 seeds; 2 with ``quick``).
+    """Held-out calibration check and the dead-end suite on both bodies (default 10 seeds; 1 with ``quick``).
 
     ``out``: the folder of the resumable result store of the dead-end runs (``results.sqlite``).
     """
-    n = seeds if seeds is not None else (2 if quick else 10)
+    n = seeds if seeds is not None else (1 if quick else 10)
     if n < 1:
         raise ValueError(f"seeds must be >= 1, got {n}")
     cal = load_calibration()
