@@ -56,7 +56,10 @@ def test_same_seed_same_episode():
     np.testing.assert_array_equal(run(), run())
 
 
-@pytest.mark.parametrize("kwargs,word", [({"action": "torques"}, "torques"), ({"max_steps": -1}, "max_steps")])
+@pytest.mark.parametrize(
+    "kwargs,word",
+    [({"action": "torques"}, "torques"), ({"max_steps": -1}, "max_steps"), ({"control_hz": 0}, "control_hz")],
+)
 def test_bad_settings_raise_naming_them(kwargs, word):
     with pytest.raises(ValueError, match=word):
         ExplorePhysicsEnv(**kwargs)
@@ -69,3 +72,17 @@ def test_joint_actions_outside_the_actuator_ranges_are_refused():
         env.step(env.action_space.high + 1.0)
     with pytest.raises(ValueError, match="shape"):
         env.step(np.zeros(2))
+
+
+def test_the_real_robots_control_rate_steps_its_clock():
+    """At 27 Hz a step is 1/27 s of physics (7 steps of 5.29 ms), and the robot walks more per second than at 10."""
+    moved = {}
+    for hz in (10.0, 27.0):
+        env = ExplorePhysicsEnv(arena="open", max_steps=400, control_hz=hz)
+        env.reset(seed=0)
+        for _ in range(400):
+            env.step(np.array([-1.0, -1.0]))
+        assert env.body.data.time == pytest.approx(400 / hz)
+        x, y = env.body.data.qpos[:2]
+        moved[hz] = np.hypot(x - env.body.arena.start[0], y - env.body.arena.start[1]) / env.body.data.time
+    assert moved[27.0] > 1.5 * moved[10.0]  # the networks keep their steps: more steps a second, faster walking

@@ -34,6 +34,8 @@ class ExplorePhysicsEnv(ExploreTask):
     Args:
         arena, arena_opts, max_steps, noise, render_mode: as :class:`~neurowalk.envs.explore.ExploreEnv`.
         action: ``"steering"`` (O1, O2) through the locomotion network, or ``"joints"`` (19 joint targets, rad).
+        control_hz: control steps per second (10: the authors' simulator; 27: the real robot); the physics step is
+            fitted to it (``body.physics.set_control_rate``), the networks keep their step semantics.
     """
 
     def __init__(
@@ -44,9 +46,13 @@ class ExplorePhysicsEnv(ExploreTask):
         noise: float = 0.02,
         render_mode: str | None = None,
         action: str = "steering",
+        control_hz: float = 10.0,
     ) -> None:
         if action not in ACTIONS:
             raise ValueError(f"unknown action {action!r}; expected one of {', '.join(ACTIONS)}")
+        if isinstance(control_hz, bool) or not isinstance(control_hz, int | float) or not 0 < control_hz <= 1000:
+            raise ValueError(f"control_hz must be a number in (0, 1000] Hz, got {control_hz!r}")
+        self.control_hz = float(control_hz)
         super().__init__(arena, arena_opts, max_steps, noise, render_mode)
         self.action_kind = action
         if action == "steering":
@@ -82,7 +88,7 @@ class ExplorePhysicsEnv(ExploreTask):
         if self._renderer is not None:  # a new model: a new renderer on the next render()
             self._renderer.close()
             self._renderer = None
-        self.body = AmosII(arena, noise=self.noise)
+        self.body = AmosII(arena, noise=self.noise, control_hz=self.control_hz)
         self.body.reset(rng)
         self._ctrl = FixedController((-1.0, -1.0))
         self._ctrl.reset()

@@ -51,6 +51,7 @@ class ExplorePhysicsVectorEnv(VectorEnv):
         arena, arena_opts, max_steps, noise, action: as :class:`~neurowalk.envs.physics.ExplorePhysicsEnv` (the
             cells of an unbounded arena are counted in Python sets, per copy and step: slower).
         nthread: physics threads (the calling thread is one of them).
+        control_hz: control steps per second, as :class:`~neurowalk.envs.physics.ExplorePhysicsEnv`'s.
 
     Each copy keeps its own model and ``MjData`` (a persistent batch): about 4 MB of memory per copy.
 
@@ -69,11 +70,15 @@ class ExplorePhysicsVectorEnv(VectorEnv):
         noise: float = 0.02,
         action: str = "steering",
         nthread: int = 2,
+        control_hz: float = 10.0,
     ) -> None:
         for name, value in (("num_envs", num_envs), ("nthread", nthread)):
             if isinstance(value, bool) or not isinstance(value, int | np.integer) or value < 1:
                 raise ValueError(f"{name} must be a whole number >= 1, got {value!r}")
-        single = ExplorePhysicsEnv(arena=arena, arena_opts=arena_opts, max_steps=max_steps, noise=noise, action=action)
+        single = ExplorePhysicsEnv(
+            arena=arena, arena_opts=arena_opts, max_steps=max_steps, noise=noise, action=action, control_hz=control_hz
+        )
+        self.control_hz = single.control_hz
         n = self.num_envs = int(num_envs)
         self.single_observation_space, self.single_action_space = single.observation_space, single.action_space
         self.observation_space = batch_space(self.single_observation_space, n)
@@ -84,7 +89,7 @@ class ExplorePhysicsVectorEnv(VectorEnv):
         # room for the most boxes of any arena (Table 2: 20 boxes and the 4 walls, which ArenaSpec.boxes holds too)
         widest = self._arena(np.random.default_rng(0), n_boxes=BOXES[1])
         self.slots = len(widest.boxes)
-        proto = AmosII(widest, noise=self.noise, pad_boxes=self.slots)
+        proto = AmosII(widest, noise=self.noise, pad_boxes=self.slots, control_hz=self.control_hz)
         self.models: list[mujoco.MjModel] = [proto.model] * n
         self.arenas: list[ArenaSpec | None] = [None] * n
         self.batch = mujoco.batch.Batch(proto.model, n, int(nthread), True)  # persistent: contacts via get_data
@@ -205,7 +210,7 @@ class ExplorePhysicsVectorEnv(VectorEnv):
             arena = self._arena(rng)
             if len(arena.boxes) > self.slots:
                 raise ValueError(f"arena {arena.name!r} has {len(arena.boxes)} boxes; the models hold {self.slots}")
-            model = AmosII(arena, noise=self.noise, pad_boxes=self.slots).model
+            model = AmosII(arena, noise=self.noise, pad_boxes=self.slots, control_hz=self.control_hz).model
             self.models[i], self.arenas[i], self._rngs[i] = model, arena, rng  # rng: the body's noise from now on
             lay = sensor_layout(model)
             robot, obst = np.flatnonzero(lay.robot_geom), np.flatnonzero(lay.obstacle_geom)

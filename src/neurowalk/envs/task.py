@@ -90,7 +90,7 @@ class ExploreTask(gym.Env[np.ndarray, np.ndarray], abc.ABC):
         return self._observation(seen), self._info()
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict[str, Any]]:
-        """One control step (0.1 s) with ``action``."""
+        """One control step (1 / control_hz s: 0.1 s at the default 10 Hz) with ``action``."""
         if self.arena is None:
             raise RuntimeError("call reset() before step()")
         a = np.asarray(action, dtype=float)
