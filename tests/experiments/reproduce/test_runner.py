@@ -10,6 +10,7 @@ from neurowalk.experiments import FIGURES
 from neurowalk.experiments.reproduce.claims import VERDICTS
 from neurowalk.experiments.reproduce.plan import ITEMS, PLAN
 from neurowalk.experiments.reproduce.runner import runs_of
+from neurowalk.experiments.reproduce.timing import measured_times
 
 
 def test_plan_names_real_figures_and_unique_results():
@@ -47,6 +48,12 @@ def test_quick_reproduction_of_two_results_records_judges_and_resumes(tmp_path, 
     stamp = (out / "fig2" / "fig2.json").stat().st_mtime_ns
     assert main(["reproduce", "--quick", "--only", "fig2", "--out", str(out)]) == 0  # resumes: nothing rerun
     assert (out / "fig2" / "fig2.json").stat().st_mtime_ns == stamp
+    assert measured_times(tmp_path, out)["figures"]["fig2"]["quick_s"] > 0
+    (out / "fig4" / "command.json").unlink()  # fig4 stopped part-way: its store holds some runs
+    (out / "fig4" / "results.sqlite").write_bytes(b"")
+    assert main(["reproduce", "--quick", "--only", "fig4", "--out", str(out)]) == 0
+    assert json.loads((out / "fig4" / "command.json").read_text())["resumed"] is True
+    assert "fig4" not in measured_times(tmp_path, out)["figures"]  # the time of a part is no figure's time
 
 
 def test_bad_input_exits_2_naming_the_value(tmp_path, capsys):

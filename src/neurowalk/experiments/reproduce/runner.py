@@ -107,6 +107,7 @@ def execute(run: Run, out: Path, tick: Any = None) -> dict[str, Any]:
     """
     folder = out / run.name
     folder.mkdir(parents=True, exist_ok=True)
+    resumed = any(folder.glob("*.sqlite"))  # the figure goes on from runs an earlier, stopped command stored
     words = run.command(out)
     t0 = time.perf_counter()
     with open(folder / "log.txt", "wb") as log:
@@ -127,7 +128,12 @@ def execute(run: Run, out: Path, tick: Any = None) -> dict[str, Any]:
         raise KeyboardInterrupt
     if proc.returncode != 0:
         raise RunFailedError(f"`{shlex.join(words)}` exited with status {proc.returncode}; see {folder / 'log.txt'}")
-    record = {"command": shlex.join(words), "wall_time_s": round(wall, 1), "versions": versions()}
+    record = {
+        "command": shlex.join(words),
+        "wall_time_s": round(wall, 1),
+        "resumed": resumed,  # then wall_time_s is what was left to run, not the figure's time
+        "versions": versions(),
+    }
     write_json(folder / "command.json", record)
     return record
 

@@ -43,7 +43,7 @@ def measured_times(full: Path, quick: Path) -> dict[str, Any]:
             rec = json.loads(path.read_text(encoding="utf-8"))
             words = rec["command"].split()
             figure = words[2]
-            if path.parent.name != figure:  # another command of the figure (other flags)
+            if path.parent.name != figure or rec.get("resumed"):  # other flags; or the time of a part only
                 continue
             figures.setdefault(figure, {"quick_s": None, "full_s": None})[key] = rec["wall_time_s"]
             if key == "full_s" or machine is None:
