@@ -23,10 +23,12 @@ def test_plan_names_real_figures_and_unique_results():
 
 
 def test_results_with_the_same_command_share_one_run():
-    runs, of = runs_of([ITEMS["table2"], ITEMS["table2-1000"]], quick=True, workers=None)
-    assert len(runs) == 1 and of["table2"] is of["table2-1000"]  # quick: the same command
+    runs, of = runs_of([ITEMS["table2"], ITEMS["table2"]], quick=True, workers=None)
+    assert len(runs) == 1 and of["table2"] is runs[0]
     runs, of = runs_of([ITEMS["table2"], ITEMS["table2-1000"]], quick=False, workers=None)
-    assert len(runs) == 2 and "--seeds" in of["table2-1000"].args
+    assert len(runs) == 2 and of["table2-1000"].args[-2:] == ("--seeds", "1000")
+    runs, of = runs_of([ITEMS["table2-1000"]], quick=True, workers=None)
+    assert of["table2-1000"].args == ("--quick", "--seeds", "100")
     runs, _ = runs_of([ITEMS["fig8"], ITEMS["fig2"]], quick=True, workers=3)
     assert "--workers" in runs[0].args and "--workers" not in runs[1].args  # fig2 takes none
 

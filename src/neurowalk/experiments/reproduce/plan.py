@@ -87,9 +87,10 @@ PLAN: tuple[Item, ...] = (
     Item(
         "table2-1000",
         "table2",
-        "Table 2 on 1000 random environments (planar surrogate)",
+        "Table 2 on 1000 random environments (planar surrogate; 100 with --quick)",
         judge_arena.table2,
         full=("--seeds", "1000"),
+        quick=("--seeds", "100"),
     ),
     Item(
         "table2-physics",
