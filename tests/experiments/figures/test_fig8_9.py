@@ -194,3 +194,19 @@ def test_a_27_hz_run_reports_times_on_the_27_hz_clock(tmp_path):
     for e in rr["events"].values():
         assert e["sim"]["runs"] == 1
         assert all(x is None or x <= steps / 27.0 for x in e["sim"]["times_s"])
+
+
+@pytest.mark.parametrize("hz,cells", [(10.0, 9), (27.0, 1)])
+def test_fig9_sweeps_its_map_at_the_simulators_rate_only(monkeypatch, tmp_path, hz, cells):
+    seen = []
+
+    def store(specs, folder, workers):
+        seen.extend(specs)
+        raise _StopError
+
+    monkeypatch.setattr(fig9, "run_store_paths", store)
+    with pytest.raises(_StopError):
+        fig9.run(seeds=1, out=tmp_path, control_hz=hz)
+    geometries = {json.dumps(s["arena_opts"], sort_keys=True) for s in seen}
+    runs = {json.dumps(s, sort_keys=True) for s in seen}  # the default cell's runs are the main runs
+    assert len(geometries) == cells and len(runs) == 2 * cells  # two networks, one seed per cell
