@@ -132,3 +132,37 @@ def test_a_27_hz_track_run_reports_its_events_on_the_27_hz_clock(tmp_path):
     assert s["real_robot"]["same_clock"] and s["real_robot"]["control_hz"] == 27.0
     assert res.arrays["t"][-1] == pytest.approx(1800 / 27.0, rel=1e-3)
     assert s["moments_s"]["first climb"] == pytest.approx(s["moments"]["first climb"] / 27.0)
+
+
+@pytest.mark.parametrize(("hz", "heights"), [(10.0, 3), (27.0, 1)])
+def test_fig10_runs_the_height_table_at_the_simulators_rate_only(monkeypatch, tmp_path, hz, heights):
+    seen = []
+
+    class _DoneError(Exception):
+        pass
+
+    def store(specs, folder, workers, **kwargs):
+        seen.extend(specs)
+        raise _DoneError
+
+    monkeypatch.setattr(fig10, "run_episode", lambda cfg, **kw: _FakeEpisode(cfg))
+    monkeypatch.setattr(fig10, "render_frames", lambda *a, **k: np.zeros((4, 2, 2, 3), np.uint8))
+    monkeypatch.setattr(fig10, "run_store", store)
+    with pytest.raises(_DoneError):
+        fig10.run(seeds=2, out=tmp_path, control_hz=hz)
+    assert len({s["arena_opts"]["step"] for s in seen}) == heights and len(seen) == 2 * heights
+
+
+class _FakeEpisode:
+    """What fig10.run reads of its example run, without running it."""
+
+    def __init__(self, cfg):
+        from neurowalk.arenas import make_arena
+
+        n = 50
+        self.arena = make_arena(cfg.arena, **cfg.arena_opts)
+        self.trajectory = type("T", (), {})()
+        self.trajectory.qpos = np.zeros((n, 26))
+        self.trajectory.targets = np.zeros((n, 19))
+        self.trajectory.outputs = -np.ones((n, 2))
+        self.summary = {}
