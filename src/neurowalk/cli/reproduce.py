@@ -16,11 +16,20 @@ def add_reproduce_parser(sub: argparse._SubParsersAction) -> None:
         "reproduce",
         help="run every experiment of the paper and judge each result: DIR/NAME.json, DIR/report.md (resumable)",
     )
+    r.help_tail = _results_listing
     r.add_argument("--quick", action="store_true", help="each figure's --quick (fewer seeds, shorter runs)")
     r.add_argument("--only", default=None, metavar="NAME[,NAME...]", help="these results only (default: all)")
     r.add_argument("--out", type=Path, default=None, help="output folder (default out/reproduce, or -quick)")
     r.add_argument("--workers", type=int, default=None, help="processes of the figures of many runs (default 2)")
     r.add_argument("--list", action="store_true", help="list the results and their commands, run nothing")
+
+
+def _results_listing() -> str:
+    """The results the command measures, one per line (the end of its help)."""
+    from neurowalk.experiments.reproduce.plan import PLAN
+
+    width = max(len(i.name) for i in PLAN) + 2
+    return "\nresults (--only):\n" + "".join(f"  {i.name:<{width}}{i.paper}\n" for i in PLAN)
 
 
 def cmd_reproduce(args: argparse.Namespace) -> int:
