@@ -28,7 +28,7 @@ SMALL = """
 import sys
 from neurowalk.experiments.suites import deadends
 deadends.TRAP_STEPS = 150
-deadends.QUICK_LONG_STEPS = 200
+deadends.QUICK_LONG_STEPS = 200  # long_runs' constant, as deadends.build reads it
 deadends.VARIANTS = {k: deadends.VARIANTS[k] for k in ("simple-deadlock", "narrow-passage")}
 from neurowalk.cli import main
 sys.exit(main(sys.argv[1:]))
@@ -42,7 +42,7 @@ MACHINE = ("wall_time_s", "real_time_factor")
 @pytest.fixture
 def small(monkeypatch):
     monkeypatch.setattr(deadends, "TRAP_STEPS", 150)
-    monkeypatch.setattr(deadends, "QUICK_LONG_STEPS", 200)
+    monkeypatch.setattr(deadends, "QUICK_LONG_STEPS", 200)  # long_runs' constant, as deadends.build reads it
     monkeypatch.setattr(deadends, "VARIANTS", {k: deadends.VARIANTS[k] for k in ("simple-deadlock", "narrow-passage")})
 
 

@@ -1,8 +1,8 @@
 """Command line: ``neurowalk figure NAME --out DIR`` and friends. Thin: parses, calls the library.
 
 Bad input exits with status 2 and one line on stderr naming the offending value. The commands live in the modules
-of this package by what they run (``figure``, ``run``, ``sweep``, ``tools``, ``baseline``); ``common``
-holds what they share.
+of this package by what they run (``figure``, ``run``, ``sweep``, ``optimize``, ``tools``, ``baseline``);
+``common`` holds what they share.
 """
 
 from __future__ import annotations
@@ -16,9 +16,10 @@ from neurowalk import __version__
 from neurowalk.cli.baseline import add_baseline_parser, cmd_baseline
 from neurowalk.cli.common import Parser, UsageError, check_workers, one_line, out_file, out_folder
 from neurowalk.cli.figure import add_figure_parser, cmd_figure, figure_listing
+from neurowalk.cli.optimize import add_optimize_parser, cmd_optimize
 from neurowalk.cli.reproduce import add_reproduce_parser, cmd_reproduce
 from neurowalk.cli.run import add_run_parsers, cmd_run, cmd_view, signals_held
-from neurowalk.cli.sweep import add_optimize_parser, add_sweep_parser, cmd_optimize, cmd_sweep
+from neurowalk.cli.sweep import add_sweep_parser, cmd_sweep
 from neurowalk.cli.tools import add_tool_parsers, cmd_arenas, cmd_bench, cmd_bodies, cmd_calibrate, cmd_export
 from neurowalk.fileio import write_error
 

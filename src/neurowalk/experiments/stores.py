@@ -1,7 +1,8 @@
 """A figure's runs kept in resumable result stores in its output folder.
 
 :func:`run_store` runs specs through a store (each run stored as it finishes, so an interrupted figure keeps its
-finished runs and the same call again runs only the others); :func:`store_folder` is the folder of a figure's stores.
+finished runs and the same call again runs only the others); :func:`store_folder` is the folder of a figure's stores;
+:func:`as_lists` is a run's result as a store keeps it.
 """
 
 from __future__ import annotations
@@ -11,6 +12,8 @@ import tempfile
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from neurowalk.runners.specs import spec_key
 from neurowalk.runners.stopping import deferred
@@ -58,3 +61,8 @@ def store_folder(out: Path | None) -> Iterator[Path]:
         return
     with tempfile.TemporaryDirectory(prefix="neurowalk-") as tmp:
         yield Path(tmp)
+
+
+def as_lists(d: dict[str, Any]) -> dict[str, Any]:
+    """``d`` with its numpy arrays as lists (a run's result as a store keeps it: JSON)."""
+    return {k: v.tolist() if isinstance(v, np.ndarray) else v for k, v in d.items()}

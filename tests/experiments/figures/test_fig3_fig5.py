@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from neurowalk.experiments.figures import fig3, fig5
-from neurowalk.experiments.suites import deadends
+from neurowalk.experiments.suites import deadends, long_runs
 from neurowalk.sim.episode import EpisodeConfig
 
 
@@ -24,7 +24,7 @@ def fake_runs(seen: list[EpisodeConfig]):
                        "coverage": 0.1, "wedged_periods": 0, "longest_wedged_s": 0.0, "wedged_causes": {},
                        "wedged": [], "control_hz": c.control_hz}  # fmt: skip
             if traces == "long":
-                step = deadends.sample_steps(c.steps, deadends.LONG_STRIDE)
+                step = long_runs.sample_steps(c.steps, long_runs.LONG_STRIDE)
                 n = len(step)
                 out.append({"summary": summary, "step": step, "pose": np.zeros((n, 3)), "inputs": np.zeros((n, 2)),
                             "outputs": np.zeros((n, 2)), "b": np.ones((n, 2)), "q": np.ones((n, 2)),
@@ -51,15 +51,15 @@ def faked(monkeypatch):
 def test_the_long_runs_are_the_papers_time_steps_read_as_physics_steps():
     # Fig. 5: 1,000,000 time steps; Fig. 3: 70,000 + 330,000 (the green dot at 70,000): ten physics steps to a
     # control step in the authors' simulator (controlinterval 10 of 0.01 s).
-    assert deadends.PHYSICS_PER_CONTROL == 10
+    assert long_runs.PHYSICS_PER_CONTROL == 10
     assert fig5.LONG_STEPS == 100_000 and fig3.LONG_STEPS == 40_000 and fig3.MARK_STEP == 7_000
     assert deadends.TRAP_STEPS == 5000  # the dead ends' 5000 time steps are control steps
-    assert deadends.QUICK_LONG_STEPS < fig3.LONG_STEPS
+    assert long_runs.QUICK_LONG_STEPS < fig3.LONG_STEPS
 
 
 @pytest.mark.parametrize(("fig", "quick", "long_steps"), [
-    (fig5, False, 100_000), (fig5, True, deadends.QUICK_LONG_STEPS),
-    (fig3, False, 40_000), (fig3, True, deadends.QUICK_LONG_STEPS),
+    (fig5, False, 100_000), (fig5, True, long_runs.QUICK_LONG_STEPS),
+    (fig3, False, 40_000), (fig3, True, long_runs.QUICK_LONG_STEPS),
 ])  # fmt: skip
 def test_every_run_gets_the_control_rate_and_the_long_runs_their_length(faked, fig, quick, long_steps):
     res = fig.run(quick=quick, seeds=1, control_hz=20.0)
@@ -101,7 +101,7 @@ def test_fig5g_covers_the_whole_run(faked):
     g = res.summary["fig5g"]
     step = res.arrays["difficult (plastic)/step"]
     assert g["first_step"] == step[0] == 0 and g["last_step"] == step[-1] == fig5.LONG_STEPS - 1
-    assert g["stride"] == deadends.LONG_STRIDE == 10 and set(np.diff(step)) <= {10, 9}
+    assert g["stride"] == long_runs.LONG_STRIDE == 10 and set(np.diff(step)) <= {10, 9}
     assert g["rows"] == len(step) == fig5.LONG_STEPS // 10 + 1 and g["finite"]
     assert g["weights"] == ["b1", "b2", "c1", "c2"] and g["seconds"] == 10_000.0
     assert res.arrays["difficult (plastic)/b"].shape == (len(step), 2)
@@ -113,7 +113,7 @@ def streamed():
     from neurowalk.sim.episode import run_episode
 
     spec = {"arena": "difficult", "controller": "plastic", "steps": 3001}
-    return deadends.long_traces_of(spec), run_episode(EpisodeConfig(**spec))
+    return long_runs.long_traces_of(spec), run_episode(EpisodeConfig(**spec))
 
 
 def test_a_streamed_long_run_keeps_every_tenth_row_and_the_summary_of_the_whole_run(streamed):
@@ -121,7 +121,7 @@ def test_a_streamed_long_run_keeps_every_tenth_row_and_the_summary_of_the_whole_
     step = np.asarray(kept["step"])
     assert step[0] == 0 and step[-1] == 3000 and set(np.diff(step)) == {10}  # 3000 is a tenth step itself
     tr = whole.trajectory
-    for k in deadends.TRACES:
+    for k in long_runs.TRACES:
         assert np.array_equal(np.asarray(kept[k]), getattr(tr, k)[step]), k  # bit for bit the rows of the run
     assert np.isfinite(np.asarray(kept["b"])).all() and np.isfinite(np.asarray(kept["q"])).all()
     machine = ("wall_time_s", "real_time_factor")
@@ -142,7 +142,7 @@ def test_first_visits_give_the_coverage_of_every_prefix():
     walk = np.cumsum(rng.normal(0, 0.05, (2000, 2)), axis=0) + np.array([3.0, -1.0])
     pose = np.column_stack([walk, np.zeros(2000)])
     pose[100] = np.nan
-    fv = deadends.FirstVisits(arena)
+    fv = long_runs.FirstVisits(arena)
     for start in range(0, 2000, 300):  # in chunks, as a streamed run hands them over
         fv.add(pose[start : start + 300], start)
     at = np.array([0, 99, 100, 101, 777, 1999])
@@ -151,6 +151,6 @@ def test_first_visits_give_the_coverage_of_every_prefix():
 
 
 def test_sample_steps_keep_the_first_and_the_last():
-    assert deadends.sample_steps(25, 10).tolist() == [0, 10, 20, 24]
-    assert deadends.sample_steps(21, 10).tolist() == [0, 10, 20]
-    assert deadends.sample_steps(1, 10).tolist() == [0]
+    assert long_runs.sample_steps(25, 10).tolist() == [0, 10, 20, 24]
+    assert long_runs.sample_steps(21, 10).tolist() == [0, 10, 20]
+    assert long_runs.sample_steps(1, 10).tolist() == [0]

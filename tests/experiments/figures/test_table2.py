@@ -11,7 +11,7 @@ import pytest
 
 from neurowalk.cli import main
 from neurowalk.experiments.figures import table2
-from neurowalk.experiments.suites.random_envs import coverage_threshold, environments, spec, wilson
+from neurowalk.experiments.suites.random_envs import coverage_threshold, environments, outcome, row_counts, spec, wilson
 from neurowalk.runners.specs import spec_key
 
 
@@ -39,9 +39,9 @@ def test_both_rules_are_counted_from_the_runs() -> None:
         _summary(True, 0.02, end_blind_share=0.7),  # neither (wedged)
         _summary(False, 0.11, longest_wedged_s=320.0),  # both; wedged for 320 s on the way
     ]
-    rows = [{"seed": i, "n_boxes": 5, "net": table2._outcome(r, 0.05)} for i, r in enumerate(runs)]
+    rows = [{"seed": i, "n_boxes": 5, "net": outcome(r, 0.05)} for i, r in enumerate(runs)]
     assert [r["net"]["success_coverage"] for r in rows] == [False, True, True, False, False, True]
-    c = table2._count(rows, "net")
+    c = row_counts(rows, "net")
     assert (c["success"], c["failure"], c["success_coverage"], c["failure_coverage"]) == (4, 2, 3, 3)
     assert (c["success_both"], c["success_not_stuck_only"], c["success_coverage_only"]) == (2, 2, 1)
     assert c["success_coverage_rate"] == 0.5 and c["success_coverage_rate_95ci"] == list(wilson(3, 6))

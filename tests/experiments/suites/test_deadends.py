@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from neurowalk.experiments.suites.deadends import VARIANTS, outcome_table, wedged_counts
+from neurowalk.experiments.suites.deadends import VARIANTS, outcome_table
+from neurowalk.experiments.suites.long_runs import wedged_counts
 
 
 @pytest.mark.slow

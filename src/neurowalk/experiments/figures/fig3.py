@@ -8,9 +8,9 @@ corners, narrow passages): trapped; red dot the start, green dot the position af
 
 Run lengths: the dead ends 5000 control steps; the long runs :data:`LONG_STEPS` = 40,000 control steps (4,000 s at
 10 Hz), the paper's 70,000 + 330,000 time steps read as physics steps of the authors' simulator, ten to a control
-step (the reading and its argument: :mod:`neurowalk.experiments.suites.deadends`; the json's
+step (the reading and its argument: :mod:`neurowalk.experiments.suites.long_runs`; the json's
 ``time_step_reading``); :data:`MARK_STEP` = 7,000 is the paper's 70,000. ``--quick``: long runs of
-:data:`~neurowalk.experiments.suites.deadends.QUICK_LONG_STEPS`. The json holds the escape counts of all networks
+:data:`~neurowalk.experiments.suites.long_runs.QUICK_LONG_STEPS`. The json holds the escape counts of all networks
 (Braitenberg beside static and plastic) over ``--seeds`` seeds and ±20% geometry changes, and the wedged periods
 of the long runs with their causes.
 """
@@ -21,8 +21,9 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from neurowalk.experiments import Result
-from neurowalk.experiments.suites.deadends import build, control_steps_of
+from neurowalk.experiments.suites.deadends import build
 from neurowalk.experiments.suites.deadends_plot import plot as draw
+from neurowalk.experiments.suites.long_runs import control_steps_of
 from neurowalk.sim.config import DEFAULT_ENGINE
 
 if TYPE_CHECKING:

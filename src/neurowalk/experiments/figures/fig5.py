@@ -10,9 +10,9 @@ duration, cause).
 
 Run lengths: the dead ends 5000 control steps; the long runs :data:`LONG_STEPS` = 100,000 control steps (10,000 s
 at 10 Hz), the paper's 1,000,000 time steps read as physics steps of the authors' simulator, ten to a control step
-(the reading and its argument: :mod:`neurowalk.experiments.suites.deadends`; the json's ``time_step_reading``).
+(the reading and its argument: :mod:`neurowalk.experiments.suites.long_runs`; the json's ``time_step_reading``).
 The long runs are streamed and keep every 10th control step and the last (``long_rows`` in the json).
-``--quick``: long runs of :data:`~neurowalk.experiments.suites.deadends.QUICK_LONG_STEPS`. The json compares
+``--quick``: long runs of :data:`~neurowalk.experiments.suites.long_runs.QUICK_LONG_STEPS`. The json compares
 plastic with static and Braitenberg over the same number of steps (trapping, coverage, wedged periods) and holds
 the escape counts of every network over ``--seeds`` seeds and ±20% geometry changes, the plastic network started
 from zero (as in the paper's exploration experiment) and from b = 2.4, q = 3.5 (its Fig. 4 start).
@@ -26,8 +26,9 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from neurowalk.experiments import Result
-from neurowalk.experiments.suites.deadends import WEDGED_LONG_S, build, control_steps_of
+from neurowalk.experiments.suites.deadends import build
 from neurowalk.experiments.suites.deadends_plot import plot as draw
+from neurowalk.experiments.suites.long_runs import WEDGED_LONG_S, control_steps_of
 from neurowalk.sim.config import DEFAULT_ENGINE
 
 if TYPE_CHECKING:

@@ -25,6 +25,7 @@ from neurowalk.experiments.suites.random_envs import (
     BOXES,
     COVERAGE_CELL_M,
     DURATION_S,
+    FAILURE_CLASSES,
     FAILURE_RULE,
     HELD_UP_RULE,
     QUICK_DURATION_S,
@@ -37,8 +38,8 @@ from neurowalk.experiments.suites.random_envs import (
     coverage_rule,
     coverage_threshold,
     environments,
-    failure_class,
-    held_up,
+    outcome,
+    row_counts,
     spec,
     steps_at,
     wilson,
@@ -54,7 +55,6 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 PAPER = {"environments": 50, "success": 49, "failure": 1}
-CLASSES = ("latched spin", "wedged", "other")
 
 
 def rows(variant: str | None = None, params: dict[str, float] | None = None) -> dict[str, dict[str, Any]]:
@@ -190,10 +190,10 @@ def run(
     def outcomes(b: str) -> list[dict[str, Any]]:
         """Per environment, each row's outcome on body ``b``."""
         k = iter(by_body[b])
-        return [{name: _outcome(results[next(k)], threshold) for name in table} for _ in envs]
+        return [{name: outcome(results[next(k)], threshold) for name in table} for _ in envs]
 
     env_rows = [{**e, **o} for e, o in zip(envs, outcomes(body), strict=True)]
-    counts = {name: {**r, **_count(env_rows, name)} for name, r in table.items()}
+    counts = {name: {**r, **row_counts(env_rows, name)} for name, r in table.items()}
     agreement = None
     if surrogate is not None:
         sur = outcomes(surrogate)
@@ -256,23 +256,6 @@ def _predates_classes(res: dict[str, Any]) -> bool:
     return bool(res["trapped"]) and "wedged_periods" not in res
 
 
-def _outcome(res: dict[str, Any], threshold: float) -> dict[str, Any]:
-    """One run's Table 2 outcome from its summary, under both rules (coverage rule: ``coverage >= threshold``)."""
-    return {
-        "success": not res["trapped"],
-        "success_coverage": res["coverage"] is not None and res["coverage"] >= threshold,
-        "failure_class": failure_class(res),
-        "held_up_300s": held_up(res),
-        "ever_held_up_300s": res["ever_trapped"],
-        "ever_held_up_1000s": res["ever_held_up_1000s"],
-        "longest_wedged_s": res.get("longest_wedged_s"),
-        "coverage": res["coverage"],
-        "path_length_m": res["path_length_m"],
-        "end_turn_share": res["end_turn_share"],
-        "end_blind_share": res["end_blind_share"],
-    }
-
-
 def _agreement(physics: list[dict[str, Any]], surrogate: list[dict[str, Any]], name: str) -> dict[str, Any]:
     """Environment by environment: does the surrogate give row ``name`` the physics outcome?"""
     pairs = [(x["seed"], x[name]["success"], s[name]["success"]) for x, s in zip(physics, surrogate, strict=True)]
@@ -281,37 +264,6 @@ def _agreement(physics: list[dict[str, Any]], surrogate: list[dict[str, Any]], n
         "same_outcome": sum(p == s for _, p, s in pairs),
         "surrogate_success": sum(s for _, _, s in pairs),
         "differ": [{"seed": seed, "physics": p, "surrogate": s} for seed, p, s in pairs if p != s],
-    }
-
-
-def _count(env_rows: list[dict[str, Any]], name: str) -> dict[str, Any]:
-    """Counts of one row over the environments under both rules: successes, failures, rates with Wilson intervals;
-    failure classes; coverage (median, quartiles); the runs held up for 300 s that still count as a success."""
-    n = len(env_rows)
-    runs = [x[name] for x in env_rows]
-    ok = sum(r["success"] for r in runs)
-    ok_cov = sum(r["success_coverage"] for r in runs)
-    cov = np.array([np.nan if r["coverage"] is None else r["coverage"] for r in runs], dtype=float)
-    q1, median, q3 = (float(v) for v in np.nanpercentile(cov, [25, 50, 75])) if np.isfinite(cov).any() else [None] * 3
-    return {
-        "environments": n,
-        "success": ok,
-        "failure": n - ok,
-        "success_rate": ok / n,
-        "success_rate_95ci": list(wilson(ok, n)),
-        "success_coverage": ok_cov,
-        "failure_coverage": n - ok_cov,
-        "success_coverage_rate": ok_cov / n,
-        "success_coverage_rate_95ci": list(wilson(ok_cov, n)),
-        "success_both": sum(r["success"] and r["success_coverage"] for r in runs),
-        "success_not_stuck_only": sum(r["success"] and not r["success_coverage"] for r in runs),
-        "success_coverage_only": sum(r["success_coverage"] and not r["success"] for r in runs),
-        "failure_classes": {c: sum(r["failure_class"] == c for r in runs) for c in CLASSES},
-        "median_coverage": median,
-        "coverage_quartiles": [q1, q3],
-        "held_up_300s_success": sum(r["success"] and r["held_up_300s"] for r in runs),
-        "ever_held_up_300s": sum(r["ever_held_up_300s"] for r in runs),
-        "ever_held_up_1000s": sum(r["ever_held_up_1000s"] for r in runs),
     }
 
 
@@ -388,7 +340,7 @@ def plot(res: Result) -> Figure:
     ax[2].legend(fontsize=7)
     ax[2].set_title("failures by clutter" + (" (solid: not stuck, dashed: coverage rule)" if both else ""), fontsize=9)
     bottom = np.zeros(len(names))
-    for j, cls in enumerate(CLASSES):
+    for j, cls in enumerate(FAILURE_CLASSES):
         v = np.array([s["counts"][c].get("failure_classes", {}).get(cls, 0) for c in names])
         ax[3].bar(x, v, bottom=bottom, color=["C3", "C1", "0.6"][j], label=cls)
         bottom += v

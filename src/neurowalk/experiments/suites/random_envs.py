@@ -1,4 +1,5 @@
-"""Random environments of Table 2 and Fig. 6 (2-20 boxes): the environments, run specs and the two success rules.
+"""Random environments of Table 2 and Fig. 6 (2-20 boxes): the environments, run specs and the two success rules,
+a run's outcome under them (:func:`outcome`) and a network's counts over the environments (:func:`row_counts`).
 
 Environment i of a table (seed S) is the ``random`` arena (9 x 9 m inside walls and 1 x 1 m boxes, the
 sizes of the authors' simulated arenas; ``size`` changes the boxes) with ``n_boxes`` drawn uniformly
@@ -140,6 +141,7 @@ FAILURE_RULE = (
     "echo nearer than 0.38 m) for >= 50% of them; else 'other'"
 )
 LATCHED, BLIND = 0.8, 0.5
+FAILURE_CLASSES = ("latched spin", "wedged", "other")  # the classes of FAILURE_RULE, in the table's order
 
 
 def spec(
@@ -200,3 +202,51 @@ def wilson(successes: int, n: int, z: float = 1.959964) -> tuple[float, float]:
     lo = 0.0 if successes == 0 else max(0.0, centre - half)  # exactly 0 and 1 at the ends (rounding aside)
     hi = 1.0 if successes == n else min(1.0, centre + half)
     return (lo, hi)
+
+
+def outcome(res: dict[str, Any], threshold: float) -> dict[str, Any]:
+    """One run's Table 2 outcome from its summary, under both rules (coverage rule: ``coverage >= threshold``)."""
+    return {
+        "success": not res["trapped"],
+        "success_coverage": res["coverage"] is not None and res["coverage"] >= threshold,
+        "failure_class": failure_class(res),
+        "held_up_300s": held_up(res),
+        "ever_held_up_300s": res["ever_trapped"],
+        "ever_held_up_1000s": res["ever_held_up_1000s"],
+        "longest_wedged_s": res.get("longest_wedged_s"),
+        "coverage": res["coverage"],
+        "path_length_m": res["path_length_m"],
+        "end_turn_share": res["end_turn_share"],
+        "end_blind_share": res["end_blind_share"],
+    }
+
+
+def row_counts(env_rows: list[dict[str, Any]], name: str) -> dict[str, Any]:
+    """Counts of one row over the environments under both rules: successes, failures, rates with Wilson intervals;
+    failure classes; coverage (median, quartiles); the runs held up for 300 s that still count as a success."""
+    n = len(env_rows)
+    runs = [x[name] for x in env_rows]
+    ok = sum(r["success"] for r in runs)
+    ok_cov = sum(r["success_coverage"] for r in runs)
+    cov = np.array([np.nan if r["coverage"] is None else r["coverage"] for r in runs], dtype=float)
+    q1, median, q3 = (float(v) for v in np.nanpercentile(cov, [25, 50, 75])) if np.isfinite(cov).any() else [None] * 3
+    return {
+        "environments": n,
+        "success": ok,
+        "failure": n - ok,
+        "success_rate": ok / n,
+        "success_rate_95ci": list(wilson(ok, n)),
+        "success_coverage": ok_cov,
+        "failure_coverage": n - ok_cov,
+        "success_coverage_rate": ok_cov / n,
+        "success_coverage_rate_95ci": list(wilson(ok_cov, n)),
+        "success_both": sum(r["success"] and r["success_coverage"] for r in runs),
+        "success_not_stuck_only": sum(r["success"] and not r["success_coverage"] for r in runs),
+        "success_coverage_only": sum(r["success_coverage"] and not r["success"] for r in runs),
+        "failure_classes": {c: sum(r["failure_class"] == c for r in runs) for c in FAILURE_CLASSES},
+        "median_coverage": median,
+        "coverage_quartiles": [q1, q3],
+        "held_up_300s_success": sum(r["success"] and r["held_up_300s"] for r in runs),
+        "ever_held_up_300s": sum(r["ever_held_up_300s"] for r in runs),
+        "ever_held_up_1000s": sum(r["ever_held_up_1000s"] for r in runs),
+    }
