@@ -219,14 +219,15 @@ def _picklable(e: BaseException) -> BaseException:
     return e
 
 
-def die_with_parent(parent: int) -> None:
+def die_with_parent(parent: int, signum: int = signal.SIGKILL) -> None:
     """Pool worker initializer: the worker dies with its driver, even a driver killed with SIGKILL.
 
-    On Linux the kernel sends the worker SIGKILL when the driver exits (``prctl(PR_SET_PDEATHSIG)``); a driver that
-    died before that was set (the worker's parent is no longer ``parent``) ends the worker at once.
+    On Linux the kernel sends the worker ``signum`` (SIGKILL; SIGTERM for a child that stops cleanly on it) when
+    the driver exits (``prctl(PR_SET_PDEATHSIG)``); a driver that died before that was set (the worker's parent is
+    no longer ``parent``) ends the worker at once.
     """
     if sys.platform.startswith("linux"):
-        ctypes.CDLL(None, use_errno=True).prctl(1, signal.SIGKILL)  # 1 = PR_SET_PDEATHSIG
+        ctypes.CDLL(None, use_errno=True).prctl(1, int(signum))  # 1 = PR_SET_PDEATHSIG
     if os.getppid() != parent:
         os._exit(1)
 

@@ -70,3 +70,43 @@ def test_list_names_every_command_and_runs_nothing(tmp_path, capsys):
     text = capsys.readouterr().out
     assert all(item.name in text for item in PLAN) and "--control-hz 27" in text
     assert not (tmp_path / "x").exists()
+
+
+def test_a_reproduce_killed_outright_takes_its_figure_with_it(tmp_path):
+    """SIGKILL to `reproduce`: the kernel sends its running figure SIGTERM, and the figure stops (no orphan)."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "rep"
+    parent = subprocess.Popen(
+        [sys.executable, "-m", "neurowalk", "reproduce", "--quick", "--only", "fig3", "--out", str(out)],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
+    child = None
+    deadline = time.monotonic() + 60
+    while child is None and time.monotonic() < deadline:
+        found = subprocess.run(["pgrep", "-P", str(parent.pid)], capture_output=True, text=True).stdout.split()
+        child = int(found[0]) if found else None
+        time.sleep(0.2)
+    assert child is not None, "the figure command never started"
+    time.sleep(2)  # the figure is under way
+    parent.send_signal(signal.SIGKILL)
+    parent.wait()
+    deadline = time.monotonic() + 30
+    while time.monotonic() < deadline:
+        try:
+            os.kill(child, 0)
+        except ProcessLookupError:
+            break
+        with open(f"/proc/{child}/stat") as f:  # a zombie (exited, not yet reaped by init) has stopped too
+            if f.read().split()[2] == "Z":
+                break
+        time.sleep(0.2)
+    else:
+        os.kill(child, signal.SIGKILL)
+        raise AssertionError("the figure outlived its reproduce")
+    assert not (out / "fig3" / "command.json").exists()  # it did not finish: no record claims it did

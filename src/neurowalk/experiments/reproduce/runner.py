@@ -11,11 +11,13 @@ Layout of the output folder ``DIR``:
 * ``DIR/report.md``: the table of all items (:mod:`.report`).
 
 A stop (Ctrl-C, SIGTERM) stops the running figure, which keeps its finished runs in its stores; what is on disk
-is what the summary line says.
+is what the summary line says. A ``reproduce`` killed outright (SIGKILL) takes its figure with it: the kernel sends
+the figure SIGTERM, and it stops as on Ctrl-C.
 """
 
 from __future__ import annotations
 
+import functools
 import inspect
 import json
 import os
@@ -33,6 +35,7 @@ from neurowalk.experiments import FIGURES
 from neurowalk.experiments.reproduce.claims import overall
 from neurowalk.experiments.reproduce.plan import Item
 from neurowalk.fileio import write_json
+from neurowalk.runners.local import die_with_parent
 
 
 @dataclass(frozen=True)
@@ -111,7 +114,12 @@ def execute(run: Run, out: Path, tick: Any = None) -> dict[str, Any]:
     words = run.command(out)
     t0 = time.perf_counter()
     with open(folder / "log.txt", "wb") as log:
-        proc = subprocess.Popen([sys.executable, "-m", "neurowalk", *words[1:]], stdout=log, stderr=subprocess.STDOUT)
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "neurowalk", *words[1:]],
+            stdout=log,
+            stderr=subprocess.STDOUT,
+            preexec_fn=functools.partial(die_with_parent, os.getpid(), signal.SIGTERM),  # stops cleanly with us
+        )
         try:
             while proc.poll() is None:
                 try:
