@@ -39,6 +39,11 @@ def _cell(v: Any, unit: str = "") -> str:
     return text.replace("|", "\\|")
 
 
+def _took(rec: dict[str, Any]) -> str:
+    """A result's wall time, and where its command went on from a stopped one, that it is the last part's."""
+    return f"{rec['wall_time_s']:.0f} s" + (" (resumed: its last part)" if rec.get("resumed") else "")
+
+
 def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
     """The report's markdown for the records in ``out`` (``failed``: item name -> why its run failed)."""
     records, failed = read_records(out, quick), failed or {}
@@ -64,7 +69,7 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
         png = f"[{rec['figure']}.png]({rec['files']['png']})"
         lines.append(
             f"| [{item.name}](#{item.name}) | {_cell(item.paper)} | {MARK[rec['verdict']]} | {_cell(rec['reason'])} "
-            f"| {png} | {rec['wall_time_s']:.0f} s |"
+            f"| {png} | {_took(rec)} |"
         )
     for item in PLAN:
         rec = records.get(item.name)
@@ -74,7 +79,7 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
             "",
             f"## {item.name}",
             "",
-            f"{item.paper}. Command: `{rec['command']}` ({rec['wall_time_s']:.0f} s; control rate "
+            f"{item.paper}. Command: `{rec['command']}` ({_took(rec)}; control rate "
             f"{rec['control_hz']:g} Hz; neurowalk {rec['versions']['neurowalk']}, MuJoCo {rec['versions']['mujoco']}; "
             f"{rec['versions']['machine']}).",
             "",

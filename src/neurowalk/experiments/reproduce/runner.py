@@ -158,6 +158,7 @@ def item_record(item: Item, run: Run, record: dict[str, Any], out: Path, quick: 
         "quick": quick,
         "command": record["command"],
         "wall_time_s": record["wall_time_s"],
+        "resumed": bool(record.get("resumed", False)),
         "versions": record["versions"],
         "seed": _seed(run.args),
         "seeds": summary.get("seeds"),
