@@ -82,7 +82,8 @@ def _reproduce(args: argparse.Namespace) -> int:
         for k, run in enumerate(runs):
             bar.set_description(f"reproduce {k + 1}/{len(runs)} {run.name}")
             record = runner.done(run, out)
-            if record is None:
+            ran = record is None
+            if ran:
                 try:
                     record = runner.execute(
                         run, out, tick=lambda s, b=base, e=expected[run.name]: _show(bar, b + min(s, 0.95 * e))
@@ -101,7 +102,10 @@ def _reproduce(args: argparse.Namespace) -> int:
                             failed[item.name] = f"its judge could not read {run.figure}.json ({type(e).__name__}: {e})"
                             (out / f"{item.name}.json").unlink(missing_ok=True)  # no verdict of an older run kept
                             print(f"neurowalk: {item.name}: {failed[item.name]}", file=sys.stderr)
-            base += expected[run.name]
+            if ran:
+                base += expected[run.name]
+            else:  # finished before: the bar (and its time left) covers what is left to run
+                bar.total = max(1, bar.total - round(expected[run.name]))
             _show(bar, base)
             write_report(out, args.quick, failed)
     except KeyboardInterrupt:
