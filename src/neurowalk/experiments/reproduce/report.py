@@ -57,6 +57,12 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
         + ". Each result's file `NAME.json` holds the command, versions, seeds, wall time, the measured values "
         "with 95% intervals where they are rates, the paper's values and the rule of each verdict.",
         "",
+        "How a verdict is reached (each claim states its own rule and numbers): an outcome the paper shows in one "
+        "run is reproduced where two thirds or more of the seeds end that way, partly where some do; a count such "
+        "as 49/50 is reproduced where the paper's rate lies in the measured 95% interval, partly within 10 points; a "
+        "time of the real robot is reproduced within a factor of 1.5, partly within 3; a property stated in words "
+        "is reproduced where it holds. A result is reproduced where all its claims are, not where none is.",
+        "",
         "| result | the paper | verdict | why | figure | time |",
         "|---|---|---|---|---|---|",
     ]
