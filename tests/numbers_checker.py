@@ -47,7 +47,8 @@ def prose(text: str) -> str:
     """``text`` without code fences, inline code, HTML comments and images (their numbers are not claims)."""
     text = re.sub(r"```.*?```", lambda m: "\n" * m.group(0).count("\n"), text, flags=re.S)
     text = re.sub(r"<!--.*?-->", "", text, flags=re.S)
-    text = re.sub(r"`[^`\n]*`", "``", text)
+    # inline code, which may wrap onto the next line of its paragraph (not across a blank line); its lines are kept
+    text = re.sub(r"`(?:[^`\n]|\n(?![ \t]*\n))*`", lambda m: "``" + "\n" * m.group(0).count("\n"), text)
     return re.sub(r"!\[[^\]]*\]\([^)]*\)", "", text)
 
 

@@ -94,3 +94,9 @@ def test_a_name_broken_over_two_lines_is_a_name(tmp_path):
     assert _doc(tmp_path, "as in Fig.\n8 and Table\n2, and §\n2.2\n") == []
     bad = _doc(tmp_path, "as in the runs\n8 of them\n")
     assert len(bad) == 1 and "'8' has no source" in bad[0]
+
+
+def test_inline_code_that_wraps_onto_the_next_line_is_code(tmp_path):
+    assert _doc(tmp_path, "the paper's length (`LONG_STEPS =\n100,000` control steps)\n") == []
+    bad = _doc(tmp_path, "a `setting` here\n\nand 42 there\n")  # a blank line ends a paragraph: 42 is prose
+    assert len(bad) == 1 and "'42'" in bad[0] and ":3:" in bad[0]
