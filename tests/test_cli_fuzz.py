@@ -887,7 +887,7 @@ def test_replot_of_good_numbers_draws_the_picture(fig2_folder, capsys):
 
 def _commands() -> dict[str, argparse.ArgumentParser]:
     """The subcommands of the parser: name -> its parser."""
-    parser = cli._parser()
+    parser = cli.build_parser()
     (action,) = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
     return dict(action.choices)
 

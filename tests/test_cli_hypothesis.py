@@ -23,7 +23,7 @@ import pytest
 from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
-from neurowalk.cli import _parser, main
+from neurowalk.cli import build_parser, main
 from neurowalk.cli.common import REGISTRIES, registry_names
 from test_cli_fuzz import WorkStartedError, _snapshot, fig2_folder, places, tripwires  # noqa: F401 (fixtures)
 
@@ -54,7 +54,7 @@ TEXT = st.one_of(
 
 def _options(command: str) -> list[str]:
     """The long options of ``command`` (all but --help), from its parser."""
-    (sub,) = [a for a in _parser()._actions if a.dest == "command"]
+    (sub,) = [a for a in build_parser()._actions if a.dest == "command"]
     return sorted(o for a in sub.choices[command]._actions for o in a.option_strings if o.startswith("--")
                   and o != "--help")  # fmt: skip
 

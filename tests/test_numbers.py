@@ -16,9 +16,14 @@ RESULTS = "docs/results/"
 IMAGE = re.compile(r"!\[[^\]]*\]\(([^)\s]+)\)")
 
 
+#: Pages made by code from a source the tests hold them equal to: the parser (tests/test_cli_reference.py) and the
+#: committed reproduction's records (tests/experiments/reproduce/test_committed.py).
+GENERATED = ("docs/cli.md", "docs/gallery.md")
+
+
 def _pages() -> list[str]:
     docs = sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "docs").rglob("*.md"))
-    return ["README.md", *(p for p in docs if not p.startswith(RESULTS))]
+    return ["README.md", *(p for p in docs if not p.startswith(RESULTS) and p not in GENERATED)]
 
 
 def _slug(heading: str) -> str:

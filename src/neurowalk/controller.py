@@ -87,7 +87,8 @@ class NeuralController:
         mode: sensory network mode, ``plastic``, ``static`` or ``braitenberg``.
         sensory: sensory network parameters.
         locomotion: locomotion network parameters (gait, delays).
-        b0, q0: start weights of the plastic network (see :func:`simulate`).
+        b0: start self-connection weight b of the plastic network (see :func:`simulate`).
+        q0: start learned inhibition q of the plastic network.
         reflexes: local leg control (True for the defaults, or its parameters); off by default.
         backbone: backbone joint control for climbing (True or its parameters); off by default. It
             needs a body that reads the obstacle-height sensor.

@@ -23,7 +23,7 @@ from neurowalk.cli.sweep import add_sweep_parser, cmd_sweep
 from neurowalk.cli.tools import add_tool_parsers, cmd_arenas, cmd_bench, cmd_bodies, cmd_calibrate, cmd_export
 from neurowalk.fileio import write_error
 
-__all__ = ["UsageError", "figure_listing", "main", "out_file", "out_folder", "parse"]
+__all__ = ["UsageError", "build_parser", "figure_listing", "main", "out_file", "out_folder", "parse"]
 
 _signals_held = signals_held  # its name here before the split, which the tests use
 
@@ -43,7 +43,8 @@ _COMMANDS = {
 }
 
 
-def _parser() -> argparse.ArgumentParser:
+def build_parser() -> argparse.ArgumentParser:
+    """The `neurowalk` command's parser: every command and option (nothing runs)."""
     p = Parser(prog="neurowalk", description="Adaptive neural control of the hexapod AMOSII (Grinke et al. 2015).")
     p.add_argument("--version", action="version", version=f"neurowalk {__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=Parser)
@@ -69,7 +70,7 @@ def parse(argv: list[str]) -> argparse.Namespace:
         name, eq, value = a.partition("=")
         if a.startswith("--") and eq and value == "--":
             raise UsageError(f"{name} expects a value, got '--'")
-    return _parser().parse_args(argv)
+    return build_parser().parse_args(argv)
 
 
 def _kept(args: argparse.Namespace | None) -> str:

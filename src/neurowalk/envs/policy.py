@@ -35,7 +35,8 @@ class NetworkPolicy:
         network: ``plastic``, ``static`` or ``braitenberg``.
         variant: ``paper`` (Eq. 1-6 as printed) or ``original`` (the authors' code); see ``neurowalk.neural.variants``.
         params: SensoryParams fields set on top of the variant.
-        b0, q0: start weights of the plastic network (default: the variant's).
+        b0: start self-connection weight b of the plastic network (default: the variant's).
+        q0: start learned inhibition q of the plastic network (default: the variant's).
 
     Call :meth:`reset` at the start of every episode (the weights go back to their start values). Called with (2,)
     readings it steps one network; with (n, 2) readings, n independent copies (each from the start state after

@@ -103,9 +103,30 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
     return "\n".join(lines) + "\n"
 
 
+def totals(out: Path, quick: bool) -> dict[str, Any]:
+    """The whole reproduction in numbers (``DIR/reproduce.json``): how many results were measured and with which
+    verdicts, and the wall time of its distinct figure commands (``DIR/*/command.json``; a command stopped and
+    resumed counts its last part only), on which machine."""
+    records = read_records(out, quick)
+    commands = [json.loads(p.read_text(encoding="utf-8")) for p in sorted(out.glob("*/command.json"))]
+    return {
+        "quick": quick,
+        "results": len(PLAN),
+        "measured": len(records),
+        "verdicts": {v: sum(r["verdict"] == v for r in records.values()) for v in MARK},
+        "commands": len(commands),
+        "wall_time_s": round(sum(c["wall_time_s"] for c in commands), 1),
+        "resumed_commands": sum(bool(c.get("resumed")) for c in commands),
+        "machine": commands[0]["versions"]["machine"] if commands else None,
+    }
+
+
 def write_report(out: Path, quick: bool, failed: dict[str, str] | None = None) -> Path:
-    """Write ``DIR/report.md`` (atomically) from the records in ``out``; its path."""
+    """Write ``DIR/report.md`` and ``DIR/reproduce.json`` (:func:`totals`), each atomically, from the records in
+    ``out``; the report's path."""
     path = out / "report.md"
     text = render(out, quick, failed)
     atomic_write(path, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
+    summary = json.dumps(totals(out, quick), indent=2) + "\n"
+    atomic_write(out / "reproduce.json", lambda tmp: Path(tmp).write_text(summary, encoding="utf-8"))
     return path

@@ -1,0 +1,82 @@
+"""The code blocks of the README and the documentation site, and how each one is tested.
+
+A fenced block in ``bash`` or ``python`` is code a reader copies, so it is run, as a reader follows a page: the
+page's blocks in order, in one empty folder, the ``python`` blocks in one namespace. The line before a fence may say
+otherwise, in an HTML comment (invisible on the site and on GitHub):
+
+- ``<!-- test: slow -->``: run, and the page's test is marked slow (it takes more than a few seconds);
+- ``<!-- test: parse: WHY -->``: a block of commands too long for a test run (minutes to hours: the committed
+  reproduction ran them); each ``neurowalk`` command in it is parsed by the command's own parser, so an option or
+  a value that no longer exists fails;
+- ``<!-- test: skip: WHY -->``: not run, for the reason given (it installs from the network, it opens a window).
+
+Blocks in other languages (``text``, ``mermaid``, ``bibtex``, ``json``) are output or pictures, not code.
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+#: Fences that hold code to run.
+RUN = ("bash", "python")
+KINDS = ("run", "slow", "parse", "skip")
+#: Pages made by code (the CLI reference, the gallery): their blocks are output, not code to copy.
+GENERATED = ("docs/cli.md", "docs/gallery.md")
+_FENCE = re.compile(r"^```(\w*)[^\n]*\n(.*?)^```\s*$", re.S | re.M)
+_DIRECTIVE = re.compile(r"<!--\s*test:\s*(\w+)(?::\s*(.*?))?\s*-->\s*$")
+
+
+@dataclass(frozen=True)
+class Block:
+    """One fenced block: its page (relative to the root), first line (1-based), language, code and test kind."""
+
+    page: str
+    line: int
+    lang: str
+    code: str
+    kind: str
+    why: str
+
+    @property
+    def id(self) -> str:
+        return f"{self.page}:{self.line}"
+
+
+def pages() -> list[str]:
+    """The README and every page of the site but the generated ones (the report and the CLI reference)."""
+    docs = sorted(p.relative_to(ROOT).as_posix() for p in (ROOT / "docs").rglob("*.md"))
+    return ["README.md", *(p for p in docs if not p.startswith("docs/results/") and p not in GENERATED)]
+
+
+def blocks(page: str) -> list[Block]:
+    """The runnable blocks of ``page`` with their test kind (see the module's text)."""
+    text = (ROOT / page).read_text(encoding="utf-8")
+    found = []
+    for m in _FENCE.finditer(text):
+        lang = m.group(1)
+        if lang not in RUN:
+            continue
+        before = text[: m.start()].rstrip("\n").rsplit("\n", 1)[-1]
+        d = _DIRECTIVE.search(before)
+        kind, why = (d.group(1), d.group(2) or "") if d else ("run", "")
+        if kind not in KINDS:
+            raise ValueError(f"{page}: unknown test kind {kind!r} (one of {', '.join(KINDS)})")
+        if kind in ("parse", "skip") and not why:
+            raise ValueError(f"{page}: `test: {kind}` needs a reason")
+        line = text.count("\n", 0, m.start()) + 1
+        found.append(Block(page, line, lang, m.group(2), kind, why))
+    return found
+
+
+def commands(code: str) -> list[str]:
+    """The shell commands of a bash block: continuation lines joined, comments and blank lines dropped, ``&&``
+    chains split."""
+    joined = re.sub(r"\\\n\s*", " ", code)
+    out = []
+    for line in joined.splitlines():
+        line = re.split(r"(?:^|\s)#", line, maxsplit=1)[0].strip()
+        out += [part.strip() for part in line.split("&&") if part.strip()]
+    return out
