@@ -62,8 +62,6 @@ def test_every_relative_link_points_to_a_file(page):
         file, _, anchor = target.partition("#")
         path = (doc.parent / file).resolve() if file else doc
         rel = path.relative_to(ROOT).as_posix() if path.is_relative_to(ROOT) else str(path)
-        if rel.startswith(RESULTS) and not path.exists():
-            continue  # docs/results/ is written by `neurowalk reproduce`; until its run is committed, links wait for it
         if not path.exists():
             missing.append(f"{target}: no such file")
         elif anchor and path.suffix == ".md" and anchor not in _anchors(path):

@@ -7,8 +7,9 @@ import json
 from pathlib import Path
 
 from neurowalk.experiments.reproduce.claims import VERDICTS
+from neurowalk.experiments.reproduce.gallery import gallery
 from neurowalk.experiments.reproduce.plan import PLAN
-from neurowalk.experiments.reproduce.report import render
+from neurowalk.experiments.reproduce.report import render, totals
 from neurowalk.experiments.reproduce.timing import TIMES, measured_times
 
 RESULTS = Path(__file__).parents[3] / "docs" / "results"
@@ -25,9 +26,29 @@ def test_the_quick_reproduction_has_a_verdict_for_every_result_and_its_report():
 
 
 def test_quick_reproduction_took_under_fifteen_minutes():
-    """The acceptance line, read from the committed run's records (not timed here)."""
+    """Read from the committed run's records (not timed here)."""
     total = sum(json.loads(p.read_text())["wall_time_s"] for p in QUICK.glob("*/command.json"))
     assert 0 < total < 15 * 60
+    assert json.loads((QUICK / "reproduce.json").read_text()) == totals(QUICK, quick=True)
+
+
+def test_the_full_reproduction_has_a_record_for_every_result_and_its_report():
+    """`neurowalk reproduce` (full) ran and is committed: every result, its numbers, its picture, its report."""
+    for item in PLAN:
+        rec = json.loads((RESULTS / f"{item.name}.json").read_text())
+        assert rec["quick"] is False and rec["verdict"] in VERDICTS, item.name
+        assert "--quick" not in rec["command"].split(), item.name
+        assert (RESULTS / rec["files"]["json"]).is_file() and (RESULTS / rec["files"]["png"]).is_file(), item.name
+    assert (RESULTS / "report.md").read_text() == render(RESULTS, quick=False)
+    summary = json.loads((RESULTS / "reproduce.json").read_text())
+    assert summary == totals(RESULTS, quick=False) and summary["measured"] == len(PLAN)
+
+
+def test_the_gallery_shows_every_figure_of_the_full_run():
+    page = RESULTS.parent / "gallery.md"
+    assert page.read_text() == gallery(RESULTS, page)
+    for item in PLAN:
+        assert f"](results/{item.name}/" in page.read_text(), item.name
 
 
 def test_every_quick_figure_took_under_ninety_seconds():
