@@ -15,10 +15,12 @@ points) for the process; the helpers below do the rest the same way everywhere:
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING, Any
 
 import matplotlib
+from matplotlib.font_manager import FontProperties
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -26,6 +28,7 @@ if TYPE_CHECKING:
     from matplotlib.colorbar import Colorbar
     from matplotlib.figure import Figure
     from matplotlib.legend import Legend
+    from matplotlib.table import Table
     from matplotlib.text import Text
 
 #: matplotlib settings of every figure: font sizes (pt), line widths (pt), white background.
@@ -62,6 +65,8 @@ NETWORK_COLOURS: dict[str, str] = {
     "static": "#4D4D4D",
     "braitenberg": "#1B9E77",
 }
+#: Line style of each network where lines of several networks share an axes (equal values stay visible).
+NETWORK_DASHES = {"plastic": "-", "static": "--", "braitenberg": ":"}
 #: Networks with no colour of their own, in order of first use.
 EXTRA_COLOURS = ("#E6AB02", "#A6761D", "#66A61E", "#E7298A")
 #: The left and right neuron, sensor or weight of the two-neuron network (O1, I1, b1 left; O2, I2, b2 right).
@@ -98,6 +103,13 @@ def network_colour(name: str) -> str:
     if inside:
         return NETWORK_COLOURS[max(inside, key=len)]
     return EXTRA_COLOURS[sum(name.encode()) % len(EXTRA_COLOURS)]
+
+
+def network_line(name: str) -> dict[str, Any]:
+    """Line properties of network ``name`` in a plot of several networks: its colour, its dash (plastic solid,
+    static dashed, braitenberg dotted; variants as their network)."""
+    dash = next((d for k, d in NETWORK_DASHES.items() if k in name), "-")
+    return {"color": network_colour(name), "ls": dash}
 
 
 def weight_style(kind: str, side: str) -> dict[str, Any]:
@@ -140,14 +152,23 @@ def legend_outside(ax: Axes, *, side: str = "right", ncol: int = 1, **kwargs: An
     or ``above`` it (for an axes without a title). Other ``kwargs`` go to ``Axes.legend``."""
     if side == "right":
         where = {"loc": "upper left", "bbox_to_anchor": (1.01, 1.0), "borderaxespad": 0.0}
-    elif side == "below":
-        under = 0.6 + 1.5 * bool(ax.xaxis.get_ticklabels() and ax.xaxis.get_visible()) + 1.5 * bool(ax.get_xlabel())
-        where = {"loc": "upper center", "bbox_to_anchor": (0.5, 0.0), "borderaxespad": under}
+    elif side == "below":  # under the tick labels and the x label: their heights (pt) from the rc settings
+        rc = matplotlib.rcParams
+        ticks = rc["xtick.major.size"] + rc["xtick.major.pad"] + 1.25 * _points(rc["xtick.labelsize"])
+        label = rc["axes.labelpad"] + 1.25 * _points(rc["axes.labelsize"])
+        under = 4.0 + ticks * any(t.get_visible() for t in ax.get_xticklabels()) + label * bool(ax.get_xlabel())
+        size = _points(kwargs.get("fontsize", rc["legend.fontsize"]))
+        where = {"loc": "upper center", "bbox_to_anchor": (0.5, 0.0), "borderaxespad": under / size}
     elif side == "above":
         where = {"loc": "lower center", "bbox_to_anchor": (0.5, 1.0), "borderaxespad": 0.3}
     else:
         raise ValueError(f"side must be right, below or above, not {side!r}")
     return ax.legend(ncol=ncol, **{**where, **kwargs})
+
+
+def _points(size: float | str) -> float:
+    """A font size (points, or a name such as ``small``) in points."""
+    return FontProperties(size=size).get_size_in_points()
 
 
 def colorbar(mappable: ScalarMappable, ax: Axes | Sequence[Axes], label: str, **kwargs: Any) -> Colorbar:
@@ -160,3 +181,48 @@ def colorbar(mappable: ScalarMappable, ax: Axes | Sequence[Axes], label: str, **
 def time_colorbar(mappable: ScalarMappable, ax: Axes | Sequence[Axes], **kwargs: Any) -> Colorbar:
     """The colour bar of a path or scatter coloured by time: labelled ``time (s)``."""
     return colorbar(mappable, ax, TIME_LABEL, **kwargs)
+
+
+def draw_table(
+    ax: Axes,
+    cells: Sequence[Sequence[str]],
+    rows: Sequence[str],
+    columns: Sequence[str],
+    *,
+    shares: Sequence[Sequence[float | None]] | None = None,
+    title: str | None = None,
+) -> Table:
+    """A real table in ``ax`` (its frame and ticks hidden): ``cells`` (one list of strings per row) beside the
+    ``rows`` labels, under the ``columns`` labels, headers in bold. ``shares`` (0-1 per cell, None for none) tint each
+    cell from light red (0) to light green (1), so that a table of outcomes reads at a glance."""
+    ax.axis("off")
+    tints = None
+    if shares is not None:
+        tints = [[_tint(v) for v in row] for row in shares]
+    width = 1.0 / (len(columns) + 1.4)  # the row labels' column 1.4 wide
+    tab = ax.table(
+        cellText=[list(r) for r in cells],
+        rowLabels=list(rows),
+        colLabels=[textwrap.fill(c, 18) for c in columns],
+        cellColours=tints,
+        colWidths=[width] * len(columns),
+        cellLoc="center",
+        bbox=(1.4 * width, 0.0, 1.0 - 1.4 * width, 1.0),
+    )
+    tab.auto_set_font_size(False)
+    tab.set_fontsize(FONT["note"] + 1)
+    for (r, c), cell in tab.get_celld().items():
+        cell.set_edgecolor("0.7")
+        if r == 0 or c == -1:
+            cell.set_text_props(fontweight="bold")
+    if title:
+        ax.set_title(title)
+    return tab
+
+
+def _tint(share: float | None) -> str | tuple[float, float, float]:
+    """Light red (0) through white-ish yellow to light green (1); white for None."""
+    if share is None:
+        return "white"
+    r, g, b, _ = matplotlib.colormaps["RdYlGn"](0.15 + 0.7 * float(share))
+    return (0.55 + 0.45 * r, 0.55 + 0.45 * g, 0.55 + 0.45 * b)
