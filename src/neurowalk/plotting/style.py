@@ -20,6 +20,7 @@ from collections.abc import Iterable, Sequence
 from typing import TYPE_CHECKING, Any
 
 import matplotlib
+import numpy as np
 from matplotlib.font_manager import FontProperties
 
 if TYPE_CHECKING:
@@ -171,14 +172,17 @@ def _points(size: float | str) -> float:
     return FontProperties(size=size).get_size_in_points()
 
 
-def colorbar(mappable: ScalarMappable, ax: Axes | Sequence[Axes], label: str, **kwargs: Any) -> Colorbar:
-    """A colour bar labelled ``label`` (with its unit) beside ``ax`` (one axes, or several that share it)."""
-    first = ax if not isinstance(ax, Sequence) else ax[0]
+def colorbar(mappable: ScalarMappable, ax: Axes | Sequence[Axes] | Any, label: str, **kwargs: Any) -> Colorbar:
+    """A colour bar labelled ``label`` (with its unit) beside ``ax``: one axes, or several that share it (a list or
+    an array of axes)."""
+    many = not hasattr(ax, "get_figure")
+    axes = [a for a in np.ravel(np.asarray(ax, dtype=object))] if many else ax
+    first = axes[0] if many else ax
     opts = {"fraction": 0.046, "pad": 0.02, "aspect": 25, **kwargs}
-    return first.get_figure().colorbar(mappable, ax=ax, label=label, **opts)
+    return first.get_figure().colorbar(mappable, ax=axes, label=label, **opts)
 
 
-def time_colorbar(mappable: ScalarMappable, ax: Axes | Sequence[Axes], **kwargs: Any) -> Colorbar:
+def time_colorbar(mappable: ScalarMappable, ax: Axes | Sequence[Axes] | Any, **kwargs: Any) -> Colorbar:
     """The colour bar of a path or scatter coloured by time: labelled ``time (s)``."""
     return colorbar(mappable, ax, TIME_LABEL, **kwargs)
 
