@@ -81,6 +81,8 @@ OUTCOME_COLOURS = {"ok": "#2CA02C", "failed": "#D62728", "trap": "#1F77B4"}
 #: Colour map of time along a path: dark blue (start) to dark red (end), the paper's colour code.
 TIME_CMAP = "jet"
 TIME_LABEL = "time (s)"
+#: The white box behind a number written on a bar or a path.
+COUNT_BOX = {"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none"}
 #: ``gid`` of a panel letter (tests and tools find the letters by it).
 LETTER_GID = "panel-letter"
 
@@ -155,9 +157,11 @@ def legend_outside(ax: Axes, *, side: str = "right", ncol: int = 1, **kwargs: An
         where = {"loc": "upper left", "bbox_to_anchor": (1.01, 1.0), "borderaxespad": 0.0}
     elif side == "below":  # under the tick labels and the x label: their heights (pt) from the rc settings
         rc = matplotlib.rcParams
-        ticks = rc["xtick.major.size"] + rc["xtick.major.pad"] + 1.25 * _points(rc["xtick.labelsize"])
+        shown = [t for t in ax.get_xticklabels() if t.get_visible()]
+        lines = max([t.get_text().count("\n") + 1 for t in shown] or [0])
+        ticks = rc["xtick.major.size"] + rc["xtick.major.pad"] + 1.25 * lines * _points(rc["xtick.labelsize"])
         label = rc["axes.labelpad"] + 1.25 * _points(rc["axes.labelsize"])
-        under = 4.0 + ticks * any(t.get_visible() for t in ax.get_xticklabels()) + label * bool(ax.get_xlabel())
+        under = 4.0 + ticks + label * bool(ax.get_xlabel())
         size = _points(kwargs.get("fontsize", rc["legend.fontsize"]))
         where = {"loc": "upper center", "bbox_to_anchor": (0.5, 0.0), "borderaxespad": under / size}
     elif side == "above":

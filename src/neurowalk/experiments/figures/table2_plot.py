@@ -14,7 +14,7 @@ from matplotlib.ticker import MaxNLocator, PercentFormatter
 
 from neurowalk.experiments import Result
 from neurowalk.experiments.suites.random_envs import FAILURE_CLASSES
-from neurowalk.plotting.style import FONT, legend_outside, letter_panels, network_colour, pyplot
+from neurowalk.plotting.style import COUNT_BOX, FONT, legend_outside, letter_panels, network_colour, pyplot
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -23,8 +23,6 @@ if TYPE_CHECKING:
 PAPER = {"environments": 50, "success": 49, "failure": 1}
 #: Colour of each failure class (latched spin, wedged, other).
 CLASS_COLOURS = ("#B2182B", "#F4A582", "0.6")
-#: The white box behind a count written on a bar.
-LABEL_BOX = {"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none"}
 #: About this many clutter bins (whole numbers of boxes each).
 CLUTTER_BINS = 5
 
@@ -55,7 +53,7 @@ def _rates(ax: Axes, s: dict[str, Any], names: list[str], both: bool) -> None:
         for i, c in enumerate(names):
             k = s["counts"][c]
             ax.text(i + dx, 0.03, f"{k[ok_key]}/{k['environments']}", ha="center", va="bottom", rotation=90,
-                    fontsize=FONT["small"], bbox=LABEL_BOX)  # fmt: skip
+                    fontsize=FONT["small"], bbox=COUNT_BOX)  # fmt: skip
     handles = [Patch(fc="0.5", alpha=0.85, ec="k", lw=0.5, label="not stuck at the end")]
     if both:
         handles.append(Patch(fc="0.5", alpha=0.45, ec="k", lw=0.5, hatch="//", label="coverage rule"))
