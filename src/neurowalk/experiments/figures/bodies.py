@@ -246,7 +246,7 @@ def plot(res: Result) -> Figure:
         ax.bar(x + dx, v, width * 0.95, color=DEAD_END_COLOURS[k % len(DEAD_END_COLOURS)], label=a)
         _bar_counts(ax, x + dx, v, [f"{r['dead_ends'][a]}/{r['dead_end_runs']}" for r in rows_])
     ax.set_xticks(x, labels, fontsize=FONT["note"])
-    ax.set(ylim=(0, 1.25), ylabel=f"escaped (share of {rows_[0]['dead_end_runs']} seeds)")
+    ax.set(ylim=(0, 1.25), xlabel="body, network", ylabel=f"escaped (share of {rows_[0]['dead_end_runs']} seeds)")
     ax.yaxis.set_major_formatter(PercentFormatter(1.0))
     ax.set_yticks([0, 0.25, 0.5, 0.75, 1.0])
     legend_outside(ax)
@@ -274,7 +274,7 @@ def plot(res: Result) -> Figure:
             ax.text(i + dx, 0.03, f"{r[ok_key]}/{r['table2_environments']}", ha="center", va="bottom", rotation=90,
                     fontsize=FONT["small"], bbox=COUNT_BOX)  # fmt: skip
     ax.set_xticks(x, labels, fontsize=FONT["note"])
-    ax.set(ylim=(0, 1.05), ylabel="success (Wilson 95% interval)")
+    ax.set(ylim=(0, 1.05), xlabel="body, network", ylabel="success (Wilson 95% interval)")
     ax.yaxis.set_major_formatter(PercentFormatter(1.0))
     legend_outside(ax, handles=handles)
     title = f"Table 2, {rows_[0]['table2_environments']} environments, {s['table2_steps']} control steps"

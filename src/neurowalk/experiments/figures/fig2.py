@@ -152,13 +152,11 @@ def plot(res: Result) -> Figure:
     plt = pyplot()
 
     a, s = res.arrays, res.summary
-    fig = plt.figure(figsize=(16, 9), layout="constrained")
-    gs = fig.add_gridspec(2, 12)
-    panels = [fig.add_subplot(gs[0, 0:3])]
+    fig = plt.figure(figsize=(16, 9.5), layout="constrained")
+    top, bottom = fig.subfigures(2, 1)
+    panels = list(top.subplots(1, 4))
     draw_network(panels[0], s.get("input_weight_a", 4.7))
-    for i, b in enumerate(PANEL_B):
-        ax = fig.add_subplot(gs[0, 3 * i + 3 : 3 * i + 6])
-        panels.append(ax)
+    for i, (b, ax) in enumerate(zip(PANEL_B, panels[1:], strict=True)):
         bi, bo, st = a[f"n{i}_branch_i"], a[f"n{i}_branch_o"], a[f"n{i}_stable"].astype(bool)
         ax.plot(np.where(st, bi, np.nan), bo, color="green", lw=LINE["thick"], label="stable fixed point")
         ax.plot(np.where(~st, bi, np.nan), bo, color="orange", ls=":", lw=LINE["thick"], label="unstable fixed point")
@@ -167,9 +165,9 @@ def plot(res: Result) -> Figure:
         ax.plot(lv[:half], out[:half], "b-", lw=LINE["thin"], alpha=0.7, label="sweep up (measured)")
         ax.plot(lv[half:], out[half:], "r-", lw=LINE["thin"], alpha=0.7, label="sweep down (measured)")
         ax.set(xlim=(-1, 1), ylim=(-1.05, 1.05), xlabel="input I", ylabel="output O", title=f"one neuron, b = {b}")
-    legend_outside(panels[1], side="below", ncol=2, fontsize=FONT["small"])
-    ax = fig.add_subplot(gs[1, 0:4])
-    panels.append(ax)
+    top.legend(handles=panels[1].get_legend_handles_labels()[0], loc="outside lower center", ncol=4)
+    ax, f_ax, g_ax = bottom.subplots(1, 3)
+    panels += [ax, f_ax, g_ax]
     for i, loop in enumerate(s["two_neuron_loops"]):
         lv, out = a[f"e{i}_levels"], a[f"e{i}_out"][:, 0]
         name, net = LOOP_NAMES[i] if i < len(LOOP_NAMES) else ("", f"C{i}")
@@ -177,13 +175,13 @@ def plot(res: Result) -> Figure:
         ax.plot(lv, out, color=colour, lw=LINE["thick"], label=f"{name}: b = {loop['b']:g}, c = {loop['c']:g}")
     ax.set(
         xlim=(-1.05, 1.05),
+        xticks=(-1, -0.5, 0, 0.5, 1),
         xlabel="left input I1 (right input I2 = -1)",
         ylabel="left output O1",
         title="two neurons: hysteresis",
     )
     legend_outside(ax, side="below", fontsize=FONT["small"])
-    ax = fig.add_subplot(gs[1, 4:8])
-    panels.append(ax)
+    ax = f_ax
     b = np.array([r["b"] for r in s["single_neuron"]])
     w = np.array([r["width"] if r["width"] is not None else np.nan for r in s["single_neuron"]], dtype=float)
     wa = np.array([r["width_analytic"] for r in s["single_neuron"]], dtype=float)
@@ -198,8 +196,7 @@ def plot(res: Result) -> Figure:
         title="width grows with b\n(gaps: latched or never switched)",
     )
     legend_outside(ax, side="below", ncol=2, fontsize=FONT["small"])
-    ax = fig.add_subplot(gs[1, 8:12])
-    panels.append(ax)
+    ax = g_ax
     wm = np.ma.masked_invalid(a["map_width"])
     cmap = plt.get_cmap("viridis").with_extremes(bad="black")
     im = ax.pcolormesh(a["map_c"], a["map_b"], wm, cmap=cmap, shading="nearest")

@@ -112,7 +112,7 @@ def plot(res: Result) -> Figure:
     )
     ax[1].tick_params(axis="x", labelsize=FONT["note"])
     ax[1].yaxis.set_major_locator(MaxNLocator(integer=True))
-    ax[1].set(ylabel=f"escaped (runs, of {s['seeds']})", ylim=(0, s["seeds"] * 1.08))
+    ax[1].set(xlabel="dead end", ylabel=f"escaped (runs, of {s['seeds']})", ylim=(0, s["seeds"] * 1.08))
     a = s["agreement"]
     ax[1].set_title(f"dead ends: same outcome in {a['same_outcome']}/{a['runs']} runs ({a['fraction']:.0%})")
     legend_outside(ax[1], side="below", ncol=3)

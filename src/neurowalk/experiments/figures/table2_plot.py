@@ -68,7 +68,7 @@ def _rates(ax: Axes, s: dict[str, Any], names: list[str], both: bool) -> None:
     labels = [f"{c}\n{who} agrees\n{agree[c]['same_outcome']}/{agree[c]['environments']}" if c in agree else c
               for c in names]  # fmt: skip
     ax.set_xticks(x, labels, fontsize=FONT["small"] if agree else FONT["note"])
-    ax.set(ylim=(0, 1.05), ylabel="success rate (Wilson 95% interval)", title="success rate")
+    ax.set(ylim=(0, 1.05), xlabel="network", ylabel="success rate (Wilson 95% interval)", title="success rate")
     ax.yaxis.set_major_formatter(PercentFormatter(1.0))
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
 
@@ -89,7 +89,7 @@ def _coverage(ax: Axes, s: dict[str, Any], names: list[str]) -> None:
     ax.set_xticks(x, names, fontsize=FONT["note"])
     ax.yaxis.set_major_formatter(PercentFormatter(1.0))
     cell = s.get("coverage_cell_m", 0.25)
-    ax.set(ylabel=f"coverage (share of free {cell:g} m cells)", title="coverage per environment")
+    ax.set(xlabel="network", ylabel=f"coverage (share of free {cell:g} m cells)", title="coverage per environment")
 
 
 def _by_clutter(ax: Axes, s: dict[str, Any], names: list[str], both: bool) -> None:
@@ -133,7 +133,7 @@ def _by_class(ax: Axes, s: dict[str, Any], names: list[str]) -> None:
     ax.set_xticks(x, [c if h is None else f"{c}\nheld up: {h}" for c, h in zip(names, held, strict=True)])
     ax.tick_params(axis="x", labelsize=FONT["note"])
     ax.yaxis.set_major_locator(MaxNLocator(integer=True))
-    ax.set(ylim=(0, max(1.0, float(bottom.max())) * 1.1), ylabel="failures (not-stuck rule)")
+    ax.set(ylim=(0, max(1.0, float(bottom.max())) * 1.1), xlabel="network", ylabel="failures (not-stuck rule)")
     ax.set_title("failures by class (held up: successes held up >= 300 s)")
     legend_outside(ax)
 
