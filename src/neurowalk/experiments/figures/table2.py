@@ -19,8 +19,6 @@ from tqdm import tqdm
 
 from neurowalk.body.registry import bodies_where, body_info
 from neurowalk.experiments import Result
-from neurowalk.experiments.figures.table2_plot import PAPER
-from neurowalk.experiments.figures.table2_plot import plot as draw
 from neurowalk.experiments.stores import run_store
 from neurowalk.experiments.suites.random_envs import (
     BOXES,
@@ -44,6 +42,8 @@ from neurowalk.experiments.suites.random_envs import (
     steps_at,
     wilson,
 )
+from neurowalk.experiments.suites.random_envs_plot import PAPER
+from neurowalk.experiments.suites.random_envs_plot import plot as draw
 from neurowalk.neural.variants import variant_names
 from neurowalk.runners.local import run_unordered
 from neurowalk.runners.specs import run_spec, spec_key
@@ -266,5 +266,5 @@ def _agreement(physics: list[dict[str, Any]], surrogate: list[dict[str, Any]], n
 
 def plot(res: Result) -> Figure:
     """Success rates under both rules beside the paper's, coverage, failures by clutter and by class
-    (:mod:`.table2_plot`)."""
+    (:mod:`~neurowalk.experiments.suites.random_envs_plot`)."""
     return draw(res)

@@ -99,7 +99,7 @@ def _long_path(ax: Axes, r: dict, pose: np.ndarray, step: np.ndarray, mark: int 
 
 def _long_title(key: str, r: dict, hz: float) -> str:
     cov = r["coverage"]
-    wedged = f", wedged {r['wedged_periods']}x" if "wedged" in r else ""
+    wedged = f"\nwedged {r['wedged_periods']}x (longest {r['longest_wedged_s']:.0f} s)" if "wedged" in r else ""
     outcome = "trapped" if r["trapped"] else "not trapped"
     return f"{key}, {r['steps'] / hz:,.0f} s\n{outcome}, coverage {cov:.0%}{wedged}"
 

@@ -1,6 +1,7 @@
-"""The picture of Table 2 (:mod:`.table2`): success rates under both rules beside the paper's, coverage per network,
-failures by clutter (environments binned by their number of boxes) and by class. The rules' wording is in the json
-(``rule``, ``coverage_rule``, ``failure_rule``, ``held_up_rule``), not on the picture."""
+"""The picture of Table 2 (:mod:`neurowalk.experiments.figures.table2`): success rates under both rules beside the
+paper's, coverage per network, failures by clutter (environments binned by their number of boxes) and by class. The
+rules' wording is in the json (``rule``, ``coverage_rule``, ``failure_rule``, ``held_up_rule``), not on the
+picture."""
 
 from __future__ import annotations
 
