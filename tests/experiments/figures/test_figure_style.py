@@ -15,6 +15,7 @@ import pytest
 
 from neurowalk.experiments import FIGURES, Result
 from neurowalk.experiments.figures import fig2
+from neurowalk.experiments.suites.random_envs_plot import CLUTTER_BINS, clutter_bins
 from neurowalk.plotting.style import panel_letters
 
 QUICK = Path(__file__).resolve().parents[3] / "docs" / "results" / "quick"
@@ -128,3 +129,24 @@ def test_paths_coloured_by_time_have_a_time_colour_bar(folder):
     fig = FIGURES[res.name].plot(res)
     bars = [ax.get_ylabel() for ax in fig.axes if ax.get_label() == "<colorbar>"]
     assert any(b.startswith("time (s)") for b in bars), bars
+
+
+@pytest.mark.parametrize(("lo", "hi"), [(2, 20), (2, 3), (4, 4), (1, 100)])
+def test_clutter_bins_are_whole_box_counts_covering_the_range_once(lo, hi):
+    bins = clutter_bins(lo, hi)
+    covered = [n for a, b in bins for n in range(a, b + 1)]
+    assert covered == list(range(lo, hi + 1))  # every count once, in order
+    assert all(isinstance(a, int) and isinstance(b, int) and a <= b for a, b in bins)
+    assert len(bins) <= CLUTTER_BINS + 1
+
+
+def test_table2s_failures_by_clutter_are_drawn_in_those_bins():
+    res = _result("table2")
+    fig = FIGURES["table2"].plot(res)
+    ax = next(a for a in fig.axes if a.get_title() == "failures by clutter")
+    labels = [t.get_text() for t in ax.get_xticklabels()]
+    lo, hi = res.summary["boxes"]
+    assert [tuple(map(int, re.match(r"(\d+)-(\d+)\n", t).groups())) for t in labels] == clutter_bins(lo, hi)
+    sizes = [int(re.search(r"\n(\d+) envs", t).group(1)) for t in labels]
+    assert sum(sizes) == len(res.summary["environments"])
+    assert ax.get_xlabel() == "boxes in the environment"
