@@ -68,7 +68,7 @@ NETWORK_COLOURS: dict[str, str] = {
 }
 #: Line style of each network where lines of several networks share an axes (equal values stay visible).
 NETWORK_DASHES = {"plastic": "-", "static": "--", "braitenberg": ":"}
-#: Networks with no colour of their own, in order of first use.
+#: Colours of networks with none of their own (chosen by the name, so the same name always gets the same one).
 EXTRA_COLOURS = ("#E6AB02", "#A6761D", "#66A61E", "#E7298A")
 #: The left and right neuron, sensor or weight of the two-neuron network (O1, I1, b1 left; O2, I2, b2 right).
 SIDE_COLOURS = {"left": "#1F77B4", "right": "#FF7F0E"}
@@ -80,6 +80,7 @@ MEAN_WEIGHT = {"color": "black", "ls": "--", "lw": LINE["trace"], "label": "c = 
 OUTCOME_COLOURS = {"ok": "#2CA02C", "failed": "#D62728", "trap": "#1F77B4"}
 #: Colour map of time along a path: dark blue (start) to dark red (end), the paper's colour code.
 TIME_CMAP = "jet"
+#: The label of every time colour bar.
 TIME_LABEL = "time (s)"
 #: The white box behind a number written on a bar or a path.
 COUNT_BOX = {"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none"}
