@@ -1,19 +1,52 @@
-"""The pictures of runs: what their titles say."""
+"""The pictures of runs: what their titles say, the colour bar of the path, the legends off the data."""
 
 import pytest
 
 from neurowalk.plotting import plot_run, run_title
+from neurowalk.plotting.style import panel_letters
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
 
+@pytest.fixture(scope="module")
+def surrogate_run():
+    return run_episode(EpisodeConfig(arena="box", body="surrogate", steps=40))
+
+
 @pytest.mark.parametrize("body", ["surrogate", "surrogate-wheeled"])
-def test_the_run_picture_names_the_body(body):
+def test_the_run_picture_names_the_body_and_the_variant(body):
     ep = run_episode(EpisodeConfig(arena="box", body=body, steps=20))
     fig = plot_run(ep.trajectory, ep.arena, ep.summary)
-    assert fig.axes[0].get_title() == f"box, {body}, plastic, 20 steps, seed 0"
+    assert fig.get_suptitle() == f"box, {body}, plastic, variant paper, 20 steps (2 s), seed 0"
 
 
-def test_the_title_names_a_users_robot_by_its_file_and_the_fixed_steering():
+def test_the_title_names_a_users_robot_by_its_file_the_fixed_steering_and_the_variant():
     summary = {"arena": "open", "body": "mjcf:/home/me/robots/crab.xml", "controller": "fixed", "steer": [-1, 1],
-               "steps": 5, "seed": 3}  # fmt: skip
-    assert run_title(summary) == "open, mjcf:crab.xml, fixed (-1, 1), 5 steps, seed 3"
+               "steps": 5, "seed": 3, "variant": "original", "params": {"k": 2.0}}  # fmt: skip
+    assert run_title(summary) == "open, mjcf:crab.xml, fixed (-1, 1), variant original + params, 5 steps, seed 3"
+
+
+def test_the_path_has_a_time_colour_bar_in_seconds(surrogate_run):
+    ep = surrogate_run
+    fig = plot_run(ep.trajectory, ep.arena, ep.summary)
+    bars = [ax for ax in fig.axes if ax.get_label() == "<colorbar>"]
+    assert len(bars) == 1
+    assert bars[0].get_ylabel() == "time (s)"
+    path = fig.axes[0].collections[0]
+    lo, hi = path.get_clim()
+    assert lo == 0.0 and hi == pytest.approx(ep.trajectory.t[-1])
+
+
+def test_every_panel_is_lettered_labelled_and_its_legend_is_off_the_data(surrogate_run):
+    ep = surrogate_run
+    fig = plot_run(ep.trajectory, ep.arena, ep.summary)
+    fig.canvas.draw()
+    plots = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"]
+    assert panel_letters(fig) == ["A", "B", "C", "D"]
+    assert all(ax.get_ylabel() for ax in plots)
+    assert plots[0].get_xlabel() == "x (m)" and plots[-1].get_xlabel() == "time (s)"
+    renderer = fig.canvas.get_renderer()
+    for ax in plots:
+        legend = ax.get_legend()
+        assert legend is not None
+        box, frame = legend.get_window_extent(renderer), ax.get_window_extent(renderer)
+        assert not box.overlaps(frame), ax.get_ylabel()

@@ -10,6 +10,7 @@ import pytest
 
 from neurowalk.experiments.figures import fig3, fig5
 from neurowalk.experiments.suites import deadends, long_runs
+from neurowalk.plotting.style import LETTER_GID
 from neurowalk.sim.episode import EpisodeConfig
 
 
@@ -82,18 +83,49 @@ def test_every_run_gets_the_control_rate_and_the_long_runs_their_length(faked, f
         assert set(s["table"]["variants"]) == set(deadends.QUICK_VARIANTS)
 
 
+def lettered(figure) -> dict[str, str]:
+    """The title of each lettered panel of ``figure``, by its letter (the letters drawn by plotting.style)."""
+    out: dict[str, str] = {}
+    for ax in figure.axes:
+        for t in ax.texts:
+            if t.get_gid() == LETTER_GID:
+                assert t.get_text() not in out, f"letter {t.get_text()} twice"
+                out[t.get_text()] = ax.get_title()
+    return out
+
+
 def test_the_panels_are_named_as_the_papers(faked):
     for fig, long_panels in ((fig3, {"F": "cluttered", "G": "difficult"}), (fig5, {"F": "difficult (plastic)"})):
         res = fig.run(quick=True, seeds=1)
         assert list(res.summary["panels"]) == list("ABCDEFG")
-        titles = [ax.get_title() for ax in fig.plot(res).axes]
-        for letter in "ABCDEFG":
-            assert sum(t.startswith(f"{letter}  ") for t in titles) == 1, (fig.NAME, letter, titles)
+        figure = fig.plot(res)
+        titles = lettered(figure)
+        assert set(titles) == set("ABCDEFG") | ({"H"} if fig is fig5 else set()), (fig.NAME, titles)
+        assert "simple deadlock" in titles["A"] and "narrow passage" in titles["B"]
+        assert "neural activations" in titles["C"] and "left" in titles["D"] and "right" in titles["E"]
         for letter, what in long_panels.items():
-            assert what in next(t for t in titles if t.startswith(f"{letter}  "))
-    g = next(t for t in titles if t.startswith("G  "))
-    assert "weights" in g and "difficult (plastic)" in g  # Fig. 5G: the weights over the long run
-    assert "coverage over time (not in the paper)" in titles
+            assert what in titles[letter]
+        texts = [t.get_text() for ax in figure.axes for t in ax.texts]
+        assert not any("escaped / runs" in t for t in texts)  # the counts are a table now, not a block of text
+        assert sum(len(ax.tables) for ax in figure.axes) == 1
+    assert "weights" in titles["G"] and "difficult (plastic)" in titles["G"]  # Fig. 5G: the weights over the long run
+    assert titles["H"] == "coverage (not in the paper)"
+
+
+@pytest.mark.parametrize("weights_change", [True, False])
+def test_panel_c_has_one_axes_per_signal_with_its_own_scale(faked, weights_change):
+    res = fig5.run(quick=True, seeds=1)
+    if weights_change:  # the plastic network's weights grow; constant weights (the static network's) are not drawn
+        n = len(res.arrays["narrow-passage/b"])
+        res.arrays["narrow-passage/b"] = np.linspace(0, 3, 2 * n).reshape(n, 2)
+    figure = fig5.plot(res)
+    top = next(ax for ax in figure.axes if any(t.get_gid() == LETTER_GID and t.get_text() == "C" for t in ax.texts))
+    c = [ax for ax in figure.axes if top.get_shared_x_axes().joined(ax, top)]
+    assert [ax.get_ylabel() for ax in c] == ["input I", "output O", "weight"][: 3 if weights_change else 2]
+    assert c[-1].get_xlabel() == "time (s)"
+    for ax in c[:2]:
+        assert [lab.get_text() for lab in ax.get_yticklabels()] == ["−1", "0", "1"]
+    assert all(ax.get_legend() is not None for ax in c)
 
 
 def test_fig5g_covers_the_whole_run(faked):

@@ -24,6 +24,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from matplotlib.patches import Patch
+from matplotlib.ticker import PercentFormatter
 
 from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result
@@ -44,10 +46,20 @@ from neurowalk.experiments.suites.random_envs import (
     wilson,
 )
 from neurowalk.experiments.suites.real_robot import run_store_paths
-from neurowalk.plotting import draw_arena, pyplot
+from neurowalk.plotting import draw_arena
+from neurowalk.plotting.style import (
+    COUNT_BOX,
+    FONT,
+    legend_outside,
+    letter_panels,
+    network_colour,
+    network_line,
+    pyplot,
+)
 from neurowalk.runners.specs import spec_key
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
 BODIES: dict[str, tuple[str, dict[str, float]]] = {
@@ -194,62 +206,82 @@ def run(
     return Result("bodies", summary, arrays=paths)
 
 
+#: Colour of each dead end's bars.
+DEAD_END_COLOURS = ("#66C2A5", "#FC8D62", "#8DA0CB")
+#: Width of each network's path (pt): the first drawn widest, so that paths on top of each other stay visible.
+PATH_WIDTHS = (4.0, 2.4, 1.2)
+
+
+def _bar_counts(ax: Axes, x: np.ndarray, heights: list[float], texts: list[str]) -> None:
+    """Write each bar's count just above it (a zero bar too, so that an empty bar reads as none escaped)."""
+    for xi, h, t in zip(x, heights, texts, strict=True):
+        ax.text(xi, h + 0.02, t, ha="center", va="bottom", fontsize=FONT["small"], rotation=90)
+
+
 def plot(res: Result) -> Figure:
-    """Paths in the narrow passage per body (plastic vs static); dead-end escapes; Table 2 success with intervals."""
+    """A-C: paths in the narrow passage per body (each network its colour and dash); D: dead-end escapes per body
+    and network; E: Table 2 success with intervals. One row per subfigure."""
     plt = pyplot()
     s = res.summary
     bodies = list(s["bodies"])
-    fig = plt.figure(figsize=(15, 9), layout="constrained")
-    grid = fig.add_gridspec(2, len(bodies))
-    for j, b in enumerate(bodies):
-        ax = fig.add_subplot(grid[0, j])
+    fig = plt.figure(figsize=(16, 15), layout="constrained")
+    rows = fig.subfigures(3, 1, height_ratios=[1.25, 1, 1])
+    top = list(np.atleast_1d(rows[0].subplots(1, len(bodies))))
+    for ax, b in zip(top, bodies, strict=True):
         draw_arena(ax, make_arena("narrow-passage"))
-        for net, color in zip(s["networks"], ("C0", "C7", "C3"), strict=True):
+        for k, net in enumerate(s["networks"]):
             p = res.arrays.get(f"{b}|{net}|narrow-passage")
             if p is not None and len(p):
-                ax.plot(p[:, 0], p[:, 1], c=color, lw=1.5, label=net)
-        ax.set_title(f"{b}: narrow passage, seed {s['table2_seed']}", fontsize=10)
-        ax.legend(fontsize=8, loc="lower left")
-    rows = s["rows"]
-    labels = [f"{r['body']}\n{r['network']}" for r in rows]
-    x = np.arange(len(rows))
-    ax = fig.add_subplot(grid[1, 0])
+                ax.plot(p[:, 0], p[:, 1], lw=PATH_WIDTHS[k % len(PATH_WIDTHS)], label=net, **network_line(net))
+        ax.set_title(f"{b}: narrow passage, seed {s['table2_seed']}")
+    legend_outside(top[-1])
+    rows_ = s["rows"]
+    labels = [f"{r['body']}\n{r['network']}" for r in rows_]
+    x = np.arange(len(rows_))
+    ax = rows[1].add_subplot(1, 1, 1)
     width = 0.8 / len(DEAD_ENDS)
     for k, a in enumerate(DEAD_ENDS):
-        v = [r["dead_ends"][a] / r["dead_end_runs"] for r in rows]
-        ax.bar(x + (k - 1) * width, v, width, label=a)
-    ax.set_xticks(x, labels, fontsize=7, rotation=60)
-    ax.set_ylim(0, 1.05)
-    ax.set_ylabel(f"escaped (of {rows[0]['dead_end_runs']} seeds)")
-    ax.legend(fontsize=8)
-    ax.set_title(f"dead ends, {s['dead_end_steps']} steps (half-size robot: twice as many)", fontsize=10)
-    ax = fig.add_subplot(grid[1, 1:])
-    both = all("table2_coverage_rate" in r for r in rows)  # a json of the code before the coverage rule
+        v = [r["dead_ends"][a] / r["dead_end_runs"] for r in rows_]
+        dx = (k - (len(DEAD_ENDS) - 1) / 2) * width
+        ax.bar(x + dx, v, width * 0.95, color=DEAD_END_COLOURS[k % len(DEAD_END_COLOURS)], label=a)
+        _bar_counts(ax, x + dx, v, [f"{r['dead_ends'][a]}/{r['dead_end_runs']}" for r in rows_])
+    ax.set_xticks(x, labels, fontsize=FONT["note"])
+    ax.set(ylim=(0, 1.25), xlabel="body, network", ylabel=f"escaped (share of {rows_[0]['dead_end_runs']} seeds)")
+    ax.yaxis.set_major_formatter(PercentFormatter(1.0))
+    ax.set_yticks([0, 0.25, 0.5, 0.75, 1.0])
+    legend_outside(ax)
+    ax.set_title(f"dead ends, {s['dead_end_steps']} control steps (the half-size robot twice as many)")
+    panels = [*top, ax]
+    ax = rows[2].add_subplot(1, 1, 1)
+    both = all("table2_coverage_rate" in r for r in rows_)  # a json of the code before the coverage rule
     width = 0.4 if both else 0.8
-    rules = [("table2_success", "table2_rate", "table2_ci95", "not stuck", 0.7, None)]
+    rules = [("table2_success", "table2_rate", "table2_ci95", "not stuck", 0.85, None)]
     if both:
         rules.append(
-            ("table2_success_coverage", "table2_coverage_rate", "table2_coverage_ci95", "coverage rule", 0.35, "//")
+            ("table2_success_coverage", "table2_coverage_rate", "table2_coverage_ci95", "coverage rule", 0.45, "//")
         )
-    colours = [f"C{bodies.index(r['body'])}" for r in rows]
+    colours = [network_colour(r["network"]) for r in rows_]
+    handles: list[Patch] = []
     for j, (ok_key, rate_key, ci_key, label, alpha, hatch) in enumerate(rules):
         dx = (j - (len(rules) - 1) / 2) * width
-        rate = np.array([r[rate_key] for r in rows])
-        ci = np.array([r[ci_key] for r in rows])
-        ax.bar(x + dx, rate, width, color=colours, alpha=alpha, hatch=hatch, edgecolor="k", lw=0.5, label=label)
+        rate = np.array([r[rate_key] for r in rows_])
+        ci = np.array([r[ci_key] for r in rows_])
+        ax.bar(x + dx, rate, width, color=colours, alpha=alpha, hatch=hatch, edgecolor="k", lw=0.5)
+        handles.append(Patch(fc="0.5", ec="k", lw=0.5, alpha=alpha, hatch=hatch, label=label))
         yerr = np.maximum(0.0, [rate - ci[:, 0], ci[:, 1] - rate])
         ax.errorbar(x + dx, rate, yerr=yerr, fmt="none", c="k", capsize=3)
-        for i, r in enumerate(rows):
-            ax.text(i + dx, 0.02, f"{r[ok_key]}/{r['table2_environments']}", ha="center", fontsize=6)
-    ax.set_xticks(x, labels, fontsize=8)
-    ax.set_ylim(0, 1.05)
-    ax.set_ylabel("Table 2 success (Wilson 95% interval)")
-    if both:
-        ax.legend(fontsize=8, loc="upper right")
-    title = f"Table 2, {rows[0]['table2_environments']} environments, {s['table2_steps']} steps"
+        for i, r in enumerate(rows_):
+            ax.text(i + dx, 0.03, f"{r[ok_key]}/{r['table2_environments']}", ha="center", va="bottom", rotation=90,
+                    fontsize=FONT["small"], bbox=COUNT_BOX)  # fmt: skip
+    ax.set_xticks(x, labels, fontsize=FONT["note"])
+    ax.set(ylim=(0, 1.05), xlabel="body, network", ylabel="success (Wilson 95% interval)")
+    ax.yaxis.set_major_formatter(PercentFormatter(1.0))
+    legend_outside(ax, handles=handles)
+    title = f"Table 2, {rows_[0]['table2_environments']} environments, {s['table2_steps']} control steps"
     title += f" at {s.get('control_hz', 10.0):g} Hz"
     if "coverage_threshold" in s:
         title += f"; coverage rule: >= {s['coverage_threshold']:.2%} of the free {s['coverage_cell_m']:g} m cells"
-    ax.set_title(title, fontsize=10)
-    fig.suptitle("The same networks on other robots (paper variant)")
+    ax.set_title(title)
+    letter_panels([*panels, ax])
+    fig.suptitle(f"The same networks on other robots ({s.get('variant', 'paper')} variant)")
     return fig

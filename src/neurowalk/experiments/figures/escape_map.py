@@ -13,11 +13,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
+from matplotlib.ticker import PercentFormatter
 
 from neurowalk.experiments import Result
 from neurowalk.experiments.stores import store_folder
 from neurowalk.experiments.suites.deadends import TRAP_STEPS, stored_runs
-from neurowalk.plotting import pyplot
+from neurowalk.plotting.style import legend_outside, letter_panels, network_line, pyplot
 from neurowalk.sim.episode import EpisodeConfig
 
 if TYPE_CHECKING:
@@ -103,25 +104,31 @@ def run(
     return Result(NAME, summary, {})
 
 
+#: Marker of each network: large hollow to small filled, so that equal rates stay visible without moving them.
+MARKERS = {"plastic": ("o", 11, "none"), "static": ("s", 7, None), "braitenberg": ("^", 5, None)}
+
+
 def plot(res: Result) -> Figure:
-    """One panel per sweep: escape rate against size, one line per network."""
+    """One panel per sweep (A, B, C): escape rate against size, one line per network (its colour and dash; equal
+    rates drawn one over another, told apart by their markers); one legend for all."""
     plt = pyplot()
     s = res.summary
-    fig, axes = plt.subplots(1, len(s["sweeps"]), figsize=(5 * len(s["sweeps"]), 4), constrained_layout=True)
-    styles = (("o", "-"), ("s", "--"), ("^", ":"))
-    for ax, (label, sw) in zip(np.atleast_1d(axes), s["sweeps"].items(), strict=True):
-        for i, net in enumerate(NETWORKS):
+    n = len(s["sweeps"])
+    fig, axes = plt.subplots(1, n, figsize=(5 * n + 1.5, 4.8), layout="constrained", sharey=True)
+    axes = list(np.atleast_1d(axes))
+    for ax, (label, sw) in zip(axes, s["sweeps"].items(), strict=True):
+        for net in NETWORKS:
             c = s["counts"][label][net]
             rate = np.array([c[str(x)]["escaped"] / c[str(x)]["runs"] for x in sw["sizes"]])
-            marker, line = styles[i % len(styles)]
-            # equal rates would hide each other: each network drawn 1.5% above the previous one
-            ax.plot(sw["sizes"], rate + 0.015 * (i - 1), marker=marker, ls=line, color=f"C{i}", label=net, alpha=0.85)
-        ax.set(
-            xlabel=label,
-            ylabel="escape rate (networks offset by 0.015)",
-            ylim=(-0.06, 1.06),
-            title=f"{label.split(' (')[0]}: {s['seeds']} seeds per size, {s['steps']} control steps "
-            f"({s['steps'] / s.get('control_hz', 10.0):g} s)",
-        )
-        ax.legend(fontsize=8)
+            marker, size, face = MARKERS.get(net, ("o", 6, None))
+            ax.plot(sw["sizes"], rate, marker=marker, ms=size, mfc=face, mew=1.5, label=net, **network_line(net))
+        ax.set(xlabel=label.replace("-", " "), ylim=(-0.04, 1.04), title=label.split(" (")[0].replace("-", " "))
+        ax.yaxis.set_major_formatter(PercentFormatter(1.0))
+    axes[0].set_ylabel(f"escaped (share of {s['seeds']} seeds)")
+    letter_panels(axes)
+    legend_outside(axes[-1])
+    fig.suptitle(
+        f"Escape rate against trap size: {s['seeds']} seeds per size, {s['steps']} control steps "
+        f"({s['steps'] / s.get('control_hz', 10.0):g} s) per run"
+    )
     return fig

@@ -36,15 +36,18 @@ from neurowalk.experiments.suites.climbing import (
     track_success,
 )
 from neurowalk.experiments.suites.timing import SIM_HZ, quick_note, quick_seconds, real_robot_entry, steps_for
-from neurowalk.plotting import draw_arena, pyplot
+from neurowalk.plotting import draw_arena
+from neurowalk.plotting.style import FONT, LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, time_colorbar
 from neurowalk.render import render_frames
 from neurowalk.runners.specs import spec_key, to_config
 from neurowalk.sim.episode import run_episode
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
 MOMENTS: tuple[str, ...] = ("start", "first climb", "wall avoidance", "second climb")
+MOMENT_COLOUR = "#D62728"  # the key moments' dashed lines and numbers
 QUICK_MAX_STEPS = 12_000  # control steps of a quick run at most (TRACK_S at 10 Hz; 444 s at 27 Hz)
 PAPER_FIRST_S = 23.0  # the real robot climbed onto the first platform at 0:17-0:23 min (paper §3, Fig. 10)
 PAPER_SECOND_S = 74.0  # and onto the second platform at 1:14 min
@@ -187,58 +190,92 @@ def run(
     return Result("fig10", summary, arrays)
 
 
-def _draw_track(ax: object, arena_opts: dict, pose: np.ndarray) -> None:
-    """Top view: floors shaded by height, walls dark, the path coloured by time."""
+def _draw_track(ax: Axes, arena_opts: dict, pose: np.ndarray, t: np.ndarray) -> None:
+    """Top view: floors shaded by height (a legend of the heights), walls dark, the path coloured by time (s) with
+    a colour bar."""
     arena = make_arena("climbing-track", **arena_opts)
-    draw_arena(ax, arena, pose)  # type: ignore[arg-type]
+    path = draw_arena(ax, arena, pose, t=t)
     top = max(b.h for b in arena.boxes)
+    seen: set[float] = set()
     for b in sorted(arena.boxes, key=lambda b: b.h):
         wall = b.h >= top - 1e-9
         colour = "0.15" if wall else (0.95 - 3.0 * b.h, 0.85 - 3.5 * b.h, 0.7 - 3.5 * b.h)
-        ax.add_patch(Polygon(b.corners(), closed=True, color=colour, zorder=1.2 if wall else 1.1))  # type: ignore[attr-defined]
+        label = None
+        if round(b.h, 3) not in seen:
+            seen.add(round(b.h, 3))
+            label = "wall" if wall else f"floor {b.h * 100:.0f} cm up"
+        ax.add_patch(Polygon(b.corners(), closed=True, color=colour, zorder=1.2 if wall else 1.1, label=label))
+    if path is not None:
+        time_colorbar(path, ax)
+    legend_outside(ax, side="below", ncol=2, fontsize=FONT["small"])
+
+
+def _moment_lines(ax: Axes, t: np.ndarray, moments: dict[str, int | None]) -> None:
+    """A dashed line at each key moment on a time axes, numbered inside its top as the snapshots are."""
+    for n, name in enumerate(MOMENTS, start=1):
+        k = moments.get(name)
+        if k is None:
+            continue
+        ax.axvline(t[k], color=MOMENT_COLOUR, lw=LINE["trace"], ls="--", zorder=3)
+        ax.annotate(
+            str(n),
+            (t[k], 1.0),
+            xycoords=("data", "axes fraction"),
+            xytext=(2, -2),
+            textcoords="offset points",
+            ha="left",
+            va="top",
+            fontsize=FONT["note"],
+            fontweight="bold",
+            color=MOMENT_COLOUR,
+            bbox={"boxstyle": "round,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.85},
+            zorder=4,
+        )
 
 
 def plot(res: Result) -> Figure:
-    """Top view, side view, backbone angle, foot contacts, steering, and the four snapshots."""
+    """A: top view; B: side view; C: backbone angle; D: foot contacts; E: steering; F: the four key moments'
+    snapshots, numbered as the dashed lines on C-E. One row per subfigure."""
     plt = pyplot()
     s, a = res.summary, res.arrays
-    fig = plt.figure(figsize=(15, 10))
-    grid = fig.add_gridspec(3, 4, height_ratios=[1.3, 1, 1])
-    top = fig.add_subplot(grid[0, 0])
-    _draw_track(top, s["arena"], a["pose"])
-    top.set_title(f"top view (step {s['step_m']} m, seed {s['seed']})")
-    side = fig.add_subplot(grid[0, 1])
-    path = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(a["pose"][:, :2], axis=0).T))])
-    side.plot(path, a["z"], lw=1)
-    side.set(xlabel="path length (m)", ylabel="trunk height (m)", title="side view")
     t = a["t"]
-    ax = fig.add_subplot(grid[0, 2:])
-    ax.plot(t, np.degrees(a["bj_command"]), label="command")
-    ax.plot(t, np.degrees(a["bj_angle"]), label="measured", alpha=0.7)
-    ax.set(ylabel="backbone angle (deg, + up)", title="backbone joint")
-    ax.legend(fontsize=8)
-    ax = fig.add_subplot(grid[1, :2])
-    ax.imshow(
+    fig = plt.figure(figsize=(16, 13.5), layout="constrained")
+    rows = fig.subfigures(3, 1, height_ratios=[1.35, 0.95, 0.95])
+    grid = rows[0].add_gridspec(1, 4, width_ratios=[1.15, 1, 1.1, 1.1])
+    top = rows[0].add_subplot(grid[0, 0])
+    _draw_track(top, s["arena"], a["pose"], t)
+    top.set_title(f"top view (step {s['step_m'] * 100:g} cm, seed {s['seed']})")
+    side = rows[0].add_subplot(grid[0, 1])
+    path = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(a["pose"][:, :2], axis=0).T))])
+    side.plot(path, a["z"], lw=LINE["trace"], color="k")
+    side.set(xlabel="path length (m)", ylabel="trunk height (m)", title="side view")
+    bj = rows[0].add_subplot(grid[0, 2:])
+    bj.plot(t, np.degrees(a["bj_command"]), lw=LINE["trace"], color="C0", label="command")
+    bj.plot(t, np.degrees(a["bj_angle"]), lw=LINE["trace"], color="C1", alpha=0.7, label="measured")
+    bj.set(xlabel="time (s)", ylabel="backbone angle (°, + up)", title="backbone joint")
+    legend_outside(bj, side="below", ncol=2)
+    grid = rows[1].add_gridspec(1, 2)
+    feet = rows[1].add_subplot(grid[0, 0])
+    feet.imshow(
         a["foot_contact"].T > 0.5, aspect="auto", interpolation="nearest", cmap="Greys", extent=(t[0], t[-1], 5.5, -0.5)
     )
-    ax.set(yticks=range(6), yticklabels=anatomy.LEGS, xlabel="time (s)", title="foot contacts (black = down)")
-    ax = fig.add_subplot(grid[1, 2:])
-    ax.plot(t, a["outputs"][:, 0], label="O1 (left)")
-    ax.plot(t, a["outputs"][:, 1], label="O2 (right)")
-    ax.set(xlabel="time (s)", ylabel="steering", title="steering signals")
-    ax.legend(fontsize=8)
-    for k in s["moments"].values():
-        if k is not None:
-            for axis in fig.axes[2:]:
-                axis.axvline(t[k], color="0.5", lw=0.8, ls="--")
-    for i, name in enumerate(MOMENTS):
-        ax = fig.add_subplot(grid[2, i])
+    feet.set(yticks=range(6), yticklabels=anatomy.LEGS, xlabel="time (s)", ylabel="leg")
+    feet.set_title("foot contacts (black: on the ground)")
+    steer = rows[1].add_subplot(grid[0, 1], sharex=feet)
+    steer.plot(t, a["outputs"][:, 0], color=SIDE_COLOURS["left"], lw=LINE["trace"], label="O1 (left)")
+    steer.plot(t, a["outputs"][:, 1], color=SIDE_COLOURS["right"], lw=LINE["trace"], label="O2 (right)")
+    steer.set(xlabel="time (s)", ylabel="steering O", yticks=(-1, 0, 1), title="steering signals")
+    legend_outside(steer)
+    for ax in (bj, feet, steer):
+        _moment_lines(ax, t, s["moments"])
+    shots = list(rows[2].subplots(1, len(MOMENTS)))
+    for i, (ax, name) in enumerate(zip(shots, MOMENTS, strict=True)):
         ax.imshow(a["frames"][i])
         k = s["moments"][name]
-        ax.set_title(f"{name}: t = {t[k]:.0f} s" if k is not None else f"{name}: did not happen", fontsize=9)
+        ax.set_title(f"{i + 1}  {name}: t = {t[k]:.0f} s" if k is not None else f"{i + 1}  {name}: did not happen")
         ax.axis("off")
-    ok = ", ".join(f"{h} m: {v['success']}/{v['seeds']}" for h, v in s["table"].items())
+    letter_panels([top, side, bj, feet, steer, shots[0]])
+    ok = ", ".join(f"{float(h) * 100:g} cm: {v['success']}/{v['seeds']}" for h, v in s["table"].items())
     rate = f" ({s['steps'] / s['control_hz']:.0f} s at {s['control_hz']:g} Hz)" if "control_hz" in s else ""
-    fig.suptitle(f"Climbing track: reached the second platform in {ok}{rate}")
-    fig.tight_layout()
+    fig.suptitle(f"Climbing track: reached the second platform with steps of {ok}{rate}")
     return fig

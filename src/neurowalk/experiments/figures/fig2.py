@@ -1,5 +1,7 @@
 """Fig. 2: neural dynamics of the sensory network with frozen weights.
 
+A.   The two-neuron network (a diagram, as the paper's panel A): inputs I1, I2 through the input weight a,
+     self connections b1, b2, mutual inhibitions c1, c2, outputs O1, O2.
 B-D. One neuron with self connection b: near-linear input-output relation for small b (B),
      hysteresis around b = 2.4 (C), a two-state switch that no input in [-1, 1] can flip for
      large b (D). Stable fixed points solid, unstable dotted; the measured up and down sweeps on
@@ -17,6 +19,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
+from matplotlib.patches import Circle, FancyArrowPatch
 
 from neurowalk.experiments import Result
 from neurowalk.neural.analysis import (
@@ -25,14 +28,26 @@ from neurowalk.neural.analysis import (
     single_neuron_branches,
     single_neuron_thresholds,
 )
-from neurowalk.plotting import pyplot
+from neurowalk.plotting.style import (
+    FONT,
+    LINE,
+    colorbar,
+    legend_outside,
+    letter_panels,
+    network_colour,
+    pyplot,
+)
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
 NAME = "fig2"
 PANEL_B = (0.5, 2.4, 8.0)  # self weights of panels B, C, D
 LOOPS = ((2.4, -3.5), (2.0, -3.0), (4.63, -7.04))  # (b, c) of panel E
+#: What each loop of panel E is, and the network whose colour it takes (in E, and its marker in G).
+LOOP_NAMES = (("static network", "static"), ("the authors' start", "plastic-original"), ("learned", "plastic"))
+LOOP_MARKERS = ("*", "D", "o")
 
 
 def _thresholds(loop: object) -> dict:
@@ -97,58 +112,108 @@ def run(*, quick: bool = False, seed: int = 0) -> Result:
     return Result(NAME, summary, arrays)
 
 
+def draw_network(ax: Axes, a: float = 4.7) -> None:
+    """Panel A: the two-neuron network. Excitation ends in an arrow head, inhibition in a bar."""
+    ax.set(xlim=(0, 1), ylim=(0, 1), aspect="equal")
+    ax.axis("off")
+    r, dy = 0.1, 0.04  # neuron radius; the two inhibitory links above and below the centre line
+    centres = {1: (0.3, 0.5), 2: (0.7, 0.5)}
+
+    def link(p: tuple[float, float], q: tuple[float, float], style: str, rad: float = 0.0) -> None:
+        arrow = FancyArrowPatch(
+            p, q, arrowstyle=style, connectionstyle=f"arc3,rad={rad}", mutation_scale=14, lw=1.4, fc="k", ec="k"
+        )
+        ax.add_patch(arrow)
+
+    for n, (x, y) in centres.items():
+        side = -1 if n == 1 else 1  # the self loop on the outer side
+        ax.add_patch(Circle((x, y), r, fc="0.92", ec="k", lw=1.4, zorder=3))
+        ax.text(x, y, str(n), ha="center", va="center", fontsize=FONT["letter"], zorder=4)
+        link((x, y - 0.36), (x, y - r), "-|>")
+        ax.text(x, y - 0.38, f"I{n}", ha="center", va="top")
+        ax.text(x + 0.02, y - 0.24, f"a = {a:g}", ha="left", va="center", fontsize=FONT["note"])
+        link((x, y + r), (x, y + 0.34), "-|>")
+        ax.text(x, y + 0.36, f"O{n} ({'left' if n == 1 else 'right'})", ha="center", va="bottom")
+        ex, ey = x + side * r * np.cos(0.7), r * np.sin(0.7)
+        link((ex, y + ey), (ex, y - ey), "-|>", -side * 2.4)
+        ax.text(x + side * (r + 0.15), y, f"b{n}", ha="right" if n == 1 else "left", va="center")
+    (x1, y1), (x2, _) = centres[1], centres[2]
+    edge = np.sqrt(r * r - dy * dy)
+    bar = "-[, widthB=0.6, lengthB=0.0"
+    link((x1 + edge, y1 + dy), (x2 - edge - 0.01, y1 + dy), bar)
+    ax.text(0.5, y1 + dy + 0.02, "c1", ha="center", va="bottom")
+    link((x2 - edge, y1 - dy), (x1 + edge + 0.01, y1 - dy), bar)
+    ax.text(0.5, y1 - dy - 0.02, "c2", ha="center", va="top")
+    ax.set_title("two-neuron network")
+
+
 def plot(res: Result) -> Figure:
-    """Seven panels, B-G, as described in the module docstring."""
+    """Panels A-G as described in the module docstring (A-D as the paper letters its Fig. 2; E-G added)."""
     plt = pyplot()
 
     a, s = res.arrays, res.summary
-    fig = plt.figure(figsize=(14, 8), constrained_layout=True)
-    gs = fig.add_gridspec(2, 4)
-    for i, (b, lab) in enumerate(zip(PANEL_B, "BCD", strict=True)):
-        ax = fig.add_subplot(gs[0, i])
+    fig = plt.figure(figsize=(16, 9.5), layout="constrained")
+    top, bottom = fig.subfigures(2, 1)
+    panels = list(top.subplots(1, 4))
+    draw_network(panels[0], s.get("input_weight_a", 4.7))
+    for i, (b, ax) in enumerate(zip(PANEL_B, panels[1:], strict=True)):
         bi, bo, st = a[f"n{i}_branch_i"], a[f"n{i}_branch_o"], a[f"n{i}_stable"].astype(bool)
-        ax.plot(np.where(st, bi, np.nan), bo, color="green", lw=2, label="stable")
-        ax.plot(np.where(~st, bi, np.nan), bo, color="orange", ls=":", lw=2, label="unstable")
+        ax.plot(np.where(st, bi, np.nan), bo, color="green", lw=LINE["thick"], label="stable fixed point")
+        ax.plot(np.where(~st, bi, np.nan), bo, color="orange", ls=":", lw=LINE["thick"], label="unstable fixed point")
         lv, out = a[f"n{i}_levels"], a[f"n{i}_out"]
         half = lv.size // 2
-        ax.plot(lv[:half], out[:half], "b-", lw=0.8, alpha=0.6, label="sweep up")
-        ax.plot(lv[half:], out[half:], "r-", lw=0.8, alpha=0.6, label="sweep down")
-        ax.set(
-            xlim=(-1, 1), ylim=(-1.05, 1.05), xlabel="input I", ylabel="output O", title=f"{lab}  one neuron, b = {b}"
-        )
-        if i == 0:
-            ax.legend(fontsize=7, loc="upper left")
-    ax = fig.add_subplot(gs[0, 3])
+        ax.plot(lv[:half], out[:half], "b-", lw=LINE["thin"], alpha=0.7, label="sweep up (measured)")
+        ax.plot(lv[half:], out[half:], "r-", lw=LINE["thin"], alpha=0.7, label="sweep down (measured)")
+        ax.set(xlim=(-1, 1), ylim=(-1.05, 1.05), xlabel="input I", ylabel="output O", title=f"one neuron, b = {b}")
+    top.legend(handles=panels[1].get_legend_handles_labels()[0], loc="outside lower center", ncol=4)
+    ax, f_ax, g_ax = bottom.subplots(1, 3)
+    panels += [ax, f_ax, g_ax]
     for i, loop in enumerate(s["two_neuron_loops"]):
         lv, out = a[f"e{i}_levels"], a[f"e{i}_out"][:, 0]
-        ax.plot(lv, out, color=f"C{i}", label=f"b = {loop['b']}, c = {loop['c']}")
-    ax.set(xlabel="left input I1 (I2 = -1)", ylabel="left output O1", title="E  two neurons: hysteresis")
-    ax.legend(fontsize=7, loc="upper left")
-    ax = fig.add_subplot(gs[1, 0:2])
+        name, net = LOOP_NAMES[i] if i < len(LOOP_NAMES) else ("", f"C{i}")
+        colour = network_colour(net) if i < len(LOOP_NAMES) else net
+        ax.plot(lv, out, color=colour, lw=LINE["thick"], label=f"{name}: b = {loop['b']:g}, c = {loop['c']:g}")
+    ax.set(
+        xlim=(-1.05, 1.05),
+        xticks=(-1, -0.5, 0, 0.5, 1),
+        xlabel="left input I1 (right input I2 = -1)",
+        ylabel="left output O1",
+        title="two neurons: hysteresis",
+    )
+    legend_outside(ax, side="below", fontsize=FONT["small"])
+    ax = f_ax
     b = np.array([r["b"] for r in s["single_neuron"]])
     w = np.array([r["width"] if r["width"] is not None else np.nan for r in s["single_neuron"]], dtype=float)
     wa = np.array([r["width_analytic"] for r in s["single_neuron"]], dtype=float)
     w2 = np.array([r["width"] if r["width"] is not None else np.nan for r in s["two_neuron_vs_b"]], dtype=float)
     ax.plot(b, wa, "k-", label="one neuron, analytic")
     ax.plot(b, w, "ko", ms=4, label="one neuron, measured")
-    ax.plot(b, w2, "C0s-", ms=4, label="two neurons, c = -3.5")
-    ax.axhline(2.0, color="gray", lw=0.6, ls=":")
+    ax.plot(b, w2, "s-", color=network_colour("static"), ms=4, label="two neurons, c = -3.5")
+    ax.axhline(2.0, color="gray", lw=LINE["thin"], ls=":")
     ax.set(
         xlabel="self connection b",
-        ylabel="hysteresis width (input units)",
-        title="F  hysteresis width grows with b (gaps: latched or never switched)",
+        ylabel="hysteresis width (input I)",
+        title="width grows with b\n(gaps: latched or never switched)",
     )
-    ax.legend(fontsize=8)
-    ax = fig.add_subplot(gs[1, 2:4])
+    legend_outside(ax, side="below", ncol=2, fontsize=FONT["small"])
+    ax = g_ax
     wm = np.ma.masked_invalid(a["map_width"])
     cmap = plt.get_cmap("viridis").with_extremes(bad="black")
     im = ax.pcolormesh(a["map_c"], a["map_b"], wm, cmap=cmap, shading="nearest")
-    fig.colorbar(im, ax=ax, label="hysteresis width")
-    ax.plot([-3.5], [2.4], "w*", ms=12)
-    ax.plot([-7.04], [4.63], "r*", ms=12)
-    ax.set(
-        xlabel="inhibitory weight c",
-        ylabel="self connection b",
-        title="G  two neurons: width over (b, c); black: latched",
-    )
+    colorbar(im, ax, "hysteresis width (input I)")
+    for i, loop in enumerate(s["two_neuron_loops"][: len(LOOP_NAMES)]):
+        ax.plot(
+            [loop["c"]],
+            [loop["b"]],
+            LOOP_MARKERS[i],
+            color=network_colour(LOOP_NAMES[i][1]),
+            mec="white",
+            mew=1.2,
+            ms=14 if LOOP_MARKERS[i] == "*" else 9,
+            label=LOOP_NAMES[i][0],
+        )
+    ax.plot([], [], "s", color="black", ms=9, label="latched (no switch back)")
+    ax.set(xlabel="inhibitory weight c", ylabel="self connection b", title="two neurons: width over (b, c)")
+    legend_outside(ax, side="below", ncol=2, fontsize=FONT["small"])
+    letter_panels(panels)
     return fig

@@ -93,5 +93,5 @@ def run(
 
 
 def plot(res: Result) -> Figure:
-    """Panels A-G; the counts table printed below."""
+    """Panels A-G; the escape counts as a table below them."""
     return draw(res, NETWORK, list(LONG))

@@ -24,7 +24,7 @@ from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.neural.plasticity import fixed_point
 from neurowalk.neural.sensory import simulate
 from neurowalk.neural.variants import get_variant
-from neurowalk.plotting import pyplot
+from neurowalk.plotting.style import FONT, LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, weight_style
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
 if TYPE_CHECKING:
@@ -153,45 +153,53 @@ def run(
 
 
 def plot(res: Result) -> Figure:
-    """Panel A (weights for constant inputs, several starts) and panel B (changing inputs)."""
+    """Panel A (weights for constant inputs, several starts) and panel B (changing inputs: inputs, outputs and
+    weights over time, one axes each)."""
     plt = pyplot()
 
     s, a = res.summary, res.arrays
-    fig = plt.figure(figsize=(12, 8), constrained_layout=True)
-    gs = fig.add_gridspec(3, 2, width_ratios=[1, 1.6])
-    ax = fig.add_subplot(gs[:, 0])
+    fig = plt.figure(figsize=(15, 8), layout="constrained")
+    gs = fig.add_gridspec(1, 2, width_ratios=[1, 1.7])
+    ax = fig.add_subplot(gs[0, 0])
     n = len(s["panel_a"]["starts"])
     for i in range(n):
         t = np.arange(1, a[f"a{i}_b"].shape[0] + 1)
-        lw, alpha = (2.0, 1.0) if i == 0 else (1.0, 0.6)
-        ax.plot(t, a[f"a{i}_b"][:, 0], "C0", lw=lw, alpha=alpha, label="b1" if i == 0 else None)
-        ax.plot(t, a[f"a{i}_q"][:, 0], "C3", lw=lw, alpha=alpha, label="q1" if i == 0 else None)
-        ax.plot(t, a[f"a{i}_b"][:, 1], "C0--", lw=lw, alpha=alpha, label="b2" if i == 0 else None)
-        ax.plot(t, a[f"a{i}_q"][:, 1], "C3--", lw=lw, alpha=alpha, label="q2" if i == 0 else None)
+        lw, alpha = (LINE["thick"], 1.0) if i == 0 else (LINE["thin"], 0.6)
+        for k, side in enumerate(("left", "right")):
+            for kind, arr in (("b", a[f"a{i}_b"]), ("q", a[f"a{i}_q"])):
+                name = f"{kind}{k + 1}" + (f" = -c{k + 1}" if kind == "q" else "") + f" ({side})"
+                ax.plot(t, arr[:, k], **{**weight_style(kind, side), "lw": lw}, alpha=alpha,
+                        label=name if i == 0 else None)  # fmt: skip
+    ax.plot([], [], color="0.3", lw=LINE["thick"], label=f"start b = {PAPER_START[0]}, q = {PAPER_START[1]} (paper)")
+    ax.plot([], [], color="0.3", lw=LINE["thin"], alpha=0.6, label="other starts")
     for v, lab in ((s["fixed_points"]["b"], "b*"), (s["fixed_points"]["q"], "q*")):
-        ax.axhline(v, color="k", lw=0.8, ls=":")
-        ax.text(t[0], v, f" {lab} = {v:.2f}", va="bottom", ha="left")
-    ax.set(xlabel="time step (network update)", ylabel="weight", title="A  constant inputs I1 = 1, I2 = -1")
-    ax.legend(loc="center right", fontsize=8)
+        ax.axhline(v, color="k", lw=LINE["thin"], ls=":")
+        ax.text(t[-1], v, f"{lab} = {v:.2f} ", va="bottom", ha="right", fontsize=FONT["note"])
+    ax.set(xlabel="time (network updates)", ylabel="weight", title="constant inputs I1 = 1, I2 = -1")
+    legend_outside(ax, side="below", ncol=2, fontsize=FONT["small"])
     pb = s["panel_b"]
     tb = a["b_t"] if "b_t" in a else np.arange(a["b_inputs"].shape[0])
-    for row, (key, ylabel) in enumerate((("b_inputs", "input I"), ("b_outputs", "output O"), (None, "weight"))):
-        axb = fig.add_subplot(gs[row, 1])
-        if key:
-            axb.plot(tb, a[key][:, 0], "C0", lw=0.8, label="left (1)")
-            axb.plot(tb, a[key][:, 1], "C1", lw=0.8, label="right (2)")
-            if key == "b_inputs":
-                axb.axhline(-0.5, color="k", lw=0.6, ls=":")
-                axb.set_title(
-                    f"B  changing inputs: AMOSII in the {pb.get('arena', '?')} arena, seed {pb['seed']}, "
-                    f"{pb.get('control_hz', SIM_HZ):g} Hz"
-                )
-        else:
-            axb.plot(tb, a["b_b"][:, 0], "C0", label="b1")
-            axb.plot(tb, a["b_b"][:, 1], "C1", label="b2")
-            axb.plot(tb, a["b_q"][:, 0], "C0--", label="q1")
-            axb.plot(tb, a["b_q"][:, 1], "C1--", label="q2")
-            axb.set_xlabel("time (s)" if "b_t" in a else "time step")
-        axb.set_ylabel(ylabel)
-        axb.legend(loc="upper right", fontsize=7, ncol=4)
+    rows = gs[0, 1].subgridspec(3, 1, hspace=0.08)
+    top = fig.add_subplot(rows[0])
+    traces = [top, fig.add_subplot(rows[1], sharex=top), fig.add_subplot(rows[2], sharex=top)]
+    for axb, key, name in ((traces[0], "b_inputs", "I"), (traces[1], "b_outputs", "O")):
+        axb.plot(tb, a[key][:, 0], color=SIDE_COLOURS["left"], lw=LINE["trace"], label=f"{name}1 (left)")
+        axb.plot(tb, a[key][:, 1], color=SIDE_COLOURS["right"], lw=LINE["trace"], label=f"{name}2 (right)")
+        axb.set(ylabel="input I" if name == "I" else "output O", ylim=(-1.1, 1.1), yticks=(-1, 0, 1))
+    traces[0].axhline(-0.5, color="k", lw=LINE["thin"], ls=":", label="reflex on above -0.5")
+    top.set_title(
+        f"changing inputs: AMOSII in the {pb.get('arena', '?')} arena, seed {pb['seed']}, "
+        f"{pb.get('control_hz', SIM_HZ):g} Hz"
+    )
+    axb = traces[2]
+    axb.plot(tb, a["b_b"][:, 0], label="b1 (left)", **weight_style("b", "left"))
+    axb.plot(tb, a["b_b"][:, 1], label="b2 (right)", **weight_style("b", "right"))
+    axb.plot(tb, a["b_q"][:, 0], label="q1 = -c1 (left)", **weight_style("q", "left"))
+    axb.plot(tb, a["b_q"][:, 1], label="q2 = -c2 (right)", **weight_style("q", "right"))
+    axb.set(xlabel="time (s)" if "b_t" in a else "time (control steps)", ylabel="weight")
+    for axb in traces:
+        legend_outside(axb)
+    for axb in traces[:2]:
+        axb.tick_params(labelbottom=False)
+    letter_panels([ax, top])
     return fig

@@ -138,5 +138,5 @@ def weights_over_run(res: Result, key: str) -> dict:
 
 
 def plot(res: Result) -> Figure:
-    """Panels A-G, the coverage over time, the wedged periods; the counts table printed below."""
+    """Panels A-G, the coverage over time (H), the wedged periods circled on F; the escape counts as a table."""
     return draw(res, NETWORK, list(LONG), weights_panel=True)

@@ -9,12 +9,13 @@ and Table 2's coverage rule.
 
 from __future__ import annotations
 
-import textwrap
 from collections import Counter
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
 
 from neurowalk.experiments import Result
 from neurowalk.experiments.stores import run_store, store_folder
@@ -34,7 +35,8 @@ from neurowalk.experiments.suites.random_envs import (
     spec,
     steps_at,
 )
-from neurowalk.plotting import draw_arena, pyplot
+from neurowalk.plotting import draw_arena
+from neurowalk.plotting.style import FONT, OUTCOME_COLOURS, pyplot, time_colorbar
 from neurowalk.runners.specs import normalize, result_of, spec_key, to_config
 from neurowalk.sim.episode import RunInterruptedError, run_episode
 
@@ -42,7 +44,12 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 #: Frame colour of each class (the paper's red, green and blue squares; a plain success unframed).
-COLOURS = {"failed": "red", "passed a confined space": "green", "escaped a trap": "blue", "plain success": None}
+COLOURS = {
+    "failed": OUTCOME_COLOURS["failed"],
+    "passed a confined space": OUTCOME_COLOURS["ok"],
+    "escaped a trap": OUTCOME_COLOURS["trap"],
+    "plain success": None,
+}
 
 
 def pose_stride(control_hz: float) -> int:
@@ -156,21 +163,29 @@ def run(
 
 
 def plot(res: Result) -> Figure:
-    """4 x 4 panels: arena, path, start (red) and end (green) dots; framed by outcome: failed red, a confined space
-    passed green, a trap escaped blue (the point it left marked by a ring of that colour)."""
+    """4 x 4 panels: arena, path coloured by time (one colour bar, s), start (red) and end (green) dots; framed by
+    outcome: failed red, a confined space passed green, a trap escaped blue (the point it left marked by a ring of
+    that colour); a legend of the frames below. The rules behind the classes are in the json."""
     plt = pyplot()
     s = res.summary
-    fig, axes = plt.subplots(4, 4, figsize=(12, 12.8))
+    hz = s.get("control_hz", 10.0)
+    every_s = s.get("pose_stride_s", pose_stride(hz) / hz)
+    fig = plt.figure(figsize=(13, 15), layout="constrained")
+    axes = fig.subplots(4, 4, sharex=True, sharey=True)
+    path = None
     for i, (ax, env) in enumerate(zip(axes.flat, s["environments"], strict=False)):
         arena = arena_of(spec(env, "plastic", 1, "surrogate", size=s.get("box_size_m", SIZE)))
         pose = res.arrays[f"env{i}/pose"]
-        draw_arena(ax, arena, pose, margin=0.2)
+        path = draw_arena(ax, arena, pose, margin=0.2, t=np.arange(len(pose)) * every_s) or path
+        if path is not None:
+            path.set_clim(0.0, s.get("duration_s", len(pose) * every_s))
         cls = env.get("outcome", "plain success" if env["success"] else "failed")
         cov = f", coverage {env['coverage']:.1%}" if env.get("coverage") is not None else ""
-        ax.set_title(f"{env['n_boxes']} boxes, seed {env['seed']}{cov}\n{cls}", fontsize=8)
-        ax.tick_params(labelsize=6)
-        ax.set(xlabel="", ylabel="")
-        for key, colour in (("left_trap", "blue"), ("left_confined", "green")):
+        ax.set_title(f"seed {env['seed']}: {env['n_boxes']} boxes{cov}\n{cls}", fontsize=FONT["note"] + 1)
+        for key, colour in (
+            ("left_trap", COLOURS["escaped a trap"]),
+            ("left_confined", COLOURS["passed a confined space"]),
+        ):
             if env.get(key) is not None:
                 ax.plot(*env[key], "o", mfc="none", mec=colour, mew=2, ms=12, zorder=6)
         colour = COLOURS.get(cls)
@@ -178,32 +193,25 @@ def plot(res: Result) -> Figure:
             for side in ax.spines.values():
                 side.set_edgecolor(colour)
                 side.set_linewidth(3)
+        ax.label_outer()
+    if path is not None:
+        time_colorbar(path, axes, shrink=0.5)
     counts = s.get("classes", {})
-    hz = s.get("control_hz", 10.0)
+    handles = [
+        Patch(
+            fc="none", ec=COLOURS[c] or "k", lw=3 if COLOURS[c] else 1, label=f"{c} ({counts[c]})" if c in counts else c
+        )
+        for c in COLOURS
+    ]
+    handles += [
+        Line2D([], [], ls="none", marker="o", mfc="none", mec="0.3", mew=2, ms=12, label="where it left the space"),
+        Line2D([], [], ls="none", marker="o", color="red", ms=7, label="start"),
+        Line2D([], [], ls="none", marker="o", color="limegreen", mec="k", ms=7, label="end"),
+    ]
+    fig.legend(handles=handles, loc="outside lower center", ncol=4, title="frame: the run's class")
     fig.suptitle(
         f"Fig. 6: plastic network ({s.get('variant', 'paper')}) in 16 random environments ({s['body']}, "
-        f"{s['steps']} steps at {hz:g} Hz): {s['success']}/16 not stuck at the end"
+        f"{s['steps'] / hz:g} s at {hz:g} Hz)\n{s['success']}/16 not stuck at the end"
         + (f", {s['success_coverage']}/16 by coverage" if "success_coverage" in s else "")
-        + "\nframes: red failed"
-        + (
-            f" ({counts.get('failed', 0)}), green confined space passed ({counts.get('passed a confined space', 0)}),"
-            f" blue trap escaped ({counts.get('escaped a trap', 0)}), none: plain success "
-            f"({counts.get('plain success', 0)})"
-            if counts
-            else ""
-        ),
-        fontsize=10,
     )
-    notes = [s["rule"]]
-    if "coverage_rule" in s:
-        notes.append(s["coverage_rule"])
-    if "class_rule" in s:
-        notes.append("classes: " + s["class_rule"])
-    fig.text(0.01, 0.005, "\n".join(_wrap(n, 190) for n in notes), fontsize=6.5, va="bottom")
-    fig.tight_layout(rect=(0, 0.075, 1, 1))
     return fig
-
-
-def _wrap(text: str, width: int) -> str:
-    """``text`` broken into lines of at most about ``width`` characters, at spaces."""
-    return "\n".join(textwrap.wrap(text, width))

@@ -17,12 +17,14 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch
 
 from neurowalk import anatomy, gait
 from neurowalk.experiments import Result
 from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.neural.cpg import period
-from neurowalk.plotting import pyplot
+from neurowalk.plotting.style import FONT, LINE, letter_panels, pyplot
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
 if TYPE_CHECKING:
@@ -92,12 +94,18 @@ def run(*, quick: bool = False, seed: int = 0, control_hz: float = SIM_HZ) -> Re
     return Result(NAME, summary, arrays)
 
 
+#: Colour of each joint kind (the first letter of its name): thoraco-coxal, coxa-trochanteral, femur-tibia.
+JOINT_COLOURS = {"T": "C0", "C": "C1", "F": "C2"}
+JOINT_NAMES = {"T": "TC joint (+ forward)", "C": "CTr joint (+ up)", "F": "FTi joint (+ extended)"}
+
+
 def plot(res: Result) -> Figure:
-    """Four columns (A-D), 18 stacked joint traces each (degrees) over time (s), swing phases shaded grey."""
+    """Four columns (A-D), 18 stacked joint traces each, each scaled to its range (its range in degrees written at
+    its right) over time (s), swing phases shaded grey; a legend of the joint kinds below."""
     plt = pyplot()
     hz = res.summary["control_hz"]
     w = res.summary.get("window")
-    fig, axes = plt.subplots(1, 4, figsize=(16, 10), sharey=True, constrained_layout=True)
+    fig, axes = plt.subplots(1, 4, figsize=(17, 11), sharey=True, layout="constrained")
     rows = [(j, leg) for leg in anatomy.LEGS for j in anatomy.LEG_JOINTS]
     for i, (name, ax) in enumerate(zip(res.summary["conditions"], axes, strict=True)):
         ang = np.degrees(res.arrays[f"c{i}_angles"])
@@ -110,18 +118,21 @@ def plot(res: Result) -> Figure:
             base = -r * 1.2
             li = anatomy.LEGS.index(leg)
             ax.fill_between(t, base - 0.5, base + 0.5, where=sw[:, li], color="0.85", step="mid", lw=0)
-            ax.plot(t, base + (y - y.mean()) / span, color=f"C{'TCF'.index(j[0])}", lw=1.0)
-            if i == 0:
-                ax.text(-t[-1] / 40, base, f"{anatomy.actuator_name(j, leg)}", ha="right", va="center", fontsize=8)
-            ax.text(t[-1] * 1.015, base, f"{np.ptp(y):.0f}°", va="center", fontsize=6, color="0.4")
+            ax.plot(t, base + (y - y.mean()) / span, color=JOINT_COLOURS[j[0]], lw=LINE["trace"])
+            ax.text(t[-1] * 1.02, base, f"{np.ptp(y):.0f}°", va="center", fontsize=FONT["small"], color="0.35")
         c = res.summary["conditions"][name]
         rates = f"{c['speed_m_per_s'] * 100:+.1f} cm/s, {c['turning_rate_deg_per_s']:+.2f} °/s"
-        ax.set_title(f"{'ABCD'[i]}  {name}  {tuple(c['steer'])}\n{rates}; order {' '.join(c['leg_order'])}", fontsize=9)
-        ax.set_xlabel("time after the warm-up (s)")
-        ax.set_yticks([])
+        steer = ", ".join(f"{v:g}" for v in c["steer"])
+        ax.set_title(f"{name}, (O1, O2) = ({steer})\n{rates}\nswing order {' '.join(c['leg_order'])}")
+        ax.set(xlabel="time after the warm-up (s)", xlim=(0, t[-1] * 1.1))
+        ax.spines[["top", "right"]].set_visible(False)
+    names = [anatomy.actuator_name(j, leg) for j, leg in rows]
+    axes[0].set_yticks([-r * 1.2 for r in range(len(rows))], names, fontsize=FONT["note"])
+    axes[0].set_ylabel("joint angle, each trace scaled to its range (range at its right)")
+    letter_panels(axes)
+    handles = [Line2D([], [], color=JOINT_COLOURS[k], lw=LINE["thick"], label=v) for k, v in JOINT_NAMES.items()]
+    handles.append(Patch(color="0.85", label="swing phase (CTr elevated)"))
+    fig.legend(handles=handles, loc="outside lower center", ncol=4)
     over = f"; speed and turning rate over t = {w['from_s']:.1f}-{w['to_s']:.1f} s" if w else ""
-    fig.suptitle(
-        f"Joint angles at {hz:g} Hz control (each trace scaled to its range, printed right); grey: swing phase "
-        f"(CTr elevated){over}"
-    )
+    fig.suptitle(f"Joint angles of all legs at {hz:g} Hz control{over}")
     return fig

@@ -37,7 +37,7 @@ from neurowalk.experiments.suites.real_robot import (
     write_videos,
 )
 from neurowalk.experiments.suites.timing import SIM_HZ, real_robot_entry, steps_for
-from neurowalk.plotting import pyplot
+from neurowalk.plotting.style import letter, pyplot
 from neurowalk.runners.specs import spec_key
 
 if TYPE_CHECKING:
@@ -176,19 +176,24 @@ def _geometry(arena: Any) -> dict[str, Any]:
 
 
 def plot(res: Result) -> Figure:
-    """Snapshot strips (one row per network), top views of every seed's path, steering and weights."""
+    """A-B: snapshot strips (one row per network); C-D: top views of every seed's path, the example's coloured by
+    time; E-F: the examples' steering and weights over time. One row per subfigure."""
     plt = pyplot()
     s, a = res.summary, res.arrays
     arena = make_arena(s["arena"], **s["arena_opts"])
-    fig = plt.figure(figsize=(15, 10.5))
-    grid = fig.add_gridspec(4, N_SNAPSHOTS, height_ratios=[1, 1, 1.7, 1.1])
+    fig = plt.figure(figsize=(16, 16), layout="constrained")
+    rows = fig.subfigures(4, 1, height_ratios=[1.15, 1.15, 2.6, 2.2])
     for row, net in enumerate(NETWORKS):
-        c = s["counts"][net]
-        axes = [fig.add_subplot(grid[row, i]) for i in range(N_SNAPSHOTS)]
         ex = s["example"][net]
         how = f"escaped at {ex['exit_step'] / s['control_hz']:.0f} s" if ex["escaped"] else "did not escape"
-        draw_strip(axes, a[f"{net}/frames"], list(a[f"{net}/snapshot_t"]), f"{net}, seed {ex['seed']}: {how}")
-        ax = fig.add_subplot(grid[2, row * 3 : row * 3 + 3])
+        axes = list(rows[row].subplots(1, N_SNAPSHOTS))
+        draw_strip(
+            axes, a[f"{net}/frames"], list(a[f"{net}/snapshot_t"]), f"{net}, seed {ex['seed']}: {how}", "AB"[row]
+        )
+    grid = rows[2].add_gridspec(1, 2)
+    for col, net in enumerate(NETWORKS):
+        c = s["counts"][net]
+        ax = rows[2].add_subplot(grid[0, col])
         paths = [a[f"{net}/path/{k}"] for k in range(c["seeds"])]
         draw_paths(
             ax,
@@ -196,17 +201,18 @@ def plot(res: Result) -> Figure:
             paths,
             [r["escaped"] for r in c["runs"]],
             a[f"{net}/example/pose"],
-            f"{net}: escaped {c['escaped']}/{c['seeds']} (green: escaped, red: not)",
+            f"{net}: escaped {c['escaped']}/{c['seeds']} seeds",
+            t=a[f"{net}/example/t"],
         )
+        letter(ax, "CD"[col])
+    grid = rows[3].add_gridspec(1, 2)
     for col, net in enumerate(NETWORKS):
-        ax = fig.add_subplot(grid[3, col * 3 : col * 3 + 3])
         e = {k: a[f"{net}/example/{k}"] for k in ("t", "outputs", "b", "q")}
-        draw_traces(
-            ax, e["t"], e["outputs"], e["b"], e["q"], f"{net}, seed {s['example'][net]['seed']}: steering, weights"
-        )
+        title = f"{net}, seed {s['example'][net]['seed']}"
+        top = draw_traces(rows[3], grid[0, col], e["t"], e["outputs"], e["b"], e["q"], title)
+        letter(top, "EF"[col])
     fig.suptitle(
         f"Narrow passage (paper Fig. 8), {s['steps'] / s['control_hz']:.0f} s per run at {s['control_hz']:g} Hz: "
         "escaped " + ", ".join(f"{net} {s['escaped'][net]}" for net in NETWORKS)
     )
-    fig.tight_layout()
     return fig

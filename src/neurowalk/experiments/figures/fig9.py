@@ -44,7 +44,7 @@ from neurowalk.experiments.suites.real_robot import (
     write_videos,
 )
 from neurowalk.experiments.suites.timing import SIM_HZ, real_robot_entry, steps_for
-from neurowalk.plotting import pyplot
+from neurowalk.plotting.style import FONT, colorbar, letter, pyplot
 from neurowalk.runners.specs import spec_key
 
 if TYPE_CHECKING:
@@ -284,11 +284,9 @@ def _geometry(arena: ArenaSpec) -> dict[str, Any]:
 
 
 def draw_map(ax: Axes, res: Result, net: str) -> None:
-    """Outcome map of ``net``: width factor (rows) x spacing factor (columns), cells shaded by the share that got out.
-
-    Each cell writes how many seeds got out (left side / open end) and how many stayed stuck (at the dead end /
-    in the path).
-    """
+    """Outcome map of ``net``: path width (rows) x obstacle spacing (columns), cells shaded by the share of seeds that
+    got out (a colour bar beside). Each cell writes how many seeds got out (by the left side / the open end) and
+    how many stayed stuck (at the dead end / in the path)."""
     s = res.summary
     f = s["sweep_factors"]
     share = np.full((len(f), len(f)), np.nan)
@@ -298,11 +296,12 @@ def draw_map(ax: Axes, res: Result, net: str) -> None:
         share[i, j] = c["got_out"] / c["seeds"]
         stuck = c["seeds"] - c["got_out"]
         text = (
-            f"out {c['got_out']}/{c['seeds']} (left side {c[OUT_LEFT]}, open end {c[OUT_END]})\n"
+            f"out {c['got_out']}/{c['seeds']} (side {c[OUT_LEFT]}, end {c[OUT_END]})\n"
             f"stuck {stuck} (dead end {c[STUCK_END]}, path {c[STUCK_PATH]})"
         )
-        ax.text(j, i, text, ha="center", va="center", fontsize=7)
-    ax.imshow(share, cmap="RdYlGn", vmin=0, vmax=1, origin="lower", alpha=0.6, aspect="auto")
+        ax.text(j, i, text, ha="center", va="center", fontsize=FONT["small"])
+    im = ax.imshow(share, cmap="RdYlGn", vmin=0, vmax=1, origin="lower", alpha=0.6, aspect="auto")
+    colorbar(im, ax, "share of seeds out", ticks=(0, 0.5, 1))
     o = s["map"][0]["arena_opts"]
     widths = sorted({c["arena_opts"]["width"] for c in s["map"]})
     spacings = sorted({c["arena_opts"]["spacing"] for c in s["map"]})
@@ -317,44 +316,55 @@ def draw_map(ax: Axes, res: Result, net: str) -> None:
 
 
 def plot(res: Result) -> Figure:
-    """Rows: snapshot strips (plastic, static), top views, outcome maps, steering and weights of the examples."""
+    """A-B: snapshot strips (plastic, static); C-D: top views of every seed's path; E-F: outcome maps (where the
+    geometry was swept; a single cell is the runs of C-D again and is left out); then the examples' steering and
+    weights. One row per subfigure."""
     plt = pyplot()
     s, a = res.summary, res.arrays
     arena = make_arena(s["arena"], **s["arena_opts"])
-    fig = plt.figure(figsize=(17, 12.8))
-    grid = fig.add_gridspec(5, N_SNAPSHOTS, height_ratios=[1.45, 1.45, 3.2, 3.0, 2.5])
+    swept = len(s.get("sweep_factors", [])) > 1
+    ratios = [1.1, 1.1, 2.5, 2.2, 2.6] if swept else [1.1, 1.1, 2.5, 2.6]
+    fig = plt.figure(figsize=(17, 2 * sum(ratios)), layout="constrained")
+    rows = fig.subfigures(len(ratios), 1, height_ratios=ratios)
+    paths, traces = rows[2].add_gridspec(1, 2), rows[-1].add_gridspec(1, 2)
+    letters = iter("CDEFGH" if swept else "CDEF")
     for row, net in enumerate(NETWORKS):
         c, ex = s["counts"][net], s["example"][net]
         when = f" at {ex['out_time_s']:.0f} s" if ex["out_time_s"] is not None else ""
-        axes = [fig.add_subplot(grid[row, i]) for i in range(N_SNAPSHOTS)]
-        draw_strip(
-            axes, a[f"{net}/frames"], list(a[f"{net}/snapshot_t"]), f"{net}, seed {ex['seed']}: {ex['outcome']}{when}"
-        )
-        ax = fig.add_subplot(grid[2, row * 3 : row * 3 + 3])
-        paths = [a[f"{net}/path/{k}"] for k in range(c["seeds"])]
+        axes = list(rows[row].subplots(1, N_SNAPSHOTS))
+        label = f"{net}, seed {ex['seed']}: {ex['outcome']}{when}"
+        draw_strip(axes, a[f"{net}/frames"], list(a[f"{net}/snapshot_t"]), label, "AB"[row])
+    panels = []
+    for row, net in enumerate(NETWORKS):
+        c, ex = s["counts"][net], s["example"][net]
+        ax = rows[2].add_subplot(paths[0, row])
         draw_paths(
             ax,
             arena,
-            paths,
+            [a[f"{net}/path/{k}"] for k in range(c["seeds"])],
             [r["got_out"] for r in c["runs"]],
             a[f"{net}/example/pose"],
-            f"{net}: got out {c['got_out']}/{c['seeds']} (green: out, red: stuck)",
+            f"{net}: got out {c['got_out']}/{c['seeds']} seeds",
+            t=a[f"{net}/example/t"],
+            outcomes=("got out", "stuck"),
         )
-        draw_map(fig.add_subplot(grid[3, row * 3 : row * 3 + 3]), res, net)
+        panels.append(ax)
+    if swept:
+        maps = rows[3].add_gridspec(1, 2)
+        for row, net in enumerate(NETWORKS):
+            ax = rows[3].add_subplot(maps[0, row])
+            draw_map(ax, res, net)
+            panels.append(ax)
+    for row, net in enumerate(NETWORKS):
         e = {k: a[f"{net}/example/{k}"] for k in ("t", "outputs", "b", "q")}
-        draw_traces(
-            fig.add_subplot(grid[4, row * 3 : row * 3 + 3]),
-            e["t"],
-            e["outputs"],
-            e["b"],
-            e["q"],
-            f"{net}, seed {ex['seed']}: steering, weights",
-        )
+        label = f"{net}, seed {s['example'][net]['seed']}"
+        panels.append(draw_traces(rows[-1], traces[0, row], e["t"], e["outputs"], e["b"], e["q"], label))
+    for ax in panels:
+        letter(ax, next(letters))
     pc = s["paper_contrast"]
     seen = "as in the paper" if pc["seen"] else "NOT as in the paper"
     fig.suptitle(
         f"Complex path (paper Fig. 9): got out of the path plastic {pc['plastic_got_out']}, static "
-        f"{pc['static_got_out']} ({seen}: {pc['paper']})"
+        f"{pc['static_got_out']}\n({seen}: {pc['paper']})"
     )
-    fig.tight_layout()
     return fig

@@ -21,7 +21,8 @@ from neurowalk.experiments import Result
 from neurowalk.experiments.stores import run_store, store_folder
 from neurowalk.experiments.suites.random_envs import STEPS, environments, failure_class, spec
 from neurowalk.metrics import turn_state
-from neurowalk.plotting import draw_arena, pyplot
+from neurowalk.plotting import draw_arena
+from neurowalk.plotting.style import LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, time_colorbar
 from neurowalk.runners.specs import normalize, spec_key, to_config
 from neurowalk.sim.episode import EpisodeConfig, run_episode, seeds
 
@@ -103,39 +104,46 @@ def _arena(env: dict[str, Any], variant: str) -> Any:
 
 
 def plot(res: Result) -> Figure:
-    """Per environment: the path (the pocket framed), steering over time, b_on + mean q against 4.7."""
+    """Per environment (a row, lettered across): the path coloured by time (colour bar, s; black after the latch),
+    steering over time, and b_on + mean q against 4.7 (the dashed red line: when the latch began)."""
     plt = pyplot()
     s = res.summary
     n = max(1, len(s["shown"]))
-    fig, axes = plt.subplots(n, 3, figsize=(15, 4.6 * n), squeeze=False, gridspec_kw={"width_ratios": [1, 1.3, 1.3]})
+    fig, axes = plt.subplots(
+        n, 3, figsize=(17, 5.2 * n), squeeze=False, gridspec_kw={"width_ratios": [1, 1.3, 1.3]}, layout="constrained"
+    )
     for k, env in enumerate(s["shown"]):
         pose, out, latch = (res.arrays[f"env{k}/{key}"] for key in ("pose", "outputs", "latch"))
         t = np.arange(len(pose)) * s["stride"] / 10.0
+        start = env["latched_from_step"] / 10
         ax = axes[k, 0]
-        draw_arena(ax, _arena(env, s["variant"]), pose)
+        path = draw_arena(ax, _arena(env, s["variant"]), pose, t=t)
         i0 = env["latched_from_step"] // s["stride"]
-        ax.plot(*pose[i0:, :2].T, c="k", lw=0.6)
-        ax.set_title(
-            f"{env['n_boxes']} boxes, seed {env['seed']}: latched from {env['latched_from_step'] / 10:.0f} s",
-            fontsize=9,
+        ax.plot(*pose[i0:, :2].T, c="k", lw=LINE["thin"], label="after the latch")
+        if path is not None:
+            time_colorbar(path, ax)
+        legend_outside(ax, side="below", ncol=3)
+        ax.set_title(f"{env['n_boxes']} boxes, seed {env['seed']}: latched from {start:.0f} s")
+        axes[k, 1].plot(
+            t, out[:, 0], color=SIDE_COLOURS["left"], lw=LINE["thin"], label="O1 (left neuron → right legs)"
         )
-        axes[k, 1].plot(t, out[:, 0], lw=0.6, label="O1 (left neuron → right legs)")
-        axes[k, 1].plot(t, out[:, 1], lw=0.6, label="O2 (right neuron → left legs)")
-        axes[k, 1].axvline(env["latched_from_step"] / 10, c="r", ls="--", lw=1)
-        axes[k, 1].set(xlabel="time (s)", ylabel="steering", ylim=(-1.1, 1.1))
-        axes[k, 1].legend(fontsize=7, loc="lower left")
-        axes[k, 2].plot(t, latch, c="k", lw=0.8, label="b_on + (q1 + q2)/2")
-        axes[k, 2].axhline(s["threshold"], c="r", ls="--", label=f"{s['threshold']} (input weight): latch holds above")
-        axes[k, 2].axvline(env["latched_from_step"] / 10, c="r", ls="--", lw=1)
-        axes[k, 2].set(xlabel="time (s)", ylabel="weights")
-        axes[k, 2].legend(fontsize=7, loc="lower right")
+        axes[k, 1].plot(
+            t, out[:, 1], color=SIDE_COLOURS["right"], lw=LINE["thin"], label="O2 (right neuron → left legs)"
+        )
+        axes[k, 1].set(xlabel="time (s)", ylabel="steering O", ylim=(-1.1, 1.1), yticks=(-1, 0, 1), title="steering")
+        axes[k, 2].plot(t, latch, c="k", lw=LINE["trace"], label="b_on + (q1 + q2)/2")
+        axes[k, 2].axhline(s["threshold"], c="0.4", ls=":", label=f"{s['threshold']} (input weight): latch holds above")
+        axes[k, 2].set(xlabel="time (s)", ylabel="weight", title="the latch's weights")
+        for ax in axes[k, 1:]:
+            ax.axvline(start, c="r", ls="--", lw=LINE["trace"], label="the latch begins")
+            legend_outside(ax, side="below", ncol=2)
     if not s["shown"]:
         axes[0, 0].text(0.5, 0.5, "no latched spin found", ha="center", transform=axes[0, 0].transAxes)
+    else:
+        letter_panels(axes[: len(s["shown"])].flat)
     f = s["failures"]
     fig.suptitle(
         f"Latched spins: plastic ({s['variant']}) on the surrogate, {s['searched']} Table 2 environments: "
-        f"{f['latched spin']} latched spins, {f['wedged']} wedged, {f['other']} other failures",
-        fontsize=10,
+        f"{f['latched spin']} latched spins, {f['wedged']} wedged, {f['other']} other failures"
     )
-    fig.tight_layout()
     return fig

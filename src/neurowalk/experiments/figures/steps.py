@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
+from matplotlib.ticker import PercentFormatter
 
 from neurowalk.experiments import Result
 from neurowalk.experiments.stores import run_store
@@ -30,7 +31,7 @@ from neurowalk.experiments.suites.climbing import (
     step_spec,
 )
 from neurowalk.experiments.suites.timing import SIM_HZ, quick_note, quick_seconds, steps_for
-from neurowalk.plotting import pyplot
+from neurowalk.plotting.style import LINE, legend_outside, pyplot
 from neurowalk.runners.specs import spec_key
 
 if TYPE_CHECKING:
@@ -98,27 +99,37 @@ def run(
     return Result("steps", summary)
 
 
+#: Line of each variant: colour, dash, marker and marker size (large hollow to small filled, so that equal rates
+#: stay visible without moving them).
+STYLES = (
+    {"color": "#1B9E77", "ls": "-", "marker": "o", "ms": 12, "mfc": "none"},
+    {"color": "#D95F02", "ls": "--", "marker": "s", "ms": 9, "mfc": "none"},
+    {"color": "#7570B3", "ls": ":", "marker": "^", "ms": 7},
+    {"color": "0.3", "ls": "-.", "marker": "D", "ms": 4},
+)
+
+
 def plot(res: Result) -> Figure:
-    """Climb rate against step height, one line per variant, the reliability threshold dashed."""
+    """Climb rate against step height, one line per variant (equal rates drawn one over another, told apart by
+    their markers), the reliability threshold dashed; the legend beside the axes."""
     plt = pyplot()
     s = res.summary
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    styles = (("o", "-"), ("s", "--"), ("^", ":"), ("D", "-."))
+    fig, ax = plt.subplots(figsize=(10, 5), layout="constrained")
     for i, (v, d) in enumerate(s["variants"].items()):
         h = [float(k) for k in d["climb_rate"]]
         best = d["highest_reliable_m"]
-        label = f"{v} (reliable up to {best:.2f} m)" if best is not None else f"{v} (none reliable)"
-        marker, line = styles[i % len(styles)]
-        rate = np.array(list(d["climb_rate"].values())) + 0.012 * (i - 1.5)  # offset: equal rates stay visible
-        ax.plot(np.array(h) * 100, rate, marker=marker, ls=line, label=label, alpha=0.85)
-    ax.axhline(s["reliable_share"], color="0.5", ls="--", lw=0.8)
+        label = f"{v}\n(reliable up to {best * 100:g} cm)" if best is not None else f"{v}\n(none reliable)"
+        ax.plot(np.array(h) * 100, list(d["climb_rate"].values()), mew=1.5, label=label, **STYLES[i % len(STYLES)])
+    ax.axhline(
+        s["reliable_share"], color="0.5", ls="--", lw=LINE["thin"], label=f"reliable: >= {s['reliable_share']:.0%}"
+    )
     ax.set(
         xlabel="step height (cm)",
-        ylabel=f"climbed (share of {s['seeds']} seeds; lines offset)",
-        ylim=(-0.06, 1.06),
+        ylabel=f"climbed (share of {s['seeds']} seeds)",
+        ylim=(-0.04, 1.04),
         title=f"Single step, steering straight ahead ({s['steps'] / s.get('control_hz', 10.0):.0f} s per run"
         f" at {s.get('control_hz', 10.0):g} Hz)",
     )
-    ax.legend(fontsize=8)
-    fig.tight_layout()
+    ax.yaxis.set_major_formatter(PercentFormatter(1.0))
+    legend_outside(ax)
     return fig

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from matplotlib.ticker import MaxNLocator
 
 from neurowalk.body.surrogate import load_calibration
 from neurowalk.experiments import Result
@@ -20,7 +21,7 @@ from neurowalk.experiments.calibration.calibrate import validation
 from neurowalk.experiments.calibration.subjects import HELD_OUT
 from neurowalk.experiments.stores import store_folder
 from neurowalk.experiments.suites.deadends import NETWORKS, VARIANTS, outcome_table
-from neurowalk.plotting import pyplot
+from neurowalk.plotting.style import FONT, LINE, legend_outside, letter_panels, network_colour, pyplot
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -79,37 +80,42 @@ def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Pa
 
 
 def plot(res: Result) -> Figure:
-    """A: held-out calibration scatter; B: escape counts per variant and network, physics vs surrogate."""
+    """A: held-out calibration scatter (surrogate against physics, fractions of full scale); B: escapes per dead end
+    and network, physics bars (network colours) with the surrogate's count marked on each."""
     plt = pyplot()
     s = res.summary
-    fig, ax = plt.subplots(1, 2, figsize=(14, 5.5), gridspec_kw={"width_ratios": [1, 2.2]})
+    fig, ax = plt.subplots(1, 2, figsize=(16, 6.5), gridspec_kw={"width_ratios": [1, 2.2]}, layout="constrained")
     v = s["validation"]
     phys, sur, fs = np.asarray(v["physics"]), np.asarray(v["surrogate"]), v["full_scale"]
-    ax[0].plot(phys[:, 0] / fs["speed_m_s"], sur[:, 0] / fs["speed_m_s"], "o", label="forward speed")
-    ax[0].plot(phys[:, 2] / fs["yaw_rate_rad_s"], sur[:, 2] / fs["yaw_rate_rad_s"], "s", mfc="none", label="yaw rate")
-    ax[0].plot([-1, 1], [-1, 1], "k-", lw=0.8)
-    ax[0].set_xlabel("physics (fraction of full scale)")
-    ax[0].set_ylabel("surrogate (fraction of full scale)")
-    ax[0].set_title(
-        f"A. held-out steering: max error {v['speed_error_max']:.1%} speed, {v['yaw_rate_error_max']:.1%} turning",
-        fontsize=9,
+    ax[0].plot([-1, 1], [-1, 1], "k-", lw=LINE["thin"], label="equal")
+    ax[0].plot(phys[:, 0] / fs["speed_m_s"], sur[:, 0] / fs["speed_m_s"], "o", color="C0", label="forward speed")
+    ax[0].plot(phys[:, 2] / fs["yaw_rate_rad_s"], sur[:, 2] / fs["yaw_rate_rad_s"], "s", mfc="none", color="C1",
+               mew=1.5, label="yaw rate")  # fmt: skip
+    ax[0].set(
+        xlabel="physics (fraction of full scale)",
+        ylabel="surrogate (fraction of full scale)",
+        aspect="equal",
+        title=f"held-out steering\nmax error {v['speed_error_max']:.1%} speed, {v['yaw_rate_error_max']:.1%} turning",
     )
-    ax[0].legend(fontsize=8)
+    legend_outside(ax[0], side="below", ncol=3)
     variants, nets = list(VARIANTS), list(NETWORKS)
     width = 0.8 / len(nets)
     for j, net in enumerate(nets):
         x = np.arange(len(variants)) + (j - (len(nets) - 1) / 2) * width
         pc = [s["physics"]["counts"][vn][net]["escaped"] for vn in variants]
         sc = [s["surrogate"]["counts"][vn][net]["escaped"] for vn in variants]
-        ax[1].bar(x, pc, width * 0.9, color=f"C{j}", alpha=0.45, label=f"{net} (physics)")
-        ax[1].plot(x, sc, "k_", ms=14, mew=2.5)
-    ax[1].plot([], [], "k_", ms=14, mew=2.5, label="surrogate")
-    ax[1].set_xticks(range(len(variants)), [vn.replace("narrow-passage", "passage") for vn in variants], fontsize=8)
-    ax[1].set_ylabel(f"escaped (of {s['seeds']})")
-    a = s["agreement"]
-    ax[1].set_title(
-        f"B. dead ends: same outcome in {a['same_outcome']}/{a['runs']} runs ({a['fraction']:.0%})", fontsize=9
+        ax[1].bar(x, pc, width * 0.9, color=network_colour(net), alpha=0.8, label=f"{net} (physics)")
+        ax[1].plot(x, sc, "_", color="k", ms=16, mew=2.5)
+    ax[1].plot([], [], "_", color="k", ms=16, mew=2.5, label="surrogate")
+    ax[1].set_xticks(
+        range(len(variants)), [vn.replace("narrow-passage", "passage").replace(" ", "\n", 1) for vn in variants]
     )
-    ax[1].legend(fontsize=7, ncol=3, loc="upper center", bbox_to_anchor=(0.5, -0.08))
-    fig.tight_layout()
+    ax[1].tick_params(axis="x", labelsize=FONT["note"])
+    ax[1].yaxis.set_major_locator(MaxNLocator(integer=True))
+    ax[1].set(xlabel="dead end", ylabel=f"escaped (runs, of {s['seeds']})", ylim=(0, s["seeds"] * 1.08))
+    a = s["agreement"]
+    ax[1].set_title(f"dead ends: same outcome in {a['same_outcome']}/{a['runs']} runs ({a['fraction']:.0%})")
+    legend_outside(ax[1], side="below", ncol=3)
+    letter_panels(ax)
+    fig.suptitle("The planar surrogate against the physics body")
     return fig

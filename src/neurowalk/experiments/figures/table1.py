@@ -14,9 +14,10 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
+from matplotlib.lines import Line2D
 
 from neurowalk.experiments import Result
-from neurowalk.plotting import pyplot
+from neurowalk.plotting.style import FONT, LINE, letter_panels, pyplot
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
 if TYPE_CHECKING:
@@ -87,32 +88,56 @@ def run(*, quick: bool = False, seed: int = 0, control_hz: float = 10.0) -> Resu
     return Result(NAME, summary, arrays)
 
 
+#: Colour of each measured walking direction.
+DIRECTION_COLOURS = {
+    "forward": "#1B9E77",
+    "backward": "#D95F02",
+    "turn left": "#7570B3",
+    "turn right": "#E7298A",
+    "stop": "0.4",
+}
+SCALE = 3.0  # the paths are drawn 3x
+
+
 def plot(res: Result) -> Figure:
-    """Left: the nine paths by sign pair, named by measured and paper direction; right: speed against amplitude."""
+    """A: the nine paths on a grid of the signs of O1 (rows) and O2 (columns), coloured by the measured direction,
+    each named by it (and by the paper's, where the paper names one); B: speed against amplitude."""
     plt = pyplot()
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 5.5), constrained_layout=True)
+    fig, (ax, bx) = plt.subplots(1, 2, figsize=(14, 6.5), layout="constrained", gridspec_kw={"width_ratios": [1.1, 1]})
     s = res.summary
+    differ = False
+    ends = [np.array([[-0.45, -0.5], [1.65, 1.6]])]  # the grid, its labels and the scale bar
     for i, row in enumerate(s["signs"]):
-        path = 3.0 * (res.arrays[f"path{i}"] - res.arrays[f"path{i}"][0])  # drawn 3x
+        path = SCALE * (res.arrays[f"path{i}"] - res.arrays[f"path{i}"][0])
         x0, y0 = 0.6 * (row["O2"] + 1), -0.6 * (row["O1"] - 1)  # a 3 x 3 grid: O1 down, O2 across
-        ax.plot(x0 + path[:, 0], y0 + path[:, 1], lw=1.5)
-        ax.plot(x0, y0, "o", color="C3", ms=4)
-        paper = row["paper"] or "-"
+        colour = DIRECTION_COLOURS.get(row["direction"], "k")
+        ax.plot(x0 + path[:, 0], y0 + path[:, 1], lw=LINE["thick"], color=colour)
+        ends.append(path[:, :2] + (x0, y0))
+        ax.plot(x0, y0, "o", color="k", ms=4, zorder=3)
         ok = row["paper"] is None or row["paper"] == row["direction"]
-        label = f"({row['O1']:+d}, {row['O2']:+d})\n{row['direction']}\npaper: {paper}"
-        ax.text(x0, y0 - 0.22, label, ha="center", va="top", fontsize=7, color="k" if ok else "C3")
+        differ |= not ok
+        label = row["direction"] + ("" if row["paper"] is None else f"\n(paper: {row['paper']})")
+        ax.text(x0, y0 - 0.12, label, ha="center", va="top", fontsize=FONT["note"], color="k" if ok else "red")
+    ax.plot([-0.3, -0.3 + SCALE * 0.1], [-0.38, -0.38], "k-", lw=2.5)
+    ax.text(-0.3 + SCALE * 0.05, -0.36, "10 cm", ha="center", va="bottom", fontsize=FONT["note"])
     ax.set_aspect("equal")
-    ax.set_xlim(-0.4, 1.6)
-    ax.set_ylim(-0.5, 1.6)
-    ax.set_xticks([])
-    ax.set_yticks([])
-    ax.set_title(
-        f"paths by the signs of (O1, O2), start heading +x (drawn 3x), {s['steps']} steps at {s['control_hz']:g} Hz"
-    )
+    lo, hi = np.vstack(ends).min(axis=0) - 0.05, np.vstack(ends).max(axis=0) + 0.05
+    ax.set(xlim=(lo[0], hi[0]), ylim=(lo[1], hi[1]))
+    ax.set_xticks([0.0, 0.6, 1.2], ["-1", "0", "+1"])
+    ax.set_yticks([1.2, 0.6, 0.0], ["-1", "0", "+1"])
+    ax.set(xlabel="steering O2 (right neuron)", ylabel="steering O1 (left neuron)")
+    handles = [Line2D([], [], color=c, lw=LINE["thick"], label=d) for d, c in DIRECTION_COLOURS.items()]
+    handles.append(Line2D([], [], ls="none", marker="o", color="k", ms=4, label="start, heading +x"))
+    ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0, title="measured")
+    note = "; red: not the paper's direction" if differ else ""
+    ax.set_title(f"paths by the signs of (O1, O2), drawn {SCALE:g}x, {s['steps'] / s['control_hz']:g} s each{note}")
     amp = [r["amplitude"] for r in s["amplitude"]]
-    bx.plot(amp, [100 * r["speed_m_per_s"] for r in s["amplitude"]], "o-")
+    bx.plot(amp, [100 * r["speed_m_per_s"] for r in s["amplitude"]], "o-", color="k")
     bx.set_xlabel("amplitude a (O1 = O2 = -a)")
     bx.set_ylabel("forward speed (cm/s)")
     bx.set_title("the amplitude sets the walking speed")
-    fig.suptitle("Table 1: walking direction from the sensory network's outputs (physics AMOSII)")
+    letter_panels([ax, bx])
+    fig.suptitle(
+        f"Table 1: walking direction from the sensory network's outputs (physics AMOSII, {s['control_hz']:g} Hz)"
+    )
     return fig

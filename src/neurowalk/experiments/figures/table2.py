@@ -15,7 +15,6 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
 from tqdm import tqdm
 
 from neurowalk.body.registry import bodies_where, body_info
@@ -25,7 +24,6 @@ from neurowalk.experiments.suites.random_envs import (
     BOXES,
     COVERAGE_CELL_M,
     DURATION_S,
-    FAILURE_CLASSES,
     FAILURE_RULE,
     HELD_UP_RULE,
     QUICK_DURATION_S,
@@ -44,8 +42,9 @@ from neurowalk.experiments.suites.random_envs import (
     steps_at,
     wilson,
 )
+from neurowalk.experiments.suites.random_envs_plot import PAPER
+from neurowalk.experiments.suites.random_envs_plot import plot as draw
 from neurowalk.neural.variants import variant_names
-from neurowalk.plotting import pyplot
 from neurowalk.runners.local import run_unordered
 from neurowalk.runners.specs import run_spec, spec_key
 from neurowalk.sim.config import DEFAULT_ENGINE, engine_refusal
@@ -53,8 +52,6 @@ from neurowalk.sim.engine import EngineOptions
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
-
-PAPER = {"environments": 50, "success": 49, "failure": 1}
 
 
 def rows(variant: str | None = None, params: dict[str, float] | None = None) -> dict[str, dict[str, Any]]:
@@ -268,90 +265,6 @@ def _agreement(physics: list[dict[str, Any]], surrogate: list[dict[str, Any]], n
 
 
 def plot(res: Result) -> Figure:
-    """Success rates under both rules with 95% intervals beside the paper's; coverage per network with the rule's
-    threshold; failures by clutter and by class; the rules and the grid in words below."""
-    plt = pyplot()
-    s = res.summary
-    fig, ax = plt.subplots(1, 4, figsize=(21, 5.4), gridspec_kw={"width_ratios": [1.6, 1.1, 1, 1]})
-    names = list(s["counts"])
-    both = all("success_coverage" in s["counts"][c] for c in names)  # a json of the code before the coverage rule
-    x = np.arange(len(names))
-    width = 0.38 if both else 0.8
-    rules = [("success", "success_rate", "not stuck", 0.7, None)]
-    if both:
-        rules.append(("success_coverage", "success_coverage_rate", "coverage rule", 0.35, "//"))
-    for j, (ok_key, rate_key, label, alpha, hatch) in enumerate(rules):
-        dx = (j - (len(rules) - 1) / 2) * width
-        rate = np.array([s["counts"][c][rate_key] for c in names])
-        ci = np.array([s["counts"][c][rate_key + "_95ci"] for c in names])
-        colours = [f"C{i}" for i in range(len(names))]
-        ax[0].bar(x + dx, rate, width, color=colours, alpha=alpha, hatch=hatch, edgecolor="k", lw=0.5, label=label)
-        yerr = np.maximum(0.0, [rate - ci[:, 0], ci[:, 1] - rate])
-        ax[0].errorbar(x + dx, rate, yerr=yerr, fmt="none", c="k", capsize=3)
-        for i, c in enumerate(names):
-            k = s["counts"][c]
-            ax[0].text(i + dx, 0.03, f"{k[ok_key]}/{k['environments']}\n{k[rate_key]:.0%}", ha="center", fontsize=7)
-    paper = s.get("paper", PAPER)
-    if "success_rate_95ci" in paper:
-        lo, hi = paper["success_rate_95ci"]
-        ax[0].axhspan(lo, hi, color="0.85", zorder=0, label=f"paper 49/50, 95% interval {lo:.1%}-{hi:.1%}")
-        ax[0].axhline(paper["success_rate"], c="0.5", lw=1, zorder=0)
-    ax[0].legend(fontsize=7, loc="upper right")
-    agree = s.get("surrogate_agreement") or {}
-    who = s.get("surrogate") or "surrogate"
-    labels = [
-        f"{c}\n{who} agrees {agree[c]['same_outcome']}/{agree[c]['environments']}" if c in agree else c for c in names
-    ]
-    ax[0].set_xticks(x, labels, fontsize=7 if agree else 8)
-    ax[0].set_ylim(0, 1.12)
-    ax[0].set_ylabel("success rate (Wilson 95% interval)")
-    on = " with climbing modules" if s.get("climbing") else ""
-    size = s.get("box_size_m", 0.6)
-    hz = s.get("control_hz", 10.0)
-    ax[0].set_title(
-        f"Table 2 on {s['body']}{on}: {s['counts'][names[0]]['environments']} random environments, "
-        f"{size:g} m boxes, {s['steps']} steps at {hz:g} Hz",
-        fontsize=9,
-    )
-    cov = [[np.nan if r[c]["coverage"] is None else r[c]["coverage"] for r in s["environments"]] for c in names]
-    ax[1].boxplot(cov, positions=x, widths=0.5, showfliers=False)
-    for i, v in enumerate(cov):
-        jitter = np.linspace(-0.15, 0.15, len(v)) if len(v) > 1 else np.zeros(len(v))
-        ax[1].plot(i + jitter, v, ".", c=f"C{i}", ms=3, alpha=0.6)
-    if "coverage_threshold" in s:
-        ax[1].axhline(s["coverage_threshold"], c="k", ls="--", lw=1, label=f"threshold {s['coverage_threshold']:.2%}")
-        ax[1].legend(fontsize=7)
-    ax[1].set_xticks(x, names, fontsize=8)
-    ax[1].yaxis.set_major_formatter(lambda v, _: f"{v:.1%}")
-    cell = s.get("coverage_cell_m", 0.25)
-    ax[1].set_ylabel(f"coverage: share of the free {cell:g} m cells visited")
-    ax[1].set_title("coverage per environment", fontsize=9)
-    boxes = np.arange(s["boxes"][0], s["boxes"][1] + 1)
-    for i, c in enumerate(names):
-        fails = [sum(1 for r in s["environments"] if r["n_boxes"] == b and not r[c]["success"]) for b in boxes]
-        ax[2].plot(boxes, fails, "o-", c=f"C{i}", label=c, ms=3)
-        if both:
-            fails = [
-                sum(1 for r in s["environments"] if r["n_boxes"] == b and not r[c]["success_coverage"]) for b in boxes
-            ]
-            ax[2].plot(boxes, fails, "s--", c=f"C{i}", ms=2, lw=0.8, alpha=0.6)
-    ax[2].set_xlabel("boxes in the environment")
-    ax[2].set_ylabel("failures")
-    ax[2].legend(fontsize=7)
-    ax[2].set_title("failures by clutter" + (" (solid: not stuck, dashed: coverage rule)" if both else ""), fontsize=9)
-    bottom = np.zeros(len(names))
-    for j, cls in enumerate(FAILURE_CLASSES):
-        v = np.array([s["counts"][c].get("failure_classes", {}).get(cls, 0) for c in names])
-        ax[3].bar(x, v, bottom=bottom, color=["C3", "C1", "0.6"][j], label=cls)
-        bottom += v
-    held = [s["counts"][c].get("held_up_300s_success") for c in names]
-    ax[3].set_xticks(x, [c if h is None else f"{c}\nheld up: {h}" for c, h in zip(names, held, strict=True)])
-    ax[3].tick_params(axis="x", labelsize=7)
-    ax[3].set_ylabel("failures (not-stuck rule)")
-    ax[3].set_ylim(0, max(1.0, float(bottom.max())) * 1.15)
-    ax[3].legend(fontsize=7, loc="upper left")
-    ax[3].set_title("failures by class (held up: successes held up >= 300 s)", fontsize=9)
-    notes = [s["rule"], s.get("coverage_rule", ""), s.get("failure_rule", ""), s.get("held_up_rule", "")]
-    fig.text(0.01, 0.01, "\n".join(n for n in notes if n), fontsize=7)
-    fig.tight_layout(rect=(0, 0.1, 1, 1))
-    return fig
+    """Success rates under both rules beside the paper's, coverage, failures by clutter and by class
+    (:mod:`~neurowalk.experiments.suites.random_envs_plot`)."""
+    return draw(res)

@@ -1,4 +1,6 @@
-"""The picture of Fig. 3 and Fig. 5: dead-end trajectories, neural traces, input-output loops, long runs."""
+"""The picture of Fig. 3 and Fig. 5: dead-end trajectories, neural traces, input-output loops, long runs, and the
+escape counts as a table (the wedged periods of the long runs are circled on their paths; their list is in the json).
+"""
 
 from __future__ import annotations
 
@@ -9,17 +11,27 @@ from matplotlib.patches import Circle
 
 from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result
-from neurowalk.plotting import draw_arena, pyplot
+from neurowalk.plotting import draw_arena
+from neurowalk.plotting.style import (
+    FONT,
+    LINE,
+    MEAN_WEIGHT,
+    SIDE_COLOURS,
+    TIME_CMAP,
+    draw_table,
+    legend_outside,
+    letter,
+    network_line,
+    pyplot,
+    time_colorbar,
+    weight_style,
+)
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
+    from matplotlib.collections import PathCollection
     from matplotlib.figure import Figure
-
-
-def _io_loop(ax: Axes, x: np.ndarray, y: np.ndarray, title: str) -> None:
-    """Input against output, coloured by time from dark blue to dark red (paper Fig. 3D-E)."""
-    ax.scatter(x, y, c=np.linspace(0, 1, len(x)), cmap="jet", s=2, lw=0)
-    ax.set(xlim=(-1.05, 1.05), ylim=(-1.05, 1.05), xlabel="input", ylabel="output", title=title)
+    from matplotlib.gridspec import SubplotSpec
 
 
 def draw_wedged(ax: Axes, periods: list[dict]) -> None:
@@ -29,6 +41,8 @@ def draw_wedged(ax: Axes, periods: list[dict]) -> None:
     before (so that nearby periods' labels do not cover each other).
     """
     placed: list[tuple[float, float]] = []
+    if periods:  # the legend's entry for the circles
+        ax.plot([], [], "o", mfc="none", mec="k", ms=11, ls="none", label="wedged (duration)")
     for p in periods:
         (x, y), r = p["centre"], max(p.get("extent_m", 0.3), 0.3)
         ax.add_patch(Circle((x, y), r, fill=False, ec="k", lw=1.2, ls="--", zorder=6))
@@ -46,109 +60,141 @@ def draw_wedged(ax: Axes, periods: list[dict]) -> None:
             (lx, ly),
             ha=ha,
             va=va,
-            fontsize=7,
+            fontsize=FONT["small"],
             zorder=7,
             bbox={"boxstyle": "round,pad=0.15", "fc": "w", "ec": "none", "alpha": 0.8},
         )
 
 
-def _long_path(ax: Axes, r: dict, pose: np.ndarray, step: np.ndarray, mark: int | None) -> None:
-    """A long run's path: time-coloured; with ``mark``, red up to that step and gray after it (paper Fig. 3F), a
-    red dot at the start and a green one at the mark (Fig. 3G)."""
+def _io_loop(ax: Axes, x: np.ndarray, y: np.ndarray, t: np.ndarray, side: int, title: str) -> PathCollection:
+    """Input against output of neuron ``side`` (1 left, 2 right), coloured by time (s) from dark blue to dark red
+    (paper Fig. 3D-E); returns the scatter for the colour bar."""
+    sc = ax.scatter(x, y, c=t, cmap=TIME_CMAP, s=3, lw=0, vmin=0.0, vmax=max(float(t[-1]), 1e-9))
+    ax.set(
+        xlim=(-1.05, 1.05),
+        ylim=(-1.05, 1.05),
+        xlabel=f"input I{side}",
+        ylabel=f"output O{side}",
+        title=title,
+    )
+    return sc
+
+
+def _long_path(ax: Axes, r: dict, pose: np.ndarray, step: np.ndarray, mark: int | None, hz: float) -> None:
+    """A long run's path: time-coloured (with a colour bar); with ``mark``, red up to that step and gray after it
+    (paper Fig. 3F), a red dot at the start and a green one at the mark (Fig. 3G)."""
     arena = make_arena(r["arena"], **r["arena_opts"])
     if mark is None:
-        draw_arena(ax, arena, pose)
+        path = draw_arena(ax, arena, pose, t=step / hz, lw=LINE["trace"])
+        if path is not None:
+            time_colorbar(path, ax)
         return
     draw_arena(ax, arena)
     i = int(np.searchsorted(step, mark))  # the first kept row at or after the mark
-    ax.plot(pose[i:, 0], pose[i:, 1], color="0.6", lw=0.6, label=f"after step {mark:,}")
-    ax.plot(pose[: i + 1, 0], pose[: i + 1, 1], color="#CC5050", lw=0.9, label=f"steps 0-{mark:,}")
+    ax.plot(pose[i:, 0], pose[i:, 1], color="0.6", lw=LINE["thin"], label=f"after step {mark:,}")
+    ax.plot(pose[: i + 1, 0], pose[: i + 1, 1], color="#CC5050", lw=LINE["trace"], label=f"steps 0-{mark:,}")
     ax.plot(*pose[0, :2], "o", color="red", ms=7, zorder=5, label="start")
     ax.plot(*pose[min(i, len(pose) - 1), :2], "o", color="limegreen", mec="k", ms=7, zorder=5, label=f"step {mark:,}")
-    ax.legend(fontsize=6, loc="lower left")
 
 
-def _long_title(letter: str, key: str, r: dict, hz: float) -> str:
+def _long_title(key: str, r: dict, hz: float) -> str:
     cov = r["coverage"]
-    wedged = f", wedged {r['wedged_periods']}x (longest {r['longest_wedged_s']:.0f} s)" if "wedged" in r else ""
-    return (
-        f"{letter}  {key}: {r['steps']:,} steps ({r['steps'] / hz:,.0f} s)\n"
-        f"{'trapped' if r['trapped'] else 'not trapped'}, coverage {cov:.0%}{wedged}"
-    )
+    wedged = f"\nwedged {r['wedged_periods']}x (longest {r['longest_wedged_s']:.0f} s)" if "wedged" in r else ""
+    outcome = "trapped" if r["trapped"] else "not trapped"
+    return f"{key}, {r['steps'] / hz:,.0f} s\n{outcome}, coverage {cov:.0%}{wedged}"
 
 
 def _weights(ax: Axes, a: dict, key: str, r: dict, hz: float) -> None:
     """Paper Fig. 5G: the four weights of the long run ``key`` over time, its wedged periods shaded."""
     tl = a[f"{key}/step"] / hz
     b, q = a[f"{key}/b"], a[f"{key}/q"]
-    ax.plot(tl, b[:, 0], color="red", lw=0.7, label="b1")
-    ax.plot(tl, b[:, 1], color="blue", lw=0.7, label="b2")
-    ax.plot(tl, 0.0 - q[:, 0], color="green", lw=0.7, label="c1")
-    ax.plot(tl, 0.0 - q[:, 1], color="purple", lw=0.7, label="c2")
+    ax.plot(tl, b[:, 0], label="b1 (left)", **{**weight_style("b", "left"), "lw": LINE["thin"]})
+    ax.plot(tl, b[:, 1], label="b2 (right)", **{**weight_style("b", "right"), "lw": LINE["thin"]})
+    ax.plot(tl, 0.0 - q[:, 0], label="c1 (left)", **{**weight_style("c", "left"), "lw": LINE["thin"]})
+    ax.plot(tl, 0.0 - q[:, 1], label="c2 (right)", **{**weight_style("c", "right"), "lw": LINE["thin"]})
     for i, p in enumerate(r.get("wedged", [])):
-        ax.axvspan(p["start"] / hz, (p["end"] + 1) / hz, color="0.85", zorder=0, label="wedged" if i == 0 else None)
+        ax.axvspan(p["start"] / hz, (p["end"] + 1) / hz, color="0.88", zorder=0, label="wedged" if i == 0 else None)
     ax.axhline(0, color="k", lw=0.5)
     stride = int(np.median(np.diff(a[f"{key}/step"]))) if len(tl) > 1 else 1
     ax.set(
         xlabel="time (s)",
         ylabel="weight",
         xlim=(0, tl[-1]),
-        title=f"G  {key}: weights over the whole run (every {stride}th control step; shaded: wedged periods)",
+        title=f"{key}: weights over the whole run (every {stride}th control step)",
     )
-    ax.legend(fontsize=7, ncol=5, loc="upper right")
+    legend_outside(ax)
 
 
 def _coverage(ax: Axes, a: dict, keys: list[str], hz: float) -> None:
     """The share of the free area visited over time, one line per long run (not in the paper)."""
     for key in keys:
-        ax.plot(a[f"{key}/step"] / hz, a[f"{key}/coverage"], lw=1, label=key)
-    ax.set(xlabel="time (s)", ylabel="coverage", ylim=(0, 1), title="coverage over time (not in the paper)")
-    ax.legend(fontsize=7)
+        net = key[key.find("(") + 1 : key.rfind(")")] if "(" in key else key
+        ax.plot(a[f"{key}/step"] / hz, a[f"{key}/coverage"], lw=LINE["thick"], label=net, **network_line(net))
+    ax.set(xlabel="time (s)", ylabel="coverage (share of free cells)", title="coverage (not in the paper)")
+    ax.set_ylim(bottom=0)
+    ax.yaxis.set_major_formatter(lambda v, _: f"{v:.0%}")
+    legend_outside(ax, side="below", ncol=3)
 
 
-def _wedged_lines(s: dict, most: int = 30, per_line: int = 6) -> list[str]:
-    """The text of the long runs' wedged periods: per run its counts, then its periods (start, duration, cause),
-    ``per_line`` to a line, the first ``most`` of them."""
-    lines = []
-    for k, w in s.get("wedged", {}).items():
-        causes = ", ".join(f"{c} {n}" for c, n in w["causes"].items()) or "none"
-        over = next((v for name, v in w.items() if name.startswith("over_")), None)
-        longer = f"; over 300 s: {over['periods']}" if over is not None else ""
-        lines.append(
-            f"{k}: wedged {w['periods']}x, longest {w['longest_s']:.0f} s, in all {w['total_s']:.0f} s "
-            f"({causes}{longer})"
-        )
-        periods = [f"{p['start_s']:.0f} s +{p['duration_s']:.0f} s {p['cause']}" for p in w.get("list", [])[:most]]
-        for i in range(0, len(periods), per_line):
-            head = "    start +duration cause: " if i == 0 else "    "
-            lines.append(head + ", ".join(periods[i : i + per_line]))
-        if len(w.get("list", [])) > most:
-            lines.append(f"    ... and {len(w['list']) - most} more (the json's wedged/{k}/list)")
-    return lines
+def _traces(fig: Figure, spec: SubplotSpec, a: dict, hz: float) -> Axes:
+    """Paper Figs. 3C and 5C: the narrow passage's inputs, outputs and (where they change) weights over time (s),
+    each on its own axes; returns the top one (for the panel letter)."""
+    t = np.arange(len(a["narrow-passage/inputs"])) / hz
+    b, q = a["narrow-passage/b"], a["narrow-passage/q"]
+    plastic = bool(np.isfinite(b).all() and np.ptp(b) > 0)
+    rows = spec.subgridspec(3 if plastic else 2, 1, hspace=0.08)
+    top = fig.add_subplot(rows[0])
+    axes = [top] + [fig.add_subplot(rows[k], sharex=top) for k in range(1, 3 if plastic else 2)]
+    for ax, key, name in ((axes[0], "inputs", "I"), (axes[1], "outputs", "O")):
+        for side, col in ((1, "left"), (2, "right")):
+            ax.plot(t, a[f"narrow-passage/{key}"][:, side - 1], color=SIDE_COLOURS[col], lw=LINE["trace"],
+                    label=f"{name}{side} ({col})")  # fmt: skip
+        ax.set(ylim=(-1.1, 1.1), yticks=(-1, 0, 1), ylabel="input I" if name == "I" else "output O")
+        legend_outside(ax)
+    if plastic:
+        axes[2].plot(t, b[:, 0], label="b1 (left)", **weight_style("b", "left"))
+        axes[2].plot(t, b[:, 1], label="b2 (right)", **weight_style("b", "right"))
+        axes[2].plot(t, -q.sum(axis=1) / 2, **MEAN_WEIGHT)
+        axes[2].set_ylabel("weight")
+        legend_outside(axes[2])
+    for ax in axes[:-1]:
+        ax.tick_params(labelbottom=False)
+    axes[-1].set_xlabel("time (s)")
+    top.set_title("narrow passage: neural activations" + (" and weights" if plastic else ""))
+    return top
+
+
+def _counts_table(ax: Axes, s: dict, hz: float) -> None:
+    """The escape counts of every network in every dead end, as a table (cells tinted by the share escaped)."""
+    counts = s["table"]["counts"]
+    steps = s["table"].get("steps", 5000)
+    nets = list(next(iter(counts.values())))
+    cells = [[f"{row[n]['escaped']}/{row[n]['runs']}" for n in nets] for row in counts.values()]
+    shares = [[row[n]["escaped"] / row[n]["runs"] if row[n]["runs"] else None for n in nets] for row in counts.values()]
+    draw_table(
+        ax,
+        cells,
+        list(counts),
+        nets,
+        shares=shares,
+        title=f"escaped / runs ({s['table']['seeds']} seeds, {steps / hz:g} s each)",
+    )
 
 
 def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool = False) -> Figure:
-    """Panels A-G for the figure's ``network`` and the outcome table.
+    """Panels A-G for the figure's ``network`` and the escape counts as a table; one row of panels per subfigure.
 
     Fig. 3 (``weights_panel`` False): F and G the paths of the first two long runs, red up to ``mark_step`` and gray
-    after. Fig. 5 (``weights_panel``): F the path of the first long run, beside it the coverage over time of every
-    long run, and G (a row of its own) the first long run's weights over the whole run.
+    after. Fig. 5 (``weights_panel``): F the path of the first long run coloured by time, beside it H, the coverage
+    over time of every long run (not in the paper), and G (a row of its own) the first long run's weights over the
+    whole run.
     """
     plt = pyplot()
     s, a = res.summary, res.arrays
     hz = float(s.get("control_hz", 10.0))
-    counts = s["table"]["counts"]
-    steps = s["table"].get("steps", 5000)
-    lines = [f"escaped / runs (seeds {s['table']['seeds']}, {steps} control steps, {steps / hz:g} s):"]
-    for v, row in counts.items():
-        lines.append(f"{v}: " + ", ".join(f"{n} {c['escaped']}/{c['runs']}" for n, c in row.items()))
-    wedged = _wedged_lines(s)
-    if wedged:
-        lines += ["wedged periods of the long runs (dashed circles on the paths):", *wedged]
-    text_h = 0.15 * len(lines)  # inches: 8 pt lines
-    fig = plt.figure(figsize=(18, (13.5 if weights_panel else 9.5) + text_h), constrained_layout=True)
-    ratios = [4, 4, 2.4, text_h] if weights_panel else [4, 4, text_h]
-    gs = fig.add_gridspec(len(ratios), 4, height_ratios=ratios)
+    ratios = [4.6, 5.0, 3.0, 3.2] if weights_panel else [4.6, 5.0, 3.2]
+    fig = plt.figure(figsize=(19, sum(ratios) + 0.5), layout="constrained")
+    rows = fig.subfigures(len(ratios), 1, height_ratios=ratios)
     runs = s["runs"]
     notes = []
     if s.get("variant", "paper") != "paper":
@@ -162,49 +208,51 @@ def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool
         notes.append(f"control rate {hz:g} Hz")
     if notes:
         fig.suptitle("; ".join(notes))
+    top = rows[0].add_gridspec(1, 3, width_ratios=[1, 1, 2.3])
+    dead = []
     for i, name in enumerate(("simple-deadlock", "narrow-passage")):
-        ax = fig.add_subplot(gs[0, i])
-        draw_arena(ax, make_arena(runs[name]["arena"], **runs[name]["arena_opts"]), a[f"{name}/pose"])
+        ax = rows[0].add_subplot(top[0, i])
+        pose = a[f"{name}/pose"]
+        path = draw_arena(ax, make_arena(runs[name]["arena"], **runs[name]["arena_opts"]), pose,
+                          t=np.arange(len(pose)) / hz)  # fmt: skip
         outcome = "escaped" if runs[name]["escaped"] else ("trapped" if runs[name]["trapped"] else "not out")
-        ax.set_title(f"{'AB'[i]}  {name}, {network}: {outcome}")
-    ax = fig.add_subplot(gs[0, 2:])
+        ax.set_title(f"{name.replace('-', ' ')}, {network}: {outcome}")
+        letter(ax, "AB"[i])
+        dead.append((ax, path))
+    tmax = max(len(a[f"{n}/pose"]) for n in ("simple-deadlock", "narrow-passage")) / hz
+    for _, path in dead:
+        path.set_clim(0.0, tmax)
+    time_colorbar(dead[1][1], [ax for ax, _ in dead], shrink=0.8)
+    legend_outside(dead[0][0], side="below", ncol=2)
+    letter(_traces(rows[0], top[0, 2], a, hz), "C")
+    middle = rows[1].add_gridspec(1, 4)
     t = np.arange(len(a["narrow-passage/inputs"])) / hz
-    ax.plot(t, a["narrow-passage/inputs"][:, 0] + 2.5, "C0", lw=0.6, label="I1 (left)")
-    ax.plot(t, a["narrow-passage/inputs"][:, 1] + 2.5, "C1", lw=0.6, label="I2 (right)")
-    ax.plot(t, a["narrow-passage/outputs"][:, 0], "C0", lw=1.0, label="O1")
-    ax.plot(t, a["narrow-passage/outputs"][:, 1], "C1", lw=1.0, label="O2")
-    if np.isfinite(a["narrow-passage/b"]).all() and np.ptp(a["narrow-passage/b"]) > 0:
-        ax.plot(t, a["narrow-passage/b"][:, 0] / 2 - 4, "C0--", lw=1, label="b1")
-        ax.plot(t, a["narrow-passage/b"][:, 1] / 2 - 4, "C1--", lw=1, label="b2")
-        ax.plot(t, -a["narrow-passage/q"].sum(axis=1) / 4 - 4, "k--", lw=1, label="c")
-    ticks = {1.5: "I -1", 2.5: "0", 3.5: "1", -1.0: "O -1", 0.0: "0", 1.0: "1", -6.0: "w -4", -4.0: "0", -2.0: "4"}
-    ax.set_yticks(list(ticks), list(ticks.values()), fontsize=7)
-    ax.set(xlabel="time (s)", title="C  narrow passage: inputs I (top), outputs O, weights w = b, c (bottom)")
-    ax.legend(loc="upper right", ncol=7, fontsize=7)
-    _io_loop(
-        fig.add_subplot(gs[1, 0]),
-        a["narrow-passage/inputs"][:, 0],
-        a["narrow-passage/outputs"][:, 0],
-        "D  left: I1 vs O1 (time: blue → red)",
-    )
-    _io_loop(
-        fig.add_subplot(gs[1, 1]),
-        a["narrow-passage/inputs"][:, 1],
-        a["narrow-passage/outputs"][:, 1],
-        "E  right: I2 vs O2",
-    )
+    loops = []
+    for side, lab in ((1, "D"), (2, "E")):
+        ax = rows[1].add_subplot(middle[0, side - 1])
+        x, y = a["narrow-passage/inputs"][:, side - 1], a["narrow-passage/outputs"][:, side - 1]
+        loops.append((ax, _io_loop(ax, x, y, t, side, f"{'left' if side == 1 else 'right'} neuron, narrow passage")))
+        ax.set_box_aspect(1)
+        letter(ax, lab)
+    time_colorbar(loops[1][1], [ax for ax, _ in loops], shrink=0.8)
     mark = s.get("mark_step")
     paths = long_keys[:1] if weights_panel else long_keys[:2]
     for j, key in enumerate(paths):
-        ax = fig.add_subplot(gs[1, 2 + j])
+        ax = rows[1].add_subplot(middle[0, 2 + j])
         r = runs[key]
-        _long_path(ax, r, a[f"{key}/pose"], a[f"{key}/step"], mark)
+        _long_path(ax, r, a[f"{key}/pose"], a[f"{key}/step"], mark, hz)
         draw_wedged(ax, r.get("wedged", []))
-        ax.set_title(_long_title("FG"[j], key, r, hz), fontsize=9)
+        legend_outside(ax, side="below", ncol=2)
+        ax.set_title(_long_title(key, r, hz))
+        letter(ax, "FG"[j])
     if weights_panel:  # paper Fig. 5G: the weights of the long run over time; the coverage curves beside F
-        _coverage(fig.add_subplot(gs[1, 3]), a, long_keys, hz)
-        _weights(fig.add_subplot(gs[2, :]), a, long_keys[0], runs[long_keys[0]], hz)
-    ax = fig.add_subplot(gs[-1, :])
-    ax.axis("off")
-    ax.text(0, 1, "\n".join(lines), fontsize=8, family="monospace", va="top", transform=ax.transAxes)
+        ax = rows[1].add_subplot(middle[0, 3])
+        _coverage(ax, a, long_keys, hz)
+        ax.set_box_aspect(1)
+        letter(ax, "H")
+        ax = rows[2].add_subplot(1, 1, 1)
+        _weights(ax, a, long_keys[0], runs[long_keys[0]], hz)
+        letter(ax, "G")
+    ax = rows[-1].add_subplot(rows[-1].add_gridspec(1, 5)[0, 1:4])
+    _counts_table(ax, s, hz)
     return fig

@@ -27,6 +27,17 @@ from neurowalk.experiments.stores import run_store
 from neurowalk.experiments.suites.timing import SIM_HZ, steps_for
 from neurowalk.fileio import to_jsonable
 from neurowalk.plotting import draw_arena
+from neurowalk.plotting.style import (
+    FONT,
+    LINE,
+    MEAN_WEIGHT,
+    OUTCOME_COLOURS,
+    SIDE_COLOURS,
+    colorbar,
+    legend_outside,
+    letter,
+    weight_style,
+)
 from neurowalk.render import render_frames, render_video
 from neurowalk.runners.local import run_many
 from neurowalk.runners.specs import MACHINE_KEYS, normalize, to_config
@@ -34,6 +45,8 @@ from neurowalk.sim.episode import RunInterruptedError, run_episode
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
+    from matplotlib.figure import Figure, SubFigure
+    from matplotlib.gridspec import SubplotSpec
 
     from neurowalk.arenas.spec import ArenaSpec
     from neurowalk.sim.episode import Episode
@@ -189,8 +202,9 @@ def write_videos(name: str, arena: ArenaSpec, examples: dict[str, dict[str, Any]
     return paths
 
 
-def draw_strip(axes: list[Axes], frames: np.ndarray, times: list[float], label: str) -> None:
-    """The snapshot strip: one frame per axis, its time (s) written on it; ``label`` on the first."""
+def draw_strip(axes: list[Axes], frames: np.ndarray, times: list[float], label: str, panel: str | None = None) -> None:
+    """The snapshot strip: one frame per axis, its time (s) written on it; ``label`` over the first frame (and the
+    panel letter ``panel`` beside it)."""
     for i, ax in enumerate(axes):
         ax.axis("off")
         if i >= len(frames):
@@ -202,30 +216,63 @@ def draw_strip(axes: list[Axes], frames: np.ndarray, times: list[float], label: 
             f"{times[i]:.0f} s",
             transform=ax.transAxes,
             va="top",
-            fontsize=9,
+            fontsize=FONT["note"] + 1,
             color="white",
             bbox={"facecolor": "black", "alpha": 0.6, "lw": 0},
         )
-    axes[0].set_title(label, fontsize=9, loc="left")
+    axes[0].set_title(label, loc="left")
+    if panel:
+        letter(axes[0], panel)
 
 
 def draw_paths(
-    ax: Axes, arena: ArenaSpec, paths: list[np.ndarray], good: list[bool], example: np.ndarray, title: str
+    ax: Axes,
+    arena: ArenaSpec,
+    paths: list[np.ndarray],
+    good: list[bool],
+    example: np.ndarray,
+    title: str,
+    *,
+    t: np.ndarray | None = None,
+    outcomes: tuple[str, str] = ("escaped", "not escaped"),
 ) -> None:
-    """Top view of the arena's bounds: every seed's path (green: got out, red: not), the example's coloured by time."""
-    draw_arena(ax, arena, example)
+    """Top view of the arena's bounds: every seed's path (green: ``outcomes[0]``, red: ``outcomes[1]``), the
+    example's coloured by time ``t`` (s, with a colour bar), start and end dots; a legend below."""
+    path = draw_arena(ax, arena, example, t=t)
     for p, ok in zip(paths, good, strict=True):
-        ax.plot(p[:, 0], p[:, 1], color="tab:green" if ok else "tab:red", lw=0.7, alpha=0.5, zorder=1.5)
-    ax.set_title(title, fontsize=9)
+        colour = OUTCOME_COLOURS["ok"] if ok else OUTCOME_COLOURS["failed"]
+        ax.plot(p[:, 0], p[:, 1], color=colour, lw=LINE["thin"], alpha=0.5, zorder=1.5)
+    ax.plot([], [], color=OUTCOME_COLOURS["ok"], lw=LINE["trace"], label=f"a seed: {outcomes[0]}")
+    ax.plot([], [], color=OUTCOME_COLOURS["failed"], lw=LINE["trace"], label=f"a seed: {outcomes[1]}")
+    if path is not None and t is not None:
+        colorbar(path, ax, "time (s), the example seed", shrink=0.9)
+    legend_outside(ax, side="below", ncol=2)
+    ax.set_title(title)
 
 
-def draw_traces(ax: Axes, t: np.ndarray, outputs: np.ndarray, b: np.ndarray, q: np.ndarray, title: str) -> None:
-    """Steering (O1, O2) and, where the network has them, the weights b1, b2 and c = -(q1 + q2)/2 over time (s)."""
-    ax.plot(t, outputs[:, 0], lw=0.7, label="O1 (left)")
-    ax.plot(t, outputs[:, 1], lw=0.7, label="O2 (right)")
-    if np.isfinite(b).any():
-        ax.plot(t, b[:, 0], "C2", lw=1, label="b1")
-        ax.plot(t, b[:, 1], "C3", lw=1, label="b2")
-        ax.plot(t, -0.5 * q.sum(axis=1), "k", lw=1, label="c")
-    ax.set(xlabel="time (s)", title=title)
-    ax.legend(fontsize=7, ncol=5, loc="lower right")
+def draw_traces(
+    fig: Figure | SubFigure, spec: SubplotSpec, t: np.ndarray, outputs: np.ndarray, b: np.ndarray, q: np.ndarray,
+    label: str,
+) -> Axes:  # fmt: skip
+    """Steering (O1, O2) over time (s) and, below it where the network has them, the weights b1, b2 and
+    c = -(q1 + q2)/2, each on its own axes with its legend beside it, titled ``label: steering and weights``;
+    returns the top axes."""
+    plastic = bool(np.isfinite(b).any())
+    rows = spec.subgridspec(2 if plastic else 1, 1, hspace=0.08)
+    top = fig.add_subplot(rows[0])
+    top.plot(t, outputs[:, 0], color=SIDE_COLOURS["left"], lw=LINE["thin"], label="O1 (left)")
+    top.plot(t, outputs[:, 1], color=SIDE_COLOURS["right"], lw=LINE["thin"], label="O2 (right)")
+    title = f"{label}: steering" + (" and weights" if plastic else "")
+    top.set(ylabel="steering O", ylim=(-1.1, 1.1), yticks=(-1, 0, 1), title=title)
+    legend_outside(top)
+    last = top
+    if plastic:
+        last = fig.add_subplot(rows[1], sharex=top)
+        last.plot(t, b[:, 0], label="b1 (left)", **weight_style("b", "left"))
+        last.plot(t, b[:, 1], label="b2 (right)", **weight_style("b", "right"))
+        last.plot(t, -0.5 * q.sum(axis=1), **MEAN_WEIGHT)
+        last.set_ylabel("weight")
+        legend_outside(last)
+        top.tick_params(labelbottom=False)
+    last.set_xlabel("time (s)")
+    return top

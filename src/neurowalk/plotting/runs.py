@@ -1,0 +1,131 @@
+"""Pictures of runs: arena top view with the path coloured by time, and the neural traces over time (run.png)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+from matplotlib.collections import LineCollection
+from matplotlib.patches import Polygon, Rectangle
+
+from neurowalk.arenas.spec import ArenaSpec
+from neurowalk.plotting.style import (
+    LINE,
+    MEAN_WEIGHT,
+    SIDE_COLOURS,
+    TIME_CMAP,
+    legend_outside,
+    letter_panels,
+    pyplot,
+    time_colorbar,
+    weight_style,
+)
+from neurowalk.sim.trajectory import Trajectory
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+BOX_COLOUR = "0.55"
+EXIT_COLOUR = "green"
+START_COLOUR = "red"
+END_COLOUR = "limegreen"
+
+
+def draw_arena(
+    ax: Axes,
+    arena: ArenaSpec,
+    pose: np.ndarray | None = None,
+    *,
+    margin: float = 0.5,
+    t: np.ndarray | None = None,
+    lw: float = LINE["path"],
+) -> LineCollection | None:
+    """Boxes (grey), exit region (green), the path coloured by time (dark blue → dark red), start/end dots.
+
+    ``pose``: (n, >=2) positions (m). ``t``: the time of each row (s), for a colour bar in seconds (without it the
+    colours run over the row index). Returns the path's line collection (the mappable of
+    :func:`~neurowalk.plotting.style.time_colorbar`), None without a path.
+    """
+    for b in arena.boxes:
+        ax.add_patch(Polygon(b.corners(), closed=True, color=BOX_COLOUR))
+    if arena.exit_region is not None:
+        x0, x1, y0, y1 = arena.exit_region
+        ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, color=EXIT_COLOUR, alpha=0.12, lw=0))
+    pts = [b.corners() for b in arena.boxes]
+    lc = None
+    if pose is not None:
+        xy = pose[:, :2]
+        seg = np.stack([xy[:-1], xy[1:]], axis=1)
+        lc = LineCollection(seg, cmap=TIME_CMAP, lw=lw)
+        when = np.arange(len(xy), dtype=float) if t is None else np.asarray(t, dtype=float)
+        lc.set_array(when[1:] if len(when) > 1 else when)
+        if len(when):
+            lo = 0.0 if t is not None and when[0] >= 0.0 else when[0]  # time from the start of the run
+            lc.set_clim(lo, max(when[-1], lo + 1e-9))
+        ax.add_collection(lc)
+        ax.plot(*xy[0], "o", color=START_COLOUR, ms=7, zorder=5, label="start")
+        ax.plot(*xy[-1], "o", color=END_COLOUR, mec="k", ms=7, zorder=5, label="end")
+        pts.append(xy)
+    if arena.bounds is not None:
+        x0, x1, y0, y1 = arena.bounds
+        ax.set(xlim=(x0 - 0.2, x1 + 0.2), ylim=(y0 - 0.2, y1 + 0.2))
+    elif pts:
+        allp = np.vstack(pts)
+        lo, hi = allp.min(axis=0) - margin, allp.max(axis=0) + margin
+        ax.set(xlim=(lo[0], hi[0]), ylim=(lo[1], hi[1]))
+    ax.set_aspect("equal")
+    ax.set(xlabel="x (m)", ylabel="y (m)")
+    return lc
+
+
+def run_title(summary: dict[str, Any]) -> str:
+    """The title of a run's picture: arena, body, controller, network variant, steps, seed (e.g.
+    ``box, amosii, plastic, variant paper, 300 steps (30 s), seed 0``)."""
+    ctrl = summary["controller"] + (f" {tuple(summary['steer'])}" if summary.get("steer") else "")
+    body = summary.get("body", "amosii")
+    if body.startswith("mjcf:"):  # a user's robot: its file's name, not the whole path
+        body = "mjcf:" + Path(body.removeprefix("mjcf:")).name
+    variant = f"variant {summary.get('variant', 'paper')}" + (" + params" if summary.get("params") else "")
+    hz = summary.get("control_hz")
+    steps = f"{summary['steps']} steps" + (f" ({summary['steps'] / hz:g} s)" if hz else "")
+    return f"{summary['arena']}, {body}, {ctrl}, {variant}, {steps}, seed {summary['seed']}"
+
+
+def plot_run(tr: Trajectory, arena: ArenaSpec, summary: dict[str, Any]) -> Figure:
+    """A: top view of the run, the path coloured by time (colour bar in s); B-D: its inputs, steering and weights
+    (or, without a sensory network, the ultrasonic readings) over time (s). The title names the run."""
+    plt = pyplot()
+    fig = plt.figure(figsize=(13, 6.5), layout="constrained")
+    gs = fig.add_gridspec(3, 2, width_ratios=[1, 1.35])
+    ax = fig.add_subplot(gs[:, 0])
+    t = tr.t
+    path = draw_arena(ax, arena, tr.pose, t=t)
+    if path is not None:
+        time_colorbar(path, ax, shrink=0.8)
+    legend_outside(ax, side="below", ncol=2)
+    fig.suptitle(run_title(summary))
+    traces = [fig.add_subplot(gs[0, 1])]
+    traces += [fig.add_subplot(gs[row, 1], sharex=traces[0]) for row in (1, 2)]
+    for a, (key, label) in zip(traces, (("inputs", "input I"), ("outputs", "steering O")), strict=False):
+        arr = getattr(tr, key)
+        a.plot(t, arr[:, 0], color=SIDE_COLOURS["left"], lw=LINE["trace"], label=f"{label.split()[-1]}1 (left)")
+        a.plot(t, arr[:, 1], color=SIDE_COLOURS["right"], lw=LINE["trace"], label=f"{label.split()[-1]}2 (right)")
+        a.set(ylabel=label, ylim=(-1.1, 1.1))
+        a.tick_params(labelbottom=False)
+        legend_outside(a)
+    a = traces[2]
+    if np.isfinite(tr.b).any():
+        a.plot(t, tr.b[:, 0], label="b1 (left)", **weight_style("b", "left"))
+        a.plot(t, tr.b[:, 1], label="b2 (right)", **weight_style("b", "right"))
+        a.plot(t, -0.5 * tr.q.sum(axis=1), **MEAN_WEIGHT)
+        a.set(xlabel="time (s)", ylabel="weight")
+    else:  # no sensory network (fixed steering): what the sensors saw instead
+        us = np.where(np.isfinite(tr.us_distance), tr.us_distance, np.nan)
+        a.plot(t, us[:, 0], color=SIDE_COLOURS["left"], lw=LINE["trace"], label="left")
+        a.plot(t, us[:, 1], color=SIDE_COLOURS["right"], lw=LINE["trace"], label="right")
+        a.set(xlabel="time (s)", ylabel="ultrasonic echo (m)\n(gaps: no echo)", ylim=(0, 0.42))
+    legend_outside(a)
+    letter_panels([ax, *traces])
+    return fig
