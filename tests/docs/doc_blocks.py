@@ -15,11 +15,17 @@ Blocks in other languages (``text``, ``mermaid``, ``bibtex``, ``json``) are outp
 
 from __future__ import annotations
 
+import os
 import re
+import shlex
+import subprocess
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+BIN = str(Path(sys.executable).parent)
+TIMEOUT_S = 300  # a block that takes longer belongs to `test: parse`
 #: Fences that hold code to run.
 RUN = ("bash", "python")
 KINDS = ("run", "slow", "parse", "skip")
@@ -80,3 +86,66 @@ def commands(code: str) -> list[str]:
         line = re.split(r"(?:^|\s)#", line, maxsplit=1)[0].strip()
         out += [part.strip() for part in line.split("&&") if part.strip()]
     return out
+
+
+def _env() -> dict[str, str]:
+    env = dict(os.environ)
+    env["PATH"] = BIN + os.pathsep + env.get("PATH", "")
+    env.setdefault("MUJOCO_GL", "egl")
+    return env
+
+
+def run_blocks(found: list[Block], folder: Path) -> list[str]:
+    """Run ``found`` in order in ``folder``; the skipped ones' reasons."""
+    namespace: dict = {"__name__": "__main__"}
+    skipped = []
+    old = Path.cwd()
+    os.chdir(folder)
+    try:
+        for block in found:
+            if block.kind == "skip":
+                skipped.append(f"{block.id}: {block.why}")
+            elif block.kind == "parse":
+                _parse(block)
+            elif block.lang == "python":
+                exec(compile(block.code, block.id, "exec"), namespace)
+            else:
+                argv = ["bash", "-e", "-o", "pipefail", "-c", block.code]
+                done = subprocess.run(argv, env=_env(), capture_output=True, text=True, timeout=TIMEOUT_S)
+                assert done.returncode == 0, (
+                    f"{block.id} failed ({done.returncode}):\n{done.stdout[-3000:]}\n{done.stderr[-3000:]}"
+                )
+    finally:
+        os.chdir(old)
+    return skipped
+
+
+def _parse(block: Block) -> None:
+    """A block too long to run: every command in it is a ``neurowalk`` command its parser takes (or, in Python,
+    code that compiles)."""
+    from neurowalk.cli import parse
+
+    if block.lang == "python":
+        compile(block.code, block.id, "exec")
+        return
+    cmds = commands(block.code)
+    assert cmds, block.id
+    for cmd in cmds:
+        argv = shlex.split(cmd)
+        assert argv[0] in ("neurowalk", ".venv/bin/neurowalk"), f"{block.id}: only neurowalk commands parse: {cmd}"
+        parse(argv[1:])  # raises UsageError naming what no longer parses
+
+
+def main(argv: list[str]) -> int:
+    """``doc_blocks.py PAGE FOLDER``: run the page's blocks in ``FOLDER`` (a test runs each page so, in a process
+    of its own)."""
+    page, folder = argv
+    skipped = run_blocks(blocks(page), Path(folder))
+    for line in skipped:
+        print(f"skipped {line}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.path.insert(0, str(ROOT / "src"))
+    raise SystemExit(main(sys.argv[1:]))

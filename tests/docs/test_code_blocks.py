@@ -6,17 +6,14 @@ A page is one test: its blocks run in order in a fresh empty folder, as a reader
 
 from __future__ import annotations
 
-import os
-import shlex
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
-from doc_blocks import Block, blocks, commands, pages
+from doc_blocks import TIMEOUT_S, Block, blocks, pages, run_blocks
 
-BIN = str(Path(sys.executable).parent)
-TIMEOUT_S = 300  # a block that takes longer belongs to `test: parse`
+HERE = Path(__file__).parent
 
 
 def _params() -> list:
@@ -29,57 +26,16 @@ def _params() -> list:
     return out
 
 
-def _env() -> dict[str, str]:
-    env = dict(os.environ)
-    env["PATH"] = BIN + os.pathsep + env.get("PATH", "")
-    env.setdefault("MUJOCO_GL", "egl")
-    return env
-
-
-def run_blocks(found: list[Block], folder: Path) -> list[str]:
-    """Run ``found`` in order in ``folder``; the skipped ones' reasons."""
-    namespace: dict = {"__name__": "__main__"}
-    skipped = []
-    old = Path.cwd()
-    os.chdir(folder)
-    try:
-        for block in found:
-            if block.kind == "skip":
-                skipped.append(f"{block.id}: {block.why}")
-            elif block.kind == "parse":
-                _parse(block)
-            elif block.lang == "python":
-                exec(compile(block.code, block.id, "exec"), namespace)
-            else:
-                argv = ["bash", "-e", "-o", "pipefail", "-c", block.code]
-                done = subprocess.run(argv, env=_env(), capture_output=True, text=True, timeout=TIMEOUT_S)
-                assert done.returncode == 0, (
-                    f"{block.id} failed ({done.returncode}):\n{done.stdout[-3000:]}\n{done.stderr[-3000:]}"
-                )
-    finally:
-        os.chdir(old)
-    return skipped
-
-
 @pytest.mark.parametrize("page", _params())
 def test_code_blocks_of(page: str, tmp_path: Path) -> None:
-    run_blocks(blocks(page), tmp_path)
-
-
-def _parse(block: Block) -> None:
-    """A block too long to run: every command in it is a ``neurowalk`` command its parser takes (or, in Python,
-    code that compiles)."""
-    from neurowalk.cli import parse
-
-    if block.lang == "python":
-        compile(block.code, block.id, "exec")
-        return
-    cmds = commands(block.code)
-    assert cmds, block.id
-    for cmd in cmds:
-        argv = shlex.split(cmd)
-        assert argv[0] in ("neurowalk", ".venv/bin/neurowalk"), f"{block.id}: only neurowalk commands parse: {cmd}"
-        parse(argv[1:])  # raises UsageError naming what no longer parses
+    """The page runs in a process of its own: what its code registers or changes stays there."""
+    done = subprocess.run(
+        [sys.executable, str(HERE / "doc_blocks.py"), page, str(tmp_path)],
+        capture_output=True,
+        text=True,
+        timeout=TIMEOUT_S * len(blocks(page)),
+    )
+    assert done.returncode == 0, f"{page}:\n{done.stdout[-4000:]}\n{done.stderr[-4000:]}"
 
 
 def test_the_blocks_are_found_and_most_run() -> None:
