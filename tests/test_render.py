@@ -34,3 +34,31 @@ def test_video_without_gl_exits_2_before_the_run(tmp_path):
     err = r.stderr.strip().splitlines()
     assert len(err) == 1 and "--video: no OpenGL" in err[0]
     assert not out.exists()  # refused before any work
+
+
+def test_centred_snapshots_look_at_the_trunk_wherever_it_walked():
+    """A centred frame of a row far from the start is the fixed view looking at that row's trunk, not the view at
+    the start (MuJoCo's tracking camera lags between far-apart rows and can lose it)."""
+    import mujoco
+
+    from neurowalk.body.amosii_params import TRUNK_BODY
+    from neurowalk.render import render_frames
+
+    cfg = EpisodeConfig(controller="fixed", steer=(-1, -1), steps=10)
+    _, body, _ = build(cfg)
+    rows = np.repeat(body.data.qpos[None], 2, axis=0)
+    rows[1, 0] += 4.0  # the same pose, 4 m ahead
+    kw = {"width": 80, "height": 60, "distance": 1.4, "elevation": -50.0, "azimuth": 135.0}
+    centred = render_frames(body.model, rows, centred=True, **kw)
+    data = mujoco.MjData(body.model)
+    data.qpos[:] = rows[1]
+    mujoco.mj_kinematics(body.model, data)
+    trunk = data.xpos[body.model.body(TRUNK_BODY).id].copy()
+    view = {"lookat": trunk, "distance": 1.4, "azimuth": 135.0, "elevation": -50.0}
+    fixed = render_frames(body.model, rows[1:], view=view, width=80, height=60)
+    def diff(a: np.ndarray, b: np.ndarray) -> float:
+        return float(np.abs(a.astype(int) - b).mean())
+
+    assert diff(centred[1], fixed[0]) < 1.0  # the same view (within the lights' few grey levels)
+    empty = render_frames(body.model, rows[1:], view={**view, "lookat": trunk - [4.0, 0, 0]}, width=80, height=60)
+    assert diff(centred[1], empty[0]) > 3 * diff(centred[1], fixed[0])  # the view at the start: the robot is gone

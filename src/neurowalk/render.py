@@ -129,13 +129,16 @@ def iter_frames(
     azimuth: float = 135.0,
     elevation: float = -25.0,
     view: dict | None = None,
+    centred: bool = False,
     shadows: bool = True,
     samples: int | None = None,
 ) -> Iterator[np.ndarray]:
     """Yield one (height, width, 3) uint8 frame per row of positions ``qpos`` (n, nq), drawn by one renderer.
 
     The camera tracks the trunk at ``distance`` (m), ``azimuth`` and ``elevation`` (deg); or, with ``view``
-    ({"lookat": (3,) m, "distance", "azimuth", "elevation"}), it stays fixed there. Only kinematics are
+    ({"lookat": (3,) m, "distance", "azimuth", "elevation"}), it stays fixed there. MuJoCo's tracking camera
+    follows the trunk smoothly, lagging behind between far-apart rows; ``centred`` looks at the trunk exactly in
+    every frame instead (snapshots of a long run). Only kinematics are
     computed per frame (no dynamics, no collision detection). ``samples``: multisampling samples per pixel
     (default: the model's ``vis.quality.offsamples``, MuJoCo's 4).
     """
@@ -143,9 +146,13 @@ def iter_frames(
 
     data = mujoco.MjData(model)
     cam = mujoco.MjvCamera()
-    if view is None:
+    trunk = model.body(TRUNK_BODY).id  # type: ignore[attr-defined]
+    if view is None and not centred:
         cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
-        cam.trackbodyid = model.body(TRUNK_BODY).id  # type: ignore[attr-defined]
+        cam.trackbodyid = trunk
+        cam.distance, cam.elevation, cam.azimuth = distance, elevation, azimuth
+    elif view is None:
+        cam.type = mujoco.mjtCamera.mjCAMERA_FREE
         cam.distance, cam.elevation, cam.azimuth = distance, elevation, azimuth
     else:
         cam.type = mujoco.mjtCamera.mjCAMERA_FREE
@@ -164,6 +171,8 @@ def iter_frames(
             data.qpos[:] = q
             mujoco.mj_kinematics(model, data)
             mujoco.mj_camlight(model, data)
+            if view is None and centred:
+                cam.lookat[:] = data.xpos[trunk]
             renderer.update_scene(data, camera=cam)
             renderer.scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = shadows
             yield renderer.render()

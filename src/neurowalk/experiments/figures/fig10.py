@@ -109,7 +109,7 @@ def run(
     moments = key_moments(tr.targets[:, -1], tr.outputs)
     rows = [moments[m] if moments[m] is not None else len(z) - 1 for m in MOMENTS]
     model = AmosII(ep.arena).model
-    frames = render_frames(model, tr.qpos[rows], distance=1.4, elevation=-50.0)
+    frames = render_frames(model, tr.qpos[rows], distance=1.4, elevation=-50.0, centred=True)
     heights = TRACK_HEIGHTS if control_hz == SIM_HZ else TRACK_HEIGHTS[:1]  # other rates: the real-robot comparison
     specs = [spec(h, seed + k) for h in heights for k in range(n)]
     folder = Path(out) if out is not None else Path("out/fig10")
