@@ -56,6 +56,7 @@ def test_centred_snapshots_look_at_the_trunk_wherever_it_walked():
     trunk = data.xpos[body.model.body(TRUNK_BODY).id].copy()
     view = {"lookat": trunk, "distance": 1.4, "azimuth": 135.0, "elevation": -50.0}
     fixed = render_frames(body.model, rows[1:], view=view, width=80, height=60)
+
     def diff(a: np.ndarray, b: np.ndarray) -> float:
         return float(np.abs(a.astype(int) - b).mean())
 
