@@ -16,6 +16,10 @@ and of the MuJoCo AMOSII (``physics``):
   same work, bit for bit), the two timed in alternating stretches; ``physics_share`` is the part of the vector
   environment's time spent in ``Batch.step``. With few copies the slowest copy of each step sets the pace.
 
+and, idle and with another process spinning on one core (``busy_core``, as when an RL learner runs beside the
+environments), the vectorised environment on 1 and on all of numba's threads, and the vectorised physics
+environment (16 copies) on 1 and 2 MuJoCo threads (``threads``: medians over alternating repeats).
+
 Actions are random steering pairs drawn beforehand. Reported: steps per second of each, the ratios against the
 single environment, the threads numba and MuJoCo's batch used. Run: ``python benchmarks/bench_envs.py [--copies
 1024] [--out out/bench]``; writes ``envs.json``.
@@ -24,6 +28,7 @@ single environment, the threads numba and MuJoCo's batch used. Run: ``python ben
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import time
@@ -32,6 +37,7 @@ from pathlib import Path
 import numba
 import numpy as np
 
+from neurowalk.bench import busy_core
 from neurowalk.envs.explore import ExploreEnv
 from neurowalk.envs.physics import ExplorePhysicsEnv
 from neurowalk.envs.physics_vector import ExplorePhysicsVectorEnv
@@ -94,6 +100,46 @@ def physics_rates(copies: int, steps: int, nthread: int, rounds: int = 10) -> tu
     return copies * steps / single_s, copies * steps / vector_s, vector.physics_s / vector_s
 
 
+def physics_vector_rate(copies: int, steps: int, nthread: int) -> float:
+    """Steps/s of ExplorePhysicsVectorEnv with ``copies`` copies, physics on ``nthread`` threads."""
+    env = ExplorePhysicsVectorEnv(copies, max_steps=steps + 1, nthread=nthread)
+    env.reset(seed=0)
+    acts = np.random.default_rng(1).uniform(-1, 1, size=(steps + 1, copies, 2))
+    env.step(acts[0])
+    t0 = time.perf_counter()
+    for a in acts[1:]:
+        env.step(a)
+    return copies * steps / (time.perf_counter() - t0)
+
+
+def thread_rates(copies: int, steps: int, max_steps: int, physics_steps: int, repeats: int = 3) -> dict:
+    """Idle and with one core busy: the vector environment on 1 and on all numba threads, the physics vector
+    environment (16 copies) on 1 and 2 threads; medians of ``repeats`` alternating measurements."""
+    most = numba.config.NUMBA_NUM_THREADS
+    out: dict = {"threading_layer": None, "numba_threads": [1, most], "physics_nthread": [1, 2]}
+    for load in ("idle", "busy_core"):
+        vec: dict[int, list[float]] = {1: [], most: []}
+        phys: dict[int, list[float]] = {1: [], 2: []}
+        with busy_core() if load == "busy_core" else contextlib.nullcontext():
+            for _ in range(repeats):
+                for n in vec:
+                    numba.set_num_threads(n)
+                    vec[n].append(vector_rate(copies, steps, max_steps, resets=False))
+                numba.set_num_threads(most)
+                for n in phys:
+                    phys[n].append(physics_vector_rate(16, physics_steps, n))
+        v = {n: float(np.median(r)) for n, r in vec.items()}
+        p = {n: float(np.median(r)) for n, r in phys.items()}
+        out[load] = {
+            "vector_steps_per_s": {str(n): r for n, r in v.items()},
+            f"vector_{most}_threads_over_1": v[most] / v[1],
+            "physics_vector_steps_per_s": {str(n): r for n, r in p.items()},
+            "physics_vector_2_threads_over_1": p[2] / p[1],
+        }
+    out["threading_layer"] = numba.threading_layer()
+    return out
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--copies", type=int, default=1024)
@@ -118,6 +164,7 @@ def main() -> None:
         physics["runs"].append({"copies": copies, "single_steps_per_s": one, "vector_steps_per_s": many,
                                 "vector_over_single": many / one, "physics_share": share})  # fmt: skip
     result["physics"] = physics
+    result["threads"] = thread_rates(args.copies, args.vector_steps, args.max_steps, args.physics_steps)
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "envs.json").write_text(json.dumps(result, indent=2) + "\n")
     print(f"single env: {single:,.0f} steps/s")
@@ -129,6 +176,11 @@ def main() -> None:
         one, many, share = row["single_steps_per_s"], row["vector_steps_per_s"], row["physics_share"]
         print(f"physics: single env {one:,.0f} steps/s; vector env, {row['copies']} copies on {args.nthread} threads: "
               f"{many:,.0f} steps/s ({many / one:.2f}x; {share:.0%} of its time in Batch.step)")  # fmt: skip
+    th = result["threads"]
+    for load in ("idle", "busy_core"):
+        r = th[load]
+        print(f"{load} ({th['threading_layer']}): vector env {r['vector_steps_per_s']} steps/s by threads; physics "
+              f"vector env {r['physics_vector_steps_per_s']} by threads")  # fmt: skip
 
 
 if __name__ == "__main__":

@@ -28,7 +28,25 @@ def test_bench_writes_rates_and_ratios(tmp_path: Path, capsys: pytest.CaptureFix
     assert e2e["end_to_end_over_in_loop"] == pytest.approx(e2e["ms_per_run_in_loop"] / e2e["ms_per_run_end_to_end"])
     pool = b["surrogate_pool"]
     assert pool["workers"] == 2 and pool["speedup"] == pytest.approx(pool["one_process_wall_s"] / pool["pool_wall_s"])
+    busy = b["busy_core"]  # the same parallel figures with one core held by another process
+    rates = [busy["batch_physics"][k]["batch_physics_steps_per_s"] for k in ("nthread_1", "nthread_2")]
+    assert min(rates) > 0 and busy["batch_physics"]["nthread_2_over_1"] == pytest.approx(rates[1] / rates[0])
+    assert busy["surrogate_pool"]["workers"] == 2 and busy["surrogate_pool"]["speedup"] > 0
     assert "bench.json" in capsys.readouterr().out
+
+
+def test_busy_core_holds_a_core_while_the_block_runs() -> None:
+    import os
+    import time
+
+    from neurowalk.bench import busy_core
+
+    t0, c0 = time.perf_counter(), os.times()
+    with busy_core():
+        time.sleep(0.5)
+    c1 = os.times()
+    assert c1.children_user + c1.children_system - c0.children_user - c0.children_system > 0.3
+    assert time.perf_counter() - t0 < 5
 
 
 @pytest.mark.parametrize("bad", ["0,4", "1,x", ""])

@@ -10,15 +10,22 @@ Every number is a rate or a ratio against a baseline measured in the same run on
   and ``run_many`` on a pool of ``workers`` processes against one process, end to end;
 * batch physics: aggregate physics steps per second of ``mujoco.batch`` on 1 and ``cores`` threads
   against the single loop on the same runs;
-* Table 2 on the surrogate: wall time of the 50-environment table on a process pool.
+* Table 2 on the surrogate: wall time of the 50-environment table on a process pool;
+* busy core: the parallel figures (``mujoco.batch`` on 1 and ``cores`` threads, the surrogate's pool against one
+  process) again with another process spinning on one core for the whole measurement (:func:`busy_core`), as
+  when a learner or a second job shares the machine.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import platform
+import subprocess
+import sys
 import tempfile
 import time
+from collections.abc import Iterator
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any
@@ -36,6 +43,39 @@ from neurowalk.sim.throughput import measure_throughput
 from neurowalk.sim.warp_engine import WarpWorlds, device_name, resolve_device
 
 ARENA_OPTS = {"n_boxes": 10, "extent": 9.0, "size": 0.6}
+
+
+@contextlib.contextmanager
+def busy_core() -> Iterator[None]:
+    """Another process spins on one core for the length of the block (it is killed at the end)."""
+    hog = subprocess.Popen([sys.executable, "-c", "while True: pass"])
+    time.sleep(0.3)  # the interpreter starts and begins to spin
+    try:
+        yield
+    finally:
+        hog.kill()
+        hog.wait()
+
+
+def busy_parallel(quick: bool, workers: int) -> dict[str, Any]:
+    """The parallel figures with one core busy: ``mujoco.batch`` on 1 and ``workers`` threads (16 random arenas),
+    and the surrogate's ``run_many`` on ``workers`` processes against one; ``*_over_1``: the parallel rate over
+    the serial one (at least 1: parallel work must not be slower than serial on a busy machine)."""
+    n, steps = (2, 50) if quick else (16, 300)
+    with busy_core():
+        batch = {
+            t: measure_throughput(n_copies=n, steps=steps, nthread=t, baseline=False) for t in sorted({1, workers})
+        }
+        pool = surrogate_pool(2000 if quick else 20000, 4 if quick else 100, workers, 1 if quick else 3)
+    rate = {t: b["batch_physics_steps_per_s"] for t, b in batch.items()}
+    return {
+        "batch_physics": {
+            **{f"nthread_{t}": b for t, b in batch.items()},
+            f"nthread_{workers}_over_1": rate[workers] / rate[1],
+        },
+        "surrogate_pool": pool,
+        "how": "another process spins on one core (busy_core) during these measurements",
+    }
 
 
 def physics_rates(steps: int, seeds: int) -> dict[str, float]:
@@ -300,6 +340,7 @@ def run_bench(
         "pool": sur["env_steps_per_s_pool"] / cpu,
         "aim": 1000,
     }
+    out["busy_core"] = busy_parallel(quick, workers)
     if not quick:
         out["table2_surrogate"] = table2_time(workers)
         out["table2_surrogate"]["aim_s"] = 60

@@ -7,6 +7,12 @@ after the package version and a hash of all of the package's source files: any e
 fresh directory, so nothing stale is ever loaded. The directory is under ``NUMBA_CACHE_DIR`` when that
 is set, else under ``$XDG_CACHE_HOME/neurowalk/numba`` (``~/.cache/neurowalk/numba``); numba's setting
 for other libraries is left as it was.
+
+Parallel kernels (:func:`jit_parallel`) run on numba's ``workqueue`` threading layer unless
+``NUMBA_THREADING_LAYER`` says otherwise. numba's default on PyPI's wheels is OpenMP, whose threads spin at every
+call's barrier: with another process holding one of two cores (an RL learner beside the environments), two OpenMP
+threads ran the vectorised environment at a quarter of one thread's rate, where two ``workqueue`` threads stay
+above it (``docs/benchmarks/envs.json``, ``busy_core``).
 """
 
 from __future__ import annotations
@@ -22,6 +28,10 @@ from typing import Any, TypeVar
 from numba import config, njit
 
 F = TypeVar("F", bound=Callable[..., Any])
+#: numba's threading layer for neurowalk's parallel kernels where ``NUMBA_THREADING_LAYER`` does not choose one.
+THREADING_LAYER = "workqueue"
+if "NUMBA_THREADING_LAYER" not in os.environ:
+    config.THREADING_LAYER = THREADING_LAYER
 PACKAGE = Path(__file__).resolve().parent
 
 
