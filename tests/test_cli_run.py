@@ -169,3 +169,143 @@ def test_signals_are_held_during_the_final_save():
         assert seen == ["term"]
     finally:
         signal.signal(signal.SIGTERM, old)
+
+
+def _stop_at_step(monkeypatch, step: int, sig: int) -> None:
+    """Parts (and checkpoints) every 100 steps; ``sig`` sent to this process as the run's step ``step`` starts."""
+    import functools
+    import os
+
+    from neurowalk.body.physics import AmosII
+    from neurowalk.sim import episode
+
+    monkeypatch.setattr(episode, "Streaming", functools.partial(episode.Streaming, chunk=100))
+    real, calls = AmosII.advance, []
+
+    def advance(self: AmosII) -> None:
+        calls.append(1)
+        if len(calls) == step:
+            os.kill(os.getpid(), sig)
+        real(self)
+
+    monkeypatch.setattr(AmosII, "advance", advance)
+
+
+def _rows(path):
+    with np.load(path, allow_pickle=False) as z:
+        return {k: z[k] for k in z.files}
+
+
+RUN300 = ["run", "--arena", "box", "--steps", "300", "--quiet"]
+
+
+def test_a_run_stopped_before_its_first_checkpoint_keeps_its_rows_once(tmp_path, monkeypatch, capsys):
+    import re
+    import signal
+
+    out = tmp_path / "run"
+    _stop_at_step(monkeypatch, 50, signal.SIGTERM)
+    assert main([*RUN300, "--out", str(out)]) == 143
+    line = capsys.readouterr().err.strip()
+    m = re.fullmatch(
+        r"neurowalk: interrupted: kept the (\d+) completed steps in (\S+) \(summary.json, trajectory.npz, run.png\); "
+        r"no checkpoint yet: `--resume` starts it again from step 0 \(its settings kept in (\S+)\)",
+        line,
+    )
+    assert m is not None, line
+    assert m.group(2) == str(out) and m.group(3) == str(out / "trajectory.parts" / "run.json")
+    assert len(_rows(out / "trajectory.npz")["t"]) == int(m.group(1)) > 0
+    assert [p.name for p in (out / "trajectory.parts").iterdir()] == ["run.json"]  # no second copy of the rows
+    monkeypatch.undo()
+    assert main([*RUN300, "--out", str(out)]) == 2  # a folder with an unfinished run: --resume or --overwrite
+    assert "--resume" in capsys.readouterr().err
+    assert main([*RUN300, "--out", str(out), "--resume"]) == 0
+    err = capsys.readouterr().err.strip()
+    assert err == f"neurowalk: no checkpoint yet in {out / 'trajectory.parts'}: starting the run again at step 0"
+    assert json.loads((out / "summary.json").read_text())["completed"] and not (out / "trajectory.parts").exists()
+
+
+def test_a_run_stopped_after_a_checkpoint_keeps_what_resume_needs_and_resumes_bit_for_bit(tmp_path, monkeypatch,
+                                                                                          capsys):  # fmt: skip
+    import functools
+    import re
+    import signal
+
+    from neurowalk.sim import episode
+
+    whole = tmp_path / "whole"
+    monkeypatch.setattr(episode, "Streaming", functools.partial(episode.Streaming, chunk=100))
+    assert main([*RUN300, "--out", str(whole)]) == 0
+    out = tmp_path / "run"
+    _stop_at_step(monkeypatch, 250, signal.SIGINT)
+    assert main([*RUN300, "--out", str(out)]) == 130
+    line = capsys.readouterr().err.strip()
+    m = re.fullmatch(
+        r"neurowalk: interrupted: kept the (\d+) completed steps in (\S+) \(summary.json, trajectory.npz, run.png\); "
+        r"`--resume` goes on from step 200 \(its checkpoint and rows kept in (\S+)\)",
+        line,
+    )
+    assert m is not None, line
+    done, parts = int(m.group(1)), out / "trajectory.parts"
+    assert 200 < done < 300 and m.group(3) == str(parts)
+    assert len(_rows(out / "trajectory.npz")["t"]) == done
+    held = sorted(p.name for p in parts.iterdir())
+    assert held == ["checkpoint.npz", "part-0000000000.npz", "part-0000000100.npz", "run.json"]  # none after step 200
+    monkeypatch.undo()
+    monkeypatch.setattr(episode, "Streaming", functools.partial(episode.Streaming, chunk=100))
+    assert main([*RUN300, "--out", str(out), "--resume"]) == 0
+    assert f"resuming the run in {parts} at step 200 of 300" in capsys.readouterr().err
+    a, b = _rows(out / "trajectory.npz"), _rows(whole / "trajectory.npz")
+    assert a.keys() == b.keys() and all(np.array_equal(a[k], b[k]) for k in a)
+    assert not parts.exists()
+
+
+def test_a_run_stopped_before_its_first_step_says_what_it_wrote(tmp_path, monkeypatch, capsys):
+    import signal
+
+    out = tmp_path / "run"
+    _stop_at_step(monkeypatch, 1, signal.SIGTERM)
+    assert main([*RUN300, "--out", str(out)]) == 143
+    line = capsys.readouterr().err.strip()
+    assert line.startswith(f"neurowalk: interrupted: kept the 0 completed steps in {out} (summary.json); "), line
+    assert sorted(p.name for p in out.iterdir() if p.name != ".neurowalk.lock") == ["summary.json", "trajectory.parts"]
+
+
+def _out_commands() -> dict[str, list[str]]:
+    """Every command that takes --out, with the arguments it needs besides."""
+    from neurowalk.cli import build_parser
+
+    sub = next(a for a in build_parser()._actions if a.dest == "command")
+    needs = {"figure": ["fig4"]}
+    return {
+        name: needs.get(name, [])
+        for name, p in sub.choices.items()
+        if any("--out" in a.option_strings for a in p._actions)
+    }
+
+
+@pytest.mark.parametrize(
+    "value",
+    ["a" * 300, "new/" + "a" * 300, "/".join(["b" * 200] * 25)],
+    ids=["name-over-NAME_MAX", "in-a-new-folder", "path-over-PATH_MAX"],
+)
+def test_an_output_path_too_long_exits_2_in_one_line_for_every_command(value, tmp_path, monkeypatch, capsys):
+    commands = _out_commands()
+    assert {"run", "figure", "sweep", "reproduce", "optimize", "baseline", "export-model", "bench"} <= set(commands)
+    monkeypatch.chdir(tmp_path)
+    for name, args in commands.items():
+        assert main([name, *args, "--out", value]) == 2, name
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and "too long" in err[0] and "--out" in err[0], (name, err)
+        assert len(err[0]) < 200 and "characters, shortened" in err[0], err[0]  # the value named, not echoed whole
+    assert list(tmp_path.iterdir()) == []  # nothing made
+
+
+def test_a_computed_output_path_too_long_is_a_usage_error(tmp_path):
+    from neurowalk.cli import UsageError, out_file, out_folder
+
+    with pytest.raises(UsageError, match="too long"):
+        out_folder(tmp_path / "new" / ("a" * 300))
+    with pytest.raises(UsageError, match="too long"):
+        out_file(tmp_path / "new" / ("a" * 300 + ".xml"))
+    assert list(tmp_path.iterdir()) == []

@@ -1,11 +1,34 @@
-"""``python -m neurowalk``: the ``neurowalk`` command."""
+"""The ``neurowalk`` command's entry point: the console script and ``python -m neurowalk`` call :func:`main`.
 
+It answers SIGINT (Ctrl-C) and SIGTERM from the moment it runs, before the command's modules load (a second or
+more on a loaded machine): a stop at any moment of the command's start ends in one line on stderr and exit status
+130 (SIGINT) or 143 (SIGTERM), 128 + the signal's number as a shell reports it, never in a traceback. Only the
+interpreter's own start and ``import neurowalk`` (kept light, and changing no signal handler) come before.
+"""
+
+import signal
 import sys
 
-if __name__ == "__main__":
+
+def main() -> int:
+    """Run the ``neurowalk`` command on ``sys.argv``; its exit status."""
+    from neurowalk.runners.stopping import interrupted, stop_on_signals, stop_status  # light: nothing heavy yet
+
     try:
-        from neurowalk.cli import main
-    except KeyboardInterrupt:  # Ctrl-C while the command's modules load
-        print("neurowalk: interrupted", file=sys.stderr)
-        sys.exit(130)
+        # After the command a signal is ignored: its output and exit status stand (no traceback from the exit).
+        with stop_on_signals(then=signal.SIG_IGN):
+            try:
+                from neurowalk.cli import main as command
+
+                return command()
+            except (KeyboardInterrupt, Exception) as e:  # while the command's modules load (a C extension's
+                if not interrupted(e):  # import can turn the interrupt into an ImportError)
+                    raise
+    except KeyboardInterrupt:  # the instant the handlers were being set or put back
+        pass
+    print("neurowalk: interrupted", file=sys.stderr)  # (signals are ignored by now: this line is the only one)
+    return stop_status()
+
+
+if __name__ == "__main__":
     sys.exit(main())

@@ -1,5 +1,6 @@
-"""optimize, baseline and calibrate stopped by their first SIGINT or SIGTERM: exit 130 within 10 s, one line saying what
-is kept, no traceback, no process of theirs left, and what the line says is kept is on disk (a rerun goes on from it).
+"""optimize, baseline and calibrate stopped by their first SIGINT or SIGTERM: exit 130 or 143 within 10 s, one line
+saying what is kept, no traceback, no process of theirs left, and what the line says is kept is on disk (a rerun goes
+on from it).
 
 Tiny sizes: each command runs for a few seconds.
 """
@@ -60,7 +61,7 @@ def _stop(args: list[str], when: Callable[[subprocess.Popen], bool], sig: int) -
     while _group(proc.pid) and time.monotonic() - t0 < 10:
         time.sleep(0.02)
     assert not _group(proc.pid), f"processes left: {_group(proc.pid)}"
-    assert proc.returncode == 130, err
+    assert proc.returncode == 128 + sig, err  # 130 for SIGINT, 143 for SIGTERM
     assert "Traceback" not in err and "Error" not in err, err
     lines = [line for line in err.splitlines() if line.strip() and "%|" not in line]  # calibrate's progress bars aside
     assert len(lines) == 1 and lines[0].startswith(f"neurowalk: {args[0]} interrupted"), err

@@ -1,10 +1,14 @@
 """`neurowalk sweep` stopped by SIGINT or SIGTERM at any moment of its life: before its pool starts, while its workers
 start, mid-run, while it stores a result, while it writes its summary.
 
-Each try must end within 10 s with exit 130 and one line on stderr that tells what the store holds, leave no process
-of its own behind, and leave a store whose rows are those of an uninterrupted sweep; a rerun into the same folder
-finishes the grid with the same rows. The signal goes to the whole process group (as a terminal's Ctrl-C does) or to
-the driver alone (as ``kill`` does).
+Each try must end within 10 s with exit 130 (SIGINT) or 143 (SIGTERM) and one line on stderr that tells what the store
+holds, leave no process of its own behind, and leave a store whose rows are those of an uninterrupted sweep; a rerun
+into the same folder finishes the grid with the same rows. The signal goes to the whole process group (as a terminal's
+Ctrl-C does) or to the driver alone (as ``kill`` does).
+
+The moments are read from the sweep itself, not from a clock started with it, so that they hit the same phases on a
+loaded machine: its readiness (its handlers for SIGINT and SIGTERM in place, ``readiness.py``) and a few ms after,
+its first worker, the runs in its store.
 """
 
 from __future__ import annotations
@@ -23,6 +27,7 @@ from pathlib import Path
 import pytest
 
 from neurowalk.cli import main
+from readiness import catches_stop_signals
 
 pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
 
@@ -76,9 +81,17 @@ def _count(db: Path) -> int:
         con.close()
 
 
-def after(seconds: float) -> Callable[[subprocess.Popen, Path, float], bool]:
-    """A moment: ``seconds`` after the start."""
-    return lambda proc, out, t: t >= seconds
+def ready(extra: float = 0.0) -> Callable[[subprocess.Popen, Path, float], bool]:
+    """A moment: ``extra`` s after the sweep's handlers for SIGINT and SIGTERM are in place (its first moment ready for
+    them: the interpreter started, its modules not yet loaded)."""
+    seen: list[float] = []
+
+    def when(proc: subprocess.Popen, out: Path, t: float) -> bool:
+        if not seen and catches_stop_signals(proc.pid):
+            seen.append(t)
+        return bool(seen) and t >= seen[0] + extra
+
+    return when
 
 
 def workers_up(extra: float = 0.0) -> Callable[[subprocess.Popen, Path, float], bool]:
@@ -104,7 +117,7 @@ def _try(out: Path, seeds: int, when: Callable, sig: int, group: bool) -> str | 
     proc = _start(out, seeds)
     t_start = time.monotonic()
     while proc.poll() is None and not when(proc, out, time.monotonic() - t_start):
-        time.sleep(0.002)
+        time.sleep(0.0005)
     if proc.poll() is not None:
         proc.communicate()
         return None
@@ -122,7 +135,7 @@ def _try(out: Path, seeds: int, when: Callable, sig: int, group: bool) -> str | 
     where = f"signal {sig} at {at:.2f} s ({'group' if group else 'driver'})"
     assert not _group(proc.pid), f"{where}: processes left: {_group(proc.pid)}"
     assert time.monotonic() - t0 < 10, where
-    assert proc.returncode == 130, f"{where}: exit {proc.returncode}: {err}"
+    assert proc.returncode == 128 + sig, f"{where}: exit {proc.returncode}: {err}"  # 130 SIGINT, 143 SIGTERM
     lines = err.strip().splitlines()
     assert len(lines) == 1 and KEPT.match(lines[0]), f"{where}: {err}"
     return lines[0]
@@ -156,11 +169,11 @@ def test_sigint_at_20_moments_ends_each_try_cleanly_and_the_rerun_finishes_the_g
     seeds = 60  # 120 runs
     reference = _reference(tmp_path, seeds)
     moments = [
-        after(0.05),
-        after(0.2),
-        after(0.35),
-        after(0.5),
-        after(0.65),  # interpreter, imports, store
+        ready(),
+        ready(0.002),
+        ready(0.02),
+        ready(0.1),
+        ready(0.3),  # imports, store
         workers_up(),
         workers_up(0.005),
         workers_up(0.02),
@@ -184,13 +197,13 @@ def test_sigint_at_20_moments_ends_each_try_cleanly_and_the_rerun_finishes_the_g
 def test_sigint_and_sigterm_at_a_few_moments(tmp_path):
     seeds = 20  # 40 runs
     reference = _reference(tmp_path, seeds)
-    moments = [(after(0.3), signal.SIGINT), (workers_up(), signal.SIGTERM), (stored(10), signal.SIGINT),
-               (stored(30), signal.SIGTERM)]  # fmt: skip
+    moments = [(ready(), signal.SIGTERM), (ready(0.005), signal.SIGINT), (ready(0.1), signal.SIGTERM),
+               (workers_up(), signal.SIGTERM), (stored(10), signal.SIGINT), (stored(30), signal.SIGTERM)]  # fmt: skip
     for k, (when, sig) in enumerate(moments):
         out = tmp_path / f"try{k}"
         line = _try(out, seeds, when, sig, group=k % 2 == 1)
         assert line is not None, f"try {k} ended before its signal"
         _check_kept(out, line, reference)
-    out = tmp_path / "try2"
+    out = tmp_path / "try4"
     assert main([*GRID, "--seeds", str(seeds), "--out", str(out)]) == 0
     assert _rows(out / "results.sqlite") == reference

@@ -22,6 +22,7 @@ from neurowalk.cli.run import add_run_parsers, cmd_run, cmd_view, signals_held
 from neurowalk.cli.sweep import add_sweep_parser, cmd_sweep
 from neurowalk.cli.tools import add_tool_parsers, cmd_arenas, cmd_bench, cmd_bodies, cmd_calibrate, cmd_export
 from neurowalk.fileio import write_error
+from neurowalk.runners.stopping import stop_on_signals, stop_status
 
 __all__ = ["UsageError", "build_parser", "figure_listing", "main", "out_file", "out_folder", "parse"]
 
@@ -82,7 +83,16 @@ def _kept(args: argparse.Namespace | None) -> str:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``neurowalk`` command; returns the exit status."""
+    """Run the ``neurowalk`` command on ``argv`` (default ``sys.argv[1:]``); returns the exit status.
+
+    The first SIGINT or SIGTERM while it runs stops it with one line and exit status 130 (SIGINT) or 143 (SIGTERM).
+    The command itself goes through :mod:`neurowalk.__main__`, which answers them from its first moment.
+    """
+    with stop_on_signals():
+        return _main(argv)
+
+
+def _main(argv: Sequence[str] | None) -> int:
     args = None
     try:
         args = parse(list(sys.argv[1:] if argv is None else argv))
@@ -91,9 +101,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     except UsageError as e:
         print(f"neurowalk: error: {one_line(str(e))}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:  # Ctrl-C where a command has no words of its own (e.g. while it starts)
+    except KeyboardInterrupt:  # Ctrl-C or SIGTERM where a command has no words of its own (e.g. while it starts)
         print("neurowalk: interrupted", file=sys.stderr)
-        return 130
+        return stop_status()  # 130, or 143 for SIGTERM
     except BrokenPipeError:  # the reader went away (e.g. `neurowalk figure list | head`): not an error
         import os
 

@@ -1,8 +1,8 @@
-"""``python -m neurowalk.cli ...``: the ``neurowalk`` command."""
+"""``python -m neurowalk.cli ...``: the ``neurowalk`` command (its entry point, :mod:`neurowalk.__main__`)."""
 
 import sys
 
-from neurowalk.cli import main
+from neurowalk.__main__ import main
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -45,9 +45,10 @@ def add_baseline_parser(sub: argparse._SubParsersAction) -> None:
 def cmd_baseline(args: argparse.Namespace) -> int:
     """`neurowalk baseline`: train (resuming), score, write the table and the plot.
 
-    The first SIGINT or SIGTERM stops it (exit 130) with one line naming the checkpoints and scores on disk.
+    The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM) with one line naming the checkpoints and
+    scores on disk.
     """
-    from neurowalk.runners.stopping import interrupted, stop_on_signals
+    from neurowalk.runners.stopping import interrupted, stop_on_signals, stop_status
 
     with stop_on_signals():
         try:
@@ -56,7 +57,7 @@ def cmd_baseline(args: argparse.Namespace) -> int:
             if not interrupted(e):
                 raise
             print(kept_line(args.out), file=sys.stderr)
-            return 130
+            return stop_status()
 
 
 def kept_line(out: Path) -> str:

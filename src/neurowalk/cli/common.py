@@ -99,10 +99,46 @@ def one_line(text: str) -> str:
 
 
 def path_value(text: str) -> Path:
-    """The Path of a path option's value; refuses an empty or blank one (argparse names the option)."""
+    """The Path of a path option's value; refuses an empty or blank one, or one too long for any file system call
+    (argparse names the option)."""
     if not text.strip():
         raise argparse.ArgumentTypeError(f"expects a file or folder name, got {text!r}")
+    too_long = path_too_long(Path(text))
+    if too_long:
+        raise argparse.ArgumentTypeError(too_long)
     return Path(text)
+
+
+def shortened(text: str, most: int = 60) -> str:
+    """``text`` quoted, its middle left out where it is longer than ``most`` characters (a value echoed in an
+    error)."""
+    if len(text) <= most:
+        return repr(text)
+    return f"{text[: most - 20] + '...' + text[-16:]!r} ({len(text):,} characters, shortened)"
+
+
+def path_too_long(path: Path) -> str | None:
+    """Why the system refuses ``path`` for its length (ENAMETOOLONG): a name in it over NAME_MAX bytes, or the whole
+    over PATH_MAX; None where it is not too long."""
+    import os
+
+    try:
+        name_max, path_max = os.pathconf("/", "PC_NAME_MAX"), os.pathconf("/", "PC_PATH_MAX")
+    except (OSError, ValueError, AttributeError):  # no pathconf (Windows) or no such limit: the usual ones
+        name_max, path_max = 255, 4096
+
+    def size(text: str) -> int:  # bytes, as the system counts them
+        try:
+            return len(os.fsencode(text))
+        except UnicodeEncodeError:  # a lone surrogate not from undecodable bytes
+            return len(text.encode("utf-8", "surrogatepass"))
+
+    longest = max(path.parts, key=size, default="")
+    if size(longest) > name_max:
+        return f"{shortened(str(path))}: a name in it is too long ({size(longest):,} bytes, at most {name_max:,})"
+    if size(str(path)) >= path_max:
+        return f"{shortened(str(path))}: the path is too long ({size(str(path)):,} bytes, at most {path_max - 1:,})"
+    return None
 
 
 def machine_memory() -> int | None:
@@ -127,6 +163,9 @@ def out_folder(path: Path, flag: str = "--out", given: Path | None = None) -> Pa
     """
     from neurowalk.fileio import make_writable_folder
 
+    too_long = path_too_long(given if given is not None else path) or path_too_long(path)
+    if too_long:
+        raise UsageError(f"{flag} {too_long}")
     try:
         make_writable_folder(path)
     except ValueError as e:
@@ -136,11 +175,12 @@ def out_folder(path: Path, flag: str = "--out", given: Path | None = None) -> Pa
 
 def out_file(path: Path, flag: str = "--out") -> Path:
     """Check that the output file ``path`` can be written (its folder made); UsageError naming it otherwise."""
+    too_long = path_too_long(path)
+    if too_long:
+        raise UsageError(f"{flag} {too_long}")
     try:
         if path.is_dir():
             raise UsageError(f"{flag} {str(path)!r} is a folder; give a file name")
-        if len(path.name.encode()) > 255:
-            raise UsageError(f"{flag} {str(path)!r}: file name too long")
     except OSError as e:
         raise UsageError(f"{flag} {str(path)!r}: {e.strerror}") from None
     out_folder(path.parent if str(path.parent) else Path("."), flag, given=path)

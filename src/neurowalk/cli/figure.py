@@ -118,10 +118,10 @@ def _check_takes(name: str, params: Mapping[str, object], flag: str, given: str 
 def cmd_figure(args: argparse.Namespace) -> int:
     """`neurowalk figure NAME`: run the figure (or --replot it), write DIR/NAME.png and its numbers.
 
-    The first SIGINT or SIGTERM stops it (exit 130) with one line saying what its result stores hold: a figure of
-    many runs keeps each finished one there, and the same command again goes on from them.
+    The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM) with one line saying what its result stores
+    hold: a figure of many runs keeps each finished one there, and the same command again goes on from them.
     """
-    from neurowalk.runners.stopping import interrupted, stop_on_signals
+    from neurowalk.runners.stopping import interrupted, stop_on_signals, stop_status
 
     with stop_on_signals():
         try:
@@ -130,12 +130,12 @@ def cmd_figure(args: argparse.Namespace) -> int:
             if not interrupted(e):
                 raise
             print(f"neurowalk: figure {args.name} interrupted before it began; nothing was run", file=sys.stderr)
-            return 130
+            return stop_status()
 
 
 def _figure(args: argparse.Namespace) -> int:
     from neurowalk.render import has_display, use_headless_gl
-    from neurowalk.runners.stopping import deferred, interrupted
+    from neurowalk.runners.stopping import deferred, interrupted, stop_status
 
     if not has_display():
         use_headless_gl()  # before MuJoCo is imported: figures with rendered snapshots (fig10)
@@ -258,7 +258,7 @@ def _figure(args: argparse.Namespace) -> int:
             if not (interrupted(e) or isinstance(e, RunInterruptedError)):
                 raise
             print(interrupted_line(args.name, out, "out" in params), file=sys.stderr)
-            return 130
+            return stop_status()
 
     paths: dict[str, Path] = {}
     try:
@@ -279,7 +279,7 @@ def _figure(args: argparse.Namespace) -> int:
         else:
             line = interrupted_line(args.name, out, "out" in params)
         print(line, file=sys.stderr)
-        return 130
+        return stop_status()
     print(f"{args.name}: wrote {', '.join(str(p) for p in paths.values())} in {time.perf_counter() - t0:.1f} s")
     return 0
 

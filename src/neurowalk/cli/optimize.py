@@ -55,9 +55,9 @@ def add_optimize_parser(sub: argparse._SubParsersAction) -> None:
 def cmd_optimize(args: argparse.Namespace) -> int:
     """`neurowalk optimize`: CMA-ES over the learning parameters (resumable).
 
-    The first SIGINT or SIGTERM stops it (exit 130) with one line saying what its folder holds.
+    The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM) with one line saying what its folder holds.
     """
-    from neurowalk.runners.stopping import interrupted, stop_on_signals
+    from neurowalk.runners.stopping import interrupted, stop_on_signals, stop_status
 
     with stop_on_signals():
         try:
@@ -66,7 +66,7 @@ def cmd_optimize(args: argparse.Namespace) -> int:
             if not interrupted(e):
                 raise
             print(_optimize_kept(args.out), file=sys.stderr)
-            return 130
+            return stop_status()
 
 
 def _optimize_kept(out: Path) -> str:

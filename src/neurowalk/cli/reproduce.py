@@ -35,8 +35,8 @@ def _results_listing() -> str:
 def cmd_reproduce(args: argparse.Namespace) -> int:
     """`neurowalk reproduce`: run each figure command not yet finished in DIR, judge its results, write the report.
 
-    Exit 0 where every run finished, 1 where one failed (the others still ran), 130 on a stop (SIGINT or SIGTERM),
-    with one line saying which results are on disk.
+    Exit 0 where every run finished, 1 where one failed (the others still ran), 130 on a stop by SIGINT (143 by
+    SIGTERM), with one line saying which results are on disk.
     """
     from neurowalk.runners.stopping import stop_on_signals
 
@@ -50,6 +50,7 @@ def _reproduce(args: argparse.Namespace) -> int:
     from neurowalk.experiments.reproduce.report import write_report
     from neurowalk.experiments.reproduce.timing import expected_seconds
     from neurowalk.fileio import folder_lock
+    from neurowalk.runners.stopping import stop_status
 
     items = list(PLAN)
     if args.only is not None:
@@ -117,7 +118,7 @@ def _reproduce(args: argparse.Namespace) -> int:
             f"listed in {report}; the figures keep their finished runs: run the same command again to go on",
             file=sys.stderr,
         )
-        return 130
+        return stop_status()
     finally:
         lock.close()
     bar.close()

@@ -48,7 +48,18 @@ def add_run_parsers(sub: argparse._SubParsersAction) -> None:
 
 
 def cmd_run(args: argparse.Namespace) -> int:
-    """`neurowalk run`: one closed-loop run into DIR (resumable where it is a physics run)."""
+    """`neurowalk run`: one closed-loop run into DIR (resumable where it is a physics run).
+
+    The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM): the completed steps are written to DIR, and
+    one line says what `--resume` goes on from.
+    """
+    from neurowalk.runners.stopping import stop_on_signals
+
+    with stop_on_signals():
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
     if args.video:
         from neurowalk.render import use_headless_gl
 
@@ -127,7 +138,7 @@ def _start(args: argparse.Namespace, cfg: Any, out: Path, parts: Any) -> tuple[A
         print(f"neurowalk: --resume: no unfinished run in {out}: starting at step 0", file=sys.stderr)
     elif unfinished and not args.overwrite:
         raise UsageError(
-            f"{str(out)!r} holds the parts of an unfinished run ({parts.folder.name}/, e.g. a killed "
+            f"{str(out)!r} holds an unfinished run ({parts.folder.name}/, e.g. a stopped or killed "
             "one): --resume to go on with it, or --overwrite to start afresh"
         )
     elif finished and not args.overwrite:
@@ -153,16 +164,12 @@ def _clear(out: Path, parts: Any) -> None:
 
 def _run_into(args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume: Any, options: Any) -> int:
     """Run ``cfg`` with its rows streamed into ``parts``, then write DIR's files; the exit status."""
-    import signal
-
     from neurowalk.fileio import write_error
+    from neurowalk.runners.stopping import interrupted as interrupted_by_signal
+    from neurowalk.runners.stopping import stop_status
     from neurowalk.sim.episode import RunInterruptedError, Streaming, run_episode
 
-    def _stop(signum: int, frame: object) -> None:
-        raise KeyboardInterrupt  # a killed job (SIGTERM) keeps what it finished, like Ctrl-C
-
-    signal.signal(signal.SIGTERM, _stop)
-    interrupted = False
+    interrupted, resumable = False, _checkpointed(cfg)
     try:
         try:
             ep = run_episode(
@@ -172,13 +179,14 @@ def _run_into(args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume:
                     sink=parts,
                     keep_rows=False,
                     resume=resume,
-                    checkpoint=parts.write_checkpoint if _checkpointed(cfg) else None,
+                    checkpoint=parts.write_checkpoint if resumable else None,
                 ),
             )
         except RunInterruptedError as stop:
             ep, interrupted = stop.episode, True
         with signals_held():  # a signal now would lose the finished run: the save finishes first
             _save(out, parts, ep, interrupted)
+            then = _keep_for_resume(parts, resumable) if interrupted else ""
     except OSError as e:
         print(
             f"neurowalk: {write_error(e)}: {_kept(parts)}; free space (or fix the folder) and run again with --resume",
@@ -186,6 +194,8 @@ def _run_into(args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume:
         )
         return 1
     except Exception as e:  # a failure inside the loop: what it finished is in the parts, and the line says so
+        if interrupted_by_signal(e):  # e.g. an ImportError out of a C extension's import that a stop cut short
+            raise KeyboardInterrupt from None
         why = str(e).splitlines()[0] if str(e) else ""
         print(
             f"neurowalk: the run failed ({type(e).__name__}: {why}): {_kept(parts)}; `--resume` runs it again "
@@ -195,18 +205,13 @@ def _run_into(args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume:
         return 1
     done = ep.summary["steps"]
     if interrupted:
-        ckpt = parts.read_checkpoint()
-        more = f"from step {ckpt.step}" if ckpt is not None else "from step 0 (no checkpoint yet)"
-        print(
-            f"neurowalk: interrupted: kept the {done} completed steps in {out} (summary.json, trajectory.npz, "
-            f"run.png); `--resume` goes on {more}",
-            file=sys.stderr,
-        )
-        return 130
+        files = "summary.json, trajectory.npz, run.png" if done else "summary.json"
+        print(f"neurowalk: interrupted: kept the {done} completed steps in {out} ({files}); {then}", file=sys.stderr)
+        return stop_status()
     written = ["summary.json", "trajectory.npz", "run.png"]
     if args.video:
         if not _video(cfg, out, args.quiet):
-            return 130
+            return stop_status()
         written.append("video.mp4")
     s = ep.summary
     resumed = f" (resumed at step {s['resumed_at_step']})" if "resumed_at_step" in s else ""
@@ -236,7 +241,36 @@ def _save(out: Path, parts: Any, ep: Any, interrupted: bool) -> None:
         atomic_write(out / "run.png", lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
     write_json(out / "summary.json", ep.summary)
     if not interrupted:
-        parts.remove()  # the run is whole in trajectory.npz; an interrupted one keeps its parts for --resume
+        parts.remove()  # the run is whole in trajectory.npz
+
+
+def _keep_for_resume(parts: Any, resumable: bool) -> str:
+    """Keep in ``parts`` only what `--resume` needs of a stopped run whose rows are in trajectory.npz now (the rows
+    are not kept twice); what a rerun goes on from, in words.
+
+    With a checkpoint: it, and the parts of the steps before it (a resumed run reads them back). Without one (a run
+    stopped before its first, or of an engine that keeps none): the run's settings, ``run.json``, only.
+    """
+    import shutil
+
+    from neurowalk.sim.checkpoint import CheckpointError
+
+    try:
+        ckpt = parts.read_checkpoint()
+    except CheckpointError:  # unreadable: `--resume` could not go on from it either
+        ckpt = None
+    if ckpt is not None:
+        parts.drop_from(ckpt.step)  # rows after the checkpoint are run again
+        return f"`--resume` goes on from step {ckpt.step} (its checkpoint and rows kept in {parts.folder})"
+    for p in parts.folder.iterdir():
+        if p.name == "run.json":
+            continue
+        if p.is_dir():
+            shutil.rmtree(p)
+        else:
+            p.unlink()
+    yet, settings = " yet" if resumable else "", parts.folder / "run.json"
+    return f"no checkpoint{yet}: `--resume` starts it again from step 0 (its settings kept in {settings})"
 
 
 def _video(cfg: Any, out: Path, quiet: bool) -> bool:

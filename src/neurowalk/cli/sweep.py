@@ -194,9 +194,10 @@ def _check_memory(specs: list[dict], workers: int) -> None:
 def cmd_sweep(args: argparse.Namespace) -> int:
     """`neurowalk sweep`: every run spec into DIR/results.sqlite (skipping the ones done), DIR/sweep.json.
 
-    The first SIGINT or SIGTERM stops it (exit 130) with one line saying how many of its runs are in the store.
+    The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM) with one line saying how many of its runs are
+    in the store.
     """
-    from neurowalk.runners.stopping import deferred, interrupted, stop_on_signals, stop_requested
+    from neurowalk.runners.stopping import deferred, interrupted, stop_on_signals, stop_requested, stop_status
 
     with stop_on_signals():
         opened: list = []
@@ -212,7 +213,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             if opened:
                 opened[0][3].close()
             print("neurowalk: sweep interrupted before its first run; nothing was run", file=sys.stderr)
-            return 130
+            return stop_status()
         return _sweep(args, *opened[0])
 
 
@@ -257,7 +258,7 @@ def _sweep(
 ) -> int:
     from neurowalk.fileio import write_json
     from neurowalk.runners import ray_backend
-    from neurowalk.runners.stopping import deferred
+    from neurowalk.runners.stopping import deferred, stop_status
     from neurowalk.runners.sweep import SweepReport, run_sweep
 
     with store:
@@ -289,7 +290,7 @@ def _sweep(
                 line = _kept(specs, store, out)
     if interrupted:
         print(line, file=sys.stderr)
-        return 130
+        return stop_status()
     return 1 if report.error else 0
 
 

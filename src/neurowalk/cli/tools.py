@@ -56,10 +56,10 @@ def add_tool_parsers(sub: argparse._SubParsersAction) -> None:
 def cmd_calibrate(args: argparse.Namespace) -> int:
     """`neurowalk calibrate`: measure a physics body, write its surrogate's calibration and its plot.
 
-    The first SIGINT or SIGTERM stops it (exit 130) with one line saying what it wrote: nothing, if it was still
-    measuring (a calibration keeps no part of its measurement).
+    The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM) with one line saying what it wrote: nothing,
+    if it was still measuring (a calibration keeps no part of its measurement).
     """
-    from neurowalk.runners.stopping import interrupted, stop_on_signals
+    from neurowalk.runners.stopping import interrupted, stop_on_signals, stop_status
 
     with stop_on_signals():
         try:
@@ -72,11 +72,11 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
                 "calibration keeps no part of its measurement)",
                 file=sys.stderr,
             )
-            return 130
+            return stop_status()
 
 
 def _calibrate(args: argparse.Namespace) -> int:
-    from neurowalk.runners.stopping import deferred
+    from neurowalk.runners.stopping import deferred, stop_status
 
     with deferred():  # the simulation's modules (numba's, MuJoCo's) load whole: a signal waits for their end
         from neurowalk.body.surrogate import CALIBRATION_FILES
@@ -109,7 +109,7 @@ def _calibrate(args: argparse.Namespace) -> int:
             f"neurowalk: calibrate interrupted as it ended: wrote {', '.join(map(str, written))}{missing}",
             file=sys.stderr,
         )
-        return 130
+        return stop_status()
     v = cal.meta["validation"]
     print(
         f"calibration of {sub.surrogate} on {args.body}: lag {cal.tau_s} s + {cal.delay_steps} steps, "

@@ -2,7 +2,11 @@
 
 * :func:`stop_on_signals` is for a whole command: the first SIGINT or SIGTERM raises KeyboardInterrupt, which the
   command turns into one line saying what it kept; signals after it are ignored while it stops, so that the
-  stop, which is short, is never itself cut short (no second Ctrl-C needed, and no traceback from one).
+  stop, which is short, is never itself cut short (no second Ctrl-C needed, and no traceback from one). The
+  ``neurowalk`` command holds one block around everything it does (:mod:`neurowalk.__main__`); a command's own
+  block inside it shares its record, so a signal is answered once.
+* :func:`stop_status`: the exit status of a command a stop signal ended, 128 + the signal's number as a shell
+  reports it: 130 for SIGINT, 143 for SIGTERM.
 * :func:`deferred` guards a step that a signal must not cut in two (starting a pool's workers, storing a finished
   run, the files written at the end): SIGINT and SIGTERM that come during it are held and delivered when it ends.
 * :func:`stop_requested`: a stop signal came. A KeyboardInterrupt can be lost where a library swallows it (e.g.
@@ -20,12 +24,21 @@ from typing import Any
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
-_requested: list[int] = []  # the stop signals :func:`stop_on_signals` got (empty: none)
+_requested: list[int] = []  # the stop signals the open blocks of :func:`stop_on_signals` got (empty: none)
+_first: list[int] = []  # the first of them, kept after the blocks end (the exit status), until the next block
+_depth = 0  # blocks of :func:`stop_on_signals` open (nested: the command's own inside the entry point's)
 
 
 def stop_requested() -> bool:
     """Whether the command running under :func:`stop_on_signals` was asked to stop."""
     return bool(_requested)
+
+
+def stop_status() -> int:
+    """The exit status of a command that a stop signal ended: 128 + the number of the first stop signal of the
+    :func:`stop_on_signals` block open (or of the last one, once it ended): 130 for SIGINT, 143 for SIGTERM; 130
+    where none came through such a block (a KeyboardInterrupt of Python's own Ctrl-C handler)."""
+    return 128 + (_first[0] if _first else signal.SIGINT)
 
 
 def interrupted(e: BaseException) -> bool:
@@ -40,11 +53,16 @@ def _in_main_thread() -> bool:
 
 
 @contextlib.contextmanager
-def stop_on_signals() -> Iterator[None]:
+def stop_on_signals(then: Any = None) -> Iterator[None]:
     """Inside the block the first SIGINT or SIGTERM raises KeyboardInterrupt, later ones are ignored.
 
-    Outside the main thread (where Python cannot set signal handlers) the block changes nothing.
+    Blocks nest: an inner one keeps the outer one's record (a signal the outer block answered is not answered
+    again), which is forgotten when the outermost ends. ``then``: the handler both signals have after the block
+    (e.g. ``signal.SIG_IGN``, so that a signal after a command's end does not interrupt the interpreter's exit);
+    default: those they had before it. Outside the main thread (where Python cannot set signal handlers) the block
+    changes nothing.
     """
+    global _depth
     if not _in_main_thread():
         yield
         return
@@ -53,15 +71,23 @@ def stop_on_signals() -> Iterator[None]:
         first = not _requested
         _requested.append(signum)
         if first:
+            _first.append(signum)
             raise KeyboardInterrupt
 
-    old = {sig: signal.signal(sig, stop) for sig in STOP_SIGNALS}
+    if not _depth:
+        _first.clear()
+    old = {}
+    _depth += 1
     try:
+        for sig in STOP_SIGNALS:
+            old[sig] = signal.signal(sig, stop)
         yield
     finally:
         for sig, handler in old.items():
-            signal.signal(sig, handler)
-        _requested.clear()
+            signal.signal(sig, handler if then is None else then)
+        _depth -= 1
+        if not _depth:
+            _requested.clear()
 
 
 @contextlib.contextmanager

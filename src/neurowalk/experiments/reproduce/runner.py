@@ -132,7 +132,7 @@ def execute(run: Run, out: Path, tick: Any = None) -> dict[str, Any]:
             proc.wait()
             raise
     wall = time.perf_counter() - t0
-    if proc.returncode == 130:
+    if proc.returncode in (130, 143):  # the command was stopped (by our SIGINT, or by a SIGTERM): so is this one
         raise KeyboardInterrupt
     if proc.returncode != 0:
         raise RunFailedError(f"`{shlex.join(words)}` exited with status {proc.returncode}; see {folder / 'log.txt'}")
