@@ -17,8 +17,9 @@ Where Gymnasium is installed, ``import neurowalk`` registers the environments ``
 ``neurowalk/ExplorePhysics-v0`` with it (:mod:`neurowalk.gym_registration`).
 """
 
+from __future__ import annotations
+
 import importlib
-from typing import Any
 
 from neurowalk.gym_registration import register_when_gymnasium_loads
 
@@ -50,7 +51,7 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str) -> Any:
+def __getattr__(name: str) -> object:
     if name in _LAZY:
         value = getattr(importlib.import_module(_LAZY[name]), name)
         globals()[name] = value

@@ -9,13 +9,13 @@ works without importing :mod:`neurowalk.envs` first.
 
 from __future__ import annotations
 
-import importlib.util
 import sys
-from typing import TYPE_CHECKING, Any
 
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (a start-up that a Ctrl-C may meet)
 if TYPE_CHECKING:
     from collections.abc import Sequence
     from types import ModuleType
+    from typing import Any
 
 __all__ = ["ENVIRONMENTS", "RegisterAfterImport", "register_envs", "register_when_gymnasium_loads"]
 
@@ -47,6 +47,8 @@ class RegisterAfterImport:
         if fullname != "gymnasium":
             return None
         sys.meta_path.remove(self)  # once; and find_spec below must not find this finder again
+        import importlib.util  # here, not at the top: `import neurowalk` stays light (the command's start-up)
+
         spec = importlib.util.find_spec(fullname)
         if spec is None or spec.loader is None:
             return spec
