@@ -17,7 +17,8 @@ and of the MuJoCo AMOSII (``physics``):
   environment's time spent in ``Batch.step``. With few copies the slowest copy of each step sets the pace.
 
 and, idle and with another process spinning on one core (``busy_core``, as when an RL learner runs beside the
-environments), the vectorised environment on 1 and on all of numba's threads, and the vectorised physics
+environments), the vectorised environment on 1 thread and on up to all of numba's threads (its own choice of 1 or
+all, :class:`~neurowalk.envs.threads.ThreadChooser`: what a user gets), and the vectorised physics
 environment (16 copies) on 1 and 2 MuJoCo threads (``threads``: medians over alternating repeats).
 
 Actions are random steering pairs drawn beforehand. Reported: steps per second of each, the ratios against the
