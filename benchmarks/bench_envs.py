@@ -149,6 +149,7 @@ def main() -> None:
     ap.add_argument("--max-steps", type=int, default=2000)
     ap.add_argument("--physics-copies", type=lambda s: [int(n) for n in s.split(",")], default=[2, 8, 16])
     ap.add_argument("--physics-steps", type=int, default=300)
+    ap.add_argument("--thread-steps", type=int, default=1500, help="steps of each measurement of the threads section")
     ap.add_argument("--nthread", type=int, default=2, help="physics threads of the vectorised physics environment")
     ap.add_argument("--out", type=Path, default=Path("out/bench"))
     args = ap.parse_args()
@@ -165,7 +166,7 @@ def main() -> None:
         physics["runs"].append({"copies": copies, "single_steps_per_s": one, "vector_steps_per_s": many,
                                 "vector_over_single": many / one, "physics_share": share})  # fmt: skip
     result["physics"] = physics
-    result["threads"] = thread_rates(args.copies, args.vector_steps, args.max_steps, args.physics_steps)
+    result["threads"] = thread_rates(args.copies, args.thread_steps, args.max_steps, args.physics_steps)
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / "envs.json").write_text(json.dumps(result, indent=2) + "\n")
     print(f"single env: {single:,.0f} steps/s")

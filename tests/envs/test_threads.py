@@ -59,3 +59,8 @@ def test_the_vector_environment_gives_the_same_steps_on_any_thread_count():
 
     one, two = rollout(1), rollout(numba.config.NUMBA_NUM_THREADS)
     assert np.array_equal(one[0], two[0]) and np.array_equal(one[1], two[1])
+
+
+def test_probe_0_keeps_the_most_threads():
+    ch = ThreadChooser(2, block=2, probe=0)
+    assert set(_feed(ch, {1: 1.0, 2: 5.0}, 40)) == {2}

@@ -25,7 +25,8 @@ class ThreadChooser:
     Args:
         most: the larger count (default: numba's thread count where the chooser is made, ``numba.get_num_threads()``).
         block: calls timed together (one timing of a call of about a millisecond is mostly noise).
-        probe: every ``probe``-th block runs on the count not chosen, so a change of load is seen.
+        probe: every ``probe``-th block runs on the count not chosen, so a change of load is seen (0: never; the
+            kernel runs on ``most`` threads, as a benchmark of a fixed count needs).
         smoothing: weight of the newest block in each count's moving average of seconds per call.
     """
 
@@ -67,5 +68,5 @@ class ThreadChooser:
         self._calls, self._spent = 0, 0.0
         other = 1 if self.chosen == self.most else self.most
         # the other count's first block comes second, so that both are measured early
-        probing = self._blocks == 1 or self._blocks % self.probe == 0
+        probing = self.probe > 0 and (self._blocks == 1 or self._blocks % self.probe == 0)
         self._threads = other if probing else self.chosen
