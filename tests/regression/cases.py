@@ -19,7 +19,6 @@ so).
 
 from __future__ import annotations
 
-import ctypes
 import hashlib
 import json
 import platform
@@ -40,11 +39,11 @@ OUTCOME_KEYS = ("completed", "steps", "escaped", "trapped", "ever_trapped", "wed
 
 def fingerprint() -> dict[str, Any]:
     """What the hashes' bits depend on: the versions of numpy, MuJoCo, numba and Python, and the CPU as each of
-    them uses it (numba's target CPU, ``NUMBA_CPU_NAME`` or the host's; numpy's enabled SIMD dispatch targets)."""
-    import llvmlite.binding as llvm
+    them uses it (:func:`neurowalk.cpu.cpu_fingerprint`)."""
     import mujoco
     import numba
-    from numpy._core._multiarray_umath import __cpu_dispatch__, __cpu_features__
+
+    from neurowalk.cpu import cpu_fingerprint
 
     return {
         "numpy": np.__version__,
@@ -52,23 +51,8 @@ def fingerprint() -> dict[str, Any]:
         "numba": numba.__version__,
         "machine": platform.machine(),
         "python": ".".join(platform.python_version_tuple()[:2]),
-        "numba_cpu": numba.config.CPU_NAME or llvm.get_host_cpu_name(),
-        "numpy_simd": [name for name in __cpu_dispatch__ if __cpu_features__.get(name)],
-        "openblas_core": _openblas_core(),
+        **cpu_fingerprint(),
     }
-
-
-def _openblas_core() -> str:
-    """The kernels numpy's bundled OpenBLAS chose for this CPU when it loaded (its sums' order); ``OPENBLAS_CORETYPE``
-    sets them. "none" where numpy carries no OpenBLAS of its own."""
-    for lib in sorted((Path(np.__file__).parent.parent / "numpy.libs").glob("*openblas*")):
-        dll = ctypes.CDLL(str(lib))
-        for name in ("scipy_openblas_get_corename64_", "scipy_openblas_get_corename", "openblas_get_corename"):
-            get = getattr(dll, name, None)
-            if get is not None:
-                get.restype = ctypes.c_char_p
-                return get().decode()
-    return "none"
 
 
 @dataclass

@@ -68,13 +68,15 @@ def runs_of(items: list[Item], quick: bool, workers: int | None) -> tuple[list[R
 
 
 def versions() -> dict[str, str]:
-    """Versions of what a result depends on, and the machine."""
+    """Versions of what a result depends on, the machine, and its CPU as the numbers see it (the same seed gives the
+    same bits where these are the same: :mod:`neurowalk.cpu`)."""
     import matplotlib
     import mujoco
     import numba
     import numpy
 
     from neurowalk import __version__
+    from neurowalk.cpu import cpu_fingerprint
 
     return {
         "neurowalk": __version__,
@@ -84,6 +86,7 @@ def versions() -> dict[str, str]:
         "numba": numba.__version__,
         "matplotlib": matplotlib.__version__,
         "machine": f"{platform.system()} {platform.machine()}, {os.cpu_count()} cores",
+        "cpu": ", ".join(f"{k} {' '.join(v) if isinstance(v, list) else v}" for k, v in cpu_fingerprint().items()),
     }
 
 
