@@ -96,6 +96,7 @@ def compare_regression(a: Path, b: Path) -> dict[str, Any]:
         "fingerprints": [ja["fingerprint"], jb["fingerprint"]],
         "cases": len(ja["hashes"]),
         "hashes_differing": sorted(k for k in ja["hashes"] if ja["hashes"][k] != jb["hashes"][k]),
+        "hashes_differing_count": sum(ja["hashes"][k] != jb["hashes"][k] for k in ja["hashes"]),
         "outcomes_differing": sorted(k for k in ja["outcomes"] if ja["outcomes"][k] != jb["outcomes"][k]),
         "heads_max_abs_diff": worst,
     }
@@ -128,6 +129,9 @@ def main() -> None:
                 max(r["claims"]["max_rel_diff"], (r["figure"] or {}).get("max_rel_diff", 0.0)) for r in per.values()
             ),
         }
+        totals = result["reproduce_totals"]
+        totals["verdicts_differing_count"] = len(totals["verdicts_differing"])
+        totals["max_rel_diff_ulps"] = totals["max_rel_diff"] / np.finfo(float).eps  # units in the last place
     if args.regression:
         result["regression"] = compare_regression(*args.regression)
     args.out.parent.mkdir(parents=True, exist_ok=True)

@@ -55,7 +55,10 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
         f"{counts['reproduced']} reproduced, {counts['partly']} partly, {counts['not']} not"
         + (f"; {len(failed)} failed to run" if failed else "")
         + ". Each result's file `NAME.json` holds the command, versions, seeds, wall time, the measured values "
-        "with 95% intervals where they are rates, the paper's values and the rule of each verdict.",
+        "with 95% intervals where they are rates, the paper's values and the rule of each verdict. The same "
+        "commands give these numbers bit for bit on the same versions and CPU type; on another CPU a few of them "
+        'may differ in their last bits, and no verdict or count does (measured: `docs/usage.md`, "Same seed, same '
+        'result").',
         "",
         "How a verdict is reached (each claim states its own rule and numbers): an outcome the paper shows in one "
         "run is reproduced where two thirds or more of the seeds end that way, partly where some do; a count such "
