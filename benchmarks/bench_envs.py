@@ -17,8 +17,7 @@ and of the MuJoCo AMOSII (``physics``):
   environment's time spent in ``Batch.step``. With few copies the slowest copy of each step sets the pace.
 
 and, idle and with another process spinning on one core (``busy_core``, as when an RL learner runs beside the
-environments), the vectorised environment on 1 thread and on up to all of numba's threads (its own choice of 1 or
-all, :class:`~neurowalk.envs.threads.ThreadChooser`: what a user gets), and the vectorised physics
+environments), the vectorised environment on 1 and on all of numba's threads, and the vectorised physics
 environment (16 copies) on 1 and 2 MuJoCo threads (``threads``: medians over alternating repeats).
 
 Actions are random steering pairs drawn beforehand. Reported: steps per second of each, the ratios against the
@@ -115,19 +114,19 @@ def physics_vector_rate(copies: int, steps: int, nthread: int) -> float:
 
 def thread_rates(copies: int, steps: int, max_steps: int, physics_steps: int, repeats: int = 3) -> dict:
     """Idle and with one core busy: the vector environment on 1 and on all numba threads, the physics vector
-    environment (16 copies) on 1 and 2 threads; medians of ``repeats`` alternating measurements."""
+    environment (16 copies) on 1 and 2 threads; medians of ``repeats`` rounds of 1, 2, 2, 1 threads."""
     most = numba.config.NUMBA_NUM_THREADS
-    out: dict = {"threading_layer": None, "numba_threads": [1, most], "physics_nthread": [1, 2]}
+    out: dict = {"threading_layer": None, "numba_threads": [1, most], "physics_nthread": [1, 2], "physics_copies": 16}
     for load in ("idle", "busy_core"):
         vec: dict[int, list[float]] = {1: [], most: []}
         phys: dict[int, list[float]] = {1: [], 2: []}
         with busy_core() if load == "busy_core" else contextlib.nullcontext():
             for _ in range(repeats):
-                for n in vec:
+                for n in (1, most, most, 1):  # in both orders: a drift of the load touches both alike
                     numba.set_num_threads(n)
                     vec[n].append(vector_rate(copies, steps, max_steps, resets=False))
                 numba.set_num_threads(most)
-                for n in phys:
+                for n in (1, 2, 2, 1):
                     phys[n].append(physics_vector_rate(16, physics_steps, n))
         v = {n: float(np.median(r)) for n, r in vec.items()}
         p = {n: float(np.median(r)) for n, r in phys.items()}

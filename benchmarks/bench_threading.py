@@ -27,14 +27,13 @@ def child(hogs: int, steps: int, repeats: int, copies: int) -> dict:
     import numba
 
     from neurowalk.bench import busy_core
-    from neurowalk.envs.threads import ThreadChooser
     from neurowalk.envs.vector import ExploreVectorEnv
 
     env = ExploreVectorEnv(copies, max_steps=10**7)
     env.reset(seed=0)
     acts = np.random.default_rng(1).uniform(-1, 1, size=(64, copies, 2))
     for n in (1, 2):  # compile, start the threads
-        env.threads = ThreadChooser(n, probe=0)
+        numba.set_num_threads(n)
         env.step(acts[0])
     rates: dict[int, list[float]] = {1: [], 2: []}
     with contextlib.ExitStack() as stack:
@@ -42,7 +41,7 @@ def child(hogs: int, steps: int, repeats: int, copies: int) -> dict:
             stack.enter_context(busy_core())
         for _ in range(repeats):
             for n in (1, 2, 2, 1):
-                env.threads = ThreadChooser(n, probe=0)
+                numba.set_num_threads(n)
                 t0 = time.perf_counter()
                 for k in range(steps):
                     env.step(acts[k % 64])

@@ -314,6 +314,8 @@ def run_bench(
         "batch_physics": {
             **batch,
             "speedup_vs_single_loop": {k: v.get("speedup") for k, v in batch.items()},
+            f"nthread_{workers}_over_1": batch[f"nthread_{workers}"]["batch_physics_steps_per_s"]
+            / batch["nthread_1"]["batch_physics_steps_per_s"],
             "aim": f"close to the number of cores ({cores})",
         },
         "quick": quick,

@@ -9,10 +9,11 @@ is set, else under ``$XDG_CACHE_HOME/neurowalk/numba`` (``~/.cache/neurowalk/num
 for other libraries is left as it was.
 
 Parallel kernels (:func:`jit_parallel`) run on numba's ``workqueue`` threading layer unless
-``NUMBA_THREADING_LAYER`` says otherwise. numba's default on PyPI's wheels is OpenMP, whose threads spin at every
-call's barrier: with another process holding one of two cores (an RL learner beside the environments), two OpenMP
-threads ran the vectorised environment at a quarter of one thread's rate, where two ``workqueue`` threads stay
-above it (``docs/benchmarks/envs.json``, ``busy_core``).
+``NUMBA_THREADING_LAYER`` says otherwise. numba's default on PyPI's wheels is OpenMP, whose threads spin while they
+wait for each other: with another process holding one of two cores (an RL learner beside the environments), two
+OpenMP threads ran the vectorised environment at about 0.6 of one thread's rate, two ``workqueue`` threads at about
+one thread's; on an idle machine OpenMP is the faster (``benchmarks/bench_threading.py``,
+``docs/benchmarks/threading.json``).
 """
 
 from __future__ import annotations

@@ -25,7 +25,6 @@ from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.body import surrogate_kernel as kern
 from neurowalk.body.surrogate import NOISE_TAU, box_rows, load_calibration
 from neurowalk.envs.explore import BOXES, CELL, EXTENT, SIZE, ExploreEnv
-from neurowalk.envs.threads import ThreadChooser
 from neurowalk.envs.vector_kernel import free_mask, uniform, vector_step
 
 MAX_BOXES = 64  # obstacle rows per copy (Table 2: at most 20 boxes and 4 walls)
@@ -100,7 +99,6 @@ class ExploreVectorEnv(VectorEnv):
         self.visited: np.ndarray | None = None
         self.free: np.ndarray | None = None
         self.scratch = np.zeros((numba.config.NUMBA_NUM_THREADS, self.motion.shape[2] + 4))
-        self.threads = ThreadChooser()
 
     def reset(
         self, *, seed: int | list[int] | None = None, options: dict[str, Any] | None = None
@@ -122,8 +120,7 @@ class ExploreVectorEnv(VectorEnv):
             raise ValueError(f"actions must be finite numbers in [-1, 1], got {bad.tolist()!r}")
         restart = np.flatnonzero(self.done)
         cal = self.cal
-        self.threads(  # on 1 or all of numba's threads, whichever has been the faster
-            vector_step,
+        vector_step(
             self.ks,
             self.states,
             self.rings,
