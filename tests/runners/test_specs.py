@@ -4,7 +4,8 @@ import json
 
 import pytest
 
-from neurowalk.runners.specs import FIELDS, LATER, check_specs, describe, grid, normalize, read_jsonl, spec_key
+from neurowalk.runners.specs import FIELDS, LATER, check_specs, describe, grid, read_jsonl, spec_key
+from neurowalk.sim.config import EpisodeConfig
 
 
 def test_key_ignores_dict_order_omitted_defaults_and_number_spelling():
@@ -24,14 +25,14 @@ def test_key_changes_with_the_run(change):
 
 
 def test_normalize_fills_every_field_and_arena_default():
-    s = normalize({"arena": "box"})
+    s = EpisodeConfig.from_spec({"arena": "box"}).spec()
     assert tuple(s) == tuple(f for f in FIELDS if f not in LATER)  # later switches appear only when on
-    on = normalize({"arena": "box", "reflexes": True, "backbone": True})
+    on = EpisodeConfig.from_spec({"arena": "box", "reflexes": True, "backbone": True}).spec()
     assert on["reflexes"] is True and on["backbone"] is True and spec_key(on) != spec_key(s)
     assert spec_key({"arena": "box", "reflexes": False}) == spec_key(s)
     assert s["arena_opts"]["distance"] == 1.0 and s["steps"] == 1000 and s["controller"] == "plastic"
     assert json.loads(json.dumps(s)) == s  # JSON-able
-    fixed = normalize({"controller": "fixed", "steer": (-1, -1)})
+    fixed = EpisodeConfig.from_spec({"controller": "fixed", "steer": (-1, -1)}).spec()
     assert fixed["steer"] == [-1.0, -1.0]
 
 
@@ -74,7 +75,7 @@ def test_a_grid_axis_of_a_body_option_sets_it_beside_the_base_options():
     g = grid({"body": "surrogate", "body_opts": {"speed": 1.5}}, **{"body_opts.turn": [0.5, 2]})
     assert [s["body_opts"] for s in g] == [{"speed": 1.5, "turn": 0.5}, {"speed": 1.5, "turn": 2}]
     check_specs(g)  # a valid option of that body
-    assert normalize(g[0])["body_opts"] == {"speed": 1.5, "turn": 0.5}
+    assert EpisodeConfig.from_spec(g[0]).spec()["body_opts"] == {"speed": 1.5, "turn": 0.5}
     assert len({spec_key(s) for s in g}) == 2 and "body_opts" not in grid({"seed": 1})[0]
 
 
@@ -93,5 +94,7 @@ def test_read_jsonl(tmp_path):
 
 
 def test_describe_names_what_differs():
-    d = describe(normalize({"arena": "box", "arena_opts": {"distance": 0.5}, "seed": 3, "steps": 30}))
+    d = describe(
+        EpisodeConfig.from_spec({"arena": "box", "arena_opts": {"distance": 0.5}, "seed": 3, "steps": 30}).spec()
+    )
     assert d == "box distance=0.5 plastic amosii seed=3 steps=30"

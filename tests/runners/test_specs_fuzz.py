@@ -5,7 +5,8 @@ from __future__ import annotations
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from neurowalk.runners.specs import FIELDS, normalize, spec_key, to_config
+from neurowalk.runners.specs import FIELDS, spec_key
+from neurowalk.sim.config import EpisodeConfig
 
 SCALARS = st.one_of(
     st.none(), st.booleans(), st.integers(-(10**12), 10**12), st.floats(allow_nan=True, allow_infinity=True),
@@ -22,10 +23,10 @@ GOOD = {"arena": "box", "controller": "plastic", "body": "surrogate", "steps": 1
 def test_a_spec_normalises_or_is_refused_by_name(extra, from_good):
     spec = {**GOOD, **extra} if from_good else extra
     try:
-        s = normalize(spec)
+        s = EpisodeConfig.from_spec(spec).spec()
     except ValueError as e:
         assert str(e) and "\n" not in str(e)
         return
-    cfg = to_config(s)  # a normalised spec is a valid run
+    cfg = EpisodeConfig.from_spec(s)  # a normalised spec is a valid run
     assert cfg.steps >= 1 and cfg.control_hz > 0 and cfg.noise >= 0
     assert spec_key(s) == spec_key(spec)  # and its key is the same as the original's

@@ -6,12 +6,13 @@ import sqlite3
 import pyarrow.parquet as pq
 import pytest
 
-from neurowalk.runners.specs import FIELDS, normalize, spec_key
+from neurowalk.runners.specs import FIELDS, spec_key
 from neurowalk.runners.store import EXPORT_META, ResultStore, StoreError
+from neurowalk.sim.config import EpisodeConfig
 
 
 def _spec(seed):
-    return normalize({"arena": "box", "seed": seed, "steps": 30})
+    return EpisodeConfig.from_spec({"arena": "box", "seed": seed, "steps": 30}).spec()
 
 
 def test_put_rows_and_replace_error_by_ok(tmp_path):
@@ -80,7 +81,10 @@ def test_export_parquet_and_csv(tmp_path):
 
 
 def test_export_names_the_defaults_a_stored_spec_leaves_out(tmp_path):
-    plain, climbing = _spec(0), normalize({"seed": 1, "steps": 30, "reflexes": True, "gait": "tripod"})
+    plain, climbing = (
+        _spec(0),
+        EpisodeConfig.from_spec({"seed": 1, "steps": 30, "reflexes": True, "gait": "tripod"}).spec(),
+    )
     assert not {"variant", "gait", "engine", "reflexes", "backbone", "body_opts"} & set(plain)  # left out
     with ResultStore(tmp_path / "r.sqlite") as st:
         for s in (plain, climbing):

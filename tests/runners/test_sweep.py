@@ -4,7 +4,7 @@ import pytest
 import sweep_fns
 
 from neurowalk.runners.local import WorkerDiedError, run_many, run_unordered
-from neurowalk.runners.specs import grid, normalize, spec_key
+from neurowalk.runners.specs import grid, spec_key
 from neurowalk.runners.store import ResultStore
 from neurowalk.runners.sweep import run_sweep
 from neurowalk.sim.episode import EpisodeConfig
@@ -85,7 +85,7 @@ def test_physics_rows_are_the_same_for_one_and_two_workers(tmp_path):
 
 
 def test_run_unordered_reports_exceptions_and_deaths():
-    items = [normalize({"seed": s, "steps": 1}) for s in range(5)]
+    items = [EpisodeConfig.from_spec({"seed": s, "steps": 1}).spec() for s in range(5)]
     done = sorted(run_unordered(sweep_fns.die_on_seed_2, items, workers=2), key=lambda d: d.index)
     assert [d.index for d in done] == list(range(5))
     assert isinstance(done[2].error, WorkerDiedError) and done[2].wall_time_s is None

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from neurowalk.runners.specs import normalize, spec_key
+from neurowalk.runners.specs import spec_key
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
 
@@ -20,8 +20,8 @@ def test_a_higher_modulatory_input_walks_faster():
 
 
 def test_gait_is_in_the_spec_only_when_not_the_default():
-    assert "gait" not in normalize({"arena": "open"})
-    assert normalize({"arena": "open", "gait": "tripod"})["gait"] == "tripod"
+    assert "gait" not in EpisodeConfig.from_spec({"arena": "open"}).spec()
+    assert EpisodeConfig.from_spec({"arena": "open", "gait": "tripod"}).spec()["gait"] == "tripod"
     assert spec_key({"arena": "open", "gait": "wave"}) == spec_key({"arena": "open"})
 
 
@@ -31,4 +31,4 @@ BAD = [({"gait": "trot"}, "unknown gait 'trot'"), ({"gait": "tripod", "body": "s
 @pytest.mark.parametrize("spec,word", BAD)
 def test_bad_gaits_are_refused(spec, word):
     with pytest.raises(ValueError, match=word):
-        normalize(spec)
+        EpisodeConfig.from_spec(spec).spec()

@@ -201,7 +201,7 @@ def test_bad_devices_exit_2(wp_cpu, capsys, tmp_path):
 @warp
 def test_a_sweep_runs_warp_specs_as_worlds_of_one_model(wp_cpu, tmp_path, monkeypatch):
     """Specs on engine 'warp' go to one Warp model, the others to the pool; each stored result is its run's."""
-    from neurowalk.runners.specs import normalize, result_of, spec_key
+    from neurowalk.runners.specs import result_of, spec_key
     from neurowalk.runners.store import ResultStore
     from neurowalk.runners.sweep import run_sweep
 
@@ -214,10 +214,10 @@ def test_a_sweep_runs_warp_specs_as_worlds_of_one_model(wp_cpu, tmp_path, monkey
     for s in specs:
         cfg = EpisodeConfig(arena="box", steps=8, seed=s["seed"], engine=s.get("engine", "mujoco"))
         expect = result_of(run_episode(cfg))
-        got = results[spec_key(normalize(s))]
+        got = results[spec_key(EpisodeConfig.from_spec(s).spec())]
         assert got["final_pose"] == pytest.approx(expect["final_pose"], abs=1e-9)
-    assert results[spec_key(normalize(specs[0]))]["engine"] == "warp"
-    assert "engine" not in results[spec_key(normalize(specs[2]))]
+    assert results[spec_key(EpisodeConfig.from_spec(specs[0]).spec())]["engine"] == "warp"
+    assert "engine" not in results[spec_key(EpisodeConfig.from_spec(specs[2]).spec())]
 
 
 @warp

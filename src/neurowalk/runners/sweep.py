@@ -25,7 +25,7 @@ from tqdm import tqdm
 from neurowalk.runners import ray_backend
 from neurowalk.runners.jobs import JobResult, world_groups
 from neurowalk.runners.local import run_unordered
-from neurowalk.runners.specs import Spec, describe, normalize, result_of, run_spec, spec_key, to_config
+from neurowalk.runners.specs import Spec, describe, result_of, run_spec, spec_key
 from neurowalk.runners.stopping import deferred
 from neurowalk.runners.store import ResultStore
 from neurowalk.sim.config import EpisodeConfig
@@ -76,7 +76,7 @@ def prepare(specs: Iterable[Spec]) -> tuple[list[tuple[str, Spec]], int]:
     n = 0
     for spec in specs:
         n += 1
-        s = normalize(spec)
+        s = EpisodeConfig.from_spec(spec).spec()
         seen.setdefault(spec_key(s), s)
     return list(seen.items()), n
 
@@ -187,7 +187,7 @@ def _configs(items: list[Spec]) -> list[EpisodeConfig | None]:
     out: list[EpisodeConfig | None] = []
     for spec in items:
         try:
-            out.append(to_config(spec))
+            out.append(EpisodeConfig.from_spec(spec))
         except ValueError:
             out.append(None)
     return out
@@ -202,7 +202,7 @@ def world_runs(
     for runs, engine in groups:
         t0 = time.perf_counter()
         try:
-            eps = engine.run([to_config(items[i]) for i in runs], replace(options, progress=False))
+            eps = engine.run([EpisodeConfig.from_spec(items[i]) for i in runs], replace(options, progress=False))
         except Exception as e:
             for i in runs:
                 yield JobResult(i, error=e)

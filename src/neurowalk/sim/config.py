@@ -6,21 +6,27 @@ run's Generators (body noise, controller, arena layout) are spawned from its one
 
 from __future__ import annotations
 
+import dataclasses
+import hashlib
+import json
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from tqdm import tqdm
 
-from neurowalk.arenas import ArenaSpec, make_arena
+from neurowalk.arenas import ArenaSpec, arena_options, make_arena
 from neurowalk.body.registry import BODIES as REGISTRY
 from neurowalk.body.registry import body_info, check_body_opts, make_body
 from neurowalk.body.surrogate import load_calibration
 from neurowalk.controller import CONTROLLERS, Controller, make_controller
+from neurowalk.fileio import to_jsonable
 from neurowalk.neural.cpg import GAITS, CpgParams
 from neurowalk.neural.motor import LocomotionParams
-from neurowalk.neural.variants import get_variant
+from neurowalk.neural.variants import check_overrides, get_variant
+from neurowalk.sim.config_values import FrozenDict, real, typed_arena_opts, whole
 from neurowalk.sim.trajectory import Trajectory
 
 BODIES: tuple[str, ...] = tuple(REGISTRY)  # the registry's names (neurowalk.body.registry)
@@ -29,10 +35,29 @@ DEFAULT_ENGINE = "mujoco"  # the CPU loop (sim/engines.py)
 
 @dataclass(frozen=True, kw_only=True)
 class EpisodeConfig:
-    """One run: where, with which controller and body, how long, which seed."""
+    """One run: where, with which controller and body, how long, which seed.
+
+    Immutable and hashable: its options are :class:`FrozenDict` s, ``steer`` a tuple. :meth:`key` names the run
+    (the same in any process and version: the result store's key), :meth:`replace` makes a changed copy,
+    :meth:`from_spec` reads a run spec (a JSON object) and :meth:`spec` writes its canonical one.
+
+    Attributes:
+        arena: the arena's name (``neurowalk arenas``); arena_opts: its options (name -> value).
+        controller: plastic | static | braitenberg | fixed; steer: (O1, O2) in [-1, 1] for ``fixed`` only.
+        body: the robot (``neurowalk bodies``); body_opts: its options (name -> number).
+        steps: control steps; seed: the seed of every random draw; control_hz: control steps per second.
+        noise: strength of the coloured sensor noise, in [0, 1].
+        b0, q0: the plastic network's start self weights and inhibition magnitudes (default 0).
+        reflexes: local leg control (forward models, searching and elevation reflexes).
+        backbone: backbone joint control and the climbable-step decision (obstacle-height sensor).
+        variant: the network: ``paper`` (Eq. 1-6 as printed), ``original`` (the authors' code), ``tuned``.
+        params: SensoryParams fields set on top of the variant (a params file), or None.
+        gait: the CPG's modulatory input by name (``neurowalk.neural.cpg.GAITS``).
+        engine: physics engine: ``mujoco`` (CPU MuJoCo) | ``warp`` (MuJoCo Warp, many worlds, GPU or CPU).
+    """
 
     arena: str = "open"
-    arena_opts: dict[str, Any] = field(default_factory=dict)
+    arena_opts: Mapping[str, Any] = field(default_factory=dict)
     controller: str = "plastic"
     steer: tuple[float, float] | None = None  # for controller "fixed": (O1, O2)
     body: str = "amosii"
@@ -45,16 +70,42 @@ class EpisodeConfig:
     reflexes: bool = False  # local leg control: forward models, searching and elevation reflexes
     backbone: bool = False  # backbone joint control and the climbable-step decision (obstacle-height sensor)
     variant: str = "paper"  # the network: paper (Eq. 1-6 as printed), original (the authors' code), tuned
-    params: dict[str, float] | None = None  # SensoryParams fields set on top of the variant (a params file)
+    params: Mapping[str, float] | None = None  # SensoryParams fields set on top of the variant (a params file)
     gait: str = "wave"  # the CPG's modulatory input by name (neurowalk.neural.cpg.GAITS)
-    body_opts: dict[str, Any] = field(default_factory=dict)  # the body's options (neurowalk.body.registry)
+    body_opts: Mapping[str, Any] = field(default_factory=dict)  # the body's options (neurowalk.body.registry)
     engine: str = DEFAULT_ENGINE  # physics engine: mujoco (CPU MuJoCo) | warp (MuJoCo Warp, many worlds, GPU or CPU)
 
     def __post_init__(self) -> None:
+        self._check()
+        canonical = {
+            "arena_opts": FrozenDict(typed_arena_opts(self.arena, self.arena_opts)),
+            "body_opts": FrozenDict(check_body_opts(self.body, dict(self.body_opts))),
+            "params": FrozenDict(check_overrides(self.params)) if self.params else None,
+            "steer": None if self.steer is None else tuple(float(v) for v in self.steer),
+            "steps": int(self.steps),
+            "seed": int(self.seed),
+            "control_hz": float(self.control_hz),
+            "noise": float(self.noise),
+            "b0": None if self.b0 is None else float(self.b0),
+            "q0": None if self.q0 is None else float(self.q0),
+        }
+        for name, value in canonical.items():
+            object.__setattr__(self, name, value)
+
+    def _check(self) -> None:
+        """Every field's value, each against the others (ValueError naming the field, the value, what is allowed)."""
+        for name in ("arena", "controller", "body", "variant", "gait", "engine"):
+            if not isinstance(getattr(self, name), str):
+                raise ValueError(f"{name} must be a name, got {getattr(self, name)!r}")
+        for name in ("reflexes", "backbone"):
+            if not isinstance(getattr(self, name), bool):
+                raise ValueError(f"{name} must be true or false, got {getattr(self, name)!r}")
+        for name in ("arena_opts", "body_opts"):
+            if not isinstance(getattr(self, name), Mapping):
+                raise ValueError(f"{name} must be an object of option values, got {getattr(self, name)!r}")
         if self.controller not in CONTROLLERS:
             raise ValueError(f"unknown controller {self.controller!r}; expected one of {', '.join(CONTROLLERS)}")
         info = body_info(self.body)  # raises on an unknown body
-        check_body_opts(self.body, self.body_opts)
         if not _whole(self.steps) or not 1 <= self.steps <= MAX_STEPS:
             raise ValueError(f"steps must be a whole number from 1 to {MAX_STEPS:,}, got {self.steps!r}")
         if not _whole(self.seed) or not 0 <= self.seed < 2**63:
@@ -94,6 +145,78 @@ class EpisodeConfig:
         """The controller climbs: local leg control or backbone joint control is on."""
         return self.reflexes or self.backbone
 
+    def replace(self, **changes: Any) -> EpisodeConfig:
+        """A copy with ``changes``; a dotted name changes one entry of an option field, e.g.
+        ``cfg.replace(seed=3, **{"arena_opts.gap": 0.6, "params.mu_b": 0.01})`` (checked as a new config is)."""
+        fields: dict[str, Any] = {}
+        for name, value in changes.items():
+            top, dot, entry = name.partition(".")
+            if dot:
+                if top not in ("arena_opts", "body_opts", "params"):
+                    raise ValueError(f"{name!r}: only arena_opts, body_opts and params have entries to change")
+                base = fields.get(top, getattr(self, top)) or {}
+                fields[top] = {**base, entry: value}
+            else:
+                fields[name] = value
+        unknown = sorted(set(fields) - set(FIELDS))
+        if unknown:
+            raise ValueError(f"unknown config field {unknown[0]!r}; fields: {', '.join(FIELDS)}")
+        return dataclasses.replace(self, **fields)
+
+    def spec(self) -> dict[str, Any]:
+        """The canonical run spec: JSON values, the arena's options all filled in, and the fields added after the
+        first stores (:data:`LATER`) only where they differ from their defaults, so that older keys stay valid."""
+        out: dict[str, Any] = {
+            "arena": self.arena,
+            "arena_opts": to_jsonable({**arena_options(self.arena), **self.arena_opts}),
+            "controller": self.controller,
+            "steer": None if self.steer is None else list(self.steer),
+            "body": self.body,
+            "steps": self.steps,
+            "seed": self.seed,
+            "control_hz": self.control_hz,
+            "noise": self.noise,
+            "b0": self.b0,
+            "q0": self.q0,
+        }
+        for name in LATER:
+            value = getattr(self, name)
+            if value and value != DEFAULTS[name]:
+                out[name] = to_jsonable(value)
+        return out
+
+    def key(self) -> str:
+        """The run's name: SHA-256 (64 hex digits) of its canonical spec's JSON (equal runs, equal keys, in any
+        process)."""
+        text = json.dumps(self.spec(), sort_keys=True, separators=(",", ":"))
+        return hashlib.sha256(text.encode()).hexdigest()
+
+    @classmethod
+    def from_spec(cls, spec: Mapping[str, Any]) -> EpisodeConfig:
+        """The config of a run spec: a JSON object of the fields that differ from the defaults, numbers in any
+        spelling (``"0.3"``, ``0.3``; ``2``, ``2.0``). ValueError names an unknown field or a bad value."""
+        if not isinstance(spec, Mapping):
+            raise ValueError(f"a run spec is a JSON object of {', '.join(FIELDS)}; got {spec!r}")
+        unknown = sorted(set(spec) - set(FIELDS))
+        if unknown:
+            raise ValueError(f"unknown spec field {unknown[0]!r}; fields: {', '.join(FIELDS)}")
+        s = dict(spec)
+        try:
+            for name in ("steps", "seed"):
+                if name in s:
+                    s[name] = whole(s[name], name)
+            for name in ("control_hz", "noise", "b0", "q0"):
+                if s.get(name) is not None:
+                    s[name] = real(s[name], name)
+            if s.get("steer") is not None:
+                s["steer"] = tuple(real(v, "steer") for v in s["steer"])
+        except (TypeError, ValueError, OverflowError) as e:
+            raise ValueError(f"bad run spec {dict(spec)!r}: {e}") from None
+        for name in ("arena_opts", "body_opts"):
+            if s.get(name) is None:
+                s.pop(name, None)
+        return cls(**s)
+
 
 def engine_refusal(engine: str, body: str, climbing: bool) -> str:
     """Why ``engine`` cannot run ``body`` (with climbing controls if ``climbing``): the bodies it runs, in words."""
@@ -108,6 +231,15 @@ def engine_refusal(engine: str, body: str, climbing: bool) -> str:
 
 
 ENGINES: tuple[str, ...] = ("mujoco", "warp")  # physics engines (neurowalk.sim.warp_engine for warp)
+#: The config's fields, in order.
+FIELDS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(EpisodeConfig))
+#: Every field's default.
+DEFAULTS: dict[str, Any] = {
+    f.name: f.default_factory() if f.default is dataclasses.MISSING else f.default  # type: ignore[misc]
+    for f in dataclasses.fields(EpisodeConfig)
+}
+#: Fields kept out of the canonical spec at their defaults (they came after stores were written).
+LATER: tuple[str, ...] = ("reflexes", "backbone", "variant", "params", "gait", "body_opts", "engine")
 MAX_STEPS = 100_000_000  # control steps of one run (about 116 days simulated at 10 Hz)
 
 

@@ -12,12 +12,11 @@ from neurowalk.experiments.suites.climbing import (
     track_spec,
     track_success,
 )
-from neurowalk.runners.specs import to_config
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
 
 def _climbs(height: float, variant: str, seed: int = 0) -> bool:
-    return climbed(run_episode(to_config(step_spec(height, variant, seed))).summary)
+    return climbed(run_episode(EpisodeConfig.from_spec(step_spec(height, variant, seed))).summary)
 
 
 @pytest.mark.slow
@@ -41,7 +40,7 @@ def test_without_climbing_modules_a_4_cm_step_stops_the_robot_with_them_it_is_cl
 
 @pytest.mark.slow
 def test_climbing_track_climb_avoid_the_wall_climb_again():
-    ep = run_episode(to_config(track_spec(0.06, 0)))
+    ep = run_episode(EpisodeConfig.from_spec(track_spec(0.06, 0)))
     assert track_success(ep.summary, 0.06)
     m = key_moments(ep.trajectory.targets[:, -1], ep.trajectory.outputs)
     assert m["first climb"] is not None and m["wall avoidance"] is not None and m["second climb"] is not None

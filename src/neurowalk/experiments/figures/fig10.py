@@ -39,7 +39,8 @@ from neurowalk.experiments.suites.timing import SIM_HZ, quick_note, quick_second
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting.style import FONT, LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, time_colorbar
 from neurowalk.render import render_frames
-from neurowalk.runners.specs import spec_key, to_config
+from neurowalk.runners.specs import spec_key
+from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.episode import run_episode
 
 if TYPE_CHECKING:
@@ -103,7 +104,7 @@ def run(
         return track_spec(h, s, steps, variant=variant, control_hz=control_hz)
 
     step = TRACK_HEIGHTS[0]
-    ep = run_episode(to_config(spec(step, seed)), progress=True)
+    ep = run_episode(EpisodeConfig.from_spec(spec(step, seed)), progress=True)
     tr = ep.trajectory
     z = tr.qpos[:, 2]
     moments = key_moments(tr.targets[:, -1], tr.outputs)

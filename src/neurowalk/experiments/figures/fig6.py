@@ -37,7 +37,8 @@ from neurowalk.experiments.suites.random_envs import (
 )
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting.style import FONT, OUTCOME_COLOURS, pyplot, time_colorbar
-from neurowalk.runners.specs import normalize, result_of, spec_key, to_config
+from neurowalk.runners.specs import result_of, spec_key
+from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.episode import RunInterruptedError, run_episode
 
 if TYPE_CHECKING:
@@ -60,7 +61,7 @@ def pose_stride(control_hz: float) -> int:
 def path_of(spec_: dict[str, Any]) -> dict[str, Any]:
     """The stored result of one run: its summary and its pose every second of simulated time (a list)."""
     try:
-        ep = run_episode(to_config(normalize(spec_)))
+        ep = run_episode(EpisodeConfig.from_spec(spec_))
     except RunInterruptedError:
         raise KeyboardInterrupt from None  # a half run is not a result
     stride = pose_stride(float(spec_.get("control_hz", 10.0)))

@@ -23,7 +23,7 @@ from neurowalk.experiments.suites.random_envs import STEPS, environments, failur
 from neurowalk.metrics import turn_state
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting.style import LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, time_colorbar
-from neurowalk.runners.specs import normalize, spec_key, to_config
+from neurowalk.runners.specs import spec_key
 from neurowalk.sim.episode import EpisodeConfig, run_episode, seeds
 
 if TYPE_CHECKING:
@@ -52,7 +52,7 @@ def run(
     with store_folder(out) as folder:
         stored, _ = run_store(specs, folder, workers)
     summaries = [stored[spec_key(s)] for s in specs]
-    cfgs = [to_config(normalize(s)) for s in specs]
+    cfgs = [EpisodeConfig.from_spec(s) for s in specs]
     classes = [failure_class(s) for s in summaries]
     chosen = [i for i, c in enumerate(classes) if c == "latched spin"][:SHOWN]
     arrays: dict[str, np.ndarray] = {}

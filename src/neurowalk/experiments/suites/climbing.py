@@ -22,7 +22,8 @@ import numpy as np
 from neurowalk.arenas.climbing import track_regions
 from neurowalk.arenas.spec import WALL_HEIGHT
 from neurowalk.experiments.suites.timing import SIM_HZ, steps_for
-from neurowalk.runners.specs import normalize, result_of, to_config
+from neurowalk.runners.specs import result_of
+from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.episode import RunInterruptedError, run_episode
 
 TRACK_S = 1200.0  # s of simulated time per climbing-track run (12,000 control steps at 10 Hz)
@@ -97,7 +98,7 @@ def run_track(spec: dict[str, Any]) -> dict[str, Any]:
     """One climbing-track run's summary (as :func:`~neurowalk.runners.specs.run_spec`) plus ``first_platform_step``
     (:func:`first_platform_step`; the second platform is the summary's ``exit_step``)."""
     try:
-        ep = run_episode(cfg := to_config(normalize(spec)))
+        ep = run_episode(cfg := EpisodeConfig.from_spec(spec))
     except RunInterruptedError:
         raise KeyboardInterrupt from None
     summary = result_of(ep)

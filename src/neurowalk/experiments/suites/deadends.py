@@ -34,7 +34,7 @@ from neurowalk.experiments.suites.long_runs import (
     wedged_counts,
 )
 from neurowalk.runners.local import run_many
-from neurowalk.runners.specs import normalize, spec_key, to_config
+from neurowalk.runners.specs import spec_key
 from neurowalk.sim.config import DEFAULT_ENGINE
 from neurowalk.sim.engines import engine_for
 from neurowalk.sim.episode import EngineOptions, Episode, EpisodeConfig, RunInterruptedError, run_episode
@@ -81,7 +81,7 @@ def keep_outcome(ep: Episode) -> dict[str, Any]:
 
 def _episode(spec: dict[str, Any]) -> Episode:
     try:
-        return run_episode(to_config(normalize(spec)))
+        return run_episode(EpisodeConfig.from_spec(spec))
     except RunInterruptedError:
         raise KeyboardInterrupt from None  # a half run is not a result
 

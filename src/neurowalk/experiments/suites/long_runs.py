@@ -46,7 +46,6 @@ import numpy as np
 from neurowalk import metrics
 from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.experiments.stores import as_lists
-from neurowalk.runners.specs import normalize, to_config
 from neurowalk.sim.episode import Episode, EpisodeConfig, RunInterruptedError, Streaming, run_episode
 from neurowalk.sim.trajectory import Trajectory
 
@@ -184,7 +183,7 @@ def keep_long_traces(ep: Episode) -> dict[str, Any]:
 
 def long_traces_of(spec: dict[str, Any]) -> dict[str, Any]:
     """The run of ``spec``, streamed (:class:`LongRunKeeper`): its summary and kept rows, arrays as lists."""
-    cfg = to_config(normalize(spec))
+    cfg = EpisodeConfig.from_spec(spec)
     keeper = LongRunKeeper(cfg)
     stream = Streaming(sink=keeper, chunk=min(LONG_CHUNK, cfg.steps), keep_rows=False, picture_rows=1)
     try:

@@ -31,8 +31,7 @@ import numpy as np
 from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.body.registry import body_info
 from neurowalk.body.surrogate import load_calibration
-from neurowalk.runners.specs import normalize, to_config
-from neurowalk.sim.config import seeds
+from neurowalk.sim.config import EpisodeConfig, seeds
 from neurowalk.sim.summary import STUCK_S  # the stuck window of the not-stuck rule: 300 s at any control rate
 
 NETWORKS: tuple[str, ...] = ("plastic", "static", "braitenberg")
@@ -177,7 +176,7 @@ def spec(
 
 def arena_of(spec_: dict[str, Any]) -> ArenaSpec:
     """The arena a run spec walks in (the layout its seed draws, as the run builds it)."""
-    cfg = to_config(normalize(spec_))
+    cfg = EpisodeConfig.from_spec(spec_)
     return make_arena(cfg.arena, rng=seeds(cfg)[2], **cfg.arena_opts)
 
 

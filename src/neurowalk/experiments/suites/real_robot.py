@@ -40,7 +40,8 @@ from neurowalk.plotting.style import (
 )
 from neurowalk.render import render_frames, render_video
 from neurowalk.runners.local import run_many
-from neurowalk.runners.specs import MACHINE_KEYS, normalize, to_config
+from neurowalk.runners.specs import MACHINE_KEYS
+from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.episode import RunInterruptedError, run_episode
 
 if TYPE_CHECKING:
@@ -103,7 +104,7 @@ def run_with_path(spec: dict[str, Any]) -> dict[str, Any]:
     trunk's pose and the last row, rounded to 1 mm.
     """
     try:
-        ep = run_episode(cfg := to_config(normalize(spec)))
+        ep = run_episode(cfg := EpisodeConfig.from_spec(spec))
     except RunInterruptedError:
         raise KeyboardInterrupt from None
     summary = to_jsonable(ep.summary)
@@ -151,7 +152,7 @@ def keep_example(ep: Episode) -> dict[str, Any]:
 
 def example_runs(specs: dict[str, dict[str, Any]], workers: int = 2) -> dict[str, dict[str, Any]]:
     """Run each spec of {network: spec} in full; :func:`keep_example` of each, by network."""
-    configs = [to_config(normalize(s)) for s in specs.values()]
+    configs = [EpisodeConfig.from_spec(s) for s in specs.values()]
     out = run_many(configs, workers=workers, keep=keep_example, desc="example runs")
     return dict(zip(specs, out, strict=True))
 
