@@ -79,8 +79,9 @@ class EpisodeConfig:
         self._check()
         canonical = {
             "arena_opts": FrozenDict(typed_arena_opts(self.arena, self.arena_opts)),
-            "body_opts": FrozenDict(check_body_opts(self.body, dict(self.body_opts))),
-            "params": FrozenDict(check_overrides(self.params)) if self.params else None,
+            # the body's options and the parameters as given (checked): a run's summary shows them as they came
+            "body_opts": FrozenDict(self.body_opts),
+            "params": None if self.params is None else FrozenDict(self.params),
             "steer": None if self.steer is None else tuple(float(v) for v in self.steer),
             "steps": int(self.steps),
             "seed": int(self.seed),
@@ -106,6 +107,9 @@ class EpisodeConfig:
         if self.controller not in CONTROLLERS:
             raise ValueError(f"unknown controller {self.controller!r}; expected one of {', '.join(CONTROLLERS)}")
         info = body_info(self.body)  # raises on an unknown body
+        check_body_opts(self.body, dict(self.body_opts))
+        if self.params is not None:
+            check_overrides(self.params)
         if not _whole(self.steps) or not 1 <= self.steps <= MAX_STEPS:
             raise ValueError(f"steps must be a whole number from 1 to {MAX_STEPS:,}, got {self.steps!r}")
         if not _whole(self.seed) or not 0 <= self.seed < 2**63:
@@ -179,8 +183,12 @@ class EpisodeConfig:
             "b0": self.b0,
             "q0": self.q0,
         }
+        canonical = {
+            "params": check_overrides(self.params) if self.params else None,
+            "body_opts": check_body_opts(self.body, dict(self.body_opts)),
+        }
         for name in LATER:
-            value = getattr(self, name)
+            value = canonical.get(name, getattr(self, name))
             if value and value != DEFAULTS[name]:
                 out[name] = to_jsonable(value)
         return out
