@@ -40,6 +40,7 @@ from neurowalk.body.amosii_params import (
     UP_SENSOR,
     foot_name,
 )
+from neurowalk.body.common import noisy_distances
 
 __all__ = [
     "foot_contacts",
@@ -125,8 +126,13 @@ def joint_qpos_indices(model: mujoco.MjModel) -> np.ndarray:
 
 def read_us(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
     """Ultrasonic distances in m, shape (2,), order (US_L, US_R); ``inf`` for no echo in range."""
-    lay = sensor_layout(model)
-    d = data.sensordata[lay.us]
+    return us_distances(sensor_layout(model), data.sensordata)
+
+
+def us_distances(lay: _Layout, sensordata: np.ndarray) -> np.ndarray:
+    """Ultrasonic distances in m (..., 2) from MuJoCo's sensor data (..., nsensordata) of one world or of many;
+    ``inf`` for no echo in range."""
+    d = sensordata[..., lay.us]
     return np.where((d < 0.0) | (d > lay.us_range), np.inf, d)
 
 
@@ -135,8 +141,22 @@ def foot_contacts(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:
 
     The normal force on each foot divided by ``contact_force_full`` and clipped to 1.
     """
-    lay = sensor_layout(model)
-    return np.minimum(data.sensordata[lay.touch] / lay.force_full, 1.0)
+    return contacts(sensor_layout(model), data.sensordata)
+
+
+def contacts(lay: _Layout, sensordata: np.ndarray) -> np.ndarray:
+    """Foot contacts in [0, 1] (..., 6) from MuJoCo's sensor data (..., nsensordata) of one world or of many."""
+    return np.minimum(sensordata[..., lay.touch] / lay.force_full, 1.0)
+
+
+def sensed(lay: _Layout, sensordata: np.ndarray, us_range: float, noise: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """What AmosII's controller reads, of one world or of many (the CPU loop's and the lock-step worlds' one sensor
+    model): the noisy ultrasonic distances (..., 2) in m (``inf``: no echo) and the noisy foot contacts (..., 6) in
+    [0, 1], from MuJoCo's sensor data (..., nsensordata) and the step's sensor noise (..., 2 + 19 + 6: ultrasonic,
+    joints, feet; :class:`~neurowalk.body.noise.ColoredNoise`); ``us_range``: the network's ultrasonic range, m."""
+    dist = noisy_distances(us_distances(lay, sensordata), us_range, noise[..., 0:2])
+    foot = np.clip(contacts(lay, sensordata) + noise[..., noise.shape[-1] - 6 :], 0.0, 1.0)
+    return dist, foot
 
 
 def obstacle_contact(model: mujoco.MjModel, data: mujoco.MjData) -> bool:

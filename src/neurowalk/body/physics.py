@@ -17,17 +17,16 @@ from neurowalk.arenas.spec import ArenaSpec
 from neurowalk.body.amosii import (
     BodyParams,
     amosii_xml,
-    foot_contacts,
     ground_heights,
     joint_qpos_indices,
     obstacle_contact,
     obstacle_height,
-    read_us,
     trunk_pose,
     up_z,
 )
 from neurowalk.body.amosii_params import STAND_KEY
-from neurowalk.body.common import noisy_distances, place_at_start
+from neurowalk.body.amosii_sensors import sensed, sensor_layout
+from neurowalk.body.common import place_at_start
 from neurowalk.body.noise import ColoredNoise
 from neurowalk.body.obstacle_slots import padded_world
 from neurowalk.observation import Observation
@@ -156,11 +155,11 @@ class AmosII:
         """Sensor readings now (copies, noisy)."""
         m, d = self.model, self.data
         n = self._noise.step()
-        dist = noisy_distances(read_us(m, d), self._us_range, n[0:2])
+        dist, foot = sensed(sensor_layout(m), d.sensordata, self._us_range, n)
         nj = len(self._qidx)
         return Observation(
             us_distance=dist,
-            foot_contact=np.clip(foot_contacts(m, d) + n[2 + nj :], 0.0, 1.0),
+            foot_contact=foot,
             joint_angles=d.qpos[self._qidx] + n[2 : 2 + nj],
             obstacle_height=obstacle_height(m, d) if self.scan_obstacles else 0.0,
             ground_height=ground_heights(m, d) if self.scan_obstacles else np.zeros(2),

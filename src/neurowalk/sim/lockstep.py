@@ -29,8 +29,7 @@ import numpy as np
 
 from neurowalk.arenas import ArenaSpec
 from neurowalk.body.amosii_params import STAND_KEY, BodyParams
-from neurowalk.body.amosii_sensors import joint_qpos_indices, sensor_layout
-from neurowalk.body.common import noisy_distances
+from neurowalk.body.amosii_sensors import joint_qpos_indices, sensed, sensor_layout
 from neurowalk.body.noise import ColoredNoise
 from neurowalk.body.registry import BODIES
 from neurowalk.controller import Controller
@@ -79,8 +78,7 @@ class LockstepWorlds(ABC):
         self.model, self.params, self.n_substeps = model, params, n_substeps
         self.controllers = BatchControllers(controllers, compiled=compiled)
         self.noises = list(noises)
-        lay = sensor_layout(model)
-        self.us_adr, self.touch_adr, self.force_full, self.us_max = lay.us, lay.touch, lay.force_full, lay.us_range
+        self.layout = lay = sensor_layout(model)
         self.us_range = params.us_range
         self.qidx = joint_qpos_indices(model)
         self.trunk = lay.trunk
@@ -131,12 +129,7 @@ class LockstepWorlds(ABC):
         noise = self.noise_now
         for i, source in enumerate(self.noises):
             noise[i] = source.step()
-        sd = self.sensordata
-        d = sd[:, self.us_adr]
-        raw = np.where((d < 0.0) | (d > self.us_max), np.inf, d)  # read_us
-        dist = noisy_distances(raw, self.us_range, noise[:, 0:2])
-        contact = np.minimum(sd[:, self.touch_adr] / self.force_full, 1.0)  # foot_contacts
-        foot = np.clip(contact + noise[:, 2 + len(self.qidx) :], 0.0, 1.0)
+        dist, foot = sensed(self.layout, self.sensordata, self.us_range, noise)  # AmosII.observe's sensor model
         self._sensed = (dist, foot)
         return dist, foot
 
