@@ -19,7 +19,9 @@ import argparse
 import dataclasses
 import functools
 import hashlib
+import importlib
 import json
+import pkgutil
 from pathlib import Path
 from typing import Any
 
@@ -721,7 +723,12 @@ def places(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
 
 @pytest.fixture
 def tripwires(places: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
-    """Replace the entry points of real work by functions that raise :class:`WorkStartedError`."""
+    """Replace the entry points of real work by functions that raise :class:`WorkStartedError`.
+
+    Every module of the package is imported first: a module imported for the first time while the wires are in
+    place would keep a wire for good (``from neurowalk.sim.episode import run_episode``), and later tests in the
+    same process would run into it.
+    """
     import neurowalk.bench
     import neurowalk.body.registry
     import neurowalk.experiments.baselines.comparison
@@ -732,6 +739,13 @@ def tripwires(places: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
     import neurowalk.runners.sweep
     import neurowalk.sim.episode
     from neurowalk.experiments import FIGURES, output
+
+    for info in pkgutil.walk_packages(neurowalk.__path__, "neurowalk."):
+        try:
+            importlib.import_module(info.name)
+        except ModuleNotFoundError as e:  # an optional extra that is not installed (e.g. mujoco_warp)
+            if e.name is None or e.name.startswith("neurowalk"):
+                raise
 
     def wire(what: str) -> Any:
         def tripped(*args: Any, **kwargs: Any) -> Any:
