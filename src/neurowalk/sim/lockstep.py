@@ -37,8 +37,8 @@ from neurowalk.observation import Observation
 from neurowalk.sim.batch_control import BatchControllers
 from neurowalk.sim.config import Episode, EpisodeConfig, progress_bar, seeds
 from neurowalk.sim.engine import Engine, EngineOptions
-from neurowalk.sim.recorder import finish_episode
-from neurowalk.sim.trajectory import Trajectory, poses_from_qpos, up_z_from_qpos
+from neurowalk.sim.recorder import derive_columns, finish_episode
+from neurowalk.sim.trajectory import Trajectory
 
 __all__ = ["LockstepEngine", "LockstepWorlds"]
 
@@ -155,18 +155,8 @@ class LockstepWorlds(ABC):
         with ``summary["completed"]`` false (none completed: the interrupt is raised).
         """
         steps, n = self.configs[0].steps, self.n
-        shapes = {
-            "t": (),
-            "inputs": (2,),
-            "outputs": (2,),
-            "b": (2,),
-            "q": (2,),
-            "targets": (self.model.nu,),
-            "us_distance": (2,),
-            "foot_contact": (6,),
-            "qpos": (self.model.nq,),
-        }
-        rec = {name: np.full((steps, n, *shape), np.nan) for name, shape in shapes.items()}
+        shapes = Trajectory.shapes(self.model.nq)
+        rec = {name: np.full((steps, n, *shapes[name]), np.nan) for name in Trajectory.RECORDED}
         bar = progress_bar(steps * n, progress, self.label())
         t0 = time.perf_counter()
         self.reset()
@@ -202,12 +192,12 @@ class LockstepWorlds(ABC):
                 bar.update(10 * n)
 
     def _episode(self, i: int, rec: dict[str, np.ndarray], wall: float) -> Episode:
-        cols = {name: np.ascontiguousarray(a[:, i]) for name, a in rec.items()}
-        q = cols["qpos"]
-        tr = Trajectory(
-            pose=poses_from_qpos(q), joint_angles=np.ascontiguousarray(q[:, self.qidx]), up_z=up_z_from_qpos(q), **cols
-        )
-        return finish_episode(self.configs[i], self.arenas[i], tr, len(q), wall, self.warnings(i))
+        done = len(rec["t"])
+        tr = Trajectory.empty(done, self.model.nq)
+        for name, a in rec.items():
+            getattr(tr, name)[:] = a[:, i]
+        derive_columns(tr, self.qidx - 7, 0, done)  # pose, joint angles and up_z, as the CPU loop's recorder does
+        return finish_episode(self.configs[i], self.arenas[i], tr, done, wall, self.warnings(i))
 
 
 class LockstepEngine(Engine):

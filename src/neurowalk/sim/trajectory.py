@@ -7,6 +7,7 @@ import zipfile
 from collections.abc import Iterator
 from dataclasses import dataclass, fields
 from pathlib import Path
+from typing import ClassVar
 
 import numpy as np
 from numpy.lib import format as npformat
@@ -47,8 +48,13 @@ class Trajectory:
     @classmethod
     def empty(cls, steps: int, nq: int) -> Trajectory:
         """Preallocated arrays for ``steps`` rows."""
+        return cls(**{k: np.full((steps, *s), np.nan) for k, s in cls.shapes(nq).items()})
+
+    @staticmethod
+    def shapes(nq: int) -> dict[str, tuple[int, ...]]:
+        """Each column's shape of one row (``nq``: the model's qpos size)."""
         n = anatomy.N_ACTUATORS
-        shapes = {
+        return {
             "t": (),
             "pose": (3,),
             "inputs": (2,),
@@ -62,7 +68,12 @@ class Trajectory:
             "up_z": (),
             "qpos": (nq,),
         }
-        return cls(**{k: np.full((steps, *s), np.nan) for k, s in shapes.items()})
+
+    #: The columns a control loop writes (``t`` last: a row with a time is complete); the others (pose, joint
+    #: angles, up_z) are derived from qpos (:func:`~neurowalk.sim.recorder.derive_columns`).
+    RECORDED: ClassVar[tuple[str, ...]] = (
+        "inputs", "outputs", "b", "q", "targets", "us_distance", "foot_contact", "qpos", "t"
+    )  # fmt: skip
 
     def __len__(self) -> int:
         return len(self.t)
