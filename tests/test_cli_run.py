@@ -199,20 +199,30 @@ def _rows(path):
 RUN300 = ["run", "--arena", "box", "--steps", "300", "--quiet"]
 
 
-def test_a_run_stopped_before_its_first_checkpoint_keeps_its_rows_once(tmp_path, monkeypatch, capsys):
+def _stopped(monkeypatch, capsys, out, step: int, sig: int, then: str):
+    """Run RUN300 into ``out``, stopped by ``sig`` at ``step``; the match of its stop line, whose end is ``then``
+    (a regex), after "kept the N completed steps in DIR (summary.json, trajectory.npz, run.png); "."""
     import re
-    import signal
 
-    out = tmp_path / "run"
-    _stop_at_step(monkeypatch, 50, signal.SIGTERM)
-    assert main([*RUN300, "--out", str(out)]) == 143
+    _stop_at_step(monkeypatch, step, sig)
+    assert main([*RUN300, "--out", str(out)]) == 128 + sig
     line = capsys.readouterr().err.strip()
     m = re.fullmatch(
         r"neurowalk: interrupted: kept the (\d+) completed steps in (\S+) \(summary.json, trajectory.npz, run.png\); "
-        r"no checkpoint yet: `--resume` starts it again from step 0 \(its settings kept in (\S+)\)",
+        + then,
         line,
     )
     assert m is not None, line
+    return m
+
+
+def test_a_run_stopped_before_its_first_checkpoint_keeps_its_rows_once(tmp_path, monkeypatch, capsys):
+    import signal
+
+    out = tmp_path / "run"
+    assert signal.SIGTERM + 128 == 143
+    then = r"no checkpoint yet: `--resume` starts it again from step 0 \(its settings kept in (\S+)\)"
+    m = _stopped(monkeypatch, capsys, out, 50, signal.SIGTERM, then)
     assert m.group(2) == str(out) and m.group(3) == str(out / "trajectory.parts" / "run.json")
     assert len(_rows(out / "trajectory.npz")["t"]) == int(m.group(1)) > 0
     assert [p.name for p in (out / "trajectory.parts").iterdir()] == ["run.json"]  # no second copy of the rows
@@ -228,7 +238,6 @@ def test_a_run_stopped_before_its_first_checkpoint_keeps_its_rows_once(tmp_path,
 def test_a_run_stopped_after_a_checkpoint_keeps_what_resume_needs_and_resumes_bit_for_bit(tmp_path, monkeypatch,
                                                                                           capsys):  # fmt: skip
     import functools
-    import re
     import signal
 
     from neurowalk.sim import episode
@@ -237,15 +246,9 @@ def test_a_run_stopped_after_a_checkpoint_keeps_what_resume_needs_and_resumes_bi
     monkeypatch.setattr(episode, "Streaming", functools.partial(episode.Streaming, chunk=100))
     assert main([*RUN300, "--out", str(whole)]) == 0
     out = tmp_path / "run"
-    _stop_at_step(monkeypatch, 250, signal.SIGINT)
-    assert main([*RUN300, "--out", str(out)]) == 130
-    line = capsys.readouterr().err.strip()
-    m = re.fullmatch(
-        r"neurowalk: interrupted: kept the (\d+) completed steps in (\S+) \(summary.json, trajectory.npz, run.png\); "
-        r"`--resume` goes on from step 200 \(its checkpoint and rows kept in (\S+)\)",
-        line,
-    )
-    assert m is not None, line
+    assert signal.SIGINT + 128 == 130
+    then = r"`--resume` goes on from step 200 \(its checkpoint and rows kept in (\S+)\)"
+    m = _stopped(monkeypatch, capsys, out, 250, signal.SIGINT, then)
     done, parts = int(m.group(1)), out / "trajectory.parts"
     assert 200 < done < 300 and m.group(3) == str(parts)
     assert len(_rows(out / "trajectory.npz")["t"]) == done
