@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import functools
 import hashlib
 import importlib
 import json
@@ -276,13 +275,16 @@ FIGURE_CASES = [
     fig("--body", "fig3", "--body", "surrogate"),
     fig("gallop", "fig3", "--gait", "gallop"),
     fig("''", "fig3", "--gait", ""),
-    fig("notjson", "fig3", "--params", P_NOT_JSON),
+    fig("notjson", "fig4", "--params", P_NOT_JSON),
+    fig("--params", "fig3", "--params", P_NOT_JSON),
+    fig("--backend", "fig2", "--backend", "ray"),
+    fig("--address", "fig3", "--address", "10.0.0.1:6379"),
     fig("--climb", "fig4", "--climb"),
     fig("bogus", "fig4", "--variant", "bogus"),
     fig("--variant", "fig4", "--variant", ""),
     fig("no-such-params", "fig4", "--params", P_MISSING),
     fig("x", "fig5", "--seeds", "x"),
-    fig("binary", "fig5", "--params", P_BINARY),
+    fig("binary", "fig8", "--params", P_BINARY),
     fig("wheels", "fig6", "--body", "wheels"),
     fig("size", "fig6", "--arena-opt", "size=0"),
     fig("size", "fig6", "--arena-opt", "size=nan"),
@@ -518,6 +520,49 @@ REPRODUCE_CASES = [
     case("summary.json", "reproduce", "--quick", "--only", "fig2", "--out", f"{GOOD}/summary.json/rep"),
 ]
 
+STUDY = _file(
+    "tiny_study.py",
+    "from neurowalk import EpisodeConfig, Study\n"
+    "def runs(s):\n"
+    "    for seed in range(s.n(2)):\n"
+    "        yield 'plastic', EpisodeConfig(body='surrogate', steps=20, seed=s.seed + seed)\n"
+    "study = Study('tiny', 'a tiny study', plot=print, runs=runs, measure=lambda s, r: {'n': len(r)})\n",
+)
+NO_STUDY = _file("no_study.py", "x = 1\n")
+
+
+def study(word: str, file: str, *args: str) -> Any:
+    """A bad `neurowalk study FILE` whose --out is the good folder (unless the case gives its own)."""
+    out = () if "--out" in args else ("--out", GOOD)
+    return case(word, "study", file, *args, *out)
+
+
+#: Every setting a study of runs does not take by default, with a value: refused in one line naming the flag.
+_REFUSED = {
+    "--body": "surrogate",
+    "--climb": None,
+    "--variant": "paper",
+    "--params": P_NOT_JSON,
+    "--gait": "wave",
+    "--video": None,
+    "--arena-opt": "size=1",
+    "--engine": "warp",
+    "--device": "cpu",
+    "--control-hz": "20",
+}
+STUDY_CASES = [
+    study("no study file", f"{FILES_DIR}/none.py"),
+    study("defines 0 studies", NO_STUDY),
+    study("--seeds", STUDY, "--seeds", "0"),
+    study("--seed", STUDY, "--seed", "-1"),
+    study("--quick", STUDY, "--quick=yes"),
+    study("--workers", STUDY, "--workers", "0"),
+    study("unknown backend", STUDY, "--backend", "spark"),
+    study("--address", STUDY, "--address"),
+    study("--out", STUDY, "--out", ""),
+    *(study(flag, STUDY, flag, *([v] if v else [])) for flag, v in _REFUSED.items()),
+]  # fmt: skip
+
 OTHER_CASES = [
     case("workers", "calibrate", "--workers", "0", "--out", f"{GOOD}/cal.json"),
     case("workers", "calibrate", "--workers", "-1", "--out", f"{GOOD}/cal.json"),
@@ -688,7 +733,7 @@ ENGINE_CASES = [
     spec("amosii", {"engine": "warp", "body": "wheeled"}),
 ]
 
-CASES = [*TOP_CASES, *RUN_CASES, *VIEW_CASES, *FIGURE_CASES, *SWEEP_CASES, *SPEC_CASES, *SPECS_FILE_CASES,
+CASES = [*TOP_CASES, *RUN_CASES, *VIEW_CASES, *FIGURE_CASES, *STUDY_CASES, *SWEEP_CASES, *SPEC_CASES, *SPECS_FILE_CASES,
          *REPRODUCE_CASES, *OTHER_CASES, *OPTIMIZE_CASES, *BASELINE_CASES, *ENGINE_CASES]  # fmt: skip
 
 
@@ -734,6 +779,7 @@ def tripwires(places: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
     import neurowalk.experiments.baselines.comparison
     import neurowalk.experiments.calibration.calibrate
     import neurowalk.experiments.optimize.search
+    import neurowalk.experiments.study
     import neurowalk.render
     import neurowalk.runners.store
     import neurowalk.runners.sweep
@@ -764,6 +810,7 @@ def tripwires(places: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
         (neurowalk.experiments.optimize.search, "new_state"),
         (neurowalk.experiments.optimize.search, "Runner"),
         (neurowalk.experiments.baselines.comparison, "run"),
+        (neurowalk.experiments.study, "compute"),
         (neurowalk.render, "view"),
         (output, "load"),
         (output, "save_data"),
@@ -771,8 +818,7 @@ def tripwires(places: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
         monkeypatch.setattr(module, name, wire(f"{module.__name__}.{name}"))
     monkeypatch.setattr(neurowalk.render, "has_display", lambda: True)  # view gets as far as it can
     for name, exp in FIGURES.items():
-        guarded = functools.wraps(exp.run)(wire(f"figure {name}"))  # keeps the signature the CLI inspects
-        monkeypatch.setitem(FIGURES, name, dataclasses.replace(exp, run=guarded))
+        monkeypatch.setitem(FIGURES, name, dataclasses.replace(exp, compute=wire(f"figure {name}")))
 
 
 def _resolve(argv: list[str], places: dict[str, Path]) -> list[str]:

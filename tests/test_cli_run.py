@@ -124,10 +124,10 @@ def test_ctrl_c_in_a_figure_says_what_it_kept(monkeypatch, tmp_path, capsys):
 
     from neurowalk.experiments import FIGURES
 
-    def stop(**kwargs):
+    def stop(settings):
         raise KeyboardInterrupt
 
-    monkeypatch.setitem(FIGURES, "fig2", dataclasses.replace(FIGURES["fig2"], run=stop))
+    monkeypatch.setitem(FIGURES, "fig2", dataclasses.replace(FIGURES["fig2"], compute=stop))
     assert main(["figure", "fig2", "--out", str(tmp_path)]) == 130
     err = capsys.readouterr().err
     assert err.strip() == "neurowalk: fig2 interrupted; this figure keeps no runs (a few short ones): run it again"

@@ -44,6 +44,10 @@ _LAZY = {
     "engine_for": "neurowalk.sim.engines",
     "run_many": "neurowalk.runners.local",
     "plot_run": "neurowalk.plotting",
+    "Study": "neurowalk.experiments.study",
+    "Settings": "neurowalk.experiments.study",
+    "run_study": "neurowalk.experiments.study",
+    "RunSummary": "neurowalk.sim.run_summary",
     "make_arena": "neurowalk.arenas",
     "ARENAS": "neurowalk.arenas",
     "make_body": "neurowalk.body.registry",
@@ -73,6 +77,11 @@ __all__ = [  # noqa: RUF022 (grouped by what they are)
     "run_episode",
     "run_many",
     "plot_run",
+    # experiments of many runs
+    "Study",
+    "Settings",
+    "run_study",
+    "RunSummary",
     # worlds, robots, engines
     "make_arena",
     "ARENAS",

@@ -7,7 +7,6 @@ the same code path as the full figure, in seconds.
 
 from __future__ import annotations
 
-import inspect
 import json
 import os
 import re
@@ -126,7 +125,9 @@ def test_an_interrupted_fig3_keeps_its_runs_and_the_rerun_gives_the_uninterrupte
 ])  # fmt: skip
 def test_the_line_of_an_interrupted_figure_is_what_its_folder_holds(name, store_rows, says, tmp_path, monkeypatch,
                                                                     capsys):  # fmt: skip
-    from neurowalk.experiments import FIGURES, Experiment
+    import dataclasses
+
+    from neurowalk.experiments import FIGURES
     from neurowalk.runners.store import ResultStore
 
     if store_rows:
@@ -134,14 +135,11 @@ def test_the_line_of_an_interrupted_figure_is_what_its_folder_holds(name, store_
             for i in range(store_rows):
                 store.put(f"k{i}", {"seed": i}, result={"x": i})
             store.put("failed", {"seed": 99}, error="ValueError: no")  # not a finished run
-    exp = FIGURES[name]
-    run = exp.run
 
-    def stopped(**kwargs):  # stopped at once
+    def stopped(settings):  # stopped at once
         raise KeyboardInterrupt
 
-    stopped.__signature__ = inspect.signature(run)  # type: ignore[attr-defined]  # the figure's own: the CLI reads it
-    monkeypatch.setitem(FIGURES, name, Experiment(name, exp.title, stopped, exp.plot))
+    monkeypatch.setitem(FIGURES, name, dataclasses.replace(FIGURES[name], compute=stopped))
     assert main(["figure", name, "--quick", "--out", str(tmp_path)]) == 130
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and says in err[0], err

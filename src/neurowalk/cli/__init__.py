@@ -19,6 +19,7 @@ from neurowalk.cli.figure import add_figure_parser, cmd_figure, figure_listing
 from neurowalk.cli.optimize import add_optimize_parser, cmd_optimize
 from neurowalk.cli.reproduce import add_reproduce_parser, cmd_reproduce
 from neurowalk.cli.run import add_run_parsers, cmd_run, cmd_view, signals_held
+from neurowalk.cli.study import add_study_parser, cmd_study
 from neurowalk.cli.sweep import add_sweep_parser, cmd_sweep
 from neurowalk.cli.tools import add_tool_parsers, cmd_arenas, cmd_bench, cmd_bodies, cmd_calibrate, cmd_export
 from neurowalk.fileio import write_error
@@ -30,6 +31,7 @@ _signals_held = signals_held  # its name here before the split, which the tests 
 
 _COMMANDS = {
     "figure": cmd_figure,
+    "study": cmd_study,
     "reproduce": cmd_reproduce,
     "run": cmd_run,
     "view": cmd_view,
@@ -44,12 +46,14 @@ _COMMANDS = {
 }
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The `neurowalk` command's parser: every command and option (nothing runs)."""
+def build_parser(named: str | None = None) -> argparse.ArgumentParser:
+    """The `neurowalk` command's parser: every command and option (nothing runs). ``named``: the figure or the study
+    file the command line names, whose settings alone the help of `figure` or `study` shows."""
     p = Parser(prog="neurowalk", description="Adaptive neural control of the hexapod AMOSII (Grinke et al. 2015).")
     p.add_argument("--version", action="version", version=f"neurowalk {__version__}")
     sub = p.add_subparsers(dest="command", required=True, parser_class=Parser)
-    add_figure_parser(sub)
+    add_figure_parser(sub, named)
+    add_study_parser(sub, named)
     add_reproduce_parser(sub)
     add_run_parsers(sub)  # run, view
     add_tool_parsers(sub)  # calibrate, bench, arenas, bodies, export-model
@@ -71,7 +75,8 @@ def parse(argv: list[str]) -> argparse.Namespace:
         name, eq, value = a.partition("=")
         if a.startswith("--") and eq and value == "--":
             raise UsageError(f"{name} expects a value, got '--'")
-    return build_parser().parse_args(argv)
+    named = next((a for a in argv[1:] if not a.startswith("-")), None) if argv[:1] in (["figure"], ["study"]) else None
+    return build_parser(named).parse_args(argv)
 
 
 def _kept(args: argparse.Namespace | None) -> str:

@@ -1,7 +1,9 @@
 """Paper figures and tables, and the studies behind them.
 
+* :mod:`.study`: :class:`Study` (an experiment: its runs, measure and picture), :class:`Settings` and
+  :func:`~neurowalk.experiments.study.run_study`.
 * :mod:`.figures`: one module per paper figure or table, ``run(*, quick, seed, ...) -> Result`` and
-  ``plot(result)``; :data:`FIGURES` below names them.
+  ``plot(result)``; :data:`FIGURES` below names them, as studies.
 * :mod:`.suites`: the run suites figures and studies share (dead ends, random environments, climbing, the
   real-robot runs).
 * :mod:`.optimize`, :mod:`.calibration`, :mod:`.baselines`: the studies of ``neurowalk optimize``, ``calibrate``
@@ -9,41 +11,29 @@
 * :mod:`.output` writes a figure's numbers and picture; :mod:`.stores` keeps a figure's runs; :mod:`.cma_record`
   keeps a CMA-ES search (optimize and the evolved baseline).
 
-:data:`FIGURES` maps a figure name to its :class:`Experiment`; the CLI, the tests and batch runs look them up
-there. It is a table written out below: a figure's module is imported when its ``run`` or ``plot`` is first used,
-so listing the figures imports none of them. A :class:`Result` holds a JSON-able summary (the numbers behind the
-picture) and named arrays, which :func:`~neurowalk.experiments.output.save` writes next to the PNG so that a
-figure can be redrawn without rerunning.
+:data:`FIGURES` maps a figure name to its :class:`~neurowalk.experiments.study.Study`; the CLI, the tests and
+batch runs look them up there. It is a table written out below, each figure with the settings it takes: a figure's
+module is imported when its ``run`` or ``plot`` is first used, so listing the figures imports none of them. A
+:class:`Result` holds a JSON-able summary (the numbers behind the picture) and named arrays, which
+:func:`~neurowalk.experiments.output.save` writes next to the PNG so that a figure can be redrawn without
+rerunning.
 """
 
 from __future__ import annotations
 
 import importlib
 from collections.abc import Callable
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from dataclasses import dataclass
+from typing import Any
 
-import numpy as np
+from neurowalk.experiments.study import Result, Settings, Study
 
-if TYPE_CHECKING:
-    from matplotlib.figure import Figure
-
-
-@dataclass
-class Result:
-    """Numbers behind a figure: ``summary`` goes to NAME.json, ``arrays`` to NAME.npz."""
-
-    name: str
-    summary: dict[str, Any]
-    arrays: dict[str, np.ndarray] = field(default_factory=dict)
+__all__ = ["FIGURES", "FunctionAt", "Result", "Settings", "Study"]
 
 
 @dataclass(frozen=True)
 class FunctionAt:
-    """Function ``name`` of module ``module`` (a dotted path), imported when it is first called or inspected.
-
-    ``inspect.signature`` and ``functools.wraps`` see the function itself (through ``__wrapped__``).
-    """
+    """Function ``name`` of module ``module`` (a dotted path), imported when it is first called."""
 
     module: str
     name: str
@@ -55,70 +45,123 @@ class FunctionAt:
     def __call__(self, *args: Any, **kwargs: Any) -> Any:
         return self.load()(*args, **kwargs)
 
-    @property
-    def __wrapped__(self) -> Callable[..., Any]:
-        return self.load()
+
+#: The settings a figure's ``run(**kwargs)`` takes as keywords of the same name, where given.
+_KEYWORDS = ("seeds", "body", "variant", "params", "gait", "size", "control_hz", "workers")
 
 
 @dataclass(frozen=True)
-class Experiment:
-    """A figure: how to compute it and how to draw it."""
+class FigureRun:
+    """A paper figure's ``run(*, quick, seed, ...)`` as its study's ``compute(settings)``: the settings given become
+    its keywords (``out`` where it keeps its runs)."""
 
-    name: str
-    title: str
-    run: Callable[..., Result]  # run(*, quick: bool, seed: int) -> Result
-    plot: Callable[[Result], Figure]
+    module: str
+    keeps_runs: bool
+
+    def __call__(self, s: Settings) -> Result:
+        kw: dict[str, Any] = {"quick": s.quick, "seed": s.seed}
+        kw.update({n: getattr(s, n) for n in _KEYWORDS if getattr(s, n) is not None})
+        kw.update({n: True for n in ("climbing", "video") if getattr(s, n)})
+        if s.engine != "mujoco" or s.device is not None:
+            kw.update(engine=s.engine, device=s.device)
+        if self.keeps_runs:
+            kw["out"] = s.out
+        return FunctionAt(self.module, "run")(**kw)
 
 
-def _figure(name: str, title: str, module: str) -> Experiment:
-    """Figure ``name``: ``run`` and ``plot`` of :mod:`neurowalk.experiments.figures`.``module``."""
+def _figure(name: str, title: str, module: str, takes: str = "", body: str | None = None) -> Study:
+    """Figure ``name``: ``run`` and ``plot`` of :mod:`neurowalk.experiments.figures`.``module``; ``takes``: the
+    optional settings its ``run`` takes (a space-separated list; ``out`` among them: it keeps its runs there)."""
     path = f"{__name__}.figures.{module}"
-    return Experiment(name, title, FunctionAt(path, "run"), FunctionAt(path, "plot"))
+    names = takes.split()
+    keeps = "out" in names
+    return Study(
+        name,
+        title,
+        plot=FunctionAt(path, "plot"),
+        compute=FigureRun(path, keeps),
+        takes=[n for n in names if n != "out"],
+        keeps_runs=keeps,
+        body=body,
+    )
 
 
-FIGURES: dict[str, Experiment] = {
+PHYSICS = "seeds climbing variant gait engine control_hz out"  # fig3 and fig5
+
+FIGURES: dict[str, Study] = {
     "table1": _figure(
-        "table1", "walking direction for each sign of the outputs O1, O2, and speed (paper Table 1)", "table1"
+        "table1",
+        "walking direction for each sign of the outputs O1, O2, and speed (paper Table 1)",
+        "table1",
+        "control_hz",
     ),
     "fig2": _figure("fig2", "fixed points and hysteresis of the sensory network", "fig2"),
-    "fig3": _figure("fig3", "static network: dead ends, hysteresis, cluttered and difficult arenas", "fig3"),
-    "fig4": _figure("fig4", "weight changes for constant and changing inputs", "fig4"),
-    "fig5": _figure("fig5", "plastic network: dead ends, weight dynamics, the difficult arena", "fig5"),
+    "fig3": _figure("fig3", "static network: dead ends, hysteresis, cluttered and difficult arenas", "fig3", PHYSICS),
+    "fig4": _figure("fig4", "weight changes for constant and changing inputs", "fig4", "variant params control_hz"),
+    "fig5": _figure("fig5", "plastic network: dead ends, weight dynamics, the difficult arena", "fig5", PHYSICS),
     "fig6": _figure(
-        "fig6", "sixteen random environments: trajectories, start and end, failures marked (paper Fig. 6)", "fig6"
+        "fig6",
+        "sixteen random environments: trajectories, start and end, failures marked (paper Fig. 6)",
+        "fig6",
+        "body workers size variant params control_hz out",
+        body="surrogate",
     ),
-    "fig7": _figure("fig7", "joint angles of all legs: forward, backward, turn right, turn left (physics)", "fig7"),
+    "fig7": _figure(
+        "fig7", "joint angles of all legs: forward, backward, turn right, turn left (physics)", "fig7", "control_hz"
+    ),
     "fig8": _figure(
         "fig8",
         "narrow passage: snapshots, paths and escapes of the plastic and static networks (paper Fig. 8)",
         "fig8",
+        "seeds workers video variant params control_hz out",
     ),
     "fig9": _figure(
         "fig9",
         "complex path: snapshots, paths and outcome map of the plastic and static networks (paper Fig. 9)",
         "fig9",
+        "seeds workers video variant params control_hz out",
     ),
     "fig10": _figure(
-        "fig10", "climbing track: climb a step, avoid a wall, climb a second step (paper Fig. 10)", "fig10"
+        "fig10",
+        "climbing track: climb a step, avoid a wall, climb a second step (paper Fig. 10)",
+        "fig10",
+        "seeds workers variant control_hz out",
     ),
     "table2": _figure(
-        "table2", "random environments: success and failure counts per network (paper Table 2)", "table2"
+        "table2",
+        "random environments: success and failure counts per network (paper Table 2)",
+        "table2",
+        "seeds body workers climbing size variant params engine control_hz out",
+        body="surrogate",
     ),
-    "escape-map": _figure("escape-map", "escape rate against trap size for all three networks", "escape_map"),
+    "escape-map": _figure(
+        "escape-map",
+        "escape rate against trap size for all three networks",
+        "escape_map",
+        "seeds climbing variant gait workers control_hz out",
+    ),
     "latched-spin": _figure(
         "latched-spin",
         "the plastic network's failure in Table 2: a latched spin in a pocket (surrogate)",
         "latched",
+        "variant params workers out",
     ),
     "steps": _figure(
-        "steps", "step-height sweep: highest step climbed, with and without backbone control and reflexes", "steps"
+        "steps",
+        "step-height sweep: highest step climbed, with and without backbone control and reflexes",
+        "steps",
+        "seeds workers control_hz out",
     ),
     "bodies": _figure(
         "bodies",
         "the networks on other robots: dead ends and Table 2 on AMOSII and a wheeled robot at two sizes",
         "bodies",
+        "seeds workers control_hz out",
     ),
     "surrogate": _figure(
-        "surrogate", "planar surrogate vs physics: held-out calibration and dead-end outcomes", "surrogate_check"
+        "surrogate",
+        "planar surrogate vs physics: held-out calibration and dead-end outcomes",
+        "surrogate_check",
+        "seeds out",
     ),
 }

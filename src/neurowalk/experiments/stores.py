@@ -29,19 +29,32 @@ def run_store(
     fn: Any = None,
     name: str = "results.sqlite",
     options: EngineOptions | None = None,
+    backend: str = "local",
+    address: str | None = None,
+    desc: str = "sweep",
 ) -> tuple[dict[str, dict[str, Any]], Any]:
     """Run ``specs`` through the resumable store ``folder/name``; return (results by spec key, report).
 
     ``fn``: what runs one spec (default :func:`~neurowalk.runners.specs.run_spec`; a module-level function).
     Each run is stored as it finishes: an interrupted figure (KeyboardInterrupt, raised here once the store is
     closed) keeps its finished runs, and the same call again runs only the others. ``options``: how the engines run
-    (e.g. MuJoCo Warp's device).
+    (e.g. MuJoCo Warp's device); ``backend``, ``address``: a process pool (``local``) or Ray (and the cluster to
+    join); ``desc``: the progress bar's label.
     """
     folder.mkdir(parents=True, exist_ok=True)
     with deferred():  # opened whole (its lock, its tables), or not at all
         store = ResultStore(folder / name)
     with store:
-        report = run_sweep(specs, store, workers=workers, options=options, **({"fn": fn} if fn is not None else {}))
+        report = run_sweep(
+            specs,
+            store,
+            workers=workers,
+            options=options,
+            backend=backend,
+            address=address,
+            desc=desc,
+            **({"fn": fn} if fn is not None else {}),
+        )
         results = store.results()
     if report.interrupted:
         raise KeyboardInterrupt

@@ -92,6 +92,7 @@ def run_sweep(
     fn: Callable[[Spec], Any] = run_spec,
     retries: int = 0,
     options: EngineOptions | None = None,
+    desc: str = "sweep",
 ) -> SweepReport:
     """Run every spec not yet done into ``store``; return the counts.
 
@@ -106,6 +107,7 @@ def run_sweep(
         retries: how many more times a run whose worker process died is run before it is stored as failed
             (default 0: stored at once as ``WorkerDiedError``).
         options: how the engines run (e.g. MuJoCo Warp's device).
+        desc: the progress bar's label.
 
     Raises:
         ValueError: bad spec, backend or worker count (before any run).
@@ -128,9 +130,7 @@ def run_sweep(
     try:
         if todo:
             results = _backend(backend, fn, [s for _, s in todo], workers, address, retries, options or EngineOptions())
-            bar = tqdm(
-                total=len(todo), unit="run", desc="sweep", disable=not progress, mininterval=0.5, file=sys.stderr
-            )
+            bar = tqdm(total=len(todo), unit="run", desc=desc, disable=not progress, mininterval=0.5, file=sys.stderr)
             for d in results:
                 key, spec = todo[d.index]
                 with deferred():  # a run is stored whole, or not at all

@@ -18,7 +18,6 @@ the figure SIGTERM, and it stops as on Ctrl-C.
 from __future__ import annotations
 
 import functools
-import inspect
 import json
 import os
 import platform
@@ -58,7 +57,7 @@ def runs_of(items: list[Item], quick: bool, workers: int | None) -> tuple[list[R
     of: dict[str, Run] = {}
     for item in items:
         args = item.args(quick)
-        if workers is not None and "workers" in inspect.signature(FIGURES[item.figure].run).parameters:
+        if workers is not None and "workers" in FIGURES[item.figure].takes:
             args = (*args, "--workers", str(workers))
         key = (item.figure, args)
         if key not in runs:

@@ -1,0 +1,234 @@
+"""The flags of a study's settings (``figure`` and ``study``), made from
+:class:`~neurowalk.experiments.study.Settings`, and the run of a study from the command line.
+
+A study declares the optional settings it takes (``Study.takes``); its ``--help`` shows those only, and a flag of
+another setting is refused in one line naming the ones it takes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from neurowalk.cli.common import (
+    UsageError,
+    check_engine,
+    control_hz_arg,
+    engine_args,
+    out_folder,
+    parse_arena_opts,
+    parse_variant,
+    variant_args,
+)
+
+if TYPE_CHECKING:
+    from neurowalk.experiments.study import Settings, Study
+
+#: Each optional setting's flags, as the messages name them.
+FLAGS = {
+    "seeds": "--seeds",
+    "body": "--body",
+    "climbing": "--climb",
+    "variant": "--variant",
+    "params": "--params",
+    "gait": "--gait",
+    "video": "--video",
+    "size": "--arena-opt size=M",
+    "engine": "--engine/--device",
+    "control_hz": "--control-hz",
+    "workers": "--workers",
+    "backend": "--backend/--address",
+}
+
+
+def _add(p: argparse.ArgumentParser, name: str) -> None:
+    """The flags of optional setting ``name``."""
+    if name == "seeds":
+        p.add_argument("--seeds", type=int, default=None, help="seeds (or environments) per condition")
+    elif name == "body":
+        p.add_argument("--body", default=None, help="{bodies} (default per study; see `neurowalk bodies`)")
+    elif name == "climbing":
+        p.add_argument("--climb", dest="climbing", action="store_true", help="leg reflexes and backbone control on")
+    elif name in ("variant", "params"):
+        both = argparse.ArgumentParser(add_help=False)
+        variant_args(both)
+        action = next(a for a in both._actions if a.dest == name)
+        p.add_argument(*action.option_strings, **_kwargs(action), help=action.help)
+    elif name == "gait":
+        p.add_argument("--gait", default=None, help="the locomotion network's gait: {gaits} (default wave)")
+    elif name == "video":
+        p.add_argument("--video", action="store_true", help="also write the example runs' videos")
+    elif name == "size":
+        help_ = "box side of the random environments, m (default 1, the authors')"
+        p.add_argument("--arena-opt", action="append", default=[], metavar="size=M", help=help_)
+    elif name == "engine":
+        engine_args(p)
+    elif name == "control_hz":
+        control_hz_arg(p, default=None)
+    elif name == "workers":
+        p.add_argument("--workers", type=int, default=None, help="processes (or Ray CPUs) of the runs (default 2)")
+    elif name == "backend":
+        p.add_argument("--backend", default="local", help="where the runs run: local (a process pool) | ray")
+        p.add_argument("--address", default=None, help="the Ray cluster to join (with --backend ray)")
+
+
+def add_settings_args(p: argparse.ArgumentParser, takes: tuple[str, ...] | None) -> None:
+    """``--out``, ``--quick``, ``--seed`` and every optional setting's flags; those of settings not in ``takes``
+    (where given) are accepted but hidden from the help, and refused by :func:`settings_of`."""
+    from neurowalk.experiments.study import OPTIONAL
+
+    p.add_argument("--out", type=Path, default=None, help="output folder (default: out/NAME)")
+    p.add_argument("--quick", action="store_true", help="shorter runs, coarser grids")
+    p.add_argument("--seed", type=int, default=0, help="seed of every random draw (default 0)")
+    for name in OPTIONAL:
+        if takes is None or name in takes:
+            _add(p, name)
+            continue
+        hidden = argparse.ArgumentParser(add_help=False)
+        _add(hidden, name)
+        for action in hidden._actions:  # the same flags, hidden: given anyway, they are refused in one line
+            p.add_argument(*action.option_strings, **_kwargs(action), help=argparse.SUPPRESS)
+
+
+def _kwargs(action: argparse.Action) -> dict[str, Any]:
+    """The keywords that make ``action`` again (but its help)."""
+    if isinstance(action, argparse._StoreTrueAction):
+        return {"dest": action.dest, "action": "store_true"}
+    if isinstance(action, argparse._AppendAction):
+        return {"dest": action.dest, "action": "append", "default": action.default, "metavar": action.metavar}
+    return {"dest": action.dest, "type": action.type, "default": action.default, "metavar": action.metavar}
+
+
+def settings_of(args: argparse.Namespace, study: Study, what: str) -> Settings:
+    """The settings of the command line, checked (UsageError: one line naming the value, or the flag ``study``
+    does not take and the ones it does; ``what`` names it, e.g. "figure fig3")."""
+    from neurowalk.experiments.study import Settings, resolve
+
+    given = _given(args)
+    refused = [FLAGS[n] for n in given if n not in study.takes]
+    if refused:
+        takes = ", ".join(FLAGS[n] for n in study.takes) or "none but --quick, --seed and --out"
+        raise UsageError(f"{what} takes no {', '.join(refused)}; it takes {takes}")
+    kw: dict[str, Any] = {n: getattr(args, n) for n in ("quick", "seed", "out")}
+    kw.update({n: getattr(args, n) for n in ("seeds", "climbing", "video", "control_hz", "workers") if n in given})
+    if "body" in given:
+        kw["body"] = _known("body", args.body, "neurowalk.sim.episode", "BODIES")
+    if "gait" in given:
+        kw["gait"] = _known("gait", args.gait, "neurowalk.neural.cpg", "GAITS")
+    if "variant" in given or "params" in given:
+        kw["variant"], kw["params"] = parse_variant(args)
+    if "engine" in given:
+        kw.update(engine=args.engine, device=args.device)
+    if "backend" in given:
+        kw.update(backend=args.backend, address=args.address)
+    if "size" in given:
+        kw["size"] = _size(args.arena_opt)
+    try:
+        settings = resolve(study, Settings(**kw))
+    except ValueError as e:
+        flag, _, rest = str(e).partition(" must ")
+        raise UsageError(f"--{flag.replace('_', '-')} must {rest}" if rest else str(e)) from None
+    if "engine" in given:  # the device resolved (a GPU, or Warp's CPU device, said in one line)
+        settings = settings.replace(device=check_engine(args).device)
+    return settings
+
+
+def _given(args: argparse.Namespace) -> list[str]:
+    """The optional settings whose flags the command line gives."""
+    out = [n for n in ("seeds", "body", "variant", "params", "gait", "control_hz", "workers", "address")
+           if getattr(args, n, None) is not None]  # fmt: skip
+    out += [n for n in ("climbing", "video") if getattr(args, n, False)]
+    out += ["size"] * bool(getattr(args, "arena_opt", None))
+    out += ["engine"] * (getattr(args, "engine", "mujoco") != "mujoco" or getattr(args, "device", None) is not None)
+    out += ["backend"] * (getattr(args, "backend", "local") != "local" or "address" in out)
+    return [n for n in dict.fromkeys(out) if n != "address"]
+
+
+def _known(what: str, name: str, module: str, table: str) -> str:
+    """``name`` if ``module.table`` holds it, else UsageError: "unknown WHAT 'NAME'; expected one of ..."."""
+    import importlib
+
+    names = tuple(getattr(importlib.import_module(module), table))
+    if name not in names:
+        raise UsageError(f"unknown {what} {name!r}; expected one of {', '.join(names)}")
+    return name
+
+
+def _size(items: list[str]) -> float:
+    """The box side of ``--arena-opt size=M`` (the only option a study takes), checked by the arena itself."""
+    from neurowalk.arenas import make_arena
+
+    opts = parse_arena_opts(items)
+    if set(opts) != {"size"}:
+        raise UsageError(f"--arena-opt takes size=M only, got {', '.join(items)}")
+    try:
+        size = float(opts["size"])
+        make_arena("random", size=size, n_boxes=0)  # the arena's own range check
+    except ValueError as e:
+        raise UsageError(f"--arena-opt size={opts['size']}: {e}") from None
+    return size
+
+
+def run_and_write(study: Study, settings: Settings, what: str) -> int:
+    """Compute ``study`` and write NAME.json (NAME.npz) and NAME.png into ``settings.out``, saying so in one line;
+    a stop (exit 130/143) says in one line what is kept. ``what`` names it in the messages ("figure fig3")."""
+    from neurowalk.experiments import output
+    from neurowalk.experiments.study import compute
+    from neurowalk.runners.stopping import deferred, interrupted, stop_status
+    from neurowalk.runners.store import StoreError
+    from neurowalk.sim.episode import RunInterruptedError
+
+    out = settings.out
+    assert out is not None
+    t0 = time.perf_counter()
+    existed = out.exists()
+    out_folder(out)
+    paths: dict[str, Path] = {}
+    try:
+        try:
+            result = compute(study, settings)
+        except StoreError as e:
+            raise UsageError(str(e)) from None
+        except ValueError as e:  # a study checks its settings before it runs (e.g. a surrogate at 27 Hz)
+            if not existed and not any(out.iterdir()):
+                out.rmdir()  # made for this command, still empty: leave nothing behind
+            raise UsageError(f"{what}: {e}") from None
+        with deferred():  # the numbers first, whole: a plot error (or a Ctrl-C while drawing) loses nothing
+            paths = output.save_data(result, out)
+        picture = study.plot(result)
+        with deferred():
+            paths = {"png": output.save_figure(result, picture, out), **paths}
+    except (KeyboardInterrupt, Exception) as e:  # RunInterruptedError: a run in this process, stopped part-way
+        if not (interrupted(e) or isinstance(e, RunInterruptedError)):
+            raise
+        files = ", ".join(str(p) for p in paths.values())
+        if "png" in paths:
+            line = f"neurowalk: {study.name} interrupted as it ended; it wrote {files}"
+        elif paths:
+            line = f"neurowalk: {study.name} interrupted while drawing: its numbers are in {files}; `--replot` draws it"
+        else:
+            line = interrupted_line(study.name, out, study.keeps_runs)
+        print(line, file=sys.stderr)
+        return stop_status()
+    print(f"{study.name}: wrote {', '.join(str(p) for p in paths.values())} in {time.perf_counter() - t0:.1f} s")
+    return 0
+
+
+def interrupted_line(name: str, out: Path, stores: bool) -> str:
+    """The line of a study interrupted while it ran: how many finished runs its result stores in ``out`` hold
+    (read from the files), or that it keeps none (``stores``: whether the study keeps its runs in ``out``)."""
+    if not stores:
+        return f"neurowalk: {name} interrupted; this figure keeps no runs (a few short ones): run it again"
+    from neurowalk.runners.store import count_finished
+
+    kept = {p.name: n for p in sorted(out.glob("*.sqlite")) if (n := count_finished(p))}
+    if not kept:
+        return f"neurowalk: {name} interrupted before any of its runs finished; nothing is kept"
+    where = ", ".join(f"{n} in {file}" for file, n in kept.items())
+    return (
+        f"neurowalk: {name} interrupted: {sum(kept.values())} finished runs are kept in {out} ({where}); run "
+        "the same command again to go on from them"
+    )

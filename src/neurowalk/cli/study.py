@@ -1,0 +1,58 @@
+"""The `study` command: run a study written in a user's Python file, with the settings it takes."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from neurowalk.cli.common import UsageError
+from neurowalk.cli.settings import add_settings_args, run_and_write, settings_of
+
+
+def study_of(path: Path) -> object:
+    """The study of file ``path`` (UsageError naming the file where it has none)."""
+    from neurowalk.experiments.study import load_study
+
+    try:
+        return load_study(path)
+    except ValueError as e:
+        raise UsageError(str(e)) from None
+
+
+def add_study_parser(sub: argparse._SubParsersAction, path: str | None = None) -> None:
+    """The `study` subcommand. ``path``: the study file the command line names, whose settings alone the help
+    shows (None: every setting)."""
+    s = sub.add_parser(
+        "study",
+        help="run your own study (a Python file defining `study = Study(...)`): writes DIR/NAME.png, .json",
+        description="Run the study a Python file defines (see the tutorial 'Your own experiment'). Its runs are kept "
+        "in DIR/results.sqlite as they finish: stopped, the same command goes on from them. The settings below "
+        "are those the study takes (`neurowalk study FILE.py --help` shows the file's own).",
+    )
+    s.add_argument("file", type=Path, help="the study's Python file")
+    takes = None
+    if path is not None and Path(path).suffix == ".py" and Path(path).is_file():
+        takes = study_of(Path(path)).takes  # type: ignore[attr-defined]
+    add_settings_args(s, takes)
+
+
+def cmd_study(args: argparse.Namespace) -> int:
+    """`neurowalk study FILE.py`: run the file's study, write DIR/NAME.png and its numbers (exit 130/143 when
+    stopped, keeping the finished runs)."""
+    from neurowalk.render import has_display, use_headless_gl
+    from neurowalk.runners.stopping import interrupted, stop_on_signals, stop_status
+
+    if not has_display():
+        use_headless_gl()
+    with stop_on_signals():
+        try:
+            study = study_of(args.file)
+            settings = settings_of(args, study, f"study {study.name!r}")  # type: ignore[attr-defined]
+        except (KeyboardInterrupt, Exception) as e:
+            if not interrupted(e):
+                raise
+            print(f"neurowalk: study {args.file} interrupted before it began; nothing was run", file=sys.stderr)
+            return stop_status()
+        out = args.out or Path("out") / study.name  # type: ignore[attr-defined]
+        return run_and_write(study, settings.replace(out=out), f"study {study.name}")  # type: ignore[attr-defined]

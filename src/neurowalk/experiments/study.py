@@ -1,0 +1,281 @@
+"""A study: an experiment declared in one place (its runs, its measure, its picture), run by :func:`run_study`.
+
+.. code-block:: text
+
+    Study.runs(settings) ─► (label, EpisodeConfig) ... ─► settings applied ─► result store (resume) ─► pool | Ray
+                                                                                       │ one summary per run
+    NAME.png ◄─ Study.plot ◄─ NAME.json, NAME.npz ◄─ Study.measure(settings, {label: [RunSummary]}) ◄┘
+
+Every paper figure is a study (:data:`neurowalk.experiments.FIGURES`), and so is a user's own
+(``neurowalk study FILE.py``). One frozen :class:`Settings` is shared by all; a study declares in ``takes`` which of
+its optional settings it honours, and the command line offers and accepts only those. A study whose work is not
+"runs, then a measure" (the network alone, a figure with its own loop) gives ``compute(settings) -> Result``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib.util
+import sys
+from collections.abc import Callable, Hashable, Iterable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from neurowalk.sim.config_values import FrozenDict
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+    from neurowalk.sim.config import EpisodeConfig
+    from neurowalk.sim.run_summary import RunSummary
+
+#: The optional settings, in the order the command line lists them (quick, seed and out every study takes).
+OPTIONAL = ("seeds", "body", "climbing", "variant", "params", "gait", "video", "size", "engine", "control_hz",
+            "workers", "backend")  # fmt: skip
+#: The settings a study of runs takes unless it says otherwise.
+RUNS_TAKE = ("seeds", "workers", "backend")
+MAX_SEEDS = 100_000  # the most environments or seeds a study takes (``seeds``)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Settings:
+    """How a study is run, the same for every study (the flags of ``neurowalk figure`` and ``neurowalk study``).
+
+    None means the study's own default. Attributes: quick: shorter runs, coarser grids. seed: the seed every run's
+    seed derives from. seeds: seeds (or environments) per condition. body, variant, params, gait, control_hz,
+    engine: set on every run (params: SensoryParams fields over the variant). climbing: leg reflexes and backbone
+    control on. video: write the example runs' videos. size: box side of random environments, m. device: engine
+    warp's device. workers: processes (or Ray CPUs); backend: ``local`` (a process pool) or ``ray``; address: the
+    Ray cluster to join. out: the output folder (default ``out/NAME``).
+    """
+
+    quick: bool = False
+    seed: int = 0
+    seeds: int | None = None
+    body: str | None = None
+    climbing: bool = False
+    variant: str | None = None
+    params: Mapping[str, float] | None = None
+    gait: str | None = None
+    video: bool = False
+    size: float | None = None
+    engine: str = "mujoco"
+    device: str | None = None
+    control_hz: float | None = None
+    workers: int | None = None
+    backend: str = "local"
+    address: str | None = None
+    out: Path | None = None
+
+    def __post_init__(self) -> None:
+        if self.params is not None:
+            object.__setattr__(self, "params", FrozenDict(self.params))
+        if not isinstance(self.seed, int) or not 0 <= self.seed < 2**63:
+            raise ValueError(f"seed must be from 0 to 2**63 - 1, got {self.seed!r}")
+        if self.seeds is not None and not 1 <= self.seeds <= MAX_SEEDS:
+            raise ValueError(f"seeds must be in [1, {MAX_SEEDS:,}], got {self.seeds:,}")
+        if self.control_hz is not None and not 0 < self.control_hz <= 1000:  # also NaN
+            raise ValueError(f"control_hz must be a number in (0, 1000] Hz, got {self.control_hz}")
+        if self.workers is not None and self.workers < 1:
+            raise ValueError(f"workers must be >= 1, got {self.workers}")
+        if self.backend not in ("local", "ray"):
+            raise ValueError(f"unknown backend {self.backend!r}; expected local or ray")
+
+    def given(self) -> list[str]:
+        """The optional settings set away from their defaults (device goes with engine, address with backend)."""
+        out = [n for n in OPTIONAL if getattr(self, n) != _DEFAULTS[n]]
+        out += ["engine"] * (self.device is not None) + ["backend"] * (self.address is not None)
+        return list(dict.fromkeys(out))
+
+    def n(self, full: int, quick: int = 1) -> int:
+        """Seeds per condition: ``seeds`` where given, else ``quick`` with ``quick``, else ``full``."""
+        return self.seeds if self.seeds is not None else quick if self.quick else full
+
+    def apply(self, cfg: EpisodeConfig) -> EpisodeConfig:
+        """``cfg`` with the run settings that are given (body, climbing, variant, params, gait, engine, rate)."""
+        changes: dict[str, Any] = {
+            "body": self.body,
+            "variant": self.variant,
+            "params": self.params,
+            "gait": self.gait,
+            "control_hz": self.control_hz,
+        }
+        changes = {k: v for k, v in changes.items() if v is not None}
+        if self.engine != _DEFAULTS["engine"]:
+            changes["engine"] = self.engine
+        if self.climbing:
+            changes.update(reflexes=True, backbone=True)
+        return cfg.replace(**changes) if changes else cfg
+
+    def replace(self, **changes: Any) -> Settings:
+        """A copy with ``changes``."""
+        return dataclasses.replace(self, **changes)
+
+
+@dataclass
+class Result:
+    """Numbers behind a figure: ``summary`` goes to NAME.json, ``arrays`` to NAME.npz."""
+
+    name: str
+    summary: dict[str, Any]
+    arrays: dict[str, np.ndarray] = field(default_factory=dict)
+
+
+_DEFAULTS = {f.name: f.default for f in dataclasses.fields(Settings)}
+
+Label = Hashable
+Runs = Callable[[Settings], Iterable[tuple[Label, "EpisodeConfig"]]]
+Measure = Callable[[Settings, Mapping[Label, list["RunSummary"]]], "Result | dict[str, Any]"]
+
+
+@dataclass(frozen=True)
+class Study:
+    """An experiment: what it runs, what it measures, what it draws.
+
+    Args:
+        name: its name (the files NAME.json, NAME.npz, NAME.png; the default folder ``out/NAME``).
+        title: one line saying what it shows.
+        plot: ``plot(result) -> Figure``: the picture of the measured result (not of the runs: a redraw needs no
+            run).
+        runs: ``runs(settings)`` yields ``(label, config)`` pairs: the runs, each labelled by its condition (a
+            string or a tuple); :meth:`Settings.apply` is applied to each config.
+        measure: ``measure(settings, {label: [RunSummary, ...]})`` -> :class:`Result` or a JSON-able dict (its
+            summary): the numbers the picture shows, from the runs' summaries (in the order ``runs`` gave them).
+        compute: instead of ``runs`` and ``measure``: ``compute(settings) -> Result``, for a study that runs its own
+            loop.
+        takes: the optional settings (:data:`OPTIONAL`) it honours; quick, seed and out it always takes.
+        keeps_runs: its runs are kept in result stores in its folder (a stopped study goes on from them).
+    """
+
+    name: str
+    title: str
+    plot: Callable[[Result], Figure]
+    runs: Runs | None = None
+    measure: Measure | None = None
+    compute: Callable[[Settings], Result] | None = None
+    takes: Iterable[str] = RUNS_TAKE
+    keeps_runs: bool = True
+    body: str | None = field(default=None, compare=False)  # the body its runs have unless --body says
+
+    def __post_init__(self) -> None:
+        unknown = set(self.takes) - set(OPTIONAL)
+        object.__setattr__(self, "takes", tuple(n for n in OPTIONAL if n in set(self.takes)))
+        if unknown:
+            raise ValueError(f"study {self.name!r}: unknown settings {sorted(unknown)}; settings: {OPTIONAL}")
+        if (self.compute is None) == (self.runs is None or self.measure is None):
+            raise ValueError(f"study {self.name!r} needs runs and measure, or compute (one of the two)")
+
+    def check(self, settings: Settings) -> None:
+        """ValueError naming the settings given that this study does not take, and those it does."""
+        refused = [n for n in settings.given() if n not in self.takes]
+        if refused:
+            takes = ", ".join(self.takes) or "none but quick, seed and out"
+            raise ValueError(f"study {self.name} takes no {', '.join(refused)}; it takes: {takes}")
+
+
+def compute(study: Study, settings: Settings) -> Result:
+    """The study's result (its runs run, or taken from its stores in ``settings.out``, and measured).
+
+    Raises ValueError on a setting the study does not take or a bad value (before any run), KeyboardInterrupt when
+    stopped (the finished runs are kept), RuntimeError where runs failed.
+    """
+    study.check(settings)
+    settings = resolve(study, settings)
+    if study.compute is not None:
+        return study.compute(settings)
+    from neurowalk.experiments.stores import run_store, store_folder
+    from neurowalk.sim.engine import EngineOptions
+    from neurowalk.sim.run_summary import RunSummary
+
+    labelled = [(label, settings.apply(cfg)) for label, cfg in study.runs(settings)]  # type: ignore[misc]
+    specs = [cfg.spec() for _, cfg in labelled]
+    with store_folder(settings.out) as folder:
+        results, _ = run_store(
+            specs,
+            folder,
+            settings.workers or 2,
+            options=EngineOptions(device=settings.device),
+            backend=settings.backend,
+            address=settings.address,
+            desc=study.name,
+        )
+    grouped: dict[Label, list[RunSummary]] = {}
+    for label, cfg in labelled:
+        grouped.setdefault(label, []).append(RunSummary.from_dict(results[cfg.key()]))
+    measured = study.measure(settings, grouped)  # type: ignore[misc]
+    return measured if isinstance(measured, Result) else Result(study.name, dict(measured))
+
+
+def resolve(study: Study, s: Settings) -> Settings:
+    """``s`` with the body its other settings need where the study takes a body (a legged one to climb, one the
+    engine runs, one that runs at the control rate) and ``s`` names none; ValueError where the body it names
+    cannot."""
+    if "body" not in study.takes:
+        return s
+    from neurowalk.body.registry import bodies_where
+    from neurowalk.sim.config import EpisodeConfig
+
+    body = s.body
+    if s.climbing:
+        climbers = bodies_where(lambda b: b.climbs)
+        if (body or climbers[0]) not in climbers:
+            raise ValueError(f"--climb needs --body {climbers[0]} (the {body!r} body has no legs)")
+        body = body or climbers[0]
+    if s.engine != _DEFAULTS["engine"]:
+        runs = bodies_where(lambda b: s.engine in b.engines)
+        if runs and (body or runs[0]) not in runs:
+            raise ValueError(f"--engine {s.engine} runs --body {runs[0]}, got --body {body!r}")
+        body = body or (runs[0] if runs else None)
+    if s.control_hz is not None:
+        try:  # a planar surrogate runs at its calibration's rate only
+            EpisodeConfig(body=body or study.body or "amosii", control_hz=s.control_hz)
+        except ValueError as e:
+            raise ValueError(f"--control-hz {s.control_hz:g}: {e} (add --body amosii)") from None
+    return s.replace(body=body)
+
+
+def run_study(study: Study, settings: Settings | None = None) -> tuple[Result, dict[str, Path]]:
+    """Run ``study`` with ``settings`` and write NAME.json (NAME.npz) and NAME.png into ``settings.out`` (default
+    ``out/NAME``); return the result and the files written.
+
+    Its runs are kept in ``out/results.sqlite`` as they finish: stopped (Ctrl-C, SIGTERM: KeyboardInterrupt), the
+    same call goes on from them and gives the same result, bit for bit.
+    """
+    from neurowalk.experiments import output
+    from neurowalk.runners.stopping import deferred
+
+    settings = settings or Settings()
+    if settings.out is None:
+        settings = settings.replace(out=Path("out") / study.name)
+    result = compute(study, settings)
+    with deferred():  # the numbers first, whole: a plot error loses nothing
+        paths = output.save_data(result, settings.out)  # type: ignore[arg-type]
+    picture = study.plot(result)
+    with deferred():
+        paths = {"png": output.save_figure(result, picture, settings.out), **paths}  # type: ignore[arg-type]
+    return result, paths
+
+
+def load_study(path: Path) -> Study:
+    """The :class:`Study` a Python file defines (its variable ``study``, or its only Study); ValueError naming the
+    file where it cannot be read or defines none. The file runs as a module (it is the user's own code)."""
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"no study file {str(path)!r}")
+    name = f"neurowalk_study_{path.stem.replace('-', '_')}"
+    spec = importlib.util.spec_from_file_location(name, path)
+    if spec is None or spec.loader is None:
+        raise ValueError(f"{path}: not a Python file")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module  # the module's dataclasses and pickles find it
+    spec.loader.exec_module(module)
+    found = [v for v in vars(module).values() if isinstance(v, Study)]
+    chosen = getattr(module, "study", None)
+    if isinstance(chosen, Study):
+        return chosen
+    if len(found) != 1:
+        raise ValueError(f"{path} defines {len(found)} studies; name the one to run `study`")
+    return found[0]

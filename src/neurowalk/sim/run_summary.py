@@ -1,0 +1,106 @@
+"""What a run gives, typed: :class:`RunSummary`, read by attribute, from a run's ``summary.json`` dict and back.
+
+The files on disk keep their format (a JSON object, ``sim/summary.py``); :meth:`RunSummary.from_dict` reads it,
+today's and older ones (a key added later is None where an older run lacks it), and keeps any key it does not know
+in :attr:`RunSummary.others`, so that :meth:`RunSummary.to_dict` gives the dict back.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from neurowalk.sim.config_values import FrozenDict, freeze
+
+
+@dataclass(frozen=True, kw_only=True)
+class RunSummary:
+    """One run's outcome (units in the names: m, s, deg; steps are control steps).
+
+    Attributes:
+        arena, controller, body, variant, gait: names; arena_opts, body_opts, params: the run's options.
+        steps, seed, control_hz, noise: as configured. escaped: left the arena's trap (None: the arena has none);
+        exit_step: the control step it left at (None: never). trapped: stuck over the last 300 s; ever_trapped:
+        stuck for 300 s at any time. coverage: share of the arena's cells visited, in [0, 1].
+        wedged_periods: count of periods held in a small region; longest_wedged_s; wedged: the periods (tuples of
+        frozen mappings: start, end, duration_s, cause, ...). final_pose: (x m, y m, yaw rad).
+        final_weights: b (2,), q (2,), c of the plastic network at the end (None: a fixed controller).
+        others: keys this class does not name (e.g. an engine's ``device``), kept as they came.
+    """
+
+    arena: str
+    controller: str
+    body: str
+    steps: int
+    seed: int
+    control_hz: float = 10.0
+    noise: float = 0.02
+    variant: str = "paper"
+    gait: str = "wave"
+    arena_opts: Mapping[str, Any] = field(default_factory=FrozenDict)
+    body_opts: Mapping[str, Any] = field(default_factory=FrozenDict)
+    params: Mapping[str, Any] | None = None
+    steer: tuple[float, ...] | None = None
+    start_weights: Mapping[str, float] | None = None
+    reflexes: bool = False
+    backbone: bool = False
+    final_z_m: float | None = None
+    max_z_m: float | None = None
+    exit_step: int | None = None
+    escaped: bool | None = None
+    trapped: bool = False
+    ever_trapped: bool = False
+    ever_held_up_1000s: bool | None = None
+    end_turn_share: float | None = None
+    end_blind_share: float | None = None
+    coverage: float | None = None
+    path_length_m: float = 0.0
+    forward_displacement_m: float = 0.0
+    net_displacement_m: float | None = None
+    heading_change_deg: float = 0.0
+    min_up_z: float | None = None
+    direction_switches: int = 0
+    turn_episodes: int = 0
+    max_turn_deg: float = 0.0
+    wedged_periods: int = 0
+    longest_wedged_s: float = 0.0
+    wedged_causes: Mapping[str, int] = field(default_factory=FrozenDict)
+    wedged: tuple[Mapping[str, Any], ...] = ()
+    final_pose: tuple[float, ...] = ()
+    final_weights: Mapping[str, Any] | None = None
+    simulation_warnings: Mapping[str, int] = field(default_factory=FrozenDict)
+    wall_time_s: float | None = None
+    real_time_factor: float | None = None
+    neurowalk_version: str | None = None
+    others: Mapping[str, Any] = field(default_factory=FrozenDict)
+
+    @classmethod
+    def from_dict(cls, d: Mapping[str, Any]) -> RunSummary:
+        """The summary of a run's dict (``summary.json``, a store's result); ValueError naming a missing key."""
+        names = {f.name for f in dataclasses.fields(cls)} - {"others"}
+        missing = [n for n in ("arena", "controller", "body", "steps", "seed") if n not in d]
+        if missing:
+            raise ValueError(f"not a run's summary: no {', '.join(missing)}")
+        known = {k: freeze(v) for k, v in d.items() if k in names}
+        return cls(**known, others=FrozenDict({k: freeze(v) for k, v in d.items() if k not in names}))
+
+    def to_dict(self) -> dict[str, Any]:
+        """The dict it was read from (JSON-able; the keys an older run lacked are None or their defaults)."""
+        d = {f.name: _thaw(getattr(self, f.name)) for f in dataclasses.fields(self) if f.name != "others"}
+        return {**d, **_thaw(self.others)}
+
+    @property
+    def exit_s(self) -> float | None:
+        """Seconds to leave the trap (None: never)."""
+        return None if self.exit_step is None else self.exit_step / self.control_hz
+
+
+def _thaw(v: Any) -> Any:
+    """``v`` with its frozen mappings as dicts and its tuples as lists (JSON's shapes)."""
+    if isinstance(v, Mapping):
+        return {k: _thaw(x) for k, x in v.items()}
+    if isinstance(v, tuple | list):
+        return [_thaw(x) for x in v]
+    return v

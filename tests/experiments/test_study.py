@@ -1,0 +1,153 @@
+"""Studies: the settings, the declaration, the runner (store, resume, files) and a study read from a user's file."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from neurowalk import EpisodeConfig, Settings, Study, run_study
+from neurowalk.experiments.study import OPTIONAL, compute, load_study
+from neurowalk.runners.store import ResultStore
+
+BASE = EpisodeConfig(arena="simple-deadlock", body="surrogate", steps=300)
+
+
+def _runs(s: Settings):
+    for controller in ("static", "plastic"):
+        for i in range(s.n(full=3, quick=2)):
+            yield controller, BASE.replace(controller=controller, seed=s.seed + i)
+
+
+def _measure(s: Settings, results):
+    return {name: [r.path_length_m for r in runs] for name, runs in results.items()}
+
+
+def _plot(result):
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots()
+    ax.plot(result.summary["plastic"])
+    return fig
+
+
+TINY = Study("tiny", "path lengths", plot=_plot, runs=_runs, measure=_measure)
+
+
+def test_settings_check_their_values_and_say_what_is_given():
+    for bad, word in (({"seed": -1}, "seed"), ({"seeds": 0}, "seeds"), ({"control_hz": float("nan")}, "control_hz"),
+                      ({"workers": 0}, "workers"), ({"backend": "spark"}, "backend")):  # fmt: skip
+        with pytest.raises(ValueError, match=word):
+            Settings(**bad)
+    assert Settings().given() == [] and Settings(quick=True, seed=3).given() == []
+    assert Settings(device="cpu", address="a:1", climbing=True).given() == ["climbing", "engine", "backend"]
+    assert Settings().n(10) == 10 and Settings(quick=True).n(10, 3) == 3 and Settings(seeds=7, quick=True).n(10) == 7
+    s = Settings(params={"mu_b": 0.01})
+    with pytest.raises(TypeError):
+        s.params["mu_b"] = 1.0  # type: ignore[index]
+    hash(s)
+
+
+def test_settings_apply_the_run_settings_given_and_nothing_else():
+    cfg = EpisodeConfig(arena="corner", body="amosii", steps=50)
+    assert Settings(quick=True, seeds=4, workers=3).apply(cfg) is cfg
+    done = Settings(control_hz=20.0, variant="original", climbing=True, gait="tripod").apply(cfg)
+    assert (done.control_hz, done.variant, done.reflexes, done.backbone, done.gait) == (20.0, "original", True, True,
+                                                                                      "tripod")  # fmt: skip
+    assert done.replace(control_hz=10.0, variant="paper", reflexes=False, backbone=False, gait="wave") == cfg
+
+
+def test_a_study_declares_what_it_takes_and_refuses_the_rest():
+    assert TINY.takes == ("seeds", "workers", "backend")
+    with pytest.raises(ValueError, match=r"takes no gait, video; it takes: seeds, workers, backend"):
+        TINY.check(Settings(video=True, gait="tripod"))
+    with pytest.raises(ValueError, match="unknown settings"):
+        Study("x", "x", plot=_plot, runs=_runs, measure=_measure, takes=("seeds", "colour"))
+    with pytest.raises(ValueError, match="runs and measure, or compute"):
+        Study("x", "x", plot=_plot, runs=_runs)
+    with pytest.raises(ValueError, match="runs and measure, or compute"):
+        Study("x", "x", plot=_plot, runs=_runs, measure=_measure, compute=lambda s: None)
+    assert set(OPTIONAL) >= {"seeds", "body", "control_hz", "workers", "backend"}
+
+
+def test_run_study_writes_its_files_and_resumes_from_its_store(tmp_path: Path):
+    s = Settings(quick=True, out=tmp_path, workers=1)
+    result, paths = run_study(TINY, s)
+    assert set(paths) == {"png", "json"} and all(p.is_file() for p in paths.values())
+    assert list(result.summary) == ["static", "plastic"] and all(len(v) == 2 for v in result.summary.values())
+    assert json.loads(paths["json"].read_text()) == result.summary
+    with ResultStore(tmp_path / "results.sqlite") as store:
+        first = {row["key"]: row["finished_at"] for row in store.rows()}
+    assert len(first) == 4
+    again = compute(TINY, s.replace(seeds=3))  # one more seed: only its two runs run
+    with ResultStore(tmp_path / "results.sqlite") as store:
+        rows = {row["key"]: row["finished_at"] for row in store.rows()}
+    assert len(rows) == 6 and all(rows[k] == t for k, t in first.items())
+    assert [v[:2] for v in again.summary.values()] == list(result.summary.values())
+
+
+def test_the_runs_get_the_settings_and_the_study_sees_typed_summaries(tmp_path: Path):
+    seen = {}
+
+    def measure(s, results):
+        seen.update(results)
+        return {"n": sum(len(v) for v in results.values())}
+
+    study = Study("t", "t", plot=_plot, runs=_runs, measure=measure, takes=("seeds", "control_hz", "workers"))
+    compute(study, Settings(quick=True, seeds=1, out=tmp_path, control_hz=10.0, workers=1))
+    (static,) = seen["static"]
+    assert static.controller == "static" and static.body == "surrogate" and static.steps == 300
+    assert isinstance(static.escaped, bool) and static.control_hz == 10.0
+
+
+def test_a_study_file_is_read_by_its_variable_or_its_only_study(tmp_path: Path):
+    text = (
+        "from neurowalk import EpisodeConfig, Study\n"
+        "def runs(s):\n    yield 'a', EpisodeConfig(body='surrogate', steps=20)\n"
+        "{name} = Study('f', 'f', plot=print, runs=runs, measure=lambda s, r: {{}})\n"
+    )
+    for name in ("study", "mine"):
+        (tmp_path / f"{name}.py").write_text(text.format(name=name))
+        assert load_study(tmp_path / f"{name}.py").name == "f"
+    (tmp_path / "two.py").write_text(text.format(name="a") + text.format(name="b").split("\n", 3)[-1])
+    with pytest.raises(ValueError, match="defines 2 studies"):
+        load_study(tmp_path / "two.py")
+    with pytest.raises(ValueError, match="no study file"):
+        load_study(tmp_path / "none.py")
+
+
+def test_the_help_of_a_study_and_of_a_figure_lists_exactly_the_settings_each_takes(tmp_path: Path, capsys):
+    from neurowalk.cli import main
+    from neurowalk.cli.settings import FLAGS
+    from neurowalk.experiments import FIGURES
+
+    every = {f for flags in FLAGS.values() for f in flags.split()[0].split("/")}
+    (tmp_path / "s.py").write_text(
+        "from neurowalk import Study\n"
+        "study = Study('s', 's', plot=print, compute=print, takes=('seeds', 'control_hz'))\n"
+    )
+    for argv, takes in ((["study", str(tmp_path / "s.py")], ("seeds", "control_hz")),
+                        *((["figure", name], exp.takes) for name, exp in FIGURES.items())):  # fmt: skip
+        with pytest.raises(SystemExit):
+            main([*argv, "--help"])
+        text = capsys.readouterr().out.split("figures:")[0] + " "
+        shown = {f for f in every if f"{f} " in text}
+        assert shown == {f for n in takes for f in FLAGS[n].split()[0].split("/")}, argv
+
+
+def test_a_run_summary_reads_a_summary_by_attribute_and_gives_it_back(tmp_path: Path):
+    from neurowalk import RunSummary, run_episode
+    from neurowalk.fileio import to_jsonable
+
+    d = json.loads(json.dumps(to_jsonable(run_episode(BASE.replace(controller="static")).summary)))
+    r = RunSummary.from_dict(d)
+    assert r.to_dict() == d and r.controller == "static" and r.escaped is d["escaped"]
+    assert r.exit_s == (None if d["exit_step"] is None else d["exit_step"] / 10.0)
+    assert hash(r.final_pose) is not None and isinstance(r.wedged, tuple)
+    older = {k: v for k, v in d.items() if k not in ("gait", "body_opts", "ever_held_up_1000s")}
+    assert RunSummary.from_dict(older).ever_held_up_1000s is None
+    with pytest.raises(ValueError, match="no steps"):
+        RunSummary.from_dict({k: v for k, v in d.items() if k != "steps"})
+    with pytest.raises(AttributeError):
+        r.escaped = True  # type: ignore[misc]
