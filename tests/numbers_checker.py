@@ -24,9 +24,9 @@ import re
 from pathlib import Path
 from urllib.parse import unquote
 
-#: The committed result files: `neurowalk reproduce`'s run, `neurowalk bench`'s, and the two studies' (`neurowalk
+#: The committed result files: `neurowalk reproduce`'s run, `neurowalk bench`'s, the two studies' (`neurowalk
 #: baseline`, `neurowalk optimize`).
-SOURCES = ("docs/results/", "docs/benchmarks/", "docs/baselines/", "docs/optimize/")
+SOURCES = ("docs/results/", "docs/benchmarks/", "docs/baselines/", "docs/optimize/", "docs/studies/")
 #: A number: digits with thousands commas and a decimal part; a comma after it (a year in "2014,") is not its own.
 NUMBER = re.compile(r"(?<![\w.])[-+−]?\d(?:[\d,]*\d)?(?:\.\d+)?")
 LINK = re.compile(r"\[([^\]]*)\]\(([^)\s]+)\)")

@@ -28,6 +28,7 @@ import pytest
 
 from neurowalk import cli
 from neurowalk.cli import main
+from neurowalk.experiments import FIGURES
 
 GOOD = "<good>"
 FILES_DIR = "<files>"
@@ -278,6 +279,7 @@ FIGURE_CASES = [
     fig("notjson", "fig4", "--params", P_NOT_JSON),
     fig("--params", "fig3", "--params", P_NOT_JSON),
     fig("--backend", "fig2", "--backend", "ray"),
+    *(fig("--seed", name, "--seed", "-7") for name in sorted(FIGURES)),  # every figure, a new one too
     fig("--address", "fig3", "--address", "10.0.0.1:6379"),
     fig("--climb", "fig4", "--climb"),
     fig("bogus", "fig4", "--variant", "bogus"),

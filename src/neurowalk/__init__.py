@@ -47,6 +47,7 @@ _LAZY = {
     "Study": "neurowalk.experiments.study",
     "Settings": "neurowalk.experiments.study",
     "run_study": "neurowalk.experiments.study",
+    "load_study": "neurowalk.experiments.study",
     "RunSummary": "neurowalk.sim.run_summary",
     "make_arena": "neurowalk.arenas",
     "ARENAS": "neurowalk.arenas",
@@ -81,6 +82,7 @@ __all__ = [  # noqa: RUF022 (grouped by what they are)
     "Study",
     "Settings",
     "run_study",
+    "load_study",
     "RunSummary",
     # worlds, robots, engines
     "make_arena",

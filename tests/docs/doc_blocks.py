@@ -8,7 +8,8 @@ otherwise, in an HTML comment (invisible on the site and on GitHub):
 - ``<!-- test: parse: WHY -->``: a block of commands too long for a test run (minutes to hours: the committed
   reproduction ran them); each ``neurowalk`` command in it is parsed by the command's own parser, so an option or
   a value that no longer exists fails;
-- ``<!-- test: skip: WHY -->``: not run, for the reason given (it installs from the network, it opens a window).
+- ``<!-- test: skip: WHY -->``: not run, for the reason given (it installs from the network, it opens a window);
+- ``<!-- test: file: NAME -->``: a file the reader saves as NAME (e.g. a study): written to the folder, not run.
 
 Blocks in other languages (``text``, ``mermaid``, ``bibtex``, ``json``) are output or pictures, not code.
 """
@@ -28,7 +29,7 @@ BIN = str(Path(sys.executable).parent)
 TIMEOUT_S = 300  # a block that takes longer belongs to `test: parse`
 #: Fences that hold code to run.
 RUN = ("bash", "python")
-KINDS = ("run", "slow", "parse", "skip")
+KINDS = ("run", "slow", "parse", "skip", "file")
 #: Pages made by code (the CLI reference, the gallery): their blocks are output, not code to copy.
 GENERATED = ("docs/cli.md", "docs/gallery.md")
 _FENCE = re.compile(r"^```(\w*)[^\n]*\n(.*?)^```\s*$", re.S | re.M)
@@ -70,7 +71,7 @@ def blocks(page: str) -> list[Block]:
         kind, why = (d.group(1), d.group(2) or "") if d else ("run", "")
         if kind not in KINDS:
             raise ValueError(f"{page}: unknown test kind {kind!r} (one of {', '.join(KINDS)})")
-        if kind in ("parse", "skip") and not why:
+        if kind in ("parse", "skip", "file") and not why:
             raise ValueError(f"{page}: `test: {kind}` needs a reason")
         line = text.count("\n", 0, m.start()) + 1
         found.append(Block(page, line, lang, m.group(2), kind, why))
@@ -100,6 +101,7 @@ def run_blocks(found: list[Block], folder: Path) -> list[str]:
     namespace: dict = {"__name__": "__main__"}
     skipped = []
     old = Path.cwd()
+    os.environ.update(_env())  # python blocks that start a command find this environment's `neurowalk`, as bash's do
     os.chdir(folder)
     try:
         for block in found:
@@ -107,6 +109,10 @@ def run_blocks(found: list[Block], folder: Path) -> list[str]:
                 skipped.append(f"{block.id}: {block.why}")
             elif block.kind == "parse":
                 _parse(block)
+            elif block.kind == "file":
+                if block.lang == "python":
+                    compile(block.code, block.id, "exec")  # a file that no longer parses fails here
+                Path(block.why).write_text(block.code, encoding="utf-8")
             elif block.lang == "python":
                 exec(compile(block.code, block.id, "exec"), namespace)
             else:

@@ -43,6 +43,7 @@ def add_figure_parser(sub: argparse._SubParsersAction, name: str | None = None) 
 
     f = sub.add_parser("figure", help="reproduce a paper figure: writes DIR/NAME.png and DIR/NAME.json")
     f.help_tail = lambda: "\nfigures:\n" + "".join(f"  {line}\n" for line in figure_listing().splitlines())
+    f.page_tail = "figures: `neurowalk figure list` lists them (and `neurowalk figure --help`)"  # the site's page
     f.add_argument("name", help="figure name (see `neurowalk figure list`)")
     f.add_argument("--replot", action="store_true", help="redraw from DIR/NAME.json and .npz without rerunning")
     add_settings_args(f, FIGURES[name].takes if name in FIGURES else None)

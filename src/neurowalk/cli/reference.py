@@ -66,7 +66,7 @@ def markdown(parser: argparse.ArgumentParser | None = None) -> str:
     lines.append("")
     for name, sub in _subcommands(parser).items():
         sub.format_help()  # fills in the registry names ({bodies}, ...) of the options' help
-        tail = sub.help_tail() if getattr(sub, "help_tail", None) else ""
+        tail = getattr(sub, "page_tail", None) or (sub.help_tail() if getattr(sub, "help_tail", None) else "")
         usage = " ".join(sub.format_usage().split())
         lines.append(f"## {name}\n")
         lines.append(f"{helps.get(name, '')}\n")

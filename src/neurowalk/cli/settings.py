@@ -186,6 +186,12 @@ def run_and_write(study: Study, settings: Settings, what: str) -> int:
     t0 = time.perf_counter()
     existed = out.exists()
     out_folder(out)
+    if study.keeps_runs:
+        from neurowalk.runners.store import count_finished
+
+        kept = sum(count_finished(p) for p in sorted(out.glob("*.sqlite")))
+        if kept:
+            print(f"{study.name}: going on from the {kept} finished runs kept in {out}", file=sys.stderr)
     paths: dict[str, Path] = {}
     try:
         try:

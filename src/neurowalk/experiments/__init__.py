@@ -86,6 +86,14 @@ def _figure(name: str, title: str, module: str, takes: str = "", body: str | Non
     )
 
 
+def _study(name: str, title: str, module: str, takes: tuple[str, ...] = ("seeds", "workers", "backend")) -> Study:
+    """Study ``name`` declared by :mod:`neurowalk.experiments.figures`.``module``'s ``runs``, ``measure`` and
+    ``plot`` (as a user's study file declares them); ``takes``: the optional settings it honours."""
+    path = f"{__name__}.figures.{module}"
+    at = {part: FunctionAt(path, part) for part in ("runs", "measure", "plot")}
+    return Study(name, title, takes=takes, **at)  # type: ignore[arg-type]
+
+
 PHYSICS = "seeds climbing variant gait engine control_hz out"  # fig3 and fig5
 
 FIGURES: dict[str, Study] = {

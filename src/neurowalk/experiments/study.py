@@ -68,11 +68,13 @@ class Settings:
     workers: int | None = None
     backend: str = "local"
     address: str | None = None
-    out: Path | None = None
+    out: Path | str | None = None
 
     def __post_init__(self) -> None:
         if self.params is not None:
             object.__setattr__(self, "params", FrozenDict(self.params))
+        if self.out is not None:
+            object.__setattr__(self, "out", Path(self.out))
         if not isinstance(self.seed, int) or not 0 <= self.seed < 2**63:
             raise ValueError(f"seed must be from 0 to 2**63 - 1, got {self.seed!r}")
         if self.seeds is not None and not 1 <= self.seeds <= MAX_SEEDS:

@@ -29,7 +29,7 @@ def gallery(results: Path, page: Path) -> str:
     records = read_records(results, quick=False)
     rel = Path(os.path.relpath(results, page.parent))
     lines = [HEADER % (rel / "report.md").as_posix()]
-    order = list(dict.fromkeys([i.figure for i in PLAN if i.figure in FIGURES] + sorted(FIGURES)))  # the paper's
+    order = list(dict.fromkeys(i.figure for i in PLAN if i.figure in FIGURES))  # the paper's order
     for name in order:
         exp = FIGURES[name]
         lines += [f"## {name}", "", f"{exp.title[:1].upper()}{exp.title[1:]}.", ""]
