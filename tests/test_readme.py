@@ -80,7 +80,7 @@ def test_each_readme_command_writes_to_its_own_folder():
         if args.command == "figure":
             if args.name == "list" or args.replot:  # writes nothing, or redraws what the command before wrote
                 continue
-            out = out or Path("out") / (f"{args.name}-climb" if args.climb else args.name)  # the figure's default
+            out = out or Path("out") / (f"{args.name}-climb" if args.climbing else args.name)  # the figure's default
         if out is None or getattr(args, "resume", False):  # nothing written (view, lists), or goes on in place
             continue
         assert str(out) not in outs, f"{cmd!r} writes to {out}, as {outs[str(out)]!r} does"
