@@ -35,7 +35,13 @@ from neurowalk.experiments.suites.climbing import (
     track_spec,
     track_success,
 )
-from neurowalk.experiments.suites.timing import SIM_HZ, quick_note, quick_seconds, real_robot_entry, steps_for
+from neurowalk.experiments.suites.timing import (
+    SIM_HZ,
+    quick_note,
+    quick_seconds,
+    real_robot_entry,
+    seeds_and_steps,
+)
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting.style import FONT, LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, time_colorbar
 from neurowalk.render import render_frames
@@ -46,6 +52,8 @@ from neurowalk.sim.episode import run_episode
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
+
+    from neurowalk.sim.episode import Episode
 
 MOMENTS: tuple[str, ...] = ("start", "first climb", "wall avoidance", "second climb")
 MOMENT_COLOUR = "#D62728"  # the key moments' dashed lines and numbers
@@ -92,57 +100,23 @@ def run(
     run (Hz); runs last :data:`~neurowalk.experiments.suites.climbing.TRACK_S` s (with ``quick``, at most
     :data:`QUICK_MAX_STEPS` control steps), or ``steps`` control steps where given.
     """
-    n = seeds if seeds is not None else (3 if quick else 10)
-    if n < 1:
-        raise ValueError(f"seeds must be >= 1, got {n}")
     seconds = quick_seconds(TRACK_S, QUICK_MAX_STEPS, control_hz) if quick else TRACK_S
-    steps = steps if steps is not None else steps_for(seconds, control_hz)
-    if steps < 1:
-        raise ValueError(f"steps must be >= 1, got {steps}")
+    n, steps = seeds_and_steps(quick, seeds, steps, seconds, control_hz)
 
     def spec(h: float, s: int) -> dict:
         return track_spec(h, s, steps, variant=variant, control_hz=control_hz)
 
     step = TRACK_HEIGHTS[0]
-    ep = run_episode(EpisodeConfig.from_spec(spec(step, seed)), progress=True)
+    ep, moments, frames = _example(spec(step, seed))
     tr = ep.trajectory
-    z = tr.qpos[:, 2]
-    moments = key_moments(tr.targets[:, -1], tr.outputs)
-    rows = [moments[m] if moments[m] is not None else len(z) - 1 for m in MOMENTS]
-    model = AmosII(ep.arena).model
-    frames = render_frames(model, tr.qpos[rows], distance=1.4, elevation=-50.0, centred=True)
     heights = TRACK_HEIGHTS if control_hz == SIM_HZ else TRACK_HEIGHTS[:1]  # other rates: the real-robot comparison
     specs = [spec(h, seed + k) for h in heights for k in range(n)]
     folder = Path(out) if out is not None else Path("out/fig10")
     results, _ = run_store(specs, folder, workers, fn=run_track, name="track.sqlite")
-
-    def secs(k: int | None) -> float | None:
-        return None if k is None else k / control_hz
-
-    table = {}
-    for h in heights:
-        runs = [results[spec_key(spec(h, seed + k))] for k in range(n)]
-        ok = [track_success(r, h) for r in runs]
-        done = [r["exit_step"] for r in runs if r["exit_step"] is not None]
-        table[f"{h:.2f}"] = {
-            "seeds": n,
-            "success": int(sum(ok)),
-            "runs": [
-                {
-                    "seed": seed + k,
-                    "success": bool(o),
-                    "exit_step": r["exit_step"],
-                    "exit_time_s": secs(r["exit_step"]),
-                    "first_platform_step": r["first_platform_step"],
-                    "first_platform_time_s": secs(r["first_platform_step"]),
-                    "max_z_m": r["max_z_m"],
-                }
-                for k, (o, r) in enumerate(zip(ok, runs, strict=True))
-            ],
-            "median_exit_step": float(np.median(done)) if done else None,
-            "median_exit_time_s": float(np.median(done)) / control_hz if done else None,
-        }
-    first = table[f"{step:.2f}"]["runs"]
+    table = {
+        f"{h:.2f}": _height_row([results[spec_key(spec(h, seed + k))] for k in range(n)], h, seed, control_hz)
+        for h in heights
+    }
     summary = {
         "step_m": step,
         "seed": seed,
@@ -153,35 +127,19 @@ def run(
         "variant": variant,
         "rule": TRACK_RULE,
         "moments": moments,
-        "moments_s": {m: secs(k) for m, k in moments.items()},
+        "moments_s": {m: _seconds(k, control_hz) for m, k in moments.items()},
         "example": {
             **{k: ep.summary[k] for k in ("exit_step", "max_z_m", "final_z_m", "final_pose")},
             "first_platform_step": first_platform_step(tr.pose, step),
         },
         "table": table,
         "arena": ep.arena.options,
-        "real_robot": real_robot_entry(
-            {
-                "on the first platform": (
-                    PAPER_FIRST_S,
-                    "detected the platform as a climbable obstacle and climbed onto it (0:17-0:23 min)",
-                    [r["first_platform_time_s"] for r in first],
-                ),
-                "on the second platform": (
-                    PAPER_SECOND_S,
-                    "after avoiding the wall, climbed onto the second platform (1:14 min)",
-                    [r["exit_time_s"] for r in first],
-                ),
-            },
-            control_hz,
-            steps / control_hz,
-            f"the {n} seeds at step {step} m; on a platform: the trunk centre 0.3 m past its edge",
-        ),
+        "real_robot": _real_robot(table[f"{step:.2f}"]["runs"], n, step, steps, control_hz),
     }
     arrays = {
         "t": tr.t,
         "pose": tr.pose,
-        "z": z,
+        "z": tr.qpos[:, 2],
         "bj_command": tr.targets[:, -1],
         "bj_angle": tr.joint_angles[:, -1],
         "foot_contact": tr.foot_contact,
@@ -189,6 +147,68 @@ def run(
         "frames": frames,
     }
     return Result("fig10", summary, arrays)
+
+
+def _seconds(k: int | None, control_hz: float) -> float | None:
+    """Time (s) of control step ``k`` at ``control_hz`` Hz (None: it never happened)."""
+    return None if k is None else k / control_hz
+
+
+def _example(spec: dict) -> tuple[Episode, dict[str, int | None], np.ndarray]:
+    """The example run of ``spec`` in full, its :func:`key_moments` and their snapshots (4, H, W, 3; the last step
+    for a moment that never happened)."""
+    ep = run_episode(EpisodeConfig.from_spec(spec), progress=True)
+    tr = ep.trajectory
+    moments = key_moments(tr.targets[:, -1], tr.outputs)
+    rows = [moments[m] if moments[m] is not None else len(tr.qpos) - 1 for m in MOMENTS]
+    model = AmosII(ep.arena).model
+    return ep, moments, render_frames(model, tr.qpos[rows], distance=1.4, elevation=-50.0, centred=True)
+
+
+def _height_row(runs: list[dict], h: float, seed: int, control_hz: float) -> dict:
+    """The outcome table's row of step height ``h`` (m) from its seeds' stored ``runs`` (seeds ``seed``, ...):
+    successes, each run (steps and times in s) and the median time to the second platform."""
+    ok = [track_success(r, h) for r in runs]
+    done = [r["exit_step"] for r in runs if r["exit_step"] is not None]
+    return {
+        "seeds": len(runs),
+        "success": int(sum(ok)),
+        "runs": [
+            {
+                "seed": seed + k,
+                "success": bool(o),
+                "exit_step": r["exit_step"],
+                "exit_time_s": _seconds(r["exit_step"], control_hz),
+                "first_platform_step": r["first_platform_step"],
+                "first_platform_time_s": _seconds(r["first_platform_step"], control_hz),
+                "max_z_m": r["max_z_m"],
+            }
+            for k, (o, r) in enumerate(zip(ok, runs, strict=True))
+        ],
+        "median_exit_step": float(np.median(done)) if done else None,
+        "median_exit_time_s": float(np.median(done)) / control_hz if done else None,
+    }
+
+
+def _real_robot(first: list[dict], n: int, step: float, steps: int, control_hz: float) -> dict:
+    """The paper's platform times beside those of the ``n`` seeds at step ``step`` m (their table rows ``first``)."""
+    return real_robot_entry(
+        {
+            "on the first platform": (
+                PAPER_FIRST_S,
+                "detected the platform as a climbable obstacle and climbed onto it (0:17-0:23 min)",
+                [r["first_platform_time_s"] for r in first],
+            ),
+            "on the second platform": (
+                PAPER_SECOND_S,
+                "after avoiding the wall, climbed onto the second platform (1:14 min)",
+                [r["exit_time_s"] for r in first],
+            ),
+        },
+        control_hz,
+        steps / control_hz,
+        f"the {n} seeds at step {step} m; on a platform: the trunk centre 0.3 m past its edge",
+    )
 
 
 def _draw_track(ax: Axes, arena_opts: dict, pose: np.ndarray, t: np.ndarray) -> None:

@@ -15,14 +15,14 @@ B. Changing inputs, recorded in a simulated environment as in the paper: the ult
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from neurowalk.experiments import Result
 from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.neural.plasticity import fixed_point
-from neurowalk.neural.sensory import simulate
+from neurowalk.neural.sensory import SensoryParams, simulate
 from neurowalk.neural.variants import get_variant
 from neurowalk.plotting.style import FONT, LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, weight_style
 from neurowalk.sim.episode import EpisodeConfig, run_episode
@@ -79,6 +79,22 @@ def run(
     p = get_variant(variant, params).sensory
     b_star = fixed_point(p.mu_b, p.gamma_b, p.k)
     q_star = fixed_point(p.mu_q, p.gamma_q, p.k)
+    panel_a, arrays_a = _panel_a(p, b_star, q_star)
+    panel_b, arrays_b = _panel_b(p, quick=quick, seed=seed, variant=variant, params=params, control_hz=control_hz)
+    summary = {
+        "fixed_points": {"b": b_star, "q": q_star, "rule": "sqrt(mu/(gamma*(1-k)))"},
+        "panel_a": panel_a,
+        "panel_b": panel_b,
+        "params": vars(p),
+        "variant": variant,
+    }
+    return Result(NAME, summary, {**arrays_a, **arrays_b})
+
+
+def _panel_a(p: SensoryParams, b_star: float, q_star: float) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+    """Panel A: the network ``p`` under constant inputs I1 = 1, I2 = -1 for 5000 updates from each start; the
+    final weights and their error from the fixed points ``b_star``, ``q_star``; arrays ``a{i}_b``, ``a{i}_q``
+    (5000, 2) of start i."""
     steps_a = 5000
     const = np.tile([1.0, -1.0], (steps_a, 1))
     arrays: dict[str, np.ndarray] = {}
@@ -98,7 +114,22 @@ def run(
                 "q1_rel_error": abs(tr.q[-1, 0] - q_star) / q_star,
             }
         )
+    summary = {
+        "inputs": [1.0, -1.0],
+        "steps": steps_a,
+        "starts": converged,
+        "max_b1_rel_error": max(c["b1_rel_error"] for c in converged),
+        "max_q1_rel_error": max(c["q1_rel_error"] for c in converged),
+    }
+    return summary, arrays
 
+
+def _panel_b(
+    p: SensoryParams, *, quick: bool, seed: int, variant: str, params: dict[str, float] | None, control_hz: float
+) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+    """Panel B: the inputs of a physics run of AMOSII (seed ``seed``, ``control_hz`` Hz) replayed through the network
+    ``p`` from :data:`PAPER_START`; its reflex episodes and the weights' growth and decay per step; arrays
+    ``b_t`` (T,) s and ``b_inputs``, ``b_outputs``, ``b_b``, ``b_q`` (T, 2)."""
     steps_b = QUICK_B_STEPS if quick else PANEL_B_STEPS
     cfg = EpisodeConfig(
         arena=PANEL_B_ARENA,
@@ -116,40 +147,28 @@ def run(
     tr = simulate(inputs, b0=PAPER_START[0], q0=PAPER_START[1], params=p)
     replay_diff = float(max(np.abs(tr.b - rec.b).max(), np.abs(tr.q - rec.q).max()))
     episodes = reflex_episodes(inputs, rec.us_distance, rec.t, p.reflex_threshold)
-    arrays.update(b_t=rec.t, b_inputs=inputs, b_outputs=tr.outputs, b_b=tr.b, b_q=tr.q)
+    arrays = {"b_t": rec.t, "b_inputs": inputs, "b_outputs": tr.outputs, "b_b": tr.b, "b_q": tr.q}
     reflex = inputs > p.reflex_threshold
     db = np.diff(np.vstack([[PAPER_START[0]] * 2, tr.b]), axis=0)
     growth = float(np.mean(db[reflex][db[reflex] > 0])) if np.any(db[reflex] > 0) else 0.0
     decay = float(np.mean(-db[~reflex][db[~reflex] < 0])) if np.any(db[~reflex] < 0) else 0.0
     summary = {
-        "fixed_points": {"b": b_star, "q": q_star, "rule": "sqrt(mu/(gamma*(1-k)))"},
-        "panel_a": {
-            "inputs": [1.0, -1.0],
-            "steps": steps_a,
-            "starts": converged,
-            "max_b1_rel_error": max(c["b1_rel_error"] for c in converged),
-            "max_q1_rel_error": max(c["q1_rel_error"] for c in converged),
-        },
-        "panel_b": {
-            "source": "ultrasonic inputs recorded in a physics run, replayed offline through the plastic network",
-            "arena": PANEL_B_ARENA,
-            "body": cfg.body,
-            "controller": cfg.controller,
-            "steps": steps_b,
-            "seed": seed,
-            "control_hz": float(control_hz),
-            "duration_s": steps_b / control_hz,
-            "start": {"b": PAPER_START[0], "q": PAPER_START[1]},
-            "replay_max_abs_diff_from_run": replay_diff,
-            "episodes": episodes,
-            "mean_db_per_step_reflex_on": growth,
-            "mean_decay_per_step_reflex_off": decay,
-            "growth_to_decay_ratio": growth / decay if decay > 0 else None,
-        },
-        "params": vars(p),
-        "variant": variant,
+        "source": "ultrasonic inputs recorded in a physics run, replayed offline through the plastic network",
+        "arena": PANEL_B_ARENA,
+        "body": cfg.body,
+        "controller": cfg.controller,
+        "steps": steps_b,
+        "seed": seed,
+        "control_hz": float(control_hz),
+        "duration_s": steps_b / control_hz,
+        "start": {"b": PAPER_START[0], "q": PAPER_START[1]},
+        "replay_max_abs_diff_from_run": replay_diff,
+        "episodes": episodes,
+        "mean_db_per_step_reflex_on": growth,
+        "mean_decay_per_step_reflex_off": decay,
+        "growth_to_decay_ratio": growth / decay if decay > 0 else None,
     }
-    return Result(NAME, summary, arrays)
+    return summary, arrays
 
 
 def plot(res: Result) -> Figure:

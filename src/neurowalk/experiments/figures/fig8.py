@@ -19,24 +19,23 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-import numpy as np
-
 from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result
 from neurowalk.experiments.suites.real_robot import (
     N_SNAPSHOTS,
     NETWORKS,
+    arena_geometry,
     draw_paths,
     draw_strip,
     draw_traces,
     example_runs,
     make_spec,
+    network_arrays,
+    run_record,
     run_store_paths,
-    snapshot_rows,
-    snapshots,
     write_videos,
 )
-from neurowalk.experiments.suites.timing import SIM_HZ, real_robot_entry, steps_for
+from neurowalk.experiments.suites.timing import SIM_HZ, real_robot_entry, seeds_and_steps
 from neurowalk.plotting.style import letter, pyplot
 from neurowalk.runners.specs import spec_key
 
@@ -82,12 +81,7 @@ def run(
         variant, params: the sensory network's variant and parameter overrides (see ``EpisodeConfig``).
         control_hz: the control rate of every run (Hz).
     """
-    n = seeds if seeds is not None else (3 if quick else 10)
-    if n < 1:
-        raise ValueError(f"seeds must be >= 1, got {n}")
-    steps = steps if steps is not None else steps_for(QUICK_S if quick else RUN_S, control_hz)
-    if steps < 1:
-        raise ValueError(f"steps must be >= 1, got {steps}")
+    n, steps = seeds_and_steps(quick, seeds, steps, QUICK_S if quick else RUN_S, control_hz)
     folder = Path(out) if out is not None else Path("out") / NAME
 
     def spec(net: str, s: int) -> dict[str, Any]:
@@ -99,79 +93,66 @@ def run(
     counts, arrays = {}, {}
     for net in NETWORKS:
         runs = [results[spec_key(spec(net, seed + k))] for k in range(n)]
-        counts[net] = {
-            "seeds": n,
-            "escaped": sum(bool(r["escaped"]) for r in runs),
-            "runs": [
-                {
-                    "seed": seed + k,
-                    "escaped": bool(r["escaped"]),
-                    "exit_time_s": None if r["exit_step"] is None else r["exit_step"] / r["control_hz"],
-                    "trapped": r["trapped"],
-                    "direction_switches": r["direction_switches"],
-                    "final_pose": r["final_pose"],
-                    "final_weights": r["final_weights"],
-                }
-                for k, r in enumerate(runs)
-            ],
-        }
-        for k, r in enumerate(runs):
-            arrays[f"{net}/path/{k}"] = np.asarray(r["path"])
-        ex = examples[net]
-        rows = snapshot_rows(len(ex["t"]), ex["summary"]["exit_step"])
-        arrays[f"{net}/frames"] = snapshots(arena, ex["qpos"], rows)
-        arrays[f"{net}/snapshot_t"] = ex["t"][rows]
-        for key in ("t", "pose", "outputs", "b", "q"):
-            arrays[f"{net}/example/{key}"] = ex[key]
+        counts[net] = _counts(runs, seed)
+        arrays.update(network_arrays(net, runs, examples[net], arena, examples[net]["summary"]["exit_step"]))
+    keys = ("seed", "escaped", "exit_step", "trapped", "direction_switches", "final_weights")
     summary = {
-        "arena": ARENA,
-        "arena_opts": arena.options,
-        "geometry": _geometry(arena),
-        "seed": seed,
-        "seeds": n,
-        "steps": steps,
-        "control_hz": float(control_hz),
-        "duration_s": steps / control_hz,
-        "variant": variant,
-        "params": params,
-        "body": "amosii",
-        "networks": {"plastic": "plastic, weights start at 0", "static": "static (b = 2.4, c = -3.5)"},
-        "rule": RULE,
+        **run_record(
+            arena,
+            arena_geometry(arena),
+            seed=seed,
+            seeds=n,
+            steps=steps,
+            control_hz=control_hz,
+            variant=variant,
+            params=params,
+            rule=RULE,
+        ),
         "counts": counts,
         "escaped": {net: f"{counts[net]['escaped']}/{n}" for net in NETWORKS},
-        "example": {
-            net: {
-                k: examples[net]["summary"][k]
-                for k in ("seed", "escaped", "exit_step", "trapped", "direction_switches", "final_weights")
-            }
-            for net in NETWORKS
-        },
+        "example": {net: {k: examples[net]["summary"][k] for k in keys} for net in NETWORKS},
         "snapshots": N_SNAPSHOTS,
-        "real_robot": real_robot_entry(
-            {
-                "escaped": (
-                    PAPER_ESCAPE_S,
-                    "successfully escaped from the passage (0:50 min)",
-                    [r["exit_time_s"] for r in counts["plastic"]["runs"]],
-                )
-            },
-            control_hz,
-            steps / control_hz,
-            f"the plastic network's {n} seeds (the static network did not escape on the real robot)",
-        ),
+        "real_robot": _real_robot(counts, n, steps, control_hz),
     }
     if video:
         summary["videos"] = write_videos(NAME, arena, examples, folder)
     return Result(NAME, summary, arrays)
 
 
-def _geometry(arena: Any) -> dict[str, Any]:
-    """The arena's boxes (centre, yaw, sizes; m, rad), start pose and exit region, for the record."""
+def _real_robot(counts: dict[str, Any], n: int, steps: int, control_hz: float) -> dict[str, Any]:
+    """The paper's escape time beside the plastic network's ``n`` seeds'."""
+    return real_robot_entry(
+        {
+            "escaped": (
+                PAPER_ESCAPE_S,
+                "successfully escaped from the passage (0:50 min)",
+                [r["exit_time_s"] for r in counts["plastic"]["runs"]],
+            )
+        },
+        control_hz,
+        steps / control_hz,
+        f"the plastic network's {n} seeds (the static network did not escape on the real robot)",
+    )
+
+
+def _counts(runs: list[dict[str, Any]], seed: int) -> dict[str, Any]:
+    """A network's escapes over its seeds' stored runs (seeds ``seed``, ``seed + 1``, ...), and each run's outcome
+    (escape time in s)."""
     return {
-        "boxes": [[b.x, b.y, b.yaw, b.sx, b.sy, b.h] for b in arena.boxes],
-        "box_fields": "x y yaw sx sy h",
-        "start": list(arena.start),
-        "exit_region": list(arena.exit_region),
+        "seeds": len(runs),
+        "escaped": sum(bool(r["escaped"]) for r in runs),
+        "runs": [
+            {
+                "seed": seed + k,
+                "escaped": bool(r["escaped"]),
+                "exit_time_s": None if r["exit_step"] is None else r["exit_step"] / r["control_hz"],
+                "trapped": r["trapped"],
+                "direction_switches": r["direction_switches"],
+                "final_pose": r["final_pose"],
+                "final_weights": r["final_weights"],
+            }
+            for k, r in enumerate(runs)
+        ],
     }
 
 

@@ -32,18 +32,19 @@ from neurowalk.experiments.suites.real_robot import (
     N_SNAPSHOTS,
     NETWORKS,
     PATH_EVERY_S,
+    arena_geometry,
     draw_paths,
     draw_strip,
     draw_traces,
     example_runs,
     make_spec,
+    network_arrays,
     path_every,
+    run_record,
     run_store_paths,
-    snapshot_rows,
-    snapshots,
     write_videos,
 )
-from neurowalk.experiments.suites.timing import SIM_HZ, real_robot_entry, steps_for
+from neurowalk.experiments.suites.timing import SIM_HZ, real_robot_entry, seeds_and_steps
 from neurowalk.plotting.style import FONT, colorbar, letter, pyplot
 from neurowalk.runners.specs import spec_key
 
@@ -133,12 +134,7 @@ def run(
         variant, params: the sensory network's variant and parameter overrides (see ``EpisodeConfig``).
         control_hz: the control rate of every run (Hz).
     """
-    n = seeds if seeds is not None else (3 if quick else 10)
-    if n < 1:
-        raise ValueError(f"seeds must be >= 1, got {n}")
-    steps = steps if steps is not None else steps_for(QUICK_S if quick else PATH_S, control_hz)
-    if steps < 1:
-        raise ValueError(f"steps must be >= 1, got {steps}")
+    n, steps = seeds_and_steps(quick, seeds, steps, QUICK_S if quick else PATH_S, control_hz)
     folder = Path(out) if out is not None else Path("out") / NAME
     factors = FACTORS if not quick and control_hz == SIM_HZ else (1.0,)  # the map at the simulator's rate only
     cells = [(fw, fs) for fw in factors for fs in factors]
@@ -146,135 +142,154 @@ def run(
     def spec(net: str, s: int, cell: tuple[float, float] = (1.0, 1.0)) -> dict[str, Any]:
         return make_spec(ARENA, _cell(*cell), net, s, steps, variant=variant, params=params, control_hz=control_hz)
 
-    main = [spec(net, seed + k) for net in NETWORKS for k in range(n)]  # first: the default geometry
-    results = run_store_paths(
-        main + [spec(net, seed + k, c) for c in cells for net in NETWORKS for k in range(n)], folder, workers
-    )
+    # first the default geometry, then the map's cells
+    specs = [spec(net, seed + k, c) for c in [(1.0, 1.0), *cells] for net in NETWORKS for k in range(n)]
+    results = run_store_paths(specs, folder, workers)
     examples = example_runs({net: spec(net, seed) for net in NETWORKS}, workers)
+
+    def stored(net: str, cell: tuple[float, float] = (1.0, 1.0)) -> list[dict[str, Any]]:
+        return [results[spec_key(spec(net, seed + k, cell))] for k in range(n)]
+
     arena = make_arena(ARENA)
     every = path_every(control_hz)
-    counts, arrays, cell_counts = {}, {}, []
-
-    def path_time_s(row: int | None, r: dict[str, Any]) -> float | None:
-        """Time (s) of a row of a stored path (every ``every``-th control step, and the last)."""
-        return None if row is None else min(row * every, r["steps"] - 1) / r["control_hz"]
-
+    counts, arrays = {}, {}
     for net in NETWORKS:
-        runs = [results[spec_key(spec(net, seed + k))] for k in range(n)]
-        rows = []
-        for k, r in enumerate(runs):
-            label, i = outcome(np.asarray(r["path"]), arena)
-            rows.append(
-                {
-                    "seed": seed + k,
-                    "outcome": label,
-                    "got_out": label in (OUT_LEFT, OUT_END),
-                    "end_time_s": path_time_s(reached_end(np.asarray(r["path"]), arena), r),
-                    "out_time_s": path_time_s(i, r),
-                    "final_pose": r["final_pose"],
-                    "final_weights": r["final_weights"],
-                    "direction_switches": r["direction_switches"],
-                }
-            )
-            arrays[f"{net}/path/{k}"] = np.asarray(r["path"])
-        counts[net] = {
-            "seeds": n,
-            "got_out": sum(x["got_out"] for x in rows),
-            **{lab: sum(x["outcome"] == lab for x in rows) for lab in OUTCOMES},
-            "runs": rows,
-        }
-        ex = examples[net]
-        label, i = outcome(ex["pose"][:, :2], arena)
-        ex["outcome"], ex["out_step"] = label, i
-        snap = snapshot_rows(len(ex["t"]), i)
-        arrays[f"{net}/frames"] = snapshots(arena, ex["qpos"], snap, width=480, height=270)
-        arrays[f"{net}/snapshot_t"] = ex["t"][snap]
-        for key in ("t", "pose", "outputs", "b", "q"):
-            arrays[f"{net}/example/{key}"] = ex[key]
-    for fw, fs in cells:
-        c = make_arena(ARENA, **_cell(fw, fs))
-        entry: dict[str, Any] = {"width_factor": fw, "spacing_factor": fs, "arena_opts": c.options}
-        for net in NETWORKS:
-            labels = [
-                outcome(np.asarray(results[spec_key(spec(net, seed + k, (fw, fs)))]["path"]), c)[0] for k in range(n)
-            ]
-            entry[net] = {
-                "seeds": n,
-                "got_out": sum(lab in (OUT_LEFT, OUT_END) for lab in labels),
-                **{lab: labels.count(lab) for lab in OUTCOMES},
-            }
-        cell_counts.append(entry)
-    p_out, s_out = counts["plastic"]["got_out"], counts["static"]["got_out"]
+        counts[net], more = _network(net, stored(net), examples[net], seed, arena, every)
+        arrays.update(more)
     summary = {
-        "arena": ARENA,
-        "arena_opts": arena.options,
-        "geometry": _geometry(arena),
-        "seed": seed,
-        "seeds": n,
-        "steps": steps,
-        "control_hz": float(control_hz),
-        "duration_s": steps / control_hz,
-        "path_every_steps": every,
-        "variant": variant,
-        "params": params,
-        "body": "amosii",
-        "networks": {"plastic": "plastic, weights start at 0", "static": "static (b = 2.4, c = -3.5)"},
-        "rule": RULE,
+        **run_record(
+            arena,
+            _geometry(arena),
+            seed=seed,
+            seeds=n,
+            steps=steps,
+            control_hz=control_hz,
+            variant=variant,
+            params=params,
+            rule=RULE,
+            path_every_steps=every,
+        ),
         "outcomes": list(OUTCOMES),
         "counts": counts,
         "sweep_factors": list(factors),
-        "map": cell_counts,
-        "paper_contrast": {
-            "paper": "plastic went out of the path, static got stuck in it",
-            "plastic_got_out": f"{p_out}/{n}",
-            "static_got_out": f"{s_out}/{n}",
-            "criterion": "plastic out in >= 80% of the seeds and static in <= 30%",
-            "seen": bool(p_out >= 0.8 * n and s_out <= 0.3 * n),
-        },
-        "example": {
-            net: {
-                "seed": seed,
-                "outcome": examples[net]["outcome"],
-                "out_time_s": None
-                if examples[net]["out_step"] is None
-                else float(examples[net]["t"][examples[net]["out_step"]]),
-                "final_weights": examples[net]["summary"]["final_weights"],
-            }
-            for net in NETWORKS
-        },
+        "map": [_map_cell(c, {net: stored(net, c) for net in NETWORKS}) for c in cells],
+        "paper_contrast": _paper_contrast(counts, n),
+        "example": {net: _example(examples[net], seed) for net in NETWORKS},
         "snapshots": N_SNAPSHOTS,
-        "real_robot": real_robot_entry(
-            {
-                "reached the end": (
-                    PAPER_END_S,
-                    "walked toward the end of the path (0:47 min) and approached it (1:08 min)",
-                    [r["end_time_s"] for r in counts["plastic"]["runs"]],
-                ),
-                "out of the path": (
-                    PAPER_OUT_S,
-                    "finally went out of the path (3:20 min)",
-                    [r["out_time_s"] for r in counts["plastic"]["runs"]],
-                ),
-            },
-            control_hz,
-            steps / control_hz,
-            f"the plastic network's {n} seeds in the default geometry (the static network got stuck on the real "
-            f"robot); times from the path sampled every {PATH_EVERY_S:g} s",
-        ),
+        "real_robot": _real_robot(counts, n, steps, control_hz),
     }
     if video:
         summary["videos"] = write_videos(NAME, arena, examples, folder)
     return Result(NAME, summary, arrays)
 
 
+def _network(
+    net: str, runs: list[dict[str, Any]], example: dict[str, Any], seed: int, arena: ArenaSpec, every: int
+) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+    """A network's counts over its seeds' ``runs`` in the default geometry (:func:`_tally` of :func:`_seed_rows`)
+    and its arrays (:func:`network_arrays`); marks its ``example`` run with its outcome and the step it got out."""
+    rows = _seed_rows(runs, seed, arena, every)
+    example["outcome"], example["out_step"] = outcome(example["pose"][:, :2], arena)
+    arrays = network_arrays(net, runs, example, arena, example["out_step"], width=480, height=270)
+    return {**_tally([x["outcome"] for x in rows]), "runs": rows}, arrays
+
+
+def _seed_rows(runs: list[dict[str, Any]], seed: int, arena: ArenaSpec, every: int) -> list[dict[str, Any]]:
+    """Each seed's stored run in the default geometry (seeds ``seed``, ``seed + 1``, ...): its outcome, the times
+    (s) it reached the end and got out (from its path, stored every ``every`` control steps), its final state."""
+
+    def path_time_s(row: int | None, r: dict[str, Any]) -> float | None:
+        """Time (s) of a row of a stored path (every ``every``-th control step, and the last)."""
+        return None if row is None else min(row * every, r["steps"] - 1) / r["control_hz"]
+
+    rows = []
+    for k, r in enumerate(runs):
+        xy = np.asarray(r["path"])
+        label, i = outcome(xy, arena)
+        rows.append(
+            {
+                "seed": seed + k,
+                "outcome": label,
+                "got_out": label in (OUT_LEFT, OUT_END),
+                "end_time_s": path_time_s(reached_end(xy, arena), r),
+                "out_time_s": path_time_s(i, r),
+                "final_pose": r["final_pose"],
+                "final_weights": r["final_weights"],
+                "direction_switches": r["direction_switches"],
+            }
+        )
+    return rows
+
+
+def _tally(labels: list[str]) -> dict[str, int]:
+    """Counts of outcome ``labels`` (one per seed): seeds, got out, and each of :data:`OUTCOMES`."""
+    return {
+        "seeds": len(labels),
+        "got_out": sum(lab in (OUT_LEFT, OUT_END) for lab in labels),
+        **{lab: labels.count(lab) for lab in OUTCOMES},
+    }
+
+
+def _map_cell(cell: tuple[float, float], runs: dict[str, list[dict[str, Any]]]) -> dict[str, Any]:
+    """One cell of the outcome map: the geometry (width and spacing factors) and each network's :func:`_tally` over
+    its seeds' stored ``runs`` in it ({network: [run with its path, per seed]})."""
+    fw, fs = cell
+    arena = make_arena(ARENA, **_cell(fw, fs))
+    entry: dict[str, Any] = {"width_factor": fw, "spacing_factor": fs, "arena_opts": arena.options}
+    for net, seeds in runs.items():
+        entry[net] = _tally([outcome(np.asarray(r["path"]), arena)[0] for r in seeds])
+    return entry
+
+
+def _paper_contrast(counts: dict[str, Any], n: int) -> dict[str, Any]:
+    """Did the plastic network get out where the static one got stuck, as in the paper (``n`` seeds each)?"""
+    p_out, s_out = counts["plastic"]["got_out"], counts["static"]["got_out"]
+    return {
+        "paper": "plastic went out of the path, static got stuck in it",
+        "plastic_got_out": f"{p_out}/{n}",
+        "static_got_out": f"{s_out}/{n}",
+        "criterion": "plastic out in >= 80% of the seeds and static in <= 30%",
+        "seen": bool(p_out >= 0.8 * n and s_out <= 0.3 * n),
+    }
+
+
+def _example(ex: dict[str, Any], seed: int) -> dict[str, Any]:
+    """The example run's record: seed, outcome, the time (s) it got out (None: never), final weights."""
+    return {
+        "seed": seed,
+        "outcome": ex["outcome"],
+        "out_time_s": None if ex["out_step"] is None else float(ex["t"][ex["out_step"]]),
+        "final_weights": ex["summary"]["final_weights"],
+    }
+
+
+def _real_robot(counts: dict[str, Any], n: int, steps: int, control_hz: float) -> dict[str, Any]:
+    """The paper's times (end reached, out of the path) beside the plastic network's ``n`` seeds'."""
+    return real_robot_entry(
+        {
+            "reached the end": (
+                PAPER_END_S,
+                "walked toward the end of the path (0:47 min) and approached it (1:08 min)",
+                [r["end_time_s"] for r in counts["plastic"]["runs"]],
+            ),
+            "out of the path": (
+                PAPER_OUT_S,
+                "finally went out of the path (3:20 min)",
+                [r["out_time_s"] for r in counts["plastic"]["runs"]],
+            ),
+        },
+        control_hz,
+        steps / control_hz,
+        f"the plastic network's {n} seeds in the default geometry (the static network got stuck on the real "
+        f"robot); times from the path sampled every {PATH_EVERY_S:g} s",
+    )
+
+
 def _geometry(arena: ArenaSpec) -> dict[str, Any]:
     """Boxes (x, y, yaw, sx, sy, h; m, rad), start, exit region and the path's key lines (m)."""
     o = arena.options
     return {
-        "boxes": [[b.x, b.y, b.yaw, b.sx, b.sy, b.h] for b in arena.boxes],
-        "box_fields": "x y yaw sx sy h",
-        "start": list(arena.start),
-        "exit_region": list(arena.exit_region),
+        **arena_geometry(arena),
         "open_end_x": MOUTH,
         "end_wall_x": MOUTH + o["length"],
         "right_wall_face_y": -o["width"] / 2,

@@ -175,31 +175,14 @@ def run(
         engine=engine,
         control_hz=control_hz,
     )
-    envs, table, bodies, specs, surrogate = p["envs"], p["table"], p["bodies"], p["specs"], p["surrogate"]
     threshold = coverage_threshold(p["duration_s"])
     folder = Path(out) if out is not None else Path("out/table2")
     folder.mkdir(parents=True, exist_ok=True)
-    results, report = run_store(specs, folder, workers, options=EngineOptions(device=device))
-    keys = [spec_key(s) for s in specs]  # in the order of specs: body, environment, row
-    _reclassify(results, specs, keys, workers)
-    by_body = {b: keys[i * len(envs) * len(table) : (i + 1) * len(envs) * len(table)] for i, b in enumerate(bodies)}
-
-    def outcomes(b: str) -> list[dict[str, Any]]:
-        """Per environment, each row's outcome on body ``b``."""
-        k = iter(by_body[b])
-        return [{name: outcome(results[next(k)], threshold) for name in table} for _ in envs]
-
-    env_rows = [{**e, **o} for e, o in zip(envs, outcomes(body), strict=True)]
-    counts = {name: {**r, **row_counts(env_rows, name)} for name, r in table.items()}
-    agreement = None
-    if surrogate is not None:
-        sur = outcomes(surrogate)
-        agreement = {name: _agreement(env_rows, sur, name) for name in table}
-    paper = {
-        **PAPER,
-        "success_rate": PAPER["success"] / PAPER["environments"],
-        "success_rate_95ci": list(wilson(PAPER["success"], PAPER["environments"])),
-    }
+    results, report = run_store(p["specs"], folder, workers, options=EngineOptions(device=device))
+    keys = [spec_key(s) for s in p["specs"]]  # in the order of specs: body, environment, row
+    _reclassify(results, p["specs"], keys, workers)
+    env_rows, counts, agreement = _count(p, [results[k] for k in keys], threshold)
+    ci = list(wilson(PAPER["success"], PAPER["environments"]))  # the paper's 49/50
     summary = {
         "body": body,
         "engine": engine,
@@ -211,23 +194,55 @@ def run(
         "seed": seed,
         "boxes": list(BOXES),
         "box_size_m": size,
+        **_rules(p["duration_s"], threshold),
+        "counts": counts,
+        "environments": env_rows,
+        "paper": {**PAPER, "success_rate": PAPER["success"] / PAPER["environments"], "success_rate_95ci": ci},
+        "store": str(folder / "results.sqlite"),
+        "sweep": report.counts(),
+        "surrogate": p["surrogate"],
+        "surrogate_note": p["surrogate_note"],
+        "surrogate_agreement": agreement,
+    }
+    return Result("table2", summary)
+
+
+def _rules(duration_s: float, threshold: float) -> dict[str, Any]:
+    """The table's rules in words: success (not stuck; the coverage rule of runs of ``duration_s`` s and its
+    ``threshold``), the failure classes, held up, and the interval."""
+    return {
         "rule": RULE,
-        "coverage_rule": coverage_rule(p["duration_s"]),
+        "coverage_rule": coverage_rule(duration_s),
         "coverage_threshold": threshold,
         "coverage_cell_m": COVERAGE_CELL_M,
         "failure_rule": FAILURE_RULE,
         "held_up_rule": HELD_UP_RULE,
         "interval": "Wilson score interval, 95%",
-        "counts": counts,
-        "environments": env_rows,
-        "paper": paper,
-        "store": str(folder / "results.sqlite"),
-        "sweep": report.counts(),
-        "surrogate": surrogate,
-        "surrogate_note": p["surrogate_note"],
-        "surrogate_agreement": agreement,
     }
-    return Result("table2", summary)
+
+
+def _count(
+    p: dict[str, Any], runs: list[dict[str, Any]], threshold: float
+) -> tuple[list[dict[str, Any]], dict[str, dict[str, Any]], dict[str, dict[str, Any]] | None]:
+    """The table from the runs of the plan ``p`` (in the order of its specs; ``threshold``: the coverage rule's):
+    each environment with every row's outcome on the body, each row's counts over them, and environment by
+    environment the surrogate's agreement with the body where it ran beside (None where it did not)."""
+    envs, table, bodies = p["envs"], p["table"], p["bodies"]
+    per_body = len(envs) * len(table)
+    by_body = {b: runs[i * per_body : (i + 1) * per_body] for i, b in enumerate(bodies)}
+
+    def outcomes(b: str) -> list[dict[str, Any]]:
+        """Per environment, each row's outcome on body ``b``."""
+        r = iter(by_body[b])
+        return [{name: outcome(next(r), threshold) for name in table} for _ in envs]
+
+    env_rows = [{**e, **o} for e, o in zip(envs, outcomes(bodies[0]), strict=True)]
+    counts = {name: {**r, **row_counts(env_rows, name)} for name, r in table.items()}
+    agreement = None
+    if p["surrogate"] is not None:
+        sur = outcomes(p["surrogate"])
+        agreement = {name: _agreement(env_rows, sur, name) for name in table}
+    return env_rows, counts, agreement
 
 
 def _reclassify(

@@ -22,7 +22,8 @@ Sizes and seeds: :mod:`.settings`.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Any
@@ -43,6 +44,7 @@ from neurowalk.experiments.optimize.settings import (
     SIGMA0,
     STATE_FILE,
     TRAIN_SEED,
+    Sizes,
     check_seeds,
     check_sizes,
 )
@@ -216,21 +218,9 @@ def run(
         CmaMissingError: the ``cma`` package is not installed.
         KeyboardInterrupt: interrupted; the finished runs and generations are kept and a rerun resumes.
     """
-    base_sizes = QUICK if quick else FULL
-    unknown = sorted(set(sizes or {}) - set(asdict(base_sizes)))
-    if unknown:
-        raise ValueError(f"unknown size {unknown[0]!r}; sizes: {', '.join(asdict(base_sizes))}")
-    sz = replace(base_sizes, **(sizes or {}))
-    check_sizes(sz)
-    check_seeds(seed, train_seed, heldout_seed, sz)
-    if not (isinstance(sigma0, int | float) and 0 < sigma0 <= 1):
-        raise ValueError(f"sigma0 must be in (0, 1] (the normalised space), got {sigma0!r}")
-    space = make_space(variant, fields, bounds)
-    import_cma(CMA_MISSING)  # CmaMissingError before any work
-    if backend not in ("local", "ray"):
-        raise ValueError(f"unknown backend {backend!r}; expected local or ray")
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
+    sz, space = _checked(
+        quick, sizes, (seed, train_seed, heldout_seed), sigma0, variant, fields, bounds, backend, workers
+    )
     folder = Path(out)
     make_writable_folder(folder)  # ValueError naming what is wrong
     say = log or (lambda line: None)
@@ -248,63 +238,127 @@ def run(
     path = folder / STATE_FILE
     state = load_state(path, settings, space) or new_state(space, variant, sigma0, seed, sz.population, settings)
     runner = Runner(folder, backend, workers, address, progress)
+    with _ray(backend, workers, address):  # one Ray instance for every generation
+        base_fit = _train(state, space, sz, runner, path, say)
+        search, best = _heldout(state, space, sz, runner, base_fit, heldout_seed)
+    kept = {k: settings[k] for k in ("seed", "train_seed", "sigma0", "variant")}
+    search.best = report.best_json(search, best, sz, stopped=state.get("stopped"), **kept)
+    with deferred():
+        report.write(search, folder)
+    say(report.final_line(search, folder))
+    return search
+
+
+def _checked(
+    quick: bool,
+    sizes: Mapping[str, int] | None,
+    seeds: tuple[int, int, int],
+    sigma0: float,
+    variant: str,
+    fields: Sequence[str] | None,
+    bounds: Mapping[str, tuple[float, float] | None] | None,
+    backend: str,
+    workers: int,
+) -> tuple[Sizes, tuple[Dim, ...]]:
+    """:func:`run`'s arguments checked before any work (``seeds``: the CMA-ES, training and held-out seeds): the
+    sizes and the searched space; ValueError (or CmaMissingError) as :func:`run` says."""
+    base_sizes = QUICK if quick else FULL
+    unknown = sorted(set(sizes or {}) - set(asdict(base_sizes)))
+    if unknown:
+        raise ValueError(f"unknown size {unknown[0]!r}; sizes: {', '.join(asdict(base_sizes))}")
+    sz = replace(base_sizes, **(sizes or {}))
+    check_sizes(sz)
+    check_seeds(*seeds, sz)
+    if not (isinstance(sigma0, int | float) and 0 < sigma0 <= 1):
+        raise ValueError(f"sigma0 must be in (0, 1] (the normalised space), got {sigma0!r}")
+    space = make_space(variant, fields, bounds)
+    import_cma(CMA_MISSING)  # CmaMissingError before any work
+    if backend not in ("local", "ray"):
+        raise ValueError(f"unknown backend {backend!r}; expected local or ray")
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
+    return sz, space
+
+
+@contextmanager
+def _ray(backend: str, workers: int, address: str | None) -> Iterator[None]:
+    """With ``backend`` 'ray': a Ray instance started for the block and stopped after it (if it was started here)."""
     started = False
     if backend == "ray":
-        started = ray_backend.start(workers=workers, address=address)  # one Ray instance for every generation
+        started = ray_backend.start(workers=workers, address=address)
     try:
-        envs = random_envs.environments(sz.environments, train_seed)
-
-        def evaluate(vname: str, params: Mapping[str, float] | None) -> list[dict[str, Any]]:
-            return train_specs(vname, params, envs, sz.steps) + deadend_specs(vname, params, sz.deadend_seeds)
-
-        n = len(envs)
-        base_runs = runner(evaluate(variant, None))
-        base_fit = fitness(base_runs[:n], base_runs[n:])
-        records = state["records"]
-        while len(records) < sz.generations and not state.get("stopped"):
-            t0 = time.perf_counter()
-            done_before = runner.computed
-            with own_rng(state):
-                xs = [np.asarray(x, dtype=float) for x in state["es"].ask()]
-            cands = [decode(space, x) for x in xs]
-            specs = [s for c in cands for s in evaluate(variant, c)]
-            results = runner(specs)
-            per = len(specs) // len(cands)
-            fits = [
-                fitness(results[i * per : i * per + n], results[i * per + n : (i + 1) * per]) for i in range(len(cands))
-            ]
-            with own_rng(state):
-                state["es"].tell(xs, [f["score"] for f in fits])
-                stop = dict(state["es"].stop())
-            es = state["es"]
-            records.append(
-                {
-                    "generation": len(records) + 1,
-                    "x": [x.tolist() for x in xs],
-                    "params": cands,
-                    "fitness": fits,
-                    "mean_x": np.clip(es.mean, 0, 1).tolist(),
-                    "mean": decode(space, es.mean),
-                    "sigma": float(es.sigma),
-                }
-            )
-            if stop:
-                state["stopped"] = {"generation": len(records), "reason": stop}
-            with deferred():  # a generation is saved whole: a Ctrl-C now stops the search after it
-                save_state(path, state)
-            say(
-                report.generation_line(
-                    records, sz.generations, base_fit, runner.computed - done_before, time.perf_counter() - t0
-                )
-            )
-        history = records[: sz.generations]
-        best = report.best_candidate(history)
-        held = random_envs.environments(sz.heldout, heldout_seed)
-        rows = report.heldout_rows(variant, best["params"])
-        held_runs = {name: runner(train_specs(v, p, held, sz.steps)) for name, (v, p) in rows.items()}
+        yield
     finally:
         if started:
             ray_backend.stop()
+
+
+def _train(
+    state: dict[str, Any], space: Sequence[Dim], sz: Sizes, runner: Runner, path: Path, say: Callable[[str], None]
+) -> dict[str, Any]:
+    """The generations of the search ``state`` not yet recorded, each saved to ``path`` and told to ``say``, until
+    ``sz.generations`` or a CMA-ES stop; returns the base variant's fitness on the training environments (the
+    variant and the environments' seed are those of the state's settings)."""
+    variant = state["settings"]["variant"]
+    envs = random_envs.environments(sz.environments, state["settings"]["train_seed"])
+
+    def evaluate(vname: str, params: Mapping[str, float] | None) -> list[dict[str, Any]]:
+        return train_specs(vname, params, envs, sz.steps) + deadend_specs(vname, params, sz.deadend_seeds)
+
+    n = len(envs)
+    base_runs = runner(evaluate(variant, None))
+    base_fit = fitness(base_runs[:n], base_runs[n:])
+    records = state["records"]
+    while len(records) < sz.generations and not state.get("stopped"):
+        t0 = time.perf_counter()
+        done_before = runner.computed
+        with own_rng(state):
+            xs = [np.asarray(x, dtype=float) for x in state["es"].ask()]
+        cands = [decode(space, x) for x in xs]
+        specs = [s for c in cands for s in evaluate(variant, c)]
+        results = runner(specs)
+        per = len(specs) // len(cands)
+        fits = [
+            fitness(results[i * per : i * per + n], results[i * per + n : (i + 1) * per]) for i in range(len(cands))
+        ]
+        with own_rng(state):
+            state["es"].tell(xs, [f["score"] for f in fits])
+            stop = dict(state["es"].stop())
+        es = state["es"]
+        records.append(
+            {
+                "generation": len(records) + 1,
+                "x": [x.tolist() for x in xs],
+                "params": cands,
+                "fitness": fits,
+                "mean_x": np.clip(es.mean, 0, 1).tolist(),
+                "mean": decode(space, es.mean),
+                "sigma": float(es.sigma),
+            }
+        )
+        if stop:
+            state["stopped"] = {"generation": len(records), "reason": stop}
+        with deferred():  # a generation is saved whole: a Ctrl-C now stops the search after it
+            save_state(path, state)
+        say(
+            report.generation_line(
+                records, sz.generations, base_fit, runner.computed - done_before, time.perf_counter() - t0
+            )
+        )
+    return base_fit
+
+
+def _heldout(
+    state: dict[str, Any], space: Sequence[Dim], sz: Sizes, runner: Runner, base_fit: dict[str, Any], heldout_seed: int
+) -> tuple[Search, dict[str, Any]]:
+    """The search's result less its best.json, and its best candidate: the history of ``sz.generations`` at most,
+    and the best candidate, the base variant and the paper variant on the held-out environments of
+    ``heldout_seed``."""
+    history = state["records"][: sz.generations]
+    best = report.best_candidate(history)
+    held = random_envs.environments(sz.heldout, heldout_seed)
+    rows = report.heldout_rows(state["settings"]["variant"], best["params"])
+    held_runs = {name: runner(train_specs(v, p, held, sz.steps)) for name, (v, p) in rows.items()}
     search = Search(
         best={},
         heldout=report.heldout_table(rows, held, held_runs, heldout_seed, sz.steps),
@@ -314,17 +368,4 @@ def run(
         runs_computed=runner.computed,
         runs_skipped=runner.skipped,
     )
-    search.best = report.best_json(
-        search,
-        best,
-        sz,
-        seed=seed,
-        train_seed=train_seed,
-        sigma0=float(sigma0),
-        stopped=state.get("stopped"),
-        variant=variant,
-    )
-    with deferred():
-        report.write(search, folder)
-    say(report.final_line(search, folder))
-    return search
+    return search, best

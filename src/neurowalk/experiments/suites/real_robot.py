@@ -190,6 +190,65 @@ def snapshots(
     return render_frames(AmosII(arena).model, qpos[rows], view=view, width=width, height=height)
 
 
+def network_arrays(
+    net: str, runs: list[dict[str, Any]], example: dict[str, Any], arena: ArenaSpec, end: int | None, **size: int
+) -> dict[str, np.ndarray]:
+    """A network's arrays: ``NET/path/K`` (n, 2) m, the top-view path of each of ``runs``; ``NET/frames`` (n, height,
+    width, 3), the example's snapshots (:func:`snapshot_rows` up to step ``end``; ``size``: width, height in pixels,
+    as :func:`snapshots`), ``NET/snapshot_t`` their times (s), and ``NET/example/KEY`` the example's t, pose, outputs,
+    b, q (:func:`keep_example`)."""
+    arrays = {f"{net}/path/{k}": np.asarray(r["path"]) for k, r in enumerate(runs)}
+    rows = snapshot_rows(len(example["t"]), end)
+    arrays[f"{net}/frames"] = snapshots(arena, example["qpos"], rows, **size)
+    arrays[f"{net}/snapshot_t"] = example["t"][rows]
+    arrays.update({f"{net}/example/{key}": example[key] for key in ("t", "pose", "outputs", "b", "q")})
+    return arrays
+
+
+def arena_geometry(arena: ArenaSpec) -> dict[str, Any]:
+    """The arena's boxes (centre, yaw, sizes; m, rad), start pose and exit region, for the record."""
+    return {
+        "boxes": [[b.x, b.y, b.yaw, b.sx, b.sy, b.h] for b in arena.boxes],
+        "box_fields": "x y yaw sx sy h",
+        "start": list(arena.start),
+        "exit_region": list(arena.exit_region),
+    }
+
+
+def run_record(
+    arena: ArenaSpec,
+    geometry: dict[str, Any],
+    *,
+    seed: int,
+    seeds: int,
+    steps: int,
+    control_hz: float,
+    variant: str,
+    params: dict[str, float] | None,
+    rule: str,
+    **timing: Any,
+) -> dict[str, Any]:
+    """The head of a figure's summary: the arena and its ``geometry``, the seeds, the runs' length (``steps``
+    control steps at ``control_hz`` Hz; ``timing``: further entries after ``duration_s``), the networks and the
+    outcome ``rule``."""
+    return {
+        "arena": arena.name,
+        "arena_opts": arena.options,
+        "geometry": geometry,
+        "seed": seed,
+        "seeds": seeds,
+        "steps": steps,
+        "control_hz": float(control_hz),
+        "duration_s": steps / control_hz,
+        **timing,
+        "variant": variant,
+        "params": params,
+        "body": "amosii",
+        "networks": {"plastic": "plastic, weights start at 0", "static": "static (b = 2.4, c = -3.5)"},
+        "rule": rule,
+    }
+
+
 def write_videos(name: str, arena: ArenaSpec, examples: dict[str, dict[str, Any]], out: Path) -> list[str]:
     """One mp4 per network's example run in ``out`` (camera tracking the trunk, :data:`VIDEO_SPEEDUP` x simulated
     time); the paths written."""
