@@ -69,9 +69,12 @@ class FigureRun:
         return FunctionAt(self.module, "run")(**kw)
 
 
-def _figure(name: str, title: str, module: str, takes: str = "", body: str | None = None) -> Study:
+def _figure(
+    name: str, title: str, module: str, takes: str = "", body: str | None = None, settings: bool = False
+) -> Study:
     """Figure ``name``: ``run`` and ``plot`` of :mod:`neurowalk.experiments.figures`.``module``; ``takes``: the
-    optional settings its ``run`` takes (a space-separated list; ``out`` among them: it keeps its runs there)."""
+    optional settings its ``run`` takes (a space-separated list; ``out`` among them: it keeps its runs there).
+    ``settings``: its ``run`` takes the :class:`Settings` itself (``run(settings) -> Result``), else keywords."""
     path = f"{__name__}.figures.{module}"
     names = takes.split()
     keeps = "out" in names
@@ -79,7 +82,7 @@ def _figure(name: str, title: str, module: str, takes: str = "", body: str | Non
         name,
         title,
         plot=FunctionAt(path, "plot"),
-        compute=FigureRun(path, keeps),
+        compute=FunctionAt(path, "run") if settings else FigureRun(path, keeps),
         takes=[n for n in names if n != "out"],
         keeps_runs=keeps,
         body=body,
