@@ -140,8 +140,10 @@ def test_a_run_summary_reads_a_summary_by_attribute_and_gives_it_back(tmp_path: 
     from neurowalk import RunSummary, run_episode
     from neurowalk.fileio import to_jsonable
 
-    d = json.loads(json.dumps(to_jsonable(run_episode(BASE.replace(controller="static")).summary)))
+    ep = run_episode(BASE.replace(controller="static"))
+    d = json.loads(json.dumps(to_jsonable(ep.summary)))
     r = RunSummary.from_dict(d)
+    assert ep.result.to_dict() == ep.summary and ep.result.trapped is ep.summary["trapped"]
     assert r.to_dict() == d and r.controller == "static" and r.escaped is d["escaped"]
     assert r.exit_s == (None if d["exit_step"] is None else d["exit_step"] / 10.0)
     assert hash(r.final_pose) is not None and isinstance(r.wedged, tuple)

@@ -27,6 +27,7 @@ from neurowalk.neural.cpg import GAITS, CpgParams
 from neurowalk.neural.motor import LocomotionParams
 from neurowalk.neural.variants import check_overrides, get_variant
 from neurowalk.sim.config_values import FrozenDict, real, typed_arena_opts, whole
+from neurowalk.sim.run_summary import RunSummary
 from neurowalk.sim.trajectory import Trajectory
 
 BODIES: tuple[str, ...] = tuple(REGISTRY)  # the registry's names (neurowalk.body.registry)
@@ -263,13 +264,19 @@ def _whole(v: object) -> bool:
 
 @dataclass
 class Episode:
-    """A finished run: its config, arena, trajectory and summary (DESIGN §5 keys)."""
+    """A finished run: its config, arena, trajectory and summary (the dict of ``summary.json``; :attr:`result` reads
+    it by attribute)."""
 
     config: EpisodeConfig
     arena: ArenaSpec
     trajectory: Trajectory
     summary: dict[str, Any]
     row_stride: int = 1  # the trajectory holds every row_stride-th control step (1: all; see run_episode)
+
+    @property
+    def result(self) -> RunSummary:
+        """The summary, typed: ``ep.result.escaped``, ``ep.result.exit_s``, ``ep.result.wedged_periods``, ..."""
+        return RunSummary.from_dict(self.summary)
 
 
 def seeds(cfg: EpisodeConfig) -> tuple[np.random.Generator, np.random.Generator, np.random.Generator]:
