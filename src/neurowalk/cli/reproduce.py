@@ -13,8 +13,6 @@ from typing import TYPE_CHECKING
 from neurowalk.cli.common import UsageError, out_folder
 
 if TYPE_CHECKING:
-    from tqdm import tqdm
-
     from neurowalk.experiments.reproduce.plan import Item
     from neurowalk.experiments.reproduce.runner import Run
 
@@ -71,14 +69,22 @@ def _reproduce(args: argparse.Namespace) -> int:
     lock = folder_lock(out, "reproduce")
     expected = {r.name: expected_seconds(r.figure, args.quick) for r in runs}
     failed: dict[str, str] = {}
-    bar = _progress_bar(round(sum(expected.values())))  # weighted by each figure's time in the committed run
+    from tqdm import tqdm
+
+    bar = tqdm(
+        total=round(sum(expected.values())),
+        desc="reproduce",
+        file=sys.stderr,
+        dynamic_ncols=True,
+        bar_format="{desc} {percentage:3.0f}%|{bar}| {elapsed} so far, about {remaining} left",
+    )  # weighted by each figure's time in the committed run
     base, t0 = 0.0, time.perf_counter()
     try:
         for k, run in enumerate(runs):
             bar.set_description(f"reproduce {k + 1}/{len(runs)} {run.name}")
-            its = [i for i in items if run_of[i.name] is run]
+            run_items = [i for i in items if run_of[i.name] is run]
             tick = partial(_show_within, bar, base, expected[run.name])
-            if _run_and_judge(run, its, out, args.quick, failed, tick):
+            if _run_and_judge(run, run_items, out, args.quick, failed, tick):
                 base += expected[run.name]
             else:  # finished before: the bar (and its time left) covers what is left to run
                 bar.total = max(1, bar.total - round(expected[run.name]))
@@ -113,19 +119,6 @@ def _items(only: str | None) -> list[Item]:
     if unknown or not all(names):
         raise UsageError(f"--only: unknown result {unknown[0] if unknown else ''!r}; results: {', '.join(ITEMS)}")
     return [i for i in PLAN if i.name in names]
-
-
-def _progress_bar(total: int) -> tqdm:
-    """The command's progress bar on stderr, over ``total`` expected seconds."""
-    from tqdm import tqdm
-
-    return tqdm(
-        total=total,
-        desc="reproduce",
-        file=sys.stderr,
-        dynamic_ncols=True,
-        bar_format="{desc} {percentage:3.0f}%|{bar}| {elapsed} so far, about {remaining} left",
-    )
 
 
 def _run_and_judge(
