@@ -5,9 +5,16 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from collections.abc import Callable
+from functools import partial
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from neurowalk.cli.common import UsageError, out_folder
+
+if TYPE_CHECKING:
+    from neurowalk.experiments.reproduce.plan import Item
+    from neurowalk.experiments.reproduce.runner import Run
 
 
 def add_reproduce_parser(sub: argparse._SubParsersAction) -> None:
@@ -46,19 +53,12 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
 
 def _reproduce(args: argparse.Namespace) -> int:
     from neurowalk.experiments.reproduce import runner
-    from neurowalk.experiments.reproduce.plan import ITEMS, PLAN
     from neurowalk.experiments.reproduce.report import write_report
     from neurowalk.experiments.reproduce.timing import expected_seconds
     from neurowalk.fileio import folder_lock
     from neurowalk.runners.stopping import stop_status
 
-    items = list(PLAN)
-    if args.only is not None:
-        names = [n.strip() for n in args.only.split(",")]
-        unknown = [n for n in names if n not in ITEMS]
-        if unknown or not all(names):
-            raise UsageError(f"--only: unknown result {unknown[0] if unknown else ''!r}; results: {', '.join(ITEMS)}")
-        items = [i for i in PLAN if i.name in names]
+    items = _items(args.only)
     out = args.out or Path("out") / ("reproduce-quick" if args.quick else "reproduce")
     runs, run_of = runner.runs_of(items, args.quick, args.workers)
     if args.list:
@@ -82,28 +82,9 @@ def _reproduce(args: argparse.Namespace) -> int:
     try:
         for k, run in enumerate(runs):
             bar.set_description(f"reproduce {k + 1}/{len(runs)} {run.name}")
-            record = runner.done(run, out)
-            ran = record is None
-            if ran:
-                try:
-                    record = runner.execute(
-                        run, out, tick=lambda s, b=base, e=expected[run.name]: _show(bar, b + min(s, 0.95 * e))
-                    )
-                except runner.RunFailedError as e:
-                    for item in items:
-                        if run_of[item.name] is run:
-                            failed[item.name] = str(e)
-                    print(f"neurowalk: {e}", file=sys.stderr)
-            if record is not None:
-                for item in items:
-                    if run_of[item.name] is run:
-                        try:
-                            runner.write_item(item, run, record, out, args.quick)
-                        except (KeyError, TypeError, ValueError, IndexError) as e:  # numbers not of the judge's shape
-                            failed[item.name] = f"its judge could not read {run.figure}.json ({type(e).__name__}: {e})"
-                            (out / f"{item.name}.json").unlink(missing_ok=True)  # no verdict of an older run kept
-                            print(f"neurowalk: {item.name}: {failed[item.name]}", file=sys.stderr)
-            if ran:
+            run_items = [i for i in items if run_of[i.name] is run]
+            tick = partial(_show_within, bar, base, expected[run.name])
+            if _run_and_judge(run, run_items, out, args.quick, failed, tick):
                 base += expected[run.name]
             else:  # finished before: the bar (and its time left) covers what is left to run
                 bar.total = max(1, bar.total - round(expected[run.name]))
@@ -125,6 +106,52 @@ def _reproduce(args: argparse.Namespace) -> int:
     report = write_report(out, args.quick, failed)
     print(runner.summary_line(out, args.quick, report, time.perf_counter() - t0))
     return 1 if failed else 0
+
+
+def _items(only: str | None) -> list[Item]:
+    """The plan's results named by ``--only`` (all where None), in the plan's order; UsageError naming an unknown."""
+    from neurowalk.experiments.reproduce.plan import ITEMS, PLAN
+
+    if only is None:
+        return list(PLAN)
+    names = [n.strip() for n in only.split(",")]
+    unknown = [n for n in names if n not in ITEMS]
+    if unknown or not all(names):
+        raise UsageError(f"--only: unknown result {unknown[0] if unknown else ''!r}; results: {', '.join(ITEMS)}")
+    return [i for i in PLAN if i.name in names]
+
+
+def _run_and_judge(
+    run: Run, items: list[Item], out: Path, quick: bool, failed: dict[str, str], tick: Callable[[float], None]
+) -> bool:
+    """Run ``run`` into ``out`` unless it finished there before (``tick``: its progress, in expected seconds), then
+    judge each of its ``items``; ``failed`` gets an item's reason where its run failed or its judge could not read
+    the run's numbers. True where the run ran now."""
+    from neurowalk.experiments.reproduce import runner
+
+    record = runner.done(run, out)
+    ran = record is None
+    if ran:
+        try:
+            record = runner.execute(run, out, tick=tick)
+        except runner.RunFailedError as e:
+            for item in items:
+                failed[item.name] = str(e)
+            print(f"neurowalk: {e}", file=sys.stderr)
+    if record is not None:
+        for item in items:
+            try:
+                runner.write_item(item, run, record, out, quick)
+            except (KeyError, TypeError, ValueError, IndexError) as e:  # numbers not of the judge's shape
+                failed[item.name] = f"its judge could not read {run.figure}.json ({type(e).__name__}: {e})"
+                (out / f"{item.name}.json").unlink(missing_ok=True)  # no verdict of an older run kept
+                print(f"neurowalk: {item.name}: {failed[item.name]}", file=sys.stderr)
+    return ran
+
+
+def _show_within(bar: object, base: float, expected: float, s: float) -> None:
+    """Move the progress bar to ``base`` + ``s`` expected seconds, ``s`` at most 95% of the run's ``expected``."""
+    _show(bar, base + min(s, 0.95 * expected))
 
 
 def _show(bar: object, n: float) -> None:

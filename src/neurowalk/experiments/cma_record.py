@@ -54,6 +54,29 @@ def own_rng(holder: dict[str, Any]) -> Iterator[None]:
         np.random.set_state(outer)
 
 
+def start(
+    cma: Any, holder: dict[str, Any], x0: np.ndarray, sigma0: float, seed: int, population: int, **options: Any
+) -> None:
+    """A fresh, quiet CMA-ES of ``population`` candidates at ``x0`` into ``holder['es']``, seeded ``seed + 1`` (cma
+    reads 0 as the time), built on the holder's generator (:func:`own_rng`); its samples come from a RandomState of
+    its own (option ``randn``), so that a replayed search draws what an uninterrupted one would. ``options``: more
+    of cma's options (e.g. ``bounds``)."""
+    with own_rng(holder):
+        holder["es"] = cma.CMAEvolutionStrategy(
+            x0,
+            sigma0,
+            {
+                "seed": seed + 1,
+                "randn": np.random.RandomState(seed + 1).randn,
+                "popsize": population,
+                **options,
+                "verbose": -9,
+                "verb_log": 0,
+                "verb_disp": 0,
+            },
+        )
+
+
 def refuse_pickle(path: Path, what: str) -> None:
     """ValueError if an older neurowalk's pickled state is at ``path``: it is never read (it could run code)."""
     if path.is_file():

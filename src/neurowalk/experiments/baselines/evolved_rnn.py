@@ -160,22 +160,37 @@ def train(
     }
     Path(out).mkdir(parents=True, exist_ok=True)
     path = Path(out) / "state.json"
+    state = _state(cma, path, settings)
+    bar = None
+    if progress and len(state["curve"]) < generations:
+        bar = tqdm(total=generations, initial=len(state["curve"]), unit="gen", desc="neuroevolution", mininterval=0.5)
+    while len(state["curve"]) < generations:
+        returns = _generation(state, path)
+        if bar is not None:
+            bar.update(1)
+            bar.set_postfix(best=f"{returns.max():.2f} m2")
+    if bar is not None:
+        bar.close()
+    log(f"neuroevolution: {generations} generations, {state['env_steps']:,} env steps, {state['wall_s']:.0f} s")
+    return {
+        "theta": [float(v) for v in state["es"].mean],
+        "hidden": hidden,
+        "generations": generations,
+        "env_steps": state["env_steps"],
+        "wall_s": state["wall_s"],
+        "curve": state["curve"],
+        **settings,
+    }
+
+
+def _state(cma: Any, path: Path, settings: dict[str, Any]) -> dict[str, Any]:
+    """The training of ``settings``: a fresh CMA-ES at zero weights, into which the generations recorded at ``path``
+    (if any) are replayed. ValueError naming the file where its record cannot be read or is of other settings."""
     cma_record.refuse_pickle(path.with_name("state.pkl"), "the neuroevolution state")
     saved = cma_record.read(path, settings)
     state = {"settings": settings, "curve": [], "rng": None, "wall_s": 0.0, "env_steps": 0, "generations": []}
-    with own_rng(state):
-        state["es"] = cma.CMAEvolutionStrategy(
-            np.zeros(n_weights(hidden)),
-            sigma0,
-            {
-                "seed": seed + 1,
-                "randn": np.random.RandomState(seed + 1).randn,
-                "popsize": population,
-                "verbose": -9,
-                "verb_log": 0,
-                "verb_disp": 0,
-            },
-        )
+    x0 = np.zeros(n_weights(settings["hidden"]))
+    cma_record.start(cma, state, x0, settings["sigma0"], settings["seed"], settings["population"])
     if saved is not None:
         try:
             gens = [(g["x"], g["scores"]) for g in saved["generations"]]
@@ -187,37 +202,27 @@ def train(
             ) from None
         cma_record.replay(state["es"], state, gens, path)
         state["generations"] = list(saved["generations"])
-    es = state["es"]
-    bar = None
-    if progress and len(state["curve"]) < generations:
-        bar = tqdm(total=generations, initial=len(state["curve"]), unit="gen", desc="neuroevolution", mininterval=0.5)
-    while len(state["curve"]) < generations:
-        g = len(state["curve"])
-        t0 = time.perf_counter()
-        with own_rng(state):
-            xs = np.array(es.ask())
-        seeds = [train_seed * 1_000_000 + g * envs + j for j in range(envs)]
-        returns = episode_returns(xs, seeds, steps, hidden)
-        with own_rng(state):
-            es.tell(list(xs), list(-returns))
-        state["generations"].append({"x": xs.tolist(), "scores": (-returns).tolist()})
-        state["curve"].append({"mean": float(returns.mean()), "best": float(returns.max())})
-        state["env_steps"] += population * envs * steps
-        state["wall_s"] += time.perf_counter() - t0
-        with deferred():  # a generation is saved whole: a Ctrl-C now stops the training after it
-            cma_record.write(path, {k: state[k] for k in ("settings", "curve", "wall_s", "env_steps", "generations")})
-        if bar is not None:
-            bar.update(1)
-            bar.set_postfix(best=f"{returns.max():.2f} m2")
-    if bar is not None:
-        bar.close()
-    log(f"neuroevolution: {generations} generations, {state['env_steps']:,} env steps, {state['wall_s']:.0f} s")
-    return {
-        "theta": [float(v) for v in es.mean],
-        "hidden": hidden,
-        "generations": generations,
-        "env_steps": state["env_steps"],
-        "wall_s": state["wall_s"],
-        "curve": state["curve"],
-        **settings,
-    }
+    return state
+
+
+def _generation(state: dict[str, Any], path: Path) -> np.ndarray:
+    """One generation of the training ``state``: its candidates walk the generation's training environments, CMA-ES
+    is told their returns, and the record is saved to ``path`` whole; returns the mean return of each candidate
+    (m^2)."""
+    es, s = state["es"], state["settings"]
+    envs = s["envs"]
+    g = len(state["curve"])
+    t0 = time.perf_counter()
+    with own_rng(state):
+        xs = np.array(es.ask())
+    seeds = [s["train_seed"] * 1_000_000 + g * envs + j for j in range(envs)]
+    returns = episode_returns(xs, seeds, s["steps"], s["hidden"])
+    with own_rng(state):
+        es.tell(list(xs), list(-returns))
+    state["generations"].append({"x": xs.tolist(), "scores": (-returns).tolist()})
+    state["curve"].append({"mean": float(returns.mean()), "best": float(returns.max())})
+    state["env_steps"] += s["population"] * envs * s["steps"]
+    state["wall_s"] += time.perf_counter() - t0
+    with deferred():  # a generation is saved whole: a Ctrl-C now stops the training after it
+        cma_record.write(path, {k: state[k] for k in ("settings", "curve", "wall_s", "env_steps", "generations")})
+    return returns

@@ -159,27 +159,11 @@ def save_state(path: Path, state: dict[str, Any]) -> None:
 def new_state(
     space: Sequence[Dim], variant: str, sigma0: float, seed: int, population: int, settings: dict[str, Any]
 ) -> dict[str, Any]:
-    """A fresh search: a CMA-ES started at the base variant's values (seeded ``seed + 1``; cma reads 0 as time).
-
-    Its samples come from a RandomState of its own (option ``randn``), so that a replayed search draws what an
-    uninterrupted one would.
-    """
+    """A fresh search: a CMA-ES started at the base variant's values, within the normalised space's bounds
+    (:func:`~neurowalk.experiments.cma_record.start`: seeded ``seed + 1``, its samples drawn as a replay draws them)."""
     cma = import_cma(CMA_MISSING)
     state: dict[str, Any] = {"settings": settings, "records": [], "rng": None}
-    with own_rng(state):
-        state["es"] = cma.CMAEvolutionStrategy(
-            start_point(space, variant),
-            sigma0,
-            {
-                "seed": seed + 1,
-                "randn": np.random.RandomState(seed + 1).randn,
-                "popsize": population,
-                "bounds": [0.0, 1.0],
-                "verbose": -9,
-                "verb_log": 0,
-                "verb_disp": 0,
-            },
-        )
+    cma_record.start(cma, state, start_point(space, variant), sigma0, seed, population, bounds=[0.0, 1.0])
     return state
 
 

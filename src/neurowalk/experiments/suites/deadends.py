@@ -170,37 +170,14 @@ def outcome_table(
         for nname, net in NETWORKS.items():
             for seed in range(first_seed, first_seed + seeds):
                 keys.append((vname, nname))
+                shared = _shared(seed, climbing, variant, gait, engine, control_hz)
                 configs.append(
-                    EpisodeConfig(
-                        arena=arena,
-                        arena_opts=opts,
-                        steps=TRAP_STEPS,
-                        seed=seed,
-                        body=body,
-                        control_hz=control_hz,
-                        reflexes=climbing,
-                        backbone=climbing,
-                        variant=variant,
-                        gait=gait,
-                        engine=engine,
-                        **net,
-                    )
+                    EpisodeConfig(arena=arena, arena_opts=opts, steps=TRAP_STEPS, body=body, **shared, **net)
                 )
     results = stored_runs(
         configs, folder, "results.sqlite", workers, progress, f"dead ends ({body})", traces=False, device=device
     )
-    table: dict[str, dict[str, dict[str, Any]]] = {}
-    runs = []
-    for (vname, nname), r, cfg in zip(keys, results, configs, strict=True):
-        runs.append([vname, nname, cfg.seed, bool(r["escaped"]), bool(r["trapped"])])
-        cell = table.setdefault(vname, {}).setdefault(nname, {"runs": 0, "escaped": 0, "trapped": 0, "switches": []})
-        cell["runs"] += 1
-        cell["escaped"] += int(bool(r["escaped"]))
-        cell["trapped"] += int(r["trapped"])
-        cell["switches"].append(r["direction_switches"])
-    for row in table.values():
-        for cell in row.values():
-            cell["median_direction_switches"] = float(np.median(cell.pop("switches")))
+    table, runs = _count(keys, results, configs)
     described = {k: {"arena": a, "options": o} for k, (a, o) in variants.items()}
     return {
         "seeds": seeds,
@@ -219,6 +196,39 @@ def outcome_table(
         "rule": "escaped: the trunk centre reached the exit region behind the trap's mouth within the steps; "
         "trapped: the last 3000 steps stayed within a disc of radius 0.5 m",
     }
+
+
+def _shared(seed: int, climbing: bool, variant: str, gait: str, engine: str, control_hz: float) -> dict[str, Any]:
+    """The config fields every run of a dead-end figure shares (``climbing``: leg reflexes and backbone control)."""
+    return {
+        "seed": seed,
+        "control_hz": control_hz,
+        "reflexes": climbing,
+        "backbone": climbing,
+        "variant": variant,
+        "gait": gait,
+        "engine": engine,
+    }
+
+
+def _count(
+    keys: list[tuple[str, str]], results: list[dict[str, Any]], configs: list[EpisodeConfig]
+) -> tuple[dict[str, dict[str, dict[str, Any]]], list[list[Any]]]:
+    """The outcome table's cells {variant: {network: runs, escaped, trapped, median direction switches}} from the
+    ``results`` of ``configs`` (their cells ``keys``), and every run as [variant, network, seed, escaped, trapped]."""
+    table: dict[str, dict[str, dict[str, Any]]] = {}
+    runs = []
+    for (vname, nname), r, cfg in zip(keys, results, configs, strict=True):
+        runs.append([vname, nname, cfg.seed, bool(r["escaped"]), bool(r["trapped"])])
+        cell = table.setdefault(vname, {}).setdefault(nname, {"runs": 0, "escaped": 0, "trapped": 0, "switches": []})
+        cell["runs"] += 1
+        cell["escaped"] += int(bool(r["escaped"]))
+        cell["trapped"] += int(r["trapped"])
+        cell["switches"].append(r["direction_switches"])
+    for row in table.values():
+        for cell in row.values():
+            cell["median_direction_switches"] = float(np.median(cell.pop("switches")))
+    return table, runs
 
 
 def example_and_long_runs(
@@ -244,15 +254,7 @@ def example_and_long_runs(
     are then raised to :data:`~neurowalk.arenas.spec.WALL_HEIGHT` (their 0.10 m boxes would be climbable steps).
     ``folder``: the runs go through the resumable store ``folder/traces.sqlite``.
     """
-    common = {
-        "seed": seed,
-        "control_hz": control_hz,
-        "reflexes": climbing,
-        "backbone": climbing,
-        "variant": variant,
-        "gait": gait,
-        "engine": engine,
-    }
+    common = _shared(seed, climbing, variant, gait, engine, control_hz)
     net = {**NETWORKS[network], **common}
     examples = {
         "simple-deadlock": EpisodeConfig(arena="simple-deadlock", steps=TRAP_STEPS, **net),
@@ -306,31 +308,11 @@ def build(
     if quick:
         long_steps = min(long_steps, QUICK_LONG_STEPS)
     variants = {k: v for k, v in VARIANTS.items() if k in QUICK_VARIANTS} if quick else VARIANTS
+    kw: dict[str, Any] = {"climbing": climbing, "variant": variant, "gait": gait, "engine": engine, "device": device}
     with store_folder(out) as folder:
-        table = outcome_table(
-            n_seeds,
-            first_seed=seed,
-            variants=variants,
-            climbing=climbing,
-            variant=variant,
-            gait=gait,
-            engine=engine,
-            device=device,
-            folder=folder,
-            control_hz=control_hz,
-        )
+        table = outcome_table(n_seeds, first_seed=seed, variants=variants, folder=folder, control_hz=control_hz, **kw)
         runs = example_and_long_runs(
-            network,
-            long_runs,
-            long_steps,
-            seed=seed,
-            climbing=climbing,
-            variant=variant,
-            gait=gait,
-            engine=engine,
-            device=device,
-            folder=folder,
-            control_hz=control_hz,
+            network, long_runs, long_steps, seed=seed, folder=folder, control_hz=control_hz, **kw
         )
     arrays = {
         f"{k}/{field}": v[field] for k, v in runs.items() for field in (LONG_TRACES if k in long_runs else TRACES)
@@ -349,6 +331,19 @@ def build(
             paper_time_steps, long_steps, control_hz, paper_trap_steps=PAPER_TRAP_TIME_STEPS, trap_steps=TRAP_STEPS
         ),
         "table": table,
+        **_long_steps(long_steps, full_steps, control_hz, {k: len(runs[k]["step"]) for k in long_runs}),
+        "mark_step": mark_step if mark_step is not None and mark_step < long_steps else None,
+        "runs": {k: v["summary"] for k, v in runs.items()},
+        "coverage_over_time": {k: coverage_table(runs[k]["step"], runs[k]["coverage"]) for k in long_runs},
+        "wedged": wedged_counts(long_summaries, control_hz=control_hz),
+    }
+    return Result(name, summary, arrays)
+
+
+def _long_steps(long_steps: int, full_steps: int, control_hz: float, rows: dict[str, int]) -> dict[str, Any]:
+    """The long runs' length (``long_steps`` control steps, ``full_steps`` without ``quick``) and the ``rows`` their
+    arrays keep (every :data:`LONG_STRIDE`-th step and the last)."""
+    return {
         "long_steps": long_steps,
         "long_s": long_steps / control_hz,
         "long_steps_full": full_steps,
@@ -356,11 +351,6 @@ def build(
             "stride": LONG_STRIDE,
             "rule": f"the long runs' arrays (name/step, /pose, /inputs, /outputs, /b, /q, /coverage) hold every "
             f"{LONG_STRIDE}th control step from step 0, and the last step",
-            "rows": {k: len(runs[k]["step"]) for k in long_runs},
+            "rows": rows,
         },
-        "mark_step": mark_step if mark_step is not None and mark_step < long_steps else None,
-        "runs": {k: v["summary"] for k, v in runs.items()},
-        "coverage_over_time": {k: coverage_table(runs[k]["step"], runs[k]["coverage"]) for k in long_runs},
-        "wedged": wedged_counts(long_summaries, control_hz=control_hz),
     }
-    return Result(name, summary, arrays)
