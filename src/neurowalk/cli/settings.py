@@ -191,7 +191,7 @@ def run_and_write(study: Study, settings: Settings, what: str) -> int:
 
         kept = sum(count_finished(p) for p in sorted(out.glob("*.sqlite")))
         if kept:
-            print(f"{study.name}: going on from the {kept} finished runs kept in {out}", file=sys.stderr)
+            print(f"{study.name}: going on from the {kept} finished runs kept in {out}")
     paths: dict[str, Path] = {}
     try:
         try:

@@ -107,9 +107,13 @@ FIGURES: dict[str, Study] = {
         "control_hz",
     ),
     "fig2": _figure("fig2", "fixed points and hysteresis of the sensory network", "fig2"),
-    "fig3": _figure("fig3", "static network: dead ends, hysteresis, cluttered and difficult arenas", "fig3", PHYSICS),
+    "fig3": _figure(
+        "fig3", "static network: dead ends, hysteresis, cluttered and difficult arenas", "fig3", PHYSICS, settings=True
+    ),
     "fig4": _figure("fig4", "weight changes for constant and changing inputs", "fig4", "variant params control_hz"),
-    "fig5": _figure("fig5", "plastic network: dead ends, weight dynamics, the difficult arena", "fig5", PHYSICS),
+    "fig5": _figure(
+        "fig5", "plastic network: dead ends, weight dynamics, the difficult arena", "fig5", PHYSICS, settings=True
+    ),
     "fig6": _figure(
         "fig6",
         "sixteen random environments: trajectories, start and end, failures marked (paper Fig. 6)",
@@ -150,6 +154,7 @@ FIGURES: dict[str, Study] = {
         "escape rate against trap size for all three networks",
         "escape_map",
         "seeds climbing variant gait workers control_hz out",
+        settings=True,
     ),
     "latched-spin": _figure(
         "latched-spin",

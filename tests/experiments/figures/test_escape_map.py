@@ -1,13 +1,13 @@
 """The escape map's machinery on a shrunken sweep (the full sweep is `neurowalk figure escape-map`)."""
 
-from neurowalk.experiments import FIGURES
+from neurowalk.experiments import FIGURES, Settings
 from neurowalk.experiments.figures import escape_map
 
 
 def test_escape_map_counts_every_network_and_size(monkeypatch, tmp_path):
     monkeypatch.setattr(escape_map, "TRAP_STEPS", 150)
     monkeypatch.setattr(escape_map, "SWEEPS", {"simple-deadlock width (m)": ("simple-deadlock", "width", (0.8, 1.4))})
-    res = escape_map.run(seeds=1)
+    res = escape_map.run(Settings(seeds=1))
     counts = res.summary["counts"]["simple-deadlock width (m)"]
     assert set(counts) == {"plastic", "static", "braitenberg"}
     for net in counts.values():
@@ -25,7 +25,7 @@ def test_escape_map_runs_at_the_control_rate(monkeypatch):
         return [{"escaped": False} for _ in configs]
 
     monkeypatch.setattr(escape_map, "stored_runs", stored_runs)
-    res = escape_map.run(quick=True, control_hz=20.0)
+    res = escape_map.run(Settings(quick=True, control_hz=20.0))
     assert seen and all(c.control_hz == 20.0 and c.steps == escape_map.TRAP_STEPS for c in seen)
     assert res.summary["control_hz"] == 20.0 and res.summary["seconds"] == escape_map.TRAP_STEPS / 20.0
     assert res.summary["seeds"] == escape_map.QUICK_SEEDS and res.summary["quick"] is True

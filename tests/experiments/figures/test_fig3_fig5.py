@@ -8,6 +8,7 @@ run a few thousand control steps.
 import numpy as np
 import pytest
 
+from neurowalk.experiments import Settings
 from neurowalk.experiments.figures import fig3, fig5
 from neurowalk.experiments.suites import deadends, long_runs
 from neurowalk.plotting.style import LETTER_GID
@@ -63,7 +64,7 @@ def test_the_long_runs_are_the_papers_time_steps_read_as_physics_steps():
     (fig3, False, 40_000), (fig3, True, long_runs.QUICK_LONG_STEPS),
 ])  # fmt: skip
 def test_every_run_gets_the_control_rate_and_the_long_runs_their_length(faked, fig, quick, long_steps):
-    res = fig.run(quick=quick, seeds=1, control_hz=20.0)
+    res = fig.run(Settings(quick=quick, seeds=1, control_hz=20.0))
     assert faked and all(c.control_hz == 20.0 for c in faked)
     long_cfgs = [c for c in faked if c.arena in ("cluttered", "difficult")]
     dead_ends = [c for c in faked if c.arena not in ("cluttered", "difficult")]
@@ -96,7 +97,7 @@ def lettered(figure) -> dict[str, str]:
 
 def test_the_panels_are_named_as_the_papers(faked):
     for fig, long_panels in ((fig3, {"F": "cluttered", "G": "difficult"}), (fig5, {"F": "difficult (plastic)"})):
-        res = fig.run(quick=True, seeds=1)
+        res = fig.run(Settings(quick=True, seeds=1))
         assert list(res.summary["panels"]) == list("ABCDEFG")
         figure = fig.plot(res)
         titles = lettered(figure)
@@ -114,7 +115,7 @@ def test_the_panels_are_named_as_the_papers(faked):
 
 @pytest.mark.parametrize("weights_change", [True, False])
 def test_panel_c_has_one_axes_per_signal_with_its_own_scale(faked, weights_change):
-    res = fig5.run(quick=True, seeds=1)
+    res = fig5.run(Settings(quick=True, seeds=1))
     if weights_change:  # the plastic network's weights grow; constant weights (the static network's) are not drawn
         n = len(res.arrays["narrow-passage/b"])
         res.arrays["narrow-passage/b"] = np.linspace(0, 3, 2 * n).reshape(n, 2)
@@ -129,7 +130,7 @@ def test_panel_c_has_one_axes_per_signal_with_its_own_scale(faked, weights_chang
 
 
 def test_fig5g_covers_the_whole_run(faked):
-    res = fig5.run(seeds=1)
+    res = fig5.run(Settings(seeds=1))
     g = res.summary["fig5g"]
     step = res.arrays["difficult (plastic)/step"]
     assert g["first_step"] == step[0] == 0 and g["last_step"] == step[-1] == fig5.LONG_STEPS - 1

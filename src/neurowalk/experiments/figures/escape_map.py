@@ -9,15 +9,15 @@ space (some wall always within reflex range) its weights stay grown and it keeps
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.ticker import PercentFormatter
 
-from neurowalk.experiments import Result
+from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.stores import store_folder
 from neurowalk.experiments.suites.deadends import TRAP_STEPS, stored_runs
+from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.plotting.style import legend_outside, letter_panels, network_line, pyplot
 from neurowalk.sim.episode import EpisodeConfig
 
@@ -35,27 +35,12 @@ QUICK_SIZES = 2  # sizes per sweep with --quick (the smallest and the largest)
 QUICK_SEEDS = 1  # seeds per size with --quick (unless --seeds)
 
 
-def run(
-    *,
-    quick: bool = False,
-    seed: int = 0,
-    seeds: int | None = None,
-    climbing: bool = False,
-    variant: str = "paper",
-    gait: str = "wave",
-    out: Path | None = None,
-    workers: int = 2,
-    control_hz: float = 10.0,
-) -> Result:
-    """Every sweep x network x size x seed; ``seeds`` default 5 (1 with ``quick``); ``climbing``: Fig. 10 modules on.
-
-    ``variant``: the networks' variant (``paper`` or ``original``). ``out``: the folder of the resumable result store
-    (``results.sqlite``): a rerun goes on from the runs it holds. ``control_hz``: every run's control rate (each
-    keeps its :data:`TRAP_STEPS` control steps).
-    """
-    n = seeds if seeds is not None else (QUICK_SEEDS if quick else 5)
-    if n < 1:
-        raise ValueError(f"seeds must be >= 1, got {n}")
+def run(s: Settings) -> Result:
+    """Every sweep x network x size x seed: ``s.seeds`` seeds (default 5; 1 with ``quick``), with the settings it
+    takes (:data:`~neurowalk.experiments.FIGURES`): climbing, variant, gait, control_hz (each run keeps its
+    :data:`TRAP_STEPS` control steps), workers; its runs are kept in the resumable store ``s.out/results.sqlite``."""
+    quick, seed, climbing, n = s.quick, s.seed, s.climbing, s.n(full=5, quick=QUICK_SEEDS)
+    variant, gait, control_hz = s.variant or "paper", s.gait or "wave", s.control_hz or SIM_HZ
     keys, configs = [], []
     sweeps = {}
     for label, (arena, opt, sizes) in SWEEPS.items():
@@ -64,7 +49,7 @@ def run(
         sweeps[label] = {"arena": arena, "option": opt, "sizes": list(sizes)}
         for size in sizes:
             for net in NETWORKS:
-                for s in range(seed, seed + n):
+                for i in range(seed, seed + n):
                     keys.append((label, size, net))
                     configs.append(
                         EpisodeConfig(
@@ -72,7 +57,7 @@ def run(
                             arena_opts={opt: size},
                             controller=net,
                             steps=TRAP_STEPS,
-                            seed=s,
+                            seed=i,
                             control_hz=control_hz,
                             reflexes=climbing,
                             backbone=climbing,
@@ -80,8 +65,8 @@ def run(
                             gait=gait,
                         )
                     )
-    with store_folder(out) as folder:
-        results = stored_runs(configs, folder, "results.sqlite", workers, True, "escape map", traces=False)
+    with store_folder(s.out) as folder:
+        results = stored_runs(configs, folder, "results.sqlite", s.workers or 2, True, "escape map", traces=False)
     counts: dict = {}
     for (label, size, net), r in zip(keys, results, strict=True):
         c = counts.setdefault(label, {}).setdefault(net, {}).setdefault(str(size), {"runs": 0, "escaped": 0})

@@ -17,14 +17,12 @@ of the long runs with their causes.
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import TYPE_CHECKING
 
-from neurowalk.experiments import Result
+from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.suites.deadends import build
 from neurowalk.experiments.suites.deadends_plot import plot as draw
 from neurowalk.experiments.suites.long_runs import control_steps_of
-from neurowalk.sim.config import DEFAULT_ENGINE
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -49,45 +47,11 @@ PANELS = {
 }
 
 
-def run(
-    *,
-    quick: bool = False,
-    seed: int = 0,
-    seeds: int | None = None,
-    climbing: bool = False,
-    variant: str = "paper",
-    gait: str = "wave",
-    engine: str = DEFAULT_ENGINE,
-    device: str | None = None,
-    out: Path | None = None,
-    control_hz: float = 10.0,
-) -> Result:
-    """Outcome table over ``seeds`` seeds (default 10; 1 with ``quick``), example and long runs.
-
-    ``climbing``: with the leg reflexes and backbone control of Fig. 10 switched on. ``variant``: the networks'
-    variant (``paper`` or ``original``). ``gait``: the locomotion network's gait (``wave`` by default). ``engine``:
-    ``mujoco`` (default) or ``warp`` (MuJoCo Warp, the runs as worlds of one model). ``out``: the folder of the
-    resumable result stores (``results.sqlite``, ``traces.sqlite``): a rerun goes on from the runs they hold.
-    ``control_hz``: every run's control rate; the runs keep their control steps, seconds follow the rate.
-    """
-    res = build(
-        NAME,
-        NETWORK,
-        LONG,
-        quick=quick,
-        seed=seed,
-        seeds=seeds,
-        long_steps=LONG_STEPS,
-        paper_time_steps=PAPER_TIME_STEPS,
-        mark_step=MARK_STEP,
-        climbing=climbing,
-        variant=variant,
-        gait=gait,
-        engine=engine,
-        device=device,
-        out=out,
-        control_hz=control_hz,
-    )
+def run(s: Settings) -> Result:
+    """Outcome table over ``s.seeds`` seeds (default 10; 1 with ``quick``), example and long runs, with the settings
+    it takes (:data:`~neurowalk.experiments.FIGURES`): climbing, variant, gait, engine, control_hz (the runs keep
+    their control steps; seconds follow the rate); its runs are kept in resumable stores in ``s.out``."""
+    res = build(NAME, NETWORK, LONG, s, long_steps=LONG_STEPS, paper_time_steps=PAPER_TIME_STEPS, mark_step=MARK_STEP)
     res.summary["panels"] = PANELS
     return res
 

@@ -20,16 +20,14 @@ from zero (as in the paper's exploration experiment) and from b = 2.4, q = 3.5 (
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from neurowalk.experiments import Result
+from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.suites.deadends import build
 from neurowalk.experiments.suites.deadends_plot import plot as draw
 from neurowalk.experiments.suites.long_runs import WEDGED_LONG_S, control_steps_of
-from neurowalk.sim.config import DEFAULT_ENGINE
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -55,51 +53,18 @@ PANELS = {
 WEIGHTS = ("b1", "b2", "c1", "c2")  # G: b (self) and c = -q (inhibition) of the left and right neuron
 
 
-def run(
-    *,
-    quick: bool = False,
-    seed: int = 0,
-    seeds: int | None = None,
-    climbing: bool = False,
-    variant: str = "paper",
-    gait: str = "wave",
-    engine: str = DEFAULT_ENGINE,
-    device: str | None = None,
-    out: Path | None = None,
-    control_hz: float = 10.0,
-) -> Result:
-    """Outcome table over ``seeds`` seeds (default 10; 1 with ``quick``), example and long runs.
-
-    ``climbing``: with the leg reflexes and backbone control of Fig. 10 switched on. ``variant``: the networks'
-    variant (``paper`` or ``original``). ``gait``: the locomotion network's gait (``wave`` by default). ``engine``:
-    ``mujoco`` (default) or ``warp`` (MuJoCo Warp, the runs as worlds of one model). ``out``: the folder of the
-    resumable result stores (``results.sqlite``, ``traces.sqlite``): a rerun goes on from the runs they hold.
-    ``control_hz``: every run's control rate; the runs keep their control steps, seconds follow the rate.
-    """
-    res = build(
-        NAME,
-        NETWORK,
-        LONG,
-        quick=quick,
-        seed=seed,
-        seeds=seeds,
-        long_steps=LONG_STEPS,
-        paper_time_steps=PAPER_TIME_STEPS,
-        climbing=climbing,
-        variant=variant,
-        gait=gait,
-        engine=engine,
-        device=device,
-        out=out,
-        control_hz=control_hz,
-    )
-    s = res.summary
-    s["panels"] = PANELS
-    runs, wedged = s["runs"], s["wedged"]
+def run(s: Settings) -> Result:
+    """Outcome table over ``s.seeds`` seeds (default 10; 1 with ``quick``), example and long runs, with the settings
+    it takes (:data:`~neurowalk.experiments.FIGURES`): climbing, variant, gait, engine, control_hz (the runs keep
+    their control steps; seconds follow the rate); its runs are kept in resumable stores in ``s.out``."""
+    res = build(NAME, NETWORK, LONG, s, long_steps=LONG_STEPS, paper_time_steps=PAPER_TIME_STEPS)
+    summary = res.summary
+    summary["panels"] = PANELS
+    runs, wedged = summary["runs"], summary["wedged"]
     p, st, br = (runs[f"difficult ({n})"] for n in ("plastic", "static", "braitenberg"))
     over = f"over_{WEDGED_LONG_S:g}s"
-    s["difficult_comparison"] = {
-        "steps": s["long_steps"],
+    summary["difficult_comparison"] = {
+        "steps": summary["long_steps"],
         "plastic_trapped": p["trapped"],
         "static_trapped": st["trapped"],
         "braitenberg_trapped": br["trapped"],
@@ -110,7 +75,7 @@ def run(
         **{f"{n}_wedged": wedged[f"difficult ({n})"]["periods"] for n in ("plastic", "static", "braitenberg")},
         **{f"{n}_wedged_{over}": wedged[f"difficult ({n})"][over] for n in ("plastic", "static", "braitenberg")},
     }
-    s["fig5g"] = weights_over_run(res, "difficult (plastic)")
+    summary["fig5g"] = weights_over_run(res, "difficult (plastic)")
     return res
 
 

@@ -20,7 +20,7 @@ import numpy as np
 from neurowalk import metrics
 from neurowalk.arenas import arena_options
 from neurowalk.arenas.spec import WALL_HEIGHT
-from neurowalk.experiments import Result
+from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.stores import as_lists, run_store, store_folder
 from neurowalk.experiments.suites.long_runs import (
     LONG_STRIDE,
@@ -33,6 +33,7 @@ from neurowalk.experiments.suites.long_runs import (
     time_step_reading,
     wedged_counts,
 )
+from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.runners.local import run_many
 from neurowalk.runners.specs import spec_key
 from neurowalk.sim.config import DEFAULT_ENGINE
@@ -232,29 +233,17 @@ def _count(
 
 
 def example_and_long_runs(
-    network: str,
-    long_runs: dict[str, dict[str, Any]],
-    long_steps: int,
-    *,
-    seed: int = 0,
-    workers: int = 2,
-    progress: bool = True,
-    climbing: bool = False,
-    variant: str = "paper",
-    gait: str = "wave",
-    engine: str = DEFAULT_ENGINE,
-    device: str | None = None,
-    folder: Path | None = None,
-    control_hz: float = 10.0,
+    network: str, long_runs: dict[str, dict[str, Any]], long_steps: int, s: Settings, folder: Path | None
 ) -> dict[str, dict[str, Any]]:
-    """Traces of ``network`` in both dead ends, and the long runs {name: config kwargs}, all with ``seed``.
+    """Traces of ``network`` in both dead ends, and the long runs {name: config kwargs}, all with seed ``s.seed``.
 
     The dead ends keep every row; the long runs are streamed and keep every :data:`LONG_STRIDE`-th row and the
-    last (:class:`LongRunKeeper`). ``climbing``: leg reflexes and backbone control on; the original arenas' boxes
-    are then raised to :data:`~neurowalk.arenas.spec.WALL_HEIGHT` (their 0.10 m boxes would be climbable steps).
+    last (:class:`LongRunKeeper`). With ``s.climbing`` (leg reflexes and backbone control on) the original arenas'
+    boxes are raised to :data:`~neurowalk.arenas.spec.WALL_HEIGHT` (their 0.10 m boxes would be climbable steps).
     ``folder``: the runs go through the resumable store ``folder/traces.sqlite``.
     """
-    common = _shared(seed, climbing, variant, gait, engine, control_hz)
+    climbing, device = s.climbing, s.device
+    common = _shared(s.seed, climbing, s.variant or "paper", s.gait or "wave", s.engine, s.control_hz or SIM_HZ)
     net = {**NETWORKS[network], **common}
     examples = {
         "simple-deadlock": EpisodeConfig(arena="simple-deadlock", steps=TRAP_STEPS, **net),
@@ -263,11 +252,9 @@ def example_and_long_runs(
     opts = {"height": WALL_HEIGHT} if climbing else {}
     longs = {k: EpisodeConfig(steps=long_steps, arena_opts=opts, **common, **v) for k, v in long_runs.items()}
     ex = stored_runs(
-        list(examples.values()), folder, "traces.sqlite", workers, progress, "example runs", traces=True, device=device
+        list(examples.values()), folder, "traces.sqlite", 2, True, "example runs", traces=True, device=device
     )
-    lo = stored_runs(
-        list(longs.values()), folder, "traces.sqlite", workers, progress, "long runs", traces="long", device=device
-    )
+    lo = stored_runs(list(longs.values()), folder, "traces.sqlite", 2, True, "long runs", traces="long", device=device)
     return {**dict(zip(examples, ex, strict=True)), **dict(zip(longs, lo, strict=True))}
 
 
@@ -275,45 +262,39 @@ def build(
     name: str,
     network: str,
     long_runs: dict,
+    s: Settings,
     *,
-    quick: bool,
-    seed: int,
-    seeds: int | None,
     long_steps: int,
     paper_time_steps: dict[str, int],
     mark_step: int | None = None,
-    climbing: bool = False,
-    variant: str = "paper",
-    gait: str = "wave",
-    engine: str = DEFAULT_ENGINE,
-    device: str | None = None,
-    out: Path | None = None,
-    control_hz: float = 10.0,
 ) -> Result:
-    """Shared by Fig. 3 and Fig. 5: outcome table, example runs, long runs (``climbing``: modules of Fig. 10 on).
+    """Shared by Fig. 3 and Fig. 5: outcome table, example runs, long runs, with the settings ``s``.
 
-    ``long_steps``: control steps of the long runs (``quick``: :data:`QUICK_LONG_STEPS` when fewer);
+    ``long_steps``: control steps of the long runs (``s.quick``: :data:`QUICK_LONG_STEPS` when fewer);
     ``paper_time_steps``: the paper's counts behind them (for ``time_step_reading``); ``mark_step``: a step the
-    figure marks on the long runs (Fig. 3: 7,000, the paper's 70,000 time steps). ``quick``: also only the
-    :data:`QUICK_VARIANTS` and :data:`QUICK_SEEDS` seeds (unless ``seeds``). ``variant``: every network runs as this
-    variant (``paper`` or ``original``). ``engine``: mujoco or warp. ``control_hz``: every run's control rate (the
-    runs keep their control steps; seconds follow the rate). ``out``: the runs go through resumable stores there
-    (``results.sqlite``: the outcome table, ``traces.sqlite``: the example and long runs), so that an interrupted
-    figure goes on from its finished runs.
+    figure marks on the long runs (Fig. 3: 7,000, the paper's 70,000 time steps). ``s.quick``: also only the
+    :data:`QUICK_VARIANTS` and :data:`QUICK_SEEDS` seeds (default 10). Every run takes ``s``'s network variant,
+    gait, engine, control rate (the runs keep their control steps; seconds follow the rate) and ``climbing`` (the
+    modules of Fig. 10 on). ``s.out``: the runs go through resumable stores there (``results.sqlite``: the outcome
+    table, ``traces.sqlite``: the example and long runs), so that an interrupted figure goes on from them.
     """
-    n_seeds = seeds if seeds is not None else (QUICK_SEEDS if quick else 10)
-    if n_seeds < 1:
-        raise ValueError(f"seeds must be >= 1, got {n_seeds}")
+    quick, seed, climbing, engine = s.quick, s.seed, s.climbing, s.engine
+    variant, gait, control_hz = s.variant or "paper", s.gait or "wave", s.control_hz or SIM_HZ
     full_steps = long_steps
     if quick:
         long_steps = min(long_steps, QUICK_LONG_STEPS)
     variants = {k: v for k, v in VARIANTS.items() if k in QUICK_VARIANTS} if quick else VARIANTS
-    kw: dict[str, Any] = {"climbing": climbing, "variant": variant, "gait": gait, "engine": engine, "device": device}
-    with store_folder(out) as folder:
-        table = outcome_table(n_seeds, first_seed=seed, variants=variants, folder=folder, control_hz=control_hz, **kw)
-        runs = example_and_long_runs(
-            network, long_runs, long_steps, seed=seed, folder=folder, control_hz=control_hz, **kw
+    kw: dict[str, Any] = {"climbing": climbing, "variant": variant, "gait": gait, "engine": engine, "device": s.device}
+    with store_folder(s.out) as folder:
+        table = outcome_table(
+            s.n(full=10, quick=QUICK_SEEDS),
+            first_seed=seed,
+            variants=variants,
+            folder=folder,
+            control_hz=control_hz,
+            **kw,
         )
+        runs = example_and_long_runs(network, long_runs, long_steps, s, folder)
     arrays = {
         f"{k}/{field}": v[field] for k, v in runs.items() for field in (LONG_TRACES if k in long_runs else TRACES)
     }
