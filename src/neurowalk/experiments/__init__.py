@@ -129,18 +129,21 @@ FIGURES: dict[str, Study] = {
         "narrow passage: snapshots, paths and escapes of the plastic and static networks (paper Fig. 8)",
         "fig8",
         "seeds workers video variant params control_hz out",
+        settings=True,
     ),
     "fig9": _figure(
         "fig9",
         "complex path: snapshots, paths and outcome map of the plastic and static networks (paper Fig. 9)",
         "fig9",
         "seeds workers video variant params control_hz out",
+        settings=True,
     ),
     "fig10": _figure(
         "fig10",
         "climbing track: climb a step, avoid a wall, climb a second step (paper Fig. 10)",
         "fig10",
         "seeds workers variant control_hz out",
+        settings=True,
     ),
     "table2": _figure(
         "table2",
@@ -167,12 +170,14 @@ FIGURES: dict[str, Study] = {
         "step-height sweep: highest step climbed, with and without backbone control and reflexes",
         "steps",
         "seeds workers control_hz out",
+        settings=True,
     ),
     "bodies": _figure(
         "bodies",
         "the networks on other robots: dead ends and Table 2 on AMOSII and a wheeled robot at two sizes",
         "bodies",
         "seeds workers control_hz out",
+        settings=True,
     ),
     "surrogate": _figure(
         "surrogate",

@@ -7,6 +7,7 @@ import json
 import pytest
 
 from neurowalk.cli import main
+from neurowalk.experiments import Settings
 from neurowalk.experiments.figures import bodies
 
 
@@ -34,11 +35,11 @@ def test_quick_figure_runs_every_body_and_network_and_redraws(tmp_path):
 
 
 def test_control_hz_reaches_every_dead_end_and_table_run() -> None:
-    p = bodies.plan(quick=True, seeds=1, control_hz=27.0)
+    p = bodies.plan(Settings(quick=True, seeds=1, control_hz=27.0))
     specs = [*p["dead"].values(), *p["table"].values()]
     assert {s["control_hz"] for s in specs} == {27.0}
     assert p["dead_steps"] == 1620 and p["t2_steps"] == 2700  # 60 s and 100 s at 27 Hz
     half = {s["steps"] for s in p["dead"].values() if s.get("body_opts")}
     assert half == {3240}  # the half-size robot: twice as long
-    at10 = bodies.plan(seeds=1)
+    at10 = bodies.plan(Settings(seeds=1))
     assert at10["dead_steps"] == 5000 and at10["t2_steps"] == 20_000

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from neurowalk.experiments import Settings
 from neurowalk.experiments.figures import fig10
 from neurowalk.experiments.figures.fig10 import key_moments
 from neurowalk.experiments.suites.climbing import (
@@ -107,7 +108,7 @@ def test_fig10_runs_at_its_control_rate(monkeypatch, tmp_path, quick, hz, steps)
 
     monkeypatch.setattr(fig10, "run_episode", run_episode)
     with pytest.raises(_StopError):
-        fig10.run(quick=quick, seeds=1, out=tmp_path, control_hz=hz)
+        fig10.run(Settings(quick=quick, seeds=1, out=tmp_path, control_hz=hz))
     assert seen[0].control_hz == hz and seen[0].steps == steps  # a quick run at 27 Hz: 444 s, not 1200 s
 
 
@@ -119,7 +120,7 @@ def test_first_platform_is_the_trunk_centre_0_3_m_past_its_edge():
 
 
 def test_a_27_hz_track_run_reports_its_events_on_the_27_hz_clock(tmp_path):
-    res = fig10.run(seeds=1, steps=1800, out=tmp_path, control_hz=27.0)
+    res = fig10.run(Settings(seeds=1, out=tmp_path, control_hz=27.0), steps=1800)
     s = res.summary
     assert s["control_hz"] == 27.0 and s["duration_s"] == pytest.approx(1800 / 27.0)
     row = s["table"]["0.06"]["runs"][0]
@@ -148,7 +149,7 @@ def test_fig10_runs_the_height_table_at_the_simulators_rate_only(monkeypatch, tm
     monkeypatch.setattr(fig10, "render_frames", lambda *a, **k: np.zeros((4, 2, 2, 3), np.uint8))
     monkeypatch.setattr(fig10, "run_store", store)
     with pytest.raises(_DoneError):
-        fig10.run(seeds=2, out=tmp_path, control_hz=hz)
+        fig10.run(Settings(seeds=2, out=tmp_path, control_hz=hz))
     assert len({s["arena_opts"]["step"] for s in seen}) == heights and len(seen) == 2 * heights
 
 

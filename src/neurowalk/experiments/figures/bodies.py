@@ -28,7 +28,7 @@ from matplotlib.patches import Patch
 from matplotlib.ticker import PercentFormatter
 
 from neurowalk.arenas import make_arena
-from neurowalk.experiments import Result
+from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.stores import run_store
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.random_envs import (
@@ -90,20 +90,18 @@ def _slower(steps: int, opts: dict[str, float]) -> int:
     return round(steps / min(1.0, opts.get("scale", 1.0)))
 
 
-def plan(*, quick: bool = False, seed: int = 0, seeds: int | None = None, control_hz: float = 10.0) -> dict[str, Any]:
-    """What :func:`run` runs: ``n`` seeds per dead end, ``envs``, ``dead_steps`` and ``t2_steps`` (at 10 Hz and the
-    default body size), the durations in seconds, and the specs ``dead`` ((body, network, dead end, seed) -> spec)
-    and ``table`` ((body, network, environment seed) -> spec), every one at ``control_hz``.
+def plan(s: Settings) -> dict[str, Any]:
+    """What :func:`run` runs: ``n`` seeds per dead end, ``envs``, ``dead_steps`` and ``t2_steps`` (at the default body
+    size), the durations in seconds, and the specs ``dead`` ((body, network, dead end, seed) -> spec) and ``table``
+    ((body, network, environment seed) -> spec), every one at the control rate of ``s`` (10 Hz by default).
 
-    ValueError on a bad ``seeds`` or a body of :data:`BODIES` that cannot run at ``control_hz``.
+    ValueError on a body of :data:`BODIES` that cannot run at that rate.
     """
-    n = seeds if seeds is not None else (2 if quick else 10)
-    if n < 1:
-        raise ValueError(f"seeds must be >= 1, got {n}")
+    control_hz, seed, n = s.control_hz or 10.0, s.seed, s.n(10, 2)
     for body, _ in BODIES.values():
         check_rate(body, control_hz)
-    n_env = 3 if quick and seeds is None else 5 * n
-    dead_s, t2_s = (60.0, 100.0) if quick else (TRAP_STEPS / 10.0, DURATION_S)  # TRAP_STEPS: 5000 steps at 10 Hz
+    n_env = 3 if s.quick and s.seeds is None else 5 * n
+    dead_s, t2_s = (60.0, 100.0) if s.quick else (TRAP_STEPS / 10.0, DURATION_S)  # TRAP_STEPS: 5000 steps at 10 Hz
     dead_steps, t2_steps = steps_at(dead_s, control_hz), steps_at(t2_s, control_hz)
     envs = environments(n_env, seed)
     dead = {
@@ -134,22 +132,14 @@ def plan(*, quick: bool = False, seed: int = 0, seeds: int | None = None, contro
     }
 
 
-def run(
-    *,
-    quick: bool = False,
-    seed: int = 0,
-    seeds: int | None = None,
-    out: Path | None = None,
-    workers: int = 2,
-    control_hz: float = 10.0,
-) -> Result:
-    """``seeds`` (default 10; 2 with ``quick``) runs per dead end and 5x as many Table 2 environments (default 50;
-    quick: 3 environments of 100 s, dead ends of 60 s: a smoke test), per body and network, through the store in
-    ``out``, at ``control_hz`` (durations in seconds of simulated time, whatever the rate)."""
-    p = plan(quick=quick, seed=seed, seeds=seeds, control_hz=control_hz)
+def run(s: Settings) -> Result:
+    """Dead-end escapes and Table 2 outcomes per body and network (see the module doc; the settings are
+    :class:`Settings`'s: ``seeds`` runs per dead end, default 10, and 5x as many Table 2 environments; with
+    ``quick`` 2 seeds and 3 environments of 100 s, dead ends of 60 s: a smoke test)."""
+    p = plan(s)
     n, envs, dead, table = p["n"], p["envs"], p["dead"], p["table"]
     threshold = coverage_threshold(p["table2_s"])
-    folder = Path(out) if out is not None else Path("out/bodies")
+    folder, workers = s.out or Path("out/bodies"), s.workers or 2
     res = run_store_paths(list(dead.values()), folder, workers)  # the dead ends with their paths (drawn)
     res.update(run_store(list(table.values()), folder, workers)[0])  # Table 2: outcomes only
     rows, paths = [], {}
@@ -187,13 +177,13 @@ def run(
         "bodies": {b: {"body": body, "body_opts": opts} for b, (body, opts) in BODIES.items()},
         "networks": list(NETWORKS),
         "variant": "paper",
-        "control_hz": control_hz,
+        "control_hz": s.control_hz or 10.0,
         "dead_end_steps": p["dead_steps"],
         "dead_end_s": p["dead_end_s"],
         "dead_end_steps_by_body": {b: _slower(p["dead_steps"], opts) for b, (_, opts) in BODIES.items()},
         "table2_steps": p["t2_steps"],
         "table2_s": p["table2_s"],
-        "table2_seed": seed,
+        "table2_seed": s.seed,
         "interval": "Wilson score interval, 95%",
         "rows": rows,
         "rule": "dead ends: escaped = left the trap's exit region; Table 2: " + RULE,

@@ -24,7 +24,7 @@ from matplotlib.patches import Polygon
 from neurowalk import anatomy
 from neurowalk.arenas import make_arena
 from neurowalk.body.physics import AmosII
-from neurowalk.experiments import Result
+from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.stores import run_store
 from neurowalk.experiments.suites.climbing import (
     TRACK_HEIGHTS,
@@ -35,13 +35,7 @@ from neurowalk.experiments.suites.climbing import (
     track_spec,
     track_success,
 )
-from neurowalk.experiments.suites.timing import (
-    SIM_HZ,
-    quick_note,
-    quick_seconds,
-    real_robot_entry,
-    seeds_and_steps,
-)
+from neurowalk.experiments.suites.timing import SIM_HZ, quick_note, quick_seconds, real_robot_entry, run_steps
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting.style import FONT, LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, time_colorbar
 from neurowalk.render import render_frames
@@ -83,47 +77,35 @@ def key_moments(bj_command: np.ndarray, outputs: np.ndarray, lean: float = 0.26)
     return {"start": 0, "first climb": climb1, "wall avoidance": wall, "second climb": climb2}
 
 
-def run(
-    *,
-    quick: bool = False,
-    seed: int = 0,
-    seeds: int | None = None,
-    out: Path | None = None,
-    workers: int = 2,
-    variant: str = "paper",
-    control_hz: float = SIM_HZ,
-    steps: int | None = None,
-) -> Result:
-    """The example run (step 0.06 m, ``seed``) and the outcome table over ``seeds`` seeds per step height.
+def run(s: Settings, *, steps: int | None = None) -> Result:
+    """The example run (step 0.06 m, seed ``seed``) and the outcome table over the seeds per step height (see the
+    module doc; the settings are :class:`Settings`'s). ``steps``: control steps per run (default
+    :data:`~neurowalk.experiments.suites.climbing.TRACK_S` s at the control rate, at most :data:`QUICK_MAX_STEPS`
+    with ``quick``)."""
+    control_hz, variant = s.control_hz or SIM_HZ, s.variant or "paper"
+    seconds = quick_seconds(TRACK_S, QUICK_MAX_STEPS, control_hz) if s.quick else TRACK_S
+    n, steps = s.n(10, 3), run_steps(steps, seconds, control_hz)
 
-    ``variant``: the plastic network's variant (``paper`` by default). ``control_hz``: the control rate of every
-    run (Hz); runs last :data:`~neurowalk.experiments.suites.climbing.TRACK_S` s (with ``quick``, at most
-    :data:`QUICK_MAX_STEPS` control steps), or ``steps`` control steps where given.
-    """
-    seconds = quick_seconds(TRACK_S, QUICK_MAX_STEPS, control_hz) if quick else TRACK_S
-    n, steps = seeds_and_steps(quick, seeds, steps, seconds, control_hz)
-
-    def spec(h: float, s: int) -> dict:
-        return track_spec(h, s, steps, variant=variant, control_hz=control_hz)
+    def spec(h: float, seed: int) -> dict:
+        return track_spec(h, seed, steps, variant=variant, control_hz=control_hz)
 
     step = TRACK_HEIGHTS[0]
-    ep, moments, frames = _example(spec(step, seed))
+    ep, moments, frames = _example(spec(step, s.seed))
     tr = ep.trajectory
     heights = TRACK_HEIGHTS if control_hz == SIM_HZ else TRACK_HEIGHTS[:1]  # other rates: the real-robot comparison
-    specs = [spec(h, seed + k) for h in heights for k in range(n)]
-    folder = Path(out) if out is not None else Path("out/fig10")
-    results, _ = run_store(specs, folder, workers, fn=run_track, name="track.sqlite")
+    specs = [spec(h, s.seed + k) for h in heights for k in range(n)]
+    results, _ = run_store(specs, s.out or Path("out/fig10"), s.workers or 2, fn=run_track, name="track.sqlite")
     table = {
-        f"{h:.2f}": _height_row([results[spec_key(spec(h, seed + k))] for k in range(n)], h, seed, control_hz)
+        f"{h:.2f}": _height_row([results[spec_key(spec(h, s.seed + k))] for k in range(n)], h, s.seed, control_hz)
         for h in heights
     }
     summary = {
         "step_m": step,
-        "seed": seed,
+        "seed": s.seed,
         "steps": steps,
         "control_hz": float(control_hz),
         "duration_s": steps / control_hz,
-        "quick_note": quick_note(TRACK_S, seconds, control_hz) if quick else None,
+        "quick_note": quick_note(TRACK_S, seconds, control_hz) if s.quick else None,
         "variant": variant,
         "rule": TRACK_RULE,
         "moments": moments,

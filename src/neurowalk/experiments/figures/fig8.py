@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from neurowalk.arenas import make_arena
-from neurowalk.experiments import Result
+from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.suites.real_robot import (
     N_SNAPSHOTS,
     NETWORKS,
@@ -35,7 +35,7 @@ from neurowalk.experiments.suites.real_robot import (
     run_store_paths,
     write_videos,
 )
-from neurowalk.experiments.suites.timing import SIM_HZ, real_robot_entry, seeds_and_steps
+from neurowalk.experiments.suites.timing import SIM_HZ, real_robot_entry, run_steps
 from neurowalk.plotting.style import letter, pyplot
 from neurowalk.runners.specs import spec_key
 
@@ -54,67 +54,35 @@ RULE = (
 )
 
 
-def run(
-    *,
-    quick: bool = False,
-    seed: int = 0,
-    seeds: int | None = None,
-    out: Path | None = None,
-    workers: int = 2,
-    steps: int | None = None,
-    video: bool = False,
-    variant: str = "paper",
-    params: dict[str, float] | None = None,
-    control_hz: float = SIM_HZ,
-) -> Result:
-    """Escapes over ``seeds`` seeds per network, the example seed ``seed`` in full.
+def run(s: Settings, *, steps: int | None = None) -> Result:
+    """Each network's escapes over its seeds, the example seed ``seed`` in full (see the module doc; the settings
+    are :class:`Settings`'s). ``steps``: control steps per run (default :data:`RUN_S` s at the control rate)."""
+    control_hz = s.control_hz or SIM_HZ
+    n, steps = s.n(10, 3), run_steps(steps, QUICK_S if s.quick else RUN_S, control_hz)
+    folder = s.out or Path("out") / NAME
 
-    Args:
-        quick: 3 seeds and :data:`QUICK_S` s per run.
-        seed: the first seed and the example run's seed; seeds ``seed`` ... ``seed + seeds - 1`` run.
-        seeds: seeds per network (default 10; 3 with ``quick``).
-        out: output folder: holds the resumable result store (default ``out/fig8``) and the videos.
-        workers: processes.
-        steps: control steps per run (default: :data:`RUN_S` s, or :data:`QUICK_S` s with ``quick``, at
-            ``control_hz``: ``round(seconds * control_hz)``).
-        video: also write one mp4 per network of the example run into ``out``.
-        variant, params: the sensory network's variant and parameter overrides (see ``EpisodeConfig``).
-        control_hz: the control rate of every run (Hz).
-    """
-    n, steps = seeds_and_steps(quick, seeds, steps, QUICK_S if quick else RUN_S, control_hz)
-    folder = Path(out) if out is not None else Path("out") / NAME
+    def spec(net: str, seed: int) -> dict[str, Any]:
+        return make_spec(s, ARENA, {}, net, seed, steps)
 
-    def spec(net: str, s: int) -> dict[str, Any]:
-        return make_spec(ARENA, {}, net, s, steps, variant=variant, params=params, control_hz=control_hz)
-
-    results = run_store_paths([spec(net, seed + k) for net in NETWORKS for k in range(n)], folder, workers)
-    examples = example_runs({net: spec(net, seed) for net in NETWORKS}, workers)
+    specs = [spec(net, s.seed + k) for net in NETWORKS for k in range(n)]
+    results = run_store_paths(specs, folder, s.workers or 2)
+    examples = example_runs({net: spec(net, s.seed) for net in NETWORKS}, s.workers or 2)
     arena = make_arena(ARENA)
     counts, arrays = {}, {}
     for net in NETWORKS:
-        runs = [results[spec_key(spec(net, seed + k))] for k in range(n)]
-        counts[net] = _counts(runs, seed)
+        runs = [results[spec_key(spec(net, s.seed + k))] for k in range(n)]
+        counts[net] = _counts(runs, s.seed)
         arrays.update(network_arrays(net, runs, examples[net], arena, examples[net]["summary"]["exit_step"]))
     keys = ("seed", "escaped", "exit_step", "trapped", "direction_switches", "final_weights")
     summary = {
-        **run_record(
-            arena,
-            arena_geometry(arena),
-            seed=seed,
-            seeds=n,
-            steps=steps,
-            control_hz=control_hz,
-            variant=variant,
-            params=params,
-            rule=RULE,
-        ),
+        **run_record(s, arena, arena_geometry(arena), seeds=n, steps=steps, rule=RULE),
         "counts": counts,
         "escaped": {net: f"{counts[net]['escaped']}/{n}" for net in NETWORKS},
         "example": {net: {k: examples[net]["summary"][k] for k in keys} for net in NETWORKS},
         "snapshots": N_SNAPSHOTS,
         "real_robot": _real_robot(counts, n, steps, control_hz),
     }
-    if video:
+    if s.video:
         summary["videos"] = write_videos(NAME, arena, examples, folder)
     return Result(NAME, summary, arrays)
 

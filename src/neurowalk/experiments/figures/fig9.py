@@ -27,7 +27,7 @@ import numpy as np
 from neurowalk.arenas import arena_options, make_arena
 from neurowalk.arenas.deadlocks import EXIT_MARGIN, WALL
 from neurowalk.arenas.generated import MOUTH, OPENING
-from neurowalk.experiments import Result
+from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.suites.real_robot import (
     N_SNAPSHOTS,
     NETWORKS,
@@ -44,7 +44,7 @@ from neurowalk.experiments.suites.real_robot import (
     run_store_paths,
     write_videos,
 )
-from neurowalk.experiments.suites.timing import SIM_HZ, real_robot_entry, seeds_and_steps
+from neurowalk.experiments.suites.timing import SIM_HZ, real_robot_entry, run_steps
 from neurowalk.plotting.style import FONT, colorbar, letter, pyplot
 from neurowalk.runners.specs import spec_key
 
@@ -106,79 +106,45 @@ def _cell(width_f: float, spacing_f: float) -> dict[str, float]:
     return {"width": round(d["width"] * width_f, 6), "spacing": round(d["spacing"] * spacing_f, 6)}
 
 
-def run(
-    *,
-    quick: bool = False,
-    seed: int = 0,
-    seeds: int | None = None,
-    out: Path | None = None,
-    workers: int = 2,
-    steps: int | None = None,
-    video: bool = False,
-    variant: str = "paper",
-    params: dict[str, float] | None = None,
-    control_hz: float = SIM_HZ,
-) -> Result:
-    """Outcomes over ``seeds`` seeds per network and geometry, the example seed ``seed`` in full.
-
-    Args:
-        quick: 3 seeds, :data:`QUICK_S` s per run, the default geometry only (no sweep; nor at a rate other than
-            :data:`SIM_HZ`).
-        seed: the first seed and the example run's seed; seeds ``seed`` ... ``seed + seeds - 1`` run.
-        seeds: seeds per network and geometry (default 10; 3 with ``quick``).
-        out: output folder: holds the resumable result store (default ``out/fig9``) and the videos.
-        workers: processes.
-        steps: control steps per run (default: :data:`PATH_S` s, or :data:`QUICK_S` s with ``quick``, at
-            ``control_hz``: ``round(seconds * control_hz)``).
-        video: also write one mp4 per network of the example run into ``out``.
-        variant, params: the sensory network's variant and parameter overrides (see ``EpisodeConfig``).
-        control_hz: the control rate of every run (Hz).
-    """
-    n, steps = seeds_and_steps(quick, seeds, steps, QUICK_S if quick else PATH_S, control_hz)
-    folder = Path(out) if out is not None else Path("out") / NAME
-    factors = FACTORS if not quick and control_hz == SIM_HZ else (1.0,)  # the map at the simulator's rate only
+def run(s: Settings, *, steps: int | None = None) -> Result:
+    """Each network's outcomes over its seeds in each geometry, the example seed ``seed`` in full (see the module doc;
+    the settings are :class:`Settings`'s). ``steps``: control steps per run (default :data:`PATH_S` s at the control
+    rate)."""
+    control_hz = s.control_hz or SIM_HZ
+    n, steps = s.n(10, 3), run_steps(steps, QUICK_S if s.quick else PATH_S, control_hz)
+    folder = s.out or Path("out") / NAME
+    factors = FACTORS if not s.quick and control_hz == SIM_HZ else (1.0,)  # the map at the simulator's rate only
     cells = [(fw, fs) for fw in factors for fs in factors]
 
-    def spec(net: str, s: int, cell: tuple[float, float] = (1.0, 1.0)) -> dict[str, Any]:
-        return make_spec(ARENA, _cell(*cell), net, s, steps, variant=variant, params=params, control_hz=control_hz)
+    def spec(net: str, seed: int, cell: tuple[float, float] = (1.0, 1.0)) -> dict[str, Any]:
+        return make_spec(s, ARENA, _cell(*cell), net, seed, steps)
 
     # first the default geometry, then the map's cells
-    specs = [spec(net, seed + k, c) for c in [(1.0, 1.0), *cells] for net in NETWORKS for k in range(n)]
-    results = run_store_paths(specs, folder, workers)
-    examples = example_runs({net: spec(net, seed) for net in NETWORKS}, workers)
+    specs = [spec(net, s.seed + k, c) for c in [(1.0, 1.0), *cells] for net in NETWORKS for k in range(n)]
+    results = run_store_paths(specs, folder, s.workers or 2)
+    examples = example_runs({net: spec(net, s.seed) for net in NETWORKS}, s.workers or 2)
 
     def stored(net: str, cell: tuple[float, float] = (1.0, 1.0)) -> list[dict[str, Any]]:
-        return [results[spec_key(spec(net, seed + k, cell))] for k in range(n)]
+        return [results[spec_key(spec(net, s.seed + k, cell))] for k in range(n)]
 
     arena = make_arena(ARENA)
     every = path_every(control_hz)
     counts, arrays = {}, {}
     for net in NETWORKS:
-        counts[net], more = _network(net, stored(net), examples[net], seed, arena, every)
+        counts[net], more = _network(net, stored(net), examples[net], s.seed, arena, every)
         arrays.update(more)
     summary = {
-        **run_record(
-            arena,
-            _geometry(arena),
-            seed=seed,
-            seeds=n,
-            steps=steps,
-            control_hz=control_hz,
-            variant=variant,
-            params=params,
-            rule=RULE,
-            path_every_steps=every,
-        ),
+        **run_record(s, arena, _geometry(arena), seeds=n, steps=steps, rule=RULE, path_every_steps=every),
         "outcomes": list(OUTCOMES),
         "counts": counts,
         "sweep_factors": list(factors),
         "map": [_map_cell(c, {net: stored(net, c) for net in NETWORKS}) for c in cells],
         "paper_contrast": _paper_contrast(counts, n),
-        "example": {net: _example(examples[net], seed) for net in NETWORKS},
+        "example": {net: _example(examples[net], s.seed) for net in NETWORKS},
         "snapshots": N_SNAPSHOTS,
         "real_robot": _real_robot(counts, n, steps, control_hz),
     }
-    if video:
+    if s.video:
         summary["videos"] = write_videos(NAME, arena, examples, folder)
     return Result(NAME, summary, arrays)
 

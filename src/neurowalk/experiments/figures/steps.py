@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from matplotlib.ticker import PercentFormatter
 
-from neurowalk.experiments import Result
+from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.stores import run_store
 from neurowalk.experiments.suites.climbing import (
     QUICK_SWEEP_HEIGHTS,
@@ -40,38 +40,24 @@ if TYPE_CHECKING:
 QUICK_MAX_STEPS = 3000  # control steps of a quick run at most (STEP_S at 10 Hz; 111 s at 27 Hz)
 
 
-def run(
-    *,
-    quick: bool = False,
-    seed: int = 0,
-    seeds: int | None = None,
-    out: Path | None = None,
-    workers: int = 2,
-    control_hz: float = SIM_HZ,
-) -> Result:
-    """Climb rates per variant and height; the highest height each variant climbs reliably.
-
-    ``control_hz``: the control rate of every run (Hz); runs last
-    :data:`~neurowalk.experiments.suites.climbing.STEP_S` s (with ``quick``, at most :data:`QUICK_MAX_STEPS`
-    control steps).
-    """
-    n = seeds if seeds is not None else (3 if quick else 10)
-    if n < 1:
-        raise ValueError(f"seeds must be >= 1, got {n}")
-    heights = QUICK_SWEEP_HEIGHTS if quick else SWEEP_HEIGHTS
-    seconds = quick_seconds(STEP_S, QUICK_MAX_STEPS, control_hz) if quick else STEP_S
+def run(s: Settings) -> Result:
+    """Climb rates per variant and height, and the highest height each variant climbs reliably (see the module doc;
+    the settings are :class:`Settings`'s)."""
+    control_hz = s.control_hz or SIM_HZ
+    n, heights = s.n(10, 3), QUICK_SWEEP_HEIGHTS if s.quick else SWEEP_HEIGHTS
+    seconds = quick_seconds(STEP_S, QUICK_MAX_STEPS, control_hz) if s.quick else STEP_S
     steps = steps_for(seconds, control_hz)
 
-    def spec(h: float, v: str, s: int) -> dict:
-        return step_spec(h, v, s, steps, control_hz=control_hz)
+    def spec(h: float, v: str, seed: int) -> dict:
+        return step_spec(h, v, seed, steps, control_hz=control_hz)
 
-    specs = [spec(h, v, seed + k) for v in VARIANTS for h in heights for k in range(n)]
-    results, _ = run_store(specs, Path(out) if out is not None else Path("out/steps"), workers)
+    specs = [spec(h, v, s.seed + k) for v in VARIANTS for h in heights for k in range(n)]
+    results, _ = run_store(specs, s.out or Path("out/steps"), s.workers or 2)
     variants = {}
     for v in VARIANTS:
         rates, times = {}, {}
         for h in heights:
-            runs = [results[spec_key(spec(h, v, seed + k))] for k in range(n)]
+            runs = [results[spec_key(spec(h, v, s.seed + k))] for k in range(n)]
             ok = [climbed(r) for r in runs]
             rates[h] = sum(ok) / n
             done = [r["exit_step"] for r in runs if r["exit_step"] is not None]
@@ -87,11 +73,11 @@ def run(
     summary = {
         "heights_m": list(heights),
         "seeds": n,
-        "seed": seed,
+        "seed": s.seed,
         "steps": steps,
         "control_hz": float(control_hz),
         "duration_s": steps / control_hz,
-        "quick_note": quick_note(STEP_S, seconds, control_hz) if quick else None,
+        "quick_note": quick_note(STEP_S, seconds, control_hz) if s.quick else None,
         "rule": STEP_RULE,
         "reliable_share": RELIABLE,
         "variants": variants,

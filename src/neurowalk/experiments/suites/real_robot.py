@@ -50,6 +50,7 @@ if TYPE_CHECKING:
     from matplotlib.gridspec import SubplotSpec
 
     from neurowalk.arenas.spec import ArenaSpec
+    from neurowalk.experiments.study import Settings
     from neurowalk.sim.episode import Episode
 
 NETWORKS: tuple[str, ...] = ("plastic", "static")
@@ -70,30 +71,20 @@ def video_every(control_hz: float) -> int:
     return steps_for(VIDEO_SPEEDUP / VIDEO_FPS, control_hz)
 
 
-def make_spec(
-    arena: str,
-    arena_opts: dict[str, float],
-    network: str,
-    seed: int,
-    steps: int,
-    *,
-    variant: str = "paper",
-    params: dict[str, float] | None = None,
-    control_hz: float = SIM_HZ,
-) -> dict[str, Any]:
-    """Run spec of one run: the ``network`` (a controller name) in ``arena`` for ``steps`` control steps at
-    ``control_hz`` Hz."""
+def make_spec(s: Settings, arena: str, opts: dict[str, float], network: str, seed: int, steps: int) -> dict[str, Any]:
+    """Run spec of one run: the ``network`` (a controller name) in ``arena`` (its options ``opts``) for ``steps``
+    control steps, with the variant, params and control rate of ``s`` (``paper``, none, :data:`SIM_HZ`)."""
     spec: dict[str, Any] = {
         "arena": arena,
-        "arena_opts": dict(arena_opts),
+        "arena_opts": dict(opts),
         "controller": network,
         "steps": steps,
         "seed": seed,
-        "control_hz": float(control_hz),
-        "variant": variant,
+        "control_hz": float(s.control_hz or SIM_HZ),
+        "variant": s.variant or "paper",
     }
-    if params:
-        spec["params"] = dict(params)
+    if s.params:
+        spec["params"] = dict(s.params)
     return spec
 
 
@@ -216,33 +207,24 @@ def arena_geometry(arena: ArenaSpec) -> dict[str, Any]:
 
 
 def run_record(
-    arena: ArenaSpec,
-    geometry: dict[str, Any],
-    *,
-    seed: int,
-    seeds: int,
-    steps: int,
-    control_hz: float,
-    variant: str,
-    params: dict[str, float] | None,
-    rule: str,
-    **timing: Any,
+    s: Settings, arena: ArenaSpec, geometry: dict[str, Any], *, seeds: int, steps: int, rule: str, **timing: Any
 ) -> dict[str, Any]:
     """The head of a figure's summary: the arena and its ``geometry``, the seeds, the runs' length (``steps``
-    control steps at ``control_hz`` Hz; ``timing``: further entries after ``duration_s``), the networks and the
-    outcome ``rule``."""
+    control steps at the control rate of ``s``; ``timing``: further entries after ``duration_s``), the networks and
+    the outcome ``rule``."""
+    control_hz = s.control_hz or SIM_HZ
     return {
         "arena": arena.name,
         "arena_opts": arena.options,
         "geometry": geometry,
-        "seed": seed,
+        "seed": s.seed,
         "seeds": seeds,
         "steps": steps,
         "control_hz": float(control_hz),
         "duration_s": steps / control_hz,
         **timing,
-        "variant": variant,
-        "params": params,
+        "variant": s.variant or "paper",
+        "params": s.params,
         "body": "amosii",
         "networks": {"plastic": "plastic, weights start at 0", "static": "static (b = 2.4, c = -3.5)"},
         "rule": rule,

@@ -26,18 +26,13 @@ def steps_for(seconds: float, control_hz: float) -> int:
     return max(1, round(seconds * control_hz))
 
 
-def seeds_and_steps(
-    quick: bool, seeds: int | None, steps: int | None, seconds: float, control_hz: float
-) -> tuple[int, int]:
-    """Seeds per network (``seeds``; default 10, 3 with ``quick``) and control steps per run (``steps``; default
-    ``seconds`` s at ``control_hz`` Hz, :func:`steps_for`). ValueError where either is below 1."""
-    n = seeds if seeds is not None else (3 if quick else 10)
-    if n < 1:
-        raise ValueError(f"seeds must be >= 1, got {n}")
+def run_steps(steps: int | None, seconds: float, control_hz: float) -> int:
+    """Control steps per run: ``steps``, else ``seconds`` s at ``control_hz`` Hz (:func:`steps_for`); ValueError
+    where below 1."""
     steps = steps if steps is not None else steps_for(seconds, control_hz)
     if steps < 1:
         raise ValueError(f"steps must be >= 1, got {steps}")
-    return n, steps
+    return steps
 
 
 def quick_seconds(seconds: float, max_steps: int, control_hz: float) -> float:
