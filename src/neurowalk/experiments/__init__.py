@@ -105,10 +105,13 @@ FIGURES: dict[str, Study] = {
         "walking direction for each sign of the outputs O1, O2, and speed (paper Table 1)",
         "table1",
         "control_hz",
+        settings=True,
     ),
-    "fig2": _figure("fig2", "fixed points and hysteresis of the sensory network", "fig2"),
+    "fig2": _figure("fig2", "fixed points and hysteresis of the sensory network", "fig2", settings=True),
     "fig3": _figure("fig3", "static network: dead ends, hysteresis, cluttered and difficult arenas", "fig3", PHYSICS),
-    "fig4": _figure("fig4", "weight changes for constant and changing inputs", "fig4", "variant params control_hz"),
+    "fig4": _figure(
+        "fig4", "weight changes for constant and changing inputs", "fig4", "variant params control_hz", settings=True
+    ),
     "fig5": _figure("fig5", "plastic network: dead ends, weight dynamics, the difficult arena", "fig5", PHYSICS),
     "fig6": _figure(
         "fig6",
@@ -116,9 +119,14 @@ FIGURES: dict[str, Study] = {
         "fig6",
         "body workers size variant params control_hz out",
         body="surrogate",
+        settings=True,
     ),
     "fig7": _figure(
-        "fig7", "joint angles of all legs: forward, backward, turn right, turn left (physics)", "fig7", "control_hz"
+        "fig7",
+        "joint angles of all legs: forward, backward, turn right, turn left (physics)",
+        "fig7",
+        "control_hz",
+        settings=True,
     ),
     "fig8": _figure(
         "fig8",
@@ -144,6 +152,7 @@ FIGURES: dict[str, Study] = {
         "table2",
         "seeds body workers climbing size variant params engine control_hz out",
         body="surrogate",
+        settings=True,
     ),
     "escape-map": _figure(
         "escape-map",
@@ -156,6 +165,7 @@ FIGURES: dict[str, Study] = {
         "the plastic network's failure in Table 2: a latched spin in a pocket (surrogate)",
         "latched",
         "variant params workers out",
+        settings=True,
     ),
     "steps": _figure(
         "steps",
@@ -174,5 +184,6 @@ FIGURES: dict[str, Study] = {
         "planar surrogate vs physics: held-out calibration and dead-end outcomes",
         "surrogate_check",
         "seeds out",
+        settings=True,
     ),
 }
