@@ -126,7 +126,7 @@ def run(s: Settings) -> Result:
     """
     p = plan(s)
     threshold = coverage_threshold(p["duration_s"])
-    folder = Path(s.out) if s.out is not None else Path("out/table2")
+    folder = Path(s.out or "out/table2")
     folder.mkdir(parents=True, exist_ok=True)
     results, report = run_store(p["specs"], folder, s.workers or 2, options=EngineOptions(device=s.device))
     keys = [spec_key(x) for x in p["specs"]]  # in the order of specs: body, environment, row
