@@ -34,6 +34,7 @@ import mujoco
 import numpy as np
 
 import neurowalk
+from neurowalk.experiments import Settings
 from neurowalk.experiments.figures.table2 import run as table2_run
 from neurowalk.runners.local import run_many
 from neurowalk.sim.config import DEFAULT_ENGINE
@@ -186,7 +187,7 @@ def table2_time(workers: int, environments: int = 50) -> dict[str, float]:
     ``neurowalk figure table2 --seeds N`` costs to compute (the picture aside)."""
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
-        res = table2_run(out=Path(tmp), workers=workers, seeds=environments)
+        res = table2_run(Settings(out=Path(tmp), workers=workers, seeds=environments))
         wall = time.perf_counter() - t0
     counts = res.summary["counts"]
     return {

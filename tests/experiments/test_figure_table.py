@@ -10,8 +10,7 @@ import subprocess
 import sys
 
 import neurowalk.experiments.figures
-from neurowalk.experiments import FIGURES, FigureRun, FunctionAt
-from neurowalk.experiments.study import OPTIONAL
+from neurowalk.experiments import FIGURES, FunctionAt
 
 
 def test_every_figure_module_is_in_the_table_once_with_its_run_and_plot():
@@ -23,19 +22,29 @@ def test_every_figure_module_is_in_the_table_once_with_its_run_and_plot():
         module = importlib.import_module(exp.plot.module)
         assert exp.plot.load() is module.plot and getattr(module, "NAME", name) == name
         parts = (exp.compute,) if exp.compute is not None else (exp.runs, exp.measure)
-        assert all(isinstance(p, FigureRun | FunctionAt) and p.module == exp.plot.module for p in parts), name
+        assert all(isinstance(p, FunctionAt) and p.module == exp.plot.module for p in parts), name
 
 
-def test_each_figure_declares_exactly_the_settings_its_run_takes():
-    """The registry's declaration (what the CLI offers) against the run's own keywords: none missing, none extra."""
+def _settings_read(module: str) -> set[str]:
+    """The settings the module, and the suites it imports, read from a Settings (``s.X``; ``s.n(...)``: seeds)."""
+    import ast
+
+    mod = importlib.import_module(module)
+    tree = ast.parse(inspect.getsource(mod))
+    names = {a.attr for a in ast.walk(tree) if isinstance(a, ast.Attribute) and getattr(a.value, "id", "") == "s"}
+    suites = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and "suites" in (n.module or "")}
+    for suite in suites - {module}:
+        names |= _settings_read(suite)
+    return names | ({"seeds"} if "n" in names else set())
+
+
+def test_each_figure_reads_every_setting_it_declares():
+    """A setting a figure offers on the command line is one its code reads (engine: with its device)."""
     for name, exp in FIGURES.items():
-        if not isinstance(exp.compute, FigureRun):
-            continue  # a study of runs: the runner applies every setting it takes
-        params = set(inspect.signature(importlib.import_module(exp.compute.module).run).parameters)
-        assert {"quick", "seed"} <= params, name
-        assert set(exp.takes) == params & set(OPTIONAL), name
-        assert exp.keeps_runs == ("out" in params), name
-        assert ("device" in params) == ("engine" in params), name
+        read = _settings_read(exp.plot.module)  # type: ignore[attr-defined]
+        missing = set(exp.takes) - read
+        assert not missing, f"{name} declares {sorted(missing)} but never reads them"
+        assert ("engine" in exp.takes) <= ("device" in read), name
 
 
 def test_importing_the_table_imports_no_figure():

@@ -2,8 +2,8 @@
 
 * :mod:`.study`: :class:`Study` (an experiment: its runs, measure and picture), :class:`Settings` and
   :func:`~neurowalk.experiments.study.run_study`.
-* :mod:`.figures`: one module per paper figure or table, ``run(*, quick, seed, ...) -> Result`` and
-  ``plot(result)``; :data:`FIGURES` below names them, as studies.
+* :mod:`.figures`: one module per paper figure or table, ``run(settings) -> Result`` and ``plot(result)``
+  (or ``runs``, ``measure`` and ``plot``); :data:`FIGURES` below names them, as studies.
 * :mod:`.suites`: the run suites figures and studies share (dead ends, random environments, climbing, the
   real-robot runs).
 * :mod:`.optimize`, :mod:`.calibration`, :mod:`.baselines`: the studies of ``neurowalk optimize``, ``calibrate``
@@ -46,45 +46,19 @@ class FunctionAt:
         return self.load()(*args, **kwargs)
 
 
-#: The settings a figure's ``run(**kwargs)`` takes as keywords of the same name, where given.
-_KEYWORDS = ("seeds", "body", "variant", "params", "gait", "size", "control_hz", "workers")
-
-
-@dataclass(frozen=True)
-class FigureRun:
-    """A paper figure's ``run(*, quick, seed, ...)`` as its study's ``compute(settings)``: the settings given become
-    its keywords (``out`` where it keeps its runs)."""
-
-    module: str
-    keeps_runs: bool
-
-    def __call__(self, s: Settings) -> Result:
-        kw: dict[str, Any] = {"quick": s.quick, "seed": s.seed}
-        kw.update({n: getattr(s, n) for n in _KEYWORDS if getattr(s, n) is not None})
-        kw.update({n: True for n in ("climbing", "video") if getattr(s, n)})
-        if s.engine != "mujoco" or s.device is not None:
-            kw.update(engine=s.engine, device=s.device)
-        if self.keeps_runs:
-            kw["out"] = s.out
-        return FunctionAt(self.module, "run")(**kw)
-
-
-def _figure(
-    name: str, title: str, module: str, takes: str = "", body: str | None = None, settings: bool = False
-) -> Study:
-    """Figure ``name``: ``run`` and ``plot`` of :mod:`neurowalk.experiments.figures`.``module``; ``takes``: the
-    optional settings its ``run`` takes (a space-separated list; ``out`` among them: it keeps its runs there).
-    ``settings``: its ``run`` takes the :class:`Settings` itself (``run(settings) -> Result``), else keywords."""
+def _figure(name: str, title: str, module: str, takes: str = "", body: str | None = None) -> Study:
+    """Figure ``name``: ``run(settings) -> Result`` and ``plot(result)`` of
+    :mod:`neurowalk.experiments.figures`.``module``; ``takes``: the optional settings it honours (a space-separated
+    list; ``out`` among them: it keeps its runs in result stores there)."""
     path = f"{__name__}.figures.{module}"
     names = takes.split()
-    keeps = "out" in names
     return Study(
         name,
         title,
         plot=FunctionAt(path, "plot"),
-        compute=FunctionAt(path, "run") if settings else FigureRun(path, keeps),
+        compute=FunctionAt(path, "run"),
         takes=[n for n in names if n != "out"],
-        keeps_runs=keeps,
+        keeps_runs="out" in names,
         body=body,
     )
 
@@ -107,13 +81,9 @@ FIGURES: dict[str, Study] = {
         "control_hz",
     ),
     "fig2": _figure("fig2", "fixed points and hysteresis of the sensory network", "fig2"),
-    "fig3": _figure(
-        "fig3", "static network: dead ends, hysteresis, cluttered and difficult arenas", "fig3", PHYSICS, settings=True
-    ),
+    "fig3": _figure("fig3", "static network: dead ends, hysteresis, cluttered and difficult arenas", "fig3", PHYSICS),
     "fig4": _figure("fig4", "weight changes for constant and changing inputs", "fig4", "variant params control_hz"),
-    "fig5": _figure(
-        "fig5", "plastic network: dead ends, weight dynamics, the difficult arena", "fig5", PHYSICS, settings=True
-    ),
+    "fig5": _figure("fig5", "plastic network: dead ends, weight dynamics, the difficult arena", "fig5", PHYSICS),
     "fig6": _figure(
         "fig6",
         "sixteen random environments: trajectories, start and end, failures marked (paper Fig. 6)",
@@ -122,28 +92,28 @@ FIGURES: dict[str, Study] = {
         body="surrogate",
     ),
     "fig7": _figure(
-        "fig7", "joint angles of all legs: forward, backward, turn right, turn left (physics)", "fig7", "control_hz"
+        "fig7",
+        "joint angles of all legs: forward, backward, turn right, turn left (physics)",
+        "fig7",
+        "control_hz",
     ),
     "fig8": _figure(
         "fig8",
         "narrow passage: snapshots, paths and escapes of the plastic and static networks (paper Fig. 8)",
         "fig8",
         "seeds workers video variant params control_hz out",
-        settings=True,
     ),
     "fig9": _figure(
         "fig9",
         "complex path: snapshots, paths and outcome map of the plastic and static networks (paper Fig. 9)",
         "fig9",
         "seeds workers video variant params control_hz out",
-        settings=True,
     ),
     "fig10": _figure(
         "fig10",
         "climbing track: climb a step, avoid a wall, climb a second step (paper Fig. 10)",
         "fig10",
         "seeds workers variant control_hz out",
-        settings=True,
     ),
     "table2": _figure(
         "table2",
@@ -157,7 +127,6 @@ FIGURES: dict[str, Study] = {
         "escape rate against trap size for all three networks",
         "escape_map",
         "seeds climbing variant gait workers control_hz out",
-        settings=True,
     ),
     "latched-spin": _figure(
         "latched-spin",
@@ -170,14 +139,12 @@ FIGURES: dict[str, Study] = {
         "step-height sweep: highest step climbed, with and without backbone control and reflexes",
         "steps",
         "seeds workers control_hz out",
-        settings=True,
     ),
     "bodies": _figure(
         "bodies",
         "the networks on other robots: dead ends and Table 2 on AMOSII and a wheeled robot at two sizes",
         "bodies",
         "seeds workers control_hz out",
-        settings=True,
     ),
     "surrogate": _figure(
         "surrogate",

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from neurowalk.cli import main
+from neurowalk.experiments import Settings
 from neurowalk.experiments.figures import fig6
 from neurowalk.experiments.suites.confinement import CLASSES, RULE_NUMBERS
 
@@ -33,7 +34,7 @@ def test_fig6_draws_sixteen_environments_classes_them_and_replots(tmp_path: Path
 
 
 def test_control_hz_reaches_every_run_of_fig6() -> None:
-    specs = fig6.specs(quick=True, body="amosii", control_hz=27.0)
+    specs = fig6.specs(Settings(quick=True, body="amosii", control_hz=27.0))
     assert len(specs) == 16 and {s["control_hz"] for s in specs} == {27.0}
     assert {s["steps"] for s in specs} == {13_500}  # 500 s at 27 Hz
     assert fig6.pose_stride(27.0) == 27 and fig6.pose_stride(10.0) == 10
@@ -41,5 +42,5 @@ def test_control_hz_reaches_every_run_of_fig6() -> None:
 
 def test_fig6_on_the_surrogate_refuses_27_hz(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match=r"'surrogate'.*10 Hz.*27 Hz"):
-        fig6.run(quick=True, control_hz=27.0, out=tmp_path / "f6")
+        fig6.run(Settings(quick=True, control_hz=27.0, out=tmp_path / "f6"))
     assert not (tmp_path / "f6").exists()

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from neurowalk.experiments import FIGURES, Result
+from neurowalk.experiments import FIGURES, Result, Settings
 from neurowalk.experiments.figures import fig2
 from neurowalk.experiments.suites.random_envs_plot import CLUTTER_BINS, clutter_bins
 from neurowalk.plotting.style import panel_letters
@@ -74,7 +74,7 @@ class MadeUpArrays(Mapping):
 def _result(folder: str) -> Result:
     name = next(p.stem for p in (QUICK / folder).glob("*.json") if p.stem != "command")
     if name == "fig2":  # its arrays are cheap to compute: the real ones
-        return fig2.run(quick=True)
+        return fig2.run(Settings(quick=True))
     return Result(name, json.loads((QUICK / folder / f"{name}.json").read_text()), MadeUpArrays())  # type: ignore[arg-type]
 
 

@@ -33,6 +33,7 @@ def test_fig4_writes_files_and_converges_from_every_start(fig4):
 
 
 def test_fig4_panel_b_runs_at_the_figures_control_rate(monkeypatch):
+    from neurowalk.experiments import Settings
     from neurowalk.experiments.figures import fig4
 
     seen = []
@@ -46,7 +47,7 @@ def test_fig4_panel_b_runs_at_the_figures_control_rate(monkeypatch):
 
     monkeypatch.setattr(fig4, "run_episode", run_episode)
     with pytest.raises(StopError):
-        fig4.run(quick=True, seed=3, control_hz=27.0)
+        fig4.run(Settings(quick=True, seed=3, control_hz=27.0))
     cfg = seen[0]
     assert (cfg.control_hz, cfg.seed, cfg.steps, cfg.arena, cfg.controller) == (27.0, 3, 3000, "difficult", "plastic")
     assert (cfg.b0, cfg.q0) == fig4.PAPER_START

@@ -4,11 +4,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from neurowalk.experiments import Settings
 from neurowalk.experiments.figures import latched
 
 
 def test_latched_spins_hold_while_b_on_plus_mean_q_exceeds_the_input_weight() -> None:
-    res = latched.run(quick=True, workers=2)
+    res = latched.run(Settings(quick=True, workers=2))
     s = res.summary
     assert s["failures"]["latched spin"] >= 1 and s["shown"]
     for k, env in enumerate(s["shown"]):

@@ -21,7 +21,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from matplotlib.patches import Circle, FancyArrowPatch
 
-from neurowalk.experiments import Result
+from neurowalk.experiments import Result, Settings
 from neurowalk.neural.analysis import (
     hysteresis_loop,
     hysteresis_width_map,
@@ -59,10 +59,10 @@ def _thresholds(loop: object) -> dict:
     }  # type: ignore[attr-defined]
 
 
-def run(*, quick: bool = False, seed: int = 0) -> Result:
-    """Compute every panel (deterministic; ``seed`` is unused). ``quick`` coarsens the grids."""
-    n_levels = 101 if quick else 201
-    b_grid = np.round(np.linspace(0.0, 6.0, 13 if quick else 25), 6)
+def run(s: Settings) -> Result:
+    """Compute every panel (deterministic: no seed); ``s.quick`` coarsens the grids."""
+    n_levels = 101 if s.quick else 201
+    b_grid = np.round(np.linspace(0.0, 6.0, 13 if s.quick else 25), 6)
     arrays: dict[str, np.ndarray] = {"b_grid": b_grid}
     single = []
     for b in b_grid:
@@ -97,8 +97,8 @@ def run(*, quick: bool = False, seed: int = 0) -> Result:
     two_vs_b = [
         {"b": float(b), "c": -3.5, **_thresholds(hysteresis_loop(float(b), -3.5, n_levels=n_levels))} for b in b_grid
     ]
-    mb = np.linspace(0.0, 5.0, 11 if quick else 26)
-    mc = np.linspace(-8.0, 0.0, 9 if quick else 33)
+    mb = np.linspace(0.0, 5.0, 11 if s.quick else 26)
+    mc = np.linspace(-8.0, 0.0, 9 if s.quick else 33)
     arrays.update(map_b=mb, map_c=mc, map_width=hysteresis_width_map(mb, mc, n_levels=n_levels))
     summary = {
         "single_neuron": single,

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from neurowalk.experiments import Result
+from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.neural.plasticity import fixed_point
 from neurowalk.neural.sensory import SensoryParams, simulate
@@ -62,31 +62,21 @@ def reflex_episodes(inputs: np.ndarray, distance: np.ndarray, t: np.ndarray, thr
     return out
 
 
-def run(
-    *,
-    quick: bool = False,
-    seed: int = 0,
-    variant: str = "paper",
-    params: dict[str, float] | None = None,
-    control_hz: float = SIM_HZ,
-) -> Result:
-    """Compute both panels.
-
-    ``quick`` shortens panel B's physics run (:data:`QUICK_B_STEPS` control steps instead of
-    :data:`PANEL_B_STEPS`); ``seed``, ``control_hz``: that run's seed and control rate (Hz); ``variant``/``params``:
-    the network (default Eq. 1-6).
+def run(s: Settings) -> Result:
+    """Compute both panels: panel B's physics run lasts :data:`PANEL_B_STEPS` control steps (quick:
+    :data:`QUICK_B_STEPS`); the network is Eq. 1-6 unless ``s.variant``/``s.params``; the settings: :class:`Settings`.
     """
-    p = get_variant(variant, params).sensory
+    p = get_variant(s.variant or "paper", s.params).sensory
     b_star = fixed_point(p.mu_b, p.gamma_b, p.k)
     q_star = fixed_point(p.mu_q, p.gamma_q, p.k)
     panel_a, arrays_a = _panel_a(p, b_star, q_star)
-    panel_b, arrays_b = _panel_b(p, quick=quick, seed=seed, variant=variant, params=params, control_hz=control_hz)
+    panel_b, arrays_b = _panel_b(p, s)
     summary = {
         "fixed_points": {"b": b_star, "q": q_star, "rule": "sqrt(mu/(gamma*(1-k)))"},
         "panel_a": panel_a,
         "panel_b": panel_b,
         "params": vars(p),
-        "variant": variant,
+        "variant": s.variant or "paper",
     }
     return Result(NAME, summary, {**arrays_a, **arrays_b})
 
@@ -124,24 +114,14 @@ def _panel_a(p: SensoryParams, b_star: float, q_star: float) -> tuple[dict[str, 
     return summary, arrays
 
 
-def _panel_b(
-    p: SensoryParams, *, quick: bool, seed: int, variant: str, params: dict[str, float] | None, control_hz: float
-) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
-    """Panel B: the inputs of a physics run of AMOSII (seed ``seed``, ``control_hz`` Hz) replayed through the network
-    ``p`` from :data:`PAPER_START`; its reflex episodes and the weights' growth and decay per step; arrays
-    ``b_t`` (T,) s and ``b_inputs``, ``b_outputs``, ``b_b``, ``b_q`` (T, 2)."""
-    steps_b = QUICK_B_STEPS if quick else PANEL_B_STEPS
-    cfg = EpisodeConfig(
-        arena=PANEL_B_ARENA,
-        controller="plastic",
-        steps=steps_b,
-        seed=seed,
-        control_hz=control_hz,
-        b0=PAPER_START[0],
-        q0=PAPER_START[1],
-        variant=variant,
-        params=params,
-    )
+def _panel_b(p: SensoryParams, s: Settings) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+    """Panel B: the inputs of a physics run of AMOSII (the network ``p``, as ``s`` names it, at its seed and control
+    rate) replayed through ``p`` from :data:`PAPER_START`; its reflex episodes and the weights' growth and decay per
+    step; arrays ``b_t`` (T,) s and ``b_inputs``, ``b_outputs``, ``b_b``, ``b_q`` (T, 2)."""
+    steps_b, seed, control_hz = QUICK_B_STEPS if s.quick else PANEL_B_STEPS, s.seed, s.control_hz or SIM_HZ
+    cfg = EpisodeConfig(arena=PANEL_B_ARENA, controller="plastic", steps=steps_b, seed=seed, control_hz=control_hz,
+                        b0=PAPER_START[0], q0=PAPER_START[1], variant=s.variant or "paper",
+                        params=s.params)  # fmt: skip
     rec = run_episode(cfg).trajectory
     inputs = rec.inputs
     tr = simulate(inputs, b0=PAPER_START[0], q0=PAPER_START[1], params=p)

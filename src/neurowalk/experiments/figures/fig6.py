@@ -10,14 +10,13 @@ and Table 2's coverage rule.
 from __future__ import annotations
 
 from collections import Counter
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from neurowalk.experiments import Result
+from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.stores import run_store, store_folder
 from neurowalk.experiments.suites import confinement
 from neurowalk.experiments.suites.random_envs import (
@@ -68,64 +67,38 @@ def path_of(spec_: dict[str, Any]) -> dict[str, Any]:
     return {"summary": result_of(ep), "pose": ep.trajectory.pose[::stride].tolist()}
 
 
-def specs(
-    *,
-    quick: bool = False,
-    seed: int = 0,
-    body: str = "surrogate",
-    size: float = SIZE,
-    variant: str = "paper",
-    params: dict[str, float] | None = None,
-    control_hz: float = 10.0,
-) -> list[dict[str, Any]]:
-    """The sixteen run specs (ValueError where ``body`` cannot run at ``control_hz``: a surrogate runs at 10 Hz)."""
-    check_rate(body, control_hz)
-    steps = steps_at(QUICK_DURATION_S if quick else DURATION_S, control_hz)
-    envs = environments(16, seed)
-    return [
-        spec(e, "plastic", steps, body, variant=variant, size=size, params=params, control_hz=control_hz) for e in envs
-    ]
+def specs(s: Settings) -> list[dict[str, Any]]:
+    """The sixteen run specs (ValueError where the body cannot run at the control rate: a surrogate runs at 10 Hz)."""
+    body, hz = s.body or "surrogate", s.control_hz or 10.0
+    check_rate(body, hz)
+    steps = steps_at(QUICK_DURATION_S if s.quick else DURATION_S, hz)
+    return [spec(e, "plastic", steps, body, variant=s.variant or "paper", size=s.size or SIZE, params=s.params,
+                 control_hz=hz) for e in environments(16, s.seed)]  # fmt: skip
 
 
-def run(
-    *,
-    quick: bool = False,
-    seed: int = 0,
-    body: str = "surrogate",
-    workers: int = 2,
-    size: float = SIZE,
-    variant: str = "paper",
-    params: dict[str, float] | None = None,
-    out: Path | None = None,
-    control_hz: float = 10.0,
-) -> Result:
-    """The plastic network (``variant``) in the first 16 environments of Table 2 (same seeds), whole paths.
-
-    ``out``: the folder of the resumable result store (``results.sqlite``): a rerun goes on from the runs it holds.
-    ``control_hz``: the control rate (a physics body; the surrogate runs at its 10 Hz only); every run lasts the
-    same simulated time (2000 s, quick 500 s) whatever the rate.
-    """
-    run_specs = specs(
-        quick=quick, seed=seed, body=body, size=size, variant=variant, params=params, control_hz=control_hz
-    )
-    envs = environments(16, seed)
-    duration = QUICK_DURATION_S if quick else DURATION_S
+def run(s: Settings) -> Result:
+    """The plastic network (Eq. 1-6 unless ``s.variant``) in the first 16 environments of Table 2 (same seeds), whole
+    paths, through a resumable store in ``s.out``; the settings: :class:`Settings`. Every run lasts the same
+    simulated time (2000 s, quick 500 s) whatever the control rate."""
+    run_specs = specs(s)
+    envs, hz = environments(16, s.seed), s.control_hz or 10.0
+    duration = QUICK_DURATION_S if s.quick else DURATION_S
     threshold = coverage_threshold(duration)
-    stride = pose_stride(control_hz)
-    with store_folder(out) as folder:
-        stored, _ = run_store(run_specs, folder, workers, fn=path_of)
+    stride = pose_stride(hz)
+    with store_folder(s.out) as folder:
+        stored, _ = run_store(run_specs, folder, s.workers or 2, fn=path_of)
     if any("pose" not in r for r in stored.values()):
         raise RuntimeError(
             f"{folder / 'results.sqlite'} holds other runs than fig6's (another figure's or sweep's "
             "store); use a fresh output folder"
         )
-    runs = [{**stored[spec_key(s)], "pose": np.asarray(stored[spec_key(s)]["pose"], dtype=float)} for s in run_specs]
+    runs = [{**stored[spec_key(x)], "pose": np.asarray(stored[spec_key(x)]["pose"], dtype=float)} for x in run_specs]
     arrays = {f"env{i}/pose": r["pose"] for i, r in enumerate(runs)}
-    end_rows = round(STUCK_S * control_hz / stride)  # the kept poses of the last 300 s
+    end_rows = round(STUCK_S * hz / stride)  # the kept poses of the last 300 s
     rows = []
-    for e, s, r in zip(envs, run_specs, runs, strict=True):
+    for e, one, r in zip(envs, run_specs, runs, strict=True):
         success = not r["summary"]["trapped"]
-        faced = confinement.classify(arena_of(s), r["pose"], success, end_rows=end_rows)
+        faced = confinement.classify(arena_of(one), r["pose"], success, end_rows=end_rows)
         rows.append(
             {
                 **e,
@@ -139,11 +112,11 @@ def run(
         )
     classes = Counter(r["outcome"] for r in rows)
     summary = {
-        "body": body,
+        "body": s.body or "surrogate",
         "steps": run_specs[0]["steps"],
-        "control_hz": control_hz,
+        "control_hz": hz,
         "duration_s": duration,
-        "seed": seed,
+        "seed": s.seed,
         "rule": RULE,
         "coverage_rule": coverage_rule(duration),
         "coverage_threshold": threshold,
@@ -152,13 +125,13 @@ def run(
         "class_numbers": dict(confinement.RULE_NUMBERS),
         "classes": {c: classes.get(c, 0) for c in confinement.CLASSES},
         "environments": rows,
-        "variant": variant,
-        "params": params,
-        "box_size_m": size,
+        "variant": s.variant or "paper",
+        "params": s.params,
+        "box_size_m": s.size or SIZE,
         "success": sum(r["success"] for r in rows),
         "success_coverage": sum(r["success_coverage"] for r in rows),
         "pose_stride": stride,
-        "pose_stride_s": stride / control_hz,
+        "pose_stride_s": stride / hz,
     }
     return Result("fig6", summary, arrays)
 

@@ -21,7 +21,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from neurowalk import anatomy, gait
-from neurowalk.experiments import Result
+from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.neural.cpg import period
 from neurowalk.plotting.style import FONT, LINE, letter_panels, pyplot
@@ -41,13 +41,13 @@ def measured_swing(angles: np.ndarray) -> np.ndarray:
     return gait.swing_mask_hysteresis(angles)
 
 
-def run(*, quick: bool = False, seed: int = 0, control_hz: float = SIM_HZ) -> Result:
-    """Run the four conditions (1000 control steps each; 600 with ``quick``) at ``control_hz`` Hz.
+def run(s: Settings) -> Result:
+    """Run the four conditions (1000 control steps each; quick: 600); the settings: :class:`Settings`.
 
     Gait numbers, speed (m/s) and turning rate (deg/s) are measured over rows :data:`WARMUP` to the last of each
     run (the ``window`` of the json).
     """
-    steps = 600 if quick else 1000
+    steps, seed, control_hz = 600 if s.quick else 1000, s.seed, s.control_hz or SIM_HZ
     duration = (steps - 1 - WARMUP) / control_hz  # s from the window's first row to its last
     window = {
         "from_step": WARMUP,
@@ -70,7 +70,7 @@ def run(*, quick: bool = False, seed: int = 0, control_hz: float = SIM_HZ) -> Re
     arrays: dict[str, np.ndarray] = {}
     for i, (name, steer) in enumerate(CONDITIONS.items()):
         ep = run_episode(EpisodeConfig(controller="fixed", steer=steer, steps=steps, seed=seed, control_hz=control_hz))
-        tr, s = ep.trajectory, ep.summary
+        tr, done = ep.trajectory, ep.summary
         angles = tr.joint_angles[WARMUP:]
         swing = measured_swing(angles)
         ctr3 = angles[:, anatomy.CTR_INDICES[2]]
@@ -86,8 +86,8 @@ def run(*, quick: bool = False, seed: int = 0, control_hz: float = SIM_HZ) -> Re
             "period_s": period(ctr3 - ctr3.mean()) / control_hz,
             "speed_m_per_s": fwd / duration,
             "turning_rate_deg_per_s": float(np.degrees(yaw[-1] - yaw[0]) / duration),
-            "min_up_z": s["min_up_z"],
-            "simulation_warnings": s["simulation_warnings"],
+            "min_up_z": done["min_up_z"],
+            "simulation_warnings": done["simulation_warnings"],
         }
         arrays[f"c{i}_angles"] = angles[:SHOWN]
         arrays[f"c{i}_swing"] = swing[:SHOWN]

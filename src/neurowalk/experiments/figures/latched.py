@@ -11,13 +11,12 @@ trajectories, and draws the path in the pocket, the steering, and b_on + mean q 
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from neurowalk.arenas import make_arena
-from neurowalk.experiments import Result
+from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.stores import run_store, store_folder
 from neurowalk.experiments.suites.random_envs import STEPS, environments, failure_class, spec
 from neurowalk.metrics import turn_state
@@ -34,26 +33,18 @@ SHOWN = 2  # environments drawn
 SEARCHED = 200  # environments searched for latched spins
 
 
-def run(
-    *,
-    quick: bool = False,
-    seed: int = 0,
-    variant: str = "paper",
-    params: dict[str, float] | None = None,
-    workers: int = 2,
-    out: Path | None = None,
-) -> Result:
-    """Search the first :data:`SEARCHED` Table 2 environments (``quick``: 40) for latched spins; keep two.
-
-    ``out``: the folder of the resumable result store of the search (``results.sqlite``, one summary per run).
+def run(s: Settings) -> Result:
+    """Search the first :data:`SEARCHED` Table 2 environments (quick: 40) for latched spins of the plastic network
+    (Eq. 1-6 unless ``s.variant``) through a resumable store in ``s.out``; keep two. The settings: :class:`Settings`.
     """
-    envs = environments(40 if quick else SEARCHED, seed)
-    specs = [spec(e, "plastic", STEPS, "surrogate", variant=variant, params=params) for e in envs]
-    with store_folder(out) as folder:
-        stored, _ = run_store(specs, folder, workers)
-    summaries = [stored[spec_key(s)] for s in specs]
-    cfgs = [EpisodeConfig.from_spec(s) for s in specs]
-    classes = [failure_class(s) for s in summaries]
+    variant = s.variant or "paper"
+    envs = environments(40 if s.quick else SEARCHED, s.seed)
+    specs = [spec(e, "plastic", STEPS, "surrogate", variant=variant, params=s.params) for e in envs]
+    with store_folder(s.out) as folder:
+        stored, _ = run_store(specs, folder, s.workers or 2)
+    summaries = [stored[spec_key(x)] for x in specs]
+    cfgs = [EpisodeConfig.from_spec(x) for x in specs]
+    classes = [failure_class(x) for x in summaries]
     chosen = [i for i, c in enumerate(classes) if c == "latched spin"][:SHOWN]
     arrays: dict[str, np.ndarray] = {}
     shown = []
@@ -76,9 +67,9 @@ def run(
     counts = {c: classes.count(c) for c in ("latched spin", "wedged", "other")}
     summary = {
         "variant": variant,
-        "params": params,
+        "params": s.params,
         "steps": STEPS,
-        "seed": seed,
+        "seed": s.seed,
         "searched": len(envs),
         "failures": counts,
         "shown": shown,

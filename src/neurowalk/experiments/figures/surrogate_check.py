@@ -9,14 +9,13 @@ both bodies with the same seeds: escape counts side by side, and the fraction of
 
 from __future__ import annotations
 
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.ticker import MaxNLocator
 
 from neurowalk.body.surrogate import load_calibration
-from neurowalk.experiments import Result
+from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.calibration.calibrate import validation
 from neurowalk.experiments.calibration.subjects import HELD_OUT
 from neurowalk.experiments.stores import store_folder
@@ -48,17 +47,13 @@ def agreement(phys_runs: list[list[Any]], sur_runs: list[list[Any]]) -> dict[str
     }
 
 
-def run(*, quick: bool = False, seed: int = 0, seeds: int | None = None, out: Path | None = None) -> Result:
-    """Held-out calibration check and the dead-end suite on both bodies (default 10 seeds; 1 with ``quick``).
-
-    ``out``: the folder of the resumable result store of the dead-end runs (``results.sqlite``).
-    """
-    n = seeds if seeds is not None else (1 if quick else 10)
-    if n < 1:
-        raise ValueError(f"seeds must be >= 1, got {n}")
+def run(s: Settings) -> Result:
+    """Held-out calibration check and the dead-end suite on both bodies (``s.seeds`` seeds: 10; quick: 1), the
+    dead-end runs through a resumable store in ``s.out``; the settings: :class:`Settings`."""
+    n, seed = s.n(full=10, quick=1), s.seed
     cal = load_calibration()
-    val = validation(cal, QUICK_HELD_OUT if quick else HELD_OUT, workers=2, progress=True)
-    with store_folder(out) as folder:
+    val = validation(cal, QUICK_HELD_OUT if s.quick else HELD_OUT, workers=2, progress=True)
+    with store_folder(s.out) as folder:
         phys = outcome_table(n, first_seed=seed, body="amosii", folder=folder)
         sur = outcome_table(n, first_seed=seed, body="surrogate", folder=folder)
     summary = {

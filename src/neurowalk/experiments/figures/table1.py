@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from matplotlib.lines import Line2D
 
-from neurowalk.experiments import Result
+from neurowalk.experiments import Result, Settings
 from neurowalk.plotting.style import FONT, LINE, letter_panels, pyplot
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
@@ -62,9 +62,9 @@ def _measure(steer: tuple[float, float], steps: int, seed: int, control_hz: floa
     return {"speed_m_per_s": speed, "turn_rate_deg_per_s": turn, "direction": direction(speed, turn)}, pose[:, :2]
 
 
-def run(*, quick: bool = False, seed: int = 0, control_hz: float = 10.0) -> Result:
-    """Nine sign pairs and six amplitudes, ``600`` control steps each (quick: ``450``), seed ``seed``."""
-    steps = 450 if quick else 600
+def run(s: Settings) -> Result:
+    """Nine sign pairs and six amplitudes, 600 control steps each (quick: 450); the settings: :class:`Settings`."""
+    steps, seed, control_hz = 450 if s.quick else 600, s.seed, s.control_hz or 10.0
     amplitudes = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)
     signs, arrays = [], {}
     for i, (s1, s2) in enumerate((a, b) for a in (-1, 0, 1) for b in (-1, 0, 1)):

@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 from tqdm import tqdm
 
 from neurowalk.body.registry import bodies_where, body_info
-from neurowalk.experiments import Result
+from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.stores import run_store
 from neurowalk.experiments.suites.random_envs import (
     BOXES,
@@ -47,7 +47,7 @@ from neurowalk.experiments.suites.random_envs_plot import plot as draw
 from neurowalk.neural.variants import variant_names
 from neurowalk.runners.local import run_unordered
 from neurowalk.runners.specs import run_spec, spec_key
-from neurowalk.sim.config import DEFAULT_ENGINE, engine_refusal
+from neurowalk.sim.config import engine_refusal
 from neurowalk.sim.engine import EngineOptions
 
 if TYPE_CHECKING:
@@ -66,63 +66,41 @@ def rows(variant: str | None = None, params: dict[str, float] | None = None) -> 
     return out
 
 
-def plan(
-    *,
-    quick: bool = False,
-    seed: int = 0,
-    seeds: int | None = None,
-    body: str = "surrogate",
-    climbing: bool = False,
-    size: float = SIZE,
-    variant: str | None = None,
-    params: dict[str, float] | None = None,
-    engine: str = DEFAULT_ENGINE,
-    control_hz: float = 10.0,
-) -> dict[str, Any]:
-    """What :func:`run` runs, checked before any run: ``envs``, ``table`` (rows), ``bodies`` (the body, and its
-    surrogate beside a physics body where the surrogate runs at ``control_hz``), ``steps``, ``duration_s``,
-    ``specs`` (body by body, environment by environment, row by row), ``surrogate`` and ``surrogate_note``.
+def plan(s: Settings) -> dict[str, Any]:
+    """What :func:`run` runs, checked before any run: ``envs`` (``s.seeds``: 50; quick: 10), ``table`` (rows),
+    ``bodies`` (the body, and its surrogate beside a physics body where the surrogate runs at the control rate),
+    ``steps``, ``duration_s``, ``specs`` (body by body, environment by environment, row by row), ``surrogate`` and
+    ``surrogate_note``.
 
-    ValueError on a bad size of the table, an engine or climbing the body cannot run, or a rate it cannot run at (a
-    planar surrogate runs at its calibration rate, 10 Hz, only).
+    ValueError on an engine or climbing the body cannot run, or a rate it cannot run at (a planar surrogate runs at
+    its calibration rate, 10 Hz, only).
     """
-    n = seeds if seeds is not None else (10 if quick else 50)
-    if n < 1:
-        raise ValueError(f"seeds (environments) must be >= 1, got {n}")
+    body, hz = s.body or "surrogate", s.control_hz or 10.0
     info = body_info(body)
-    if engine not in info.engines:
-        raise ValueError(engine_refusal(engine, body, climbing))
-    if climbing and not info.climbs:
+    if s.engine not in info.engines:
+        raise ValueError(engine_refusal(s.engine, body, s.climbing))
+    if s.climbing and not info.climbs:
         climbers = ", ".join(repr(b) for b in bodies_where(lambda b: b.climbs))
         raise ValueError(f"climbing needs body {climbers} (the surrogate has no legs), got body {body!r}")
-    check_rate(body, control_hz)
-    duration = QUICK_DURATION_S if quick else DURATION_S
-    steps = steps_at(duration, control_hz)
-    table = rows(variant, params)
-    envs = environments(n, seed)
+    check_rate(body, hz)
+    duration = QUICK_DURATION_S if s.quick else DURATION_S
+    steps = steps_at(duration, hz)
+    table = rows(s.variant, s.params)
+    envs = environments(s.n(full=50, quick=10), s.seed)
     surrogate = info.surrogate  # its own surrogate beside a physics body (amosii, wheeled)
     note = None
-    if surrogate is not None and calibrated_rate(surrogate) != control_hz:
+    if surrogate is not None and calibrated_rate(surrogate) != hz:
         note = (
             f"the surrogate {surrogate!r} is calibrated at {calibrated_rate(surrogate):g} Hz: not run beside "
-            f"{body!r} at {control_hz:g} Hz"
+            f"{body!r} at {hz:g} Hz"
         )
         surrogate = None
     bodies = [body] if surrogate is None else [body, surrogate]
 
     def spec_of(e: dict[str, Any], r: dict[str, Any], b: str) -> dict[str, Any]:
-        s = spec(
-            e,
-            r["controller"],
-            steps,
-            b,
-            climbing and b == body,
-            variant=r["variant"],
-            size=size,
-            params=r["params"],
-            control_hz=control_hz,
-        )
-        return {**s, "engine": engine} if b == body else s  # the physics rows on the engine; a surrogate: its loop
+        one = spec(e, r["controller"], steps, b, s.climbing and b == body, variant=r["variant"],
+                   size=s.size or SIZE, params=r["params"], control_hz=hz)  # fmt: skip
+        return {**one, "engine": s.engine} if b == body else one  # physics rows on the engine; a surrogate: its loop
 
     return {
         "envs": envs,
@@ -136,64 +114,36 @@ def plan(
     }
 
 
-def run(
-    *,
-    quick: bool = False,
-    seed: int = 0,
-    seeds: int | None = None,
-    body: str = "surrogate",
-    out: Path | None = None,
-    workers: int = 2,
-    climbing: bool = False,
-    size: float = SIZE,
-    variant: str | None = None,
-    params: dict[str, float] | None = None,
-    engine: str = DEFAULT_ENGINE,
-    device: str | None = None,
-    control_hz: float = 10.0,
-) -> Result:
-    """``seeds`` environments (default 50; 10 with ``quick``) x the rows, through a resumable store in ``out``.
+def run(s: Settings) -> Result:
+    """Every row in ``s.seeds`` random environments (50; quick: 10) on ``s.body`` (the surrogate by default),
+    through a resumable store in ``s.out`` (default ``out/table2``); the settings: :class:`Settings`.
 
-    ``size``: box side (m; the authors' 1 m by default). ``climbing``: leg reflexes and backbone control on
-    (physics body only). ``variant``/``params``: an extra plastic row (``--params FILE``). A physics body with a
-    calibrated surrogate (AMOSII: ``surrogate``, wheeled: ``surrogate-wheeled``) runs it beside, environment for
-    environment (``surrogate_agreement``), at the surrogate's 10 Hz only. ``engine``: ``warp`` runs the AMOSII
-    physics rows on MuJoCo Warp, every environment a world of one model (``--engine warp``; a GPU makes 1000
-    environments in physics practical), on ``device``. ``control_hz``: the control rate of every run (a physics
-    body; ValueError for a surrogate at another rate than its 10 Hz); runs last 2000 s (quick: 500 s) of simulated
-    time and the stuck window is 300 s at any rate.
+    ``variant``/``params`` add a plastic row (``--params FILE``). A physics body with a calibrated surrogate (AMOSII:
+    ``surrogate``, wheeled: ``surrogate-wheeled``) runs it beside, environment for environment
+    (``surrogate_agreement``), at the surrogate's 10 Hz only. Engine ``warp`` runs the AMOSII physics rows on MuJoCo
+    Warp, every environment a world of one model (a GPU makes 1000 environments in physics practical). Runs last
+    2000 s (quick: 500 s) of simulated time and the stuck window is 300 s at any control rate.
     """
-    p = plan(
-        quick=quick,
-        seed=seed,
-        seeds=seeds,
-        body=body,
-        climbing=climbing,
-        size=size,
-        variant=variant,
-        params=params,
-        engine=engine,
-        control_hz=control_hz,
-    )
+    p = plan(s)
     threshold = coverage_threshold(p["duration_s"])
-    folder = Path(out) if out is not None else Path("out/table2")
+    folder = Path(s.out or "out/table2")
     folder.mkdir(parents=True, exist_ok=True)
-    results, report = run_store(p["specs"], folder, workers, options=EngineOptions(device=device))
-    keys = [spec_key(s) for s in p["specs"]]  # in the order of specs: body, environment, row
-    _reclassify(results, p["specs"], keys, workers)
+    results, report = run_store(p["specs"], folder, s.workers or 2, options=EngineOptions(device=s.device))
+    keys = [spec_key(x) for x in p["specs"]]  # in the order of specs: body, environment, row
+    _reclassify(results, p["specs"], keys, s.workers or 2)
     env_rows, counts, agreement = _count(p, [results[k] for k in keys], threshold)
     ci = list(wilson(PAPER["success"], PAPER["environments"]))  # the paper's 49/50
     summary = {
-        "body": body,
-        "engine": engine,
-        "climbing": climbing,
+        "body": p["bodies"][0],
+        "engine": s.engine,
+        "climbing": s.climbing,
         "steps": p["steps"],
-        "control_hz": control_hz,
+        "control_hz": s.control_hz or 10.0,
         "duration_s": p["duration_s"],
         "stuck_window_s": STUCK_S,
-        "seed": seed,
+        "seed": s.seed,
         "boxes": list(BOXES),
-        "box_size_m": size,
+        "box_size_m": s.size or SIZE,
         **_rules(p["duration_s"], threshold),
         "counts": counts,
         "environments": env_rows,
