@@ -11,7 +11,7 @@ The ``cma`` package (extra ``optimize``, or ``rl``) is imported in one place, :f
 from __future__ import annotations
 
 import json
-from collections.abc import Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
@@ -117,6 +117,54 @@ def write(path: Path, record: dict[str, Any]) -> None:
     """Write ``record`` (with its format) as JSON, atomically; floats exactly, non-finite ones kept."""
     text = json.dumps(plain({"format": FORMAT, **record}), indent=1)
     atomic_write(path, lambda tmp: Path(tmp).write_text(text + "\n"))
+
+
+def resume(
+    path: Path,
+    settings: dict[str, Any],
+    old: str,
+    what: str,
+    fresh: Callable[[], dict[str, Any]],
+    generations: Callable[[dict[str, Any]], Iterable[tuple[Sequence[Any], Sequence[float]]]],
+) -> tuple[dict[str, Any], dict[str, Any] | None]:
+    """A fresh search (``fresh()``: a holder with its CMA-ES, see :func:`start`) into which the search recorded at
+    ``path`` (if any) is replayed; returns it and the record (None where there is none).
+
+    ``old``: the file name of an older neurowalk's pickled ``what`` (refused, never read); ``generations``: the
+    function (record -> [(candidates, scores)]) giving the record's generations, raising KeyError, TypeError or
+    ValueError (its message, if any, goes into the error) where it cannot.
+
+    Raises:
+        ValueError naming the file: an older pickle, a damaged, foreign or newer record, one of other ``settings``,
+        or one whose candidates this seed does not draw.
+    """
+    refuse_pickle(path.with_name(old), what)
+    saved = read(path, settings)
+    state = fresh()
+    if saved is not None:
+        try:
+            gens = generations(saved)
+        except (KeyError, TypeError, ValueError) as e:
+            why = type(e).__name__ if isinstance(e, KeyError) or not str(e) else str(e)
+            raise ValueError(
+                f"{str(path)!r} is not a readable neurowalk search record ({why}); remove it to start afresh"
+            ) from None
+        replay(state["es"], state, gens, path)
+    return state, saved
+
+
+def ask(holder: dict[str, Any]) -> list[np.ndarray]:
+    """The next generation's candidates (float arrays), drawn on the holder's generator (:func:`own_rng`)."""
+    with own_rng(holder):
+        return [np.asarray(x, dtype=float) for x in holder["es"].ask()]
+
+
+def tell(holder: dict[str, Any], xs: Sequence[np.ndarray], scores: Sequence[float]) -> dict[str, Any]:
+    """Tell the holder's CMA-ES the ``scores`` (minimised) of its candidates ``xs``; its stop conditions (empty:
+    go on)."""
+    with own_rng(holder):
+        holder["es"].tell(list(xs), [float(v) for v in scores])
+        return dict(holder["es"].stop())
 
 
 def replay(

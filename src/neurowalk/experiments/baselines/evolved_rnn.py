@@ -32,7 +32,7 @@ from tqdm import tqdm
 from neurowalk.compiled import jit
 from neurowalk.envs.vector import ExploreVectorEnv
 from neurowalk.experiments import cma_record
-from neurowalk.experiments.cma_record import import_cma, own_rng
+from neurowalk.experiments.cma_record import import_cma
 from neurowalk.runners.stopping import deferred
 
 HIDDEN = 4
@@ -186,22 +186,23 @@ def train(
 def _state(cma: Any, path: Path, settings: dict[str, Any]) -> dict[str, Any]:
     """The training of ``settings``: a fresh CMA-ES at zero weights, into which the generations recorded at ``path``
     (if any) are replayed. ValueError naming the file where its record cannot be read or is of other settings."""
-    cma_record.refuse_pickle(path.with_name("state.pkl"), "the neuroevolution state")
-    saved = cma_record.read(path, settings)
-    state = {"settings": settings, "curve": [], "rng": None, "wall_s": 0.0, "env_steps": 0, "generations": []}
-    x0 = np.zeros(n_weights(settings["hidden"]))
-    cma_record.start(cma, state, x0, settings["sigma0"], settings["seed"], settings["population"])
+
+    def fresh() -> dict[str, Any]:
+        state = {"settings": settings, "curve": [], "rng": None, "wall_s": 0.0, "env_steps": 0, "generations": []}
+        x0 = np.zeros(n_weights(settings["hidden"]))
+        cma_record.start(cma, state, x0, settings["sigma0"], settings["seed"], settings["population"])
+        return state
+
+    kept: dict[str, Any] = {}
+
+    def generations(saved: dict[str, Any]) -> list[tuple[Any, Any]]:
+        gens = [(g["x"], g["scores"]) for g in saved["generations"]]
+        kept.update(curve=list(saved["curve"]), wall_s=float(saved["wall_s"]), env_steps=int(saved["env_steps"]))
+        return gens
+
+    state, saved = cma_record.resume(path, settings, "state.pkl", "the neuroevolution state", fresh, generations)
     if saved is not None:
-        try:
-            gens = [(g["x"], g["scores"]) for g in saved["generations"]]
-            state.update(curve=list(saved["curve"]), wall_s=float(saved["wall_s"]), env_steps=int(saved["env_steps"]))
-        except (KeyError, TypeError, ValueError) as e:
-            raise ValueError(
-                f"{str(path)!r} is not a readable neurowalk search record ({type(e).__name__}); remove "
-                "it to start afresh"
-            ) from None
-        cma_record.replay(state["es"], state, gens, path)
-        state["generations"] = list(saved["generations"])
+        state.update(kept, generations=list(saved["generations"]))
     return state
 
 
@@ -209,16 +210,14 @@ def _generation(state: dict[str, Any], path: Path) -> np.ndarray:
     """One generation of the training ``state``: its candidates walk the generation's training environments, CMA-ES
     is told their returns, and the record is saved to ``path`` whole; returns the mean return of each candidate
     (m^2)."""
-    es, s = state["es"], state["settings"]
+    s = state["settings"]
     envs = s["envs"]
     g = len(state["curve"])
     t0 = time.perf_counter()
-    with own_rng(state):
-        xs = np.array(es.ask())
+    xs = np.array(cma_record.ask(state))
     seeds = [s["train_seed"] * 1_000_000 + g * envs + j for j in range(envs)]
     returns = episode_returns(xs, seeds, s["steps"], s["hidden"])
-    with own_rng(state):
-        es.tell(list(xs), list(-returns))
+    cma_record.tell(state, xs, -returns)
     state["generations"].append({"x": xs.tolist(), "scores": (-returns).tolist()})
     state["curve"].append({"mean": float(returns.mean()), "best": float(returns.max())})
     state["env_steps"] += s["population"] * envs * s["steps"]

@@ -25,13 +25,14 @@ import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import asdict, replace
+from functools import partial
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from neurowalk.experiments import cma_record
-from neurowalk.experiments.cma_record import import_cma, own_rng
+from neurowalk.experiments.cma_record import import_cma
 from neurowalk.experiments.optimize import report
 from neurowalk.experiments.optimize.report import Search
 from neurowalk.experiments.optimize.settings import (
@@ -121,49 +122,37 @@ class Runner:
         return [results[k] for k in keys]
 
 
-def load_state(path: Path, settings: dict[str, Any], space: Sequence[Dim]) -> dict[str, Any] | None:
-    """The search recorded at ``path``, replayed into a fresh CMA-ES, or None if there is none.
+def load_state(path: Path, settings: dict[str, Any], space: Sequence[Dim]) -> dict[str, Any]:
+    """The search recorded at ``path`` replayed into a fresh CMA-ES (:func:`new_state`), or a fresh one if there is
+    none.
 
     Raises:
         ValueError (one line naming the file): damaged, foreign or newer, of a search with other settings, or an
         older neurowalk's pickled state (which is never read; the finished runs in results.sqlite are reused).
     """
-    cma_record.refuse_pickle(path.with_name(OLD_STATE_FILE), "the search state")
-    saved = cma_record.read(path, settings)
-    if saved is None:
-        return None
-    records, stopped = saved.get("records"), saved.get("stopped")
-    if not isinstance(records, list):
-        raise ValueError(f"{str(path)!r} is not a readable neurowalk search record (no generations)")
-    state = new_state(
-        space, settings["variant"], settings["sigma0"], settings["seed"], settings["population"], settings
-    )
-    try:
-        gens = [(r["x"], [f["score"] for f in r["fitness"]]) for r in records]
-    except (KeyError, TypeError) as e:
-        raise ValueError(f"{str(path)!r} is not a readable neurowalk search record ({type(e).__name__})") from None
-    cma_record.replay(state["es"], state, gens, path)
-    state["records"] = records
-    if stopped is not None:
-        state["stopped"] = stopped
+
+    def generations(saved: dict[str, Any]) -> list[tuple[Any, list[float]]]:
+        if not isinstance(saved.get("records"), list):
+            raise ValueError("no generations")
+        return [(r["x"], [f["score"] for f in r["fitness"]]) for r in saved["records"]]
+
+    fresh = partial(new_state, space, settings)
+    state, saved = cma_record.resume(path, settings, OLD_STATE_FILE, "the search state", fresh, generations)
+    if saved is not None:
+        state["records"] = saved["records"]
+        if saved.get("stopped") is not None:
+            state["stopped"] = saved["stopped"]
     return state
 
 
-def save_state(path: Path, state: dict[str, Any]) -> None:
-    """Write the search's record (settings, generations, stop) as JSON, atomically."""
-    cma_record.write(
-        path, {"settings": state["settings"], "records": state["records"], "stopped": state.get("stopped")}
-    )
-
-
-def new_state(
-    space: Sequence[Dim], variant: str, sigma0: float, seed: int, population: int, settings: dict[str, Any]
-) -> dict[str, Any]:
-    """A fresh search: a CMA-ES started at the base variant's values, within the normalised space's bounds
-    (:func:`~neurowalk.experiments.cma_record.start`: seeded ``seed + 1``, its samples drawn as a replay draws them)."""
+def new_state(space: Sequence[Dim], settings: dict[str, Any]) -> dict[str, Any]:
+    """A fresh search of ``settings``: a CMA-ES started at the base variant's values, within the normalised space's
+    bounds (:func:`~neurowalk.experiments.cma_record.start`: seeded ``seed + 1``, its samples drawn as a replay draws
+    them)."""
     cma = import_cma(CMA_MISSING)
     state: dict[str, Any] = {"settings": settings, "records": [], "rng": None}
-    cma_record.start(cma, state, start_point(space, variant), sigma0, seed, population, bounds=[0.0, 1.0])
+    x0 = start_point(space, settings["variant"])
+    cma_record.start(cma, state, x0, settings["sigma0"], settings["seed"], settings["population"], bounds=[0.0, 1.0])
     return state
 
 
@@ -220,7 +209,7 @@ def run(
         "sigma0": float(sigma0),
     }
     path = folder / STATE_FILE
-    state = load_state(path, settings, space) or new_state(space, variant, sigma0, seed, sz.population, settings)
+    state = load_state(path, settings, space)
     runner = Runner(folder, backend, workers, address, progress)
     with _ray(backend, workers, address):  # one Ray instance for every generation
         base_fit = _train(state, space, sz, runner, path, say)
@@ -296,8 +285,7 @@ def _train(
     while len(records) < sz.generations and not state.get("stopped"):
         t0 = time.perf_counter()
         done_before = runner.computed
-        with own_rng(state):
-            xs = [np.asarray(x, dtype=float) for x in state["es"].ask()]
+        xs = cma_record.ask(state)
         cands = [decode(space, x) for x in xs]
         specs = [s for c in cands for s in evaluate(variant, c)]
         results = runner(specs)
@@ -305,9 +293,7 @@ def _train(
         fits = [
             fitness(results[i * per : i * per + n], results[i * per + n : (i + 1) * per]) for i in range(len(cands))
         ]
-        with own_rng(state):
-            state["es"].tell(xs, [f["score"] for f in fits])
-            stop = dict(state["es"].stop())
+        stop = cma_record.tell(state, xs, [f["score"] for f in fits])
         es = state["es"]
         records.append(
             {
@@ -323,7 +309,7 @@ def _train(
         if stop:
             state["stopped"] = {"generation": len(records), "reason": stop}
         with deferred():  # a generation is saved whole: a Ctrl-C now stops the search after it
-            save_state(path, state)
+            cma_record.write(path, {k: state.get(k) for k in ("settings", "records", "stopped")})
         say(
             report.generation_line(
                 records, sz.generations, base_fit, runner.computed - done_before, time.perf_counter() - t0
