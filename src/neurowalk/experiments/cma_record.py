@@ -77,15 +77,6 @@ def start(
         )
 
 
-def refuse_pickle(path: Path, what: str) -> None:
-    """ValueError if an older neurowalk's pickled state is at ``path``: it is never read (it could run code)."""
-    if path.is_file():
-        raise ValueError(
-            f"{str(path)!r} is {what} of an older neurowalk (a pickle, which neurowalk no longer reads: "
-            "it could run code); remove it and run again"
-        )
-
-
 def read(path: Path, settings: dict[str, Any]) -> dict[str, Any] | None:
     """The record at ``path`` (None if there is none), checked to be of a search with these ``settings``.
 
@@ -130,26 +121,35 @@ def resume(
     """A fresh search (``fresh()``: a holder with its CMA-ES, see :func:`start`) into which the search recorded at
     ``path`` (if any) is replayed; returns it and the record (None where there is none).
 
-    ``old``: the file name of an older neurowalk's pickled ``what`` (refused, never read); ``generations``: the
-    function (record -> [(candidates, scores)]) giving the record's generations, raising KeyError, TypeError or
-    ValueError (its message, if any, goes into the error) where it cannot.
+    ``old``: the file name of an older neurowalk's pickled ``what`` (refused, never read: it could run code);
+    ``generations``: the function (record -> [(candidates, scores)]) giving the record's generations, raising
+    KeyError, TypeError or ValueError (its message, if any, goes into the error) where it cannot. Each recorded
+    generation is checked to be what the fresh CMA-ES draws before it is told the recorded scores.
 
     Raises:
         ValueError naming the file: an older pickle, a damaged, foreign or newer record, one of other ``settings``,
-        or one whose candidates this seed does not draw.
+        or one whose candidates this seed does not draw (an edited or foreign record).
     """
-    refuse_pickle(path.with_name(old), what)
+    if path.with_name(old).is_file():
+        raise ValueError(
+            f"{str(path.with_name(old))!r} is {what} of an older neurowalk (a pickle, which neurowalk no longer "
+            "reads: it could run code); remove it and run again"
+        )
     saved = read(path, settings)
     state = fresh()
-    if saved is not None:
-        try:
-            gens = generations(saved)
-        except (KeyError, TypeError, ValueError) as e:
-            why = type(e).__name__ if isinstance(e, KeyError) or not str(e) else str(e)
-            raise ValueError(
-                f"{str(path)!r} is not a readable neurowalk search record ({why}); remove it to start afresh"
-            ) from None
-        replay(state["es"], state, gens, path)
+    if saved is None:
+        return state, None
+    try:
+        for xs, scores in generations(saved):
+            drawn = ask(state)
+            if not np.array_equal(np.array(drawn), np.array(xs, dtype=float)):
+                raise ValueError("its candidates are not those this seed draws")
+            tell(state, drawn, scores)
+    except (KeyError, TypeError, ValueError, IndexError) as e:
+        why = type(e).__name__ if isinstance(e, LookupError) or not str(e) else str(e)
+        raise ValueError(
+            f"{str(path)!r} is not a readable neurowalk search record ({why}); remove it to start afresh"
+        ) from None
     return state, saved
 
 
@@ -165,28 +165,6 @@ def tell(holder: dict[str, Any], xs: Sequence[np.ndarray], scores: Sequence[floa
     with own_rng(holder):
         holder["es"].tell(list(xs), [float(v) for v in scores])
         return dict(holder["es"].stop())
-
-
-def replay(
-    es: Any, holder: dict[str, Any], generations: Iterable[tuple[Sequence[Any], Sequence[float]]], path: Path
-) -> None:
-    """Tell ``es`` the recorded generations (candidates, scores), checking that it draws those candidates.
-
-    Raises:
-        ValueError naming ``path``: a generation whose candidates this seed does not draw (an edited or foreign
-        record), or one that cannot be read as numbers.
-    """
-    try:
-        for xs, scores in generations:
-            with own_rng(holder):
-                drawn = [np.asarray(x, dtype=float) for x in es.ask()]
-                if not np.array_equal(np.array(drawn), np.array(xs, dtype=float)):
-                    raise ValueError("its candidates are not those this seed draws")
-                es.tell(drawn, [float(s) for s in scores])
-    except (ValueError, KeyError, TypeError, IndexError) as e:
-        raise ValueError(
-            f"{str(path)!r} is not a readable neurowalk search record ({e}); remove it to start the search afresh"
-        ) from None
 
 
 def plain(x: Any) -> Any:

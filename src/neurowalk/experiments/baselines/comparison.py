@@ -40,26 +40,18 @@ from neurowalk.runners.stopping import deferred
 METHODS: tuple[str, ...] = ("neuroevo", "ppo", "rppo")
 NETWORKS: tuple[str, ...] = ("plastic", "plastic-original", "static", "braitenberg")  # NAME[-VARIANT]
 HELDOUT_BASE = 10**9  # reset seeds of the held-out environments: HELDOUT_BASE + i
-FULL = {
-    "generations": 150,
-    "population": 16,
-    "envs": 8,
-    "ppo_steps": 5_000_000,
-    "rppo_steps": 2_000_000,
-    "eval_envs": 200,
-    "eval_steps": 20_000,
-    "episode_steps": 10_000,
+#: Every size: (full run, ``quick`` run, largest accepted).
+SIZES: dict[str, tuple[int, int, int]] = {
+    "generations": (150, 3, 100_000),
+    "population": (16, 6, 10_000),
+    "envs": (8, 4, 100_000),
+    "ppo_steps": (5_000_000, 4096, 10**10),
+    "rppo_steps": (2_000_000, 2048, 10**10),
+    "eval_envs": (200, 20, 100_000),
+    "eval_steps": (20_000, 3000, 10**7),
+    "episode_steps": (10_000, 200, 10**7),
 }
-QUICK = {
-    "generations": 3,
-    "population": 6,
-    "envs": 4,
-    "ppo_steps": 4096,
-    "rppo_steps": 2048,
-    "eval_envs": 20,
-    "eval_steps": 3000,
-    "episode_steps": 200,
-}
+FULL, QUICK, LIMITS = ({k: v[i] for k, v in SIZES.items()} for i in range(3))
 LABELS = {
     "plastic": "plastic (2 neurons)",
     "plastic-original": "plastic, authors' code",
@@ -68,18 +60,6 @@ LABELS = {
     "neuroevo": "evolved RNN (CMA-ES)",
     "ppo": "PPO (MLP)",
     "rppo": "recurrent PPO (LSTM)",
-}
-
-
-LIMITS = {
-    "generations": 100_000,
-    "population": 10_000,
-    "envs": 100_000,
-    "ppo_steps": 10**10,
-    "rppo_steps": 10**10,
-    "eval_envs": 100_000,
-    "eval_steps": 10**7,
-    "episode_steps": 10**7,
 }
 
 

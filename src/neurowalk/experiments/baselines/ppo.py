@@ -16,7 +16,6 @@ README for a CPU-only torch.
 from __future__ import annotations
 
 import json
-import math
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -128,22 +127,12 @@ def make_vec_env(n_envs: int, steps: int, train_seed: int, first_round: int = 0)
 
 # stable-baselines3's defaults but for rollout sizes that fit 16 copies and a discount whose horizon (1000 steps,
 # 100 s) spans an escape from a corner (tens of seconds of walking at about 1.4 cm/s)
+_SHARED: dict[str, Any] = {"batch_size": 512, "n_epochs": 10, "learning_rate": 3e-4, "gamma": 0.999}
 HYPER: dict[str, dict[str, Any]] = {
-    "ppo": {
-        "n_steps": 256,
-        "batch_size": 512,
-        "n_epochs": 10,
-        "learning_rate": 3e-4,
-        "gamma": 0.999,
-        "policy": "MlpPolicy",
-        "policy_kwargs": {"net_arch": [64, 64]},
-    },
+    "ppo": {"n_steps": 256, **_SHARED, "policy": "MlpPolicy", "policy_kwargs": {"net_arch": [64, 64]}},
     "rppo": {
         "n_steps": 128,
-        "batch_size": 512,
-        "n_epochs": 10,
-        "learning_rate": 3e-4,
-        "gamma": 0.999,
+        **_SHARED,
         "policy": "MlpLstmPolicy",
         "policy_kwargs": {"lstm_hidden_size": 32, "net_arch": [64]},
     },
@@ -262,9 +251,3 @@ class Sb3Policy:
         action, self.state = self.model.predict(x, state=self.state, episode_start=self.start, deterministic=True)
         self.start = np.zeros(len(x), dtype=bool)
         return action
-
-
-def budget_round(total: int, n_envs: int, algo: str) -> int:
-    """``total`` env steps rounded up to whole rollouts of ``algo`` with ``n_envs`` copies."""
-    per = HYPER[algo]["n_steps"] * n_envs
-    return int(math.ceil(total / per) * per)

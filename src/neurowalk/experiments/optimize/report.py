@@ -16,7 +16,7 @@ Nothing here depends on the machine (no wall times, no paths), so the same seed 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -69,17 +69,22 @@ def best_candidate(history: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
     return best
 
 
+def stats(rec: Mapping[str, Any]) -> dict[str, Any]:
+    """A generation's best and mean fitness and its number of feasible candidates."""
+    fits = [f["fitness"] for f in rec["fitness"]]
+    return {"best": max(fits), "mean": float(np.mean(fits)), "feasible": sum(f["feasible"] for f in rec["fitness"])}
+
+
 def generation_line(
     records: Sequence[Mapping[str, Any]], generations: int, base: Mapping[str, Any], computed: int, wall_s: float
 ) -> str:
     """``generation 3/16: best 0.912 mean 0.861 feasible 7/8; best so far 0.925 (base 0.850); 784 runs in 95 s``."""
     rec = records[-1]
-    fits = [f["fitness"] for f in rec["fitness"]]
-    feasible = sum(f["feasible"] for f in rec["fitness"])
+    st = stats(rec)
     so_far = best_candidate(records)["fitness"]["fitness"]
     return (
-        f"generation {rec['generation']}/{generations}: best {max(fits):.3f} mean {np.mean(fits):.3f} "
-        f"feasible {feasible}/{len(fits)}; best so far {so_far:.3f} (base {base['fitness']:.3f}); "
+        f"generation {rec['generation']}/{generations}: best {st['best']:.3f} mean {st['mean']:.3f} "
+        f"feasible {st['feasible']}/{len(rec['fitness'])}; best so far {so_far:.3f} (base {base['fitness']:.3f}); "
         f"sigma {rec['sigma']:.3f}; {computed} runs in {wall_s:.0f} s"
     )
 
@@ -148,13 +153,8 @@ def command(search: Search, sizes: Sizes, seed: int, train_seed: int, sigma0: fl
     """The command line that reproduces the search (backend, workers and output folder do not change results)."""
     parts = ["neurowalk optimize", f"--variant {variant}", f"--fields {','.join(d.name for d in search.space)}"]
     parts += [f"--param {d.name}={d.lo:g}:{d.hi:g}" for d in search.space]
+    parts += [f"--{name.replace('_', '-')} {v}" for name, v in asdict(sizes).items()]  # the Sizes in field order
     parts += [
-        f"--population {sizes.population}",
-        f"--generations {sizes.generations}",
-        f"--environments {sizes.environments}",
-        f"--heldout {sizes.heldout}",
-        f"--steps {sizes.steps}",
-        f"--deadend-seeds {sizes.deadend_seeds}",
         f"--seed {seed}",
         f"--train-seed {train_seed}",
         f"--heldout-seed {search.heldout['table_seed']}",
@@ -179,14 +179,12 @@ def best_json(
     hist = []
     so_far = -np.inf
     for rec in search.history:
-        fits = [f["fitness"] for f in rec["fitness"]]
-        so_far = max(so_far, max(fits))
+        st = stats(rec)
+        so_far = max(so_far, st["best"])
         hist.append(
             {
                 "generation": rec["generation"],
-                "best": max(fits),
-                "mean": float(np.mean(fits)),
-                "feasible": sum(f["feasible"] for f in rec["fitness"]),
+                **st,
                 "best_so_far": so_far,
                 "sigma": rec["sigma"],
                 "mean_params": rec["mean"],

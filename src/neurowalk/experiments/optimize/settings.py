@@ -11,7 +11,7 @@ a minute (at 5000 steps nearly every candidate succeeds everywhere, so the objec
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
@@ -44,15 +44,8 @@ QUICK = Sizes(population=6, generations=5, environments=16, heldout=50, steps=10
 
 def check_sizes(s: Sizes) -> None:
     """Raise ValueError naming the first size out of range (population >= 2, the rest >= 1; steps <= MAX_STEPS)."""
-    for name, lo in (
-        ("population", 2),
-        ("generations", 1),
-        ("environments", 1),
-        ("heldout", 1),
-        ("steps", 1),
-        ("deadend_seeds", 1),
-    ):
-        v = getattr(s, name)
+    for name, v in asdict(s).items():
+        lo = 2 if name == "population" else 1
         if isinstance(v, bool) or not isinstance(v, int | np.integer) or v < lo:
             raise ValueError(f"{name} must be a whole number >= {lo}, got {v!r}")
     if s.steps > MAX_STEPS:
