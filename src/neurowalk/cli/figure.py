@@ -8,7 +8,7 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from neurowalk.cli.common import UsageError
+from neurowalk.cli.common import UsageError, stopped
 from neurowalk.cli.settings import add_settings_args, run_and_write, settings_of
 
 if TYPE_CHECKING:
@@ -62,16 +62,9 @@ def cmd_figure(args: argparse.Namespace) -> int:
     The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM) with one line saying what its result stores
     hold: a figure of many runs keeps each finished one there, and the same command again goes on from them.
     """
-    from neurowalk.runners.stopping import interrupted, stop_on_signals, stop_status
-
-    with stop_on_signals():
-        try:
-            return _figure(args)
-        except (KeyboardInterrupt, Exception) as e:  # while it started (a run's own stop is answered inside)
-            if not interrupted(e):
-                raise
-            print(f"neurowalk: figure {args.name} interrupted before it began; nothing was run", file=sys.stderr)
-            return stop_status()
+    return stopped(  # a stop while it starts (a run's own stop is answered inside)
+        lambda: _figure(args), lambda: f"neurowalk: figure {args.name} interrupted before it began; nothing was run"
+    )
 
 
 def _figure(args: argparse.Namespace) -> int:

@@ -53,13 +53,6 @@ def cmd_run(args: argparse.Namespace) -> int:
     The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM): the completed steps are written to DIR, and
     one line says what `--resume` goes on from.
     """
-    from neurowalk.runners.stopping import stop_on_signals
-
-    with stop_on_signals():
-        return _run(args)
-
-
-def _run(args: argparse.Namespace) -> int:
     if args.video:
         from neurowalk.render import use_headless_gl
 

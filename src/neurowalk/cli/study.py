@@ -41,18 +41,17 @@ def cmd_study(args: argparse.Namespace) -> int:
     """`neurowalk study FILE.py`: run the file's study, write DIR/NAME.png and its numbers (exit 130/143 when
     stopped, keeping the finished runs)."""
     from neurowalk.render import has_display, use_headless_gl
-    from neurowalk.runners.stopping import interrupted, stop_on_signals, stop_status
+    from neurowalk.runners.stopping import interrupted, stop_status
 
     if not has_display():
         use_headless_gl()
-    with stop_on_signals():
-        try:
-            study = study_of(args.file)
-            settings = settings_of(args, study, f"study {study.name!r}")  # type: ignore[attr-defined]
-        except (KeyboardInterrupt, Exception) as e:
-            if not interrupted(e):
-                raise
-            print(f"neurowalk: study {args.file} interrupted before it began; nothing was run", file=sys.stderr)
-            return stop_status()
-        out = args.out or Path("out") / study.name  # type: ignore[attr-defined]
-        return run_and_write(study, settings.replace(out=out), f"study {study.name}")  # type: ignore[attr-defined]
+    try:
+        study = study_of(args.file)
+        settings = settings_of(args, study, f"study {study.name!r}")  # type: ignore[attr-defined]
+    except (KeyboardInterrupt, Exception) as e:
+        if not interrupted(e):
+            raise
+        print(f"neurowalk: study {args.file} interrupted before it began; nothing was run", file=sys.stderr)
+        return stop_status()
+    out = args.out or Path("out") / study.name  # type: ignore[attr-defined]
+    return run_and_write(study, settings.replace(out=out), f"study {study.name}")  # type: ignore[attr-defined]
