@@ -95,12 +95,6 @@ def usage_errors(*errors: type[Exception]) -> Iterator[None]:
         raise UsageError(str(e)) from None
 
 
-def one_line(text: str) -> str:
-    """``text`` with line breaks and other characters a terminal would not print as they are escaped (``\\n``,
-    ``\\x1b``, a lone surrogate from bytes that were not UTF-8): the one line of an error, whatever the input."""
-    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
-
-
 def path_value(text: str) -> Path:
     """The Path of a path option's value; refuses an empty or blank one, or one too long for any file system call
     (argparse names the option)."""
@@ -249,15 +243,23 @@ def stopped(work: Callable[[], int], line: Callable[[], str]) -> int:
     """The exit status of ``work``; where a stop signal ends it (SIGINT or SIGTERM, under the block of
     :func:`neurowalk.runners.stopping.stop_on_signals` that :func:`neurowalk.cli.main` holds around every command),
     ``line()`` on stderr, saying what is kept, and 130 (143 for SIGTERM)."""
-    from neurowalk.runners.stopping import interrupted, stop_status
+    from neurowalk.runners.stopping import interrupted
 
     try:
         return work()
     except (KeyboardInterrupt, Exception) as e:
         if not interrupted(e):
             raise
-        print(line(), file=sys.stderr)
-        return stop_status()
+        return stop_line(line())
+
+
+def stop_line(line: str) -> int:
+    """Print ``line`` on stderr, saying what a command a stop signal ended keeps; its exit status: 130 (SIGINT) or
+    143 (SIGTERM)."""
+    from neurowalk.runners.stopping import stop_status
+
+    print(line, file=sys.stderr)
+    return stop_status()
 
 
 def control_hz_arg(p: argparse.ArgumentParser, default: float | None = 10.0, metavar: str = "HZ") -> None:
@@ -281,18 +283,6 @@ def engine_args(p: argparse.ArgumentParser) -> None:
         "MuJoCo Warp, many worlds on a GPU; needs the warp extra)",
     )
     p.add_argument("--device", default=None, help="engine warp: cuda (default where a GPU is present) | cpu (slow)")
-
-
-MAX_WORKERS = 4096  # processes or Ray CPUs one command asks for
-
-
-def check_workers(workers: int | None) -> None:
-    """UsageError unless ``--workers`` is None (the default) or a count from 1 to :data:`MAX_WORKERS`."""
-    if workers is not None and workers < 1:
-        raise UsageError(f"--workers must be >= 1, got {workers}")
-    if workers is not None and workers > MAX_WORKERS:
-        shown = str(workers) if workers < 10**12 else f"a number of {len(str(workers))} digits"
-        raise UsageError(f"--workers must be at most {MAX_WORKERS:,}, got {shown}")
 
 
 def check_engine(args: argparse.Namespace, named: Sequence[str] = ()) -> EngineOptions:

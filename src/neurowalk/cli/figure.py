@@ -8,7 +8,7 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from neurowalk.cli.common import UsageError, stopped
+from neurowalk.cli.common import UsageError, stop_line, stopped
 from neurowalk.cli.settings import add_settings_args, run_and_write, settings_of
 
 if TYPE_CHECKING:
@@ -93,7 +93,7 @@ def _replot(name: str, out: Path) -> int:
     """Redraw figure ``name`` from its numbers in ``out``; UsageError naming the file where they cannot be read or
     are not this figure's (damaged, truncated, foreign), which is left as it is."""
     from neurowalk.experiments import output
-    from neurowalk.runners.stopping import deferred, stop_status
+    from neurowalk.runners.stopping import deferred
 
     t0 = time.perf_counter()
     if not (out / f"{name}.json").is_file():
@@ -103,8 +103,7 @@ def _replot(name: str, out: Path) -> int:
         with deferred():
             path = output.save_figure(result, picture, out)
     except KeyboardInterrupt:
-        print(f"neurowalk: {name} interrupted while drawing; nothing written", file=sys.stderr)
-        return stop_status()
+        return stop_line(f"neurowalk: {name} interrupted while drawing; nothing written")
     print(f"{name}: wrote {path} in {time.perf_counter() - t0:.1f} s")
     return 0
 

@@ -10,7 +10,7 @@ from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from neurowalk.cli.common import UsageError, out_folder
+from neurowalk.cli.common import UsageError, out_folder, stop_line
 
 if TYPE_CHECKING:
     from neurowalk.experiments.reproduce.plan import Item
@@ -49,7 +49,6 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     from neurowalk.experiments.reproduce.report import write_report
     from neurowalk.experiments.reproduce.timing import expected_seconds
     from neurowalk.fileio import folder_lock
-    from neurowalk.runners.stopping import stop_status
 
     items = _items(args.only)
     out = args.out or Path("out") / ("reproduce-quick" if args.quick else "reproduce")
@@ -87,12 +86,10 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
         bar.close()
         report = write_report(out, args.quick, failed)
         kept = [i.name for i in items if (out / f"{i.name}.json").is_file()]
-        print(
+        return stop_line(
             f"neurowalk: reproduce interrupted: {len(kept)} results are in {out} ({', '.join(kept) or 'none'}), "
-            f"listed in {report}; the figures keep their finished runs: run the same command again to go on",
-            file=sys.stderr,
+            f"listed in {report}; the figures keep their finished runs: run the same command again to go on"
         )
-        return stop_status()
     finally:
         lock.close()
     bar.close()

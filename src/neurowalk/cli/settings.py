@@ -8,7 +8,6 @@ another setting is refused in one line naming the ones it takes.
 from __future__ import annotations
 
 import argparse
-import sys
 import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -24,6 +23,7 @@ from neurowalk.cli.common import (
     out_folder,
     parse_arena_opts,
     parse_variant,
+    stop_line,
     variant_args,
 )
 
@@ -153,7 +153,7 @@ def run_and_write(study: Study, settings: Settings, what: str) -> int:
     a stop (exit 130/143) says in one line what is kept. ``what`` names it in the messages ("figure fig3")."""
     from neurowalk.experiments import output
     from neurowalk.experiments.study import compute
-    from neurowalk.runners.stopping import deferred, interrupted, stop_status
+    from neurowalk.runners.stopping import deferred, interrupted
     from neurowalk.runners.store import StoreError
     from neurowalk.sim.episode import RunInterruptedError
 
@@ -193,8 +193,7 @@ def run_and_write(study: Study, settings: Settings, what: str) -> int:
             line = f"neurowalk: {study.name} interrupted while drawing: its numbers are in {files}; `--replot` draws it"
         else:
             line = interrupted_line(study.name, out, study.keeps_runs)
-        print(line, file=sys.stderr)
-        return stop_status()
+        return stop_line(line)
     print(f"{study.name}: wrote {', '.join(str(p) for p in paths.values())} in {time.perf_counter() - t0:.1f} s")
     return 0
 

@@ -20,6 +20,7 @@ from neurowalk.cli.common import (
     out_folder,
     parse_arena_opts,
     parse_variant,
+    stop_line,
     usage_errors,
     variant_args,
 )
@@ -194,7 +195,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM) with one line saying how many of its runs are
     in the store.
     """
-    from neurowalk.runners.stopping import deferred, interrupted, stop_requested, stop_status
+    from neurowalk.runners.stopping import deferred, interrupted, stop_requested
 
     opened = None
     try:
@@ -208,8 +209,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     if stop_requested() or opened is None:
         if opened is not None:
             opened[3].close()
-        print("neurowalk: sweep interrupted before its first run; nothing was run", file=sys.stderr)
-        return stop_status()
+        return stop_line("neurowalk: sweep interrupted before its first run; nothing was run")
     return _sweep(args, *opened)
 
 
@@ -251,7 +251,7 @@ def _sweep(
 ) -> int:
     from neurowalk.fileio import write_json
     from neurowalk.runners import ray_backend
-    from neurowalk.runners.stopping import deferred, stop_status
+    from neurowalk.runners.stopping import deferred
     from neurowalk.runners.sweep import SweepReport, run_sweep
 
     with store:
@@ -282,8 +282,7 @@ def _sweep(
             with deferred():
                 line = _kept(specs, store, out)
     if interrupted:
-        print(line, file=sys.stderr)
-        return stop_status()
+        return stop_line(line)
     return 1 if report.error else 0
 
 

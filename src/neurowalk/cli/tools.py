@@ -4,7 +4,6 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 from neurowalk.cli.common import (
@@ -15,6 +14,7 @@ from neurowalk.cli.common import (
     out_file,
     out_folder,
     parse_arena_opts,
+    stop_line,
     stopped,
     usage_errors,
 )
@@ -72,7 +72,7 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
 
 
 def _calibrate(args: argparse.Namespace) -> int:
-    from neurowalk.runners.stopping import deferred, stop_status
+    from neurowalk.runners.stopping import deferred
 
     with deferred():  # the simulation's modules (numba's, MuJoCo's) load whole: a signal waits for their end
         from neurowalk.body.surrogate import CALIBRATION_FILES
@@ -99,11 +99,7 @@ def _calibrate(args: argparse.Namespace) -> int:
             written.append(png)
     except KeyboardInterrupt:
         missing = "" if png in written else ", without its plot"
-        print(
-            f"neurowalk: calibrate interrupted as it ended: wrote {', '.join(map(str, written))}{missing}",
-            file=sys.stderr,
-        )
-        return stop_status()
+        return stop_line(f"neurowalk: calibrate interrupted as it ended: wrote {', '.join(map(str, written))}{missing}")
     v = cal.meta["validation"]
     print(
         f"calibration of {sub.surrogate} on {args.body}: lag {cal.tau_s} s + {cal.delay_steps} steps, "
