@@ -14,7 +14,7 @@ from collections.abc import Sequence
 
 from neurowalk import __version__
 from neurowalk.cli.baseline import add_baseline_parser, cmd_baseline
-from neurowalk.cli.common import Parser, UsageError, check_workers, one_line, out_file, out_folder
+from neurowalk.cli.common import Parser, UsageError, out_file, out_folder
 from neurowalk.cli.figure import add_figure_parser, cmd_figure, figure_listing
 from neurowalk.cli.optimize import add_optimize_parser, cmd_optimize
 from neurowalk.cli.reproduce import add_reproduce_parser, cmd_reproduce
@@ -77,6 +77,24 @@ def parse(argv: list[str]) -> argparse.Namespace:
             raise UsageError(f"{name} expects a value, got '--'")
     named = next((a for a in argv[1:] if not a.startswith("-")), None) if argv[:1] in (["figure"], ["study"]) else None
     return build_parser(named).parse_args(argv)
+
+
+def one_line(text: str) -> str:
+    """``text`` with line breaks and other characters a terminal would not print as they are escaped (``\\n``,
+    ``\\x1b``, a lone surrogate from bytes that were not UTF-8): the one line of an error, whatever the input."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+
+
+MAX_WORKERS = 4096  # processes or Ray CPUs one command asks for
+
+
+def check_workers(workers: int | None) -> None:
+    """UsageError unless ``--workers`` is None (the default) or a count from 1 to :data:`MAX_WORKERS`."""
+    if workers is not None and workers < 1:
+        raise UsageError(f"--workers must be >= 1, got {workers}")
+    if workers is not None and workers > MAX_WORKERS:
+        shown = str(workers) if workers < 10**12 else f"a number of {len(str(workers))} digits"
+        raise UsageError(f"--workers must be at most {MAX_WORKERS:,}, got {shown}")
 
 
 def _kept(args: argparse.Namespace | None) -> str:

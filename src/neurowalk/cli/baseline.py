@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 import argparse
-import sys
 import time
 from pathlib import Path
 
-from neurowalk.cli.common import UsageError, out_folder
+from neurowalk.cli.common import count_args, counts_given, out_folder, stopped, usage_errors
 
 _SIZES = (
     ("generations", "CMA-ES generations of the evolved network (full 150, quick 3)"),
@@ -36,8 +35,7 @@ def add_baseline_parser(sub: argparse._SubParsersAction) -> None:
         help="learned methods: neuroevo (CMA-ES, needs cma), ppo, rppo (need the rl extra)",
     )
     b.add_argument("--quick", action="store_true", help="tiny budgets (a smoke test, not a result)")
-    for flag, what in _SIZES:
-        b.add_argument(f"--{flag}", type=int, default=None, help=what)
+    count_args(b, _SIZES)
     b.add_argument("--seed", type=int, default=0, help="training seed (default 0)")
     b.add_argument("--quiet", action="store_true", help="no progress bars")
 
@@ -48,16 +46,7 @@ def cmd_baseline(args: argparse.Namespace) -> int:
     The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM) with one line naming the checkpoints and
     scores on disk.
     """
-    from neurowalk.runners.stopping import interrupted, stop_on_signals, stop_status
-
-    with stop_on_signals():
-        try:
-            return _baseline(args)
-        except (KeyboardInterrupt, Exception) as e:
-            if not interrupted(e):
-                raise
-            print(kept_line(args.out), file=sys.stderr)
-            return stop_status()
+    return stopped(lambda: _baseline(args), lambda: kept_line(args.out))
 
 
 def kept_line(out: Path) -> str:
@@ -81,10 +70,9 @@ def _baseline(args: argparse.Namespace) -> int:
     from neurowalk.experiments.cma_record import CmaMissingError
 
     methods = [m.strip() for m in args.methods.split(",")]
-    sizes = {f.replace("-", "_"): getattr(args, f.replace("-", "_")) for f, _ in _SIZES}
-    sizes = {k: v for k, v in sizes.items() if v is not None}
+    sizes = counts_given(args, _SIZES)
     t0 = time.perf_counter()
-    try:
+    with usage_errors(ValueError, RlMissingError, CmaMissingError):
         if not 0 <= args.seed < 2**32:
             raise ValueError(f"--seed must be in [0, 2**32), got {args.seed}")
         baseline.check_methods(methods, available=False)
@@ -100,8 +88,6 @@ def _baseline(args: argparse.Namespace) -> int:
             progress=not args.quiet,
             log=lambda line: print(line, flush=True),
         )
-    except (ValueError, RlMissingError, CmaMissingError) as e:
-        raise UsageError(str(e)) from None
     for r in result["rows"]:
         print(f"{r['label']:>24}: {r['success']}/{r['n']} ({r['rate']:.1%}), coverage {r['coverage_mean']:.1%}")
     print(f"baseline: done in {time.perf_counter() - t0:.1f} s; wrote {args.out / 'baselines.md'}, .json, .png")

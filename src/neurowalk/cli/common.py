@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import argparse
-from collections.abc import Callable, Sequence
+import contextlib
+import sys
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -24,6 +26,7 @@ class Parser(argparse.ArgumentParser):
     """
 
     help_tail: Callable[[], str] | None = None  # more help, computed only when help is asked for
+    hidden = False  # the options added now are hidden from the help (e.g. the settings a study does not take)
 
     def error(self, message: str) -> None:  # one clear line instead of usage + message
         raise UsageError(message)
@@ -31,6 +34,8 @@ class Parser(argparse.ArgumentParser):
     def add_argument(self, *args: Any, **kwargs: Any) -> argparse.Action:
         if kwargs.get("type") is Path:
             kwargs["type"] = path_value
+        if self.hidden:
+            kwargs["help"] = argparse.SUPPRESS
         return super().add_argument(*args, **kwargs)
 
     def format_help(self) -> str:
@@ -41,61 +46,53 @@ class Parser(argparse.ArgumentParser):
         return super().format_help() + (self.help_tail() if self.help_tail else "")
 
 
-#: The registries whose names help text shows: what each name's check accepts.
-REGISTRIES = (
-    "variants",
-    "bodies",
-    "physics_bodies",
-    "calibrated_bodies",
-    "arenas",
-    "engines",
-    "controllers",
-    "gaits",
-    "optimize_bases",
-)
+#: The registries whose names help text shows, and where each one's names are: the attribute of a module that holds
+#: them (its keys, or what it returns where it is a function); ``physics_bodies`` are the bodies with a 3-D model.
+_REGISTRY_SOURCES = {
+    "variants": ("neurowalk.neural.variants", "variant_names"),
+    "bodies": ("neurowalk.body.registry", "BODIES"),
+    "physics_bodies": ("neurowalk.body.registry", "BODIES"),
+    "calibrated_bodies": ("neurowalk.experiments.calibration.subjects", "SUBJECTS"),
+    "arenas": ("neurowalk.arenas", "ARENAS"),
+    "engines": ("neurowalk.sim.engines", "ENGINES"),
+    "controllers": ("neurowalk.controller", "CONTROLLERS"),
+    "gaits": ("neurowalk.neural.cpg", "GAITS"),
+    "optimize_bases": ("neurowalk.experiments.optimize.space", "BASES"),
+}
+REGISTRIES = tuple(_REGISTRY_SOURCES)
 
 
 def registry_names(name: str) -> tuple[str, ...]:
     """The names that registry ``name`` (one of :data:`REGISTRIES`) holds, as the checks of the values see them."""
-    if name == "variants":
-        from neurowalk.neural.variants import variant_names
+    import importlib
 
-        return variant_names()
-    if name in ("bodies", "physics_bodies"):
-        from neurowalk.body.registry import BODIES
-
-        return tuple(b for b, info in BODIES.items() if name == "bodies" or info.physics)
-    if name == "calibrated_bodies":
-        from neurowalk.experiments.calibration.subjects import SUBJECTS
-
-        return tuple(SUBJECTS)
-    if name == "arenas":
-        from neurowalk.arenas import ARENAS
-
-        return tuple(sorted(ARENAS))
-    if name == "engines":
-        from neurowalk.sim.engines import ENGINES
-
-        return tuple(ENGINES)
-    if name == "controllers":
-        from neurowalk.controller import CONTROLLERS
-
-        return CONTROLLERS
-    if name == "gaits":
-        from neurowalk.neural.cpg import GAITS
-
-        return tuple(GAITS)
-    if name == "optimize_bases":
-        from neurowalk.experiments.optimize.space import BASES
-
-        return BASES
-    raise ValueError(f"unknown registry {name!r}; expected one of {', '.join(REGISTRIES)}")
+    if name not in _REGISTRY_SOURCES:
+        raise ValueError(f"unknown registry {name!r}; expected one of {', '.join(REGISTRIES)}")
+    module, attribute = _REGISTRY_SOURCES[name]
+    held = getattr(importlib.import_module(module), attribute)
+    names = tuple(held() if callable(held) else held)
+    if name == "physics_bodies":
+        return tuple(b for b in names if held[b].physics)
+    return tuple(sorted(names)) if name == "arenas" else names
 
 
-def one_line(text: str) -> str:
-    """``text`` with line breaks and other characters a terminal would not print as they are escaped (``\\n``,
-    ``\\x1b``, a lone surrogate from bytes that were not UTF-8): the one line of an error, whatever the input."""
-    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in text)
+def known(what: str, name: str, registry: str) -> str:
+    """``name`` if registry ``registry`` holds it, else UsageError: "unknown WHAT 'NAME'; expected one of ..."."""
+    names = registry_names(registry)
+    if name not in names:
+        raise UsageError(f"unknown {what} {name!r}; expected one of {', '.join(names)}")
+    return name
+
+
+@contextlib.contextmanager
+def usage_errors(*errors: type[Exception]) -> Iterator[None]:
+    """Inside the block an error of ``errors`` (default ValueError: a library's own check of a value) is bad input:
+    UsageError with its message."""
+    caught = errors or (ValueError,)
+    try:
+        yield
+    except caught as e:
+        raise UsageError(str(e)) from None
 
 
 def path_value(text: str) -> Path:
@@ -156,6 +153,13 @@ def machine_memory() -> int | None:
     return min(have, int(limit)) if limit.isdigit() else have
 
 
+def _check_length(flag: str, *paths: Path) -> None:
+    """UsageError naming ``flag`` and the first of ``paths`` too long for the system (:func:`path_too_long`)."""
+    too_long = next(filter(None, map(path_too_long, paths)), None)
+    if too_long:
+        raise UsageError(f"{flag} {too_long}")
+
+
 def out_folder(path: Path, flag: str = "--out", given: Path | None = None) -> Path:
     """Make the output folder ``path`` (and its parents); UsageError naming it if it is a file or cannot be written.
 
@@ -163,9 +167,7 @@ def out_folder(path: Path, flag: str = "--out", given: Path | None = None) -> Pa
     """
     from neurowalk.fileio import make_writable_folder
 
-    too_long = path_too_long(given if given is not None else path) or path_too_long(path)
-    if too_long:
-        raise UsageError(f"{flag} {too_long}")
+    _check_length(flag, given if given is not None else path, path)
     try:
         make_writable_folder(path)
     except ValueError as e:
@@ -175,9 +177,7 @@ def out_folder(path: Path, flag: str = "--out", given: Path | None = None) -> Pa
 
 def out_file(path: Path, flag: str = "--out") -> Path:
     """Check that the output file ``path`` can be written (its folder made); UsageError naming it otherwise."""
-    too_long = path_too_long(path)
-    if too_long:
-        raise UsageError(f"{flag} {too_long}")
+    _check_length(flag, path)
     try:
         if path.is_dir():
             raise UsageError(f"{flag} {str(path)!r} is a folder; give a file name")
@@ -190,7 +190,7 @@ def out_file(path: Path, flag: str = "--out") -> Path:
 def episode_args(p: argparse.ArgumentParser) -> None:
     """The flags of one closed-loop run (`run`, `view`)."""
     p.add_argument("--arena", default="open", help="{arenas} (default open; options: `neurowalk arenas`)")
-    p.add_argument("--arena-opt", action="append", default=[], metavar="KEY=VALUE", help="arena option, repeatable")
+    option_args(p, "--arena-opt", "KEY=VALUE", "arena option, repeatable")
     p.add_argument("--controller", default="plastic", help="{controllers} (default plastic)")
     p.add_argument("--steer", default=None, metavar="O1,O2", help="steering of controller 'fixed', e.g. -1,-1")
     p.add_argument(
@@ -198,7 +198,7 @@ def episode_args(p: argparse.ArgumentParser) -> None:
         default="amosii",
         help="{bodies} | mjcf:FILE.xml (default amosii, the MuJoCo hexapod; see `neurowalk bodies`)",
     )
-    p.add_argument("--body-opt", action="append", default=[], metavar="KEY=VALUE", help="body option, e.g. scale=0.5")
+    option_args(p, "--body-opt", "KEY=VALUE", "body option, e.g. scale=0.5")
     p.add_argument("--steps", type=int, default=1000, help="control steps (10 Hz: 1000 = 100 s)")
     control_hz_arg(p)
     p.add_argument("--seed", type=int, default=0, help="seed of every random draw")
@@ -207,6 +207,59 @@ def episode_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--climb", action="store_true", help="both --reflexes and --backbone (climbing)")
     variant_args(p)
     p.add_argument("--gait", default="wave", help="{gaits} (default wave)")
+
+
+def option_args(p: argparse.ArgumentParser, flag: str, metavar: str, help: str) -> None:
+    """A repeatable KEY=VALUE option ``flag`` (an arena's or a body's; :func:`parse_arena_opts` reads its items)."""
+    p.add_argument(flag, action="append", default=[], metavar=metavar, help=help)
+
+
+def backend_args(p: argparse.ArgumentParser) -> None:
+    """--backend, --address and --workers: where the runs of a command of many runs run (`sweep`, `optimize`)."""
+    p.add_argument("--backend", choices=("local", "ray"), default="local", help="local process pool or Ray")
+    p.add_argument("--address", default=None, help="Ray cluster to join (backend ray; default: a local instance)")
+    p.add_argument("--workers", type=int, default=2, help="processes, or CPUs of a local Ray instance (default 2)")
+
+
+def check_address(args: argparse.Namespace) -> None:
+    """UsageError where --address goes without --backend ray."""
+    if args.address and args.backend != "ray":
+        raise UsageError(f"--address {args.address!r} goes with --backend ray")
+
+
+def count_args(p: argparse.ArgumentParser, counts: Sequence[tuple[str, str]]) -> None:
+    """A whole-number option of each (flag name, help) of ``counts``: the sizes of a search, default its own."""
+    for flag, what in counts:
+        p.add_argument(f"--{flag}", type=int, default=None, help=what)
+
+
+def counts_given(args: argparse.Namespace, counts: Sequence[tuple[str, str]]) -> dict[str, int]:
+    """{name: value} of the options of ``counts`` (:func:`count_args`) the command line gives."""
+    given = {flag.replace("-", "_"): getattr(args, flag.replace("-", "_")) for flag, _ in counts}
+    return {k: v for k, v in given.items() if v is not None}
+
+
+def stopped(work: Callable[[], int], line: Callable[[], str]) -> int:
+    """The exit status of ``work``; where a stop signal ends it (SIGINT or SIGTERM, under the block of
+    :func:`neurowalk.runners.stopping.stop_on_signals` that :func:`neurowalk.cli.main` holds around every command),
+    ``line()`` on stderr, saying what is kept, and 130 (143 for SIGTERM)."""
+    from neurowalk.runners.stopping import interrupted
+
+    try:
+        return work()
+    except (KeyboardInterrupt, Exception) as e:
+        if not interrupted(e):
+            raise
+        return stop_line(line())
+
+
+def stop_line(line: str) -> int:
+    """Print ``line`` on stderr, saying what a command a stop signal ended keeps; its exit status: 130 (SIGINT) or
+    143 (SIGTERM)."""
+    from neurowalk.runners.stopping import stop_status
+
+    print(line, file=sys.stderr)
+    return stop_status()
 
 
 def control_hz_arg(p: argparse.ArgumentParser, default: float | None = 10.0, metavar: str = "HZ") -> None:
@@ -232,18 +285,6 @@ def engine_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--device", default=None, help="engine warp: cuda (default where a GPU is present) | cpu (slow)")
 
 
-MAX_WORKERS = 4096  # processes or Ray CPUs one command asks for
-
-
-def check_workers(workers: int | None) -> None:
-    """UsageError unless ``--workers`` is None (the default) or a count from 1 to :data:`MAX_WORKERS`."""
-    if workers is not None and workers < 1:
-        raise UsageError(f"--workers must be >= 1, got {workers}")
-    if workers is not None and workers > MAX_WORKERS:
-        shown = str(workers) if workers < 10**12 else f"a number of {len(str(workers))} digits"
-        raise UsageError(f"--workers must be at most {MAX_WORKERS:,}, got {shown}")
-
-
 def check_engine(args: argparse.Namespace, named: Sequence[str] = ()) -> EngineOptions:
     """Check --engine/--device before any work (UsageError naming what to install or use); the engine options (the
     device resolved) that the command passes on to the runs. ``named``: engines the runs name themselves (a spec
@@ -262,28 +303,28 @@ def check_engine(args: argparse.Namespace, named: Sequence[str] = ()) -> EngineO
         raise UsageError(
             f"--device goes with {with_device} (engine {chosen.name!r} has no device), got {args.device!r}"
         )
-    try:
+    with usage_errors():
         return chosen.resolve(EngineOptions(device=args.device))
-    except ValueError as e:
-        raise UsageError(str(e)) from None
 
 
-def variant_args(p: argparse.ArgumentParser, many: bool = False) -> None:
-    """--variant and --params (``many``: --variant takes a comma list)."""
-    p.add_argument(
-        "--variant",
-        default=None,
-        metavar="NAME[,NAME...]" if many else "NAME",
-        help="the network: {variants} (default paper: Eq. 1-6 as printed; original: the authors' code; "
-        "see docs/paper-vs-code.md)",
-    )
-    p.add_argument(
-        "--params",
-        type=Path,
-        default=None,
-        metavar="FILE.json",
-        help="SensoryParams fields on top of the variant, e.g. an `optimize` best.json",
-    )
+def variant_args(p: argparse.ArgumentParser, many: bool = False, only: str | None = None) -> None:
+    """--variant and --params (``many``: --variant takes a comma list; ``only``: that one of the two)."""
+    if only in (None, "variant"):
+        p.add_argument(
+            "--variant",
+            default=None,
+            metavar="NAME[,NAME...]" if many else "NAME",
+            help="the network: {variants} (default paper: Eq. 1-6 as printed; original: the authors' code; "
+            "see docs/paper-vs-code.md)",
+        )
+    if only in (None, "params"):
+        p.add_argument(
+            "--params",
+            type=Path,
+            default=None,
+            metavar="FILE.json",
+            help="SensoryParams fields on top of the variant, e.g. an `optimize` best.json",
+        )
 
 
 def parse_variant(args: argparse.Namespace) -> tuple[str, dict | None]:
@@ -294,15 +335,13 @@ def parse_variant(args: argparse.Namespace) -> tuple[str, dict | None]:
     variant = args.variant
     if variant is not None and not variant.strip():
         raise UsageError(f"--variant expects a name (e.g. paper, original), got {variant!r}")
-    try:
+    with usage_errors():
         if args.params is not None:
             data = read_params_file(args.params)
             params = data["params"]
             variant = variant or data["variant"]
         variant = variant or "paper"
         get_variant(variant, params)
-    except ValueError as e:
-        raise UsageError(str(e)) from None
     return variant, params
 
 
@@ -336,7 +375,7 @@ def episode_config(args: argparse.Namespace) -> object:
     from neurowalk.sim.episode import EpisodeConfig
 
     variant, params = parse_variant(args)
-    try:
+    with usage_errors():
         opts = parse_arena_opts(args.arena_opt)
         body_opts = parse_arena_opts(args.body_opt, "--body-opt")
         cfg = EpisodeConfig(
@@ -357,6 +396,4 @@ def episode_config(args: argparse.Namespace) -> object:
             engine=getattr(args, "engine", "mujoco"),
         )
         make_arena(cfg.arena, **cfg.arena_opts)  # validate the arena's options before any work
-    except ValueError as e:
-        raise UsageError(str(e)) from None
     return cfg

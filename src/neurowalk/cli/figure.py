@@ -8,7 +8,7 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from neurowalk.cli.common import UsageError
+from neurowalk.cli.common import UsageError, stop_line, stopped
 from neurowalk.cli.settings import add_settings_args, run_and_write, settings_of
 
 if TYPE_CHECKING:
@@ -62,16 +62,9 @@ def cmd_figure(args: argparse.Namespace) -> int:
     The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM) with one line saying what its result stores
     hold: a figure of many runs keeps each finished one there, and the same command again goes on from them.
     """
-    from neurowalk.runners.stopping import interrupted, stop_on_signals, stop_status
-
-    with stop_on_signals():
-        try:
-            return _figure(args)
-        except (KeyboardInterrupt, Exception) as e:  # while it started (a run's own stop is answered inside)
-            if not interrupted(e):
-                raise
-            print(f"neurowalk: figure {args.name} interrupted before it began; nothing was run", file=sys.stderr)
-            return stop_status()
+    return stopped(  # a stop while it starts (a run's own stop is answered inside)
+        lambda: _figure(args), lambda: f"neurowalk: figure {args.name} interrupted before it began; nothing was run"
+    )
 
 
 def _figure(args: argparse.Namespace) -> int:
@@ -100,7 +93,7 @@ def _replot(name: str, out: Path) -> int:
     """Redraw figure ``name`` from its numbers in ``out``; UsageError naming the file where they cannot be read or
     are not this figure's (damaged, truncated, foreign), which is left as it is."""
     from neurowalk.experiments import output
-    from neurowalk.runners.stopping import deferred, stop_status
+    from neurowalk.runners.stopping import deferred
 
     t0 = time.perf_counter()
     if not (out / f"{name}.json").is_file():
@@ -110,8 +103,7 @@ def _replot(name: str, out: Path) -> int:
         with deferred():
             path = output.save_figure(result, picture, out)
     except KeyboardInterrupt:
-        print(f"neurowalk: {name} interrupted while drawing; nothing written", file=sys.stderr)
-        return stop_status()
+        return stop_line(f"neurowalk: {name} interrupted while drawing; nothing written")
     print(f"{name}: wrote {path} in {time.perf_counter() - t0:.1f} s")
     return 0
 

@@ -7,7 +7,24 @@ import sys
 import time
 from pathlib import Path
 
-from neurowalk.cli.common import UsageError
+from neurowalk.cli.common import (
+    UsageError,
+    backend_args,
+    check_address,
+    count_args,
+    counts_given,
+    option_args,
+    stopped,
+)
+
+_SIZES = (
+    ("population", "candidates per generation (full 8, quick 6)"),
+    ("generations", "generations (full 12, quick 5)"),
+    ("environments", "training environments (full 80, quick 16)"),
+    ("heldout", "held-out environments (full 200, quick 50)"),
+    ("steps", "control steps per environment (full 20000, quick 10000)"),
+    ("deadend-seeds", "seeds per dead-end geometry (full 3, quick 2)"),
+)
 
 
 def add_optimize_parser(sub: argparse._SubParsersAction) -> None:
@@ -26,29 +43,14 @@ def add_optimize_parser(sub: argparse._SubParsersAction) -> None:
         metavar="NAME[,NAME...]",
         help="SensoryParams fields to search (default mu_b,mu_q,gamma_b,gamma_q,k)",
     )
-    o.add_argument(
-        "--param",
-        action="append",
-        default=[],
-        metavar="FIELD=LO:HI",
-        help="bounds of a field (adds it to the search), e.g. mu_b=0.001:0.03; repeatable",
-    )
-    for flag, what in (
-        ("population", "candidates per generation (full 8, quick 6)"),
-        ("generations", "generations (full 12, quick 5)"),
-        ("environments", "training environments (full 80, quick 16)"),
-        ("heldout", "held-out environments (full 200, quick 50)"),
-        ("steps", "control steps per environment (full 20000, quick 10000)"),
-        ("deadend-seeds", "seeds per dead-end geometry (full 3, quick 2)"),
-    ):
-        o.add_argument(f"--{flag}", type=int, default=None, help=what)
+    param_help = "bounds of a field (adds it to the search), e.g. mu_b=0.001:0.03; repeatable"
+    option_args(o, "--param", "FIELD=LO:HI", param_help)
+    count_args(o, _SIZES)
     o.add_argument("--seed", type=int, default=0, help="CMA-ES seed (default 0)")
     o.add_argument("--train-seed", type=int, default=1000, help="table seed of the training environments (1000)")
     o.add_argument("--heldout-seed", type=int, default=0, help="table seed of the held-out environments (0)")
     o.add_argument("--sigma0", type=float, default=0.2, help="initial step size in the normalised space (0.2)")
-    o.add_argument("--backend", choices=("local", "ray"), default="local", help="local process pool or Ray")
-    o.add_argument("--address", default=None, help="Ray cluster to join (backend ray; default: a local instance)")
-    o.add_argument("--workers", type=int, default=2, help="processes, or CPUs of a local Ray instance (default 2)")
+    backend_args(o)
     o.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
@@ -57,16 +59,7 @@ def cmd_optimize(args: argparse.Namespace) -> int:
 
     The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM) with one line saying what its folder holds.
     """
-    from neurowalk.runners.stopping import interrupted, stop_on_signals, stop_status
-
-    with stop_on_signals():
-        try:
-            return _optimize(args)
-        except (KeyboardInterrupt, Exception) as e:
-            if not interrupted(e):
-                raise
-            print(_optimize_kept(args.out), file=sys.stderr)
-            return stop_status()
+    return stopped(lambda: _optimize(args), lambda: _optimize_kept(args.out))
 
 
 def _optimize_kept(out: Path) -> str:
@@ -94,13 +87,7 @@ def _optimize(args: argparse.Namespace) -> int:
     from neurowalk.experiments.optimize.space import parse_bounds
     from neurowalk.runners import ray_backend
 
-    if args.address and args.backend != "ray":
-        raise UsageError(f"--address {args.address!r} goes with --backend ray")
-    sizes = {
-        k: getattr(args, k)
-        for k in ("population", "generations", "environments", "heldout", "steps", "deadend_seeds")
-        if getattr(args, k) is not None
-    }
+    check_address(args)
     fields = None if args.fields is None else [f.strip() for f in args.fields.split(",")]
     t0 = time.perf_counter()
     try:
@@ -113,7 +100,7 @@ def _optimize(args: argparse.Namespace) -> int:
             variant=args.variant,
             fields=fields,
             bounds=bounds,
-            sizes=sizes,
+            sizes=counts_given(args, _SIZES),
             seed=args.seed,
             train_seed=args.train_seed,
             heldout_seed=args.heldout_seed,

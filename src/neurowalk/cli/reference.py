@@ -18,19 +18,13 @@ Bad input exits with status 2 and one line naming the value.
 """
 
 
-def _subcommands(parser: argparse.ArgumentParser) -> dict[str, argparse.ArgumentParser]:
-    """The sub-parsers of ``parser``, by name, in the order ``--help`` lists them."""
+def _subcommands(parser: argparse.ArgumentParser) -> dict[str, tuple[argparse.ArgumentParser, str]]:
+    """The sub-parsers of ``parser`` and the one-line help of each, as the top-level ``--help`` shows it, by name, in
+    the order ``--help`` lists them."""
     for action in parser._actions:  # argparse keeps them here; no public accessor
         if isinstance(action, argparse._SubParsersAction):
-            return dict(action.choices.items())
-    return {}
-
-
-def _helps(parser: argparse.ArgumentParser) -> dict[str, str]:
-    """One-line help of each sub-command, as the top-level ``--help`` shows it."""
-    for action in parser._actions:
-        if isinstance(action, argparse._SubParsersAction):
-            return {a.dest: a.help or "" for a in action._choices_actions}
+            helps = {a.dest: a.help or "" for a in action._choices_actions}
+            return {name: (sub, helps.get(name, "")) for name, sub in action.choices.items()}
     return {}
 
 
@@ -59,17 +53,15 @@ def markdown(parser: argparse.ArgumentParser | None = None) -> str:
         from neurowalk.cli import build_parser  # here: this module is part of that package
 
         parser = build_parser()
-    lines = [HEADER]
-    helps = _helps(parser)
-    lines.append("| command | what it does |\n|---|---|")
-    lines += [f"| [`{name}`](#{name}) | {helps.get(name, '')} |" for name in _subcommands(parser)]
+    lines = [HEADER, "| command | what it does |\n|---|---|"]
+    lines += [f"| [`{name}`](#{name}) | {help_} |" for name, (_, help_) in _subcommands(parser).items()]
     lines.append("")
-    for name, sub in _subcommands(parser).items():
+    for name, (sub, help_) in _subcommands(parser).items():
         sub.format_help()  # fills in the registry names ({bodies}, ...) of the options' help
         tail = getattr(sub, "page_tail", None) or (sub.help_tail() if getattr(sub, "help_tail", None) else "")
         usage = " ".join(sub.format_usage().split())
         lines.append(f"## {name}\n")
-        lines.append(f"{helps.get(name, '')}\n")
+        lines.append(f"{help_}\n")
         lines.append(f"```text\n{usage.removeprefix('usage: ')}\n```\n")
         rows = _option_rows(sub)
         if rows:

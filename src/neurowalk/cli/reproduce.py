@@ -10,7 +10,7 @@ from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from neurowalk.cli.common import UsageError, out_folder
+from neurowalk.cli.common import UsageError, out_folder, stop_line
 
 if TYPE_CHECKING:
     from neurowalk.experiments.reproduce.plan import Item
@@ -45,18 +45,10 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     Exit 0 where every run finished, 1 where one failed (the others still ran), 130 on a stop by SIGINT (143 by
     SIGTERM), with one line saying which results are on disk.
     """
-    from neurowalk.runners.stopping import stop_on_signals
-
-    with stop_on_signals():
-        return _reproduce(args)
-
-
-def _reproduce(args: argparse.Namespace) -> int:
     from neurowalk.experiments.reproduce import runner
     from neurowalk.experiments.reproduce.report import write_report
     from neurowalk.experiments.reproduce.timing import expected_seconds
     from neurowalk.fileio import folder_lock
-    from neurowalk.runners.stopping import stop_status
 
     items = _items(args.only)
     out = args.out or Path("out") / ("reproduce-quick" if args.quick else "reproduce")
@@ -83,7 +75,7 @@ def _reproduce(args: argparse.Namespace) -> int:
         for k, run in enumerate(runs):
             bar.set_description(f"reproduce {k + 1}/{len(runs)} {run.name}")
             run_items = [i for i in items if run_of[i.name] is run]
-            tick = partial(_show_within, bar, base, expected[run.name])
+            tick = partial(_show, bar, base, most=0.95 * expected[run.name])
             if _run_and_judge(run, run_items, out, args.quick, failed, tick):
                 base += expected[run.name]
             else:  # finished before: the bar (and its time left) covers what is left to run
@@ -94,12 +86,10 @@ def _reproduce(args: argparse.Namespace) -> int:
         bar.close()
         report = write_report(out, args.quick, failed)
         kept = [i.name for i in items if (out / f"{i.name}.json").is_file()]
-        print(
+        return stop_line(
             f"neurowalk: reproduce interrupted: {len(kept)} results are in {out} ({', '.join(kept) or 'none'}), "
-            f"listed in {report}; the figures keep their finished runs: run the same command again to go on",
-            file=sys.stderr,
+            f"listed in {report}; the figures keep their finished runs: run the same command again to go on"
         )
-        return stop_status()
     finally:
         lock.close()
     bar.close()
@@ -149,12 +139,8 @@ def _run_and_judge(
     return ran
 
 
-def _show_within(bar: object, base: float, expected: float, s: float) -> None:
-    """Move the progress bar to ``base`` + ``s`` expected seconds, ``s`` at most 95% of the run's ``expected``."""
-    _show(bar, base + min(s, 0.95 * expected))
-
-
-def _show(bar: object, n: float) -> None:
-    """Move the progress bar to ``n`` expected seconds."""
-    bar.n = round(n)  # type: ignore[attr-defined]
+def _show(bar: object, base: float, s: float = 0.0, most: float = 0.0) -> None:
+    """Move the progress bar to ``base`` + ``s`` expected seconds, ``s`` at most ``most`` (95% of a run's expected
+    time, where it is running)."""
+    bar.n = round(base + min(s, most))  # type: ignore[attr-defined]
     bar.refresh()  # type: ignore[attr-defined]

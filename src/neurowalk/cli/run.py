@@ -18,6 +18,7 @@ from neurowalk.cli.common import (
     episode_config,
     machine_memory,
     out_folder,
+    stop_line,
 )
 from neurowalk.fileio import write_json
 
@@ -53,13 +54,6 @@ def cmd_run(args: argparse.Namespace) -> int:
     The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM): the completed steps are written to DIR, and
     one line says what `--resume` goes on from.
     """
-    from neurowalk.runners.stopping import stop_on_signals
-
-    with stop_on_signals():
-        return _run(args)
-
-
-def _run(args: argparse.Namespace) -> int:
     if args.video:
         from neurowalk.render import use_headless_gl
 
@@ -206,8 +200,7 @@ def _run_into(args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume:
     done = ep.summary["steps"]
     if interrupted:
         files = "summary.json, trajectory.npz, run.png" if done else "summary.json"
-        print(f"neurowalk: interrupted: kept the {done} completed steps in {out} ({files}); {then}", file=sys.stderr)
-        return stop_status()
+        return stop_line(f"neurowalk: interrupted: kept the {done} completed steps in {out} ({files}); {then}")
     written = ["summary.json", "trajectory.npz", "run.png"]
     if args.video:
         if not _video(cfg, out, args.quiet):

@@ -8,19 +8,22 @@ another setting is refused in one line naming the ones it takes.
 from __future__ import annotations
 
 import argparse
-import sys
 import time
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from neurowalk.cli.common import (
+    Parser,
     UsageError,
     check_engine,
     control_hz_arg,
     engine_args,
+    known,
+    option_args,
     out_folder,
     parse_arena_opts,
     parse_variant,
+    stop_line,
     variant_args,
 )
 
@@ -53,17 +56,13 @@ def _add(p: argparse.ArgumentParser, name: str) -> None:
     elif name == "climbing":
         p.add_argument("--climb", dest="climbing", action="store_true", help="leg reflexes and backbone control on")
     elif name in ("variant", "params"):
-        both = argparse.ArgumentParser(add_help=False)
-        variant_args(both)
-        action = next(a for a in both._actions if a.dest == name)
-        p.add_argument(*action.option_strings, **_kwargs(action), help=action.help)
+        variant_args(p, only=name)
     elif name == "gait":
         p.add_argument("--gait", default=None, help="the locomotion network's gait: {gaits} (default wave)")
     elif name == "video":
         p.add_argument("--video", action="store_true", help="also write the example runs' videos")
     elif name == "size":
-        help_ = "box side of the random environments, m (default 1, the authors')"
-        p.add_argument("--arena-opt", action="append", default=[], metavar="size=M", help=help_)
+        option_args(p, "--arena-opt", "size=M", "box side of the random environments, m (default 1, the authors')")
     elif name == "engine":
         engine_args(p)
     elif name == "control_hz":
@@ -75,7 +74,7 @@ def _add(p: argparse.ArgumentParser, name: str) -> None:
         p.add_argument("--address", default=None, help="the Ray cluster to join (with --backend ray)")
 
 
-def add_settings_args(p: argparse.ArgumentParser, takes: tuple[str, ...] | None) -> None:
+def add_settings_args(p: Parser, takes: tuple[str, ...] | None) -> None:
     """``--out``, ``--quick``, ``--seed`` and every optional setting's flags; those of settings not in ``takes``
     (where given) are accepted but hidden from the help, and refused by :func:`settings_of`."""
     from neurowalk.experiments.study import OPTIONAL
@@ -84,22 +83,9 @@ def add_settings_args(p: argparse.ArgumentParser, takes: tuple[str, ...] | None)
     p.add_argument("--quick", action="store_true", help="shorter runs, coarser grids")
     p.add_argument("--seed", type=int, default=0, help="seed of every random draw (default 0)")
     for name in OPTIONAL:
-        if takes is None or name in takes:
-            _add(p, name)
-            continue
-        hidden = argparse.ArgumentParser(add_help=False)
-        _add(hidden, name)
-        for action in hidden._actions:  # the same flags, hidden: given anyway, they are refused in one line
-            p.add_argument(*action.option_strings, **_kwargs(action), help=argparse.SUPPRESS)
-
-
-def _kwargs(action: argparse.Action) -> dict[str, Any]:
-    """The keywords that make ``action`` again (but its help)."""
-    if isinstance(action, argparse._StoreTrueAction):
-        return {"dest": action.dest, "action": "store_true"}
-    if isinstance(action, argparse._AppendAction):
-        return {"dest": action.dest, "action": "append", "default": action.default, "metavar": action.metavar}
-    return {"dest": action.dest, "type": action.type, "default": action.default, "metavar": action.metavar}
+        p.hidden = takes is not None and name not in takes  # given anyway, hidden flags are refused in one line
+        _add(p, name)
+    p.hidden = False
 
 
 def settings_of(args: argparse.Namespace, study: Study, what: str) -> Settings:
@@ -115,9 +101,9 @@ def settings_of(args: argparse.Namespace, study: Study, what: str) -> Settings:
     kw: dict[str, Any] = {n: getattr(args, n) for n in ("quick", "seed", "out")}
     kw.update({n: getattr(args, n) for n in ("seeds", "climbing", "video", "control_hz", "workers") if n in given})
     if "body" in given:
-        kw["body"] = _known("body", args.body, "neurowalk.sim.episode", "BODIES")
+        kw["body"] = known("body", args.body, "bodies")
     if "gait" in given:
-        kw["gait"] = _known("gait", args.gait, "neurowalk.neural.cpg", "GAITS")
+        kw["gait"] = known("gait", args.gait, "gaits")
     if "variant" in given or "params" in given:
         kw["variant"], kw["params"] = parse_variant(args)
     if "engine" in given:
@@ -147,16 +133,6 @@ def _given(args: argparse.Namespace) -> list[str]:
     return [n for n in dict.fromkeys(out) if n != "address"]
 
 
-def _known(what: str, name: str, module: str, table: str) -> str:
-    """``name`` if ``module.table`` holds it, else UsageError: "unknown WHAT 'NAME'; expected one of ..."."""
-    import importlib
-
-    names = tuple(getattr(importlib.import_module(module), table))
-    if name not in names:
-        raise UsageError(f"unknown {what} {name!r}; expected one of {', '.join(names)}")
-    return name
-
-
 def _size(items: list[str]) -> float:
     """The box side of ``--arena-opt size=M`` (the only option a study takes), checked by the arena itself."""
     from neurowalk.arenas import make_arena
@@ -177,7 +153,7 @@ def run_and_write(study: Study, settings: Settings, what: str) -> int:
     a stop (exit 130/143) says in one line what is kept. ``what`` names it in the messages ("figure fig3")."""
     from neurowalk.experiments import output
     from neurowalk.experiments.study import compute
-    from neurowalk.runners.stopping import deferred, interrupted, stop_status
+    from neurowalk.runners.stopping import deferred, interrupted
     from neurowalk.runners.store import StoreError
     from neurowalk.sim.episode import RunInterruptedError
 
@@ -217,8 +193,7 @@ def run_and_write(study: Study, settings: Settings, what: str) -> int:
             line = f"neurowalk: {study.name} interrupted while drawing: its numbers are in {files}; `--replot` draws it"
         else:
             line = interrupted_line(study.name, out, study.keeps_runs)
-        print(line, file=sys.stderr)
-        return stop_status()
+        return stop_line(line)
     print(f"{study.name}: wrote {', '.join(str(p) for p in paths.values())} in {time.perf_counter() - t0:.1f} s")
     return 0
 

@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
-from neurowalk.cli.common import UsageError
+from neurowalk.cli.common import UsageError, stop_line
 from neurowalk.cli.settings import add_settings_args, run_and_write, settings_of
 
 
@@ -41,18 +40,16 @@ def cmd_study(args: argparse.Namespace) -> int:
     """`neurowalk study FILE.py`: run the file's study, write DIR/NAME.png and its numbers (exit 130/143 when
     stopped, keeping the finished runs)."""
     from neurowalk.render import has_display, use_headless_gl
-    from neurowalk.runners.stopping import interrupted, stop_on_signals, stop_status
+    from neurowalk.runners.stopping import interrupted
 
     if not has_display():
         use_headless_gl()
-    with stop_on_signals():
-        try:
-            study = study_of(args.file)
-            settings = settings_of(args, study, f"study {study.name!r}")  # type: ignore[attr-defined]
-        except (KeyboardInterrupt, Exception) as e:
-            if not interrupted(e):
-                raise
-            print(f"neurowalk: study {args.file} interrupted before it began; nothing was run", file=sys.stderr)
-            return stop_status()
-        out = args.out or Path("out") / study.name  # type: ignore[attr-defined]
-        return run_and_write(study, settings.replace(out=out), f"study {study.name}")  # type: ignore[attr-defined]
+    try:
+        study = study_of(args.file)
+        settings = settings_of(args, study, f"study {study.name!r}")  # type: ignore[attr-defined]
+    except (KeyboardInterrupt, Exception) as e:
+        if not interrupted(e):
+            raise
+        return stop_line(f"neurowalk: study {args.file} interrupted before it began; nothing was run")
+    out = args.out or Path("out") / study.name  # type: ignore[attr-defined]
+    return run_and_write(study, settings.replace(out=out), f"study {study.name}")  # type: ignore[attr-defined]

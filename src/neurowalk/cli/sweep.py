@@ -10,13 +10,18 @@ from typing import TYPE_CHECKING
 
 from neurowalk.cli.common import (
     UsageError,
+    backend_args,
+    check_address,
     check_engine,
     control_hz_arg,
     engine_args,
     machine_memory,
+    option_args,
     out_folder,
     parse_arena_opts,
     parse_variant,
+    stop_line,
+    usage_errors,
     variant_args,
 )
 
@@ -38,20 +43,9 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--seed-start", type=int, default=None, help="first seed (default 0): seeds S, S+1, ...")
     s.add_argument("--steps", type=int, default=None, help="control steps per run (default 1000)")
     control_hz_arg(s, default=None, metavar="HZ[,HZ...]")
-    s.add_argument(
-        "--arena-opt",
-        action="append",
-        default=[],
-        metavar="KEY=V1[,V2...]",
-        help="arena option; a comma list adds a grid axis (repeatable)",
-    )
-    s.add_argument(
-        "--body-opt",
-        action="append",
-        default=[],
-        metavar="KEY=V1[,V2...]",
-        help="body option (see `neurowalk bodies`); a comma list adds a grid axis (repeatable)",
-    )
+    axis = "a comma list adds a grid axis (repeatable)"
+    option_args(s, "--arena-opt", "KEY=V1[,V2...]", f"arena option; {axis}")
+    option_args(s, "--body-opt", "KEY=V1[,V2...]", f"body option (see `neurowalk bodies`); {axis}")
     s.add_argument(
         "--specs",
         type=Path,
@@ -59,9 +53,7 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
         metavar="FILE.jsonl",
         help="one run spec (JSON object of EpisodeConfig fields) per line, instead of the grid",
     )
-    s.add_argument("--backend", choices=("local", "ray"), default="local", help="local process pool or Ray")
-    s.add_argument("--address", default=None, help="Ray cluster to join (backend ray; default: a local instance)")
-    s.add_argument("--workers", type=int, default=2, help="processes, or CPUs of a local Ray instance (default 2)")
+    backend_args(s)
     s.add_argument(
         "--retries",
         type=int,
@@ -102,30 +94,43 @@ _GRID_FLAGS = (
 )
 
 
-def _sweep_specs(args: argparse.Namespace) -> list[dict]:
-    """The run specs of `neurowalk sweep`: from --specs, or the grid of the other options."""
-    from neurowalk.runners.specs import grid, read_jsonl
+def _file_specs(args: argparse.Namespace) -> list[dict]:
+    """The run specs of the --specs file (which no grid option goes with)."""
+    from neurowalk.runners.specs import read_jsonl
     from neurowalk.sim.config import DEFAULT_ENGINE
 
+    given = [f"--{f.replace('_', '-')}" for f in _GRID_FLAGS if getattr(args, f) not in (None, [])]
+    given += ["--engine"] if args.engine != DEFAULT_ENGINE else []  # a spec names its own engine
+    if given:
+        raise UsageError(f"--specs replaces the grid options; drop {', '.join(given)}")
+    size = args.specs.stat().st_size if args.specs.is_file() else 0
+    if size > MAX_SPECS_BYTES:
+        raise UsageError(
+            f"specs file {str(args.specs)!r} holds {size / 2**20:,.0f} MiB, more than a sweep reads "
+            f"({MAX_SPECS_BYTES / 2**20:,.0f} MiB); split it into several sweeps"
+        )
+    with usage_errors():
+        specs = read_jsonl(args.specs)
+    if not specs:
+        raise UsageError(f"no run specs in {str(args.specs)!r}")
+    _check_runs(len(specs), f"specs file {str(args.specs)!r} holds")
+    return specs
+
+
+def _names(flag: str, text: str) -> list[str]:
+    """The names of the comma list ``text`` of ``--flag``, stripped; UsageError where one is empty."""
+    names = [v.strip() for v in text.split(",")]
+    if not all(names):
+        raise UsageError(f"--{flag} expects NAME[,NAME...], got {text!r}")
+    return names
+
+
+def _sweep_specs(args: argparse.Namespace) -> list[dict]:
+    """The run specs of `neurowalk sweep`: from --specs, or the grid of the other options."""
+    from neurowalk.runners.specs import grid
+
     if args.specs is not None:
-        given = [f"--{f.replace('_', '-')}" for f in _GRID_FLAGS if getattr(args, f) not in (None, [])]
-        given += ["--engine"] if args.engine != DEFAULT_ENGINE else []  # a spec names its own engine
-        if given:
-            raise UsageError(f"--specs replaces the grid options; drop {', '.join(given)}")
-        size = args.specs.stat().st_size if args.specs.is_file() else 0
-        if size > MAX_SPECS_BYTES:
-            raise UsageError(
-                f"specs file {str(args.specs)!r} holds {size / 2**20:,.0f} MiB, more than a sweep reads "
-                f"({MAX_SPECS_BYTES / 2**20:,.0f} MiB); split it into several sweeps"
-            )
-        try:
-            specs = read_jsonl(args.specs)
-        except ValueError as e:
-            raise UsageError(str(e)) from None
-        if not specs:
-            raise UsageError(f"no run specs in {str(args.specs)!r}")
-        _check_runs(len(specs), f"specs file {str(args.specs)!r} holds")
-        return specs
+        return _file_specs(args)
     seeds, start = args.seeds if args.seeds is not None else 1, args.seed_start or 0
     if seeds < 1:
         raise UsageError(f"--seeds must be >= 1, got {seeds}")
@@ -135,19 +140,14 @@ def _sweep_specs(args: argparse.Namespace) -> list[dict]:
         raise UsageError(f"--seed-start {start} + --seeds {seeds}: run seeds must stay below 2**63")
     axes: dict[str, list] = {}
     for flag, default in (("arena", "open"), ("controller", "plastic"), ("body", "amosii")):
-        text = default if getattr(args, flag) is None else getattr(args, flag)
-        axes[flag] = [v.strip() for v in text.split(",")]
-        if not all(axes[flag]):
-            raise UsageError(f"--{flag} expects NAME[,NAME...], got {text!r}")
+        axes[flag] = _names(flag, default if getattr(args, flag) is None else getattr(args, flag))
     for key, values in parse_arena_opts(args.arena_opt).items():
         axes[f"arena_opts.{key}"] = values.split(",")
     for key, values in parse_arena_opts(args.body_opt, "--body-opt").items():
         axes[f"body_opts.{key}"] = values.split(",")
     base: dict = {} if args.steps is None else {"steps": args.steps}
     base["engine"] = args.engine  # the canonical spec leaves the default out
-    variants = [v.strip() for v in args.variant.split(",")] if args.variant is not None else []
-    if not all(variants):
-        raise UsageError(f"--variant expects NAME[,NAME...], got {args.variant!r}")
+    variants = _names("variant", args.variant) if args.variant is not None else []
     if args.params is not None:  # the file's own base variant unless --variant names others
         file_variant, base["params"] = parse_variant(argparse.Namespace(variant=None, params=args.params))
         variants = variants or [file_variant]
@@ -159,9 +159,7 @@ def _sweep_specs(args: argparse.Namespace) -> list[dict]:
         except ValueError:
             raise UsageError(f"--control-hz expects HZ[,HZ...], got {args.control_hz!r}") from None
     if args.gait is not None:
-        axes["gait"] = [g.strip() for g in args.gait.split(",")]
-        if not all(axes["gait"]):
-            raise UsageError(f"--gait expects NAME[,NAME...], got {args.gait!r}")
+        axes["gait"] = _names("gait", args.gait)
     _check_runs(math.prod(len(v) for v in axes.values()) * seeds, "the grid has")  # before it is built
     axes["seed"] = list(range(start, start + seeds))
     return grid(base, **axes)
@@ -197,24 +195,22 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM) with one line saying how many of its runs are
     in the store.
     """
-    from neurowalk.runners.stopping import deferred, interrupted, stop_on_signals, stop_requested, stop_status
+    from neurowalk.runners.stopping import deferred, interrupted, stop_requested
 
-    with stop_on_signals():
-        opened: list = []
-        try:
-            # Loading the modules (numba's, MuJoCo's: a KeyboardInterrupt inside a C extension's import can come out
-            # as an ImportError), checking the input and opening the store are short: a signal waits for their end.
-            with deferred():
-                opened.append(_open(args))
-        except (KeyboardInterrupt, Exception) as e:
-            if not interrupted(e):
-                raise
-        if stop_requested() or not opened:
-            if opened:
-                opened[0][3].close()
-            print("neurowalk: sweep interrupted before its first run; nothing was run", file=sys.stderr)
-            return stop_status()
-        return _sweep(args, *opened[0])
+    opened = None
+    try:
+        # Loading the modules (numba's, MuJoCo's: a KeyboardInterrupt inside a C extension's import can come out as
+        # an ImportError), checking the input and opening the store are short: a signal waits for their end.
+        with deferred():
+            opened = _open(args)
+    except (KeyboardInterrupt, Exception) as e:
+        if not interrupted(e):
+            raise
+    if stop_requested() or opened is None:
+        if opened is not None:
+            opened[3].close()
+        return stop_line("neurowalk: sweep interrupted before its first run; nothing was run")
+    return _sweep(args, *opened)
 
 
 def _open(args: argparse.Namespace) -> tuple[list[dict], Path, dict, ResultStore, EngineOptions]:
@@ -227,8 +223,7 @@ def _open(args: argparse.Namespace) -> tuple[list[dict], Path, dict, ResultStore
 
     if args.retries < 0:
         raise UsageError(f"--retries must be >= 0, got {args.retries}")
-    if args.address and args.backend != "ray":
-        raise UsageError(f"--address {args.address!r} goes with --backend ray")
+    check_address(args)
     specs = _sweep_specs(args)
     try:
         check_specs(specs)  # every bad name or value exits here, before any work
@@ -246,10 +241,8 @@ def _open(args: argparse.Namespace) -> tuple[list[dict], Path, dict, ResultStore
     out = out_folder(args.out)
     settings = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items() if k != "command"}
     info: dict = {"command": "sweep", "settings": settings, "finished": False}
-    try:
+    with usage_errors(StoreError):
         store = ResultStore(out / "results.sqlite")
-    except StoreError as e:
-        raise UsageError(str(e)) from None
     return specs, out, info, store, options
 
 
@@ -258,7 +251,7 @@ def _sweep(
 ) -> int:
     from neurowalk.fileio import write_json
     from neurowalk.runners import ray_backend
-    from neurowalk.runners.stopping import deferred, stop_status
+    from neurowalk.runners.stopping import deferred
     from neurowalk.runners.sweep import SweepReport, run_sweep
 
     with store:
@@ -289,8 +282,7 @@ def _sweep(
             with deferred():
                 line = _kept(specs, store, out)
     if interrupted:
-        print(line, file=sys.stderr)
-        return stop_status()
+        return stop_line(line)
     return 1 if report.error else 0
 
 

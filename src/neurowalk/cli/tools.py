@@ -4,16 +4,19 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
 from neurowalk.cli.common import (
     UsageError,
     check_engine,
     engine_args,
+    option_args,
     out_file,
     out_folder,
     parse_arena_opts,
+    stop_line,
+    stopped,
+    usage_errors,
 )
 
 
@@ -48,9 +51,9 @@ def add_tool_parsers(sub: argparse._SubParsersAction) -> None:
     e = sub.add_parser("export-model", help="write the robot (and an arena) as a self-contained MJCF file")
     e.add_argument("--out", type=Path, required=True, help="MJCF file to write")
     e.add_argument("--arena", default="open", help="arena to include (default open)")
-    e.add_argument("--arena-opt", action="append", default=[], metavar="KEY=VALUE", help="arena option")
+    option_args(e, "--arena-opt", "KEY=VALUE", "arena option")
     e.add_argument("--body", default="amosii", help="physics body: {physics_bodies} (default amosii)")
-    e.add_argument("--body-opt", action="append", default=[], metavar="KEY=VALUE", help="body option, e.g. scale=0.5")
+    option_args(e, "--body-opt", "KEY=VALUE", "body option, e.g. scale=0.5")
 
 
 def cmd_calibrate(args: argparse.Namespace) -> int:
@@ -59,24 +62,17 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
     The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM) with one line saying what it wrote: nothing,
     if it was still measuring (a calibration keeps no part of its measurement).
     """
-    from neurowalk.runners.stopping import interrupted, stop_on_signals, stop_status
-
-    with stop_on_signals():
-        try:
-            return _calibrate(args)
-        except (KeyboardInterrupt, Exception) as e:  # while it measured (what it wrote after is answered inside)
-            if not interrupted(e):
-                raise
-            print(
-                "neurowalk: calibrate interrupted before its measurement ended; nothing written (run it again: a "
-                "calibration keeps no part of its measurement)",
-                file=sys.stderr,
-            )
-            return stop_status()
+    return stopped(  # a stop while it measured (what it wrote after is answered inside)
+        lambda: _calibrate(args),
+        lambda: (
+            "neurowalk: calibrate interrupted before its measurement ended; nothing written (run it again: a "
+            "calibration keeps no part of its measurement)"
+        ),
+    )
 
 
 def _calibrate(args: argparse.Namespace) -> int:
-    from neurowalk.runners.stopping import deferred, stop_status
+    from neurowalk.runners.stopping import deferred
 
     with deferred():  # the simulation's modules (numba's, MuJoCo's) load whole: a signal waits for their end
         from neurowalk.body.surrogate import CALIBRATION_FILES
@@ -84,10 +80,8 @@ def _calibrate(args: argparse.Namespace) -> int:
         from neurowalk.experiments.calibration.subjects import subject
     from neurowalk.fileio import atomic_write, write_json
 
-    try:
+    with usage_errors():
         sub = subject(args.body)
-    except ValueError as e:
-        raise UsageError(str(e)) from None
     if args.out is None:
         args.out = Path("out/calibration") / CALIBRATION_FILES[sub.surrogate].name
     out_file(args.out)  # before the minute of measuring
@@ -105,11 +99,7 @@ def _calibrate(args: argparse.Namespace) -> int:
             written.append(png)
     except KeyboardInterrupt:
         missing = "" if png in written else ", without its plot"
-        print(
-            f"neurowalk: calibrate interrupted as it ended: wrote {', '.join(map(str, written))}{missing}",
-            file=sys.stderr,
-        )
-        return stop_status()
+        return stop_line(f"neurowalk: calibrate interrupted as it ended: wrote {', '.join(map(str, written))}{missing}")
     v = cal.meta["validation"]
     print(
         f"calibration of {sub.surrogate} on {args.body}: lag {cal.tau_s} s + {cal.delay_steps} steps, "
@@ -187,13 +177,11 @@ def cmd_export(args: argparse.Namespace) -> int:
     from neurowalk.body import registry
     from neurowalk.fileio import atomic_write
 
-    try:
+    with usage_errors():
         arena = make_arena(args.arena, **parse_arena_opts(args.arena_opt))
         opts = registry.check_body_opts(args.body, parse_arena_opts(args.body_opt, "--body-opt"))
         if not registry.body_info(args.body).physics:
             raise ValueError(f"body {args.body!r} is planar: it has no MuJoCo model to export")
-    except ValueError as e:
-        raise UsageError(str(e)) from None
     path = out_file(args.out)
     xml = registry.body_xml(args.body, opts, world=arena.to_mjcf())
     mujoco.MjModel.from_xml_string(xml)  # compiles, before anything is written
