@@ -6,12 +6,30 @@ more on a loaded machine): a stop at any moment of the command's start ends in o
 interpreter's own start and ``import neurowalk`` (kept light, and changing no signal handler) come before.
 """
 
+import os
 import signal
 import sys
 
 
 def main() -> int:
-    """Run the ``neurowalk`` command on ``sys.argv``; its exit status."""
+    """Run the ``neurowalk`` command on ``sys.argv``; its exit status.
+
+    A command a stop signal ended leaves the process at once, once its line is out (``os._exit``): the work it kept
+    is closed and on disk by then, and the interpreter's shutdown, with a C extension's thread or compilation cut
+    short by the signal, could otherwise end in a crash or in death by SIGINT instead of exit status 130 or 143.
+    """
+    from neurowalk.runners.stopping import stop_came
+
+    status = _command()
+    if stop_came():
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(status)
+    return status
+
+
+def _command() -> int:
+    """The command's exit status, a stop at any moment of it answered in one line."""
     from neurowalk.runners.stopping import interrupted, stop_on_signals, stop_status  # light: nothing heavy yet
 
     try:

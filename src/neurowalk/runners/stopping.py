@@ -34,6 +34,11 @@ def stop_requested() -> bool:
     return bool(_requested)
 
 
+def stop_came() -> bool:
+    """Whether a stop signal ended the last (or the open) :func:`stop_on_signals` block."""
+    return bool(_first)
+
+
 def stop_status() -> int:
     """The exit status of a command that a stop signal ended: 128 + the number of the first stop signal of the
     :func:`stop_on_signals` block open (or of the last one, once it ended): 130 for SIGINT, 143 for SIGTERM; 130
