@@ -24,7 +24,7 @@ COMMANDS = {
     "run": ["run", "--body", "surrogate", "--arena", "cluttered", "--steps", "3000000", "--quiet"],
     "figure": ["figure", "fig2", "--quick"],
 }
-OFFSETS = (0.0, 0.002, 0.02, 0.2)  # s after readiness: the imports (a second or more), at their start and amid them
+OFFSETS = (0.0, 0.002, 0.02, 0.2, 0.4)  # s after readiness: the imports (a second or more), amid them, the work
 
 
 def _launcher(k: int) -> list[str]:
