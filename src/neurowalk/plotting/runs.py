@@ -1,4 +1,5 @@
-"""Pictures of runs: arena top view with the path coloured by time, and the neural traces over time (run.png)."""
+"""Pictures of runs: arena top view with the path coloured by time, and the neural traces over time (run.png,
+and the trace panels of Figs. 3, 5, 8 and 9: :func:`draw_traces`)."""
 
 from __future__ import annotations
 
@@ -25,7 +26,8 @@ from neurowalk.sim.trajectory import Trajectory
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
-    from matplotlib.figure import Figure
+    from matplotlib.figure import Figure, SubFigure
+    from matplotlib.gridspec import SubplotSpec
 
 BOX_COLOUR = "0.55"
 EXIT_COLOUR = "green"
@@ -80,6 +82,52 @@ def draw_arena(
     return lc
 
 
+def side_lines(ax: Axes, t: np.ndarray, arr: np.ndarray, name: str, lw: float = LINE["trace"]) -> None:
+    """``name``1 (left) and ``name``2 (right), the columns of ``arr`` (T, 2), over time ``t`` (s)."""
+    ax.plot(t, arr[:, 0], color=SIDE_COLOURS["left"], lw=lw, label=f"{name}1 (left)")
+    ax.plot(t, arr[:, 1], color=SIDE_COLOURS["right"], lw=lw, label=f"{name}2 (right)")
+
+
+def weight_lines(ax: Axes, t: np.ndarray, b: np.ndarray, q: np.ndarray) -> None:
+    """The self weights b1, b2 (``b`` (T, 2)) and the mean inhibition c = -(q1 + q2)/2 over time ``t`` (s)."""
+    ax.plot(t, b[:, 0], label="b1 (left)", **weight_style("b", "left"))
+    ax.plot(t, b[:, 1], label="b2 (right)", **weight_style("b", "right"))
+    ax.plot(t, -0.5 * q.sum(axis=1), **MEAN_WEIGHT)
+    ax.set_ylabel("weight")
+
+
+def draw_traces(
+    fig: Figure | SubFigure,
+    spec: SubplotSpec,
+    t: np.ndarray,
+    signals: list[tuple[np.ndarray, str, str]],
+    b: np.ndarray,
+    q: np.ndarray,
+    title: str,
+    *,
+    plastic: bool,
+    lw: float = LINE["trace"],
+) -> Axes:
+    """Each of ``signals`` ((T, 2) array, its letter "I" or "O", its y label) over time ``t`` (s) on its own axes
+    (line width ``lw``), and below them, where ``plastic``, the weights (:func:`weight_lines`); each with its legend
+    beside it, the top one titled ``title``. Returns the top axes (for the panel letter)."""
+    rows = spec.subgridspec(len(signals) + plastic, 1, hspace=0.08)
+    top = fig.add_subplot(rows[0])
+    axes = [top] + [fig.add_subplot(rows[k], sharex=top) for k in range(1, len(signals) + plastic)]
+    for ax, (arr, name, ylabel) in zip(axes, signals, strict=False):
+        side_lines(ax, t, arr, name, lw)
+        ax.set(ylim=(-1.1, 1.1), yticks=(-1, 0, 1), ylabel=ylabel)
+        legend_outside(ax)
+    if plastic:
+        weight_lines(axes[-1], t, b, q)
+        legend_outside(axes[-1])
+    for ax in axes[:-1]:
+        ax.tick_params(labelbottom=False)
+    axes[-1].set_xlabel("time (s)")
+    top.set_title(title)
+    return top
+
+
 def run_title(summary: dict[str, Any]) -> str:
     """The title of a run's picture: arena, body, controller, network variant, steps, seed (e.g.
     ``box, amosii, plastic, variant paper, 300 steps (30 s), seed 0``)."""
@@ -109,18 +157,14 @@ def plot_run(tr: Trajectory, arena: ArenaSpec, summary: dict[str, Any]) -> Figur
     traces = [fig.add_subplot(gs[0, 1])]
     traces += [fig.add_subplot(gs[row, 1], sharex=traces[0]) for row in (1, 2)]
     for a, (key, label) in zip(traces, (("inputs", "input I"), ("outputs", "steering O")), strict=False):
-        arr = getattr(tr, key)
-        a.plot(t, arr[:, 0], color=SIDE_COLOURS["left"], lw=LINE["trace"], label=f"{label.split()[-1]}1 (left)")
-        a.plot(t, arr[:, 1], color=SIDE_COLOURS["right"], lw=LINE["trace"], label=f"{label.split()[-1]}2 (right)")
+        side_lines(a, t, getattr(tr, key), label.split()[-1])
         a.set(ylabel=label, ylim=(-1.1, 1.1))
         a.tick_params(labelbottom=False)
         legend_outside(a)
     a = traces[2]
     if np.isfinite(tr.b).any():
-        a.plot(t, tr.b[:, 0], label="b1 (left)", **weight_style("b", "left"))
-        a.plot(t, tr.b[:, 1], label="b2 (right)", **weight_style("b", "right"))
-        a.plot(t, -0.5 * tr.q.sum(axis=1), **MEAN_WEIGHT)
-        a.set(xlabel="time (s)", ylabel="weight")
+        weight_lines(a, t, tr.b, tr.q)
+        a.set_xlabel("time (s)")
     else:  # no sensory network (fixed steering): what the sensors saw instead
         us = np.where(np.isfinite(tr.us_distance), tr.us_distance, np.nan)
         a.plot(t, us[:, 0], color=SIDE_COLOURS["left"], lw=LINE["trace"], label="left")

@@ -19,10 +19,10 @@ from typing import Any
 from neurowalk.arenas import ARENAS, arena_options, make_arena
 from neurowalk.fileio import to_jsonable
 from neurowalk.sim.config import DEFAULTS, FIELDS, LATER
-from neurowalk.sim.episode import Episode, EpisodeConfig, RunInterruptedError, run_episode
+from neurowalk.sim.episode import Episode, EpisodeConfig, RunInterruptedError, Streaming, run_episode
 
-__all__ = ["DEFAULTS", "FIELDS", "LATER", "MACHINE_KEYS", "Spec", "check_specs", "describe", "grid", "read_jsonl",
-           "result_of", "run_spec", "spec_key"]  # fmt: skip
+__all__ = ["DEFAULTS", "FIELDS", "LATER", "MACHINE_KEYS", "Spec", "check_specs", "describe", "episode_of", "grid",
+           "read_jsonl", "result_of", "run_spec", "spec_key"]  # fmt: skip
 
 Spec = dict[str, Any]
 
@@ -35,17 +35,22 @@ def spec_key(spec: Spec) -> str:
     return EpisodeConfig.from_spec(spec).key()
 
 
+def episode_of(spec: Spec, stream: Streaming | None = None) -> Episode:
+    """Run one spec to the end (``stream``: streamed, as :func:`~neurowalk.sim.episode.run_episode`); a stop
+    (Ctrl-C) raises KeyboardInterrupt, for a half run is not a result."""
+    try:
+        return run_episode(EpisodeConfig.from_spec(spec), stream=stream)
+    except RunInterruptedError:
+        raise KeyboardInterrupt from None
+
+
 def run_spec(spec: Spec) -> dict[str, Any]:
     """Run one spec to the end and return its summary (JSON-safe, without :data:`MACHINE_KEYS`).
 
     The result depends only on the spec (every random draw comes from its seed), so it is the same on every
     backend and worker count; the sweep measures the wall time itself and stores it beside the result.
     """
-    try:
-        ep = run_episode(EpisodeConfig.from_spec(spec))
-    except RunInterruptedError:
-        raise KeyboardInterrupt from None  # Ctrl-C stops the sweep; a half run is not a result
-    return result_of(ep)
+    return result_of(episode_of(spec))  # Ctrl-C stops the sweep
 
 
 def result_of(ep: Episode) -> dict[str, Any]:

@@ -42,10 +42,10 @@ from neurowalk.experiments.suites.random_envs import (
     environments,
     held_up,
     spec,
-    steps_at,
     wilson,
 )
 from neurowalk.experiments.suites.real_robot import run_store_paths
+from neurowalk.experiments.suites.timing import steps_for
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting.style import (
     COUNT_BOX,
@@ -102,7 +102,7 @@ def plan(s: Settings) -> dict[str, Any]:
         check_rate(body, control_hz)
     n_env = 3 if s.quick and s.seeds is None else 5 * n
     dead_s, t2_s = (60.0, 100.0) if s.quick else (TRAP_STEPS / 10.0, DURATION_S)  # TRAP_STEPS: 5000 steps at 10 Hz
-    dead_steps, t2_steps = steps_at(dead_s, control_hz), steps_at(t2_s, control_hz)
+    dead_steps, t2_steps = steps_for(dead_s, control_hz), steps_for(t2_s, control_hz)
     envs = environments(n_env, seed)
     dead = {
         (b, net, a, s): _dead_end(a, net, body, opts, _slower(dead_steps, opts), seed + s, control_hz)

@@ -32,13 +32,11 @@ from neurowalk.experiments.suites.random_envs import (
     coverage_threshold,
     environments,
     spec,
-    steps_at,
 )
+from neurowalk.experiments.suites.timing import steps_for
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting.style import FONT, OUTCOME_COLOURS, pyplot, time_colorbar
-from neurowalk.runners.specs import result_of, spec_key
-from neurowalk.sim.config import EpisodeConfig
-from neurowalk.sim.episode import RunInterruptedError, run_episode
+from neurowalk.runners.specs import episode_of, result_of, spec_key
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -59,10 +57,7 @@ def pose_stride(control_hz: float) -> int:
 
 def path_of(spec_: dict[str, Any]) -> dict[str, Any]:
     """The stored result of one run: its summary and its pose every second of simulated time (a list)."""
-    try:
-        ep = run_episode(EpisodeConfig.from_spec(spec_))
-    except RunInterruptedError:
-        raise KeyboardInterrupt from None  # a half run is not a result
+    ep = episode_of(spec_)  # a half run is not a result
     stride = pose_stride(float(spec_.get("control_hz", 10.0)))
     return {"summary": result_of(ep), "pose": ep.trajectory.pose[::stride].tolist()}
 
@@ -71,7 +66,7 @@ def specs(s: Settings) -> list[dict[str, Any]]:
     """The sixteen run specs (ValueError where the body cannot run at the control rate: a surrogate runs at 10 Hz)."""
     body, hz = s.body or "surrogate", s.control_hz or 10.0
     check_rate(body, hz)
-    steps = steps_at(QUICK_DURATION_S if s.quick else DURATION_S, hz)
+    steps = steps_for(QUICK_DURATION_S if s.quick else DURATION_S, hz)
     return [spec(e, "plastic", steps, body, variant=s.variant or "paper", size=s.size or SIZE, params=s.params,
                  control_hz=hz) for e in environments(16, s.seed)]  # fmt: skip
 

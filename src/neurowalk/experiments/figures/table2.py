@@ -39,11 +39,11 @@ from neurowalk.experiments.suites.random_envs import (
     outcome,
     row_counts,
     spec,
-    steps_at,
     wilson,
 )
 from neurowalk.experiments.suites.random_envs_plot import PAPER
 from neurowalk.experiments.suites.random_envs_plot import plot as draw
+from neurowalk.experiments.suites.timing import steps_for
 from neurowalk.neural.variants import variant_names
 from neurowalk.runners.local import run_unordered
 from neurowalk.runners.specs import run_spec, spec_key
@@ -84,7 +84,7 @@ def plan(s: Settings) -> dict[str, Any]:
         raise ValueError(f"climbing needs body {climbers} (the surrogate has no legs), got body {body!r}")
     check_rate(body, hz)
     duration = QUICK_DURATION_S if s.quick else DURATION_S
-    steps = steps_at(duration, hz)
+    steps = steps_for(duration, hz)
     table = rows(s.variant, s.params)
     envs = environments(s.n(full=50, quick=10), s.seed)
     surrogate = info.surrogate  # its own surrogate beside a physics body (amosii, wheeled)

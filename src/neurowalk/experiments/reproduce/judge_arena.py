@@ -21,15 +21,10 @@ def _dead_end(s: dict[str, Any], arena: str, network: str, want: str, what: str)
     return outcome(what, want, cell[want], cell["runs"])
 
 
-def _long(s: dict[str, Any], name: str) -> dict[str, Any]:
-    """The summary of the figure's long run ``name``."""
-    return s["runs"][name]
-
-
 def fig3(s: dict[str, Any], quick: bool) -> list[Claim]:
     """Static network: escapes the simple dead end, trapped in the narrow passage, explores the cluttered arena,
     trapped in the difficult one."""
-    clut, diff = _long(s, "cluttered (static)"), _long(s, "difficult (static)")
+    clut, diff = s["runs"]["cluttered (static)"], s["runs"]["difficult (static)"]
     return [
         _dead_end(s, "simple-deadlock", "static", "escaped", "static network escapes the simple dead end (Fig. 3A)"),
         _dead_end(
@@ -56,7 +51,7 @@ def fig3(s: dict[str, Any], quick: bool) -> list[Claim]:
 def fig5(s: dict[str, Any], quick: bool) -> list[Claim]:
     """Plastic network: escapes both dead ends; explores the difficult arena (covers more than the static one) with
     no long wedged period; its weights adapt stably over the whole long run (Fig. 5G)."""
-    p, st = _long(s, "difficult (plastic)"), _long(s, "difficult (static)")
+    p, st = s["runs"]["difficult (plastic)"], s["runs"]["difficult (static)"]
     wedged = s["wedged"]["difficult (plastic)"]
     over = next(v for k, v in wedged.items() if k.startswith("over_"))
     g = s["fig5g"]
@@ -119,24 +114,11 @@ def table2(s: dict[str, Any], quick: bool) -> list[Claim]:
     for name, c in s["counts"].items():
         if c["controller"] != "plastic":
             continue
-        claims.append(
-            rate(
-                f"{name}: environments where the robot is not stuck at the end ({where})",
-                paper["success"],
-                paper["environments"],
-                c["success"],
-                c["environments"],
-            )
-        )
-        claims.append(
-            rate(
-                f"{name}: environments explored by the coverage rule ({s['coverage_rule']})",
-                paper["success"],
-                paper["environments"],
-                c["success_coverage"],
-                c["environments"],
-            )
-        )
+        for what, key in (
+            (f"environments where the robot is not stuck at the end ({where})", "success"),
+            (f"environments explored by the coverage rule ({s['coverage_rule']})", "success_coverage"),
+        ):
+            claims.append(rate(f"{name}: {what}", paper["success"], paper["environments"], c[key], c["environments"]))
     return claims
 
 

@@ -22,9 +22,7 @@ import numpy as np
 from neurowalk.arenas.climbing import track_regions
 from neurowalk.arenas.spec import WALL_HEIGHT
 from neurowalk.experiments.suites.timing import SIM_HZ, steps_for
-from neurowalk.runners.specs import result_of
-from neurowalk.sim.config import EpisodeConfig
-from neurowalk.sim.episode import RunInterruptedError, run_episode
+from neurowalk.runners.specs import episode_of, result_of
 
 TRACK_S = 1200.0  # s of simulated time per climbing-track run (12,000 control steps at 10 Hz)
 TRACK_HEIGHTS = (0.06, 0.08, 0.10)  # m
@@ -97,12 +95,9 @@ def first_platform_step(pose: np.ndarray, step: float) -> int | None:
 def run_track(spec: dict[str, Any]) -> dict[str, Any]:
     """One climbing-track run's summary (as :func:`~neurowalk.runners.specs.run_spec`) plus ``first_platform_step``
     (:func:`first_platform_step`; the second platform is the summary's ``exit_step``)."""
-    try:
-        ep = run_episode(cfg := EpisodeConfig.from_spec(spec))
-    except RunInterruptedError:
-        raise KeyboardInterrupt from None
+    ep = episode_of(spec)
     summary = result_of(ep)
-    summary["first_platform_step"] = first_platform_step(ep.trajectory.pose, cfg.arena_opts["step"])
+    summary["first_platform_step"] = first_platform_step(ep.trajectory.pose, ep.config.arena_opts["step"])
     return summary
 
 

@@ -35,10 +35,10 @@ from neurowalk.experiments.suites.long_runs import (
 )
 from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.runners.local import run_many
-from neurowalk.runners.specs import spec_key
+from neurowalk.runners.specs import episode_of, spec_key
 from neurowalk.sim.config import DEFAULT_ENGINE
 from neurowalk.sim.engines import engine_for
-from neurowalk.sim.episode import EngineOptions, Episode, EpisodeConfig, RunInterruptedError, run_episode
+from neurowalk.sim.episode import EngineOptions, Episode, EpisodeConfig
 
 NETWORKS: dict[str, dict[str, Any]] = {
     "plastic": {"controller": "plastic"},
@@ -80,21 +80,14 @@ def keep_outcome(ep: Episode) -> dict[str, Any]:
     }
 
 
-def _episode(spec: dict[str, Any]) -> Episode:
-    try:
-        return run_episode(EpisodeConfig.from_spec(spec))
-    except RunInterruptedError:
-        raise KeyboardInterrupt from None  # a half run is not a result
-
-
 def outcome_of(spec: dict[str, Any]) -> dict[str, Any]:
     """:func:`keep_outcome` of the run of ``spec`` (what the result store keeps of a dead-end run)."""
-    return keep_outcome(_episode(spec))
+    return keep_outcome(episode_of(spec))
 
 
 def traces_of(spec: dict[str, Any]) -> dict[str, Any]:
     """:func:`keep_traces` of the run of ``spec``, its arrays as lists (what the store keeps of an example run)."""
-    return as_lists(keep_traces(_episode(spec)))
+    return as_lists(keep_traces(episode_of(spec)))
 
 
 def _spec(cfg: EpisodeConfig) -> dict[str, Any]:

@@ -12,11 +12,10 @@ from matplotlib.patches import Circle
 from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result
 from neurowalk.plotting import draw_arena
+from neurowalk.plotting.runs import draw_traces
 from neurowalk.plotting.style import (
     FONT,
     LINE,
-    MEAN_WEIGHT,
-    SIDE_COLOURS,
     TIME_CMAP,
     draw_table,
     legend_outside,
@@ -138,30 +137,14 @@ def _coverage(ax: Axes, a: dict, keys: list[str], hz: float) -> None:
 
 def _traces(fig: Figure, spec: SubplotSpec, a: dict, hz: float) -> Axes:
     """Paper Figs. 3C and 5C: the narrow passage's inputs, outputs and (where they change) weights over time (s),
-    each on its own axes; returns the top one (for the panel letter)."""
+    each on its own axes (:func:`~neurowalk.plotting.runs.draw_traces`); returns the top one (for the panel
+    letter)."""
     t = np.arange(len(a["narrow-passage/inputs"])) / hz
     b, q = a["narrow-passage/b"], a["narrow-passage/q"]
     plastic = bool(np.isfinite(b).all() and np.ptp(b) > 0)
-    rows = spec.subgridspec(3 if plastic else 2, 1, hspace=0.08)
-    top = fig.add_subplot(rows[0])
-    axes = [top] + [fig.add_subplot(rows[k], sharex=top) for k in range(1, 3 if plastic else 2)]
-    for ax, key, name in ((axes[0], "inputs", "I"), (axes[1], "outputs", "O")):
-        for side, col in ((1, "left"), (2, "right")):
-            ax.plot(t, a[f"narrow-passage/{key}"][:, side - 1], color=SIDE_COLOURS[col], lw=LINE["trace"],
-                    label=f"{name}{side} ({col})")  # fmt: skip
-        ax.set(ylim=(-1.1, 1.1), yticks=(-1, 0, 1), ylabel="input I" if name == "I" else "output O")
-        legend_outside(ax)
-    if plastic:
-        axes[2].plot(t, b[:, 0], label="b1 (left)", **weight_style("b", "left"))
-        axes[2].plot(t, b[:, 1], label="b2 (right)", **weight_style("b", "right"))
-        axes[2].plot(t, -q.sum(axis=1) / 2, **MEAN_WEIGHT)
-        axes[2].set_ylabel("weight")
-        legend_outside(axes[2])
-    for ax in axes[:-1]:
-        ax.tick_params(labelbottom=False)
-    axes[-1].set_xlabel("time (s)")
-    top.set_title("narrow passage: neural activations" + (" and weights" if plastic else ""))
-    return top
+    signals = [(a["narrow-passage/inputs"], "I", "input I"), (a["narrow-passage/outputs"], "O", "output O")]
+    title = "narrow passage: neural activations" + (" and weights" if plastic else "")
+    return draw_traces(fig, spec, t, signals, b, q, title, plastic=plastic)
 
 
 def _counts_table(ax: Axes, s: dict, hz: float) -> None:

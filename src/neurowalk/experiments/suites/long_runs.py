@@ -46,7 +46,8 @@ import numpy as np
 from neurowalk import metrics
 from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.experiments.stores import as_lists
-from neurowalk.sim.episode import Episode, EpisodeConfig, RunInterruptedError, Streaming, run_episode
+from neurowalk.runners.specs import episode_of
+from neurowalk.sim.episode import Episode, EpisodeConfig, Streaming
 from neurowalk.sim.trajectory import Trajectory
 
 PHYSICS_PER_CONTROL = 10  # the authors' physics steps per control step (controlinterval 10, 0.01 s ODE steps)
@@ -186,10 +187,7 @@ def long_traces_of(spec: dict[str, Any]) -> dict[str, Any]:
     cfg = EpisodeConfig.from_spec(spec)
     keeper = LongRunKeeper(cfg)
     stream = Streaming(sink=keeper, chunk=min(LONG_CHUNK, cfg.steps), keep_rows=False, picture_rows=1)
-    try:
-        ep = run_episode(cfg, stream=stream)
-    except RunInterruptedError:
-        raise KeyboardInterrupt from None  # a half run is not a result
+    ep = episode_of(spec, stream)
     return as_lists({"summary": ep.summary, **keeper.traces(cfg.steps)})
 
 

@@ -48,7 +48,6 @@ SIZE = 1.0  # m, side of each box (the authors' arenas use 1 x 1 m boxes)
 DURATION_S = 2000.0  # s of simulated time per run
 QUICK_DURATION_S = 500.0  # s, ``quick``
 STEPS = 20_000  # control steps per run at the default 10 Hz (2000 s)
-QUICK_STEPS = 5_000
 RULE = (
     "success (not stuck): at the end of the run the robot is not stuck: its last 300 s of simulated time (3000 "
     "control steps at 10 Hz) did not stay within a disc of radius 0.5 m; failure otherwise"
@@ -78,11 +77,6 @@ HELD_UP_RULE = (
     "ever_trapped), or the longest wedged period (trunk within 0.3 m for more than 100 s: longest_wedged_s) "
     "lasted 300 s or more"
 )
-
-
-def steps_at(duration_s: float, control_hz: float) -> int:
-    """Control steps of ``duration_s`` seconds of simulated time at ``control_hz`` (20,000 for 2000 s at 10 Hz)."""
-    return max(1, round(duration_s * control_hz))
 
 
 def coverage_threshold(duration_s: float) -> float:

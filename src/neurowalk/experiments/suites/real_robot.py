@@ -24,25 +24,22 @@ import numpy as np
 
 from neurowalk.body.physics import AmosII
 from neurowalk.experiments.stores import run_store
+from neurowalk.experiments.suites.long_runs import sample_steps
 from neurowalk.experiments.suites.timing import SIM_HZ, steps_for
-from neurowalk.fileio import to_jsonable
 from neurowalk.plotting import draw_arena
+from neurowalk.plotting import runs as run_plots
 from neurowalk.plotting.style import (
     FONT,
     LINE,
-    MEAN_WEIGHT,
     OUTCOME_COLOURS,
-    SIDE_COLOURS,
     colorbar,
     legend_outside,
     letter,
-    weight_style,
 )
 from neurowalk.render import render_frames, render_video
 from neurowalk.runners.local import run_many
-from neurowalk.runners.specs import MACHINE_KEYS
+from neurowalk.runners.specs import episode_of, result_of
 from neurowalk.sim.config import EpisodeConfig
-from neurowalk.sim.episode import RunInterruptedError, run_episode
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -94,23 +91,15 @@ def run_with_path(spec: dict[str, Any]) -> dict[str, Any]:
     The path holds every :func:`path_every`-th row (every :data:`PATH_EVERY_S` s at the run's control rate) of the
     trunk's pose and the last row, rounded to 1 mm.
     """
-    try:
-        ep = run_episode(cfg := EpisodeConfig.from_spec(spec))
-    except RunInterruptedError:
-        raise KeyboardInterrupt from None
-    summary = to_jsonable(ep.summary)
-    for k in MACHINE_KEYS:
-        summary.pop(k, None)
-    summary["path"] = np.round(sampled(ep.trajectory.pose[:, :2], path_every(cfg.control_hz)), 3).tolist()
+    ep = episode_of(spec)
+    summary = result_of(ep)
+    summary["path"] = np.round(sampled(ep.trajectory.pose[:, :2], path_every(ep.config.control_hz)), 3).tolist()
     return summary
 
 
 def sampled(xy: np.ndarray, every: int) -> np.ndarray:
     """Rows 0, ``every``, 2 ``every``, ... and the last row of ``xy`` (T, k)."""
-    idx = np.arange(0, len(xy), every)
-    if idx[-1] != len(xy) - 1:
-        idx = np.append(idx, len(xy) - 1)
-    return xy[idx]
+    return xy[sample_steps(len(xy), every)]
 
 
 def run_store_paths(specs: list[dict[str, Any]], folder: Path, workers: int) -> dict[str, dict[str, Any]]:
@@ -300,21 +289,6 @@ def draw_traces(
     c = -(q1 + q2)/2, each on its own axes with its legend beside it, titled ``label: steering and weights``;
     returns the top axes."""
     plastic = bool(np.isfinite(b).any())
-    rows = spec.subgridspec(2 if plastic else 1, 1, hspace=0.08)
-    top = fig.add_subplot(rows[0])
-    top.plot(t, outputs[:, 0], color=SIDE_COLOURS["left"], lw=LINE["thin"], label="O1 (left)")
-    top.plot(t, outputs[:, 1], color=SIDE_COLOURS["right"], lw=LINE["thin"], label="O2 (right)")
     title = f"{label}: steering" + (" and weights" if plastic else "")
-    top.set(ylabel="steering O", ylim=(-1.1, 1.1), yticks=(-1, 0, 1), title=title)
-    legend_outside(top)
-    last = top
-    if plastic:
-        last = fig.add_subplot(rows[1], sharex=top)
-        last.plot(t, b[:, 0], label="b1 (left)", **weight_style("b", "left"))
-        last.plot(t, b[:, 1], label="b2 (right)", **weight_style("b", "right"))
-        last.plot(t, -0.5 * q.sum(axis=1), **MEAN_WEIGHT)
-        last.set_ylabel("weight")
-        legend_outside(last)
-        top.tick_params(labelbottom=False)
-    last.set_xlabel("time (s)")
-    return top
+    signals = [(outputs, "O", "steering O")]
+    return run_plots.draw_traces(fig, spec, t, signals, b, q, title, plastic=plastic, lw=LINE["thin"])
