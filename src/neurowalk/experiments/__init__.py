@@ -63,11 +63,18 @@ def _figure(name: str, title: str, module: str, takes: str = "", body: str | Non
     )
 
 
-def _study(name: str, title: str, module: str, takes: tuple[str, ...] = ("seeds", "workers", "backend")) -> Study:
+def _study(
+    name: str,
+    title: str,
+    module: str,
+    takes: tuple[str, ...] = ("seeds", "workers", "backend"),
+    judged: bool = False,
+) -> Study:
     """Study ``name`` declared by :mod:`neurowalk.experiments.figures`.``module``'s ``runs``, ``measure`` and
-    ``plot`` (as a user's study file declares them); ``takes``: the optional settings it honours."""
+    ``plot`` (as a user's study file declares them); ``takes``: the optional settings it honours; ``judged``: the
+    module's ``claims(summary, quick)`` judges its results (``neurowalk reproduce`` then runs it)."""
     path = f"{__name__}.figures.{module}"
-    at = {part: FunctionAt(path, part) for part in ("runs", "measure", "plot")}
+    at = {part: FunctionAt(path, part) for part in ("runs", "measure", "plot", *(("claims",) if judged else ()))}
     return Study(name, title, takes=takes, **at)  # type: ignore[arg-type]
 
 

@@ -150,6 +150,9 @@ class Study:
             loop.
         takes: the optional settings (:data:`OPTIONAL`) it honours; quick, seed and out it always takes.
         keeps_runs: its runs are kept in result stores in its folder (a stopped study goes on from them).
+        claims: ``claims(summary, quick) -> [Claim]``: its results judged against a reference
+            (:mod:`neurowalk.experiments.reproduce.claims`) from its saved numbers; ``neurowalk reproduce`` runs and
+            judges every study that has them.
     """
 
     name: str
@@ -161,6 +164,7 @@ class Study:
     takes: Iterable[str] = RUNS_TAKE
     keeps_runs: bool = True
     body: str | None = field(default=None, compare=False)  # the body its runs have unless --body says
+    claims: Callable[[dict[str, Any], bool], list[Any]] | None = None  # the body its runs have unless --body says
 
     def __post_init__(self) -> None:
         unknown = set(self.takes) - set(OPTIONAL)

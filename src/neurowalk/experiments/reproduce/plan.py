@@ -1,4 +1,5 @@
-"""What ``neurowalk reproduce`` runs: every result of the paper as an :class:`Item`, in :data:`PLAN`.
+"""What ``neurowalk reproduce`` runs: every result of the paper as an :class:`Item` (:data:`PAPER`), and every
+registered study that judges its own results (``Study.claims``), in :data:`PLAN`.
 
 An item names the figure command that measures it (``neurowalk figure FIG FLAGS``, with ``--quick`` and the
 quick flags in a quick reproduction, the full flags otherwise), what the paper shows, and the judge that reads
@@ -8,10 +9,11 @@ same command share one run.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
+from neurowalk.experiments import FIGURES, Study
 from neurowalk.experiments.reproduce import judge_arena, judge_network, judge_robot
 from neurowalk.experiments.reproduce.claims import Claim
 
@@ -46,7 +48,7 @@ class Item:
         return (*self.flags, *(("--quick", *self.quick) if quick else self.full))
 
 
-PLAN: tuple[Item, ...] = (
+PAPER: tuple[Item, ...] = (
     Item("table1", "table1", "Table 1: walking direction for each sign of the outputs O1, O2", judge_network.table1),
     Item(
         "fig2", "fig2", "Fig. 2: linear, hysteresis and two-state dynamics of the recurrent neurons", judge_network.fig2
@@ -166,4 +168,15 @@ PLAN: tuple[Item, ...] = (
     ),
 )
 
+
+
+def judged_studies(figures: Mapping[str, Study], named: Iterable[str]) -> tuple[Item, ...]:
+    """An item for each study of ``figures`` that judges its own results (``Study.claims``) and that ``named`` (the
+    figures of :data:`PAPER`) leaves out: its claims are its judge, its title what it shows."""
+    skip = set(named)
+    return tuple(Item(n, n, s.title, s.claims) for n, s in figures.items() if s.claims is not None and n not in skip)
+
+
+#: Every result ``neurowalk reproduce`` runs and judges: the paper's, then every registered study with claims.
+PLAN: tuple[Item, ...] = (*PAPER, *judged_studies(FIGURES, {i.figure for i in PAPER}))
 ITEMS: dict[str, Item] = {item.name: item for item in PLAN}

@@ -1,0 +1,28 @@
+"""The reproduction's plan: the paper's results, then every registered study that judges its own (Study.claims)."""
+
+from __future__ import annotations
+
+from neurowalk.experiments import FIGURES, Study
+from neurowalk.experiments.reproduce.claims import holds
+from neurowalk.experiments.reproduce.plan import PAPER, PLAN, judged_studies
+
+
+def test_a_study_with_claims_joins_the_plan_with_its_claims_as_its_judge():
+    def claims(summary: dict, quick: bool) -> list:
+        rate = summary["rate"]
+        return [holds("the plastic network escapes", "escapes", rate > 0.5, rate, f"escape rate {rate} > 0.5")]
+
+    mine = Study("mine", "escape rate of my study", plot=print, compute=print, claims=claims)
+    (item,) = judged_studies({**FIGURES, "mine": mine}, {i.figure for i in PAPER})
+    assert (item.name, item.figure, item.paper) == ("mine", "mine", "escape rate of my study")
+    assert [c.verdict for c in item.judge({"rate": 0.9}, False) + item.judge({"rate": 0.1}, True)] == [
+        "reproduced",
+        "not",
+    ]
+    assert item.args(quick=True) == ("--quick",) and item.args(quick=False) == ()
+
+
+def test_the_plan_is_the_papers_results_then_the_judged_studies():
+    assert PLAN[: len(PAPER)] == PAPER
+    assert judged_studies(FIGURES, {i.figure for i in PAPER}) == PLAN[len(PAPER) :]
+    assert {i.figure for i in PLAN} <= set(FIGURES)
