@@ -169,7 +169,6 @@ PAPER: tuple[Item, ...] = (
 )
 
 
-
 def judged_studies(figures: Mapping[str, Study], named: Iterable[str]) -> tuple[Item, ...]:
     """An item for each study of ``figures`` that judges its own results (``Study.claims``) and that ``named`` (the
     figures of :data:`PAPER`) leaves out: its claims are its judge, its title what it shows."""
