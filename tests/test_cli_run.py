@@ -149,7 +149,7 @@ def test_a_folder_with_an_unfinished_run_is_refused_unless_overwritten(tmp_path,
 def test_a_reused_folder_holds_only_the_new_runs_files(tmp_path):
     (tmp_path / "video.mp4").write_bytes(b"an earlier run's video")
     assert main(["run", "--body", "surrogate", "--steps", "50", "--out", str(tmp_path), "--quiet"]) == 0
-    files = sorted(p.name for p in tmp_path.iterdir() if p.name != ".neurowalk.lock")  # the folder's lock stays
+    files = sorted(p.name for p in tmp_path.iterdir())  # no lock file: the lock is on the folder itself
     assert files == ["run.png", "summary.json", "trajectory.npz"]
 
 
@@ -271,7 +271,7 @@ def test_a_run_stopped_before_its_first_step_says_what_it_wrote(tmp_path, monkey
     assert main([*RUN300, "--out", str(out)]) == 143
     line = capsys.readouterr().err.strip()
     assert line.startswith(f"neurowalk: interrupted: kept the 0 completed steps in {out} (summary.json); "), line
-    assert sorted(p.name for p in out.iterdir() if p.name != ".neurowalk.lock") == ["summary.json", "trajectory.parts"]
+    assert sorted(p.name for p in out.iterdir()) == ["summary.json", "trajectory.parts"]
 
 
 def _out_commands() -> dict[str, list[str]]:

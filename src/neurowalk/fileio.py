@@ -94,14 +94,38 @@ def exclusive_lock(path: Path) -> IO[bytes] | None:
     return f
 
 
-def folder_lock(folder: Path, what: str = "run") -> IO[bytes]:
-    """Hold ``FOLDER/.neurowalk.lock`` (:func:`exclusive_lock`); FolderBusyError if another process holds it."""
-    f = exclusive_lock(Path(folder) / ".neurowalk.lock")
-    if f is None:
+class FolderLock:
+    """An output folder held exclusively (``flock`` on the folder itself: no file is left in it, and a killed
+    process's lock goes with it); :meth:`close` (or the end of a ``with`` block) releases it."""
+
+    def __init__(self, fd: int) -> None:
+        self.fd = fd
+
+    def close(self) -> None:
+        """Release the folder (once; again does nothing)."""
+        if self.fd >= 0:
+            os.close(self.fd)
+            self.fd = -1
+
+    def __enter__(self) -> FolderLock:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+
+def folder_lock(folder: Path, what: str = "run") -> FolderLock:
+    """Hold the folder ``folder`` exclusively; FolderBusyError if another process (or another holder in this one)
+    holds it. Raises OSError where the folder cannot be opened."""
+    fd = os.open(folder, os.O_RDONLY | os.O_DIRECTORY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        os.close(fd)
         raise FolderBusyError(
             f"{str(folder)!r} is in use by another neurowalk {what}; wait for it to finish or use another output folder"
-        )
-    return f
+        ) from None
+    return FolderLock(fd)
 
 
 _WRITE_ERRORS = {
