@@ -25,7 +25,7 @@ def _one_line(capsys: pytest.CaptureFixture[str]) -> str:
 
 
 def _no_temp_files(folder: Path) -> None:
-    left = [p for p in folder.rglob(".*") if p.name != ".neurowalk.lock"]
+    left = list(folder.rglob(".*"))
     assert not left, left
 
 
