@@ -199,9 +199,9 @@ def episode_args(p: argparse.ArgumentParser) -> None:
         help="{bodies} | mjcf:FILE.xml (default amosii, the MuJoCo hexapod; see `neurowalk bodies`)",
     )
     option_args(p, "--body-opt", "KEY=VALUE", "body option, e.g. scale=0.5")
-    p.add_argument("--steps", type=int, default=1000, help="control steps (10 Hz: 1000 = 100 s)")
+    p.add_argument("--steps", type=int, default=1000, help="control steps (default 1000: 100 s at 10 Hz)")
     control_hz_arg(p)
-    p.add_argument("--seed", type=int, default=0, help="seed of every random draw")
+    p.add_argument("--seed", type=int, default=0, help="seed of every random draw (default 0)")
     p.add_argument("--reflexes", action="store_true", help="local leg control: searching and elevation reflexes")
     p.add_argument("--backbone", action="store_true", help="backbone joint control and climbable-step detection")
     p.add_argument("--climb", action="store_true", help="both --reflexes and --backbone (climbing)")

@@ -18,17 +18,17 @@ if TYPE_CHECKING:
 
 
 def figure_listing(times: bool = False) -> str:
-    """The figures, one per line: name and one-line description, aligned; ``times``: then the committed run's
-    times of ``--quick`` and full, and the machine they were measured on."""
+    """The figures in the paper's order (the table's), one per line: name and one-line description, aligned;
+    ``times``: then the committed run's times of ``--quick`` and full, and the machine they were measured on."""
     from neurowalk.experiments import FIGURES
 
     width = max(len(n) for n in FIGURES) + 2
     if not times:
-        return "\n".join(f"{name:<{width}}{exp.title}" for name, exp in sorted(FIGURES.items()))
+        return "\n".join(f"{name:<{width}}{exp.title}" for name, exp in FIGURES.items())
     from neurowalk.experiments.reproduce.timing import describe, figure_times
 
     lines = []
-    for name, exp in sorted(FIGURES.items()):
+    for name, exp in FIGURES.items():
         took = describe(name)
         lines.append(f"{name:<{width}}{exp.title}" + (f" [{took}]" if took else ""))
     machine = figure_times().get("machine")

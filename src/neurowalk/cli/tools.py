@@ -155,7 +155,7 @@ def cmd_arenas(args: argparse.Namespace) -> int:
     from neurowalk.arenas import ARENAS, arena_options
 
     for name in sorted(ARENAS):
-        doc = (inspect.getdoc(ARENAS[name]) or "").split("\n")[0]
+        doc = (inspect.getdoc(ARENAS[name]) or "").split("\n")[0].replace("``", "")  # plain text, not reST
         opts = ", ".join(f"{k}={v}" for k, v in arena_options(name).items()) or "no options"
         print(f"{name:16s} {doc}\n{'':16s} options: {opts}")
     return 0
