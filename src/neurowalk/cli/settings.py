@@ -195,7 +195,31 @@ def run_and_write(study: Study, settings: Settings, what: str) -> int:
             line = interrupted_line(study.name, out, study.keeps_runs)
         return stop_line(line)
     print(f"{study.name}: wrote {', '.join(str(p) for p in paths.values())} in {time.perf_counter() - t0:.1f} s")
+    if not settings.given():  # the command the reproduction judges: its claims, where it has any
+        print("\n".join(claim_lines(study.name, result.summary, settings.quick)))
     return 0
+
+
+def claim_lines(name: str, summary: dict[str, Any], quick: bool) -> list[str]:
+    """The results ``neurowalk reproduce`` judges from figure ``name``'s plain command, measured in ``summary``: one
+    line each (what, the paper's value, neurowalk's, the verdict) and where the rules are (none: no judged result)."""
+    from neurowalk.experiments.reproduce.plan import PLAN
+    from neurowalk.experiments.reproduce.report import cell
+
+    plain = ("--quick",) if quick else ()
+    claims = [c for i in PLAN if i.figure == name and i.args(quick) == plain for c in i.judge(summary, quick)]
+    if not claims:
+        return []
+    lines = [f"{name} against the paper{' (--quick: fewer, shorter runs)' if quick else ''}:"]
+    rows = summary.get("counts")
+    if isinstance(rows, dict) and all(
+        isinstance(r, dict) and {"success", "environments"} <= set(r) for r in rows.values()
+    ):
+        lines.append("  successes: " + ", ".join(f"{k} {r['success']}/{r['environments']}" for k, r in rows.items()))
+    for c in claims:
+        lines.append(f"  {c.what}: paper {cell(c.paper, c.unit)}, neurowalk {cell(c.measured, c.unit)} -> {c.verdict}")
+    lines.append(f"  (the rules and the full runs' verdicts: docs/results/report.md#{name})")
+    return lines
 
 
 def interrupted_line(name: str, out: Path, stores: bool) -> str:

@@ -25,14 +25,14 @@ def read_records(out: Path, quick: bool) -> dict[str, dict[str, Any]]:
     return records
 
 
-def _cell(v: Any, unit: str = "") -> str:
+def cell(v: Any, unit: str = "") -> str:
     """A value for a table cell: numbers rounded, lists and dicts shortened, pipes escaped."""
     if isinstance(v, float):
         text = f"{v:.3g}"
     elif isinstance(v, dict):
-        text = ", ".join(f"{k} {_cell(x)}" for k, x in v.items())
+        text = ", ".join(f"{k} {cell(x)}" for k, x in v.items())
     elif isinstance(v, list):
-        text = ", ".join(_cell(x) for x in v)
+        text = ", ".join(cell(x) for x in v)
     else:
         text = "-" if v is None else str(v)
     text = text + (f" {unit}" if unit and v is not None and not isinstance(v, str) else "")
@@ -73,11 +73,11 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
         rec = records.get(item.name)
         if rec is None:
             why = f"failed: {failed[item.name]}" if item.name in failed else "not run"
-            lines.append(f"| {item.name} | {_cell(item.paper)} | - | {_cell(why)} | - | - |")
+            lines.append(f"| {item.name} | {cell(item.paper)} | - | {cell(why)} | - | - |")
             continue
         png = f"[{rec['figure']}.png]({rec['files']['png']})"
         lines.append(
-            f"| [{item.name}](#{item.name}) | {_cell(item.paper)} | {MARK[rec['verdict']]} | {_cell(rec['reason'])} "
+            f"| [{item.name}](#{item.name}) | {cell(item.paper)} | {MARK[rec['verdict']]} | {cell(rec['reason'])} "
             f"| {png} | {_took(rec)} |"
         )
     for item in PLAN:
@@ -100,8 +100,8 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
         for c in rec["claims"]:
             ci = "-" if c["interval"] is None else f"{c['interval'][0]:.0%}-{c['interval'][1]:.0%}"
             lines.append(
-                f"| {_cell(c['what'])} | {_cell(c['paper'], c['unit'])} | {_cell(c['measured'], c['unit'])} | {ci} "
-                f"| {MARK[c['verdict']]} | {_cell(c['rule'])} |"
+                f"| {cell(c['what'])} | {cell(c['paper'], c['unit'])} | {cell(c['measured'], c['unit'])} | {ci} "
+                f"| {MARK[c['verdict']]} | {cell(c['rule'])} |"
             )
     return "\n".join(lines) + "\n"
 

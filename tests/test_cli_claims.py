@@ -1,0 +1,34 @@
+"""`neurowalk figure NAME` says its results against the paper where it makes them: the claims the reproduction
+judges from the same command, one line each, and where the rules are."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from neurowalk.cli import main
+from neurowalk.cli.settings import claim_lines
+
+RESULTS = Path(__file__).parents[1] / "docs" / "results"
+
+
+def test_table2_says_its_rows_and_the_papers_counts_with_verdicts():
+    summary = json.loads((RESULTS / "table2" / "table2.json").read_text())
+    lines = claim_lines("table2", summary, quick=False)
+    assert lines[0] == "table2 against the paper:" and lines[-1].endswith("docs/results/report.md#table2)")
+    rows = summary["counts"]
+    assert lines[1] == "  successes: " + ", ".join(f"{k} {r['success']}/{r['environments']}" for k, r in rows.items())
+    judged = [line for line in lines if "paper 49/50" in line]
+    assert len(judged) >= 2 and all(line.rsplit("-> ", 1)[1] in ("reproduced", "partly", "not") for line in judged)
+    assert f"neurowalk {rows['plastic-paper']['success']}/50 -> " in judged[0]
+
+
+def test_a_figure_prints_its_claims_after_its_files_and_not_with_other_settings(tmp_path, capsys):
+    assert main(["figure", "fig2", "--quick", "--out", str(tmp_path / "a")]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].startswith("fig2: wrote") and out[1] == "fig2 against the paper (--quick: fewer, shorter runs):"
+    assert all(" -> " in line for line in out[2:-1]) and len(out) > 3
+    assert claim_lines("no-such-figure", {}, quick=False) == []
+    assert main(["figure", "table1", "--quick", "--control-hz", "27", "--out", str(tmp_path / "b")]) == 0
+    out = capsys.readouterr().out.splitlines()  # another command than the one judged: no verdicts
+    assert len(out) == 1 and out[0].startswith("table1: wrote")
