@@ -20,7 +20,16 @@ original simulation used 0.10 m; the robot's ultrasonic rays (about 0.04 m up) s
 
 @dataclass(frozen=True)
 class Box:
-    """A box standing on the floor: centre (x, y) in m, yaw in rad, full sizes sx, sy, h in m."""
+    """A box standing on the floor.
+
+    Attributes:
+        x: centre along the arena's x axis, m.
+        y: centre along its y axis, m.
+        yaw: heading of the box's x side, rad (counter-clockwise from the x axis).
+        sx: full length along the box's own x side, m.
+        sy: full length along its y side, m.
+        h: height, m (default a wall's, :data:`WALL_HEIGHT`; lower boxes are steps a climbing robot can take).
+    """
 
     x: float
     y: float

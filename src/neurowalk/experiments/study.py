@@ -44,12 +44,26 @@ MAX_SEEDS = 100_000  # the most environments or seeds a study takes (``seeds``)
 class Settings:
     """How a study is run, the same for every study (the flags of ``neurowalk figure`` and ``neurowalk study``).
 
-    None means the study's own default. Attributes: quick: shorter runs, coarser grids. seed: the seed every run's
-    seed derives from. seeds: seeds (or environments) per condition. body, variant, params, gait, control_hz,
-    engine: set on every run (params: SensoryParams fields over the variant). climbing: leg reflexes and backbone
-    control on. video: write the example runs' videos. size: box side of random environments, m. device: engine
-    warp's device. workers: processes (or Ray CPUs); backend: ``local`` (a process pool) or ``ray``; address: the
-    Ray cluster to join. out: the output folder (default ``out/NAME``).
+    None means the study's own default; a study takes the optional ones it names in ``Study.takes``.
+
+    Attributes:
+        quick: shorter runs, coarser grids (a first look).
+        seed: the seed every run's seed derives from (0 to 2**63 - 1).
+        seeds: seeds (or environments) per condition, 1 to :data:`MAX_SEEDS`.
+        body: the robot of every run (``neurowalk bodies``).
+        climbing: leg reflexes and backbone control on (the modules of the paper's Fig. 10).
+        variant: the network of every run: ``paper``, ``original`` (the authors' code) or ``tuned``.
+        params: SensoryParams fields set on top of the variant (a params file's), or None.
+        gait: the locomotion network's gait by name (``neurowalk.neural.cpg.GAITS``).
+        video: also write the example runs' videos.
+        size: box side of random environments, m.
+        engine: physics engine: ``mujoco`` (the CPU loop) or ``warp`` (MuJoCo Warp).
+        device: engine ``warp``'s device (``cuda`` or ``cpu``).
+        control_hz: every run's control rate, Hz (in (0, 1000]).
+        workers: processes of the local pool, or CPUs of a local Ray instance.
+        backend: where the runs run: ``local`` (a process pool) or ``ray``.
+        address: the Ray cluster to join (with backend ``ray``), e.g. ``"10.0.0.1:6379"``.
+        out: the output folder (default ``out/NAME``): NAME.json, NAME.npz, NAME.png and the result stores.
     """
 
     quick: bool = False
@@ -150,6 +164,7 @@ class Study:
             loop.
         takes: the optional settings (:data:`OPTIONAL`) it honours; quick, seed and out it always takes.
         keeps_runs: its runs are kept in result stores in its folder (a stopped study goes on from them).
+        body: the body its runs have where ``--body`` names none (for the checks of settings that need a body).
         claims: ``claims(summary, quick) -> [Claim]``: its results judged against a reference
             (:mod:`neurowalk.experiments.reproduce.claims`) from its saved numbers; ``neurowalk reproduce`` runs and
             judges every study that has them.

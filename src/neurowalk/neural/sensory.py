@@ -49,25 +49,45 @@ US_RANGE_M: float = 0.40  # sensor range: at or beyond it (or no echo) the input
 
 @dataclass(frozen=True, kw_only=True)
 class SensoryParams:
-    """Parameters of the sensory network. Rates are per control step (dimensionless)."""
+    """Parameters of the sensory network (Eq. 1-6). Rates are per control step (dimensionless).
 
-    a: float = 4.7  # input weight
-    mu_b: float = 0.0065  # learning rate of the self weights b
-    mu_q: float = 0.015  # learning rate of the inhibition magnitudes q
-    gamma_b: float = 0.0003  # synaptic scaling rate of b
-    gamma_q: float = 0.0003  # synaptic scaling rate of q
-    k: float = -0.01  # scaling offset (negative: forgetting)
-    reflex_threshold: float = -0.5  # T = 1 where I > threshold (-0.5: obstacle within ~0.3 m)
-    activity_cutoff: float = 0.0  # activities nu below this are set to 0 (original code: 0.009)
-    learn_b: bool = True  # plastic mode: learn b (False: b stays at its start, 2.4 by default)
-    learn_q: bool = True  # plastic mode: learn q (False: q stays at its start, 3.5 by default)
-    us_near: float = US_NEAR_M  # m, distance at or below which the input is +1 (original code: 0)
-    input_delay: bool = False  # the input passes an identity neuron: the network sees the last step's reading
-    post_learning: bool = False  # learn from nu(O before the update), nu(O after it) instead of nu(t-1), nu(t)
-    steer_delay: int = 0  # control steps between a new output and the steering it sends (0, 1 or 2)
-    prime_step: bool = False  # at reset, one step with zero input, no learning (the original's constructor)
-    b_start: float | None = None  # plastic start self weights (None: 0, or 2.4 if b is not learned)
-    q_start: float | None = None  # plastic start inhibition magnitudes (None: 0, or 3.5 if q is not learned)
+    Attributes:
+        a: input weight.
+        mu_b: learning rate of the self weights b.
+        mu_q: learning rate of the inhibition magnitudes q.
+        gamma_b: synaptic scaling rate of b.
+        gamma_q: synaptic scaling rate of q.
+        k: scaling offset (negative: forgetting).
+        reflex_threshold: T = 1 where I > threshold (-0.5: obstacle within ~0.3 m).
+        activity_cutoff: activities nu below this are set to 0 (original code: 0.009).
+        learn_b: plastic mode: learn b (False: b stays at its start, 2.4 by default).
+        learn_q: plastic mode: learn q (False: q stays at its start, 3.5 by default).
+        us_near: distance (m) at or below which the input is +1 (original code: 0).
+        input_delay: the input passes an identity neuron: the network sees the last step's reading.
+        post_learning: learn from nu(O before the update), nu(O after it) instead of nu(t-1), nu(t).
+        steer_delay: control steps between a new output and the steering it sends (0, 1 or 2).
+        prime_step: at reset, one step with zero input, no learning (the original's constructor).
+        b_start: plastic start self weights (None: 0, or 2.4 if b is not learned).
+        q_start: plastic start inhibition magnitudes (None: 0, or 3.5 if q is not learned).
+    """
+
+    a: float = 4.7
+    mu_b: float = 0.0065
+    mu_q: float = 0.015
+    gamma_b: float = 0.0003
+    gamma_q: float = 0.0003
+    k: float = -0.01
+    reflex_threshold: float = -0.5
+    activity_cutoff: float = 0.0
+    learn_b: bool = True
+    learn_q: bool = True
+    us_near: float = US_NEAR_M
+    input_delay: bool = False
+    post_learning: bool = False
+    steer_delay: int = 0
+    prime_step: bool = False
+    b_start: float | None = None
+    q_start: float | None = None
 
     def __post_init__(self) -> None:
         for name in ("a", "mu_b", "mu_q", "gamma_b", "gamma_q", "k", "reflex_threshold"):

@@ -262,7 +262,8 @@ def run_many(
             worlds of shared calls (:func:`~neurowalk.runners.jobs.world_groups`); the others on the pool.
 
     Raises:
-        the first error of a run as soon as it arrives (a worker that died: WorkerDiedError).
+        ValueError: ``workers`` below 1.
+        Exception: the first error of a run, as soon as it arrives (a worker that died: WorkerDiedError).
     """
     if workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers}")

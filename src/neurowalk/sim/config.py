@@ -43,17 +43,23 @@ class EpisodeConfig:
     :meth:`from_spec` reads a run spec (a JSON object) and :meth:`spec` writes its canonical one.
 
     Attributes:
-        arena: the arena's name (``neurowalk arenas``); arena_opts: its options (name -> value).
-        controller: plastic | static | braitenberg | fixed; steer: (O1, O2) in [-1, 1] for ``fixed`` only.
-        body: the robot (``neurowalk bodies``); body_opts: its options (name -> number).
-        steps: control steps; seed: the seed of every random draw; control_hz: control steps per second.
+        arena: the arena's name (``neurowalk arenas``).
+        arena_opts: the arena's options (name -> value; ``neurowalk arenas`` lists them with their defaults).
+        controller: plastic | static | braitenberg | fixed.
+        steer: (O1, O2) in [-1, 1], the constant steering of controller ``fixed`` (None for the others).
+        body: the robot (``neurowalk bodies``).
+        steps: control steps of the run.
+        seed: the seed of every random draw of the run (sensor noise, controller, a random arena's layout).
+        control_hz: control steps per second (Hz).
         noise: strength of the coloured sensor noise, in [0, 1].
-        b0, q0: the plastic network's start self weights and inhibition magnitudes (default 0).
+        b0: the plastic network's start self weights (None: the variant's, 0 by default).
+        q0: its start inhibition magnitudes (None: the variant's, 0 by default).
         reflexes: local leg control (forward models, searching and elevation reflexes).
         backbone: backbone joint control and the climbable-step decision (obstacle-height sensor).
         variant: the network: ``paper`` (Eq. 1-6 as printed), ``original`` (the authors' code), ``tuned``.
         params: SensoryParams fields set on top of the variant (a params file), or None.
         gait: the CPG's modulatory input by name (``neurowalk.neural.cpg.GAITS``).
+        body_opts: the body's options (name -> number; ``neurowalk bodies``).
         engine: physics engine: ``mujoco`` (CPU MuJoCo) | ``warp`` (MuJoCo Warp, many worlds, GPU or CPU).
     """
 
@@ -264,8 +270,15 @@ def _whole(v: object) -> bool:
 
 @dataclass
 class Episode:
-    """A finished run: its config, arena, trajectory and summary (the dict of ``summary.json``; :attr:`result` reads
-    it by attribute)."""
+    """A finished run.
+
+    Attributes:
+        config: the run's config.
+        arena: the arena it ran in, built (boxes, start pose, exit region).
+        trajectory: its rows (:class:`~neurowalk.sim.trajectory.Trajectory`: pose, inputs, outputs, weights, joints).
+        summary: the dict of ``summary.json`` (:attr:`result` reads it by attribute).
+        row_stride: the trajectory holds every ``row_stride``-th control step (1: all; a streamed run keeps fewer).
+    """
 
     config: EpisodeConfig
     arena: ArenaSpec

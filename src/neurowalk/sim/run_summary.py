@@ -20,13 +20,50 @@ class RunSummary:
     """One run's outcome (units in the names: m, s, deg; steps are control steps).
 
     Attributes:
-        arena, controller, body, variant, gait: names; arena_opts, body_opts, params: the run's options.
-        steps, seed, control_hz, noise: as configured. escaped: left the arena's trap (None: the arena has none);
-        exit_step: the control step it left at (None: never). trapped: stuck over the last 300 s; ever_trapped:
-        stuck for 300 s at any time. coverage: share of the arena's cells visited, in [0, 1].
-        wedged_periods: count of periods held in a small region; longest_wedged_s; wedged: the periods (tuples of
-        frozen mappings: start, end, duration_s, cause, ...). final_pose: (x m, y m, yaw rad).
-        final_weights: b (2,), q (2,), c of the plastic network at the end (None: a fixed controller).
+        arena: the arena's name.
+        controller: the network (plastic, static, braitenberg) or ``fixed``.
+        body: the robot.
+        steps: control steps run.
+        seed: the run's seed.
+        control_hz: control rate, Hz.
+        noise: strength of the sensor noise, in [0, 1].
+        variant: the network's variant (``paper``, ``original``, ``tuned``).
+        gait: the CPG's gait.
+        arena_opts: the arena's options, all filled in.
+        body_opts: the body's options as given.
+        params: SensoryParams fields set over the variant, or None.
+        steer: (O1, O2) of a ``fixed`` controller, or None.
+        start_weights: the plastic network's start weights {b0, q0}, or None.
+        reflexes: local leg control was on.
+        backbone: backbone joint control was on.
+        final_z_m: trunk height after the last step, m (None: a planar body).
+        max_z_m: the trunk's highest, m (None: a planar body).
+        exit_step: the control step the trunk reached the exit region (None: never).
+        escaped: it reached the arena's exit region (None: the arena has none).
+        trapped: the trunk stayed within a disc of radius 0.5 m over the last 300 s.
+        ever_trapped: it did so over some 300 s of the run.
+        ever_held_up_1000s: it did so over some 1000 s (None: an older run).
+        end_turn_share: share of the last 300 s spent turning on the spot (mixed signs of O1, O2), in [0, 1].
+        end_blind_share: share of the last 300 s with both sensors seeing nothing, in [0, 1].
+        coverage: share of the arena's free 0.25 m cells the trunk visited, in [0, 1] (None: an unbounded arena).
+        path_length_m: length of the trunk's path, m.
+        forward_displacement_m: displacement along the start heading, m.
+        net_displacement_m: straight-line distance from the start, m.
+        heading_change_deg: net change of heading, deg (positive: left).
+        min_up_z: lowest z of the trunk's up vector (below 0: it turned over).
+        direction_switches: sign changes of the steering.
+        turn_episodes: avoidance turns.
+        max_turn_deg: the largest avoidance turn, deg.
+        wedged_periods: periods held within a small region (``metrics.wedged_periods``).
+        longest_wedged_s: the longest of them, s.
+        wedged_causes: their count per cause ("body contact", "both rays blind", "other").
+        wedged: the periods: start, end (steps), duration_s, centre, extent_m, fractions, cause.
+        final_pose: (x m, y m, yaw rad) after the last step.
+        final_weights: b (2,), q (2,) and c of the plastic network at the end (None: a fixed controller).
+        simulation_warnings: MuJoCo's warnings by kind (count).
+        wall_time_s: the run's wall time, s (not kept in a result store).
+        real_time_factor: simulated over wall time (not kept in a result store).
+        neurowalk_version: the version that ran it.
         others: keys this class does not name (e.g. an engine's ``device``), kept as they came.
     """
 
