@@ -1,0 +1,111 @@
+"""The documentation site as a reader's browser shows it: every page loaded in headless Chromium (Debian's
+``chromium``), with what a person would see wrong reported.
+
+For each page of a built site (``mkdocs build``), served on ``127.0.0.1``: no request of the page fails (an image, a
+script, a style sheet: the server records every path it could not serve), nothing is written to the browser's
+console (a script error, a failed load), no Mermaid diagram is left as its source text, and every link to another
+page of the site names a file that is there. Screenshots of the home page, a tutorial and the report are written
+for a person to look at.
+"""
+
+from __future__ import annotations
+
+import functools
+import http.server
+import re
+import shutil
+import subprocess
+import threading
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from urllib.parse import unquote, urljoin, urlparse
+
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+FLAGS = ["--headless=new", "--no-sandbox", "--disable-gpu", "--hide-scrollbars"]
+SCREENSHOTS = {"home": "", "tutorial": "tutorials/study/", "report": "results/report/"}
+#: A Mermaid diagram's source keyword: once drawn, the page's DOM holds the picture, not these words.
+MERMAID_SOURCE = re.compile(r"<(?:pre|div)[^>]*mermaid[^>]*>\s*(?:<code>)?\s*(?:flowchart|graph|sequenceDiagram)\b")
+
+
+class _Handler(http.server.SimpleHTTPRequestHandler):
+    missing: list[str]
+
+    def send_error(self, code: int, message: str | None = None, explain: str | None = None) -> None:
+        self.missing.append(f"{code} {self.path}")
+        super().send_error(code, message, explain)
+
+    def log_message(self, *args: object) -> None:  # quiet
+        pass
+
+
+@contextmanager
+def serve(site: Path) -> Iterator[tuple[str, list[str]]]:
+    """The site served on a free port of 127.0.0.1: (its base URL, the requests it could not serve, as they come)."""
+    missing: list[str] = []
+    handler = type("Handler", (_Handler,), {"missing": missing})
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), functools.partial(handler, directory=str(site)))
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    try:
+        yield f"http://127.0.0.1:{server.server_address[1]}/", missing
+    finally:
+        server.shutdown()
+        server.server_close()
+
+
+def pages(site: Path) -> list[str]:
+    """The site's pages (paths relative to its root: ``""``, ``usage/``, ...), the search and 404 pages aside."""
+    out = []
+    for html in sorted(site.rglob("index.html")):
+        rel = html.parent.relative_to(site).as_posix()
+        if not rel.startswith(("assets", "search")):
+            out.append("" if rel == "." else rel + "/")
+    return out
+
+
+def load(url: str, budget_ms: int = 6000) -> tuple[str, list[str]]:
+    """The page's DOM once its scripts ran (``budget_ms`` of virtual time) and the lines it wrote to the console."""
+    done = subprocess.run(
+        [CHROMIUM, *FLAGS, "--enable-logging=stderr", "--v=0", f"--virtual-time-budget={budget_ms}", "--dump-dom", url],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    console = [line.split("] ", 1)[-1] for line in done.stderr.splitlines() if ":CONSOLE" in line]
+    return done.stdout, console
+
+
+def problems(site: Path, base: str, page: str, missing: list[str]) -> list[str]:
+    """What is wrong with ``page`` as the browser shows it (empty: nothing)."""
+    before = len(missing)
+    dom, console = load(base + page)
+    found = [f"console: {line}" for line in console]
+    found += [f"not served: {m}" for m in missing[before:]]
+    if not dom.strip():
+        found.append("the page did not load")
+    if MERMAID_SOURCE.search(dom):
+        found.append("a Mermaid diagram shown as its source text")
+    for href in re.findall(r'<a [^>]*href="([^"#]+)', dom):
+        target = urlparse(urljoin(base + page, href))
+        if target.netloc != urlparse(base).netloc:
+            continue
+        path = site / unquote(target.path).lstrip("/")
+        if not (path.is_file() or (path / "index.html").is_file()):
+            found.append(f"link to a missing page: {href}")
+    return [f"{page or '/'}: {p}" for p in found]
+
+
+def screenshots(base: str, out: Path) -> list[Path]:
+    """PNGs of the home page, a tutorial and the report in ``out``, for a person to look at."""
+    out.mkdir(parents=True, exist_ok=True)
+    shots = []
+    for name, page in SCREENSHOTS.items():
+        path = out / f"{name}.png"
+        subprocess.run(
+            [CHROMIUM, *FLAGS, "--window-size=1400,2200", f"--screenshot={path}", base + page],
+            capture_output=True,
+            timeout=120,
+        )
+        shots.append(path)
+    return shots
