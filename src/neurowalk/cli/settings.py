@@ -151,9 +151,8 @@ def _size(items: list[str]) -> float:
 def run_and_write(study: Study, settings: Settings, what: str) -> int:
     """Compute ``study`` and write NAME.json (NAME.npz) and NAME.png into ``settings.out``, saying so in one line;
     a stop (exit 130/143) says in one line what is kept. ``what`` names it in the messages ("figure fig3")."""
-    from neurowalk.experiments import output
-    from neurowalk.experiments.study import compute
-    from neurowalk.runners.stopping import deferred, interrupted
+    from neurowalk.experiments.study import compute, write
+    from neurowalk.runners.stopping import interrupted
     from neurowalk.runners.store import StoreError
     from neurowalk.sim.episode import RunInterruptedError
 
@@ -178,15 +177,11 @@ def run_and_write(study: Study, settings: Settings, what: str) -> int:
             if not existed and not any(out.iterdir()):
                 out.rmdir()  # made for this command, still empty: leave nothing behind
             raise UsageError(f"{what}: {e}") from None
-        with deferred():  # the numbers first, whole: a plot error (or a Ctrl-C while drawing) loses nothing
-            paths = output.save_data(result, out)
-        picture = study.plot(result)
-        with deferred():
-            paths = {"png": output.save_figure(result, picture, out), **paths}
+        write(study, result, out, paths)
     except (KeyboardInterrupt, Exception) as e:  # RunInterruptedError: a run in this process, stopped part-way
         if not (interrupted(e) or isinstance(e, RunInterruptedError)):
             raise
-        files = ", ".join(str(p) for p in paths.values())
+        files = ", ".join(str(paths[k]) for k in ("png", "json", "npz") if k in paths)
         if "png" in paths:
             line = f"neurowalk: {study.name} interrupted as it ended; it wrote {files}"
         elif paths:
@@ -194,7 +189,8 @@ def run_and_write(study: Study, settings: Settings, what: str) -> int:
         else:
             line = interrupted_line(study.name, out, study.keeps_runs)
         return stop_line(line)
-    print(f"{study.name}: wrote {', '.join(str(p) for p in paths.values())} in {time.perf_counter() - t0:.1f} s")
+    files = [paths[k] for k in ("png", "json", "npz") if k in paths]
+    print(f"{study.name}: wrote {', '.join(str(p) for p in files)} in {time.perf_counter() - t0:.1f} s")
     if not settings.given():  # the command the reproduction judges: its claims, where it has any
         print("\n".join(claim_lines(study.name, result.summary, settings.quick)))
     return 0

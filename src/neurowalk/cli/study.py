@@ -8,15 +8,20 @@ from pathlib import Path
 from neurowalk.cli.common import UsageError, stop_line
 from neurowalk.cli.settings import add_settings_args, run_and_write, settings_of
 
+_LOADED: dict[Path, object] = {}  # the study files this command ran, by path: the parser's help and the run share one
+
 
 def study_of(path: Path) -> object:
-    """The study of file ``path`` (UsageError naming the file where it has none)."""
+    """The study of file ``path`` (UsageError naming the file where it has none); the file runs once per command."""
     from neurowalk.experiments.study import load_study
 
-    try:
-        return load_study(path)
-    except ValueError as e:
-        raise UsageError(str(e)) from None
+    key = Path(path).resolve()
+    if key not in _LOADED:
+        try:
+            _LOADED[key] = load_study(path)
+        except ValueError as e:
+            raise UsageError(str(e)) from None
+    return _LOADED[key]
 
 
 def add_study_parser(sub: argparse._SubParsersAction, path: str | None = None) -> None:

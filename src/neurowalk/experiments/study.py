@@ -179,7 +179,7 @@ class Study:
     takes: Iterable[str] = RUNS_TAKE
     keeps_runs: bool = True
     body: str | None = field(default=None, compare=False)  # the body its runs have unless --body says
-    claims: Callable[[dict[str, Any], bool], list[Any]] | None = None  # the body its runs have unless --body says
+    claims: Callable[[dict[str, Any], bool], list[Any]] | None = None
 
     def __post_init__(self) -> None:
         unknown = set(self.takes) - set(OPTIONAL)
@@ -265,19 +265,29 @@ def run_study(study: Study, settings: Settings | None = None) -> tuple[Result, d
     Its runs are kept in ``out/results.sqlite`` as they finish: stopped (Ctrl-C, SIGTERM: KeyboardInterrupt), the
     same call goes on from them and gives the same result, bit for bit.
     """
-    from neurowalk.experiments import output
-    from neurowalk.runners.stopping import deferred
-
     settings = settings or Settings()
     if settings.out is None:
         settings = settings.replace(out=Path("out") / study.name)
     result = compute(study, settings)
-    with deferred():  # the numbers first, whole: a plot error loses nothing
-        paths = output.save_data(result, settings.out)  # type: ignore[arg-type]
+    return result, write(study, result, Path(settings.out))
+
+
+def write(study: Study, result: Result, out: Path, written: dict[str, Path] | None = None) -> dict[str, Path]:
+    """Write ``result``'s numbers (NAME.json, NAME.npz), then its picture (NAME.png), into ``out``; the files, by kind.
+
+    Each file is written whole or not at all, the numbers first (a plot error, or a stop while drawing, loses none
+    of them); ``written`` (if given) holds the files written so far, for the line of a stop.
+    """
+    from neurowalk.experiments import output
+    from neurowalk.runners.stopping import deferred
+
+    paths = written if written is not None else {}
+    with deferred():
+        paths.update(output.save_data(result, out))
     picture = study.plot(result)
     with deferred():
-        paths = {"png": output.save_figure(result, picture, settings.out), **paths}  # type: ignore[arg-type]
-    return result, paths
+        paths["png"] = output.save_figure(result, picture, out)
+    return paths
 
 
 def load_study(path: Path) -> Study:
