@@ -3,13 +3,30 @@
 The package's docstrings cross-reference in Sphinx's roles (``:class:`~neurowalk.sim.engine.Streaming```), which
 the API pages' generator (mkdocstrings) leaves as text: ":class:" beside the name. :func:`plain_roles` shows such a
 reference as the name in code, the way Sphinx shows it (``~`` keeps the last part only).
+
+A number in the pages links to the committed JSON file it comes from, with its key path after ``#``
+(``benchmarks/bench.json#surrogate/steps_per_s``, see tests/numbers_checker.py). A browser shows such a link as
+the top of the raw file and ignores the key. So the site gets one page per linked file, ``numbers/NAME.md``
+(:func:`numbers_page`), a table of every value of the file with an anchor per key, and :func:`to_numbers` points
+each link at its row, which the page highlights; the page links on to the raw file.
 """
 
 from __future__ import annotations
 
+import html as _html
+import json
+import posixpath
 import re
+from collections.abc import Iterator
 from typing import Any
+from urllib.parse import unquote
 
+from mkdocs.structure.files import File, Files
+
+#: A link to a JSON file with a key path: ``](path/file.json#key/path)``.
+_NUMBER_LINK = re.compile(r"\]\(([^)\s#]+\.json)#([^)\s]*)\)")
+#: The JSON files (docs-relative) that have a numbers page in this build (set by :func:`on_files`).
+_PAGES: set[str] = set()
 _ROLE = re.compile(r":(?:class|func|meth|mod|data|attr|exc|obj|const):<code>(~?)([^<]+)</code>")
 
 
@@ -21,3 +38,92 @@ def plain_roles(html: str) -> str:
 def on_page_content(html: str, **kwargs: Any) -> str:
     """mkdocs' hook: each page's HTML, once its markdown (and the API's docstrings) is rendered."""
     return plain_roles(html)
+
+
+def anchor(key: str) -> str:
+    """The HTML id of key path ``key`` (URL-encoded, as in a link) on a numbers page: ``/`` as ``.``, space ``_``."""
+    return "k." + re.sub(r"[^\w.~-]", "_", unquote(key).replace("/", "."))
+
+
+def numbers_uri(json_uri: str) -> str:
+    """The docs-relative path of the numbers page of docs-relative ``json_uri`` (``benchmarks/bench.json``)."""
+    return "numbers/" + json_uri.removesuffix(".json").replace("/", "-") + ".md"
+
+
+def _rows(value: object, key: str, linked: set[str]) -> Iterator[tuple[str, object]]:
+    """(key path, value) of every leaf of ``value`` and of every linked inner key, in the file's order."""
+    inner = isinstance(value, dict | list)
+    if key and (not inner or key in linked):
+        yield key, value
+    if isinstance(value, dict):
+        for k, v in value.items():
+            yield from _rows(v, f"{key}/{k}" if key else str(k), linked)
+    elif isinstance(value, list):
+        for i, v in enumerate(value):
+            yield from _rows(v, f"{key}/{i}" if key else str(i), linked)
+
+
+def numbers_page(json_uri: str, data: object, linked: set[str]) -> str:
+    """The markdown of the numbers page of ``json_uri`` holding ``data``; ``linked``: the (decoded) keys linked."""
+    raw = posixpath.relpath(json_uri, posixpath.dirname(numbers_uri(json_uri)))
+    lines = [
+        "---",
+        "search:",
+        "  exclude: true",
+        "---",
+        "",
+        f"# {json_uri}",
+        "",
+        f"Every value of [`{json_uri}`]({raw}) (committed with the code), by its key path; the row a link "
+        "pointed at is highlighted.",
+        "",
+        '<table class="numbers"><thead><tr><th>key</th><th>value</th></tr></thead><tbody>',
+    ]
+    for key, value in _rows(data, "", linked):
+        shown = value if isinstance(value, str) else json.dumps(value)
+        lines.append(
+            f'<tr id="{anchor(key)}"><td><code>{_html.escape(key)}</code></td><td>{_html.escape(str(shown))}</td></tr>'
+        )
+    lines.append("</tbody></table>")
+    return "\n".join(lines) + "\n"
+
+
+def _linked(files: Files) -> dict[str, set[str]]:
+    """Docs-relative JSON path -> the decoded keys that the site's pages link to."""
+    found: dict[str, set[str]] = {}
+    for file in files.documentation_pages():
+        text = file.content_string
+        for m in _NUMBER_LINK.finditer(text):
+            uri = posixpath.normpath(posixpath.join(posixpath.dirname(file.src_uri), m.group(1)))
+            if not uri.startswith("..") and files.get_file_from_path(uri) is not None:
+                found.setdefault(uri, set()).add(unquote(m.group(2)))
+    return found
+
+
+def to_numbers(markdown: str, page_uri: str, pages: set[str]) -> str:
+    """``markdown`` of page ``page_uri`` with each link to a key of a JSON file in ``pages`` pointed at its row."""
+
+    def point(m: re.Match[str]) -> str:
+        uri = posixpath.normpath(posixpath.join(posixpath.dirname(page_uri), m.group(1)))
+        if uri not in pages:
+            return m.group(0)
+        target = posixpath.relpath(numbers_uri(uri), posixpath.dirname(page_uri) or ".")
+        return f"]({target}#{anchor(m.group(2))})"
+
+    return _NUMBER_LINK.sub(point, markdown)
+
+
+def on_files(files: Files, config: Any, **kwargs: Any) -> Files:
+    """mkdocs' hook: add a numbers page for each JSON file that a page links into."""
+    linked = _linked(files)
+    for uri, keys in sorted(linked.items()):
+        data = json.loads(files.get_file_from_path(uri).content_string)
+        files.append(File.generated(config, numbers_uri(uri), content=numbers_page(uri, data, keys)))
+    _PAGES.clear()
+    _PAGES.update(linked)
+    return files
+
+
+def on_page_markdown(markdown: str, page: Any, config: Any, **kwargs: Any) -> str:
+    """mkdocs' hook: each page's markdown, before it is rendered: number links point at the numbers pages."""
+    return to_numbers(markdown, page.file.src_uri, _PAGES)

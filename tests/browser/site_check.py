@@ -11,6 +11,7 @@ for a person to look at.
 from __future__ import annotations
 
 import functools
+import html
 import http.server
 import re
 import shutil
@@ -57,8 +58,8 @@ def serve(site: Path) -> Iterator[tuple[str, list[str]]]:
 def pages(site: Path) -> list[str]:
     """The site's pages (paths relative to its root: ``""``, ``usage/``, ...), the search and 404 pages aside."""
     out = []
-    for html in sorted(site.rglob("index.html")):
-        rel = html.parent.relative_to(site).as_posix()
+    for index in sorted(site.rglob("index.html")):
+        rel = index.parent.relative_to(site).as_posix()
         if not rel.startswith(("assets", "search")):
             out.append("" if rel == "." else rel + "/")
     return out
@@ -86,13 +87,18 @@ def problems(site: Path, base: str, page: str, missing: list[str]) -> list[str]:
         found.append("the page did not load")
     if MERMAID_SOURCE.search(dom):
         found.append("a Mermaid diagram shown as its source text")
-    for href in re.findall(r'<a [^>]*href="([^"#]+)', dom):
-        target = urlparse(urljoin(base + page, href))
+    for href in re.findall(r'<a [^>]*href="([^"]+)"', dom):
+        target = urlparse(urljoin(base + page, html.unescape(href)))
         if target.netloc != urlparse(base).netloc:
             continue
         path = site / unquote(target.path).lstrip("/")
-        if not (path.is_file() or (path / "index.html").is_file()):
+        path = path / "index.html" if path.is_dir() else path
+        if not path.is_file():
             found.append(f"link to a missing page: {href}")
+        elif target.fragment and path.suffix == ".html":
+            text = dom if path == site / page / "index.html" else path.read_text(encoding="utf-8")
+            if f'id="{unquote(target.fragment)}"' not in text:
+                found.append(f"link to a missing place on its page: {href}")
     return [f"{page or '/'}: {p}" for p in found]
 
 

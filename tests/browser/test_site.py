@@ -47,13 +47,18 @@ def test_every_page_loads_whole_in_a_browser(site: Path) -> None:
 
 
 def test_the_check_sees_what_a_reader_would(tmp_path: Path) -> None:
-    """A page with a missing picture, a console error, a raw diagram and a dead link: each is reported."""
+    """A page with a missing picture, a console error, a raw diagram, a dead link and a link to a place that its page
+    does not have: each is reported."""
+    (tmp_path / "other").mkdir()
+    (tmp_path / "other" / "index.html").write_text('<html><body><p id="here">x</p></body></html>')
     (tmp_path / "index.html").write_text(
         '<html><body><img src="gone.png"><script>console.error("boom")</script>'
-        '<pre class="mermaid"><code>flowchart LR\n a --> b</code></pre><a href="nowhere/">x</a></body></html>'
+        '<pre class="mermaid"><code>flowchart LR\n a --> b</code></pre><a href="nowhere/">x</a>'
+        '<a href="other/#here">fine</a><a href="other/#gone">y</a></body></html>'
     )
     with serve(tmp_path) as (base, missing):
         wrong = problems(tmp_path, base, "", missing)
     text = "\n".join(wrong)
     assert "gone.png" in text and "boom" in text and "Mermaid" in text and "nowhere/" in text, text
+    assert "other/#gone" in text and "#here" not in text, text
     assert MERMAID_SOURCE.search('<pre class="mermaid"><code>flowchart LR')
