@@ -2,7 +2,7 @@
 
 The package's docstrings cross-reference in Sphinx's roles (``:class:`~neurowalk.sim.engine.Streaming```), which
 the API pages' generator (mkdocstrings) leaves as text: ":class:" beside the name. :func:`plain_roles` shows such a
-reference as the name in code, the way Sphinx shows it (``~`` keeps the last part only).
+reference as the name in code, the way Sphinx shows it (``~`` keeps the last part only), linked to its entry.
 
 A number in the pages links to the committed JSON file it comes from, with its key path after ``#``
 (``benchmarks/bench.json#surrogate/steps_per_s``, see tests/numbers_checker.py). A browser shows such a link as
@@ -31,8 +31,25 @@ _ROLE = re.compile(r":(?:class|func|meth|mod|data|attr|exc|obj|const):<code>(~?)
 
 
 def plain_roles(html: str) -> str:
-    """``html`` with every rendered Sphinx role (":class:<code>X</code>") shown as ``<code>X</code>``."""
-    return _ROLE.sub(lambda m: f"<code>{m.group(2).rsplit('.', 1)[-1] if m.group(1) else m.group(2)}</code>", html)
+    """``html`` with every rendered Sphinx role (":class:<code>X</code>") shown as ``<code>X</code>``, linked to X's
+    entry in the API reference where it has one (an autorefs cross-reference, resolved when the site is written)."""
+
+    # a short name (":class:`Streaming`", ":meth:`Settings.apply`") stands for the entry whose full name ends so on
+    # the same page, where only one does
+    entries: dict[str, set[str]] = {}
+    for full in re.findall(r'id="(neurowalk\.[\w.]+)"', html):
+        parts = full.split(".")
+        for i in range(1, len(parts)):
+            entries.setdefault(".".join(parts[i:]), set()).add(full)
+
+    def name(m: re.Match[str]) -> str:
+        target = m.group(2)
+        shown = target.rsplit(".", 1)[-1] if m.group(1) else target
+        if not target.startswith("neurowalk.") and len(entries.get(target, ())) == 1:
+            (target,) = entries[target]
+        return f'<autoref identifier="{target}" optional><code>{shown}</code></autoref>'
+
+    return _ROLE.sub(name, html)
 
 
 def on_page_content(html: str, **kwargs: Any) -> str:

@@ -4,8 +4,11 @@ from __future__ import annotations
 
 import importlib.util
 import json
+import re
 from pathlib import Path
 from urllib.parse import unquote
+
+import pytest
 
 _SPEC = importlib.util.spec_from_file_location("mkdocs_hooks", Path(__file__).resolve().parents[2] / "mkdocs_hooks.py")
 hooks = importlib.util.module_from_spec(_SPEC)  # the hook lives beside mkdocs.yml, not in the package
@@ -13,11 +16,27 @@ _SPEC.loader.exec_module(hooks)
 plain_roles = hooks.plain_roles
 
 
-def test_roles_show_as_the_name_in_code():
+def test_roles_show_as_the_name_in_code_linked_where_documented():
     html = "see :class:<code>~neurowalk.sim.engine.Streaming</code> and :mod:<code>neurowalk.sim.batch</code>, ok"
-    assert plain_roles(html) == "see <code>Streaming</code> and <code>neurowalk.sim.batch</code>, ok"
-    assert plain_roles(":meth:<code>run</code>") == "<code>run</code>"
+    assert plain_roles(html) == (
+        'see <autoref identifier="neurowalk.sim.engine.Streaming" optional><code>Streaming</code></autoref> and '
+        '<autoref identifier="neurowalk.sim.batch" optional><code>neurowalk.sim.batch</code></autoref>, ok'
+    )
+    assert plain_roles(":meth:<code>run</code>") == '<autoref identifier="run" optional><code>run</code></autoref>'
     assert plain_roles("<code>x</code> :note: plain") == "<code>x</code> :note: plain"
+    # a short name is the entry of that name on the page, where there is one
+    page = '<h2 id="neurowalk.sim.engine.Streaming">Streaming</h2> see :class:<code>Streaming</code>'
+    assert '<autoref identifier="neurowalk.sim.engine.Streaming" optional>' in plain_roles(page)
+
+
+def test_the_built_api_page_links_its_cross_references():
+    """On the written site (where one was built), a role naming a documented class is a link to its entry."""
+    api = Path(__file__).resolve().parents[2] / "site" / "api" / "index.html"
+    if not api.is_file():
+        pytest.skip("no built site (mkdocs build)")
+    text = api.read_text(encoding="utf-8")
+    assert ":class:" not in text and "<autoref" not in text
+    assert re.search(r'<a class="autorefs autorefs-internal"[^>]*href="#neurowalk\.[\w.]+"', text)
 
 
 def test_a_number_link_points_at_its_row_on_the_numbers_page():
