@@ -115,3 +115,38 @@ def test_a_table_is_a_real_table_tinted_by_share(plt):
     r, g, _, _ = cells[1, 1].get_facecolor()
     assert r > g  # none escaped: red
     assert not ax.axison
+
+
+@pytest.mark.parametrize("dpi", [72, 120])
+def test_bar_counts_never_cover_a_bar_or_its_interval(plt, dpi):
+    fig, ax = plt.subplots(figsize=(6, 4), dpi=dpi, layout="constrained")
+    rates, lows, highs = [0.9, 0.02, 0.14, 0.5], [0.8, 0.0, 0.07, 0.45], [0.95, 0.1, 0.26, 0.55]
+    bars = ax.bar(range(4), rates, 0.6)
+    ax.errorbar(range(4), rates, yerr=[np.subtract(rates, lows), np.subtract(highs, rates)], fmt="none", c="k")
+    ax.set_ylim(0, 1.05)
+    counts = [
+        style.bar_count(ax, i, f"{i}1/1000", r, lo, hi)
+        for i, (r, lo, hi) in enumerate(zip(rates, lows, highs, strict=True))
+    ]
+    style.place_bar_counts(fig, counts)
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    for i, c in enumerate(counts):
+        box = c.text.get_bbox_patch().get_window_extent(renderer)
+        whisker_low, whisker_high = (ax.transData.transform((i, v))[1] for v in (lows[i], highs[i]))
+        for j, bar in enumerate(bars):
+            if j != i:  # another bar: never touched
+                assert not box.overlaps(bar.get_window_extent(renderer)), (i, j)
+        inside = box.y1 <= bars[i].get_window_extent(renderer).y1
+        assert inside == (i in (0, 3))  # the tall bars hold their counts; the short ones' go above
+        assert box.y1 < whisker_low if inside else box.y0 > whisker_high  # clear of the interval either way
+        assert ax.get_window_extent(renderer).contains(box.x0, box.y1)  # and inside the axes
+
+
+def test_a_count_that_would_stick_out_raises_the_axes(plt):
+    fig, ax = plt.subplots(figsize=(4, 3), layout="constrained")
+    ax.bar([0], [0.01])
+    ax.set_ylim(0, 1.05)
+    count = style.bar_count(ax, 0, "1/1000", 0.01, 0.0, 1.0)  # an interval up to the top: no room above it
+    style.place_bar_counts(fig, [count])
+    assert ax.get_ylim()[1] > 1.05 and count.text.get_position()[1] > 1.0

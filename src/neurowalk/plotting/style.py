@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import textwrap
 from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import matplotlib
@@ -190,6 +191,56 @@ def colorbar(mappable: ScalarMappable, ax: Axes | Sequence[Axes] | Any, label: s
 def time_colorbar(mappable: ScalarMappable, ax: Axes | Sequence[Axes] | Any, **kwargs: Any) -> Colorbar:
     """The colour bar of a path or scatter coloured by time: labelled ``time (s)``."""
     return colorbar(mappable, ax, TIME_LABEL, **kwargs)
+
+
+@dataclass(frozen=True)
+class BarCount:
+    """A count written up a bar (:func:`bar_count`): its text, the bar's top and the ends of its error bar."""
+
+    text: Text
+    top: float
+    low: float
+    high: float
+
+
+def bar_count(
+    ax: Axes, x: float, text: str, top: float, low: float | None = None, high: float | None = None
+) -> BarCount:
+    """A count written up the bar at ``x`` whose top is ``top`` (in a white box); ``low`` and ``high``: the ends of its
+    error bar, if it has one. :func:`place_bar_counts` puts it in place once the figure's layout is known."""
+    t = ax.text(x, 0.0, text, ha="center", va="bottom", rotation=90, fontsize=FONT["small"], bbox=COUNT_BOX, zorder=4)
+    low, high = top if low is None else min(low, top), top if high is None else max(high, top)
+    return BarCount(t, top, low, high)
+
+
+def place_bar_counts(fig: Figure, counts: Sequence[BarCount], foot: float = 0.03, gap_pt: float = 3.0) -> None:
+    """Put each of ``counts`` (on axes of ``fig`` with a linear y axis) where it covers no bar but its own.
+
+    The figure's layout is done here first (without rendering), for the sizes of the counts and the axes. A count
+    stands at its bar's foot, ``foot`` above the axis (data units), where its box ends ``gap_pt`` points or more under
+    the bar's top and its error bar's low end; else ``gap_pt`` points above the bar and its error bar. An axes is
+    raised where a count would stick out of its top.
+    """
+    if not counts:
+        return
+    fig.draw_without_rendering()
+    renderer = fig.canvas.get_renderer()
+    px = fig.dpi / 72.0  # pixels per point
+    tops: dict[Axes, float] = {}
+    for c in counts:
+        ax = c.text.axes
+        lo, hi = ax.get_ylim()
+        per_px = (hi - lo) / ax.get_window_extent(renderer).height  # data units of one pixel
+        box = c.text.get_bbox_patch()
+        shown = box.get_window_extent(renderer) if box is not None else c.text.get_window_extent(renderer)
+        height, gap = shown.height * per_px, gap_pt * px * per_px
+        y = foot if foot + height + gap <= c.low else c.high + gap
+        c.text.set_y(y)
+        tops[ax] = max(tops.get(ax, hi), y + height + gap)
+    for ax, top in tops.items():
+        lo, hi = ax.get_ylim()
+        if top > hi:
+            ax.set_ylim(lo, top)
 
 
 def draw_table(

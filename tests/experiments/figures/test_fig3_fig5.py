@@ -187,3 +187,44 @@ def test_sample_steps_keep_the_first_and_the_last():
     assert long_runs.sample_steps(25, 10).tolist() == [0, 10, 20, 24]
     assert long_runs.sample_steps(21, 10).tolist() == [0, 10, 20]
     assert long_runs.sample_steps(1, 10).tolist() == [0]
+
+
+def test_many_wedged_periods_are_all_circled_and_only_the_longest_labelled():
+    from matplotlib.patches import Circle
+
+    from neurowalk.experiments.suites import deadends_plot
+    from neurowalk.plotting.style import pyplot
+
+    _, ax = pyplot().subplots()
+    periods = [{"centre": [0.1 * k, 0.0], "extent_m": 0.2, "duration_s": 100.0 + k} for k in range(20)]
+    deadends_plot.draw_wedged(ax, periods)
+    assert sum(isinstance(p, Circle) for p in ax.patches) == 20
+    labels = sorted(t.get_text() for t in ax.texts)
+    most = deadends_plot.WEDGED_LABELS
+    assert labels == sorted(f"{100 + k} s" for k in range(20 - most, 20))  # the longest, each once
+    (entry,) = [line.get_label() for line in ax.get_lines()]
+    assert entry == f"wedged 20x, {most} longest labelled (s)"
+    _, ax = pyplot().subplots()
+    deadends_plot.draw_wedged(ax, periods[:2])  # few: every one labelled, as before
+    assert len(ax.texts) == 2 and ax.get_lines()[0].get_label() == "wedged (duration)"
+
+
+def test_coinciding_coverage_curves_stay_visible_and_say_so():
+    from neurowalk.experiments.suites import deadends_plot
+    from neurowalk.plotting.style import pyplot
+
+    _, ax = pyplot().subplots()
+    step = np.arange(0, 1000, 10)
+    a = {"p/step": step, "p/coverage": np.linspace(0, 0.2, 100)}
+    a |= {"s/step": step, "s/coverage": np.minimum(step / 1e4, 0.015), "b/step": step}
+    a["b/coverage"] = a["s/coverage"] + 0.001
+    keys = ["difficult (plastic)", "difficult (static)", "difficult (braitenberg)"]
+    a = {f"{k}/{part}": a[f"{k[11]}/{part}"] for k in keys for part in ("step", "coverage")}
+    deadends_plot._coverage(ax, a, keys, 10.0)
+    plastic, static, braitenberg = ax.get_lines()
+    assert plastic.get_label() == "plastic" and static.get_label() == "static"
+    assert braitenberg.get_label() == "braitenberg: on static's line\n(at most 0.1% apart)"
+    assert static.get_linewidth() > braitenberg.get_linewidth()  # the lower one wider
+    assert braitenberg.get_zorder() > static.get_zorder() and braitenberg.get_marker() == "o"
+    assert plastic.get_marker() == "None" and static.get_marker() == "None"
+    assert np.array_equal(braitenberg.get_ydata(), a["difficult (braitenberg)/coverage"])  # drawn as measured

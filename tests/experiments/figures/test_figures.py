@@ -84,3 +84,28 @@ def test_bad_arguments_exit_2(capsys):
     assert main(["figure"]) == 2
     assert main(["figure", "fig2", "--seed", "-3"]) == 2
     assert len(capsys.readouterr().err.strip().splitlines()) == 2
+
+
+def test_fig2_stable_fixed_points_are_marked_on_top_of_the_sweeps():
+    from neurowalk.experiments import Settings
+    from neurowalk.experiments.figures import fig2
+    from neurowalk.neural.analysis import single_neuron_branches
+
+    res = fig2.run(Settings(quick=True))
+    figure = fig2.plot(res)
+    d = figure.axes[3]
+    assert d.get_title() == "one neuron, b = 8.0"
+    sweeps = [line for line in d.get_lines() if "sweep" in line.get_label()]
+    marks = [line for line in d.get_lines() if line.get_marker() == "o" and len(line.get_xdata())]
+    assert len(marks) == 2 and all(m.get_zorder() > max(s.get_zorder() for s in sweeps) for m in marks)
+    ys = sorted(float(np.mean(m.get_ydata())) for m in marks)  # one marked branch at -1, one at +1
+    assert ys == pytest.approx([-1.0, 1.0], abs=0.003)
+    assert all(len(m.get_xdata()) == len(fig2.STABLE_MARKS) for m in marks)  # across the whole panel
+    legend = d.get_figure(root=False).legends[0]  # the top row's legend, under B-D
+    handles, labels = legend.legend_handles, [t.get_text() for t in legend.get_texts()]
+    assert labels[0] == fig2.STABLE_LABEL and handles[0].get_marker() == "o"
+    runs = fig2.stable_branches(*single_neuron_branches(8.0))  # its two stable branches span the whole panel
+    assert len(runs) == 2
+    for i, o in runs:
+        assert bool(np.all(np.diff(i) >= 0)) and i[0] <= -1.0 <= 1.0 <= i[-1]
+        assert bool(np.all(np.abs(o[(i >= -1) & (i <= 1)]) > 0.997))

@@ -4,8 +4,9 @@ A.   The two-neuron network (a diagram, as the paper's panel A): inputs I1, I2 t
      self connections b1, b2, mutual inhibitions c1, c2, outputs O1, O2.
 B-D. One neuron with self connection b: near-linear input-output relation for small b (B),
      hysteresis around b = 2.4 (C), a two-state switch that no input in [-1, 1] can flip for
-     large b (D). Stable fixed points solid, unstable dotted; the measured up and down sweeps on
-     top.
+     large b (D). Stable fixed points solid (carried on to O = -1 and 1 at the panel's edges) and
+     marked with dots on top of everything, unstable dotted; the measured up and down sweeps on
+     the lines.
 E.   The two-neuron network (right input held at -1, no obstacle): hysteresis of the left output
      for the static network (b = 2.4, c = -3.5), the authors' start (2, -3), and the learned
      weights (4.63, -7.04), which latch on.
@@ -48,6 +49,11 @@ LOOPS = ((2.4, -3.5), (2.0, -3.0), (4.63, -7.04))  # (b, c) of panel E
 #: What each loop of panel E is, and the network whose colour it takes (in E, and its marker in G).
 LOOP_NAMES = (("static network", "static"), ("the authors' start", "plastic-original"), ("learned", "plastic"))
 LOOP_MARKERS = ("*", "D", "o")
+#: Panels B-D: the legend entry of the stable fixed points, and the inputs at which a marker shows each stable branch
+#: (on top of the measured sweeps, which run along the branches).
+STABLE_LABEL = "stable fixed point"
+STABLE_MARKS = np.linspace(-0.9, 0.9, 7)
+STABLE_STYLE = {"color": "green", "mfc": "limegreen", "mec": "darkgreen", "mew": 1.0, "ms": 6.5}
 
 
 def _thresholds(loop: object) -> dict:
@@ -112,6 +118,42 @@ def run(s: Settings) -> Result:
     return Result(NAME, summary, arrays)
 
 
+def stable_branches(
+    branch_i: np.ndarray, branch_o: np.ndarray, stable: np.ndarray, reach: float = 1.0
+) -> list[tuple[np.ndarray, np.ndarray]]:
+    """The stable parts of one neuron's fixed-point curve (inputs, outputs; inputs increasing), each carried on to its
+    limit where it is an end of the curve.
+
+    The curve is sampled over outputs O in (-1, 1) (:func:`~neurowalk.neural.analysis.single_neuron_branches`); its
+    ends go on to O = -1 as I -> -inf and O = 1 as I -> +inf. A panel of inputs in [-``reach``, ``reach``] would lose
+    them (for a large self weight b the samples of the stable branches hardly reach into it), so an end is carried to
+    the panel's edge at O = -1 or 1: there the curve lies between the end's last sample and -1 or 1 (within 0.0025
+    of it for 801 samples), so the straight piece drawn is off by less than that."""
+    runs: list[tuple[np.ndarray, np.ndarray]] = []
+    edges = np.flatnonzero(np.diff(np.r_[0, stable.astype(int), 0]))
+    for start, stop in zip(edges[::2], edges[1::2], strict=True):
+        i, o = branch_i[start:stop], branch_o[start:stop]
+        if start == 0 and i[0] > -reach:  # the low end: O -> -1 as I -> -inf
+            i, o = np.r_[-reach, i], np.r_[-1.0, o]
+        if stop == len(stable) and i[-1] < reach:  # the high end: O -> 1 as I -> +inf
+            i, o = np.r_[i, reach], np.r_[o, 1.0]
+        order = np.argsort(i, kind="stable")
+        runs.append((i[order], o[order]))
+    return runs
+
+
+def draw_stable(ax: Axes, branch_i: np.ndarray, branch_o: np.ndarray, stable: np.ndarray) -> None:
+    """Panels B-D: the stable fixed points, a green line under the measured sweeps (which follow it) and markers with
+    a dark edge on top of them at the inputs :data:`STABLE_MARKS`, so that the stable states at O = -1 and 1, where the
+    sweeps lie, stay visible; one legend entry (line and marker)."""
+    for i, o in stable_branches(branch_i, branch_o, stable):
+        ax.plot(i, o, color=STABLE_STYLE["color"], lw=LINE["thick"], zorder=1.9)
+        marks = STABLE_MARKS
+        at = marks[(marks >= i[0]) & (marks <= i[-1])]
+        ax.plot(at, np.interp(at, i, o), "o", ls="none", zorder=4, **STABLE_STYLE)
+    ax.plot([], [], "o-", lw=LINE["thick"], label=STABLE_LABEL, **STABLE_STYLE)
+
+
 def draw_network(ax: Axes, a: float = 4.7) -> None:
     """Panel A: the two-neuron network. Excitation ends in an arrow head, inhibition in a bar."""
     ax.set(xlim=(0, 1), ylim=(0, 1), aspect="equal")
@@ -158,14 +200,18 @@ def plot(res: Result) -> Figure:
     draw_network(panels[0], s.get("input_weight_a", 4.7))
     for i, (b, ax) in enumerate(zip(PANEL_B, panels[1:], strict=True)):
         bi, bo, st = a[f"n{i}_branch_i"], a[f"n{i}_branch_o"], a[f"n{i}_stable"].astype(bool)
-        ax.plot(np.where(st, bi, np.nan), bo, color="green", lw=LINE["thick"], label="stable fixed point")
         ax.plot(np.where(~st, bi, np.nan), bo, color="orange", ls=":", lw=LINE["thick"], label="unstable fixed point")
         lv, out = a[f"n{i}_levels"], a[f"n{i}_out"]
         half = lv.size // 2
         ax.plot(lv[:half], out[:half], "b-", lw=LINE["thin"], alpha=0.7, label="sweep up (measured)")
         ax.plot(lv[half:], out[half:], "r-", lw=LINE["thin"], alpha=0.7, label="sweep down (measured)")
+        draw_stable(ax, bi, bo, st)
         ax.set(xlim=(-1, 1), ylim=(-1.05, 1.05), xlabel="input I", ylabel="output O", title=f"one neuron, b = {b}")
-    top.legend(handles=panels[1].get_legend_handles_labels()[0], loc="outside lower center", ncol=4)
+    handles, labels = panels[1].get_legend_handles_labels()
+    order = [labels.index(k) for k in (STABLE_LABEL, "unstable fixed point")] + [
+        j for j, k in enumerate(labels) if "sweep" in k
+    ]
+    top.legend(handles=[handles[j] for j in order], loc="outside lower center", ncol=4)
     ax, f_ax, g_ax = bottom.subplots(1, 3)
     panels += [ax, f_ax, g_ax]
     for i, loop in enumerate(s["two_neuron_loops"]):

@@ -33,18 +33,30 @@ if TYPE_CHECKING:
     from matplotlib.gridspec import SubplotSpec
 
 
-def draw_wedged(ax: Axes, periods: list[dict]) -> None:
-    """Circle each wedged period (its centre, radius its extent, at least 0.3 m) labelled with its duration (s).
+#: At most this many wedged periods of a path are labelled with their duration (the longest); the others are circled.
+WEDGED_LABELS = 6
 
-    A label goes above its circle, or below it, or beside it, whichever is first clear of the labels placed
-    before (so that nearby periods' labels do not cover each other).
+
+def draw_wedged(ax: Axes, periods: list[dict], most: int = WEDGED_LABELS) -> None:
+    """Circle each wedged period (its centre, radius its extent, at least 0.3 m); label the ``most`` longest with
+    their durations (s), so that the labels of a long run wedged many times do not pile up; the legend entry says how
+    many there are and which are labelled.
+
+    Longest first, a label goes above its circle, or below it, or beside it, whichever is first clear of the labels
+    placed before (so that nearby periods' labels do not cover each other).
     """
     placed: list[tuple[float, float]] = []
+    longest = sorted(periods, key=lambda p: -p["duration_s"])[:most]
     if periods:  # the legend's entry for the circles
-        ax.plot([], [], "o", mfc="none", mec="k", ms=11, ls="none", label="wedged (duration)")
+        what = "wedged (duration)"
+        if len(longest) < len(periods):
+            what = f"wedged {len(periods)}x, {most} longest labelled (s)"
+        ax.plot([], [], "o", mfc="none", mec="k", ms=11, ls="none", label=what)
     for p in periods:
         (x, y), r = p["centre"], max(p.get("extent_m", 0.3), 0.3)
         ax.add_patch(Circle((x, y), r, fill=False, ec="k", lw=1.2, ls="--", zorder=6))
+    for p in longest:
+        (x, y), r = p["centre"], max(p.get("extent_m", 0.3), 0.3)
         spots = [
             ((x, y + r), "center", "bottom"),
             ((x, y - r), "center", "top"),
@@ -124,15 +136,44 @@ def _weights(ax: Axes, a: dict, key: str, r: dict, hz: float) -> None:
     legend_outside(ax)
 
 
+#: Two coverage curves closer than this share of the panel's height everywhere are drawn as coinciding (H).
+COINCIDE = 0.02
+
+
 def _coverage(ax: Axes, a: dict, keys: list[str], hz: float) -> None:
-    """The share of the free area visited over time, one line per long run (not in the paper)."""
+    """The share of the free area visited over time, one line per long run (not in the paper).
+
+    Curves that coincide (closer than :data:`COINCIDE` of the panel's height at every kept step) stay all visible:
+    the first one drawn wide, each later one narrower on top of it with markers, and its legend entry names the
+    curve it lies on and the greatest difference between them.
+    """
+    curves = {key: (a[f"{key}/step"] / hz, np.asarray(a[f"{key}/coverage"], dtype=float)) for key in keys}
+    top = max((float(np.nanmax(c)) for _, c in curves.values() if np.isfinite(c).any()), default=0.0)
+    nets = {key: key[key.find("(") + 1 : key.rfind(")")] if "(" in key else key for key in keys}
+    under: dict[str, list[tuple[str, float]]] = {key: [] for key in keys}  # each curve: the earlier ones it lies on
+    for j, key in enumerate(keys):
+        t, c = curves[key]
+        for other in keys[:j]:
+            t2, c2 = curves[other]
+            if len(t) == len(t2) and np.array_equal(t, t2) and len(c):
+                gap = float(np.nanmax(np.abs(c - c2)))
+                if gap <= COINCIDE * top:
+                    under[key].append((other, gap))
     for key in keys:
-        net = key[key.find("(") + 1 : key.rfind(")")] if "(" in key else key
-        ax.plot(a[f"{key}/step"] / hz, a[f"{key}/coverage"], lw=LINE["thick"], label=net, **network_line(net))
+        t, c = curves[key]
+        layer, above = len(under[key]), sum(key in [o for o, _ in under[k]] for k in keys)
+        style = {**network_line(nets[key]), "lw": LINE["thick"] * (1.0 + above), "zorder": 2 + layer}
+        if layer:
+            style.update(marker="o", ms=5, mfc="white", mew=1.2, markevery=(0.04 * layer, 0.12))
+        label = nets[key]
+        if layer:
+            other, gap = under[key][0]
+            label += f": on {nets[other]}'s line\n(at most {gap:.1%} apart)"
+        ax.plot(t, c, label=label, **style)
     ax.set(xlabel="time (s)", ylabel="coverage (share of free cells)", title="coverage (not in the paper)")
     ax.set_ylim(bottom=0)
     ax.yaxis.set_major_formatter(lambda v, _: f"{v:.0%}")
-    legend_outside(ax, side="below", ncol=3)
+    legend_outside(ax, side="below", ncol=1 if any(under.values()) else 3)
 
 
 def _traces(fig: Figure, spec: SubplotSpec, a: dict, hz: float) -> Axes:

@@ -15,7 +15,16 @@ from matplotlib.ticker import MaxNLocator, PercentFormatter
 
 from neurowalk.experiments import Result
 from neurowalk.experiments.suites.random_envs import FAILURE_CLASSES
-from neurowalk.plotting.style import COUNT_BOX, FONT, legend_outside, letter_panels, network_colour, pyplot
+from neurowalk.plotting.style import (
+    FONT,
+    BarCount,
+    bar_count,
+    legend_outside,
+    letter_panels,
+    network_colour,
+    place_bar_counts,
+    pyplot,
+)
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -35,9 +44,11 @@ def clutter_bins(lo: int, hi: int, n: int = CLUTTER_BINS) -> list[tuple[int, int
     return [(a, min(a + width - 1, hi)) for a in range(lo, hi + 1, width)]
 
 
-def _rates(ax: Axes, s: dict[str, Any], names: list[str], both: bool) -> None:
-    """Success rate of each network under both rules (hatched: the coverage rule), Wilson 95% intervals, counts
-    written at the bars' feet; the paper's 49/50 and its interval as a grey band."""
+def _rates(ax: Axes, s: dict[str, Any], names: list[str], both: bool) -> list[BarCount]:
+    """Success rate of each network under both rules (hatched: the coverage rule), Wilson 95% intervals, the paper's
+    49/50 and its interval as a grey band; returns the bars' counts, to be put in place (at the bar's foot, or above
+    it and its interval where it is too short: :func:`~neurowalk.plotting.style.place_bar_counts`) once drawn."""
+    counts = []
     x = np.arange(len(names))
     width = 0.38 if both else 0.8
     rules = [("success", "success_rate", 0.85, None)]
@@ -53,8 +64,8 @@ def _rates(ax: Axes, s: dict[str, Any], names: list[str], both: bool) -> None:
         ax.errorbar(x + dx, rate, yerr=yerr, fmt="none", c="k", capsize=3)
         for i, c in enumerate(names):
             k = s["counts"][c]
-            ax.text(i + dx, 0.03, f"{k[ok_key]}/{k['environments']}", ha="center", va="bottom", rotation=90,
-                    fontsize=FONT["small"], bbox=COUNT_BOX)  # fmt: skip
+            label = f"{k[ok_key]}/{k['environments']}"
+            counts.append(bar_count(ax, i + dx, label, float(rate[i]), float(ci[i, 0]), float(ci[i, 1])))
     handles = [Patch(fc="0.5", alpha=0.85, ec="k", lw=0.5, label="not stuck at the end")]
     if both:
         handles.append(Patch(fc="0.5", alpha=0.45, ec="k", lw=0.5, hatch="//", label="coverage rule"))
@@ -72,6 +83,7 @@ def _rates(ax: Axes, s: dict[str, Any], names: list[str], both: bool) -> None:
     ax.set(ylim=(0, 1.05), xlabel="network", ylabel="success rate (Wilson 95% interval)", title="success rate")
     ax.yaxis.set_major_formatter(PercentFormatter(1.0))
     ax.legend(handles=handles, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
+    return counts
 
 
 def _coverage(ax: Axes, s: dict[str, Any], names: list[str]) -> None:
@@ -147,7 +159,7 @@ def plot(res: Result) -> Figure:
     names = list(s["counts"])
     both = all("success_coverage" in s["counts"][c] for c in names)  # a json of the code before the coverage rule
     fig, ax = plt.subplots(2, 2, figsize=(16, 11), layout="constrained")
-    _rates(ax[0, 0], s, names, both)
+    counts = _rates(ax[0, 0], s, names, both)
     _coverage(ax[0, 1], s, names)
     _by_clutter(ax[1, 0], s, names, both)
     _by_class(ax[1, 1], s, names)
@@ -158,4 +170,5 @@ def plot(res: Result) -> Figure:
         f"Table 2 on {s['body']}{on}: {s['counts'][names[0]]['environments']} random environments, "
         f"{s.get('box_size_m', 0.6):g} m boxes, {s['steps'] / hz:g} s at {hz:g} Hz"
     )
+    place_bar_counts(fig, counts)
     return fig
