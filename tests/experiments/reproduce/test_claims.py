@@ -63,10 +63,12 @@ def test_value_tolerances():
 def test_overall_and_bad_verdicts():
     yes = holds("a", "x", True, 1, "why")
     no = holds("b", "x", False, 0, "why")
-    assert overall([yes, yes])[0] == "reproduced"
-    assert overall([no, no])[0] == "not"
-    verdict, reason = overall([yes, no])
-    assert verdict == "partly" and "b" in reason
+    half = Claim("c", 1, 0.5, "partly", "rule")
+    assert overall([yes, yes]) == ("reproduced", "all 2 reproduced")
+    assert overall([no, no]) == ("not", "all 2 not reproduced: b; b")
+    assert overall([yes, no]) == ("partly", "1 of 2 reproduced; not: b")
+    # none reproduced but not all not: partly, as the report's rule says ("not where all are not")
+    assert overall([half, no, half]) == ("partly", "0 of 3 reproduced; partly: c; c; not: b")
     assert overall([])[0] == "not"
     with pytest.raises(ValueError, match="verdict"):
         Claim("a", 1, 1, "maybe", "rule")

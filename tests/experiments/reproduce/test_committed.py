@@ -10,6 +10,7 @@ from neurowalk.experiments.reproduce.claims import VERDICTS
 from neurowalk.experiments.reproduce.gallery import gallery
 from neurowalk.experiments.reproduce.plan import PLAN
 from neurowalk.experiments.reproduce.report import render, totals
+from neurowalk.experiments.reproduce.runner import rejudged
 from neurowalk.experiments.reproduce.timing import TIMES, measured_times
 
 RESULTS = Path(__file__).parents[3] / "docs" / "results"
@@ -59,3 +60,12 @@ def test_every_quick_figure_took_under_ninety_seconds():
 
 def test_figure_times_are_the_committed_runs():
     assert json.loads(TIMES.read_text()) == measured_times(RESULTS, QUICK)
+
+
+def test_every_committed_record_is_what_the_judges_say_now():
+    """A changed judge (or verdict wording) is carried into the committed records: each record's claims, verdict
+    and reason are those the current code gives from the run's committed numbers."""
+    for out in (RESULTS, QUICK):
+        for item in PLAN:
+            rec = json.loads((out / f"{item.name}.json").read_text())
+            assert rejudged(item, rec, out) == rec, (out.name, item.name)

@@ -110,14 +110,14 @@ def holds(what: str, paper: str, ok: bool, measured: Any, why: str) -> Claim:
 
 
 def overall(claims: list[Claim]) -> tuple[str, str]:
-    """An experiment's verdict from its claims, and its reason: reproduced where all are, not where none is (and
-    none partly), partly otherwise."""
+    """An experiment's verdict from its claims, and its reason: reproduced where all are, not where all are not,
+    partly otherwise; the reason counts the claims reproduced and names the others under their verdicts."""
     if not claims:
         return "not", "no result was measured"
     counts = {v: sum(c.verdict == v for c in claims) for v in VERDICTS}
     if counts["reproduced"] == len(claims):
-        return "reproduced", f"all {len(claims)} results reproduced"
+        return "reproduced", f"all {len(claims)} reproduced"
     if counts["not"] == len(claims):
-        return "not", f"none of {len(claims)} results reproduced"
-    off = "; ".join(c.what for c in claims if c.verdict != "reproduced")
-    return "partly", f"{counts['reproduced']} of {len(claims)} reproduced; not fully: {off}"
+        return "not", f"all {len(claims)} not reproduced: " + "; ".join(c.what for c in claims)
+    off = "; ".join(f"{v}: " + "; ".join(c.what for c in claims if c.verdict == v) for v in VERDICTS[1:] if counts[v])
+    return "partly", f"{counts['reproduced']} of {len(claims)} reproduced; {off}"

@@ -64,7 +64,8 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
         "run is reproduced where two thirds or more of the seeds end that way, partly where some do; a count such "
         "as 49/50 is reproduced where the paper's rate lies in the measured 95% interval, partly within 10 points; a "
         "time of the real robot is reproduced within a factor of 1.5, partly within 3; a property stated in words "
-        "is reproduced where it holds. A result is reproduced where all its claims are, not where none is.",
+        "is reproduced where it holds. A result is reproduced where all its claims are, not where all are not, and "
+        "partly otherwise; its reason counts the claims reproduced and names the others under their verdicts.",
         "",
         "| result | the paper | verdict | why | figure | time |",
         "|---|---|---|---|---|---|",

@@ -175,6 +175,15 @@ def item_record(item: Item, run: Run, record: dict[str, Any], out: Path, quick: 
     }
 
 
+def rejudged(item: Item, record: dict[str, Any], out: Path) -> dict[str, Any]:
+    """``item``'s written ``record`` (``DIR/NAME.json``) with its claims, verdict and reason judged again by the
+    current code from the run's numbers in ``out`` (the run itself is not repeated): what a changed judge says."""
+    summary = json.loads((out / record["files"]["json"]).read_text(encoding="utf-8"))
+    claims = item.judge(summary, record["quick"])
+    verdict, reason = overall(claims)
+    return {**record, "claims": [c.to_json() for c in claims], "verdict": verdict, "reason": reason}
+
+
 def write_item(item: Item, run: Run, record: dict[str, Any], out: Path, quick: bool) -> Path:
     """Judge ``item`` from its finished run and write ``DIR/NAME.json``; its path."""
     path = out / f"{item.name}.json"
