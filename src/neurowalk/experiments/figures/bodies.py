@@ -48,12 +48,14 @@ from neurowalk.experiments.suites.real_robot import run_store_paths
 from neurowalk.experiments.suites.timing import steps_for
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting.style import (
-    COUNT_BOX,
     FONT,
+    BarCount,
+    bar_count,
     legend_outside,
     letter_panels,
     network_colour,
     network_line,
+    place_bar_counts,
     pyplot,
 )
 from neurowalk.runners.specs import spec_key
@@ -252,6 +254,7 @@ def plot(res: Result) -> Figure:
         )
     colours = [network_colour(r["network"]) for r in rows_]
     handles: list[Patch] = []
+    counts: list[BarCount] = []
     for j, (ok_key, rate_key, ci_key, label, alpha, hatch) in enumerate(rules):
         dx = (j - (len(rules) - 1) / 2) * width
         rate = np.array([r[rate_key] for r in rows_])
@@ -261,8 +264,8 @@ def plot(res: Result) -> Figure:
         yerr = np.maximum(0.0, [rate - ci[:, 0], ci[:, 1] - rate])
         ax.errorbar(x + dx, rate, yerr=yerr, fmt="none", c="k", capsize=3)
         for i, r in enumerate(rows_):
-            ax.text(i + dx, 0.03, f"{r[ok_key]}/{r['table2_environments']}", ha="center", va="bottom", rotation=90,
-                    fontsize=FONT["small"], bbox=COUNT_BOX)  # fmt: skip
+            text = f"{r[ok_key]}/{r['table2_environments']}"
+            counts.append(bar_count(ax, i + dx, text, float(rate[i]), float(ci[i, 0]), float(ci[i, 1])))
     ax.set_xticks(x, labels, fontsize=FONT["note"])
     ax.set(ylim=(0, 1.05), xlabel="body, network", ylabel="success (Wilson 95% interval)")
     ax.yaxis.set_major_formatter(PercentFormatter(1.0))
@@ -274,4 +277,5 @@ def plot(res: Result) -> Figure:
     ax.set_title(title)
     letter_panels([*panels, ax])
     fig.suptitle(f"The same networks on other robots ({s.get('variant', 'paper')} variant)")
+    place_bar_counts(fig, counts)  # once the layout is done: no count covers another bar or its error bar
     return fig
