@@ -177,3 +177,15 @@ def test_a_resumed_bar_starts_its_clock_at_its_first_new_unit(monkeypatch) -> No
     bar.update(100)
     assert bar.format_dict["rate"] == pytest.approx(100)
     bar.close()
+
+
+def test_the_estimate_in_words_covers_the_committed_measurement() -> None:
+    measured = json.loads((ROOT / "docs/benchmarks/compile.json").read_text())["commands"]
+    low, high = (float(x) for x in progress.COMPILE_TIME.removeprefix("about ").removesuffix(" s").split("-"))
+    assert all(low <= c["first_run_extra_s"] <= high for c in measured.values()), measured
+
+
+def test_the_page_of_the_first_steps_names_the_compile() -> None:
+    for page in ("README.md", "docs/index.md"):
+        text = (ROOT / page).read_text()
+        assert "benchmarks/compile.json#commands/" in text and "compile" in text, page
