@@ -144,6 +144,22 @@ def test_the_note_is_written_where_stderr_is_a_terminal(fresh, monkeypatch) -> N
     assert terminal.getvalue().startswith(NOTE)
 
 
+def test_a_note_that_cannot_be_written_does_not_stop_the_work(fresh, monkeypatch) -> None:
+    class Gone(io.StringIO):
+        def write(self, s: str) -> int:
+            raise BrokenPipeError(32, "Broken pipe")
+
+    def driver_gone() -> None:
+        raise OSError("the pipe to the driver is closed")
+
+    monkeypatch.setenv(progress.NOTE_ENV, "1")
+    monkeypatch.setattr(sys, "stderr", Gone())
+    progress.compiling(Path("/cache"))  # no error
+    monkeypatch.setattr(progress, "_said", False)
+    monkeypatch.setattr(progress, "_forward", driver_gone)
+    progress.compiling(Path("/cache"))  # a worker whose driver is gone: no error either
+
+
 @pytest.mark.parametrize("quiet", [True, False])
 def test_quiet_silences_the_note(quiet, fresh, monkeypatch, capsys) -> None:
     monkeypatch.setenv(progress.NOTE_ENV, "1")

@@ -53,14 +53,16 @@ def compiling(where: Path) -> None:
     if _said:
         return
     _said = True
-    if _forward is not None:
-        _forward()
-        return
-    if multiprocessing.parent_process() is not None or not _wanted():
-        return
-    line = f"neurowalk: compiling its kernels once for this version ({COMPILE_TIME}); cached in {where}"
-    tqdm.write(line, file=sys.stderr)  # above any progress bar on stderr, which is drawn again below it
-    sys.stderr.flush()
+    # A note never stops the work: a driver gone (its pipe closed), a stderr closed or a reader gone (broken pipe).
+    with contextlib.suppress(OSError, ValueError):
+        if _forward is not None:
+            _forward()
+            return
+        if multiprocessing.parent_process() is not None or not _wanted():
+            return
+        line = f"neurowalk: compiling its kernels once for this version ({COMPILE_TIME}); cached in {where}"
+        tqdm.write(line, file=sys.stderr)  # above any progress bar on stderr, which is drawn again below it
+        sys.stderr.flush()
 
 
 def _wanted() -> bool:
