@@ -14,6 +14,11 @@ wait for each other: with another process holding one of two cores (an RL learne
 OpenMP threads ran the vectorised environment at about 0.6 of one thread's rate, two ``workqueue`` threads at about
 one thread's; on an idle machine OpenMP is the faster (``benchmarks/bench_threading.py``,
 ``docs/benchmarks/threading.json``).
+
+numba compiles a kernel when it is first called with its argument types, or loads it from the cache: a command
+compiles only the kernels its work calls. The first compile of a process is announced in one line on stderr
+(:func:`neurowalk.progress.compiling`), from numba's own compile event, which fires only where no cached copy was
+found: never on a warm cache.
 """
 
 from __future__ import annotations
@@ -27,6 +32,9 @@ from pathlib import Path
 from typing import Any, TypeVar
 
 from numba import config, njit
+from numba.core import event
+
+from neurowalk import progress
 
 F = TypeVar("F", bound=Callable[..., Any])
 #: numba's threading layer for neurowalk's parallel kernels where ``NUMBA_THREADING_LAYER`` does not choose one.
@@ -67,6 +75,23 @@ def jit(fn: F) -> F:
 def jit_parallel(fn: F) -> F:
     """:func:`jit` with ``parallel=True``: ``numba.prange`` loops run on numba's threads (all cores by default)."""
     return _compiled(fn, parallel=True)
+
+
+class _CompileNote(event.Listener):  # type: ignore[misc]
+    """numba's ``numba:compile`` event (a compile, after no cached copy was found): the compile note of a kernel of
+    neurowalk's."""
+
+    def on_start(self, ev: event.Event) -> None:
+        dispatcher = ev.data.get("dispatcher") if isinstance(ev.data, dict) else None
+        module = getattr(getattr(dispatcher, "py_func", None), "__module__", "") or ""
+        if module.split(".")[0] == __name__.split(".")[0]:
+            progress.compiling(cache_dir())
+
+    def on_end(self, ev: event.Event) -> None:
+        pass
+
+
+event.register("numba:compile", _CompileNote())
 
 
 def _compiled(fn: F, parallel: bool) -> F:

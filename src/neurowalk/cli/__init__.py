@@ -8,6 +8,7 @@ of this package by what they run (``figure``, ``run``, ``sweep``, ``optimize``, 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import sqlite3
 import sys
 from collections.abc import Sequence
@@ -105,6 +106,16 @@ def _kept(args: argparse.Namespace | None) -> str:
     return f"what was finished is kept in {out}; fix the cause (e.g. free space), then run the same command again"
 
 
+def _quiet(args: argparse.Namespace) -> contextlib.AbstractContextManager[None]:
+    """A command's ``--quiet`` silences the compile note too (:func:`neurowalk.progress.quiet_notes`, imported only
+    then: it loads tqdm, which a command line that is refused does not need)."""
+    if not getattr(args, "quiet", False):
+        return contextlib.nullcontext()
+    from neurowalk.progress import quiet_notes
+
+    return quiet_notes()
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``neurowalk`` command on ``argv`` (default ``sys.argv[1:]``); returns the exit status.
 
@@ -120,7 +131,8 @@ def _main(argv: Sequence[str] | None) -> int:
     try:
         args = parse(list(sys.argv[1:] if argv is None else argv))
         check_workers(getattr(args, "workers", None))  # every command's --workers, in one place
-        return _COMMANDS[args.command](args)
+        with _quiet(args):
+            return _COMMANDS[args.command](args)
     except UsageError as e:
         print(f"neurowalk: error: {one_line(str(e))}", file=sys.stderr)
         return 2

@@ -37,7 +37,7 @@ def add_baseline_parser(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--quick", action="store_true", help="tiny budgets (a smoke test, not a result)")
     count_args(b, _SIZES)
     b.add_argument("--seed", type=int, default=0, help="training seed (default 0)")
-    b.add_argument("--quiet", action="store_true", help="no progress bars")
+    b.add_argument("--quiet", action="store_true", help="no progress bars, nor the note while the kernels compile")
 
 
 def cmd_baseline(args: argparse.Namespace) -> int:

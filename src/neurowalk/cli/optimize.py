@@ -51,7 +51,7 @@ def add_optimize_parser(sub: argparse._SubParsersAction) -> None:
     o.add_argument("--heldout-seed", type=int, default=0, help="table seed of the held-out environments (0)")
     o.add_argument("--sigma0", type=float, default=0.2, help="initial step size in the normalised space (0.2)")
     backend_args(o)
-    o.add_argument("--quiet", action="store_true", help="no progress bar")
+    o.add_argument("--quiet", action="store_true", help="no progress bar, nor the note while the kernels compile")
 
 
 def cmd_optimize(args: argparse.Namespace) -> int:

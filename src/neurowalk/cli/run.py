@@ -30,7 +30,7 @@ def add_run_parsers(sub: argparse._SubParsersAction) -> None:
     engine_args(r)
     r.add_argument("--out", type=Path, default=Path("out/run"), help="output folder (default out/run)")
     r.add_argument("--video", action="store_true", help="also render DIR/video.mp4 (headless)")
-    r.add_argument("--quiet", action="store_true", help="no progress bar")
+    r.add_argument("--quiet", action="store_true", help="no progress bar, nor the note while the kernels compile")
     r.add_argument(
         "--overwrite",
         action="store_true",

@@ -64,7 +64,7 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     s.add_argument("--gait", default=None, metavar="NAME[,NAME...]", help="gaits: {gaits} (default wave)")
     s.add_argument("--out", type=Path, required=True, help="output folder (the store; resumes what is there)")
     s.add_argument("--export", choices=("parquet", "csv"), default=None, help="also write DIR/results.parquet|csv")
-    s.add_argument("--quiet", action="store_true", help="no progress bar")
+    s.add_argument("--quiet", action="store_true", help="no progress bar, nor the note while the kernels compile")
     variant_args(s, many=True)
     engine_args(s)
 

@@ -16,7 +16,6 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
-from tqdm import tqdm
 
 from neurowalk.compiled import jit
 from neurowalk.envs.explore import ExploreEnv
@@ -24,6 +23,7 @@ from neurowalk.envs.task import STUCK_RADIUS, STUCK_WINDOW, within_disc
 from neurowalk.envs.vector import ExploreVectorEnv
 from neurowalk.neural.sensory import STEER, SensoryNetwork, sensory_input, sensory_step
 from neurowalk.neural.variants import get_variant
+from neurowalk.progress import Progress
 
 NETWORKS: tuple[str, ...] = ("plastic", "static", "braitenberg")
 
@@ -103,7 +103,7 @@ def evaluate(
     runs = []
     bar = None
     if progress:
-        bar = tqdm(total=len(seeds) * steps, unit="step", desc="evaluate", mininterval=0.5)
+        bar = Progress(total=len(seeds) * steps, unit="step", desc="evaluate", mininterval=0.5)
     for seed in seeds:
         obs, info = env.reset(seed=int(seed))
         if hasattr(policy, "reset"):
@@ -155,7 +155,7 @@ def evaluate_batch(
     window[0] = info["pose"][:, :2]
     bar = None
     if progress:
-        bar = tqdm(total=n * steps, unit="step", desc="evaluate", mininterval=0.5)
+        bar = Progress(total=n * steps, unit="step", desc="evaluate", mininterval=0.5)
     for k in range(1, steps + 1):
         obs, _, _, _, info = env.step(np.clip(policy(obs), -1.0, 1.0))
         window[k % len(window)] = info["pose"][:, :2]

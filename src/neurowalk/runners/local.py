@@ -8,7 +8,8 @@ which job each worker runs. A worker that dies (killed, segfault, ``os._exit``) 
 others go on; an idle one that dies costs nothing. Workers ignore SIGINT and SIGTERM (a terminal's Ctrl-C reaches
 the whole process group): the driver decides. When the driver stops early (an error, Ctrl-C, the consumer closing the
 generator) it kills its workers and reaps them before it goes on, so that no worker outlives the stop and no
-interpreter exit waits on one; a driver killed outright takes its workers with it (``PR_SET_PDEATHSIG``).
+interpreter exit waits on one; a driver killed outright takes its workers with it (``PR_SET_PDEATHSIG``). A worker
+that compiles the kernels says so down its pipe, and the driver writes the note (:mod:`neurowalk.progress`), once.
 """
 
 from __future__ import annotations
@@ -27,11 +28,14 @@ from multiprocessing.connection import wait as mp_wait
 from multiprocessing.reduction import ForkingPickler
 from typing import Any
 
-from tqdm import tqdm
-
+from neurowalk.compiled import cache_dir
+from neurowalk.progress import Progress, compiling, forward_notes
 from neurowalk.runners.jobs import JobResult, WorkerDiedError, call_timed, world_groups
 from neurowalk.runners.stopping import deferred, stop_requested
 from neurowalk.sim.episode import EngineOptions, Episode, EpisodeConfig, run_episode
+
+#: What a worker sends down its pipe as it starts compiling the kernels (a job's result is a pickle: never this).
+COMPILING = b"compiling"
 
 
 def run_unordered(
@@ -151,6 +155,9 @@ class _Pool:
                 data = w.conn.recv_bytes() if w.conn.poll() else None
             except (EOFError, OSError):  # died before or while sending its result
                 data = None
+            if data == COMPILING:  # not its result: it compiles the kernels (still busy with job i)
+                compiling(cache_dir())
+                continue
             if data is None:
                 self._drop(w)
                 out.append((i, None))
@@ -191,6 +198,7 @@ def _serve(conn: Connection, parent: int) -> None:
     die_with_parent(parent)
     for sig in (signal.SIGINT, signal.SIGTERM):  # a Ctrl-C (or a stop) of the process group: the driver decides
         signal.signal(sig, signal.SIG_IGN)
+    forward_notes(lambda: conn.send_bytes(COMPILING))  # the driver writes the compile note, above its bar
     while True:
         try:
             data = conn.recv_bytes()
@@ -279,7 +287,7 @@ def run_many(
     jobs = [jobs[i] for i in rest]
     if not jobs:
         return out
-    with tqdm(total=len(jobs), unit="run", desc=desc, disable=not progress, mininterval=0.5) as bar:
+    with Progress(total=len(jobs), unit="run", desc=desc, disable=not progress, mininterval=0.5) as bar:
         results = run_unordered(_run_and_keep, jobs, workers=1 if len(jobs) <= 1 else workers)
         try:
             for d in results:

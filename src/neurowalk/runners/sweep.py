@@ -20,8 +20,7 @@ from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from tqdm import tqdm
-
+from neurowalk.progress import Progress
 from neurowalk.runners import ray_backend
 from neurowalk.runners.jobs import JobResult, world_groups
 from neurowalk.runners.local import run_unordered
@@ -130,7 +129,9 @@ def run_sweep(
     try:
         if todo:
             results = _backend(backend, fn, [s for _, s in todo], workers, address, retries, options or EngineOptions())
-            bar = tqdm(total=len(todo), unit="run", desc=desc, disable=not progress, mininterval=0.5, file=sys.stderr)
+            bar = Progress(
+                total=len(todo), unit="run", desc=desc, disable=not progress, mininterval=0.5, file=sys.stderr
+            )
             for d in results:
                 key, spec = todo[d.index]
                 with deferred():  # a run is stored whole, or not at all

@@ -15,7 +15,6 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from tqdm import tqdm
 
 from neurowalk.arenas import ArenaSpec, arena_options, make_arena
 from neurowalk.body.registry import BODIES as REGISTRY
@@ -26,6 +25,7 @@ from neurowalk.fileio import to_jsonable
 from neurowalk.neural.cpg import GAITS, CpgParams
 from neurowalk.neural.motor import LocomotionParams
 from neurowalk.neural.variants import check_overrides, get_variant
+from neurowalk.progress import Progress
 from neurowalk.sim.config_values import FrozenDict, real, typed_arena_opts, whole
 from neurowalk.sim.run_summary import RunSummary
 from neurowalk.sim.trajectory import Trajectory
@@ -337,8 +337,10 @@ class RunInterruptedError(Exception):
         self.episode = episode
 
 
-def progress_bar(total: int, on: bool, desc: str = "episode") -> Any:
-    """A tqdm bar over ``total`` control steps (rate, time left), or None when ``on`` is false."""
+def progress_bar(total: int, on: bool, desc: str = "episode", initial: int = 0) -> Any:
+    """A bar over ``total`` control steps, ``initial`` of them done before (a resumed run), or None when ``on`` is
+    false. Its rate and time left count from its first update on (:class:`~neurowalk.progress.Progress`): the first
+    steps carry the kernels' compile on a cold cache."""
     if not on:
         return None
-    return tqdm(total=total, unit="step", desc=desc, mininterval=0.5, smoothing=0.1)
+    return Progress(total=total, initial=initial, unit="step", desc=desc, mininterval=0.5, smoothing=0.1)

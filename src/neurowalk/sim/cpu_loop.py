@@ -54,9 +54,7 @@ class CpuLoop(OneWorldPerCall):
         rec = Recorder(cfg.steps, body, stream, start)
         if stream.resume is not None:
             rec.restore(stream.resume.head)
-        bar = progress_bar(cfg.steps, options.progress)
-        if bar is not None:
-            bar.update(start)
+        bar = progress_bar(cfg.steps, options.progress, initial=start)
         t0 = time.perf_counter()
         done = start
         try:

@@ -27,12 +27,12 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from tqdm import tqdm
 
 from neurowalk.compiled import jit
 from neurowalk.envs.vector import ExploreVectorEnv
 from neurowalk.experiments import cma_record
 from neurowalk.experiments.cma_record import import_cma
+from neurowalk.progress import Progress
 from neurowalk.runners.stopping import deferred
 
 HIDDEN = 4
@@ -163,7 +163,9 @@ def train(
     state = _state(cma, path, settings)
     bar = None
     if progress and len(state["curve"]) < generations:
-        bar = tqdm(total=generations, initial=len(state["curve"]), unit="gen", desc="neuroevolution", mininterval=0.5)
+        bar = Progress(
+            total=generations, initial=len(state["curve"]), unit="gen", desc="neuroevolution", mininterval=0.5
+        )
     while len(state["curve"]) < generations:
         returns = _generation(state, path)
         if bar is not None:

@@ -24,11 +24,11 @@ from typing import Any
 
 import gymnasium as gym
 import numpy as np
-from tqdm import tqdm
 
 from neurowalk.envs.vector import ExploreVectorEnv
 from neurowalk.experiments.baselines.evolved_rnn import features
 from neurowalk.fileio import write_json
+from neurowalk.progress import Progress as ProgressBar
 from neurowalk.runners.stopping import deferred
 
 ALGOS: tuple[str, ...] = ("ppo", "rppo")
@@ -208,7 +208,9 @@ def _callback(rl: Rl, record: dict[str, Any], n_envs: int, total: int, progress:
             self.bar = None
             self.returns = np.zeros(n_envs)
             if progress:
-                self.bar = tqdm(total=total, initial=record["env_steps"], unit="step", desc="training", mininterval=0.5)
+                self.bar = ProgressBar(
+                    total=total, initial=record["env_steps"], unit="step", desc="training", mininterval=0.5
+                )
 
         def _on_step(self) -> bool:
             self.returns += self.locals["rewards"]

@@ -25,7 +25,6 @@ from typing import Any
 
 import mujoco
 import numpy as np
-from tqdm import tqdm
 
 from neurowalk.arenas import make_arena
 from neurowalk.body import surrogate_kernel as kern
@@ -50,6 +49,7 @@ from neurowalk.experiments.calibration.subjects import (
     subject,
 )
 from neurowalk.neural.motor import LocomotionNetwork
+from neurowalk.progress import Progress
 from neurowalk.runners.local import run_unordered
 
 
@@ -103,7 +103,7 @@ def steady_poses(
 def _map(fn: Any, jobs: list[Any], workers: int, progress: bool, desc: str) -> list[Any]:
     """``[fn(j) for j in jobs]`` on the project's process pool, with a progress bar; the first error is raised."""
     out: list[Any] = [None] * len(jobs)
-    with tqdm(total=len(jobs), unit="run", desc=desc, disable=not progress, mininterval=0.5) as bar:
+    with Progress(total=len(jobs), unit="run", desc=desc, disable=not progress, mininterval=0.5) as bar:
         for d in run_unordered(fn, jobs, workers=workers):
             if d.error is not None:
                 raise d.error

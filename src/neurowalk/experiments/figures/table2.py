@@ -15,8 +15,6 @@ from __future__ import annotations
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from tqdm import tqdm
-
 from neurowalk.body.registry import bodies_where, body_info
 from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.stores import run_store
@@ -45,6 +43,7 @@ from neurowalk.experiments.suites.random_envs_plot import PAPER
 from neurowalk.experiments.suites.random_envs_plot import plot as draw
 from neurowalk.experiments.suites.timing import steps_for
 from neurowalk.neural.variants import variant_names
+from neurowalk.progress import Progress
 from neurowalk.runners.local import run_unordered
 from neurowalk.runners.specs import run_spec, spec_key
 from neurowalk.sim.config import engine_refusal
@@ -205,7 +204,7 @@ def _reclassify(
     """
     stale = [(s, k) for s, k in zip(specs, keys, strict=True) if _predates_classes(results[k])]
     old, old_keys = [s for s, _ in stale], [k for _, k in stale]
-    with tqdm(total=len(old), unit="run", desc="reclassify", disable=not old, mininterval=0.5) as bar:
+    with Progress(total=len(old), unit="run", desc="reclassify", disable=not old, mininterval=0.5) as bar:
         for done in run_unordered(run_spec, old, workers=workers):
             if done.error is not None:
                 raise done.error
