@@ -9,13 +9,20 @@ otherwise, in an HTML comment (invisible on the site and on GitHub):
   reproduction ran them); each ``neurowalk`` command in it is parsed by the command's own parser, so an option or
   a value that no longer exists fails;
 - ``<!-- test: skip: WHY -->``: not run, for the reason given (it installs from the network, it opens a window);
-- ``<!-- test: file: NAME -->``: a file the reader saves as NAME (e.g. a study): written to the folder, not run.
+- ``<!-- test: file: NAME -->``: a file the reader saves as NAME (e.g. a study): written to the folder, not run;
+- ``<!-- test: output -->`` before a ``text`` block: the output the block before it prints (a ``bash`` block's
+  stdout, a ``python`` block's ``print``). Each of its non-blank lines must match a line of that output, in the
+  same order (other lines may come between); ``...`` in a line stands for any text (a time, a number that varies),
+  the rest must be there as written.
 
-Blocks in other languages (``text``, ``mermaid``, ``bibtex``, ``json``) are output or pictures, not code.
+Blocks in other languages (``text``, ``mermaid``, ``bibtex``, ``json``) are output or pictures, not code; a ``text``
+block is compared with what the code printed only where ``test: output`` says so.
 """
 
 from __future__ import annotations
 
+import contextlib
+import io
 import os
 import re
 import shlex
@@ -29,7 +36,7 @@ BIN = str(Path(sys.executable).parent)
 TIMEOUT_S = 300  # a block that takes longer belongs to `test: parse`
 #: Fences that hold code to run.
 RUN = ("bash", "python")
-KINDS = ("run", "slow", "parse", "skip", "file")
+KINDS = ("run", "slow", "parse", "skip", "file", "output")
 #: Pages made by code (the CLI reference, the gallery): their blocks are output, not code to copy.
 GENERATED = ("docs/cli.md", "docs/gallery.md")
 _FENCE = re.compile(r"^```(\w*)[^\n]*\n(.*?)^```\s*$", re.S | re.M)
@@ -64,13 +71,15 @@ def blocks(page: str) -> list[Block]:
     found = []
     for m in _FENCE.finditer(text):
         lang = m.group(1)
-        if lang not in RUN:
-            continue
         before = text[: m.start()].rstrip("\n").rsplit("\n", 1)[-1]
         d = _DIRECTIVE.search(before)
         kind, why = (d.group(1), d.group(2) or "") if d else ("run", "")
+        if lang not in RUN and not (lang == "text" and kind == "output"):
+            continue
         if kind not in KINDS:
             raise ValueError(f"{page}: unknown test kind {kind!r} (one of {', '.join(KINDS)})")
+        if (kind == "output") != (lang == "text"):
+            raise ValueError(f"{page}: `test: output` marks a text block, the output of the block before it")
         if kind in ("parse", "skip", "file") and not why:
             raise ValueError(f"{page}: `test: {kind}` needs a reason")
         line = text.count("\n", 0, m.start()) + 1
@@ -89,6 +98,28 @@ def commands(code: str) -> list[str]:
     return out
 
 
+def output_matches(expected: str, printed: str) -> bool:
+    """Whether every non-blank line of ``expected`` matches a line of ``printed``, in order (``...``: any text)."""
+    lines = iter(printed.splitlines())
+    for want in filter(str.strip, expected.splitlines()):
+        pattern = re.compile(".*?".join(re.escape(part) for part in want.strip().split("...")))
+        if not any(pattern.fullmatch(line.strip()) for line in lines):
+            return False
+    return True
+
+
+class _Tee(io.StringIO):
+    """What a python block prints: kept, and shown as well."""
+
+    def __init__(self, shown) -> None:
+        super().__init__()
+        self.shown = shown
+
+    def write(self, text: str) -> int:
+        self.shown.write(text)
+        return super().write(text)
+
+
 def _env() -> dict[str, str]:
     env = dict(os.environ)
     env["PATH"] = BIN + os.pathsep + env.get("PATH", "")
@@ -100,11 +131,19 @@ def run_blocks(found: list[Block], folder: Path) -> list[str]:
     """Run ``found`` in order in ``folder``; the skipped ones' reasons."""
     namespace: dict = {"__name__": "__main__"}
     skipped = []
+    printed: str | None = None  # what the last block run printed (None: the last block was not run)
     old = Path.cwd()
     os.environ.update(_env())  # python blocks that start a command find this environment's `neurowalk`, as bash's do
     os.chdir(folder)
     try:
         for block in found:
+            if block.kind == "output":
+                assert printed is not None, f"{block.id}: `test: output` follows no block that runs"
+                assert output_matches(block.code, printed), (
+                    f"{block.id}: the block before it printed\n{printed[-3000:]}\nnot\n{block.code}"
+                )
+                continue
+            printed = None
             if block.kind == "skip":
                 skipped.append(f"{block.id}: {block.why}")
             elif block.kind == "parse":
@@ -114,13 +153,16 @@ def run_blocks(found: list[Block], folder: Path) -> list[str]:
                     compile(block.code, block.id, "exec")  # a file that no longer parses fails here
                 Path(block.why).write_text(block.code, encoding="utf-8")
             elif block.lang == "python":
-                exec(compile(block.code, block.id, "exec"), namespace)
+                with contextlib.redirect_stdout(_Tee(sys.stdout)) as out:
+                    exec(compile(block.code, block.id, "exec"), namespace)
+                printed = out.getvalue()
             else:
                 argv = ["bash", "-e", "-o", "pipefail", "-c", block.code]
                 done = subprocess.run(argv, env=_env(), capture_output=True, text=True, timeout=TIMEOUT_S)
                 assert done.returncode == 0, (
                     f"{block.id} failed ({done.returncode}):\n{done.stdout[-3000:]}\n{done.stderr[-3000:]}"
                 )
+                printed = done.stdout
     finally:
         os.chdir(old)
     return skipped

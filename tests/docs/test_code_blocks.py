@@ -65,3 +65,36 @@ def test_blocks_of_a_page_share_a_folder_and_a_namespace(tmp_path: Path) -> None
         Block("x.md", 9, "python", "assert x + 1 == 42\n", "run", ""),
     ]
     assert run_blocks(steps, tmp_path) == []
+
+
+def test_an_output_block_is_compared_with_what_the_block_before_printed(tmp_path: Path) -> None:
+    """`test: output`: its lines must be printed, in order, `...` standing for what varies; a wrong line fails."""
+    shell = Block("x.md", 1, "bash", "echo 'sweep: 24 runs: 16 already done, in 0.9 s'\necho done\n", "run", "")
+    said = Block("x.md", 5, "text", "sweep: 24 runs: 16 already done, in ... s\ndone\n", "output", "")
+    assert run_blocks([shell, said], tmp_path) == []
+    wrong = Block("x.md", 5, "text", "sweep: 24 runs: 0 already done, in ... s\n", "output", "")
+    with pytest.raises(AssertionError, match="printed"):
+        run_blocks([shell, wrong], tmp_path)
+    swapped = Block("x.md", 5, "text", "done\nsweep: ...\n", "output", "")
+    with pytest.raises(AssertionError, match="printed"):
+        run_blocks([shell, swapped], tmp_path)
+    python = Block("x.md", 1, "python", "print('turned', 87, 'deg')\n", "run", "")
+    assert run_blocks([python, Block("x.md", 3, "text", "turned ... deg\n", "output", "")], tmp_path) == []
+    with pytest.raises(AssertionError, match="printed"):
+        run_blocks([python, Block("x.md", 3, "text", "turned ... rad\n", "output", "")], tmp_path)
+
+
+def test_an_output_block_needs_a_block_that_ran(tmp_path: Path) -> None:
+    skipped = Block("x.md", 1, "bash", "neurowalk view\n", "skip", "a window")
+    with pytest.raises(AssertionError, match="follows no block that runs"):
+        run_blocks([skipped, Block("x.md", 3, "text", "anything\n", "output", "")], tmp_path)
+
+
+def test_the_output_directive_marks_text_blocks_only(tmp_path: Path) -> None:
+    page = tmp_path / "page.md"
+    page.write_text("```bash\necho hi\n```\n\n<!-- test: output -->\n```text\nhi\n```\n\n```text\nnot compared\n```\n")
+    found = blocks(str(page))
+    assert [(b.lang, b.kind) for b in found] == [("bash", "run"), ("text", "output")]
+    page.write_text("<!-- test: output -->\n```bash\necho hi\n```\n")
+    with pytest.raises(ValueError, match="marks a text block"):
+        blocks(str(page))
