@@ -1,0 +1,127 @@
+"""The `view` command: a run's 3-D replay in the browser (served, or written as one HTML file), or a run live in
+MuJoCo's own viewer on a desktop (`--native`)."""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+import threading
+from pathlib import Path
+
+from neurowalk.cli.common import UsageError, episode_args, episode_config
+
+LOCAL = "127.0.0.1"
+
+
+def add_view_parser(sub: argparse._SubParsersAction) -> None:
+    """The `view` subcommand."""
+    v = sub.add_parser(
+        "view",
+        help="a run's 3-D replay with its neural traces in the browser (RUN_DIR), or a run live in MuJoCo's "
+        "viewer (--native, needs a display)",
+    )
+    v.add_argument(
+        "run_dir", nargs="?", type=Path, metavar="RUN_DIR", help="a run's output folder, as `neurowalk run` writes it"
+    )
+    v.add_argument("--port", type=int, default=8080, help="the page's port (default 8080)")
+    v.add_argument(
+        "--host",
+        default=LOCAL,
+        help=f"the address to serve on (default {LOCAL}: this machine only; 0.0.0.0: every network interface)",
+    )
+    v.add_argument("--export", type=Path, metavar="FILE.html", help="write the replay as one HTML file and exit")
+    v.add_argument(
+        "--native",
+        action="store_true",
+        help="run the settings below live in MuJoCo's own viewer (needs a display) instead of replaying RUN_DIR",
+    )
+    episode_args(v)
+
+
+def cmd_view(args: argparse.Namespace) -> int:
+    """`neurowalk view`: the replay of RUN_DIR on a page until Ctrl-C (exit 0), or written to ``--export``."""
+    if args.native:
+        if args.run_dir is not None:
+            raise UsageError(f"view --native runs the settings given live, not a run's folder: drop {args.run_dir}")
+        return _native(args)
+    if args.run_dir is None:
+        raise UsageError("view needs RUN_DIR, a run's folder (or --native to watch a run live on a desktop)")
+    if not 0 < args.port < 65536:
+        raise UsageError(f"--port must be 1-65535, got {args.port}")
+    if args.export is not None and args.export.suffix.lower() not in (".html", ".htm"):
+        raise UsageError(f"--export writes an HTML file: name it FILE.html, got {str(args.export)!r}")
+    if args.export is not None and not args.export.resolve().parent.is_dir():
+        raise UsageError(f"--export {str(args.export)!r}: its folder does not exist")
+    from neurowalk.plotting.replay import RunFolderError, load_replay
+    from neurowalk.plotting.web import PortError, ReplayPage, check_port, export_html, require_viser
+
+    try:
+        require_viser()
+    except ImportError as e:
+        raise UsageError(str(e)) from None
+    if args.export is None:
+        try:
+            check_port(args.host, args.port)
+        except PortError as e:
+            raise UsageError(f"{e} (choose another with --port, or --host)") from None
+    try:
+        replay = load_replay(args.run_dir)
+    except RunFolderError as e:
+        raise UsageError(str(e)) from None
+    if args.export is not None:
+        size = export_html(replay, args.export)
+        print(f"wrote {args.export} ({size / 1e6:.1f} MB): the replay of {args.run_dir}, plays with no server")
+        return 0
+    page = ReplayPage(replay, host=args.host, port=args.port)
+    where = "this machine only" if args.host == LOCAL else f"every client that reaches {args.host}"
+    print(
+        f"serving the replay of {args.run_dir} on http://{args.host}:{args.port} ({where}; from another machine: "
+        f"ssh -L {args.port}:localhost:{args.port} THIS_HOST, then open http://localhost:{args.port}); Ctrl-C stops",
+        flush=True,
+    )
+    _wait_for_stop()
+    page.close()
+    return 0
+
+
+def _wait_for_stop() -> None:
+    """Block until SIGINT or SIGTERM."""
+    stop = threading.Event()
+    old = {sig: signal.signal(sig, lambda *_: stop.set()) for sig in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        while not stop.wait(0.5):
+            pass
+    finally:
+        for sig, handler in old.items():
+            signal.signal(sig, handler)
+
+
+def _native(args: argparse.Namespace) -> int:
+    """`neurowalk view --native`: the settings run live in MuJoCo's viewer."""
+    from neurowalk.body.registry import bodies_where
+    from neurowalk.render import has_display, view
+
+    cfg = episode_config(args)
+    viewable = bodies_where(lambda b: b.viewer)
+    if args.body not in viewable:
+        raise UsageError(f"view needs --body {' or '.join(viewable)}, got {args.body!r}")
+    if not has_display():
+        print(
+            "neurowalk view: no display here (DISPLAY is not set); use `neurowalk run --video` for a headless video",
+            file=sys.stderr,
+        )
+        return 1
+    from neurowalk.sim.episode import build, seeds
+
+    _, body, ctrl = build(cfg)  # type: ignore[arg-type]
+    body_rng, ctrl_rng, _ = seeds(cfg)  # type: ignore[arg-type]
+    body.reset(body_rng)
+    ctrl.reset(ctrl_rng)
+
+    def step() -> None:
+        body.apply(ctrl.act(body.observe()))
+        body.advance()
+
+    view(body.model, body.data, step, control_hz=body.control_hz)
+    return 0

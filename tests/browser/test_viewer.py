@@ -1,0 +1,83 @@
+"""The web replay as a person sees it, in headless Chromium (software WebGL): the robot is drawn, moving the slider
+with the keyboard moves the robot and each trace's marker, and an exported file plays with no server. Screenshots go
+to $NEUROWALK_SCREENSHOTS (else a temporary folder) for a person to look at."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import pytest
+from cdp import CHROMIUM, Browser, changed
+
+pytest.importorskip("viser", reason="the web viewer needs the `web` extra (viser)")
+if CHROMIUM is None:
+    pytest.skip("no chromium to look at the page with (Debian: apt install chromium)", allow_module_level=True)
+
+from neurowalk.plotting.replay import load_replay
+from neurowalk.plotting.web import ReplayPage, free_port
+
+SCENE = (0.0, 0.1, 0.7, 1.0)  # the 3-D view: left of the control panel, below the notices
+PANEL = (0.74, 0.2, 1.0, 1.0)  # the control panel's traces
+SLIDER = "document.querySelector('[role=slider]')"
+
+
+def _shots() -> Path:
+    folder = Path(os.environ.get("NEUROWALK_SCREENSHOTS") or tempfile.mkdtemp(prefix="viewer-"))
+    folder.mkdir(parents=True, exist_ok=True)
+    return folder
+
+
+def _run(folder: Path, *args: str) -> Path:
+    cmd = [sys.executable, "-m", "neurowalk", "run", "--arena", "narrow-passage", "--out", str(folder), *args]
+    subprocess.run(cmd, check=True, capture_output=True)
+    return folder
+
+
+@pytest.mark.parametrize("body", ["amosii", "surrogate"])
+def test_the_slider_moves_the_robot_and_the_markers(body: str, tmp_path: Path):
+    replay = load_replay(_run(tmp_path / body, "--body", body, "--steps", "2000"))
+    page = ReplayPage(replay, port=free_port())
+    try:
+        with Browser() as b:
+            b.open(f"http://127.0.0.1:{page.server.get_port()}/")
+            b.wait_for(f"{SLIDER} !== null && document.querySelectorAll('canvas').length > 1")
+            time.sleep(3)
+            first, again = b.screenshot(), b.screenshot()
+            still = changed(first, again, SCENE)
+            b.evaluate(f"{SLIDER}.focus()")
+            b.key("End", "End", 35)  # the slider to the run's last step, as a person would with the keyboard
+            b.wait_for(f"{SLIDER}.getAttribute('aria-valuenow') === '{replay.steps - 1}'")
+            time.sleep(2)
+            assert int(page.slider.value) == replay.steps - 1  # the page told the server
+            last = b.screenshot()
+            for part in page.scene.parts:
+                part.visible = False
+            time.sleep(2)
+            empty = b.screenshot()
+            b.save(last, _shots() / f"viewer-{body}.png")
+    finally:
+        page.close()
+    assert still < 1e-4  # a page left alone does not change
+    assert changed(first, last, SCENE) > 1e-3  # the robot (and its path) moved
+    assert changed(first, last, PANEL) > 1e-4  # the traces' markers followed
+    assert changed(last, empty, SCENE) > 5e-4  # the robot is drawn: without it the scene differs
+
+
+def test_an_exported_file_plays_with_no_server(tmp_path: Path):
+    run = _run(tmp_path / "run", "--steps", "1000")
+    html = tmp_path / "replay.html"
+    subprocess.run([sys.executable, "-m", "neurowalk", "view", str(run), "--export", str(html)], check=True)
+    with Browser() as b:
+        b.open(html.as_uri())
+        b.wait_for("document.querySelectorAll('canvas').length > 0")
+        time.sleep(4)
+        early = b.screenshot()
+        time.sleep(6)
+        later = b.screenshot()
+        b.save(later, _shots() / "viewer-export.png")
+    assert changed(early, later, (0.0, 0.2, 1.0, 0.9)) > 1e-3  # it plays: the robot walks on
