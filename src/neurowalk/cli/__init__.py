@@ -19,10 +19,11 @@ from neurowalk.cli.common import Parser, UsageError, out_file, out_folder
 from neurowalk.cli.figure import add_figure_parser, cmd_figure, figure_listing
 from neurowalk.cli.optimize import add_optimize_parser, cmd_optimize
 from neurowalk.cli.reproduce import add_reproduce_parser, cmd_reproduce
-from neurowalk.cli.run import add_run_parsers, cmd_run, cmd_view, signals_held
+from neurowalk.cli.run import add_run_parsers, cmd_run, signals_held
 from neurowalk.cli.study import add_study_parser, cmd_study
 from neurowalk.cli.sweep import add_sweep_parser, cmd_sweep
 from neurowalk.cli.tools import add_tool_parsers, cmd_arenas, cmd_bench, cmd_bodies, cmd_calibrate, cmd_export
+from neurowalk.cli.view import add_view_parser, cmd_view
 from neurowalk.fileio import write_error
 from neurowalk.runners.stopping import stop_on_signals, stop_status
 
@@ -56,7 +57,8 @@ def build_parser(named: str | None = None) -> argparse.ArgumentParser:
     add_figure_parser(sub, named)
     add_study_parser(sub, named)
     add_reproduce_parser(sub)
-    add_run_parsers(sub)  # run, view
+    add_run_parsers(sub)
+    add_view_parser(sub)
     add_tool_parsers(sub)  # calibrate, bench, arenas, bodies, export-model
     add_sweep_parser(sub)
     add_optimize_parser(sub)

@@ -1,4 +1,4 @@
-"""The commands of one closed-loop run: `run` (resumable, its final save shielded from signals) and `view`."""
+"""The command of one closed-loop run: `run` (resumable, its final save shielded from signals)."""
 
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ from neurowalk.fileio import write_json
 
 
 def add_run_parsers(sub: argparse._SubParsersAction) -> None:
-    """The `run` and `view` subcommands."""
+    """The `run` subcommand."""
     r = sub.add_parser("run", help="one closed-loop run: writes DIR/summary.json, trajectory.npz, run.png")
     episode_args(r)
     engine_args(r)
@@ -43,9 +43,6 @@ def add_run_parsers(sub: argparse._SubParsersAction) -> None:
         "steps), or from step 0 where it has none; its own settings are used, those given here are "
         "ignored",
     )
-
-    v = sub.add_parser("view", help="watch a closed-loop run live in MuJoCo's viewer (needs a display)")
-    episode_args(v)
 
 
 def cmd_run(args: argparse.Namespace) -> int:
@@ -332,36 +329,6 @@ def signals_held() -> Iterator[None]:
     finally:
         for sig, handler in old.items():
             signal.signal(sig, handler)
-
-
-def cmd_view(args: argparse.Namespace) -> int:
-    """`neurowalk view`: the run live in MuJoCo's viewer."""
-    from neurowalk.body.registry import bodies_where
-    from neurowalk.render import has_display, view
-
-    cfg = episode_config(args)
-    viewable = bodies_where(lambda b: b.viewer)
-    if args.body not in viewable:
-        raise UsageError(f"view needs --body {' or '.join(viewable)}, got {args.body!r}")
-    if not has_display():
-        print(
-            "neurowalk view: no display here (DISPLAY is not set); use `neurowalk run --video` for a headless video",
-            file=sys.stderr,
-        )
-        return 1
-    from neurowalk.sim.episode import build, seeds
-
-    _, body, ctrl = build(cfg)  # type: ignore[arg-type]
-    body_rng, ctrl_rng, _ = seeds(cfg)  # type: ignore[arg-type]
-    body.reset(body_rng)
-    ctrl.reset(ctrl_rng)
-
-    def step() -> None:
-        body.apply(ctrl.act(body.observe()))
-        body.advance()
-
-    view(body.model, body.data, step, control_hz=body.control_hz)
-    return 0
 
 
 def _factor(x: float) -> str:
