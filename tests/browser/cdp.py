@@ -106,6 +106,18 @@ class Browser:
         data = base64.b64decode(self.send("Page.captureScreenshot", format="png")["data"])
         return image.imread(io.BytesIO(data), format="png")[..., :3]
 
+    def settled(self, timeout_s: float = 30.0) -> np.ndarray:
+        """A screenshot once the page has stopped changing (two in a row the same, half a second apart)."""
+        deadline = time.monotonic() + timeout_s
+        last = self.screenshot()
+        while time.monotonic() < deadline:
+            time.sleep(0.5)
+            now = self.screenshot()
+            if changed(last, now) == 0.0:
+                return now
+            last = now
+        raise TimeoutError(f"the page still changed after {timeout_s} s")
+
     def save(self, picture: np.ndarray, path: Path) -> None:
         """Write a screenshot for a person to look at."""
         image.imsave(path, picture)
