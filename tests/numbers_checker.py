@@ -38,8 +38,8 @@ NAMING = re.compile(
     re.IGNORECASE,
 )
 #: Numbers of the paper's model and of the robot that the text names (not results): counts of parts. AMOSII's 19
-#: joints (its 19 DOF) are named as such too: "the 19 joint targets", "AMOSII's 19 actuator names".
-WORDS = re.compile(r"^(?:19-DOF|19 DOF|19 (?:joint|actuator)|two-neuron|\d+-neuron)")
+#: joints (its 19 DOF) are named as such too: "the 19 joint targets", "AMOSII's 19 actuator names"; "3-D" is a word.
+WORDS = re.compile(r"^(?:3-D|19-DOF|19 DOF|19 (?:joint|actuator)|two-neuron|\d+-neuron)")
 YEAR = re.compile(r"^(?:19|20)\d\d$")
 
 

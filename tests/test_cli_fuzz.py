@@ -233,6 +233,8 @@ VIEW_CASES = [
     case("backbone", "view", "--native", "--body", "surrogate", "--backbone"),
     case("reflexes", "view", "--native", "--body", "surrogate", "--climb"),
     case("drop", "view", GOOD, "--native"),
+    case("--port", "run", "--web", "--port", "70000", "--out", GOOD),
+    case("256.0.0.1", "run", "--web", "--host", "256.0.0.1", "--out", GOOD),
     case("RUN_DIR", "view"),
     case("run's folder", "view", FILES_DIR),
     case("--port", "view", GOOD, "--port", "0"),

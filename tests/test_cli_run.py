@@ -57,10 +57,10 @@ def test_arenas_lists_options(capsys):
     assert "open" in out and "distance=1.0" in out
 
 
-def test_view_without_display_says_so(monkeypatch, capsys):
+def test_native_view_without_display_says_so(monkeypatch, capsys):
     monkeypatch.delenv("DISPLAY", raising=False)
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
-    assert main(["view", "--steps", "10"]) == 1
+    assert main(["view", "--native", "--steps", "10"]) == 1
     assert "no display" in capsys.readouterr().err
 
 

@@ -11,7 +11,6 @@ import io
 import itertools
 import json
 import re
-import shutil
 import subprocess
 import tempfile
 import time
@@ -20,17 +19,8 @@ from typing import Any
 
 import numpy as np
 from matplotlib import image
+from site_check import CHROMIUM, FLAGS  # software WebGL: the viewer's scene draws on a machine without a GPU
 from websockets.sync.client import connect
-
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-#: Software WebGL (SwiftShader): the viewer's scene draws on a machine without a GPU.
-FLAGS = [
-    "--headless=new",
-    "--no-sandbox",
-    "--hide-scrollbars",
-    "--enable-unsafe-swiftshader",
-    "--use-angle=swiftshader",
-]
 
 
 class Browser:
@@ -106,14 +96,15 @@ class Browser:
         data = base64.b64decode(self.send("Page.captureScreenshot", format="png")["data"])
         return image.imread(io.BytesIO(data), format="png")[..., :3]
 
-    def settled(self, timeout_s: float = 30.0) -> np.ndarray:
-        """A screenshot once the page has stopped changing (two in a row the same, half a second apart)."""
+    def settled(self, timeout_s: float = 60.0) -> np.ndarray:
+        """A screenshot once the page has stopped changing (two in a row alike but for a few pixels: a blinking
+        caret, half a second apart)."""
         deadline = time.monotonic() + timeout_s
         last = self.screenshot()
         while time.monotonic() < deadline:
             time.sleep(0.5)
             now = self.screenshot()
-            if changed(last, now) == 0.0:
+            if changed(last, now) < 2e-5:
                 return now
             last = now
         raise TimeoutError(f"the page still changed after {timeout_s} s")

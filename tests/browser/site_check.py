@@ -23,7 +23,19 @@ from pathlib import Path
 from urllib.parse import unquote, urljoin, urlparse
 
 CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-FLAGS = ["--headless=new", "--no-sandbox", "--disable-gpu", "--hide-scrollbars"]
+#: Software WebGL (SwiftShader): the gallery's replays draw with it, where --disable-gpu left their pages hanging.
+FLAGS = [
+    "--headless=new",
+    "--no-sandbox",
+    "--hide-scrollbars",
+    "--enable-unsafe-swiftshader",
+    "--use-angle=swiftshader",
+]
+#: What the replays' client (viser's, in the gallery's frames) says on every load: its own notes, not faults.
+VISER_NOTES = re.compile(
+    r'^"(?:Detected chrome version \d+|WebGL support: true,.*|Embedded data loaded! Saved with Viser version: [\d.]+'
+    r'|THREE\.Clock: This module has been deprecated\..*|\[Performance\] Setting DPR to [\d.]+; FPS=[\d/]+)"'
+)
 SCREENSHOTS = {"home": "", "tutorial": "tutorials/study/", "report": "results/report/"}
 #: A Mermaid diagram's source keyword: once drawn, the page's DOM holds the picture, not these words.
 MERMAID_SOURCE = re.compile(r"<(?:pre|div)[^>]*mermaid[^>]*>\s*(?:<code>)?\s*(?:flowchart|graph|sequenceDiagram)\b")
@@ -74,6 +86,7 @@ def load(url: str, budget_ms: int = 6000) -> tuple[str, list[str]]:
         timeout=120,
     )
     console = [line.split("] ", 1)[-1] for line in done.stderr.splitlines() if ":CONSOLE" in line]
+    console = [line for line in console if not VISER_NOTES.match(line)]
     return done.stdout, console
 
 

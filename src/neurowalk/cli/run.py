@@ -20,6 +20,7 @@ from neurowalk.cli.common import (
     out_folder,
     stop_line,
 )
+from neurowalk.cli.view import check_web, keep_serving, live_page, web_args
 from neurowalk.fileio import write_json
 
 
@@ -30,6 +31,13 @@ def add_run_parsers(sub: argparse._SubParsersAction) -> None:
     engine_args(r)
     r.add_argument("--out", type=Path, default=Path("out/run"), help="output folder (default out/run)")
     r.add_argument("--video", action="store_true", help="also render DIR/video.mp4 (headless)")
+    r.add_argument(
+        "--web",
+        action="store_true",
+        help="show the run in the browser as it runs, on `neurowalk view`'s page (the web extra); the page stays "
+        "after the run, until Ctrl-C",
+    )
+    web_args(r)
     r.add_argument("--quiet", action="store_true", help="no progress bar, nor the note while the kernels compile")
     r.add_argument(
         "--overwrite",
@@ -70,6 +78,8 @@ def cmd_run(args: argparse.Namespace) -> int:
     cfg = episode_config(args)
     options = check_engine(args)  # after the config's own checks: a bad body is named before a device is looked for
     _check_memory(cfg.steps)
+    if args.web:
+        check_web(args)
     from neurowalk.fileio import FolderBusyError, folder_lock
     from neurowalk.sim.trajectory import PartWriter
 
@@ -154,7 +164,20 @@ def _clear(out: Path, parts: Any) -> None:
 
 
 def _run_into(args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume: Any, options: Any) -> int:
-    """Run ``cfg`` with its rows streamed into ``parts``, then write DIR's files; the exit status."""
+    """Run ``cfg`` with its rows streamed into ``parts`` (and to a page, with ``--web``), then write DIR's files;
+    the exit status."""
+    page = live_page(cfg, parts, args) if args.web else None
+    try:
+        return _run_and_save(args, cfg, out, parts, resume, options, page)
+    finally:
+        if page is not None:
+            page.close()
+
+
+def _run_and_save(
+    args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume: Any, options: Any, page: Any
+) -> int:
+    """:func:`_run_into` with the page (or None) made."""
     from neurowalk.fileio import write_error
     from neurowalk.runners.stopping import interrupted as interrupted_by_signal
     from neurowalk.runners.stopping import stop_status
@@ -167,7 +190,8 @@ def _run_into(args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume:
                 cfg,
                 options=dataclasses.replace(options, progress=not args.quiet),
                 stream=Streaming(
-                    sink=parts,
+                    sink=page.live if page is not None else parts,
+                    **({"chunk": page.live.chunk} if page is not None else {}),
                     keep_rows=False,
                     resume=resume,
                     checkpoint=parts.write_checkpoint if resumable else None,
@@ -210,6 +234,8 @@ def _run_into(args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume:
         f"({_factor(s['real_time_factor'])}x real time); moved {s['forward_displacement_m']:+.2f} m, "
         f"turned {s['heading_change_deg']:+.0f} deg; wrote {', '.join(str(out / w) for w in written)}"
     )
+    if page is not None:
+        keep_serving(page, args)
     return 0
 
 

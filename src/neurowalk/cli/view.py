@@ -24,12 +24,7 @@ def add_view_parser(sub: argparse._SubParsersAction) -> None:
     v.add_argument(
         "run_dir", nargs="?", type=Path, metavar="RUN_DIR", help="a run's output folder, as `neurowalk run` writes it"
     )
-    v.add_argument("--port", type=int, default=8080, help="the page's port (default 8080)")
-    v.add_argument(
-        "--host",
-        default=LOCAL,
-        help=f"the address to serve on (default {LOCAL}: this machine only; 0.0.0.0: every network interface)",
-    )
+    web_args(v)
     v.add_argument("--export", type=Path, metavar="FILE.html", help="write the replay as one HTML file and exit")
     v.add_argument(
         "--native",
@@ -37,6 +32,57 @@ def add_view_parser(sub: argparse._SubParsersAction) -> None:
         help="run the settings below live in MuJoCo's own viewer (needs a display) instead of replaying RUN_DIR",
     )
     episode_args(v)
+
+
+def web_args(p: argparse.ArgumentParser) -> None:
+    """The page's flags (`view`, `run --web`): --port and --host."""
+    p.add_argument("--port", type=int, default=8080, help="the page's port (default 8080)")
+    p.add_argument(
+        "--host",
+        default=LOCAL,
+        help=f"the address to serve on (default {LOCAL}: this machine only; 0.0.0.0: every network interface)",
+    )
+
+
+def check_web(args: argparse.Namespace) -> None:
+    """UsageError, before any work, where the page cannot be served: no viser, a bad or taken port or host."""
+    if not 0 < args.port < 65536:
+        raise UsageError(f"--port must be 1-65535, got {args.port}")
+    from neurowalk.plotting.web import PortError, check_port, require_viser
+
+    try:
+        require_viser()
+        check_port(args.host, args.port)
+    except ImportError as e:
+        raise UsageError(str(e)) from None
+    except PortError as e:
+        raise UsageError(f"{e} (choose another with --port, or --host)") from None
+
+
+def _serving(what: str, args: argparse.Namespace) -> str:
+    """The line that says where the page is."""
+    where = "this machine only" if args.host == LOCAL else f"every client that reaches {args.host}"
+    return (
+        f"serving {what} on http://{args.host}:{args.port} ({where}; from another machine: "
+        f"ssh -L {args.port}:localhost:{args.port} THIS_HOST, then open http://localhost:{args.port})"
+    )
+
+
+def live_page(cfg: object, parts: object, args: argparse.Namespace) -> object:
+    """`run --web`'s page: a live view of the run (the rows go on to ``parts``), served from now on."""
+    from neurowalk.plotting.live import LivePage, LiveRun
+
+    page = LivePage(LiveRun(cfg, then=parts), host=args.host, port=args.port)  # type: ignore[arg-type]
+    print(f"neurowalk: {_serving('the run live', args)}", file=sys.stderr, flush=True)
+    return page
+
+
+def keep_serving(page: object, args: argparse.Namespace) -> None:
+    """After `run --web`'s run: the page shows the whole run until Ctrl-C."""
+    page.finished()  # type: ignore[attr-defined]
+    print(f"neurowalk: the run is done; its replay stays on http://{args.host}:{args.port}: Ctrl-C stops",
+          file=sys.stderr, flush=True)  # fmt: skip
+    _wait_for_stop()
 
 
 def cmd_view(args: argparse.Namespace) -> int:
@@ -47,24 +93,22 @@ def cmd_view(args: argparse.Namespace) -> int:
         return _native(args)
     if args.run_dir is None:
         raise UsageError("view needs RUN_DIR, a run's folder (or --native to watch a run live on a desktop)")
-    if not 0 < args.port < 65536:
-        raise UsageError(f"--port must be 1-65535, got {args.port}")
     if args.export is not None and args.export.suffix.lower() not in (".html", ".htm"):
         raise UsageError(f"--export writes an HTML file: name it FILE.html, got {str(args.export)!r}")
     if args.export is not None and not args.export.resolve().parent.is_dir():
         raise UsageError(f"--export {str(args.export)!r}: its folder does not exist")
-    from neurowalk.plotting.replay import RunFolderError, load_replay
-    from neurowalk.plotting.web import PortError, ReplayPage, check_port, export_html, require_viser
-
-    try:
-        require_viser()
-    except ImportError as e:
-        raise UsageError(str(e)) from None
     if args.export is None:
+        check_web(args)
+    else:
+        from neurowalk.plotting.web import require_viser
+
         try:
-            check_port(args.host, args.port)
-        except PortError as e:
-            raise UsageError(f"{e} (choose another with --port, or --host)") from None
+            require_viser()
+        except ImportError as e:
+            raise UsageError(str(e)) from None
+    from neurowalk.plotting.replay import RunFolderError, load_replay
+    from neurowalk.plotting.web import ReplayPage, export_html
+
     try:
         replay = load_replay(args.run_dir)
     except RunFolderError as e:
@@ -74,12 +118,7 @@ def cmd_view(args: argparse.Namespace) -> int:
         print(f"wrote {args.export} ({size / 1e6:.1f} MB): the replay of {args.run_dir}, plays with no server")
         return 0
     page = ReplayPage(replay, host=args.host, port=args.port)
-    where = "this machine only" if args.host == LOCAL else f"every client that reaches {args.host}"
-    print(
-        f"serving the replay of {args.run_dir} on http://{args.host}:{args.port} ({where}; from another machine: "
-        f"ssh -L {args.port}:localhost:{args.port} THIS_HOST, then open http://localhost:{args.port}); Ctrl-C stops",
-        flush=True,
-    )
+    print(f"{_serving(f'the replay of {args.run_dir}', args)}; Ctrl-C stops", flush=True)
     _wait_for_stop()
     page.close()
     return 0

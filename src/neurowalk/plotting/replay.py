@@ -123,7 +123,7 @@ def read_run(folder: Path) -> tuple[dict[str, Any], Trajectory]:
     return summary, tr
 
 
-def _config(summary: dict[str, Any]) -> EpisodeConfig:
+def world_config(summary: dict[str, Any]) -> EpisodeConfig:
     """The run's world: arena, body and control rate from its summary (the rest does not change what is drawn)."""
     keys = ("arena", "arena_opts", "body", "body_opts", "control_hz")
     try:
@@ -136,28 +136,79 @@ def load_replay(folder: str | Path, max_frames: int = MAX_FRAMES) -> Replay:
     """The replay of the run in ``folder`` (see the module doc); :class:`RunFolderError` for a bad folder."""
     folder = Path(folder)
     summary, tr = read_run(folder)
-    cfg = _config(summary)
-    arena, body, _ = build(cfg)
+    cfg = world_config(summary)
+    scenery = Scenery(cfg)
     stride = max(1, math.ceil(len(tr.t) / max_frames))
     frames = np.arange(0, len(tr.t), stride)
-    model = getattr(body, "model", None)
-    if model is not None:
-        if tr.qpos.shape[1] != model.nq or not np.isfinite(tr.qpos[frames]).all():
-            raise RunFolderError(f"{folder / 'trajectory.npz'}: its qpos does not fit the {cfg.body} model")
-        fixed, parts, pos, quat, ray_from, ray_dir, reach = _physics(model, tr.qpos[frames])
-        path = tr.qpos[:, :3].copy()
-    else:
-        fixed, parts, pos, quat, ray_from, ray_dir, reach = _planar(arena, body.cal, tr.pose[frames])
-        path = np.column_stack([tr.pose[:, :2], np.full(len(tr.t), 0.05)])
-    dist = tr.us_distance[frames]
-    length = np.where(np.isfinite(dist), dist, reach)
-    ray_to = ray_from + ray_dir * length[..., None]
+    if not scenery.fits(tr):
+        raise RunFolderError(f"{folder / 'trajectory.npz'}: its qpos does not fit the {cfg.body} model")
+    pos, quat, ray_from, ray_to = scenery.poses(tr.rows(0, len(tr.t)) if stride == 1 else _every(tr, frames))
     wedged = [(int(w["start"]), int(w["end"])) for w in summary.get("wedged") or []]
     title = f"{cfg.arena}, {cfg.body}, {summary.get('controller', '?')}, {len(tr.t)} steps"
     return Replay(
-        title, float(cfg.control_hz), tr.t, frames, fixed, parts, pos, quat, path, ray_from, ray_to,
-        tr.inputs, tr.outputs, tr.b, tr.q, summary, wedged,
+        title, float(cfg.control_hz), tr.t, frames, scenery.fixed, scenery.parts, pos, quat, scenery.path(tr),
+        ray_from, ray_to, tr.inputs, tr.outputs, tr.b, tr.q, summary, wedged,
     )  # fmt: skip
+
+
+def _every(tr: Trajectory, rows: np.ndarray) -> Trajectory:
+    """The rows ``rows`` of ``tr`` (copies)."""
+    return Trajectory(**{k: v[rows] for k, v in vars(tr).items()})
+
+
+class Scenery:
+    """What a run's world looks like: the fixed parts (the arena), the robot's parts, and where they are at a step.
+
+    Args:
+        cfg: the run's config (its arena, body and their options make the world).
+    """
+
+    def __init__(self, cfg: EpisodeConfig) -> None:
+        arena, body, _ = build(cfg)
+        self.model: mujoco.MjModel | None = getattr(body, "model", None)
+        if self.model is not None:
+            self.fixed, self.parts, self._bodies = _physics_parts(self.model)
+            self._sites = [self.model.site(name).id for name in anatomy.US_SENSORS]
+            self._data = mujoco.MjData(self.model)
+            names = [self.model.numeric(i).name for i in range(self.model.nnumeric)]
+            reach = [self.model.numeric(n).data[0] for n in names if n.endswith("/us_range")]
+            self.reach = float(reach[0]) if reach else 0.4
+        else:
+            self.cal = body.cal
+            self.fixed, self.parts = _planar_parts(arena, self.cal)
+            self.reach = float(self.cal.us_range)
+
+    def fits(self, tr: Trajectory) -> bool:
+        """Whether ``tr`` was recorded in this world (a MuJoCo body's qpos has the model's size and is finite)."""
+        return self.model is None or (tr.qpos.shape[1] == self.model.nq and bool(np.isfinite(tr.qpos).all()))
+
+    def path(self, tr: Trajectory) -> np.ndarray:
+        """(T, 3) the trunk's position at each row of ``tr``, m (a planar body's a little above the floor)."""
+        if self.model is not None:
+            return tr.qpos[:, :3].copy()
+        return np.column_stack([tr.pose[:, :2], np.full(len(tr.t), 0.05)])
+
+    def poses(self, tr: Trajectory) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """For each row of ``tr``: the parts' positions (n, P, 3) m and orientations (n, P, 4) wxyz, and the two
+        rays' origins and ends (n, 2, 3) m (as long as the echo, or the range without one)."""
+        if self.model is not None:
+            pos, quat, ray_from, ray_dir = self._physics_poses(tr.qpos)
+        else:
+            pos, quat, ray_from, ray_dir = _planar_poses(self.cal, tr.pose)
+        length = np.where(np.isfinite(tr.us_distance), tr.us_distance, self.reach)
+        return pos, quat, ray_from, ray_from + ray_dir * length[..., None]
+
+    def _physics_poses(self, qpos: np.ndarray) -> tuple[np.ndarray, ...]:
+        model, data, n = self.model, self._data, len(qpos)
+        pos, quat = np.empty((n, len(self.parts), 3)), np.empty((n, len(self.parts), 4))
+        ray_from, ray_dir = np.empty((n, 2, 3)), np.empty((n, 2, 3))
+        for i, qp in enumerate(qpos):
+            data.qpos[:] = qp
+            mujoco.mj_kinematics(model, data)
+            pos[i], quat[i] = data.xpos[self._bodies], data.xquat[self._bodies]
+            ray_from[i] = data.site_xpos[self._sites]
+            ray_dir[i] = data.site_xmat[self._sites].reshape(2, 3, 3)[:, :, 2]  # a rangefinder looks along its z
+        return pos, quat, ray_from, ray_dir
 
 
 def _rgb(model: mujoco.MjModel, g: int) -> tuple[tuple[int, int, int], float]:
@@ -165,18 +216,16 @@ def _rgb(model: mujoco.MjModel, g: int) -> tuple[tuple[int, int, int], float]:
     return tuple(round(255 * float(c)) for c in rgba[:3]), float(rgba[3])  # type: ignore[return-value]
 
 
-def _physics(model: mujoco.MjModel, qpos: np.ndarray) -> tuple[Any, ...]:
-    """Fixed parts, moving parts and their poses (F, P, ...), ray origins and unit directions (F, 2, 3), range."""
+def _physics_parts(model: mujoco.MjModel) -> tuple[list[tuple[Part, np.ndarray, np.ndarray]], list[Part], np.ndarray]:
+    """The fixed parts (posed), the moving parts (one per body and colour) and each moving part's body id."""
     fixed: list[tuple[Part, np.ndarray, np.ndarray]] = []
     groups: dict[tuple[int, tuple[int, int, int], float], list[Mesh]] = {}
     for g in range(model.ngeom):
         if model.geom_group[g] >= VISIBLE_GROUPS or model.geom_type[g] == mujoco.mjtGeom.mjGEOM_PLANE:
             continue
         rgb, alpha = _rgb(model, g)
-        if alpha == 0:
-            continue
         mesh = geom_mesh(model, g)
-        if mesh is None:
+        if alpha == 0 or mesh is None:
             continue
         body = int(model.geom_bodyid[g])
         if model.body_weldid[body] == 0:  # welded to the world: the arena
@@ -186,34 +235,25 @@ def _physics(model: mujoco.MjModel, qpos: np.ndarray) -> tuple[Any, ...]:
             groups.setdefault((body, rgb, alpha), []).append(mesh)
     keys = sorted(groups)
     parts = [Part(f"body{b}_{i}", merge(groups[(b, rgb, a)]), rgb, a) for i, (b, rgb, a) in enumerate(keys)]
-    bodies = np.array([k[0] for k in keys], dtype=int)
-    sites = [model.site(name).id for name in anatomy.US_SENSORS]
-    data = mujoco.MjData(model)
-    n = len(qpos)
-    pos, quat = np.empty((n, len(parts), 3)), np.empty((n, len(parts), 4))
-    ray_from, ray_dir = np.empty((n, 2, 3)), np.empty((n, 2, 3))
-    for i, qp in enumerate(qpos):
-        data.qpos[:] = qp
-        mujoco.mj_kinematics(model, data)
-        pos[i], quat[i] = data.xpos[bodies], data.xquat[bodies]
-        ray_from[i] = data.site_xpos[sites]
-        ray_dir[i] = data.site_xmat[sites].reshape(2, 3, 3)[:, :, 2]  # a rangefinder looks along its site's z
-    reach = [model.numeric(i).data[0] for i in range(model.nnumeric) if model.numeric(i).name.endswith("/us_range")]
-    return fixed, parts, pos, quat, ray_from, ray_dir, float(reach[0]) if reach else 0.4
+    return fixed, parts, np.array([k[0] for k in keys], dtype=int)
 
 
-def _planar(arena: ArenaSpec, cal: Any, pose: np.ndarray) -> tuple[Any, ...]:
-    """As :func:`_physics` for the planar surrogate: the arena's boxes, the footprint on the recorded poses."""
+def _planar_parts(arena: ArenaSpec, cal: Any) -> tuple[list[tuple[Part, np.ndarray, np.ndarray]], list[Part]]:
+    """The arena's boxes (posed) and the planar robot's footprint (its calibration's circles, as flat discs)."""
     fixed = [
         (Part(f"box{i}", box_mesh(b.sx / 2, b.sy / 2, b.h / 2), (150, 150, 150)), np.array([b.x, b.y, b.h / 2]),
          yaw_quat(b.yaw))
         for i, b in enumerate(arena.boxes)
     ]  # fmt: skip
     discs = [cylinder_mesh(r, 0.02, centre=(x, y, 0.04)) for x, y, r in np.asarray(cal.circles, dtype=float)]
-    parts = [Part("footprint", merge(discs), (60, 90, 160))]
+    return fixed, [Part("footprint", merge(discs), (60, 90, 160))]
+
+
+def _planar_poses(cal: Any, pose: np.ndarray) -> tuple[np.ndarray, ...]:
+    """The footprint's pose and the rays' origins and unit directions (from the calibration) on ``pose`` (n, 3)."""
     n = len(pose)
     pos = np.column_stack([pose[:, :2], np.zeros(n)])[:, None, :]
-    quat = np.stack([yaw_quat(y) for y in pose[:, 2]])[:, None, :]
+    quat = np.stack([yaw_quat(y) for y in pose[:, 2]])[:, None, :] if n else np.zeros((0, 1, 4))
     c, s = np.cos(pose[:, 2]), np.sin(pose[:, 2])
     rays = np.asarray(cal.rays, dtype=float)  # (2, 4): origin x, y and direction in the trunk frame
     ray_from, ray_dir = np.zeros((n, 2, 3)), np.zeros((n, 2, 3))
@@ -221,4 +261,4 @@ def _planar(arena: ArenaSpec, cal: Any, pose: np.ndarray) -> tuple[Any, ...]:
         ox, oy, dx, dy = rays[k]
         ray_from[:, k] = np.column_stack([pose[:, 0] + c * ox - s * oy, pose[:, 1] + s * ox + c * oy, np.full(n, 0.1)])
         ray_dir[:, k, 0], ray_dir[:, k, 1] = c * dx - s * dy, s * dx + c * dy
-    return fixed, parts, pos, quat, ray_from, ray_dir, float(cal.us_range)
+    return pos, quat, ray_from, ray_dir

@@ -112,11 +112,14 @@ class Scene:
         self.replay = replay
         scene = server.scene
         scene.set_up_direction("+z")
-        xy = np.concatenate([replay.path[:, :2], *(pos[None, :2] for _, pos, _ in replay.fixed)])
+        xy = np.concatenate(
+            [replay.path[:, :2], *(part.mesh.vertices[:, :2] + pos[:2] for part, pos, _ in replay.fixed)]
+        )
         lo, hi = np.nanmin(xy, axis=0), np.nanmax(xy, axis=0)
         centre, reach = (lo + hi) / 2, max(float(np.max(hi - lo)), 1.0)
-        server.initial_camera.look_at = (*centre, 0.0)
-        server.initial_camera.position = (centre[0] - 0.2 * reach, centre[1] - 0.9 * reach, 0.8 * reach)
+        aim = (centre[0] + 0.2 * reach, centre[1], 0.0)  # right of the middle: the control panel covers the right
+        server.initial_camera.look_at = aim
+        server.initial_camera.position = (aim[0] - 0.1 * reach, aim[1] - 0.7 * reach, 0.6 * reach)
         scene.add_grid("/floor", width=40.0, height=40.0, cell_size=0.5, position=(0.0, 0.0, -0.001))
         for i, (part, pos, quat) in enumerate(replay.fixed):
             _mesh(scene, f"/arena/{i}", part, position=pos, wxyz=quat)
@@ -124,7 +127,7 @@ class Scene:
         self.path_rows = _thin(replay.steps, PATH_POINTS)
         pts = replay.path[self.path_rows]
         whole = np.stack([pts[:-1], pts[1:]], axis=1)
-        scene.add_line_segments("/path/whole", whole, colors=(200, 200, 220), thickness=0.004)
+        self.whole = scene.add_line_segments("/path/whole", whole, colors=(200, 200, 220), thickness=0.004)
         self.path = scene.add_line_segments("/path/done", whole[:1], colors=PATH_RGB, thickness=0.012)
         self.rays = scene.add_line_segments("/rays", self._ray_points(0), colors=self._ray_colours(0), thickness=0.01)
 
@@ -186,6 +189,7 @@ class ReplayPage:
         self._lock = threading.Lock()
         self._playing = threading.Event()
         self._stop = threading.Event()
+        self.available = replay.steps  # steps that can be shown (a live run's grow)
         self._rows = _thin(replay.steps, TRACE_POINTS)
         self._y: dict[str, tuple[float, float]] = {}
         self._build_gui()
@@ -202,23 +206,34 @@ class ReplayPage:
         self.play = gui.add_button("play / pause")
         self.play.on_click(lambda _: self._playing.clear() if self._playing.is_set() else self._playing.set())
         self.speed = gui.add_dropdown("speed", [f"{s}x" for s in SPEEDS], initial_value="10x")
-        t = r.t[self._rows]
         self.plots = []
         for title, labels, values in _traces(r):
-            values = np.where(np.isfinite(values), values, 0.0)  # uPlot draws no line through NaN
-            lo, hi = float(values.min()), float(values.max())
-            pad = 0.05 * (hi - lo) + 1e-3
-            self._y[title] = (lo - pad, hi + pad)
             series = [{"label": "time (s)"}]
             series += [{"label": lab, "stroke": TRACE_COLOURS[i], "width": 1.5} for i, lab in enumerate(labels)]
             series.append({"label": "now", "stroke": "#d62728", "width": 0, "points": {"show": True, "size": 10}})
-            data = [t, *(values[self._rows, i] for i in range(values.shape[1])), self._marker(title, 0, values[0, 0])]
-            scales = {"x": {"time": False}, "y": {"auto": False, "range": list(self._y[title])}}
-            plot = gui.add_uplot(tuple(np.asarray(d, dtype=float) for d in data), tuple(series), title=title,
-                                 scales=scales, aspect=2.2)  # fmt: skip
+            data, scales = self._panel(title, values)
+            plot = gui.add_uplot(data, tuple(series), title=title, scales=scales, aspect=2.2)
             self.plots.append((title, plot, values))
         self._outcome(gui)
         self.server.scene.on_click()(self._clicked)
+
+    def _panel(self, title: str, values: np.ndarray) -> tuple[tuple[np.ndarray, ...], dict[str, Any]]:
+        """The data (time, each trace, the marker) and scales of trace panel ``title`` over the steps available."""
+        rows = self._rows
+        shown = np.where(np.isfinite(values[rows]), values[rows], 0.0)  # uPlot draws no line through NaN
+        lo, hi = float(shown.min()), float(shown.max())
+        pad = 0.05 * (hi - lo) + 1e-3
+        self._y[title] = (lo - pad, hi + pad)
+        data = (self.replay.t[rows], *shown.T, self._marker(title, 0, float(shown[0, 0])))
+        scales = {"x": {"time": False}, "y": {"auto": False, "range": list(self._y[title])}}
+        return tuple(np.asarray(d, dtype=float) for d in data), scales
+
+    def refresh_traces(self) -> None:
+        """Draw the traces again over the steps available now (a live run's grow)."""
+        self._rows = _thin(max(self.available, 1), TRACE_POINTS)
+        with self._lock, self.server.atomic():
+            for title, plot, values in self.plots:
+                plot.data, plot.scales = self._panel(title, values)
 
     def _outcome(self, gui: Any) -> None:
         s, r = self.replay.summary, self.replay
@@ -250,16 +265,16 @@ class ReplayPage:
             self.go(step)
 
     def go(self, step: int) -> None:
-        """Move the replay (and the slider) to control step ``step``."""
-        self.slider.value = int(np.clip(step, 0, self.replay.steps - 1))
+        """Move the replay (and the slider) to control step ``step`` (at most the last one available)."""
+        self.slider.value = int(np.clip(step, 0, max(self.available - 1, 0)))
 
     def show(self, step: int) -> None:
         """Draw control step ``step``: the scene, the clock and each trace's marker."""
         r = self.replay
-        step = int(np.clip(step, 0, r.steps - 1))
+        step = int(np.clip(step, 0, max(self.available - 1, 0)))
         with self._lock, self.server.atomic():
             self.scene.show(step)
-            self.clock.content = f"t = {r.t[step]:.1f} s (step {step} of {r.steps})"
+            self.clock.content = f"t = {r.t[step]:.1f} s (step {step} of {self.available})"
             for title, plot, values in self.plots:
                 plot.data = (*plot.data[:-1], self._marker(title, step, values[step, 0]))
 
@@ -270,16 +285,17 @@ class ReplayPage:
             if self._playing.is_set():
                 speed = float(self.speed.value.rstrip("x"))
                 step = int(self.slider.value) + max(1, round(speed * self.replay.control_hz * (now - last)))
-                if step >= self.replay.steps:
+                if step >= self.available:
                     self._playing.clear()
-                    step = self.replay.steps - 1
+                    step = self.available - 1
                 self.go(step)
             last = now
 
     def close(self) -> None:
-        """Stop playing and shut the server down."""
-        self._stop.set()
-        stop_server(self.server)
+        """Stop playing and shut the server down (once; closing again does nothing)."""
+        if not self._stop.is_set():
+            self._stop.set()
+            stop_server(self.server)
 
 
 def export_html(replay: Replay, path: str | Path, speed: float = 10.0, fps: float = 10.0) -> int:

@@ -7,7 +7,7 @@ import json
 from pathlib import Path
 
 from neurowalk.experiments.reproduce.claims import VERDICTS
-from neurowalk.experiments.reproduce.gallery import gallery
+from neurowalk.experiments.reproduce.gallery import REPLAYS, gallery
 from neurowalk.experiments.reproduce.plan import PLAN
 from neurowalk.experiments.reproduce.report import render, totals
 from neurowalk.experiments.reproduce.runner import rejudged
@@ -69,3 +69,13 @@ def test_every_committed_record_is_what_the_judges_say_now():
         for item in PLAN:
             rec = json.loads((out / f"{item.name}.json").read_text())
             assert rejudged(item, rec, out) == rec, (out.name, item.name)
+
+
+def test_the_gallery_embeds_its_replays():
+    """The two runs the gallery embeds: committed, each one self-contained HTML file small enough to send."""
+    page = (RESULTS.parent / "gallery.md").read_text()
+    for name in REPLAYS:
+        path = RESULTS.parent / "replays" / f"{name}.html"
+        head = path.read_text(encoding="utf-8")[:200].lower()
+        assert head.lstrip().startswith("<!doctype html") and path.stat().st_size < 5e6, name
+        assert f'src="../replays/{name}.html"' in page, name
