@@ -69,3 +69,23 @@ def test_each_name_the_registries_show_is_accepted_by_its_check():
         EpisodeConfig(engine=name)
     with pytest.raises(ValueError, match="registry"):
         registry_names("colours")
+
+
+def test_every_option_with_a_default_says_it():
+    """An option that has a default value states it in its help (`default ...`), so `--help` answers it."""
+    import argparse
+
+    from neurowalk.cli import build_parser
+
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    silent = [
+        f"{name} {a.option_strings[0]}"
+        for name, p in sub.choices.items()
+        for a in p._actions
+        if a.option_strings
+        and a.help not in (None, argparse.SUPPRESS)
+        and a.nargs != 0  # flags (store_true, --help) have no value to default
+        and a.default not in (None, False, [])
+        and "default" not in a.help
+    ]
+    assert silent == []

@@ -32,7 +32,7 @@ def add_baseline_parser(sub: argparse._SubParsersAction) -> None:
         "--methods",
         default="neuroevo,ppo,rppo",
         metavar="NAME[,NAME...]",
-        help="learned methods: neuroevo (CMA-ES, needs cma), ppo, rppo (need the rl extra)",
+        help="learned methods: neuroevo (CMA-ES, needs cma), ppo, rppo (need the rl extra); default all three",
     )
     b.add_argument("--quick", action="store_true", help="tiny budgets (a smoke test, not a result)")
     count_args(b, _SIZES)

@@ -216,7 +216,9 @@ def option_args(p: argparse.ArgumentParser, flag: str, metavar: str, help: str) 
 
 def backend_args(p: argparse.ArgumentParser) -> None:
     """--backend, --address and --workers: where the runs of a command of many runs run (`sweep`, `optimize`)."""
-    p.add_argument("--backend", choices=("local", "ray"), default="local", help="local process pool or Ray")
+    p.add_argument(
+        "--backend", choices=("local", "ray"), default="local", help="local process pool or Ray (default local)"
+    )
     p.add_argument("--address", default=None, help="Ray cluster to join (backend ray; default: a local instance)")
     p.add_argument("--workers", type=int, default=2, help="processes, or CPUs of a local Ray instance (default 2)")
 

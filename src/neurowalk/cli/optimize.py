@@ -47,9 +47,11 @@ def add_optimize_parser(sub: argparse._SubParsersAction) -> None:
     option_args(o, "--param", "FIELD=LO:HI", param_help)
     count_args(o, _SIZES)
     o.add_argument("--seed", type=int, default=0, help="CMA-ES seed (default 0)")
-    o.add_argument("--train-seed", type=int, default=1000, help="table seed of the training environments (1000)")
+    o.add_argument(
+        "--train-seed", type=int, default=1000, help="table seed of the training environments (default 1000)"
+    )
     o.add_argument("--heldout-seed", type=int, default=0, help="table seed of the held-out environments (0)")
-    o.add_argument("--sigma0", type=float, default=0.2, help="initial step size in the normalised space (0.2)")
+    o.add_argument("--sigma0", type=float, default=0.2, help="initial step size in the normalised space (default 0.2)")
     backend_args(o)
     o.add_argument("--quiet", action="store_true", help="no progress bar, nor the note while the kernels compile")
 

@@ -70,7 +70,9 @@ def _add(p: argparse.ArgumentParser, name: str) -> None:
     elif name == "workers":
         p.add_argument("--workers", type=int, default=None, help="processes (or Ray CPUs) of the runs (default 2)")
     elif name == "backend":
-        p.add_argument("--backend", default="local", help="where the runs run: local (a process pool) | ray")
+        p.add_argument(
+            "--backend", default="local", help="where the runs run: local (a process pool) | ray (default local)"
+        )
         p.add_argument("--address", default=None, help="the Ray cluster to join (with --backend ray)")
 
 

@@ -44,7 +44,11 @@ def add_tool_parsers(sub: argparse._SubParsersAction) -> None:
     b.add_argument("--quick", action="store_true", help="short measurements (a smoke test)")
     b.add_argument("--workers", type=int, default=None, help="processes / threads (default: the cores, up to 8)")
     engine_args(b)
-    b.add_argument("--worlds", default="1,64,1024,4096", help="engine warp: numbers of worlds to measure (comma list)")
+    b.add_argument(
+        "--worlds",
+        default="1,64,1024,4096",
+        help="engine warp: numbers of worlds to measure (comma list; default 1,64,1024,4096)",
+    )
 
     sub.add_parser("arenas", help="list the arenas and their options")
     sub.add_parser("bodies", help="list the bodies: sensors, actuators, what they take, options")
