@@ -12,3 +12,22 @@ def _close_figures():
     yield
     if "matplotlib.pyplot" in sys.modules:
         sys.modules["matplotlib.pyplot"].close("all")
+
+
+@pytest.fixture(scope="session")
+def run_folder(tmp_path_factory):
+    """``run_folder(*args)``: the folder of ``neurowalk run ARGS`` (made once per session for the same arguments),
+    for the tests that read a run's files back (the replay, the viewer)."""
+    import subprocess
+
+    made = {}
+
+    def make(*args: str):
+        if args not in made:
+            out = tmp_path_factory.mktemp("run")
+            cmd = [sys.executable, "-m", "neurowalk", "run", *args, "--out", str(out), "--quiet"]
+            subprocess.run(cmd, check=True, capture_output=True)
+            made[args] = out
+        return made[args]
+
+    return make

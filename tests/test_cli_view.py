@@ -16,11 +16,8 @@ def _view(*args: str, cwd: Path) -> subprocess.CompletedProcess[str]:
 
 
 @pytest.fixture(scope="module")
-def run_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    out = tmp_path_factory.mktemp("run")
-    cmd = [sys.executable, "-m", "neurowalk", "run", "--arena", "box", "--steps", "50", "--out", str(out)]
-    subprocess.run(cmd, check=True, capture_output=True)
-    return out
+def run_dir(run_folder) -> Path:
+    return run_folder("--arena", "box", "--steps", "50")
 
 
 def test_bad_input_gets_one_line_and_status_2(tmp_path: Path, run_dir: Path):

@@ -24,11 +24,8 @@ from neurowalk.sim.trajectory import Trajectory
 
 
 @pytest.fixture(scope="module")
-def run_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    out = tmp_path_factory.mktemp("run")
-    cmd = [sys.executable, "-m", "neurowalk", "run", "--arena", "narrow-passage", "--steps", "400", "--out", str(out)]
-    subprocess.run(cmd, check=True, capture_output=True)
-    return out
+def run_dir(run_folder) -> Path:
+    return run_folder("--arena", "narrow-passage", "--steps", "400")
 
 
 def _feed(live: LiveRun, tr: Trajectory, chunk: int) -> None:

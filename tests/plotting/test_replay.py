@@ -5,8 +5,6 @@ from __future__ import annotations
 
 import json
 import shutil
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -16,22 +14,14 @@ from neurowalk.plotting.meshes import box_mesh, capsule_mesh, cylinder_mesh, ell
 from neurowalk.plotting.replay import RunFolderError, load_replay
 
 
-def _run(folder: Path, *args: str) -> Path:
-    cmd = [sys.executable, "-m", "neurowalk", "run", "--out", str(folder), "--overwrite", *args]
-    subprocess.run(cmd, check=True, capture_output=True, text=True)
-    return folder
+@pytest.fixture(scope="module")
+def physics_run(run_folder) -> Path:
+    return run_folder("--arena", "box", "--steps", "200")
 
 
 @pytest.fixture(scope="module")
-def physics_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    return _run(tmp_path_factory.mktemp("amosii"), "--arena", "box", "--steps", "200")
-
-
-@pytest.fixture(scope="module")
-def surrogate_run(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    return _run(
-        tmp_path_factory.mktemp("surrogate"), "--arena", "narrow-passage", "--body", "surrogate", "--steps", "400"
-    )
+def surrogate_run(run_folder) -> Path:
+    return run_folder("--arena", "narrow-passage", "--body", "surrogate", "--steps", "400")
 
 
 def _closed(faces: np.ndarray) -> bool:

@@ -5,8 +5,6 @@ from __future__ import annotations
 
 import re
 import socket
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
@@ -19,11 +17,8 @@ from neurowalk.plotting.web import PortError, ReplayPage, check_port, export_htm
 
 
 @pytest.fixture(scope="module")
-def run_dir(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    out = tmp_path_factory.mktemp("run")
-    cmd = [sys.executable, "-m", "neurowalk", "run", "--arena", "narrow-passage", "--steps", "300", "--out", str(out)]
-    subprocess.run(cmd, check=True, capture_output=True)
-    return out
+def run_dir(run_folder) -> Path:
+    return run_folder("--arena", "narrow-passage", "--steps", "300")
 
 
 def test_rays_are_green_far_and_red_near():
