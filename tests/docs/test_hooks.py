@@ -1,4 +1,6 @@
-"""The site's mkdocs hook: Sphinx roles in docstrings show as the names they cross-reference."""
+"""The site's mkdocs hooks: Sphinx roles in docstrings show as links to what they name, and every link to a number
+lands on its row of a numbers page. They need the `docs` extra (mkdocs), which .ci/run installs before it runs them
+with the site's browser test."""
 
 from __future__ import annotations
 
@@ -9,6 +11,8 @@ from pathlib import Path
 from urllib.parse import unquote
 
 import pytest
+
+pytest.importorskip("mkdocs", reason="the site's hooks need the docs extra (mkdocs)")
 
 _SPEC = importlib.util.spec_from_file_location("mkdocs_hooks", Path(__file__).resolve().parents[2] / "mkdocs_hooks.py")
 hooks = importlib.util.module_from_spec(_SPEC)  # the hook lives beside mkdocs.yml, not in the package
