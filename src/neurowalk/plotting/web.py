@@ -41,7 +41,7 @@ TRACE_POINTS = 800
 #: Points of the path drawn (a longer run's path is thinned to these).
 PATH_POINTS = 1500
 FAR, NEAR = np.array([40, 170, 60]), np.array([220, 40, 40])  # ray colours at I = -1 and I = +1
-PATH_RGB, TRUNK_RGB = (90, 60, 160), (90, 60, 160)
+PATH_RGB = (90, 60, 160)  # the path walked so far
 TRACE_COLOURS = ("#1f77b4", "#ff7f0e", "#222222")
 PLAY_HZ = 20.0  # frames per second of wall time while playing
 
