@@ -8,7 +8,6 @@ from neurowalk.experiments.stores import run_store, shared_stores, store_path
 from neurowalk.runners.specs import run_spec
 
 
-
 def cheap(spec: dict) -> dict:
     """A result that depends on the spec alone (as a seeded run's does), without a simulation."""
     return {"seed": spec["seed"], "x": spec["seed"] * 0.5}
@@ -27,7 +26,7 @@ def test_a_run_one_figure_made_is_taken_by_another(tmp_path: Path) -> None:
     shared = tmp_path / "runs"
     with shared_stores(shared):
         first, report1 = run_store(SPECS, tmp_path / "a", 1, fn=cheap)
-        second, report2 = run_store(SPECS[:2] + [{**SPECS[0], "seed": 9}], tmp_path / "b", 1, fn=cheap)
+        second, report2 = run_store([*SPECS[:2], {**SPECS[0], "seed": 9}], tmp_path / "b", 1, fn=cheap)
         default = store_path(tmp_path / "a", "results.sqlite", None)
     assert default == shared / "neurowalk.runners.specs.run_spec.sqlite"  # run_spec's, by default
     assert (report1.skipped, report1.ok) == (0, 3)
