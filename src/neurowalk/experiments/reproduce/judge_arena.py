@@ -63,6 +63,7 @@ def fig5(s: dict[str, Any], quick: bool) -> list[Claim]:
     # conservative reading, as judged before), none counted as turning.
     held = wedged.get("held", {"periods": wedged["periods"], "turning_periods": 0, "measured": False})
     held_over = next((v for k, v in held.items() if k.startswith("over_")), over)
+    older = not held.get("measured", True)
     g = s["fig5g"]
     sensory = get_variant(s["variant"]).sensory
     b_star = fixed_point(sensory.mu_b, sensory.gamma_b, sensory.k)
@@ -97,13 +98,13 @@ def fig5(s: dict[str, Any], quick: bool) -> list[Claim]:
             "no held period over 300 s in the plastic network's long run (Fig. 5F: escapes all deadlocks)",
             "escapes from all deadlocks, corners",
             held_over["periods"] == 0,
-            f"{held_over['periods']} held over 300 s; {wedged['periods']} wedged periods, of which "
-            f"{held['turning_periods']} turning (longest wedged {wedged['longest_s']:.0f} s)",
+            f"{held_over['periods']} held over 300 s; {wedged['periods']} wedged periods, "
+            + ("turning not told apart (an older json)" if older else f"of which {held['turning_periods']} turning")
+            + f"; longest wedged {wedged['longest_s']:.0f} s",
             f"held: trunk centre within {metrics.WEDGE_RADIUS:g} m and heading within {metrics.HELD_HEADING_DEG:g} "
             f"degrees for more than {metrics.WEDGE_MIN_S:g} s (metrics.wedged_periods); turning: wedged with the "
-            "heading sweeping more, a slow turn in place; "
-            f"causes over 300 s: {held_over['causes'] or '-'}"
-            + ("" if held.get("measured", True) else "; held not measured (an older json): every wedged period held"),
+            f"heading sweeping more, a slow turn in place; causes over 300 s: {held_over['causes'] or '-'}"
+            + ("; held not measured (an older json): every wedged period counted as held" if older else ""),
         ),
         holds(
             "the weights adapt stably over the whole long run (Fig. 5G)",
