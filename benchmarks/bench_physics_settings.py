@@ -8,11 +8,15 @@ Two settings of the AMOSII model (``BodyParams``), both with the masses the auth
   tolerance 1e-6.
 
 Each is measured on: the closed loop's control steps per second (``box`` arena, plastic network, the median of
-``--repeats`` runs); Table 1's speeds and turn rates (constant steering, 320 s, the first 30 s left out); Fig. 7's
-gait (the figure's own judge); the dead ends over ``--seeds`` seeds (simple dead end and narrow passage, static and
-plastic network, 5000 control steps, each run stopped once escaped), escape counts with 95% Wilson intervals.
+``--repeats`` runs, the two settings interleaved); Table 1's speeds and turn rates (constant steering, 320 s, the
+first 30 s left out); Fig. 7's gait (the figure's own judge); the dead ends over ``--seeds`` seeds (simple dead end
+and narrow passage, static and plastic network, 5000 control steps, each run stopped once escaped), escape counts
+with 95% Wilson intervals; and the physics Table 2 of the plastic network on ``--environments`` random environments
+(2000 s each), its successes by both of the table's rules with 95% intervals. A setting is made the defaults of
+``BodyParams`` in this process (and the workers it forks), so that every figure function runs with it.
 
-Run: ``python benchmarks/bench_physics_settings.py [--seeds 20] [--out docs/benchmarks/physics_settings.json]``.
+Run: ``python benchmarks/bench_physics_settings.py [--seeds 20] [--environments 50] [--out FILE]`` (default
+``docs/benchmarks/physics_settings.json``).
 """
 
 from __future__ import annotations
@@ -29,6 +33,7 @@ from neurowalk.body.amosii_params import BodyParams
 from neurowalk.experiments import Settings
 from neurowalk.experiments.figures import fig7, table1
 from neurowalk.experiments.reproduce.judge_network import fig7 as judge_fig7
+from neurowalk.experiments.suites import random_envs
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.random_envs import wilson
 from neurowalk.fileio import write_json
@@ -55,15 +60,19 @@ def use(setting: dict[str, Any]) -> None:
 _ADOPTED = {k: BodyParams.__init__.__kwdefaults__[k] for k in ("timestep", "solver_iterations", "solver_tolerance")}
 
 
-def closed_loop(steps: int, repeats: int) -> float:
-    """Median control steps per second of the closed loop (box arena, plastic network)."""
+def closed_loops(steps: int, repeats: int) -> dict[str, float]:
+    """Median control steps per second of the closed loop (box arena, plastic network) under each setting, the
+    settings interleaved repeat by repeat (so that other load on the machine falls on both alike)."""
     run_episode(EpisodeConfig(arena="box", steps=5))
-    rates = []
+    rates: dict[str, list[float]] = {name: [] for name in SETTINGS}
     for _ in range(repeats):
-        t = time.perf_counter()
-        run_episode(EpisodeConfig(arena="box", controller="plastic", steps=steps, seed=0))
-        rates.append(steps / (time.perf_counter() - t))
-    return statistics.median(rates)
+        for name, setting in SETTINGS.items():
+            use(setting)
+            t = time.perf_counter()
+            run_episode(EpisodeConfig(arena="box", controller="plastic", steps=steps, seed=0))
+            rates[name].append(steps / (time.perf_counter() - t))
+    use({})
+    return {name: statistics.median(r) for name, r in rates.items()}
 
 
 def dead_ends(seeds: int) -> dict[str, Any]:
@@ -79,13 +88,28 @@ def dead_ends(seeds: int) -> dict[str, Any]:
         if r["exit_step"] is not None:
             c["exit_s"].append(r["exit_step"] / r["control_hz"])
     for c in counts.values():
+        exits = c.pop("exit_s")
         c["escaped_95ci"] = list(wilson(c["escaped"], c["runs"]))
-        c["median_exit_s"] = statistics.median(c.pop("exit_s")) if c["escaped"] else None
+        c["median_exit_s"] = statistics.median(exits) if exits else None
     return counts
 
 
-def measure(seeds: int, repeats: int) -> dict[str, Any]:
-    """Every measure of the current setting."""
+def table2(environments: int) -> dict[str, Any]:
+    """Table 2 on the physics AMOSII, the plastic network (paper variant), ``environments`` random environments of
+    2000 s: successes by both of the table's rules, with 95% intervals."""
+    envs = random_envs.environments(environments, 0)
+    cfgs = [EpisodeConfig.from_spec(random_envs.spec(e, "plastic", random_envs.STEPS, "amosii")) for e in envs]
+    rows = [random_envs.outcome(r, random_envs.coverage_threshold(random_envs.DURATION_S)) for r in run_many(cfgs)]
+    out: dict[str, Any] = {"environments": environments}
+    for rule in ("success", "success_coverage"):
+        n = sum(bool(r[rule]) for r in rows)
+        out[rule] = n
+        out[f"{rule}_95ci"] = list(wilson(n, environments))
+    return out
+
+
+def measure(seeds: int, environments: int) -> dict[str, Any]:
+    """Every measure of the current setting (no Table 2 where ``environments`` is 0)."""
     t0 = time.perf_counter()
     speeds = {}
     for name, steer in STEERS.items():
@@ -94,10 +118,10 @@ def measure(seeds: int, repeats: int) -> dict[str, Any]:
     gait = fig7.run(Settings(quick=False)).summary
     claims = judge_fig7(gait, False)
     return {
-        "control_steps_per_s": closed_loop(3000, repeats),
         "table1": speeds,
         "fig7_claims_reproduced": f"{sum(c.verdict == 'reproduced' for c in claims)}/{len(claims)}",
         "dead_ends": dead_ends(seeds),
+        **({"table2_plastic": table2(environments)} if environments else {}),
         "wall_time_s": time.perf_counter() - t0,
     }
 
@@ -106,12 +130,18 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--seeds", type=int, default=20)
     ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--environments", type=int, default=50, help="Table 2's environments (0: no Table 2)")
     ap.add_argument("--out", type=Path, default=Path("docs/benchmarks/physics_settings.json"))
     args = ap.parse_args()
+    loops = closed_loops(3000, args.repeats)
     results = {}
     for name, setting in SETTINGS.items():
         use(setting)
-        results[name] = {"body_params": {**_ADOPTED, **setting}, **measure(args.seeds, args.repeats)}
+        results[name] = {
+            "body_params": {**_ADOPTED, **setting},
+            "control_steps_per_s": loops[name],
+            **measure(args.seeds, args.environments),
+        }
         print(name, json.dumps(results[name]["table1"]), results[name]["control_steps_per_s"], flush=True)
     use({})
     base, new = results["5 ms"], results["adopted"]

@@ -23,6 +23,11 @@ def test_bench_writes_rates_and_ratios(tmp_path: Path, capsys: pytest.CaptureFix
     loop = b["closed_loop_vs_bare"]
     ratio = loop["closed_loop_wall_s"] / loop["bare_mj_step_wall_s"]
     assert loop["ratio_closed_loop_over_bare"] == pytest.approx(ratio) and ratio > 0
+    ps = b["physics_settings"]  # the adopted physics against the former, on the same run
+    assert ps["adopted_over_former"] == pytest.approx(
+        ps["control_steps_per_s_adopted"] / ps["control_steps_per_s_former"]
+    )
+    assert ps["former_body_opts"]["timestep"] == 0.005 and ps["control_steps_per_s_former"] > 0
     e2e = b["surrogate_end_to_end"]
     assert 0 < e2e["env_steps_per_s_end_to_end"] < e2e["env_steps_per_s_in_loop"]  # the loop is part of the whole
     assert e2e["end_to_end_over_in_loop"] == pytest.approx(e2e["ms_per_run_in_loop"] / e2e["ms_per_run_end_to_end"])

@@ -3,7 +3,8 @@
 Every number is a rate or a ratio against a baseline measured in the same run on the same machine:
 
 * physics: control steps per second of the single closed loop (AMOSII, random arena, plastic network),
-  and bare ``mj_step`` physics steps per second on the same model;
+  and bare ``mj_step`` physics steps per second on the same model; the closed loop under the adopted physics (10 ms
+  step) against the former (5 ms, MuJoCo's default solver) on the same run;
 * surrogate: environment steps per second of the planar surrogate on the same arenas and network, in
   one process and over a process pool, and its ratio to the physics control-step rate; its end-to-end rate
   (build, simulate, summarise through ``run_episode``) as a fraction of its in-loop rate, on the same runs;
@@ -243,6 +244,33 @@ def closed_loop_ratio(steps: int = 3000, repeats: int = 5) -> dict[str, Any]:
     }
 
 
+#: The physics before issue 39 (AMOSII's body options): a 5 ms step and MuJoCo's default solver settings.
+FORMER_PHYSICS = {"timestep": 0.005, "solver_iterations": 100, "solver_tolerance": 1e-8}
+
+
+def physics_settings(steps: int = 3000, repeats: int = 5) -> dict[str, Any]:
+    """The closed loop's control steps per second under the adopted physics (``BodyParams``' defaults: the authors'
+    10 ms step, at most 20 solver iterations to 1e-6) and under the former (:data:`FORMER_PHYSICS`), on the same
+    run (``box`` arena, plastic network), interleaved, medians over ``repeats``."""
+    cfg = EpisodeConfig(arena="box", controller="plastic", steps=steps, seed=0)
+    former = cfg.replace(body_opts=FORMER_PHYSICS)
+    run_episode(EpisodeConfig(arena="box", steps=5))  # warm the compiled kernels
+    walls: dict[str, list[float]] = {"adopted": [], "former": []}
+    for _ in range(repeats):
+        for name, c in (("adopted", cfg), ("former", former)):
+            walls[name].append(run_episode(c).summary["wall_time_s"])
+    rates = {k: steps / float(np.median(v)) for k, v in walls.items()}
+    return {
+        "steps": steps,
+        "repeats": repeats,
+        "former_body_opts": FORMER_PHYSICS,
+        "control_steps_per_s_adopted": rates["adopted"],
+        "control_steps_per_s_former": rates["former"],
+        "adopted_over_former": rates["adopted"] / rates["former"],
+        "aim": 1.8,
+    }
+
+
 def warp_rates(
     worlds: tuple[int, ...] = (1, 64, 1024, 4096), steps: int = 5, device: str | None = None, progress: bool = True
 ) -> dict[str, Any]:
@@ -298,6 +326,7 @@ def run_bench(
     steps, seeds = (200, 1) if quick else (2000, 3)
     phys = physics_rates(steps, seeds)
     loop = closed_loop_ratio(300 if quick else 3000, 1 if quick else 5)
+    settings = physics_settings(300 if quick else 3000, 1 if quick else 5)
     batch: dict[str, Any] = {}
     for nthread in sorted({1, workers}):
         b = measure_throughput(n_copies=2 if quick else 16, steps=50 if quick else 300, nthread=nthread)
@@ -312,6 +341,7 @@ def run_bench(
         },
         "physics": phys,
         "closed_loop_vs_bare": loop,
+        "physics_settings": settings,
         "batch_physics": {
             **batch,
             "speedup_vs_single_loop": {k: v.get("speedup") for k, v in batch.items()},

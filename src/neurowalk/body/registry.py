@@ -19,6 +19,7 @@ its range here, before anything is built.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -93,6 +94,11 @@ BODIES: dict[str, BodyInfo] = {
         gait_refusal=None,
         lockstep=True,
         viewer=True,
+        options={
+            "timestep": (0.01, 0.001, 0.02, "physics step (s); a control step is a whole number of them"),
+            "solver_iterations": (20, 1, 1000, "most solver iterations of a physics step (whole number)"),
+            "solver_tolerance": (1e-6, 1e-12, 1e-3, "the solver stops when its cost improves by less"),
+        },
     ),
     "surrogate": BodyInfo(
         "surrogate",
@@ -141,6 +147,18 @@ MJCF = BodyInfo(
 )
 
 
+def amosii_params(opts: Mapping[str, Any] | None = None) -> BodyParams:
+    """AMOSII's numbers with its body options (``timestep``, ``solver_iterations``, ``solver_tolerance``; checked by
+    :func:`check_body_opts`) set over the defaults."""
+    options = dict(opts or {})
+    if "solver_iterations" in options:
+        n = options["solver_iterations"]
+        if float(n) != int(n):
+            raise ValueError(f"option 'solver_iterations' of body 'amosii' must be a whole number, got {n!r}")
+        options["solver_iterations"] = int(n)
+    return BodyParams(**options) if options else BodyParams()
+
+
 def body_info(name: str) -> BodyInfo:
     """The registry entry of ``name`` (``mjcf:FILE``: the user-file entry); ValueError names an unknown body."""
     if name.startswith("mjcf:"):
@@ -173,6 +191,8 @@ def check_body_opts(name: str, opts: dict[str, Any]) -> dict[str, Any]:
         if isinstance(value, bool) or not math.isfinite(number) or not low <= number <= high:
             raise ValueError(f"body option {key} must be a number in [{low}, {high}], got {value!r}")
         out[key] = number
+    if name == "amosii":
+        amosii_params(out)  # a whole number of iterations, and BodyParams' own checks
     return out
 
 
@@ -196,7 +216,8 @@ def make_body(
         return UserMjcf(name, arena, opts, control_hz=control_hz, noise=noise)
     options = check_body_opts(name, opts or {})
     if name == "amosii":
-        return AmosII(arena, control_hz=control_hz, noise=noise, scan_obstacles=climbing, pad_boxes=pad_boxes)
+        params = amosii_params(options)
+        return AmosII(arena, params, control_hz=control_hz, noise=noise, scan_obstacles=climbing, pad_boxes=pad_boxes)
     if not BODIES[name].physics:  # surrogate, surrogate-wheeled: each reads its own calibration file
         cal = load_calibration(body=name)
         body = Surrogate(arena, cal.scaled(**options) if options else cal, noise=noise, name=name)
@@ -233,7 +254,7 @@ def body_xml(name: str, opts: dict[str, Any] | None = None, world: str = "") -> 
     ``to_mjcf()``); ValueError for a planar body."""
     options = check_body_opts(name, opts or {})
     if name == "amosii":
-        return amosii_xml(BodyParams(), world=world)
+        return amosii_xml(amosii_params(options), world=world)
     if name == "wheeled":
         return wheeled_xml(WheeledParams(**options), world=world)
     raise ValueError(f"body {name!r} has no built-in MuJoCo model to export")

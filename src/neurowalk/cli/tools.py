@@ -130,9 +130,12 @@ def cmd_bench(args: argparse.Namespace) -> int:
     r = run_bench(quick=args.quick, workers=args.workers, engine=args.engine, device=device, worlds=worlds)
     write_json(args.out / "bench.json", r)
     b = r["batch_physics"]["speedup_vs_single_loop"]
+    ps = r["physics_settings"]
     line = (
         f"physics {r['physics']['control_steps_per_s']:.0f} control steps/s, closed loop / bare mj_step "
-        f"{r['closed_loop_vs_bare']['ratio_closed_loop_over_bare']:.2f}; "
+        f"{r['closed_loop_vs_bare']['ratio_closed_loop_over_bare']:.2f}; closed loop at the 10 ms step "
+        f"{ps['control_steps_per_s_adopted']:.0f} control steps/s, at the former 5 ms "
+        f"{ps['control_steps_per_s_former']:.0f} ({ps['adopted_over_former']:.2f}x); "
         f"mujoco.batch speed-up {', '.join(f'{k} {v:.2f}x' for k, v in b.items())}"
     )
     if "surrogate" in r:

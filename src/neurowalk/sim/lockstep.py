@@ -21,7 +21,7 @@ from __future__ import annotations
 import math
 import time
 from abc import ABC, abstractmethod
-from collections.abc import Hashable, Sequence
+from collections.abc import Hashable, Mapping, Sequence
 from typing import Any
 
 import mujoco
@@ -212,13 +212,18 @@ class LockstepEngine(Engine):
         if bad:
             runs = ", ".join(repr(b) for b in LOCKSTEP_BODIES)
             raise ValueError(f"engine {self.name!r} runs body {runs} only, got body {bad[0].body!r}")
-        for name in ("control_hz", "steps"):
-            values = sorted({getattr(c, name) for c in configs})
+        for name in ("control_hz", "steps", "body_opts"):
+            values = sorted({repr(_hashable(getattr(c, name))) for c in configs})
             if len(values) > 1:
                 raise ValueError(
-                    f"every config of one call of engine {self.name!r} needs the same {name}, got {values}"
+                    f"every config of one call of engine {self.name!r} needs the same {name}, got {', '.join(values)}"
                 )
 
     def group_key(self, cfg: EpisodeConfig) -> Hashable:
-        """Configs of the same length and control rate run as one call's worlds."""
-        return (cfg.steps, cfg.control_hz)
+        """Configs of the same length, control rate and body options run as one call's worlds."""
+        return (cfg.steps, cfg.control_hz, _hashable(cfg.body_opts))
+
+
+def _hashable(v: Any) -> Any:
+    """``v`` with its mappings as sorted tuples of items (a group key's part)."""
+    return tuple(sorted(v.items())) if isinstance(v, Mapping) else v

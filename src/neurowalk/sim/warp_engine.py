@@ -35,11 +35,11 @@ import numpy as np
 
 from neurowalk.arenas import make_arena
 from neurowalk.body.amosii import amosii_xml, joint_qpos_indices
-from neurowalk.body.amosii_params import BodyParams
 from neurowalk.body.common import place_at_start
 from neurowalk.body.noise import ColoredNoise
 from neurowalk.body.obstacle_slots import slot_rows, slot_world
 from neurowalk.body.physics import set_control_rate
+from neurowalk.body.registry import amosii_params
 from neurowalk.sim.config import Episode, EpisodeConfig, build_controller, seeds
 from neurowalk.sim.engine import EngineOptions
 from neurowalk.sim.lockstep import LockstepEngine, LockstepWorlds
@@ -147,7 +147,7 @@ class WarpWorlds(LockstepWorlds):
         n = len(configs)
         arenas = [make_arena(c.arena, rng=seeds(c)[2], **c.arena_opts) for c in configs]
         self.max_boxes = max_boxes if max_boxes is not None else max(len(a.boxes) for a in arenas)
-        params = BodyParams()
+        params = amosii_params(configs[0].body_opts)  # one call's configs share them (LockstepEngine.check)
         model = mujoco.MjModel.from_xml_string(amosii_xml(params, world=slot_world(arenas[0], self.max_boxes)))
         nj = len(joint_qpos_indices(model))
         noises = [ColoredNoise(2 + nj + 6, strength=c.noise) for c in configs]  # as AmosII's own source
