@@ -186,13 +186,13 @@ ROWS: dict[str, Callable[[dict[str, Any]], list[dict[str, Any]]]] = {
 
 
 def reason(claims: list[Claim]) -> str:
-    """The authors' system against the paper in a line: ``reproduced (3/3)``, ``partly (2/3; not: WHAT (VALUE))``,
+    """The authors' system against the paper in a line: ``reproduced (3/3)``, ``partly (2/3; not: WHAT: VALUE)``,
     ``not (0/2)``; ``side by side only`` where no claim compares."""
     if not claims:
         return "side by side only (no claim of the paper to judge)"
     ok = sum(c.verdict == "reproduced" for c in claims)
     word = "reproduced" if ok == len(claims) else "not" if all(c.verdict == "not" for c in claims) else "partly"
-    off = "; ".join(f"{c.verdict}: {c.what} ({c.measured})" for c in claims if c.verdict != "reproduced")
+    off = "; ".join(f"{c.verdict}: {c.what}: {c.measured}" for c in claims if c.verdict != "reproduced")
     return f"{word} ({ok}/{len(claims)}{'; ' + off if off and word == 'partly' else ''})"
 
 
