@@ -17,6 +17,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+import numpy as np
+
 from neurowalk.experiments.reproduce import authors
 from neurowalk.experiments.reproduce.claims import Claim, holds, outcome
 from neurowalk.experiments.suites.random_envs import COVERAGE_PER_1000S, coverage_threshold
@@ -176,10 +178,57 @@ def _long_rows(s: dict[str, Any], network: str) -> list[dict[str, Any]]:
     ]
 
 
+def _static_simple_rows(s: dict[str, Any]) -> list[dict[str, Any]]:
+    """The static network in the simple dead end, where the two simulators differ: escapes over all seeds, exit
+    times, the longer runs, and where the runs not out in 500 s stay (end position, heading range at the end)."""
+    cell, ours = authors.dead_ends()["simple-deadlock"]["static"], s["table"]["counts"]["simple-deadlock"]["static"]
+    example = s["runs"]["simple-deadlock"]
+    more, long = cell["more"], cell["long"]
+    stay = [r for r in cell["seeds"] if not r["escaped"]]
+    end = np.median([r["end"] for r in stay], axis=0) if stay else None
+    first = s["table"]["first_seed"]
+    what = "simple dead end, static"
+    ex = (
+        None
+        if example["exit_step"] is None
+        else f"{example['exit_step'] / s['control_hz']:.0f} (seed {example['seed']})"
+    )
+    return [
+        _row(
+            f"{what}: escaped in 500 s (authors: seeds {more['seed_list'][0]}-{more['seed_list'][-1]}; neurowalk: "
+            + (f"seeds {first}-{first + ours['runs'] - 1})" if ours["runs"] > 1 else f"seed {first})"),
+            "",
+            f"{ours['escaped']}/{ours['runs']}",
+            f"{more['escaped']}/{more['runs']}",
+        ),
+        _row(f"{what}: exit times (s)", "", ex, ", ".join(f"{x:.0f}" for x in more["exit_s"]) or None),
+        _row(
+            f"{what}: escaped in 1,500 s (seeds {', '.join(str(r['seed']) for r in long)})",
+            "",
+            None,
+            f"{sum(r['escaped'] for r in long)}/{len(long)}"
+            + "".join(f", seed {r['seed']} at {r['exit_s']:,.0f} s" for r in long if r["escaped"]),
+        ),
+        _row(
+            f"{what}: runs still in at 500 s, median end position (x, y)",
+            "m",
+            None,
+            None if end is None else f"{end[0]:.2f}, {end[1]:.2f}",
+        ),
+        _row(
+            f"{what}: runs still in at 500 s, median range of the heading over the last 300 s",
+            "deg",
+            None,
+            float(np.median([r["end_heading_range_deg"] for r in stay])) if stay else None,
+            1,
+        ),
+    ]
+
+
 #: Per item: its side-by-side rows from the figure's summary.
 ROWS: dict[str, Callable[[dict[str, Any]], list[dict[str, Any]]]] = {
     "table1": _table1_rows,
-    "fig3": lambda s: _long_rows(s, "static"),
+    "fig3": lambda s: [*_static_simple_rows(s), *_long_rows(s, "static")],
     "fig5": lambda s: [*_long_rows(s, "plastic"), *_long_rows(s, "static")[1:2]],
     "fig7": _fig7_rows,
 }
