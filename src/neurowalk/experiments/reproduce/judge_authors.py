@@ -210,8 +210,8 @@ def _static_simple_rows(s: dict[str, Any]) -> list[dict[str, Any]]:
             + "".join(f", seed {r['seed']} at {r['exit_s']:,.0f} s" for r in long if r["escaped"]),
         ),
         _row(
-            f"{what}: runs still in at 500 s, median end position (x, y)",
-            "m",
+            f"{what}: runs still in at 500 s, median end position (x, y; m)",
+            "",
             None,
             None if end is None else f"{end[0]:.2f}, {end[1]:.2f}",
         ),
