@@ -69,7 +69,10 @@ def test_wedged_periods_finds_each_stay_with_its_steps_and_duration():
     assert a["duration_s"] == pytest.approx((a["end"] - a["start"] + 1) / 10)
     assert a["cause"] == "other" and a["blind_fraction"] is None and a["contact_fraction"] is None
     s = metrics.wedged_summary(periods)
-    assert s == {"wedged_periods": 2, "longest_wedged_s": b["duration_s"], "wedged_causes": {"other": 2}}
+    assert s["wedged_periods"] == 2 and s["longest_wedged_s"] == b["duration_s"]
+    assert s["wedged_causes"] == {"other": 2}
+    # yaw 0 throughout: every wedged step is held, each period one held run, none turning
+    assert s["held_periods"] == 2 and s["longest_held_s"] == b["duration_s"] and s["turning_periods"] == 0
 
 
 def test_wedged_periods_threshold_duration_radius_and_rate():
@@ -85,7 +88,14 @@ def test_wedged_periods_threshold_duration_radius_and_rate():
     assert metrics.wedged_periods(_pose(_walk(20000))) == []  # walking at full speed never counts
     slow = _pose(_walk(20000, speed=0.0014 / 10))  # a tenth of the speed: 0.14 m per 100 s, wedged throughout
     assert [(p["start"], p["end"]) for p in metrics.wedged_periods(slow)] == [(0, 19999)]
-    assert metrics.wedged_summary([]) == {"wedged_periods": 0, "longest_wedged_s": 0.0, "wedged_causes": {}}
+    assert metrics.wedged_summary([]) == {
+        "wedged_periods": 0,
+        "longest_wedged_s": 0.0,
+        "wedged_causes": {},
+        "held_periods": 0,
+        "longest_held_s": 0.0,
+        "turning_periods": 0,
+    }
     with pytest.raises(ValueError):
         metrics.wedged_periods(still, control_hz=0.0)
 
@@ -118,3 +128,92 @@ def test_wedged_periods_causes_from_rays_and_contact():
     (q,) = metrics.wedged_periods(pose, contact=partial)
     assert q["cause"] == "body contact" and q["contact_fraction"] == 1.0
     assert metrics.wedged_periods(pose, contact=np.full(n, np.nan))[0]["contact_fraction"] is None
+
+
+HZ = 10.0  # control steps per second of the synthetic runs below
+
+
+def _in_place(n: int, yaw: np.ndarray, seed: int = 0) -> np.ndarray:
+    """(n, 3) poses of a robot whose trunk jitters 5 cm about (1, 2) with heading ``yaw`` (n,) rad."""
+    return _pose(_jitter(n, (1.0, 2.0), 0.05, seed), yaw)
+
+
+def _yaw_jitter(n: int, deg: float, seed: int = 0) -> np.ndarray:
+    """(n,) headings (rad) jittering uniformly within +-``deg`` / 2 degrees about 0.3 rad."""
+    return 0.3 + np.radians(np.random.default_rng(seed).uniform(-deg / 2, deg / 2, n))
+
+
+def _held_steps(periods: list[dict]) -> np.ndarray:
+    """The control steps of every held run of ``periods``."""
+    return np.concatenate([np.arange(a, b + 1) for p in periods for a, b in p["held"]] or [np.zeros(0, int)])
+
+
+def test_a_turn_in_place_is_wedged_but_not_held():
+    n = 2000  # 200 s at 2 deg/s: 400 degrees, across the wrap of the yaw at +-pi
+    yaw = np.angle(np.exp(1j * np.radians(2.0 * np.arange(n) / HZ)))  # wrapped into (-pi, pi]
+    (p,) = metrics.wedged_periods(_in_place(n, yaw))
+    assert (p["start"], p["end"]) == (0, n - 1)  # in the disc throughout
+    assert p["held"] == [] and p["held_s"] == 0.0  # no 100 s stretch sweeps less than 200 degrees
+    assert p["heading_range_deg"] == pytest.approx(2.0 * (n - 1) / HZ)  # unwrapped: the whole sweep
+    s = metrics.wedged_summary([p])
+    assert s["held_periods"] == 0 and s["longest_held_s"] == 0.0 and s["turning_periods"] == 1
+
+
+def test_a_robot_sitting_still_with_small_yaw_jitter_is_held():
+    n = 2000
+    (p,) = metrics.wedged_periods(_in_place(n, _yaw_jitter(n, 10.0)))
+    assert p["held"] == [[0, n - 1]] and p["held_s"] == p["duration_s"] == n / HZ
+    assert p["heading_range_deg"] <= 10.0
+    s = metrics.wedged_summary([p])
+    assert s["held_periods"] == 1 and s["longest_held_s"] == n / HZ and s["turning_periods"] == 0
+
+
+def test_sitting_then_turning_is_held_over_the_still_part_only():
+    still, turn = 1500, 1500  # 150 s still, then 150 s turning at 2 deg/s, in the same disc
+    rate = np.radians(2.0) / HZ  # rad per step
+    yaw = np.concatenate([_yaw_jitter(still, 4.0), 0.3 + rate * np.arange(1, turn + 1)])
+    (p,) = metrics.wedged_periods(_in_place(still + turn, yaw))
+    assert (p["start"], p["end"]) == (0, still + turn - 1)  # one wedged period over both
+    assert p["heading_range_deg"] > 250.0
+    ((a, b),) = p["held"]
+    assert a == 0 and b >= still - 1  # the whole still part is held ...
+    # ... and at most the part of the turn a stretch of the band can reach: 30 degrees at 2 deg/s, 15 s
+    assert b <= still - 1 + metrics.HELD_HEADING_DEG / 2.0 * HZ + 10  # (+ one stride of the stretch starts)
+    assert metrics.wedged_summary([p])["turning_periods"] == 0  # it holds a held run: not a turning period
+
+
+def test_held_threshold_boundary_and_argument():
+    n = 1500
+    for deg, held in ((29.0, True), (31.0, False)):  # the heading's range over the run, just inside / outside
+        yaw = 0.3 + np.radians(deg) * (np.arange(n) % 2)  # alternates between two headings deg apart
+        (p,) = metrics.wedged_periods(_in_place(n, yaw))
+        assert bool(p["held"]) is held, deg
+        assert p["heading_range_deg"] == pytest.approx(deg)
+    (p,) = metrics.wedged_periods(_in_place(n, 0.3 + np.radians(31.0) * (np.arange(n) % 2)), heading_deg=35.0)
+    assert p["held"] == [[0, n - 1]]  # the band is the argument's
+    (p,) = metrics.wedged_periods(_in_place(n, np.full(n, 0.3)), heading_deg=0.0)
+    assert p["held"] == [[0, n - 1]]  # a constant heading: range 0, inside even a band of 0
+    yaw = np.full(n, 0.3)
+    yaw[700] = np.nan  # an unknown heading: no stretch through it is held
+    (p,) = metrics.wedged_periods(_in_place(n, yaw))
+    assert 700 not in _held_steps([p])
+    with pytest.raises(ValueError, match="heading_deg"):
+        metrics.wedged_periods(_in_place(n, yaw), heading_deg=-1.0)
+
+
+def test_held_steps_are_wedged_steps_and_the_band_is_monotone():
+    rng = np.random.default_rng(5)
+    n = 6000  # a slow random wander with a heading that sometimes drifts, sometimes holds
+    xy = np.cumsum(rng.normal(0, 0.004, (n, 2)), axis=0)
+    yaw = np.cumsum(rng.normal(0, 0.01, n) + np.where((np.arange(n) // 1000) % 2, 0.004, 0.0))
+    pose = _pose(xy, yaw)
+    wedged = metrics.wedged_periods(pose)
+    steps = {band: set(_held_steps(metrics.wedged_periods(pose, heading_deg=band)).tolist()) for band in (10, 30, 90)}
+    inside = {int(i) for p in wedged for i in range(p["start"], p["end"] + 1)}
+    assert steps[10] <= steps[30] <= steps[90] <= inside
+    for p in wedged:
+        assert all(p["start"] <= a <= b <= p["end"] for a, b in p["held"])
+        assert p["held_s"] == pytest.approx(sum(b - a + 1 for a, b in p["held"]) / HZ)
+    held = metrics.held_periods(wedged)
+    assert [(h["start"], h["end"]) for h in held] == [tuple(r) for p in wedged for r in p["held"]]
+    assert all(h["cause"] in metrics.WEDGE_CAUSES for h in held)

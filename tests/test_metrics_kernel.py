@@ -43,7 +43,44 @@ def _same(pose: np.ndarray, outputs: np.ndarray, arena: object, blind: np.ndarra
             new = metrics._fitting_windows(pose[:, :2], window, radius, stride)
             assert np.array_equal(new, ref_fitting_windows(pose[:, :2], window, radius, stride))
         kw = {"control_hz": 10.0, "radius": radius, "blind": blind}
-        assert metrics.wedged_periods(pose, **kw) == ref_wedged_periods(pose, **kw)
+        assert _disc(metrics.wedged_periods(pose, **kw)) == ref_wedged_periods(pose, **kw)
+        _same_held(pose, **kw)
+
+
+#: Keys of a wedged period that the held rule added after the reference was copied (the heading band).
+HELD_KEYS = ("heading_range_deg", "held", "held_s")
+
+
+def _disc(periods: list[dict]) -> list[dict]:
+    """``periods`` without :data:`HELD_KEYS`: what the reference (the disc rule only) computes."""
+    return [{k: v for k, v in p.items() if k not in HELD_KEYS} for p in periods]
+
+
+def _same_held(pose: np.ndarray, control_hz: float = 10.0, stride: int = 10, radius: float = 0.3, **_: object) -> None:
+    """The held steps of :func:`metrics.wedged_periods` equal a plain numpy check of every stretch: rows in some
+    stretch (every ``stride`` rows and the last) whose positions lie within ``radius`` of their mean and whose
+    unwrapped yaw's range is within the band; each period's heading range is numpy's."""
+    n = len(pose)
+    window = int(np.floor(metrics.WEDGE_MIN_S * control_hz + 1e-9)) + 1
+    starts = sorted({*range(0, n - window + 1, stride), n - window}) if n >= window else []
+    yaw = np.unwrap(pose[:, 2])
+    fits, ptp = [], []
+    for s in starts:
+        seg = pose[s : s + window, :2]
+        fits.append(bool(np.max(np.sum((seg - seg.mean(axis=0)) ** 2, axis=1)) <= radius * radius))
+        ptp.append(np.ptp(yaw[s : s + window]))
+    for band in (5.0, metrics.HELD_HEADING_DEG, 120.0):
+        want = np.zeros(n, dtype=bool)
+        for s, fit, sweep in zip(starts, fits, ptp, strict=True):
+            if fit and sweep <= np.radians(band):
+                want[s : s + window] = True
+        got = np.zeros(n, dtype=bool)
+        periods = metrics.wedged_periods(pose, control_hz=control_hz, stride=stride, radius=radius, heading_deg=band)
+        for p in periods:
+            for a, b in p["held"]:
+                got[a : b + 1] = True
+            assert p["heading_range_deg"] == np.degrees(np.ptp(yaw[p["start"] : p["end"] + 1]))
+        assert np.array_equal(got, want), band
 
 
 @pytest.fixture(scope="module")
@@ -132,7 +169,7 @@ def test_lengths_around_the_window(n: int) -> None:
     assert metrics.coverage(pose, arena) == ref_coverage(pose, arena)
     assert metrics.avoidance_episodes(outputs, pose) == ref_avoidance_episodes(outputs, pose)
     for hz in (1.0, 3.0, 10.0):  # windows of 101, 301, 1001 rows
-        assert metrics.wedged_periods(pose, control_hz=hz) == ref_wedged_periods(pose, control_hz=hz)
+        assert _disc(metrics.wedged_periods(pose, control_hz=hz)) == ref_wedged_periods(pose, control_hz=hz)
 
 
 def test_ties_nan_and_inf_rows() -> None:
@@ -204,7 +241,9 @@ def test_random_walks_give_the_reference_metrics(
     outputs = np.random.default_rng(seed).normal(0, 1.2, (n, 2))
     assert metrics.avoidance_episodes(outputs, pose) == ref_avoidance_episodes(outputs, pose)
     hz = window / 100.0  # windows of window + 1 rows
-    _agree(lambda: metrics.wedged_periods(pose, control_hz=hz), lambda: ref_wedged_periods(pose, control_hz=hz))
+    _agree(lambda: _disc(metrics.wedged_periods(pose, control_hz=hz)), lambda: ref_wedged_periods(pose, control_hz=hz))
+    if window >= 10:  # a stretch of more rows than the stride
+        _same_held(pose, control_hz=hz)
 
 
 @settings(max_examples=60, deadline=None)

@@ -152,28 +152,46 @@ reaches with nothing in range (0.40 m range, noise std about 3 mm there)."""
 WEDGE_CAUSES = ("both rays blind", "body contact", "other")
 
 
-def _fitting_windows(xy: np.ndarray, window: int, radius: float, stride: int) -> np.ndarray:
-    """(T,) bool: rows inside some ``window``-row stretch (started every ``stride`` rows, and at the end) whose
-    positions all lie within ``radius`` of their mean.
+HELD_HEADING_DEG = 30.0
+"""Widest range (degrees) of the heading over a wedged stretch in which the robot counts as *held*, not turning:
+a robot pressed against an obstacle with its legs still stepping yaws a little; one turning in place at 1-2 deg/s
+sweeps 100-200 degrees in :data:`WEDGE_MIN_S`."""
+
+
+def _fitting_starts(xy: np.ndarray, window: int, radius: float, stride: int) -> np.ndarray:
+    """(k,) int64 ascending starts of the ``window``-row stretches (started every ``stride`` rows, and at the end)
+    whose positions, rows of ``xy`` (T, 2) in m, all lie within ``radius`` (m) of their mean.
 
     Cheap bounds first, from the extremes of blocks of ``stride`` rows: a stretch whose whole blocks span more
     than the disc's diameter in x or y cannot fit; one whose covering blocks' bounding box lies within the disc
     around the stretch's mean fits. Only the stretches in between are checked point by point. A compiled pass
-    (:func:`neurowalk.metrics_kernel.fitting_windows`) does all of it; numpy checks the exact ties, 256
+    (:func:`neurowalk.metrics_kernel.fitting_starts`) does all of it; numpy checks the exact ties, 256
     stretches at a time.
     """
     n = len(xy)
     if n >= window and n // stride < -(-(n - window) // stride):  # the last stretch holds no block boundary
         raise ValueError(f"window ({window} rows) shorter than stride ({stride}): the blocks cannot bound it")
-    marked, todo = metrics_kernel.fitting_windows(_xy(xy), int(window), float(radius), int(stride))
+    fits, todo = metrics_kernel.fitting_starts(_xy(xy), int(window), float(radius), int(stride))
     if len(todo):
         views = np.lib.stride_tricks.sliding_window_view(xy, window, axis=0)  # (T - window + 1, 2, window)
+        found = [fits]
         for k in range(0, len(todo), 256):
             chunk = views[todo[k : k + 256]]
             d2 = np.sum((chunk - chunk.mean(axis=2, keepdims=True)) ** 2, axis=1)
-            for s in todo[k : k + 256][np.max(d2, axis=1) <= radius * radius]:
-                marked[s : s + window] = True
-    return marked
+            found.append(todo[k : k + 256][np.max(d2, axis=1) <= radius * radius])
+        fits = np.sort(np.concatenate(found))
+    return fits
+
+
+def _fitting_windows(xy: np.ndarray, window: int, radius: float, stride: int) -> np.ndarray:
+    """(T,) bool: rows of ``xy`` (T, 2) inside some stretch of :func:`_fitting_starts` (one that fits the disc)."""
+    return metrics_kernel.mark_stretches(len(xy), _fitting_starts(xy, window, radius, stride), int(window))
+
+
+def _runs(marked: np.ndarray) -> list[tuple[int, int]]:
+    """The maximal runs of True in ``marked`` (T,) bool, as (first, stop) row pairs: rows [first, stop)."""
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], marked.astype(np.int8), [0]])))
+    return [(int(s), int(e)) for s, e in zip(edges[::2], edges[1::2], strict=True)]
 
 
 def wedged_periods(
@@ -187,6 +205,7 @@ def wedged_periods(
     blind_m: float = BLIND_M,
     stride: int = 10,
     blind: np.ndarray | None = None,
+    heading_deg: float = HELD_HEADING_DEG,
 ) -> list[dict]:
     """Periods in which the robot stayed put: its trunk centre within a small disc for more than ``min_s`` s.
 
@@ -194,6 +213,16 @@ def wedged_periods(
     steps) whose trunk positions all lie within ``radius`` of their mean, as in :func:`trapped`; a period is a
     maximal run of wedged steps. Overlapping stretches join, so a period can outgrow the disc a little where
     the robot creeps (``extent_m`` says by how much).
+
+    Held or turning. A slow avoidance turn stays in the disc too (at about 1 cm/s and 2 deg/s a turn of 90
+    degrees takes over 100 s), so each stretch that fits the disc is also asked whether the robot's heading
+    stayed within a band: the range (max minus min) of the unwrapped yaw over the stretch at most
+    ``heading_deg``. A step is *held* if it lies in a stretch that fits both; the held steps' maximal runs are
+    the period's ``held`` runs. The rule is asked of stretches, not of whole periods, because a period joins
+    whatever overlapping stretches fit the disc: a robot held at a wall for 200 s that then turns away in place
+    makes one period whose whole heading range is large, yet it was held for 200 s; one that turns for 300 s
+    has no stretch of ``min_s`` within the band and no held step at all. Held steps are wedged steps, so each
+    held run lies inside one period. A period with no held step is a *turning* one.
 
     Args:
         pose: (T, 3) trunk pose per control step (x m, y m, yaw rad).
@@ -205,28 +234,36 @@ def wedged_periods(
         blind_m: readings at or beyond this (m) count as blind.
         stride: steps between the starts of the stretches tried.
         blind: (T,) bool, both rays blind, instead of ``us_distance`` (e.g. kept by a long run in place of it).
+        heading_deg: widest heading range (degrees) of a held stretch, default :data:`HELD_HEADING_DEG` = 30.
 
     Returns:
         One dict per period, in time order: ``start``, ``end`` (first and last control step, inclusive),
         ``duration_s``, ``centre`` ([x, y] m, mean position), ``extent_m`` (largest distance from it),
         ``blind_fraction`` and ``contact_fraction`` (share of its steps with both rays blind / with body contact
-        among those where it is known; None where not given) and ``cause``: "both rays blind" when both rays
+        among those where it is known; None where not given), ``cause``: "both rays blind" when both rays
         were blind for more than half of it, else "body contact" when the body touched an obstacle for more than
-        half of it, else "other".
+        half of it, else "other"; ``heading_range_deg`` (range of the unwrapped yaw over the whole period,
+        degrees), ``held`` ([first, last] control steps, inclusive, of each run of held steps in it; empty for a
+        turning period) and ``held_s`` (s, its held steps in all).
     """
-    if not control_hz > 0 or not radius > 0 or not min_s > 0 or stride < 1:
+    if not control_hz > 0 or not radius > 0 or not min_s > 0 or stride < 1 or not heading_deg >= 0:
         raise ValueError(
-            f"need control_hz, radius, min_s > 0 and stride >= 1, got {control_hz}, {radius}, {min_s}, {stride}"
+            f"need control_hz, radius, min_s > 0, stride >= 1 and heading_deg >= 0, got {control_hz}, {radius}, "
+            f"{min_s}, {stride}, {heading_deg}"
         )
-    xy = np.asarray(pose, dtype=float)[:, :2]
+    pose = np.asarray(pose, dtype=float)
+    xy = pose[:, :2]
     window = math.floor(min_s * control_hz + 1e-9) + 1  # more than min_s seconds
-    marked = _fitting_windows(xy, window, radius, stride)
+    fits = _fitting_starts(xy, window, radius, stride)
+    marked = metrics_kernel.mark_stretches(len(xy), fits, window)
+    yaw = metrics_kernel.unwrap(np.ascontiguousarray(pose[:, 2]))
+    narrow = metrics_kernel.heading_ranges(yaw, fits, window) <= math.radians(heading_deg)  # NaN: not held
+    held = _runs(metrics_kernel.mark_stretches(len(xy), fits[narrow], window))
     if blind is None and us_distance is not None:
         blind = np.all(np.asarray(us_distance) >= blind_m, axis=1)
     touch = None if contact is None else np.asarray(contact, dtype=float)
-    edges = np.flatnonzero(np.diff(np.concatenate([[0], marked.astype(np.int8), [0]])))
     periods: list[dict] = []
-    for s, e in zip(edges[::2], edges[1::2], strict=True):  # rows [s, e)
+    for s, e in _runs(marked):  # rows [s, e)
         centre = xy[s:e].mean(axis=0)
         fb = None if blind is None else float(np.mean(blind[s:e]))
         known = None if touch is None else touch[s:e][np.isfinite(touch[s:e])]
@@ -246,18 +283,38 @@ def wedged_periods(
                 "blind_fraction": fb,
                 "contact_fraction": fc,
                 "cause": cause,
+                "heading_range_deg": float(np.degrees(np.max(yaw[s:e]) - np.min(yaw[s:e]))),
+                "held": [[a, b - 1] for a, b in held if s <= a < e],  # held runs lie within one period
+                "held_s": float(sum(b - a for a, b in held if s <= a < e) / control_hz),
             }
         )
     return periods
 
 
-def wedged_summary(periods: list[dict]) -> dict:
-    """Counts of :func:`wedged_periods`: ``wedged_periods`` (number), ``longest_wedged_s``, ``wedged_causes``."""
+def held_periods(periods: list[dict], control_hz: float = 10.0) -> list[dict]:
+    """The held runs of :func:`wedged_periods`' ``periods``, flat and in time order: ``start``, ``end`` (control
+    steps, inclusive), ``duration_s`` (at ``control_hz`` steps per second) and the ``cause`` of the wedged period
+    each lies in."""
+    return [
+        {"start": a, "end": b, "duration_s": (b - a + 1) / control_hz, "cause": p["cause"]}
+        for p in periods
+        for a, b in p["held"]
+    ]
+
+
+def wedged_summary(periods: list[dict], control_hz: float = 10.0) -> dict:
+    """Counts of :func:`wedged_periods`: ``wedged_periods`` (number), ``longest_wedged_s``, ``wedged_causes``;
+    ``held_periods`` (number of held runs, :func:`held_periods`), ``longest_held_s`` (s) and ``turning_periods``
+    (wedged periods with no held step), at ``control_hz`` steps per second."""
     causes: dict[str, int] = {}
     for p in periods:
         causes[p["cause"]] = causes.get(p["cause"], 0) + 1
+    held = held_periods(periods, control_hz)
     return {
         "wedged_periods": len(periods),
         "longest_wedged_s": max((p["duration_s"] for p in periods), default=0.0),
         "wedged_causes": causes,
+        "held_periods": len(held),
+        "longest_held_s": max((h["duration_s"] for h in held), default=0.0),
+        "turning_periods": sum(1 for p in periods if not p["held"]),
     }

@@ -197,20 +197,49 @@ def _range_max(t: np.ndarray, j: int, count: int) -> float:
 def fitting_windows(xy: np.ndarray, window: int, radius: float, stride: int) -> tuple[np.ndarray, np.ndarray]:
     """The marks of :func:`neurowalk.metrics.wedged_periods`' stretches, decided as its numpy code decides them.
 
-    Stretches start every ``stride`` rows and at ``T - window``. One is *wide* (not marked) where the maxima
-    over its first ``inner`` whole blocks of ``stride`` rows (``inner``: the fewest any stretch holds) span more
-    than ``2 radius`` in x or y; else *sure* (marked) where the bounding box of the ``window // stride + 2``
-    blocks from its first lies within ``radius`` of its mean (from the running sum); else it is marked if it
-    fits (:func:`stretch_fits`). All of this is the numpy code's arithmetic, operation for operation.
+    The rows of the stretches :func:`fitting_starts` finds to fit, marked by :func:`mark_stretches`.
 
     Returns:
         (T,) bool marks (rows in a marked stretch), and the (k,) int64 starts of undecided stretches
         (numpy checks them; their rows are not marked here).
     """
-    n = xy.shape[0]
+    fits, todo = fitting_starts(xy, window, radius, stride)
+    return mark_stretches(xy.shape[0], fits, window), todo
+
+
+@jit
+def mark_stretches(n: int, starts: np.ndarray, window: int) -> np.ndarray:
+    """(n,) bool: the rows inside some stretch [s, s + ``window``) for s in ``starts`` (k,) int64 (rows past ``n``
+    ignored), by a running count of the stretches open at each row."""
+    cover_count = np.zeros(n + window + 1, dtype=np.int64)
+    for s in starts:
+        cover_count[s] += 1
+        cover_count[s + window] -= 1
     marked = np.zeros(n, dtype=np.bool_)
+    inside = 0
+    for i in range(n):
+        inside += cover_count[i]
+        marked[i] = inside > 0
+    return marked
+
+
+@jit
+def fitting_starts(xy: np.ndarray, window: int, radius: float, stride: int) -> tuple[np.ndarray, np.ndarray]:
+    """The stretches of :func:`neurowalk.metrics.wedged_periods` that fit, decided as its numpy code decides them.
+
+    Stretches start every ``stride`` rows and at ``T - window``. One is *wide* (does not fit) where the maxima
+    over its first ``inner`` whole blocks of ``stride`` rows (``inner``: the fewest any stretch holds) span more
+    than ``2 radius`` in x or y; else *sure* (fits) where the bounding box of the ``window // stride + 2``
+    blocks from its first lies within ``radius`` of its mean (from the running sum); else it fits if
+    :func:`stretch_fits` says so. All of this is the numpy code's arithmetic, operation for operation.
+
+    Returns:
+        (j,) int64 starts of the stretches that surely fit, ascending, and the (k,) int64 starts of undecided
+        stretches (numpy checks them).
+    """
+    n = xy.shape[0]
     if n < window:
-        return marked, np.empty(0, dtype=np.int64)
+        return np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64)
     last = n - window
     count = last // stride + 1 + (1 if last % stride else 0)
     starts = np.empty(count, dtype=np.int64)
@@ -233,7 +262,7 @@ def fitting_windows(xy: np.ndarray, window: int, radius: float, stride: int) -> 
         csum[i + 1, 0] = csum[i, 0] + xy[i, 0]
         csum[i + 1, 1] = csum[i, 1] + xy[i, 1]
     two_r, r2 = 2.0 * radius, radius * radius
-    cover_count = np.zeros(n + 1, dtype=np.int64)
+    fits = []
     todo = []
     for s in starts:
         f = -(-s // stride)
@@ -248,18 +277,41 @@ def fitting_windows(xy: np.ndarray, window: int, radius: float, stride: int) -> 
         fy = _nan_max(_range_max(hi_y, at, cover) - my, my + _range_max(nlo_y, at, cover))
         fit = 1 if fx * fx + fy * fy <= r2 else stretch_fits(xy, s, window, radius, stride, stats)
         if fit == 1:
-            cover_count[s] += 1
-            cover_count[s + window] -= 1
+            fits.append(s)
         elif fit == -1:
             todo.append(s)
-    inside = 0
-    for i in range(n):  # rows in a marked stretch: a running count of the stretches open at each row
-        inside += cover_count[i]
-        marked[i] = inside > 0
-    out = np.empty(len(todo), dtype=np.int64)
-    for i in range(len(todo)):
-        out[i] = todo[i]
-    return marked, out
+    return _as_array(fits), _as_array(todo)
+
+
+@jit
+def _as_array(values: list[int]) -> np.ndarray:
+    """(k,) int64 array of the ints ``values`` (an empty list too)."""
+    out = np.empty(len(values), dtype=np.int64)
+    for i in range(len(values)):
+        out[i] = values[i]
+    return out
+
+
+@jit
+def heading_ranges(yaw: np.ndarray, starts: np.ndarray, window: int) -> np.ndarray:
+    """(k,) range, max minus min (rad), of ``yaw`` (T,) unwrapped heading over each stretch [s, s + ``window``)
+    for s in ``starts`` (k,) int64 (each within the rows); NaN where the stretch holds a NaN.
+
+    From sparse tables of the maxima of ``yaw`` and of ``-yaw`` (O(T log window) once, O(1) a stretch): max and
+    min are exact, so the range is the one rounding of their difference, as numpy's ``ptp`` gives it.
+    """
+    out = np.empty(starts.shape[0])
+    if starts.shape[0] == 0:
+        return out
+    levels = 1
+    while (1 << levels) <= window:
+        levels += 1
+    hi, nlo = _max_table(yaw.copy(), levels), _max_table(-yaw, levels)
+    for i in range(starts.shape[0]):
+        s = starts[i]
+        top, neg_bottom = _range_max(hi, s, window), _range_max(nlo, s, window)
+        out[i] = top - (-neg_bottom)
+    return out
 
 
 @jit

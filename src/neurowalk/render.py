@@ -19,6 +19,7 @@ import imageio_ffmpeg
 import numpy as np
 from tqdm import tqdm
 
+from neurowalk import profiling
 from neurowalk.body.amosii_params import TRUNK_BODY
 from neurowalk.fileio import atomic_write
 
@@ -85,7 +86,24 @@ def render_video(
         samples: multisampling (anti-aliasing) samples per pixel; 2 by default (MuJoCo's default 4 costs a
             fifth more time with software GL).
     """
-    path = Path(path)
+    with profiling.part("video"):
+        return _render_video(model, qpos, Path(path), fps, (width, height), every, distance, shadows, samples, progress)
+
+
+def _render_video(
+    model: object,
+    qpos: np.ndarray,
+    path: Path,
+    fps: float,
+    size: tuple[int, int],
+    every: int,
+    distance: float,
+    shadows: bool,
+    samples: int,
+    progress: bool,
+) -> Path:
+    """:func:`render_video`, untimed (``size``: width, height in pixels)."""
+    width, height = size
     rows = range(0, len(qpos), every)
     bar = None
     if progress:

@@ -66,7 +66,10 @@ def test_options_and_total_mass(model):
     assert model.opt.timestep == P.timestep
     assert model.opt.integrator == mujoco.mjtIntegrator.mjINT_IMPLICITFAST
     assert model.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC
-    assert model.body_mass.sum() == pytest.approx(7.85, abs=0.01)
+    assert model.body_mass.sum() == pytest.approx(P.total_mass, rel=1e-9)
+    # the mass the authors' simulator applies (original_code_facts.md §13): 6.70 kg, its shoulders weightless
+    assert P.total_mass == pytest.approx(6.70, rel=0.01)
+    assert model.opt.iterations == P.solver_iterations and model.opt.tolerance == P.solver_tolerance
 
 
 def test_exactly_two_rangefinders_named_us_l_us_r(model):
@@ -103,6 +106,9 @@ def test_export_model_writes_a_loadable_file_and_nothing_on_error(tmp_path):
         ("leg_x", (0.0, 0.025, -0.165)),
         ("stand_tc", (0.4, 0.0)),
         ("bj_range", (0.1, 0.5)),
+        ("shoulder_mass", -0.1),
+        ("solver_iterations", 2.5),
+        ("solver_tolerance", 0.0),
     ],
 )
 def test_bad_params_raise_naming_the_field(field, value):

@@ -86,6 +86,7 @@ def test_bad_config_raises():
         EpisodeConfig(controller="wheeled")
     with pytest.raises(ValueError, match="steer"):
         EpisodeConfig(controller="fixed")
+    assert n_substeps(10.0, 0.01) == 10  # the default step, the authors: 10 physics steps per control step
     assert n_substeps(10.0, 0.005) == 20
     assert n_substeps(27.0, 0.005) == 7  # 7.41 steps of 5 ms: 7 steps of 5.29 ms (set_control_rate)
     assert n_substeps(1000.0, 0.005) == 1

@@ -96,7 +96,7 @@ def _leg(p: BodyParams, leg: str, parent_x: float, indent: str) -> tuple[str, st
     shoulder = (
         f'{indent}<geom name="shoulder_{leg}" type="capsule" size="{_n(p.shoulder_radius)}" '
         f'fromto="{_n(ax, ay, az, ax, ay + s * p.shoulder_length, az)}" '
-        f'mass="{_n(p.link_mass)}"/>'
+        f'mass="{_n(p.shoulder_mass)}"/>'
     )
     tc_lo, tc_hi = tc_range(p, leg)
     hinges = (
@@ -260,7 +260,8 @@ def amosii_xml(params: BodyParams = _DEFAULT, *, world: str = "") -> str:
     fric = "0.005 0.0001"  # torsional, rolling
     return f"""<mujoco model="amosii">
   <compiler angle="radian" autolimits="true"/>
-  <option timestep="{_n(p.timestep)}" integrator="implicitfast" cone="elliptic"/>
+  <option timestep="{_n(p.timestep)}" integrator="implicitfast" cone="elliptic" \
+iterations="{p.solver_iterations}" tolerance="{_n(p.solver_tolerance)}"/>
   <visual><global offwidth="1280" offheight="720"/></visual>
   <default>
     <default class="amosii">

@@ -75,8 +75,11 @@ class BodyParams:
     tibia_length: float = 0.115  # m, FTi joint to the sole, foot included
     tibia_radius: float = 0.013  # m
     foot_radius: float = 0.015  # m, sphere at the tibia tip
-    link_mass: float = 0.192  # kg, each shoulder, coxa, femur and tibia
-    foot_mass: float = 0.040  # kg, each foot
+    # Masses as the authors' simulator applies them (original_code_facts.md §13): 6.70 kg in all. Its configured
+    # shoulder masses (6 x 0.192 kg) go to a transform without a body and never act: the shoulders weigh nothing.
+    link_mass: float = 0.19205  # kg, each coxa, femur and tibia
+    foot_mass: float = 0.04043  # kg, each foot
+    shoulder_mass: float = 0.0  # kg, each shoulder (fixed to the trunk)
     # Joint ranges (rad, controller sign); they are also the servos' command ranges.
     tc_range_outer: tuple[float, float] = _rad(-70.0, 70.0)  # rad, TC of front and hind legs
     tc_range_middle: tuple[float, float] = _rad(-60.0, 60.0)  # rad, TC of middle legs
@@ -103,7 +106,9 @@ class BodyParams:
     foot_friction: float = 1.0  # sliding friction coefficient of the feet
     body_friction: float = 0.5  # sliding friction of all other robot geoms
     floor_friction: float = 0.1  # sliding friction of the floor plane
-    timestep: float = 0.005  # s, physics step
+    timestep: float = 0.01  # s, physics step: the authors' simulator's (10 physics steps per 10 Hz control step)
+    solver_iterations: int = 20  # most Newton iterations per physics step (MuJoCo's default 100; it converges in fewer)
+    solver_tolerance: float = 1e-6  # the solver stops when its cost improves by less than this (MuJoCo's 1e-8)
     # Ultrasonic sensors: rays from 1 mm ahead of the front face, yawed outward.
     us_yaw: float = 35.0 * _DEG  # rad, outward yaw of each ray
     us_range: float = 0.40  # m, farther echoes read as none
@@ -137,6 +142,8 @@ class BodyParams:
                     _bad(f.name, v, "must be >= 0")
             elif v <= 0.0:
                 _bad(f.name, v, "must be > 0")
+        if not isinstance(self.solver_iterations, int) or isinstance(self.solver_iterations, bool):
+            _bad("solver_iterations", self.solver_iterations, "must be a whole number >= 1")
         for name in ("tc_range_outer", "tc_range_middle", "ctr_range", "fti_range", "bj_range"):
             lo, hi = getattr(self, name)
             if not lo < hi:
@@ -185,11 +192,11 @@ class BodyParams:
     @property
     def total_mass(self) -> float:
         """Mass of the whole robot (kg)."""
-        per_leg = 4 * self.link_mass + self.foot_mass
+        per_leg = self.shoulder_mass + 3 * self.link_mass + self.foot_mass
         return self.front_mass + self.rear_mass + len(anatomy.LEGS) * per_leg
 
 
-_NONNEGATIVE = frozenset({"joint_stiffness", "joint_damping", "body_friction"})
+_NONNEGATIVE = frozenset({"joint_stiffness", "joint_damping", "body_friction", "shoulder_mass"})
 _SIGNED = frozenset({"us_z"})
 _TUPLE_LENGTHS = {"leg_x": 3, "stand_tc": 3} | {
     name: 2 for name in ("tc_range_outer", "tc_range_middle", "ctr_range", "fti_range", "bj_range")

@@ -46,6 +46,14 @@ def add_figure_parser(sub: argparse._SubParsersAction, name: str | None = None) 
     f.page_tail = "figures: `neurowalk figure list` lists them (and `neurowalk figure --help`)"  # the site's page
     f.add_argument("name", help="figure name (see `neurowalk figure list`)")
     f.add_argument("--replot", action="store_true", help="redraw from DIR/NAME.json and .npz without rerunning")
+    f.add_argument(
+        "--shared-runs",
+        type=Path,
+        default=None,
+        metavar="RUNS",
+        help="keep the runs in the stores of folder RUNS, shared by figures: a run another figure made with the same "
+        "config is taken, not run again (default: the figure's own stores in DIR; `neurowalk reproduce` shares one)",
+    )
     add_settings_args(f, FIGURES[name].takes if name in FIGURES else None)
 
 
@@ -86,6 +94,11 @@ def _figure(args: argparse.Namespace) -> int:
     out = args.out or Path("out") / (args.name + ("-climb" if args.climbing else "") + _rate_suffix(args.control_hz))
     if args.replot:
         return _replot(args.name, out)
+    if args.shared_runs is not None:
+        from neurowalk.experiments.stores import shared_stores
+
+        with shared_stores(args.shared_runs):
+            return run_and_write(study, settings.replace(out=out), f"figure {args.name}")
     return run_and_write(study, settings.replace(out=out), f"figure {args.name}")
 
 

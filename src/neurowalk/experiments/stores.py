@@ -3,6 +3,11 @@
 :func:`run_store` runs specs through a store (each run stored as it finishes, so an interrupted figure keeps its
 finished runs and the same call again runs only the others); :func:`store_folder` is the folder of a figure's stores;
 :func:`as_lists` is a run's result as a store keeps it.
+
+:func:`shared_stores` puts every store of the figures run inside it into one folder shared by many figures (``neurowalk
+figure --shared-runs DIR``; ``neurowalk reproduce`` shares one across its figures): one store per function that
+runs a spec, so a run one figure made is taken by another that asks for the same config and the same kept result
+(the same config gives the same result bit for bit), not run again.
 """
 
 from __future__ import annotations
@@ -15,11 +20,34 @@ from typing import Any
 
 import numpy as np
 
-from neurowalk.runners.specs import spec_key
+from neurowalk.runners.specs import run_spec, spec_key
 from neurowalk.runners.stopping import deferred
 from neurowalk.runners.store import ResultStore
 from neurowalk.runners.sweep import run_sweep
 from neurowalk.sim.engine import EngineOptions
+
+_SHARED: list[Path] = []  # the folder of shared stores in force (shared_stores), innermost last
+
+
+@contextlib.contextmanager
+def shared_stores(folder: Path) -> Iterator[Path]:
+    """Inside the block, :func:`run_store` keeps and takes runs in ``folder``'s stores, one per run function (named
+    after it: ``neurowalk.runners.specs.run_spec.sqlite``), instead of the figure's own."""
+    folder = Path(folder)
+    _SHARED.append(folder)
+    try:
+        yield folder
+    finally:
+        _SHARED.pop()
+
+
+def store_path(folder: Path, name: str, fn: Any) -> Path:
+    """Where :func:`run_store` keeps the runs of ``fn`` (None: ``run_spec``): ``folder/name``, or inside
+    :func:`shared_stores` the shared folder's store of that function."""
+    if not _SHARED:
+        return Path(folder) / name
+    f = fn if fn is not None else run_spec
+    return _SHARED[-1] / f"{f.__module__}.{f.__qualname__}.sqlite"
 
 
 def run_store(
@@ -41,9 +69,10 @@ def run_store(
     (e.g. MuJoCo Warp's device); ``backend``, ``address``: a process pool (``local``) or Ray (and the cluster to
     join); ``desc``: the progress bar's label.
     """
-    folder.mkdir(parents=True, exist_ok=True)
+    path = store_path(folder, name, fn)
+    path.parent.mkdir(parents=True, exist_ok=True)
     with deferred():  # opened whole (its lock, its tables), or not at all
-        store = ResultStore(folder / name)
+        store = ResultStore(path)
     with store:
         report = run_sweep(
             specs,
@@ -61,7 +90,7 @@ def run_store(
     keys = [spec_key(s) for s in specs]  # once: a key costs a config's checks
     missing = [k for k in keys if k not in results]
     if missing:
-        raise RuntimeError(f"{len(missing)} runs failed (see {folder / name}); rerun to retry them")
+        raise RuntimeError(f"{len(missing)} runs failed (see {path}); rerun to retry them")
     return {k: results[k] for k in keys}, report
 
 

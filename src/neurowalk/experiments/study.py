@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from neurowalk import profiling
 from neurowalk.sim.config_values import FrozenDict
 
 if TYPE_CHECKING:
@@ -284,9 +285,10 @@ def write(study: Study, result: Result, out: Path, written: dict[str, Path] | No
     paths = written if written is not None else {}
     with deferred():
         paths.update(output.save_data(result, out))
-    picture = study.plot(result)
-    with deferred():
-        paths["png"] = output.save_figure(result, picture, out)
+    with profiling.part("drawing"):
+        picture = study.plot(result)
+        with deferred():
+            paths["png"] = output.save_figure(result, picture, out)
     return paths
 
 

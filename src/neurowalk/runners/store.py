@@ -25,6 +25,7 @@ from pathlib import Path
 from typing import IO, Any
 
 import neurowalk
+from neurowalk import profiling
 from neurowalk.fileio import atomic_write, exclusive_lock, to_jsonable
 from neurowalk.runners.specs import DEFAULTS, FIELDS
 
@@ -115,6 +116,19 @@ class ResultStore:
 
         Exactly one of ``result`` (status 'ok') and ``error`` (status 'error', one line) is given.
         """
+        with profiling.part("store"):
+            return self._put(key, spec, result=result, error=error, wall_time_s=wall_time_s)
+
+    def _put(
+        self,
+        key: str,
+        spec: dict[str, Any],
+        *,
+        result: dict[str, Any] | None,
+        error: str | None,
+        wall_time_s: float | None,
+    ) -> str:
+        """:meth:`put`, untimed."""
         if (result is None) == (error is None):
             raise ValueError("give either a result or an error")
         status = "ok" if error is None else "error"

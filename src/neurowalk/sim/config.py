@@ -61,6 +61,9 @@ class EpisodeConfig:
         gait: the CPG's modulatory input by name (``neurowalk.neural.cpg.GAITS``).
         body_opts: the body's options (name -> number; ``neurowalk bodies``).
         engine: physics engine: ``mujoco`` (CPU MuJoCo) | ``warp`` (MuJoCo Warp, many worlds, GPU or CPU).
+        until: ``"escaped"``: the run may stop at the first control step whose trunk centre is in the arena's exit
+            region (its outcome is decided: :data:`UNTIL`); None (default): it runs all its steps. The CPU loop
+            stops there; the other engines, and an arena without an exit region, run in full.
     """
 
     arena: str = "open"
@@ -81,6 +84,7 @@ class EpisodeConfig:
     gait: str = "wave"  # the CPG's modulatory input by name (neurowalk.neural.cpg.GAITS)
     body_opts: Mapping[str, Any] = field(default_factory=dict)  # the body's options (neurowalk.body.registry)
     engine: str = DEFAULT_ENGINE  # physics engine: mujoco (CPU MuJoCo) | warp (MuJoCo Warp, many worlds, GPU or CPU)
+    until: str | None = None  # "escaped": stop once the trunk is in the exit region (outcome decided); None: all steps
 
     def __post_init__(self) -> None:
         self._check()
@@ -144,6 +148,8 @@ class EpisodeConfig:
             raise ValueError(f"unknown gait {self.gait!r}; expected one of {', '.join(GAITS)}")
         if self.engine not in ENGINES:
             raise ValueError(f"unknown engine {self.engine!r}; expected one of {', '.join(ENGINES)}")
+        if self.until is not None and self.until not in UNTIL:
+            raise ValueError(f"until must be one of {', '.join(UNTIL)} or none, got {self.until!r}")
         climbing = self.reflexes or self.backbone
         if self.engine not in info.engines or (climbing and self.engine not in info.climbs_on):
             raise ValueError(engine_refusal(self.engine, self.body, climbing))
@@ -254,7 +260,12 @@ DEFAULTS: dict[str, Any] = {
     for f in dataclasses.fields(EpisodeConfig)
 }
 #: Fields kept out of the canonical spec at their defaults (they came after stores were written).
-LATER: tuple[str, ...] = ("reflexes", "backbone", "variant", "params", "gait", "body_opts", "engine")
+LATER: tuple[str, ...] = ("reflexes", "backbone", "variant", "params", "gait", "body_opts", "engine", "until")
+#: What may end a run before its steps (``EpisodeConfig.until``): name -> the rule, in words.
+UNTIL: dict[str, str] = {
+    "escaped": "the run stops at the first control step whose trunk centre is in the arena's exit region (escaped: "
+    "the outcome is decided; later steps could not change it)",
+}
 MAX_STEPS = 100_000_000  # control steps of one run (about 116 days simulated at 10 Hz)
 
 

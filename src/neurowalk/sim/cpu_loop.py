@@ -21,6 +21,7 @@ import contextlib
 import time
 from typing import Any
 
+from neurowalk import profiling
 from neurowalk.controller import Controller
 from neurowalk.sim.checkpoint import advance_keeping_previous, capture, restore
 from neurowalk.sim.config import Episode, EpisodeConfig, RunInterruptedError, build, progress_bar, seeds
@@ -57,8 +58,11 @@ class CpuLoop(OneWorldPerCall):
         bar = progress_bar(cfg.steps, options.progress, initial=start)
         t0 = time.perf_counter()
         done = start
+        stop_region = arena.exit_region if cfg.until == "escaped" else None
+        stopped = False
         try:
-            done = _loop(cfg, body, ctrl, rec, bar, start, stream.checkpoint)
+            done = _loop(cfg, body, ctrl, rec, bar, start, stream.checkpoint, stop_region)
+            stopped = done < cfg.steps
         except KeyboardInterrupt:
             done = rec.done()
         except OSError:
@@ -71,47 +75,75 @@ class CpuLoop(OneWorldPerCall):
         if bar is not None:
             bar.close()
         rec.flush(done)
-        ep = rec.episode(cfg, arena, body, done, wall)
+        ep = rec.episode(cfg, arena, body, done, wall, stopped=stopped)
         if start and done > start and wall > 0:  # this invocation's part of a resumed run: its wall time, its rate
             ep.summary["resumed_at_step"] = start
             ep.summary["real_time_factor"] = (done - start) / cfg.control_hz / wall
-        if done < cfg.steps:
+        if done < cfg.steps and not stopped:
             raise RunInterruptedError(ep)
         return ep
 
 
-def _loop(cfg: EpisodeConfig, body: Any, ctrl: Controller, rec: Recorder, bar: Any, start: int, checkpoint: Any) -> int:
-    """The control loop proper, from step ``start``; returns the number of completed steps."""
+def _loop(
+    cfg: EpisodeConfig,
+    body: Any,
+    ctrl: Controller,
+    rec: Recorder,
+    bar: Any,
+    start: int,
+    checkpoint: Any,
+    stop_region: tuple[float, float, float, float] | None = None,
+) -> int:
+    """The control loop proper, from step ``start``; returns the number of completed steps (fewer than
+    ``cfg.steps`` where the trunk centre, ``qpos[0:2]``, entered ``stop_region`` (x0, x1, y0, y1; m))."""
     d = body.data
     has_weights = hasattr(ctrl, "b")
     buf, base = rec.buf, rec.base
     steering = body.action == "steering"  # the body takes the steering pair (e.g. wheels), not joint targets
     every = rec.chunk if checkpoint is not None else 0
     previous = None
-    for k in range(start, cfg.steps):
-        obs = body.observe()
-        targets = ctrl.act(obs)
-        body.apply(ctrl.steering if steering else targets)
-        if every and (k + 1) % every == 0:
-            previous = advance_keeping_previous(body)  # what a checkpoint needs to continue bit for bit
-        else:
-            body.advance()
-        i = k - base
-        buf.inputs[i] = ctrl.inputs
-        buf.outputs[i] = ctrl.steering
-        if has_weights:
-            buf.b[i] = ctrl.b  # type: ignore[attr-defined]
-            buf.q[i] = ctrl.q  # type: ignore[attr-defined]
-        buf.targets[i] = targets
-        buf.us_distance[i] = obs.us_distance
-        buf.foot_contact[i] = obs.foot_contact
-        buf.qpos[i] = d.qpos
-        buf.t[i] = d.time  # last: a row with a time is complete
-        if bar is not None and k % 100 == 99:
-            bar.update(100)
-        if (k + 1) % rec.chunk == 0:
-            rec.flush(k + 1)
-            buf, base = rec.buf, rec.base
-            if checkpoint is not None and k + 1 < cfg.steps:
-                checkpoint(capture(k + 1, {"body": body, "controller": ctrl}, previous))
-    return cfg.steps
+    clock = time.perf_counter
+    t_start, physics, done = clock(), 0.0, start
+    try:
+        for k in range(start, cfg.steps):
+            obs = body.observe()
+            targets = ctrl.act(obs)
+            body.apply(ctrl.steering if steering else targets)
+            t = clock()
+            if every and (k + 1) % every == 0:
+                previous = advance_keeping_previous(body)  # what a checkpoint needs to continue bit for bit
+            else:
+                body.advance()
+            physics += clock() - t
+            i = k - base
+            buf.inputs[i] = ctrl.inputs
+            buf.outputs[i] = ctrl.steering
+            if has_weights:
+                buf.b[i] = ctrl.b  # type: ignore[attr-defined]
+                buf.q[i] = ctrl.q  # type: ignore[attr-defined]
+            buf.targets[i] = targets
+            buf.us_distance[i] = obs.us_distance
+            buf.foot_contact[i] = obs.foot_contact
+            buf.qpos[i] = d.qpos
+            buf.t[i] = d.time  # last: a row with a time is complete
+            done = k + 1
+            if bar is not None and k % 100 == 99:
+                bar.update(100)
+            if stop_region is not None and _inside(d.qpos, stop_region):
+                return done
+            if (k + 1) % rec.chunk == 0:
+                rec.flush(k + 1)
+                buf, base = rec.buf, rec.base
+                if checkpoint is not None and k + 1 < cfg.steps:
+                    checkpoint(capture(k + 1, {"body": body, "controller": ctrl}, previous))
+        return cfg.steps
+    finally:  # the profile's physics (its steps) and control parts, also of a run stopped part-way
+        profiling.add("physics", physics, (done - start) * getattr(body, "n_substeps", 1))
+        profiling.add("control", clock() - t_start - physics)
+
+
+def _inside(qpos: Any, region: tuple[float, float, float, float]) -> bool:
+    """The trunk centre (``qpos[0:2]``, the pose :func:`~neurowalk.sim.trajectory.poses_from_qpos` reads) is in
+    ``region`` (x0, x1, y0, y1; m, edges included, as :func:`neurowalk.metrics.escaped` decides)."""
+    x0, x1, y0, y1 = region
+    return bool(x0 <= qpos[0] <= x1 and y0 <= qpos[1] <= y1)

@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from neurowalk import profiling
 from neurowalk.arenas import ArenaSpec
 from neurowalk.sim.config import Episode, EpisodeConfig
 from neurowalk.sim.engine import Streaming
@@ -78,10 +79,12 @@ class Recorder:
     def _keep(self, rows: Trajectory, start: int, stop: int) -> None:
         self.keeper.keep(rows, start, stop)  # type: ignore[union-attr]
 
-    def episode(self, cfg: EpisodeConfig, arena: ArenaSpec, body: Any, done: int, wall: float) -> Episode:
-        """The episode of the first ``done`` steps."""
+    def episode(
+        self, cfg: EpisodeConfig, arena: ArenaSpec, body: Any, done: int, wall: float, *, stopped: bool = False
+    ) -> Episode:
+        """The episode of the first ``done`` steps (``stopped``: the run ended there by its ``until`` rule)."""
         if self.keep_rows:
-            return finish_episode(cfg, arena, self.buf.head(done), done, wall, body.warnings())
+            return finish_episode(cfg, arena, self.buf.head(done), done, wall, body.warnings(), stopped=stopped)
         self.buf = Trajectory.empty(0, self.buf.qpos.shape[1])  # the chunk buffer is done with
         keeper = self.keeper
         assert keeper is not None
@@ -96,6 +99,7 @@ class Recorder:
             qpos_rows=qpos_rows,
             picture=keeper.picture(done),
             stride=self.stride,
+            stopped=stopped,
         )
 
 
@@ -110,18 +114,24 @@ def finish_episode(
     qpos_rows: Any = None,
     picture: Trajectory | None = None,
     stride: int = 1,
+    stopped: bool = False,
 ) -> Episode:
     """The episode of a run's first ``done`` steps, for every engine: its summary (of ``rows``: the whole
     trajectory, or a streamed run's :class:`~neurowalk.sim.summary.Record`), ``completed`` and ``steps_requested``.
 
     ``picture``: the rows the episode keeps when they are not ``rows`` (a streamed run's every ``stride``-th row).
     ``qpos_rows``: replays a streamed run's wedged periods (:func:`~neurowalk.sim.summary.summarize`).
+    ``stopped``: the run ended after ``done`` steps by its ``until`` rule (``EpisodeConfig.until``): it is complete,
+    and ``stopped_by`` names the rule.
     """
     run_cfg = cfg if done == cfg.steps else replace(cfg, steps=max(done, 1))  # the summary of the steps done
-    summary = summarize(run_cfg, arena, rows, wall, warnings, qpos_rows=qpos_rows) if done else {}
+    with profiling.part("summary"):
+        summary = summarize(run_cfg, arena, rows, wall, warnings, qpos_rows=qpos_rows) if done else {}
     summary = summary or {"steps": 0}
-    summary["completed"] = done == cfg.steps
+    summary["completed"] = done == cfg.steps or stopped
     summary["steps_requested"] = cfg.steps
+    if stopped:
+        summary["stopped_by"] = cfg.until
     kept = picture if picture is not None else rows
     assert isinstance(kept, Trajectory)
     return Episode(cfg, arena, kept, summary, row_stride=stride)

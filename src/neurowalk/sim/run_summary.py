@@ -57,7 +57,11 @@ class RunSummary:
         wedged_periods: periods held within a small region (``metrics.wedged_periods``).
         longest_wedged_s: the longest of them, s.
         wedged_causes: their count per cause ("body contact", "both rays blind", "other").
-        wedged: the periods: start, end (steps), duration_s, centre, extent_m, fractions, cause.
+        wedged: the periods: start, end (steps), duration_s, centre, extent_m, fractions, cause,
+            heading_range_deg, held (runs of held steps: [start, end]) and held_s.
+        held_periods: runs of held steps (in the disc with the heading within 30 degrees; None: an older run).
+        longest_held_s: the longest of them, s (None: an older run).
+        turning_periods: wedged periods with no held step: slow turns in place (None: an older run).
         final_pose: (x m, y m, yaw rad) after the last step.
         final_weights: b (2,), q (2,) and c of the plastic network at the end (None: a fixed controller).
         simulation_warnings: MuJoCo's warnings by kind (count).
@@ -105,6 +109,9 @@ class RunSummary:
     longest_wedged_s: float = 0.0
     wedged_causes: Mapping[str, int] = field(default_factory=FrozenDict)
     wedged: tuple[Mapping[str, Any], ...] = ()
+    held_periods: int | None = None
+    longest_held_s: float | None = None
+    turning_periods: int | None = None
     final_pose: tuple[float, ...] = ()
     final_weights: Mapping[str, Any] | None = None
     simulation_warnings: Mapping[str, int] = field(default_factory=FrozenDict)

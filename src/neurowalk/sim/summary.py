@@ -199,8 +199,12 @@ def summarize(
         "direction_switches": metrics.direction_switches(rec.outputs),
         "turn_episodes": len(turns := metrics.avoidance_episodes(rec.outputs, pose)),
         "max_turn_deg": max((abs(e["turn_deg"]) for e in turns), default=0.0),
-        **metrics.wedged_summary(wedged),  # wedged_periods (count), longest_wedged_s, wedged_causes
-        "wedged": wedged,  # the periods: start, end (steps), duration_s, centre, extent_m, fractions, cause
+        # wedged_periods (count), longest_wedged_s, wedged_causes, held_periods (count), longest_held_s,
+        # turning_periods (count)
+        **metrics.wedged_summary(wedged, cfg.control_hz),
+        # the periods: start, end (steps), duration_s, centre, extent_m, fractions, cause, heading_range_deg,
+        # held (runs of held steps), held_s
+        "wedged": wedged,
         "final_pose": pose[-1].tolist(),
         "final_weights": weights,
         "simulation_warnings": warnings,

@@ -228,3 +228,20 @@ def test_coinciding_coverage_curves_stay_visible_and_say_so():
     assert braitenberg.get_zorder() > static.get_zorder() and braitenberg.get_marker() == "o"
     assert plastic.get_marker() == "None" and static.get_marker() == "None"
     assert np.array_equal(braitenberg.get_ydata(), a["difficult (braitenberg)/coverage"])  # drawn as measured
+
+
+def test_held_and_turning_periods_are_circled_apart_and_only_held_ones_labelled():
+    from matplotlib.patches import Circle
+
+    from neurowalk.experiments.suites import deadends_plot
+    from neurowalk.plotting.style import pyplot
+
+    _, ax = pyplot().subplots()
+    held = {"centre": [0.0, 0.0], "extent_m": 0.2, "duration_s": 250.0, "held": [[0, 1799]], "held_s": 180.0}
+    turning = {"centre": [3.0, 0.0], "extent_m": 0.2, "duration_s": 400.0, "held": [], "held_s": 0.0}
+    deadends_plot.draw_wedged(ax, [held, turning])
+    circles = [p for p in ax.patches if isinstance(p, Circle)]
+    assert len(circles) == 2 and len({c.get_linestyle() for c in circles}) == 2  # drawn apart
+    assert [t.get_text() for t in ax.texts] == ["180 s"]  # the held one, with the time held
+    entries = [line.get_label() for line in ax.get_lines()]
+    assert entries == ["held (duration)", "turning in place 1x (wedged, not held)"]

@@ -94,6 +94,8 @@ def test_long_runs_plastic_explores_static_is_trapped():
     assert plastic["coverage"] > 5 * static["coverage"] > 0
     assert static["trapped"] and not plastic["trapped"]
     assert static["longest_wedged_s"] > 9000  # trapped from early on to the end
+    assert static["held_periods"] > 0 and static["held_over_300s"] > 0  # held still in its pocket
+    assert plastic["held_over_300s"] == 0 and plastic["turning_periods"] == plastic["wedged_periods"] > 0
 
 
 def test_compare_judges_every_comparable_claim_and_nothing_else():

@@ -3,6 +3,7 @@
 import numpy as np
 import pytest
 
+from neurowalk import metrics
 from neurowalk.experiments.suites.deadends import VARIANTS, outcome_table
 from neurowalk.experiments.suites.long_runs import wedged_counts
 
@@ -118,3 +119,37 @@ def test_the_dead_ends_get_the_control_rate_and_keep_their_control_steps(monkeyp
     assert len(seen) == len(VARIANTS) * len(deadends.NETWORKS)
     assert all(c.control_hz == 27.0 and c.steps == 5000 for c in seen)
     assert t["control_hz"] == 27.0 and t["seconds"] == pytest.approx(5000 / 27.0)
+
+
+def _held_and_turning_run() -> dict:
+    """A run's summary at 10 Hz: 400 s held at one spot (heading within a few degrees), a walk, then 400 s turning
+    in place at 2 deg/s at another."""
+    rng = np.random.default_rng(3)
+    held_xy = 1.0 + rng.uniform(-0.05, 0.05, (4000, 2))
+    walk_xy = held_xy[-1] + np.column_stack([np.arange(1, 1001) * 0.0014, np.zeros(1000)])
+    turn_xy = walk_xy[-1] + rng.uniform(-0.05, 0.05, (4000, 2))
+    yaw = np.concatenate([np.radians(rng.uniform(-2, 2, 4000)), np.zeros(1000), np.radians(0.2) * np.arange(4000)])
+    pose = np.column_stack([np.vstack([held_xy, walk_xy, turn_xy]), yaw])
+    periods = metrics.wedged_periods(pose)
+    return {**metrics.wedged_summary(periods), "wedged": periods}
+
+
+def test_wedged_counts_tell_held_periods_from_turns_in_place():
+    run = _held_and_turning_run()
+    w = wedged_counts({"run": run})["run"]
+    assert w["periods"] == 2 and w["over_300s"]["periods"] == 2  # both stays are wedged for over 300 s
+    h = w["held"]
+    assert h["measured"] and h["periods"] == 1 and h["turning_periods"] == 1  # only the still one is held
+    assert h["over_300s"]["periods"] == 1 and h["longest_s"] == pytest.approx(run["longest_held_s"])
+    assert sum(h["over_300s"]["causes"].values()) == 1
+    assert [p["held_s"] > 0 for p in w["list"]] == [True, False]
+    assert w["list"][1]["heading_range_deg"] > 90
+
+
+def test_wedged_counts_of_a_store_without_held_periods_count_every_wedged_period_as_held():
+    run = _held_and_turning_run()
+    old = {**run, "wedged": [{k: v for k, v in p.items() if k not in ("heading_range_deg", "held", "held_s")}
+                             for p in run["wedged"]]}  # fmt: skip
+    h = wedged_counts({"run": old})["run"]["held"]
+    assert not h["measured"] and h["periods"] == 2 and h["turning_periods"] == 0
+    assert h["over_300s"]["periods"] == 2 and "not measured" in h["rule"]

@@ -11,7 +11,15 @@ from neurowalk.arenas import make_arena
 from neurowalk.cli import main
 from neurowalk.experiments import Settings
 from neurowalk.experiments.figures import table2
-from neurowalk.experiments.suites.random_envs import BOXES, ROWS, environments, failure_class, spec, wilson
+from neurowalk.experiments.suites.random_envs import (
+    BOXES,
+    ROWS,
+    environments,
+    failure_class,
+    held_up,
+    spec,
+    wilson,
+)
 from neurowalk.runners.store import ResultStore
 from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.summary import Record, summarize
@@ -169,3 +177,14 @@ def test_failed_runs_stored_before_the_classes_are_rerun_with_them() -> None:
     assert results[keys[0]] == run_spec(specs[0]) and "wedged_periods" in results[keys[0]]  # the old one, rerun
     assert results[keys[1]] == {"trapped": False}  # a success keeps its stored summary
     assert results[keys[2]] == run_spec(specs[2])
+
+
+def test_held_up_asks_for_a_held_period_not_a_slow_turn() -> None:
+    base = {"ever_trapped": False, "longest_wedged_s": 500.0}
+    assert not held_up({**base, "longest_held_s": 0.0})  # wedged 500 s, turning throughout: not held up
+    assert held_up({**base, "longest_held_s": 300.0})  # held for the stuck window
+    assert not held_up({**base, "longest_held_s": 299.9})
+    assert held_up({**base, "longest_held_s": 0.0, "ever_trapped": True})  # the 0.5 m disc over 300 s decides too
+    # stored before the held periods: the wedged period stands in (conservative); before both: ever_trapped alone
+    assert held_up(base) and not held_up({**base, "longest_wedged_s": 120.0})
+    assert not held_up({"ever_trapped": False}) and held_up({"ever_trapped": True})

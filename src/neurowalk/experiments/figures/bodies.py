@@ -59,6 +59,7 @@ from neurowalk.plotting.style import (
     pyplot,
 )
 from neurowalk.runners.specs import spec_key
+from neurowalk.sim.config import UNTIL
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -83,6 +84,7 @@ def _dead_end(
         "steps": steps,
         "seed": seed,
         "control_hz": float(control_hz),
+        "until": "escaped",  # only the outcome counts: a run stops once escaped
     }
     return {**out, "body_opts": opts} if opts else out
 
@@ -189,6 +191,7 @@ def run(s: Settings) -> Result:
         "interval": "Wilson score interval, 95%",
         "rows": rows,
         "rule": "dead ends: escaped = left the trap's exit region; Table 2: " + RULE,
+        "stop_rule": "dead ends: " + UNTIL["escaped"] + "; Table 2's runs run all their steps",
         "coverage_rule": "Table 2: " + coverage_rule(p["table2_s"]),
         "coverage_threshold": threshold,
         "coverage_cell_m": COVERAGE_CELL_M,

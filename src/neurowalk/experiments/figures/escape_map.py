@@ -19,6 +19,7 @@ from neurowalk.experiments.stores import store_folder
 from neurowalk.experiments.suites.deadends import TRAP_STEPS, stored_runs
 from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.plotting.style import legend_outside, letter_panels, network_line, pyplot
+from neurowalk.sim.config import UNTIL
 from neurowalk.sim.episode import EpisodeConfig
 
 if TYPE_CHECKING:
@@ -57,6 +58,7 @@ def run(s: Settings) -> Result:
                             arena_opts={opt: size},
                             controller=net,
                             steps=TRAP_STEPS,
+                            until="escaped",
                             seed=i,
                             control_hz=control_hz,
                             reflexes=climbing,
@@ -85,6 +87,7 @@ def run(s: Settings) -> Result:
         "sweeps": sweeps,
         "counts": counts,
         "rule": "escape rate = runs that reached the exit region behind the trap's mouth / runs",
+        "stop_rule": UNTIL["escaped"] + "; a run that does not escape runs all its steps",
     }
     return Result(NAME, summary, {})
 

@@ -155,22 +155,33 @@ def long_runs() -> dict[str, dict[str, Any]]:
     """Per network, the 10,000 s run in the difficult arena: ``seconds``, ``coverage`` (share of the free 0.25 m
     cells), ``trapped`` at the end (last 300 s within 0.5 m), ``final`` ([x, y] m), the wedged periods' counts
     (:func:`metrics.wedged_summary`: ``wedged_periods``, ``longest_wedged_s``, ``wedged_causes``, the "both rays
-    blind" cause from the ultrasonic readings), ``over_300s`` (wedged periods longer than 300 s) and ``wedged``
-    (each period's ``start_s`` and ``duration_s``)."""
+    blind" cause from the ultrasonic readings; ``held_periods``, ``longest_held_s``, ``turning_periods``),
+    ``over_300s`` and ``held_over_300s`` (wedged and held periods longer than 300 s) and ``wedged`` (each period's
+    ``start_s``, ``duration_s``, ``heading_range_deg`` and ``held_s``)."""
     arena = make_arena("difficult")
     out = {}
     for net in NETWORKS:
         cols = load(f"difficult_arena/{net}.csv.gz")
         pose = trunk_pose(cols)
         wedged = metrics.wedged_periods(pose, control_hz=CONTROL_HZ, us_distance=us_distance(cols))
+        held = metrics.held_periods(wedged, CONTROL_HZ)
         out[net] = {
             "seconds": len(pose) / CONTROL_HZ,
             "steps": len(pose),
             "coverage": metrics.coverage(pose, arena),
             "trapped": metrics.trapped(pose, window=round(STUCK_S * CONTROL_HZ)),
             "final": [round(float(v), 3) for v in pose[-1, :2]],
-            **metrics.wedged_summary(wedged),
+            **metrics.wedged_summary(wedged, CONTROL_HZ),
             "over_300s": sum(p["duration_s"] > WEDGED_LONG_S for p in wedged),
-            "wedged": [{"start_s": p["start"] / CONTROL_HZ, "duration_s": p["duration_s"]} for p in wedged],
+            "held_over_300s": sum(h["duration_s"] > WEDGED_LONG_S for h in held),
+            "wedged": [
+                {
+                    "start_s": p["start"] / CONTROL_HZ,
+                    "duration_s": p["duration_s"],
+                    "heading_range_deg": p["heading_range_deg"],
+                    "held_s": p["held_s"],
+                }
+                for p in wedged
+            ],
         }
     return out

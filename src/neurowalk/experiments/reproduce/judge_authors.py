@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from neurowalk import metrics
 from neurowalk.experiments.reproduce import authors
 from neurowalk.experiments.reproduce.claims import Claim, holds, outcome
 from neurowalk.experiments.suites.random_envs import COVERAGE_PER_1000S, coverage_threshold
@@ -59,7 +60,8 @@ def _static_trapped(c: Claim, s: dict[str, Any]) -> Claim:
         c.paper,
         r["trapped"],
         f"coverage {r['coverage']:.1%}",
-        f"one run of {r['steps']} control steps; longest wedged period {r['longest_wedged_s']:.0f} s",
+        f"one run of {r['steps']} control steps; longest wedged period {r['longest_wedged_s']:.0f} s, longest held "
+        f"{r['longest_held_s']:.0f} s",
     )
 
 
@@ -88,14 +90,17 @@ def _plastic_coverage(c: Claim, s: dict[str, Any]) -> Claim:
     )
 
 
-def _plastic_not_wedged(c: Claim, s: dict[str, Any]) -> Claim:
+def _plastic_not_held(c: Claim, s: dict[str, Any]) -> Claim:
     p = _long("plastic")
     return holds(
         c.what,
         c.paper,
-        p["over_300s"] == 0,
-        f"{p['over_300s']} over 300 s; {p['wedged_periods']} in all, longest {p['longest_wedged_s']:.0f} s",
-        f"wedged: neurowalk's metrics.wedged_periods on the authors' path; causes: {p['wedged_causes'] or '-'}",
+        p["held_over_300s"] == 0,
+        f"{p['held_over_300s']} held over 300 s; {p['wedged_periods']} wedged periods, of which "
+        f"{p['turning_periods']} turning; longest wedged {p['longest_wedged_s']:.0f} s",
+        f"held: trunk centre within {metrics.WEDGE_RADIUS:g} m and heading within {metrics.HELD_HEADING_DEG:g} "
+        f"degrees for more than {metrics.WEDGE_MIN_S:g} s (neurowalk's metrics.wedged_periods on the authors' path); "
+        f"turning: wedged with the heading sweeping more; causes of the wedged periods: {p['wedged_causes'] or '-'}",
     )
 
 
@@ -130,7 +135,7 @@ RULES: dict[str, dict[str, Rule]] = {
         "plastic network escapes the narrow passage": _dead_end("narrow-passage", "plastic", "escaped"),
         "plastic network explores the difficult arena, not trapped": _plastic_explores,
         "plastic network explores the difficult arena by Table 2's coverage rule": _plastic_coverage,
-        "no wedged period over 300 s": _plastic_not_wedged,
+        "no held period over 300 s": _plastic_not_held,
     },
     "fig7": {},
 }
@@ -168,12 +173,29 @@ def _long_rows(s: dict[str, Any], network: str) -> list[dict[str, Any]]:
     """The long run of ``network`` in the difficult arena: length, coverage, wedged periods, stuck at the end."""
     r, ours, w = _long(network), s["runs"][f"difficult ({network})"], s["wedged"][f"difficult ({network})"]
     over = next(v for k, v in w.items() if k.startswith("over_"))
+    held = w.get("held", {})
+    known = bool(held.get("measured"))  # a json written before the held periods: neurowalk's side not measured
+    held_over = next((v["periods"] for k, v in held.items() if k.startswith("over_")), None) if known else None
     return [
         _row(f"difficult arena, {network}: run length", "s", ours["steps"] / s["control_hz"], r["seconds"], 1),
         _row(f"difficult arena, {network}: coverage", "share", ours["coverage"], r["coverage"]),
         _row(f"difficult arena, {network}: wedged periods", "", w["periods"], r["wedged_periods"]),
         _row(f"difficult arena, {network}: longest wedged period", "s", w["longest_s"], r["longest_wedged_s"], 1),
         _row(f"difficult arena, {network}: wedged periods over 300 s", "", over["periods"], r["over_300s"]),
+        _row(f"difficult arena, {network}: held periods over 300 s", "", held_over, r["held_over_300s"]),
+        _row(
+            f"difficult arena, {network}: longest held period",
+            "s",
+            held.get("longest_s") if known else None,
+            r["longest_held_s"],
+            1,
+        ),
+        _row(
+            f"difficult arena, {network}: turning periods (wedged, never held)",
+            "",
+            held.get("turning_periods") if known else None,
+            r["turning_periods"],
+        ),
         _row(f"difficult arena, {network}: stuck at the end", "", bool(ours["trapped"]), r["trapped"]),
     ]
 

@@ -180,6 +180,29 @@ def totals(out: Path, quick: bool) -> dict[str, Any]:
         "wall_time_s": round(sum(c["wall_time_s"] for c in commands), 1),
         "resumed_commands": sum(bool(c.get("resumed")) for c in commands),
         "machine": commands[0]["versions"]["machine"] if commands else None,
+        "profile": profile_totals(out),
+    }
+
+
+def profile_totals(out: Path) -> dict[str, Any]:
+    """Where the time of the figure commands went (:mod:`neurowalk.profiling`): per command (``DIR/RUN``) its wall
+    time, the seconds of each part summed over its processes and its physics steps per second; and all of them
+    added up."""
+    per: dict[str, Any] = {}
+    for path in sorted(out.glob("*/command.json")):
+        rec = json.loads(path.read_text(encoding="utf-8"))
+        if rec.get("profile") is not None:
+            per[path.parent.name] = rec["profile"]
+    seconds: dict[str, float] = {}
+    for p in per.values():
+        for k, v in p["seconds"].items():
+            seconds[k] = round(seconds.get(k, 0.0) + v, 1)
+    steps = sum(p["physics_steps"] for p in per.values())
+    return {
+        "seconds": seconds,
+        "physics_steps": steps,
+        "physics_steps_per_s": round(steps / seconds["physics"]) if seconds.get("physics") else None,
+        "per_command": per,
     }
 
 

@@ -22,6 +22,7 @@ import json
 import os
 import platform
 import shlex
+import shutil
 import signal
 import subprocess
 import sys
@@ -30,12 +31,19 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from neurowalk import profiling
 from neurowalk.experiments import FIGURES
 from neurowalk.experiments.reproduce.claims import Claim, overall
 from neurowalk.experiments.reproduce.judge_authors import compare
 from neurowalk.experiments.reproduce.plan import Item
 from neurowalk.fileio import write_json
+from neurowalk.profiling import read_profile
 from neurowalk.runners.local import die_with_parent
+
+#: The folder in ``DIR/RUN`` the figure's processes write their profiles into (:mod:`neurowalk.profiling`).
+PROFILE = "profile"
+#: The folder in ``DIR`` of the result stores all figures of a reproduction share (``figure --shared-runs``).
+SHARED_RUNS = "runs"
 
 
 @dataclass(frozen=True)
@@ -47,8 +55,10 @@ class Run:
     args: tuple[str, ...]
 
     def command(self, out: Path) -> list[str]:
-        """The command's words, as a user types them (``neurowalk figure ...``)."""
-        return ["neurowalk", "figure", self.figure, "--out", str(out / self.name), *self.args]
+        """The command's words, as a user types them (``neurowalk figure ...``); every figure keeps its runs in the
+        shared stores ``DIR/runs`` (a run two figures need is made once)."""
+        shared = ["--shared-runs", str(out / SHARED_RUNS)]
+        return ["neurowalk", "figure", self.figure, "--out", str(out / self.name), *shared, *self.args]
 
 
 def runs_of(items: list[Item], quick: bool, workers: int | None) -> tuple[list[Run], dict[str, Run]]:
@@ -101,6 +111,12 @@ def done(run: Run, out: Path) -> dict[str, Any] | None:
     return rec if ok and (out / run.name / f"{run.figure}.json").is_file() else None
 
 
+def _stored(run: Run, out: Path) -> bool:
+    """An earlier command of ``run`` started and did not finish (its log is there): the figure goes on from the runs
+    it stored, and its wall time is what was left to run."""
+    return (out / run.name / "log.txt").is_file()
+
+
 class RunFailedError(RuntimeError):
     """A figure command exited with an error; names the command, its status and its log."""
 
@@ -113,14 +129,17 @@ def execute(run: Run, out: Path, tick: Any = None) -> dict[str, Any]:
     """
     folder = out / run.name
     folder.mkdir(parents=True, exist_ok=True)
-    resumed = any(folder.glob("*.sqlite"))  # the figure goes on from runs an earlier, stopped command stored
+    resumed = _stored(run, out)  # the figure goes on from runs an earlier, stopped command stored
     words = run.command(out)
+    profile = folder / PROFILE
+    shutil.rmtree(profile, ignore_errors=True)  # this command's processes alone
     t0 = time.perf_counter()
     with open(folder / "log.txt", "wb") as log:
         proc = subprocess.Popen(
             [sys.executable, "-m", "neurowalk", *words[1:]],
             stdout=log,
             stderr=subprocess.STDOUT,
+            env={**os.environ, profiling.ENV: str(profile)},
             preexec_fn=functools.partial(die_with_parent, os.getpid(), signal.SIGTERM),  # stops cleanly with us
         )
         try:
@@ -143,6 +162,7 @@ def execute(run: Run, out: Path, tick: Any = None) -> dict[str, Any]:
         "command": shlex.join(words),
         "wall_time_s": round(wall, 1),
         "resumed": resumed,  # then wall_time_s is what was left to run, not the figure's time
+        "profile": read_profile(profile, round(wall, 1)),
         "versions": versions(),
     }
     write_json(folder / "command.json", record)
@@ -163,6 +183,7 @@ def item_record(item: Item, run: Run, record: dict[str, Any], out: Path, quick: 
         "command": record["command"],
         "wall_time_s": record["wall_time_s"],
         "resumed": bool(record.get("resumed", False)),
+        "profile": record.get("profile"),
         "versions": record["versions"],
         "seed": _seed(run.args),
         "seeds": summary.get("seeds"),

@@ -36,7 +36,7 @@ from neurowalk.experiments.suites.long_runs import (
 from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.runners.local import run_many
 from neurowalk.runners.specs import episode_of, spec_key
-from neurowalk.sim.config import DEFAULT_ENGINE
+from neurowalk.sim.config import DEFAULT_ENGINE, UNTIL
 from neurowalk.sim.engines import engine_for
 from neurowalk.sim.episode import EngineOptions, Episode, EpisodeConfig
 
@@ -166,7 +166,9 @@ def outcome_table(
                 keys.append((vname, nname))
                 shared = _shared(seed, climbing, variant, gait, engine, control_hz)
                 configs.append(
-                    EpisodeConfig(arena=arena, arena_opts=opts, steps=TRAP_STEPS, body=body, **shared, **net)
+                    EpisodeConfig(
+                        arena=arena, arena_opts=opts, steps=TRAP_STEPS, body=body, until="escaped", **shared, **net
+                    )
                 )
     results = stored_runs(
         configs, folder, "results.sqlite", workers, progress, f"dead ends ({body})", traces=False, device=device
@@ -189,6 +191,7 @@ def outcome_table(
         "runs": runs,
         "rule": "escaped: the trunk centre reached the exit region behind the trap's mouth within the steps; "
         "trapped: the last 3000 steps stayed within a disc of radius 0.5 m",
+        "stop_rule": UNTIL["escaped"] + "; a run that does not escape runs all its steps",
     }
 
 

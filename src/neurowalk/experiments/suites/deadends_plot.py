@@ -38,23 +38,37 @@ WEDGED_LABELS = 6
 
 
 def draw_wedged(ax: Axes, periods: list[dict], most: int = WEDGED_LABELS) -> None:
-    """Circle each wedged period (its centre, radius its extent, at least 0.3 m); label the ``most`` longest with
-    their durations (s), so that the labels of a long run wedged many times do not pile up; the legend entry says how
-    many there are and which are labelled.
+    """Circle each wedged period (its centre, radius its extent, at least 0.3 m); label the ``most`` longest held
+    ones with the time held (s), so that the labels of a long run wedged many times do not pile up; the legend entry
+    says how many there are and which are labelled.
+
+    Periods that carry their held runs (``held``, :func:`neurowalk.metrics.wedged_periods`) are held (dashed black
+    circles, labelled) or turning in place (no held step: dotted grey circles, not labelled, their own legend
+    entry). Periods stored before the held runs existed lack ``held``: each is drawn and labelled as a wedged
+    period with its duration, as before.
 
     Longest first, a label goes above its circle, or below it, or beside it, whichever is first clear of the labels
     placed before (so that nearby periods' labels do not cover each other).
     """
     placed: list[tuple[float, float]] = []
-    longest = sorted(periods, key=lambda p: -p["duration_s"])[:most]
-    if periods:  # the legend's entry for the circles
-        what = "wedged (duration)"
-        if len(longest) < len(periods):
-            what = f"wedged {len(periods)}x, {most} longest labelled (s)"
+    turning = [p for p in periods if "held" in p and not p["held"]]
+    held = [p for p in periods if not ("held" in p and not p["held"])]  # held, or not known (an older store)
+    name = "held" if any("held" in p for p in periods) else "wedged"
+    longest = sorted(held, key=lambda p: -p.get("held_s", p["duration_s"]))[:most]
+    if held:  # the legend's entry for the circles
+        what = f"{name} (duration)"
+        if len(longest) < len(held):
+            what = f"{name} {len(held)}x, {most} longest labelled (s)"
         ax.plot([], [], "o", mfc="none", mec="k", ms=11, ls="none", label=what)
-    for p in periods:
+    if turning:
+        label = f"turning in place {len(turning)}x (wedged, not held)"
+        ax.plot([], [], "o", mfc="none", mec="0.55", ms=11, ls="none", label=label)
+    for p in held:
         (x, y), r = p["centre"], max(p.get("extent_m", 0.3), 0.3)
         ax.add_patch(Circle((x, y), r, fill=False, ec="k", lw=1.2, ls="--", zorder=6))
+    for p in turning:
+        (x, y), r = p["centre"], max(p.get("extent_m", 0.3), 0.3)
+        ax.add_patch(Circle((x, y), r, fill=False, ec="0.55", lw=1.0, ls=":", zorder=6))
     for p in longest:
         (x, y), r = p["centre"], max(p.get("extent_m", 0.3), 0.3)
         spots = [
@@ -67,7 +81,7 @@ def draw_wedged(ax: Axes, periods: list[dict], most: int = WEDGED_LABELS) -> Non
         (lx, ly), ha, va = (clear or spots)[0]
         placed.append((lx, ly))
         ax.annotate(
-            f"{p['duration_s']:.0f} s",
+            f"{p.get('held_s', p['duration_s']):.0f} s",
             (lx, ly),
             ha=ha,
             va=va,
@@ -111,6 +125,8 @@ def _long_path(ax: Axes, r: dict, pose: np.ndarray, step: np.ndarray, mark: int 
 def _long_title(key: str, r: dict, hz: float) -> str:
     cov = r["coverage"]
     wedged = f"\nwedged {r['wedged_periods']}x (longest {r['longest_wedged_s']:.0f} s)" if "wedged" in r else ""
+    if r.get("held_periods") is not None:  # older stores lack the held periods
+        wedged += f", held {r['held_periods']}x (longest {r['longest_held_s']:.0f} s)"
     outcome = "trapped" if r["trapped"] else "not trapped"
     return f"{key}, {r['steps'] / hz:,.0f} s\n{outcome}, coverage {cov:.0%}{wedged}"
 
@@ -125,6 +141,8 @@ def _weights(ax: Axes, a: dict, key: str, r: dict, hz: float) -> None:
     ax.plot(tl, 0.0 - q[:, 1], label="c2 (right)", **{**weight_style("c", "right"), "lw": LINE["thin"]})
     for i, p in enumerate(r.get("wedged", [])):
         ax.axvspan(p["start"] / hz, (p["end"] + 1) / hz, color="0.88", zorder=0, label="wedged" if i == 0 else None)
+    for i, (a0, a1) in enumerate(h for p in r.get("wedged", []) for h in p.get("held", [])):  # absent: older stores
+        ax.axvspan(a0 / hz, (a1 + 1) / hz, color="0.7", zorder=0, label="held" if i == 0 else None)
     ax.axhline(0, color="k", lw=0.5)
     stride = int(np.median(np.diff(a[f"{key}/step"]))) if len(tl) > 1 else 1
     ax.set(

@@ -74,8 +74,8 @@ not-stuck rule and the coverage rule count 44 and 44 successes for ``plastic-pap
 """
 HELD_UP_RULE = (
     "held up: some 300 s of the run stayed within a 0.5 m disc (the stuck window, tried every 100 control steps: "
-    "ever_trapped), or the longest wedged period (trunk within 0.3 m for more than 100 s: longest_wedged_s) "
-    "lasted 300 s or more"
+    "ever_trapped), or the longest held period (trunk within 0.3 m and heading within 30 degrees for more than "
+    "100 s: longest_held_s; slow turns in place are not held) lasted 300 s or more"
 )
 
 
@@ -97,9 +97,14 @@ def coverage_rule(duration_s: float) -> str:
 def held_up(summary: dict[str, Any]) -> bool:
     """Whether a run was held up for 300 s or more at some time (:data:`HELD_UP_RULE`), from its summary.
 
-    Summaries stored before the wedged periods existed lack ``longest_wedged_s``; ``ever_trapped`` decides there.
+    Summaries stored before the held periods existed lack ``longest_held_s``: their longest wedged period stands
+    in for it (every wedged period counted as held, the conservative reading); those stored before the wedged
+    periods existed lack both, and ``ever_trapped`` decides there.
     """
-    return bool(summary["ever_trapped"]) or summary.get("longest_wedged_s", 0.0) >= STUCK_S
+    longest = summary.get("longest_held_s")
+    if longest is None:  # an older store: the wedged period stands in for the held one
+        longest = summary.get("longest_wedged_s", 0.0)
+    return bool(summary["ever_trapped"]) or longest >= STUCK_S
 
 
 def check_rate(body: str, control_hz: float) -> None:
@@ -207,6 +212,7 @@ def outcome(res: dict[str, Any], threshold: float) -> dict[str, Any]:
         "ever_held_up_300s": res["ever_trapped"],
         "ever_held_up_1000s": res["ever_held_up_1000s"],
         "longest_wedged_s": res.get("longest_wedged_s"),
+        "longest_held_s": res.get("longest_held_s"),
         "coverage": res["coverage"],
         "path_length_m": res["path_length_m"],
         "end_turn_share": res["end_turn_share"],

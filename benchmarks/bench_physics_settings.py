@@ -1,0 +1,141 @@
+"""Today's physics against the adopted one (issue 39, item 3): speed and behaviour side by side in one run.
+
+Two settings of the AMOSII model (``BodyParams``), both with the masses the authors' simulator applies (6.70 kg):
+
+* ``5 ms``: the former physics step of 0.005 s (20 physics steps per 10 Hz control step), MuJoCo's default solver
+  (100 iterations, tolerance 1e-8);
+* ``adopted``: the defaults now: 0.01 s (the authors' step, 10 per control step), at most 20 iterations,
+  tolerance 1e-6.
+
+Each is measured on: the closed loop's control steps per second (``box`` arena, plastic network, the median of
+``--repeats`` runs); Table 1's speeds and turn rates (constant steering, 320 s, the first 30 s left out); Fig. 7's
+gait (the figure's own judge); the dead ends over ``--seeds`` seeds (simple dead end and narrow passage, static and
+plastic network, 5000 control steps, each run stopped once escaped), escape counts with 95% Wilson intervals.
+
+Run: ``python benchmarks/bench_physics_settings.py [--seeds 20] [--out docs/benchmarks/physics_settings.json]``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import statistics
+import time
+from pathlib import Path
+from typing import Any
+
+from neurowalk.body.amosii_params import BodyParams
+from neurowalk.experiments import Settings
+from neurowalk.experiments.figures import fig7, table1
+from neurowalk.experiments.reproduce.judge_network import fig7 as judge_fig7
+from neurowalk.experiments.suites.deadends import TRAP_STEPS
+from neurowalk.experiments.suites.random_envs import wilson
+from neurowalk.fileio import write_json
+from neurowalk.runners.local import run_many
+from neurowalk.sim.episode import EpisodeConfig, run_episode
+
+SETTINGS: dict[str, dict[str, Any]] = {
+    "5 ms": {"timestep": 0.005, "solver_iterations": 100, "solver_tolerance": 1e-8},
+    "adopted": {},
+}
+STEERS = {"forward": (-1.0, -1.0), "turn left": (-1.0, 1.0), "turn right": (1.0, -1.0), "backward": (1.0, 1.0)}
+TABLE1_STEPS = 3200  # 320 s at 10 Hz, the authors' simulator's window end
+DEAD_ENDS = ("simple-deadlock", "narrow-passage")
+NETWORKS = ("static", "plastic")
+
+
+def use(setting: dict[str, Any]) -> None:
+    """Make ``setting`` the defaults of ``BodyParams`` (this process and the workers it forks from now on)."""
+    defaults = BodyParams.__init__.__kwdefaults__
+    for name, value in {**_ADOPTED, **setting}.items():
+        defaults[name] = value
+
+
+_ADOPTED = {k: BodyParams.__init__.__kwdefaults__[k] for k in ("timestep", "solver_iterations", "solver_tolerance")}
+
+
+def closed_loop(steps: int, repeats: int) -> float:
+    """Median control steps per second of the closed loop (box arena, plastic network)."""
+    run_episode(EpisodeConfig(arena="box", steps=5))
+    rates = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        run_episode(EpisodeConfig(arena="box", controller="plastic", steps=steps, seed=0))
+        rates.append(steps / (time.perf_counter() - t))
+    return statistics.median(rates)
+
+
+def dead_ends(seeds: int) -> dict[str, Any]:
+    """Escape counts per dead end and network over ``seeds`` seeds, with 95% intervals."""
+    keys = [(a, n, s) for a in DEAD_ENDS for n in NETWORKS for s in range(seeds)]
+    cfgs = [EpisodeConfig(arena=a, controller=n, steps=TRAP_STEPS, seed=s, until="escaped") for a, n, s in keys]
+    out = run_many(cfgs, workers=2, progress=False)
+    counts: dict[str, Any] = {}
+    for (a, n, _), r in zip(keys, out, strict=True):
+        c = counts.setdefault(f"{a} {n}", {"runs": 0, "escaped": 0, "exit_s": []})
+        c["runs"] += 1
+        c["escaped"] += int(bool(r["escaped"]))
+        if r["exit_step"] is not None:
+            c["exit_s"].append(r["exit_step"] / r["control_hz"])
+    for c in counts.values():
+        c["escaped_95ci"] = list(wilson(c["escaped"], c["runs"]))
+        c["median_exit_s"] = statistics.median(c.pop("exit_s")) if c["escaped"] else None
+    return counts
+
+
+def measure(seeds: int, repeats: int) -> dict[str, Any]:
+    """Every measure of the current setting."""
+    t0 = time.perf_counter()
+    speeds = {}
+    for name, steer in STEERS.items():
+        m, _ = table1._measure(steer, TABLE1_STEPS, 0, 10.0)
+        speeds[name] = {"speed_cm_per_s": 100 * m["speed_m_per_s"], "turn_rate_deg_per_s": m["turn_rate_deg_per_s"]}
+    gait = fig7.run(Settings(quick=False)).summary
+    claims = judge_fig7(gait, False)
+    return {
+        "control_steps_per_s": closed_loop(3000, repeats),
+        "table1": speeds,
+        "fig7_claims_reproduced": f"{sum(c.verdict == 'reproduced' for c in claims)}/{len(claims)}",
+        "dead_ends": dead_ends(seeds),
+        "wall_time_s": time.perf_counter() - t0,
+    }
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__)
+    ap.add_argument("--seeds", type=int, default=20)
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--out", type=Path, default=Path("docs/benchmarks/physics_settings.json"))
+    args = ap.parse_args()
+    results = {}
+    for name, setting in SETTINGS.items():
+        use(setting)
+        results[name] = {"body_params": {**_ADOPTED, **setting}, **measure(args.seeds, args.repeats)}
+        print(name, json.dumps(results[name]["table1"]), results[name]["control_steps_per_s"], flush=True)
+    use({})
+    base, new = results["5 ms"], results["adopted"]
+    ratios = {
+        "control_steps_per_s_adopted_over_5ms": new["control_steps_per_s"] / base["control_steps_per_s"],
+        **{
+            f"{k}_{q}_adopted_over_5ms": new["table1"][k][q] / base["table1"][k][q]
+            for k in STEERS
+            for q in ("speed_cm_per_s", "turn_rate_deg_per_s")
+            if (k in ("forward", "backward")) == q.startswith("speed")
+        },
+    }
+    write_json(
+        args.out,
+        {
+            "machine": f"{platform.system()} {platform.machine()}, {platform.processor() or 'cpu'}",
+            "total_mass_kg": BodyParams().total_mass,
+            "seeds": args.seeds,
+            "settings": results,
+            "ratios": ratios,
+        },
+    )
+    print(json.dumps(ratios, indent=1))
+
+
+if __name__ == "__main__":
+    main()
