@@ -51,14 +51,21 @@ def direction(speed: float, turn_rate: float) -> str:
     return "forward" if speed > 0 else "backward"
 
 
-def _measure(steer: tuple[float, float], steps: int, seed: int, control_hz: float) -> tuple[dict, np.ndarray]:
-    """Speed (m/s) and turning rate (deg/s) after the warm-up of one constant-steer run, and its (T, 2) path."""
-    ep = run_episode(EpisodeConfig(controller="fixed", steer=steer, steps=steps, seed=seed, control_hz=control_hz))
-    pose = ep.trajectory.pose[WARMUP:]
+def pace(pose: np.ndarray, control_hz: float) -> tuple[float, float]:
+    """Speed along the first row's heading (m/s) and turning rate (deg/s, positive left) of a (T, 3) pose (x m, y m,
+    yaw rad) sampled at ``control_hz``: from its first row to its last."""
     seconds = (len(pose) - 1) / control_hz
     heading = np.array([np.cos(pose[0, 2]), np.sin(pose[0, 2])])
     speed = float((pose[-1, :2] - pose[0, :2]) @ heading / seconds)
     turn = float(np.degrees(np.sum(np.diff(np.unwrap(pose[:, 2])))) / seconds)
+    return speed, turn
+
+
+def _measure(steer: tuple[float, float], steps: int, seed: int, control_hz: float) -> tuple[dict, np.ndarray]:
+    """Speed (m/s) and turning rate (deg/s) after the warm-up of one constant-steer run, and its (T, 2) path."""
+    ep = run_episode(EpisodeConfig(controller="fixed", steer=steer, steps=steps, seed=seed, control_hz=control_hz))
+    pose = ep.trajectory.pose[WARMUP:]
+    speed, turn = pace(pose, control_hz)
     return {"speed_m_per_s": speed, "turn_rate_deg_per_s": turn, "direction": direction(speed, turn)}, pose[:, :2]
 
 

@@ -1,4 +1,5 @@
-"""``DIR/report.md``: every item of the plan in one table, paper against neurowalk, then each item's results."""
+"""``DIR/report.md``: every item of the plan in one table, paper against neurowalk (and, where it has runs of an item,
+against the authors' own simulator: :mod:`.judge_authors`), then each item's results."""
 
 from __future__ import annotations
 
@@ -6,6 +7,7 @@ import json
 from pathlib import Path
 from typing import Any
 
+from neurowalk.experiments.reproduce.judge_authors import SOURCE
 from neurowalk.experiments.reproduce.plan import PLAN
 from neurowalk.fileio import atomic_write
 
@@ -44,6 +46,41 @@ def _took(rec: dict[str, Any]) -> str:
     return f"{rec['wall_time_s']:.0f} s" + (" (resumed: its last part)" if rec.get("resumed") else "")
 
 
+def _authors_reason(rec: dict[str, Any]) -> str:
+    """The authors' simulator's line of a record for the table of all items ("-" where it has no runs of it)."""
+    entry = rec.get("authors")
+    return "-" if entry is None else cell(entry["reason"].removeprefix("the authors' simulator: "))
+
+
+def _authors_claim(rec: dict[str, Any], what: str) -> str:
+    """The authors' value and verdict of the claim ``what`` ("-" where their runs do not answer it)."""
+    theirs = {c["what"]: c for c in (rec.get("authors") or {}).get("claims", [])}
+    c = theirs.get(what)
+    return "-" if c is None else f"{cell(c['measured'])} ({MARK[c['verdict']]})"
+
+
+def _side(v: Any, unit: str) -> str:
+    """A side-by-side value: a share as a percentage, yes / no, a number with its unit."""
+    if isinstance(v, bool):
+        return "yes" if v else "no"
+    if unit == "share" and isinstance(v, float):
+        return f"{100 * v:.1f}%"
+    if isinstance(v, float):
+        return (f"{v:,.0f}" if abs(v) >= 100 else f"{v:.3g}") + (f" {unit}" if unit else "")
+    return cell(v, unit)
+
+
+def _side_by_side(rec: dict[str, Any]) -> list[str]:
+    """The table of numbers measured in both simulators without a claim of their own (none: no lines)."""
+    rows = (rec.get("authors") or {}).get("side_by_side", [])
+    if not rows:
+        return []
+    lines = ["", "Measured in both simulators:", "", "| measure | neurowalk | authors' simulator |", "|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {cell(r['what'])} | {_side(r['neurowalk'], r['unit'])} | {_side(r['authors'], r['unit'])} |")
+    return lines
+
+
 def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
     """The report's markdown for the records in ``out`` (``failed``: item name -> why its run failed)."""
     records, failed = read_records(out, quick), failed or {}
@@ -67,19 +104,25 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
         "is reproduced where it holds. A result is reproduced where all its claims are, not where all are not, and "
         "partly otherwise; its reason counts the claims reproduced and names the others under their verdicts.",
         "",
-        "| result | the paper | verdict | why | figure | time |",
-        "|---|---|---|---|---|---|",
+        "A second reference: the column *authors' simulator* judges the same claims, by the same rules, on runs of "
+        "the authors' own simulator (LPZRobots with their controller; the last section says where they come from), "
+        "where it has runs of them: Table 1, Fig. 3 and 5 (the dead ends with seeds 10-12, the difficult arena for "
+        "10,000 s), and the CPG period beside Fig. 7. It says whether their system reproduces the paper; the verdict "
+        "column is neurowalk's alone.",
+        "",
+        "| result | the paper | verdict | why | authors' simulator | figure | time |",
+        "|---|---|---|---|---|---|---|",
     ]
     for item in PLAN:
         rec = records.get(item.name)
         if rec is None:
             why = f"failed: {failed[item.name]}" if item.name in failed else "not run"
-            lines.append(f"| {item.name} | {cell(item.paper)} | - | {cell(why)} | - | - |")
+            lines.append(f"| {item.name} | {cell(item.paper)} | - | {cell(why)} | - | - | - |")
             continue
         png = f"[{rec['figure']}.png]({rec['files']['png']})"
         lines.append(
             f"| [{item.name}](#{item.name}) | {cell(item.paper)} | {MARK[rec['verdict']]} | {cell(rec['reason'])} "
-            f"| {png} | {_took(rec)} |"
+            f"| {_authors_reason(rec)} | {png} | {_took(rec)} |"
         )
     for item in PLAN:
         rec = records.get(item.name)
@@ -95,16 +138,31 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
             "",
             f"![{item.name}]({rec['files']['png']})",
             "",
-            "| result | paper | neurowalk | 95% interval | verdict | rule |",
-            "|---|---|---|---|---|---|",
+            "| result | paper | neurowalk | 95% interval | verdict | rule | authors' simulator |",
+            "|---|---|---|---|---|---|---|",
         ]
         for c in rec["claims"]:
             ci = "-" if c["interval"] is None else f"{c['interval'][0]:.0%}-{c['interval'][1]:.0%}"
             lines.append(
                 f"| {cell(c['what'])} | {cell(c['paper'], c['unit'])} | {cell(c['measured'], c['unit'])} | {ci} "
-                f"| {MARK[c['verdict']]} | {cell(c['rule'])} |"
+                f"| {MARK[c['verdict']]} | {cell(c['rule'])} | {_authors_claim(rec, c['what'])} |"
             )
-    return "\n".join(lines) + "\n"
+        lines += _side_by_side(rec)
+    return "\n".join([*lines, *_provenance()]) + "\n"
+
+
+def _provenance() -> list[str]:
+    """The closing section: where the authors' simulator's runs come from."""
+    return [
+        "",
+        "## The authors' simulator",
+        "",
+        f"The second reference is {SOURCE}. Their trajectories were measured here with neurowalk's own metrics "
+        "(escape, trapping, wedged periods, coverage; the trunk centre 0.06 m ahead of the logged rear trunk box) "
+        "and judged by each claim's own rule; each result's file `NAME.json` holds them under `authors`. The "
+        "data's README.md (in that folder) gives the build, the settings and the trimming; `docs/authors-simulator.md` "
+        "compares the two simulators.",
+    ]
 
 
 def totals(out: Path, quick: bool) -> dict[str, Any]:

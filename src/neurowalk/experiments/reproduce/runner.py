@@ -33,7 +33,8 @@ from typing import Any
 
 from neurowalk import profiling
 from neurowalk.experiments import FIGURES
-from neurowalk.experiments.reproduce.claims import overall
+from neurowalk.experiments.reproduce.claims import Claim, overall
+from neurowalk.experiments.reproduce.judge_authors import compare
 from neurowalk.experiments.reproduce.plan import Item
 from neurowalk.fileio import write_json
 from neurowalk.profiling import read_profile
@@ -169,7 +170,8 @@ def execute(run: Run, out: Path, tick: Any = None) -> dict[str, Any]:
 
 
 def item_record(item: Item, run: Run, record: dict[str, Any], out: Path, quick: bool) -> dict[str, Any]:
-    """An item's result: its command, versions, seeds, wall time, claims and verdict, judged from the run's json."""
+    """An item's result: its command, versions, seeds, wall time, claims and verdict, judged from the run's json, and
+    where the authors' simulator has runs of it, ``authors``: their claims and numbers beside neurowalk's."""
     summary = json.loads((out / run.name / f"{run.figure}.json").read_text(encoding="utf-8"))
     claims = item.judge(summary, quick)
     verdict, reason = overall(claims)
@@ -193,16 +195,27 @@ def item_record(item: Item, run: Run, record: dict[str, Any], out: Path, quick: 
         "claims": [c.to_json() for c in claims],
         "verdict": verdict,
         "reason": reason,
+        **_authors(item, summary, claims),
     }
+
+
+def _authors(item: Item, summary: dict[str, Any], claims: list[Claim]) -> dict[str, Any]:
+    """``{"authors": entry}``: the authors' simulator beside neurowalk (:func:`.judge_authors.compare`), or ``{}``
+    where its runs answer nothing of the item."""
+    entry = compare(item.name, summary, claims)
+    return {} if entry is None else {"authors": entry}
 
 
 def rejudged(item: Item, record: dict[str, Any], out: Path) -> dict[str, Any]:
     """``item``'s written ``record`` (``DIR/NAME.json``) with its claims, verdict and reason judged again by the
-    current code from the run's numbers in ``out`` (the run itself is not repeated): what a changed judge says."""
+    current code from the run's numbers in ``out`` (the run itself is not repeated): what a changed judge says; its
+    ``authors`` entry made again too."""
     summary = json.loads((out / record["files"]["json"]).read_text(encoding="utf-8"))
     claims = item.judge(summary, record["quick"])
     verdict, reason = overall(claims)
-    return {**record, "claims": [c.to_json() for c in claims], "verdict": verdict, "reason": reason}
+    rest = {k: v for k, v in record.items() if k != "authors"}
+    judged = {"claims": [c.to_json() for c in claims], "verdict": verdict, "reason": reason}
+    return {**rest, **judged, **_authors(item, summary, claims)}
 
 
 def write_item(item: Item, run: Run, record: dict[str, Any], out: Path, quick: bool) -> Path:
