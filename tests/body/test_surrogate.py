@@ -63,7 +63,7 @@ def test_walking_into_a_wall_stops_at_the_wall() -> None:
     ep = run_episode(cfg)
     assert ep.summary["surrogate_contacts"] > 100  # pushed against the box for many steps
     assert _penetration(ep.trajectory.pose, load_calibration().circles, box_rows(ep.arena)) < 1e-3
-    assert np.ptp(ep.trajectory.pose[-500:, 0]) < 0.02  # m: no longer advancing
+    assert np.ptp(ep.trajectory.pose[-500:, 0]) < 0.03  # m: no longer advancing (the gait's sway is left)
 
 
 def test_push_out_moves_an_overlapping_body_clear_of_a_wall() -> None:

@@ -13,10 +13,10 @@ over at ``scale`` = 1:
   pose: x from -0.2344 to +0.2301 m about the trunk centre, y within ±0.1898 m, i.e. 0.4644 m x 0.3796 m. The wheel
   axle sits where AMOSII's trunk centre is (``front`` = 0.2301 m behind the front face); the wheels' outer faces are
   the footprint's sides.
-- Forward speed at full forward command (steering (-1, -1)): 0.01377 m/s, AMOSII's measured forward speed at that
+- Forward speed at full forward command (steering (-1, -1)): 0.01415 m/s, AMOSII's measured forward speed at that
   steering in the surrogate calibration (``body/data/calibration.json``, ``velocity[0][0][0]``). The wheel speed
-  limit is ``omega_max`` = speed / wheel_radius (0.459 rad/s by default). Turning on the spot at (-1, 1) is then
-  2·speed / track = 0.0766 rad/s in theory, about 0.075 rad/s measured (track 0.3596 m), where AMOSII turns at
+  limit is ``omega_max`` = speed / wheel_radius (0.472 rad/s by default). Turning on the spot at (-1, 1) is then
+  2·speed / track = 0.0787 rad/s in theory (track 0.3596 m), where AMOSII turns at
   0.045 rad/s (calibration, steering (-1, 1)): an axle as wide as the footprint cannot turn as slowly as the hexapod
   at full wheel speed.
 - Ultrasonic sensors: ±0.0175 m to the sides, yawed 35° outward, range 0.40 m, at 0.03855 m above the floor
@@ -25,7 +25,7 @@ over at ``scale`` = 1:
   robot, and they still start outside an obstacle that the front face presses against (a site 1 mm ahead of the
   face, as on AMOSII, whose feet keep it off walls, would start inside the wall and read its far side). Readings
   are from the sites: 2.4 mm more than from the face along a ray.
-- Mass: 7.848 kg in all (AMOSII's).
+- Mass: 6.69948 kg in all (AMOSII's, as the authors' simulator applies it).
 
 ``scale`` multiplies every length (footprint, wheels, casters, centre of mass, sensor offsets, height and range)
 and the forward speed, so the wheels' angular speeds stay as they are; the servo gain, torque limit and rotor
@@ -108,14 +108,14 @@ class WheeledParams:
     width: float = 0.3796  # m, footprint extent along y (outer face of one wheel to the other's)
     front: float = 0.2301  # m, front face ahead of the wheel axle
     height: float = 0.065  # m, chassis box height (AMOSII's trunk height), centred on the sensor height
-    mass: float = 7.848  # kg, whole robot (AMOSII's total mass)
+    mass: float = 6.69948  # kg, whole robot (AMOSII's total mass, BodyParams().total_mass)
     # Driven wheels.
     wheel_radius: float = 0.03  # m
     wheel_width: float = 0.02  # m
     wheel_gap: float = 0.004  # m, between a wheel's inner face and the chassis side
     wheel_mass: float = 0.2  # kg, each
     wheel_friction: float = 1.0  # sliding friction of the wheel treads
-    speed: float = 0.01377  # m/s, forward speed at full forward command (AMOSII's, calibration.json)
+    speed: float = 0.01415  # m/s, forward speed at full forward command (AMOSII's, calibration.json)
     motor_kv: float = 5.0  # N·m·s/rad, velocity servo gain (times ``scale``)
     motor_torque: float = 0.5  # N·m, motor torque limit, forcerange (times ``scale``): 33 N of push at the treads
     wheel_armature: float = 0.05  # kg·m², reflected rotor inertia of each geared wheel motor (times ``scale``)
