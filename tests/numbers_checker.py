@@ -9,7 +9,8 @@ docs/results/ (`neurowalk reproduce`), docs/benchmarks/ (`neurowalk bench`, benc
 
 The link's text must show the value at that key: the same string, or the same number as rounded in the text (a
 ``%`` after it: the value is a share, shown times 100; `` min`` or `` h`` after it: the value is in seconds). A
-string value holding several numbers (a rule, a command) backs any number in the text that it contains. A link
+string value holding several numbers (a rule, a command) backs the numbers of the text that it holds as whole
+numbers, each as often as the text shows it (a text of words alone: words the string holds). A link
 to a whole source file (no ``#key``) names the file and states nothing: its text is prose, where a number that
 is not a name is flagged. Every other number in the prose must be one that states no result: a figure, table,
 equation or section number (also with "Fig." or "Table" at the end of one line and the number at the start of
@@ -20,6 +21,7 @@ the next), a year (also followed by a comma or other punctuation), a version, a 
 from __future__ import annotations
 
 import json
+from collections import Counter
 import re
 from pathlib import Path
 from urllib.parse import unquote
@@ -76,8 +78,12 @@ def _number(text: str) -> float:
 
 def shows(text: str, value: object) -> bool:
     """Whether link text ``text`` shows ``value`` (see the module doc)."""
-    if isinstance(value, str):
-        return text.strip() == value.strip() or all(n.group(0) in value for n in NUMBER.finditer(text))
+    if isinstance(value, str):  # each number of the text a whole number of the string, as often as the text has it
+        if text.strip() == value.strip():
+            return True
+        have = Counter(_number(n.group(0)) for n in NUMBER.finditer(value))
+        want = Counter(_number(n.group(0)) for n in NUMBER.finditer(text))
+        return not want - have if want else text.strip() in value  # no number: the words, as in the string
     if isinstance(value, bool) or not isinstance(value, int | float):
         return False
     m = NUMBER.search(text)

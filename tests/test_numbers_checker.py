@@ -28,6 +28,14 @@ def test_shows_rounds_as_the_text_does():
     assert not shows("1", True)
 
 
+def test_a_string_backs_its_whole_numbers_only():
+    assert shows("10/10", "10/10") and shows("44/50", "plastic 44/50, static 25/50")
+    assert not shows("10/10", "9/10")  # "10" is in "9/10" once, and not as the text's first number
+    assert not shows("48/50", "8/50") and not shows("27/30", "plastic 28/30, static 10/30")
+    assert shows("close to the number of cores", "close to the number of cores (2)")
+    assert not shows("reproduced", "partly")
+
+
 def test_sourced_numbers_pass_and_others_are_named(tmp_path):
     good = (
         "# Results of Fig. 8 (2015)\n\nescaped [10/10](docs/results/fig8.json#claims/0/measured), "
