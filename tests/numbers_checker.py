@@ -21,8 +21,8 @@ the next), a year (also followed by a comma or other punctuation), a version, a 
 from __future__ import annotations
 
 import json
-from collections import Counter
 import re
+from collections import Counter
 from pathlib import Path
 from urllib.parse import unquote
 
