@@ -15,7 +15,7 @@ def test_quick_figure_runs_every_body_and_network_and_redraws(tmp_path):
     assert main(["figure", "bodies", "--quick", "--seeds", "1", "--out", str(tmp_path)]) == 0
     s = json.loads((tmp_path / "bodies.json").read_text())
     assert {(r["body"], r["network"]) for r in s["rows"]} == {
-        (b, n) for b in ("amosii", "wheeled", "wheeled x0.5") for n in ("plastic", "static", "braitenberg")
+        (b, n) for b in ("amosii", "wheeled", "wheeled x0.5") for n in ("plastic", "static")
     }
     assert s["control_hz"] == 10.0 and s["coverage_cell_m"] == 0.25
     assert s["coverage_threshold"] == pytest.approx(0.0025)  # 2.5% per 1000 s, in a quick run's 100 s

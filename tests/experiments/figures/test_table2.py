@@ -96,3 +96,13 @@ def test_quick_table_json_has_both_rules_and_replots(tmp_path: Path) -> None:
     png = tmp_path / "table2.png"
     png.unlink()
     assert main(["figure", "table2", "--replot", "--out", str(tmp_path)]) == 0 and png.stat().st_size > 50_000
+
+
+def test_the_braitenberg_row_runs_on_the_surrogate_only() -> None:
+    physics = table2.plan(Settings(body="amosii", quick=True))
+    surrogate = table2.plan(Settings(quick=True))
+    assert table2.SURROGATE_ONLY in surrogate["table"] and table2.SURROGATE_ONLY not in physics["table"]
+    assert {"plastic-paper", "plastic-original", "static"} <= set(physics["table"])
+    physics_rows = {(s["controller"], s.get("variant", "paper")) for s in physics["specs"] if s["body"] == "amosii"}
+    assert ("braitenberg", "paper") not in physics_rows
+    assert any(s["controller"] == "braitenberg" for s in surrogate["specs"])

@@ -1,7 +1,7 @@
 """The networks on other robots: the dead-end suite and Table 2 on AMOSII and on a wheeled robot at two sizes.
 
 The paper closes: "the network can be applied to other mobile robot systems for generating adaptive obstacle
-avoidance". This figure tests it. The same sensory networks (plastic, static, Braitenberg; variant ``paper``) drive
+avoidance". This figure tests it. The same sensory networks (plastic and static; variant ``paper``) drive
 
 - ``amosii``: the hexapod in MuJoCo, through the locomotion network (the paper's robot);
 - ``wheeled``: a differential-drive robot with AMOSII's footprint, speed and rangefinders, the steering pair on its
@@ -70,7 +70,7 @@ BODIES: dict[str, tuple[str, dict[str, float]]] = {
     "wheeled": ("wheeled", {}),
     "wheeled x0.5": ("wheeled", {"scale": 0.5}),
 }
-NETWORKS = ("plastic", "static", "braitenberg")
+NETWORKS = ("plastic", "static")  # the networks compared (the Braitenberg vehicle: the surrogate's Table 2, escape-map)
 DEAD_ENDS = ("simple-deadlock", "narrow-passage", "corner")
 
 
