@@ -35,8 +35,8 @@ from neurowalk.observation import Observation
 def n_substeps(control_hz: float, timestep: float) -> int:
     """Physics steps per control step: the whole number nearest ``1 / (control_hz * timestep)`` (at least 1).
 
-    Where the control period is not a whole number of ``timestep`` steps (27 Hz at 0.005 s: 7.41 steps),
-    :func:`set_control_rate` shortens or lengthens the physics step so that it is (7 steps of 5.29 ms).
+    Where the control period is not a whole number of ``timestep`` steps (27 Hz at 0.01 s: 3.70 steps),
+    :func:`set_control_rate` shortens or lengthens the physics step so that it is (4 steps of 9.26 ms).
     """
     if not control_hz > 0 or not timestep > 0:
         raise ValueError(f"control_hz and timestep must be > 0, got {control_hz!r}, {timestep!r}")
@@ -48,8 +48,8 @@ def set_control_rate(model: mujoco.MjModel, control_hz: float) -> int:
 
     One control step is ``n`` physics steps of ``1 / (control_hz * n)`` s, ``n`` the whole number nearest the
     model's own step (:func:`n_substeps`): the model's timestep is kept where the period is a whole number of it
-    (10 Hz at 0.005 s: 20 steps) and changed by at most half a step's worth where not (27 Hz: 7 steps of 5.29 ms
-    instead of 5 ms), so the control period is exact at every rate.
+    (10 Hz at 0.01 s: 10 steps) and changed by at most half a step's worth where not (27 Hz: 4 steps of 9.26 ms
+    instead of 10 ms), so the control period is exact at every rate.
     """
     n = n_substeps(control_hz, model.opt.timestep)
     dt = 1.0 / (control_hz * n)

@@ -38,7 +38,7 @@ behind the axle, so the rear caster carries about a tenth of the weight); the fr
 2 mm above the floor and catches the chassis when it pitches forward. Four supports at one height would leave the
 wheels nearly unloaded in MuJoCo's soft contact model (they slipped).
 
-Physics settings: timestep 0.01 s (10 physics steps per 10 Hz control step, half of AMOSII's 20 at 0.005 s),
+Physics settings: timestep 0.01 s (10 physics steps per 10 Hz control step, as AMOSII's),
 implicitfast integrator, pyramidal friction cone (cheaper than smaller steps or the elliptic cone, and stable here;
 0.02 s runs about twice as fast again, but a ``scale`` 0.1 robot then rocks 2° in pitch). The wheel servos are
 MuJoCo ``velocity`` actuators (kv 5 N·m·s/rad, torque limit 0.5 N·m at scale 1) on hinges with 0.05 kg·m² of

@@ -32,7 +32,10 @@ def figure_listing(times: bool = False) -> str:
         took = describe(name)
         lines.append(f"{name:<{width}}{exp.title}" + (f" [{took}]" if took else ""))
     machine = figure_times().get("machine")
-    lines.append(f"[times: the committed `neurowalk reproduce` run, docs/results/, on {machine or 'no machine yet'}]")
+    lines.append(
+        f"[times: the committed `neurowalk reproduce` runs, docs/results/, on {machine or 'no machine yet'}; "
+        "figures there share their runs, so fig5, bodies and surrogate alone take longer]"
+    )
     return "\n".join(lines)
 
 
