@@ -23,7 +23,21 @@ def test_plastic_escapes_the_narrow_passage_static_does_not_both_escape_simple_d
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("climbing", [False, True], ids=["modules off", "reflexes and backbone on"])
+@pytest.mark.parametrize(
+    "climbing",
+    [
+        False,
+        pytest.param(
+            True,
+            marks=pytest.mark.xfail(
+                strict=True,
+                reason="issue 39: at the 10 ms physics step the climbing modules behave differently from the 5 ms "
+                "step they were tuned on (the steps figure's verdict turned; docs/performance.md)",
+            ),
+        ),
+    ],
+    ids=["modules off", "reflexes and backbone on"],
+)
 def test_long_runs_static_explores_cluttered_trapped_in_difficult_plastic_explores_difficult(climbing):
     from neurowalk.arenas.spec import WALL_HEIGHT
     from neurowalk.runners.local import run_many
