@@ -148,7 +148,7 @@ class EpisodeConfig:
             raise ValueError(f"unknown gait {self.gait!r}; expected one of {', '.join(GAITS)}")
         if self.engine not in ENGINES:
             raise ValueError(f"unknown engine {self.engine!r}; expected one of {', '.join(ENGINES)}")
-        if self.until is not None and self.until not in UNTIL:
+        if self.until is not None and (not isinstance(self.until, str) or self.until not in UNTIL):
             raise ValueError(f"until must be one of {', '.join(UNTIL)} or none, got {self.until!r}")
         climbing = self.reflexes or self.backbone
         if self.engine not in info.engines or (climbing and self.engine not in info.climbs_on):

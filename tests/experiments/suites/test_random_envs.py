@@ -70,7 +70,7 @@ def test_the_stuck_window_is_300_s_at_any_control_rate() -> None:
 
 
 def test_table2_resumes_from_its_store_without_rerunning(tmp_path: Path) -> None:
-    n = len(table2.rows()) - 1  # on a physics body the Braitenberg row is the surrogate's table's only
+    n = len(table2.rows())
     r1 = table2.run(Settings(quick=True, seeds=3, out=tmp_path, workers=1))
     assert r1.summary["sweep"]["ok"] == 3 * n and r1.summary["sweep"]["skipped"] == 0
     assert "not stuck" in r1.summary["rule"] and r1.summary["box_size_m"] == 1.0 and r1.summary["control_hz"] == 10.0
