@@ -80,9 +80,7 @@ def live_page(cfg: object, parts: object, args: argparse.Namespace) -> object:
 def keep_serving(page: object, args: argparse.Namespace) -> None:
     """After `run --web`'s run: the page shows the whole run until Ctrl-C."""
     page.finished()  # type: ignore[attr-defined]
-    print(f"neurowalk: the run is done; its replay stays on http://{args.host}:{args.port}: Ctrl-C stops",
-          file=sys.stderr, flush=True)  # fmt: skip
-    _wait_for_stop()
+    _wait_for_stop(f"neurowalk: the run is done; its replay stays on http://{args.host}:{args.port}: Ctrl-C stops")
 
 
 def cmd_view(args: argparse.Namespace) -> int:
@@ -124,10 +122,13 @@ def cmd_view(args: argparse.Namespace) -> int:
     return 0
 
 
-def _wait_for_stop() -> None:
-    """Block until SIGINT or SIGTERM."""
+def _wait_for_stop(line: str | None = None) -> None:
+    """Block until SIGINT or SIGTERM; ``line`` (to stderr) once the handlers are in place, so that a stop sent as soon
+    as it is read is answered here, not as an interrupt of what came before."""
     stop = threading.Event()
     old = {sig: signal.signal(sig, lambda *_: stop.set()) for sig in (signal.SIGINT, signal.SIGTERM)}
+    if line is not None:
+        print(line, file=sys.stderr, flush=True)
     try:
         while not stop.wait(0.5):
             pass
