@@ -312,3 +312,23 @@ def test_a_computed_output_path_too_long_is_a_usage_error(tmp_path):
     with pytest.raises(UsageError, match="too long"):
         out_file(tmp_path / "new" / ("a" * 300 + ".xml"))
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize(
+    "args,said",
+    [
+        (["--arena", "steps", "--arena-opt", "height=0.06", "--climb", "--steps", "1700"], "; climbed at 1"),
+        (["--arena", "steps", "--arena-opt", "height=0.18", "--climb", "--steps", "300"], "; did not climb; moved"),
+        (["--arena", "narrow-passage", "--steps", "50"], "; did not escape; moved"),
+        (["--arena", "open", "--steps", "50"], "real time); moved"),
+    ],
+    ids=["climbed", "wall", "dead end", "no exit"],
+)
+def test_a_runs_line_says_its_outcome_in_words(args, said, tmp_path, capsys):
+    assert main(["run", *args, "--out", str(tmp_path)]) == 0
+    line = capsys.readouterr().out.strip().splitlines()[-1]
+    assert said in line
+    s = json.loads((tmp_path / "summary.json").read_text())
+    assert ("climbed at" in line) == (s["exit_step"] is not None)
+    if "--climb" in args:
+        assert s["body_settings"]["timestep"] == 0.005 and s["body_opts"] == {}

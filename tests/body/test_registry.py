@@ -90,3 +90,26 @@ def test_the_wheeled_surrogate_is_a_planar_body_of_the_registry():
         EpisodeConfig(body="surrogate-wheeled", control_hz=20.0)
     with pytest.raises(ValueError, match="'scale'"):
         check_body_opts("surrogate-wheeled", {"scale": 0.5})  # calibrated at scale 1 only
+
+
+def test_a_climbing_amosii_steps_its_physics_at_5_ms_unless_the_run_gives_a_step():
+    from neurowalk.body.registry import CLIMBING_TIMESTEP, body_settings, run_body_opts
+
+    assert body_settings("amosii")["timestep"] == BODIES["amosii"].options["timestep"][0] == 0.01
+    assert body_settings("amosii", {}, climbing=True)["timestep"] == CLIMBING_TIMESTEP == 0.005
+    assert body_settings("amosii", {"timestep": 0.01}, climbing=True)["timestep"] == 0.01  # a given step wins
+    assert run_body_opts("amosii", {}, climbing=False) == {}  # a walking run's options (and key) as before
+    assert run_body_opts("wheeled", {}, climbing=True) == {}  # no climbing defaults: it does not climb
+    arena = make_arena("steps")
+    assert make_body("amosii", arena, climbing=True).model.opt.timestep == CLIMBING_TIMESTEP
+    assert make_body("amosii", arena, {"timestep": 0.01}, climbing=True).model.opt.timestep == 0.01
+    assert make_body("amosii", arena).model.opt.timestep == 0.01
+    assert "climbing (reflexes or backbone on): timestep=0.005" in body_listing()
+
+
+def test_a_climbing_runs_key_names_its_physics():
+    climb = EpisodeConfig(arena="steps", reflexes=True)
+    assert climb.key() == climb.replace(body_opts={"timestep": 0.005}).key()  # the same physics, the same run
+    assert climb.key() != climb.replace(body_opts={"timestep": 0.01}).key()
+    assert climb.spec()["body_opts"] == {"timestep": 0.005}
+    assert "body_opts" not in EpisodeConfig(arena="steps").spec()  # a walking run's key is as before

@@ -24,6 +24,7 @@ FIRST_EDGE = 0.7  # x of the first platform's edge
 SECOND_EDGE = 1.7  # y of the second platform's edge
 TRACK_TOP = 4.4  # y of the second corridor's end wall
 BACK = -0.6  # x of the wall behind the start
+CLIMB_WORDS = ("climbed", "did not climb")  # the exit region of these arenas is a platform: reaching it is climbing
 
 
 def _check_height(name: str, key: str, h: float) -> None:
@@ -41,7 +42,8 @@ def single_step(height: float = 0.06, distance: float = 0.5) -> ArenaSpec:
     if distance <= ArenaSpec.ROBOT_RADIUS:
         raise ValueError(f"arena 'steps': distance must be > {ArenaSpec.ROBOT_RADIUS} m, got {distance}")
     slab = Box(x=distance + SLAB / 2, y=0.0, yaw=0.0, sx=SLAB, sy=SLAB, h=height)
-    return ArenaSpec(name="steps", boxes=(slab,), exit_region=(distance + 0.3, distance + SLAB, -SLAB / 2, SLAB / 2))
+    exit_region = (distance + 0.3, distance + SLAB, -SLAB / 2, SLAB / 2)
+    return ArenaSpec(name="steps", boxes=(slab,), exit_region=exit_region, exit_words=CLIMB_WORDS)
 
 
 def _span(x0: float, x1: float, y0: float, y1: float, h: float) -> Box:
@@ -94,4 +96,5 @@ def climbing_track(step: float = 0.06, wall_x: float = 2.0) -> ArenaSpec:
         boxes=tuple(boxes),
         bounds=(x0, x1, y0, TRACK_TOP),
         exit_region=(BEND_X, x1, SECOND_EDGE + 0.3, TRACK_TOP),
+        exit_words=CLIMB_WORDS,
     )

@@ -84,6 +84,8 @@ class ArenaSpec:
         start: robot start pose (x m, y m, yaw rad).
         bounds: free area (xmin, xmax, ymin, ymax) in m, or None for an unbounded floor.
         exit_region: (xmin, xmax, ymin, ymax) in m that counts as escaped, or None.
+        exit_words: what reaching the exit region means, and not reaching it, in words (a run's line says them):
+            ``("escaped", "did not escape")`` for a dead end, ``("climbed", "did not climb")`` for a step.
         options: the options it was built with (for the record).
     """
 
@@ -92,6 +94,7 @@ class ArenaSpec:
     start: tuple[float, float, float] = (0.0, 0.0, 0.0)
     bounds: tuple[float, float, float, float] | None = None
     exit_region: tuple[float, float, float, float] | None = None
+    exit_words: tuple[str, str] = ("escaped", "did not escape")
     options: dict = field(default_factory=dict, compare=False, hash=False)
 
     ROBOT_RADIUS = 0.25  # m: start must be at least this far from every box

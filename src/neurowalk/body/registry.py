@@ -45,6 +45,8 @@ class BodyInfo:
         action: ``"targets"`` (19 joint targets from the locomotion network) or ``"steering"`` (O1, O2).
         physics: a MuJoCo body (else a planar surrogate). climbs: it can take the climbing controls
             (``--reflexes``, ``--backbone``). options: name -> (default, low, high, meaning).
+        climbing_options: the defaults of some options where the controller climbs (reflexes or backbone on),
+            over ``options``' own; an option the run gives is kept (:func:`body_settings`).
         surrogate: the planar body calibrated on this physics body (``neurowalk calibrate --body NAME``), if any.
         engines: the physics engines (a config's ``engine``) it runs on; a planar body runs its own compiled loop.
         climbs_on: those of its engines that run it with the climbing controls.
@@ -61,6 +63,7 @@ class BodyInfo:
     physics: bool
     climbs: bool
     options: dict[str, tuple[float, float, float, str]] = field(default_factory=dict)
+    climbing_options: dict[str, float] = field(default_factory=dict)
     surrogate: str | None = None
     engines: tuple[str, ...] = ("mujoco",)
     climbs_on: tuple[str, ...] = ("mujoco",)
@@ -79,6 +82,8 @@ PLANAR_OPTIONS: dict[str, tuple[float, float, float, str]] = {
     "speed": (1.0, 0.25, 4.0, "forward and sideways speed x speed (the measured body's)"),
     "turn": (1.0, 0.25, 4.0, "yaw rate x turn (the measured body's)"),
 }
+
+CLIMBING_TIMESTEP = 0.005  # s, AMOSII's physics step where the controller climbs (reflexes or backbone on)
 
 BODIES: dict[str, BodyInfo] = {
     "amosii": BodyInfo(
@@ -99,6 +104,11 @@ BODIES: dict[str, BodyInfo] = {
             "solver_iterations": (20, 1, 1000, "most solver iterations of a physics step (whole number)"),
             "solver_tolerance": (1e-6, 1e-12, 1e-3, "the solver stops when its cost improves by less"),
         },
+        # Climbing at the 10 ms step fails at some heights (0.07 m: 0 of 10 seeds): implicitfast integrates the leg
+        # servos coarsely at that step, the start's first steps yaw the robot by 0.2 rad and it meets the step's
+        # edge at a slant and slides along it. At 5 ms (or RK4 at 10 ms) it meets it square and climbs every time
+        # (docs/performance.md, "Climbing and the physics step").
+        climbing_options={"timestep": CLIMBING_TIMESTEP},
     ),
     "surrogate": BodyInfo(
         "surrogate",
@@ -196,6 +206,27 @@ def check_body_opts(name: str, opts: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
+def run_body_opts(name: str, opts: Mapping[str, Any] | None = None, climbing: bool = False) -> dict[str, Any]:
+    """The options a run gives body ``name``: those in ``opts`` (checked), with the body's climbing defaults added
+    where the controller climbs (``climbing``: reflexes or backbone on). A run's key holds them
+    (:meth:`~neurowalk.sim.config.EpisodeConfig.spec`), so a climbing run at 5 ms is another run than one at 10 ms.
+    """
+    given = check_body_opts(name, dict(opts or {}))
+    info = body_info(name)
+    return {**(info.climbing_options if climbing and info is not MJCF else {}), **given}
+
+
+def body_settings(name: str, opts: Mapping[str, Any] | None = None, climbing: bool = False) -> dict[str, Any]:
+    """Every option of body ``name`` with the value a run uses: :func:`run_body_opts`, else the option's default.
+
+    E.g. ``body_settings("amosii", {}, climbing=True)["timestep"]`` is 0.005 (s), 0.01 without climbing. A user's
+    MJCF body: its options as given.
+    """
+    info = body_info(name)
+    defaults = {} if info is MJCF else {key: spec[0] for key, spec in info.options.items()}
+    return {**defaults, **run_body_opts(name, opts, climbing)}
+
+
 def make_body(
     name: str,
     arena: ArenaSpec,
@@ -208,13 +239,14 @@ def make_body(
 ) -> Any:
     """Build body ``name`` in ``arena`` with its options.
 
-    ``climbing``: the controller climbs (a climbing body reads its obstacle-height scanner every step).
+    ``climbing``: the controller climbs (a climbing body reads its obstacle-height scanner every step, and takes
+    its climbing defaults: :func:`body_settings`).
     ``pad_boxes``: AMOSII's model with room for that many obstacle slots (the model :mod:`neurowalk.sim.batch`
     steps, bit for bit the plain model's physics); other bodies have one model and ignore it.
     """
     if body_info(name) is MJCF:  # it checks its options and its file as it builds (one compile)
         return UserMjcf(name, arena, opts, control_hz=control_hz, noise=noise)
-    options = check_body_opts(name, opts or {})
+    options = run_body_opts(name, opts, climbing)
     if name == "amosii":
         params = amosii_params(options)
         return AmosII(arena, params, control_hz=control_hz, noise=noise, scan_obstacles=climbing, pad_boxes=pad_boxes)
@@ -275,4 +307,7 @@ def body_listing() -> str:
             f"{'physics (MuJoCo)' if b.physics else 'planar'}; {'climbs' if b.climbs else 'does not climb'}",
             f"{'':10s} options: {opts or 'none'}",
         ]
+        if b.climbing_options:
+            climbing = ", ".join(f"{k}={v:g}" for k, v in b.climbing_options.items())
+            lines.append(f"{'':10s} climbing (reflexes or backbone on): {climbing} unless given")
     return "\n".join(lines)

@@ -8,7 +8,7 @@ import dataclasses
 import sys
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from neurowalk.cli.common import (
     UsageError,
@@ -22,6 +22,9 @@ from neurowalk.cli.common import (
 )
 from neurowalk.cli.view import check_web, keep_serving, live_page, web_args
 from neurowalk.fileio import write_json
+
+if TYPE_CHECKING:
+    from neurowalk.sim.episode import Episode
 
 
 def add_run_parsers(sub: argparse._SubParsersAction) -> None:
@@ -231,12 +234,25 @@ def _run_and_save(
     resumed = f" (resumed at step {s['resumed_at_step']})" if "resumed_at_step" in s else ""
     print(
         f"{cfg.arena}/{cfg.controller}: {s['steps']} steps{resumed} in {s['wall_time_s']:.1f} s "
-        f"({_factor(s['real_time_factor'])}x real time); moved {s['forward_displacement_m']:+.2f} m, "
+        f"({_factor(s['real_time_factor'])}x real time); {outcome_words(ep)}"
+        f"moved {s['forward_displacement_m']:+.2f} m, "
         f"turned {s['heading_change_deg']:+.0f} deg; wrote {', '.join(str(out / w) for w in written)}"
     )
     if page is not None:
         keep_serving(page, args)
     return 0
+
+
+def outcome_words(ep: Episode) -> str:
+    """The run's outcome in words, for an arena with an exit region (else ""): ``"climbed at 136.6 s; "`` or
+    ``"did not climb; "`` on a step, ``"escaped at 52.3 s; "`` or ``"did not escape (trapped); "`` in a dead end."""
+    arena, s = ep.arena, ep.summary
+    if arena.exit_region is None:
+        return ""
+    reached, missed = arena.exit_words
+    if s["exit_step"] is not None:
+        return f"{reached} at {s['exit_step'] / s['control_hz']:.1f} s; "
+    return f"{missed}{' (trapped)' if s['trapped'] else ''}; "
 
 
 def _kept(parts: Any) -> str:

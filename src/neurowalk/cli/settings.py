@@ -54,7 +54,12 @@ def _add(p: argparse.ArgumentParser, name: str) -> None:
     elif name == "body":
         p.add_argument("--body", default=None, help="{bodies} (default per study; see `neurowalk bodies`)")
     elif name == "climbing":
-        p.add_argument("--climb", dest="climbing", action="store_true", help="leg reflexes and backbone control on")
+        p.add_argument(
+            "--climb",
+            dest="climbing",
+            action="store_true",
+            help="leg reflexes and backbone control on (AMOSII's physics then steps at 5 ms, not 10)",
+        )
     elif name in ("variant", "params"):
         variant_args(p, only=name)
     elif name == "gait":

@@ -29,6 +29,19 @@ def test_a_10_cm_step_needs_both_backbone_control_and_reflexes():
 
 
 @pytest.mark.slow
+@pytest.mark.parametrize("height", [0.07, 0.09])
+def test_climb_with_the_plastic_network_climbs_the_heights_the_10_ms_step_lost_and_not_a_wall(height):
+    def run(h: float, seed: int) -> dict:
+        cfg = EpisodeConfig(arena="steps", arena_opts={"height": h}, controller="plastic", steps=3000, seed=seed,
+                            reflexes=True, backbone=True, until="escaped")  # fmt: skip
+        return run_episode(cfg).summary
+
+    assert all(climbed(run(height, seed)) for seed in (0, 1))  # at the 10 ms step: 0 and 2 of 10 seeds
+    if height == 0.09:
+        assert not climbed(run(0.18, 0))  # a wall
+
+
+@pytest.mark.slow
 def test_backbone_control_alone_climbs_higher_than_the_reflexes_alone():
     assert _climbs(0.08, "backbone only") and not _climbs(0.08, "reflexes only")
 
@@ -63,11 +76,6 @@ def test_flat_walking_is_kept_with_the_modules_on():
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(
-    strict=True,
-    reason="issue 39: at the 10 ms physics step the climbing modules (leg reflexes, backbone control) behave "
-    "differently from the 5 ms step they were tuned on (the steps figure's verdict turned; docs/performance.md)",
-)
 def test_dead_end_results_hold_with_the_modules_on():
     from neurowalk.experiments.suites.deadends import VARIANTS, outcome_table
 
@@ -124,11 +132,6 @@ def test_first_platform_is_the_trunk_centre_0_3_m_past_its_edge():
     assert first_platform_step(pose[:10], 0.06) is None
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="issue 39: at the 10 ms physics step the climbing modules (leg reflexes, backbone control) behave "
-    "differently from the 5 ms step they were tuned on (the steps figure's verdict turned; docs/performance.md)",
-)
 def test_a_27_hz_track_run_reports_its_events_on_the_27_hz_clock(tmp_path):
     res = fig10.run(Settings(seeds=1, out=tmp_path, control_hz=27.0), steps=1800)
     s = res.summary

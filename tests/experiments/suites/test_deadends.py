@@ -27,14 +27,7 @@ def test_plastic_escapes_the_narrow_passage_static_does_not_both_escape_simple_d
     "climbing",
     [
         False,
-        pytest.param(
-            True,
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="issue 39: at the 10 ms physics step the climbing modules behave differently from the 5 ms "
-                "step they were tuned on (the steps figure's verdict turned; docs/performance.md)",
-            ),
-        ),
+        True,
     ],
     ids=["modules off", "reflexes and backbone on"],
 )

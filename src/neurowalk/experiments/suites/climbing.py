@@ -2,12 +2,16 @@
 
 * On ``climbing-track`` (plastic network, reflexes and backbone control on) a run succeeds when the
   trunk centre reaches the second platform (0.3 m beyond its edge) within :data:`TRACK_S` s of simulated
-  time and the trunk never rose to the top of a wall (``max_z`` below the wall tops, 2 x step + 0.20 m).
-  :func:`run_track` also records when the trunk centre first got 0.3 m onto the first platform.
+  time and the trunk never rose to the top of a wall on the way (``max_z`` below the wall tops, 2 x step +
+  0.20 m); the run stops there. :func:`run_track` also records when the trunk centre first got 0.3 m onto
+  the first platform.
 * On ``steps`` (steering fixed straight ahead, so only the climbing modules decide) a run climbs when
-  the trunk centre gets 0.3 m onto the platform within :data:`STEP_S` s. The highest step
+  the trunk centre gets 0.3 m onto the platform within :data:`STEP_S` s (the run stops there). The highest step
   climbed reliably is the highest height at which at least :data:`RELIABLE` of the seeds climbed, all
   lower heights included.
+
+With the climbing modules on, AMOSII's physics steps at 5 ms, not 10
+(:data:`~neurowalk.body.registry.CLIMBING_TIMESTEP`); the ``neither`` variant walks at the 10 ms step.
 
 Run lengths are in seconds of simulated time, turned into control steps at the run's control rate
 (:func:`~neurowalk.experiments.suites.timing.steps_for`; at 10 Hz, the default, 12,000 and 3000 steps).
@@ -62,6 +66,7 @@ def track_spec(
         "control_hz": float(control_hz),
         "reflexes": True,
         "backbone": True,
+        "until": "escaped",  # on the second platform the track is crossed: later steps cannot change that
     }
     return {**out, "variant": variant} if variant != "paper" else out
 
@@ -79,6 +84,7 @@ def step_spec(
         "steps": steps if steps is not None else steps_for(STEP_S, control_hz),
         "seed": seed,
         "control_hz": float(control_hz),
+        "until": "escaped",  # a run that got onto the platform has climbed: later steps cannot change that
         **{k: v for k, v in VARIANTS[variant].items() if v},
     }
 
