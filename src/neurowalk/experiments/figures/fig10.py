@@ -280,6 +280,10 @@ def plot(res: Result) -> Figure:
         ax.axis("off")
     letter_panels([top, side, bj, feet, steer, shots[0]])
     ok = ", ".join(f"{float(h) * 100:g} cm: {v['success']}/{v['seeds']}" for h, v in s["table"].items())
-    rate = f" ({s['steps'] / s['control_hz']:.0f} s at {s['control_hz']:g} Hz)" if "control_hz" in s else ""
+    rate = (
+        f" (runs of at most {s['steps'] / s['control_hz']:.0f} s at {s['control_hz']:g} Hz)"
+        if "control_hz" in s
+        else ""
+    )
     fig.suptitle(f"Climbing track: reached the second platform with steps of {ok}{rate}")
     return fig

@@ -114,7 +114,7 @@ def plot(res: Result) -> Figure:
         xlabel="step height (cm)",
         ylabel=f"climbed (share of {s['seeds']} seeds)",
         ylim=(-0.04, 1.04),
-        title=f"Single step, steering straight ahead ({s['steps'] / s.get('control_hz', 10.0):.0f} s per run"
+        title=f"Single step, steering straight ahead ({s['steps'] / s.get('control_hz', 10.0):.0f} s at most per run"
         f" at {s.get('control_hz', 10.0):g} Hz)",
     )
     ax.yaxis.set_major_formatter(PercentFormatter(1.0))
