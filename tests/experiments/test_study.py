@@ -153,3 +153,50 @@ def test_a_run_summary_reads_a_summary_by_attribute_and_gives_it_back(tmp_path: 
         RunSummary.from_dict({k: v for k, v in d.items() if k != "steps"})
     with pytest.raises(AttributeError):
         r.escaped = True  # type: ignore[misc]
+
+
+def test_a_resumed_study_counts_only_the_kept_runs_its_own_settings_need(tmp_path: Path):
+    from neurowalk.experiments.study import kept_runs
+
+    run_study(TINY, Settings(quick=True, out=tmp_path, workers=1))  # 4 runs kept, seeds 0 and 1
+    assert kept_runs(TINY, Settings(quick=True, out=tmp_path)) == {tmp_path / "results.sqlite": 4}
+    assert kept_runs(TINY, Settings(quick=True, seed=1, out=tmp_path)) == {tmp_path / "results.sqlite": 2}
+    assert kept_runs(TINY, Settings(quick=True, seed=7, out=tmp_path)) == {}  # other settings: nothing to go on from
+
+
+def test_a_figure_inside_shared_stores_counts_the_runs_kept_there(tmp_path: Path):
+    from neurowalk.cli.settings import interrupted_line
+    from neurowalk.experiments import FIGURES
+    from neurowalk.experiments.stores import run_store, shared_stores
+    from neurowalk.experiments.study import kept_runs
+
+    figure = FIGURES["fig3"]
+    assert figure.runs is None and figure.keeps_runs  # a figure with its own loop (what the shared stores serve)
+    with shared_stores(tmp_path / "runs"):
+        run_store([{"arena": "box", "body": "surrogate", "steps": 20}], tmp_path / "fig3", 1)
+        kept = kept_runs(figure, Settings(out=tmp_path / "fig3"))
+    assert list(kept.values()) == [1] and all(p.parent == tmp_path / "runs" for p in kept)
+    assert f"1 finished runs are kept in {tmp_path / 'runs'} (1 in " in interrupted_line("fig3", kept)
+    assert kept_runs(figure, Settings(out=tmp_path / "fig3")) == {}  # outside them: its own folder holds none
+
+
+def test_a_study_whose_own_measure_raises_shows_its_own_frames_and_what_is_kept(tmp_path: Path, capsys):
+    from neurowalk.cli import main
+
+    (tmp_path / "bad.py").write_text(
+        "from neurowalk import EpisodeConfig, Study\n"
+        "def runs(s):\n"
+        "    for seed in range(3):\n"
+        "        yield 'a', EpisodeConfig(body='surrogate', steps=20, seed=seed)\n"
+        "def measure(s, results):\n"
+        "    return {'x': 1 / 0}\n"
+        "study = Study('bad', 'bad', plot=print, runs=runs, measure=measure)\n"
+    )
+    assert main(["study", str(tmp_path / "bad.py"), "--out", str(tmp_path / "out"), "--workers", "1"]) == 1
+    err = capsys.readouterr().err.strip().splitlines()
+    err = err[next(i for i, line in enumerate(err) if line.startswith("Traceback")) :]  # after the progress bar
+    assert err[0] == "Traceback (the study file's own frames):"
+    assert any("bad.py" in line and "line 6, in measure" in line for line in err)
+    assert not any("neurowalk" in line and "File" in line for line in err)  # none of neurowalk's frames
+    assert err[-2] == "ZeroDivisionError: division by zero"
+    assert err[-1].startswith("neurowalk: study bad failed in ") and "3 finished runs are kept in" in err[-1]

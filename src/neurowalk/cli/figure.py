@@ -8,7 +8,7 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from neurowalk.cli.common import UsageError, stop_line, stopped
+from neurowalk.cli.common import UsageError, failure_words, stop_line, stopped
 from neurowalk.cli.settings import add_settings_args, run_and_write, settings_of
 
 if TYPE_CHECKING:
@@ -143,7 +143,7 @@ def _redraw(name: str, out: Path) -> tuple[Result, Figure]:
                 sys.modules["matplotlib.pyplot"].close("all")
             npz = out / f"{name}.npz"
             files = f"{out / name}.json" + (f", {npz}" if npz.exists() else f" (no {npz.name} beside it)")
-            why = " ".join(f"{type(e).__name__}: {e}".split())[:160]
+            why = failure_words(e)  # where the drawing failed too: a bug shows its line
             raise UsageError(f"{files}: not the numbers of figure {name} ({why}); {again}") from None
     for w in caught:
         warnings.showwarning(w.message, w.category, w.filename, w.lineno)

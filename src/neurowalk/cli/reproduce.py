@@ -10,7 +10,7 @@ from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from neurowalk.cli.common import UsageError, out_folder, stop_line
+from neurowalk.cli.common import UsageError, failure_words, out_folder, stop_line
 
 if TYPE_CHECKING:
     from neurowalk.experiments.reproduce.plan import Item
@@ -133,7 +133,7 @@ def _run_and_judge(
             try:
                 runner.write_item(item, run, record, out, quick)
             except (KeyError, TypeError, ValueError, IndexError) as e:  # numbers not of the judge's shape
-                failed[item.name] = f"its judge could not read {run.figure}.json ({type(e).__name__}: {e})"
+                failed[item.name] = f"its judge could not read {run.figure}.json ({failure_words(e)})"
                 (out / f"{item.name}.json").unlink(missing_ok=True)  # no verdict of an older run kept
                 print(f"neurowalk: {item.name}: {failed[item.name]}", file=sys.stderr)
     return ran

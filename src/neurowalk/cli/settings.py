@@ -158,7 +158,7 @@ def _size(items: list[str]) -> float:
 def run_and_write(study: Study, settings: Settings, what: str) -> int:
     """Compute ``study`` and write NAME.json (NAME.npz) and NAME.png into ``settings.out``, saying so in one line;
     a stop (exit 130/143) says in one line what is kept. ``what`` names it in the messages ("figure fig3")."""
-    from neurowalk.experiments.study import compute, write
+    from neurowalk.experiments.study import compute, kept_runs, write
     from neurowalk.runners.stopping import interrupted
     from neurowalk.runners.store import StoreError
     from neurowalk.sim.episode import RunInterruptedError
@@ -168,12 +168,9 @@ def run_and_write(study: Study, settings: Settings, what: str) -> int:
     t0 = time.perf_counter()
     existed = out.exists()
     out_folder(out)
-    if study.keeps_runs:
-        from neurowalk.runners.store import count_finished
-
-        kept = sum(count_finished(p) for p in sorted(out.glob("*.sqlite")))
-        if kept:
-            print(f"{study.name}: going on from the {kept} finished runs kept in {out}")
+    kept = kept_runs(study, settings)
+    if kept:
+        print(f"{study.name}: going on from the {sum(kept.values())} finished runs kept in {_where(kept)}")
     paths: dict[str, Path] = {}
     try:
         try:
@@ -194,7 +191,7 @@ def run_and_write(study: Study, settings: Settings, what: str) -> int:
         elif paths:
             line = f"neurowalk: {study.name} interrupted while drawing: its numbers are in {files}; `--replot` draws it"
         else:
-            line = interrupted_line(study.name, out, study.keeps_runs)
+            line = interrupted_line(study.name, kept_runs(study, settings) if study.keeps_runs else None)
         return stop_line(line)
     files = [paths[k] for k in ("png", "json", "npz") if k in paths]
     print(f"{study.name}: wrote {', '.join(str(p) for p in files)} in {time.perf_counter() - t0:.1f} s")
@@ -225,18 +222,31 @@ def claim_lines(name: str, summary: dict[str, Any], quick: bool) -> list[str]:
     return lines
 
 
-def interrupted_line(name: str, out: Path, stores: bool) -> str:
-    """The line of a study interrupted while it ran: how many finished runs its result stores in ``out`` hold
-    (read from the files), or that it keeps none (``stores``: whether the study keeps its runs in ``out``)."""
-    if not stores:
+def interrupted_line(name: str, kept: dict[Path, int] | None) -> str:
+    """The line of a study interrupted while it ran: the finished runs ``kept`` in its result stores, by file
+    (:func:`~neurowalk.experiments.study.kept_runs`; None: the study keeps no runs)."""
+    if kept is None:
         return f"neurowalk: {name} interrupted; this figure keeps no runs (a few short ones): run it again"
-    from neurowalk.runners.store import count_finished
-
-    kept = {p.name: n for p in sorted(out.glob("*.sqlite")) if (n := count_finished(p))}
     if not kept:
         return f"neurowalk: {name} interrupted before any of its runs finished; nothing is kept"
-    where = ", ".join(f"{n} in {file}" for file, n in kept.items())
     return (
-        f"neurowalk: {name} interrupted: {sum(kept.values())} finished runs are kept in {out} ({where}); run "
+        f"neurowalk: {name} interrupted: {sum(kept.values())} finished runs are kept in {_where(kept)}; run "
         "the same command again to go on from them"
     )
+
+
+def kept_words(kept: dict[Path, int]) -> str:
+    """What a failed study keeps, in words: ``61 finished runs are kept in out/gap (61 in results.sqlite): fix it and
+    run the same command to go on from them``, or that none is."""
+    if not kept:
+        return "none of its runs had finished: nothing is kept"
+    return (
+        f"{sum(kept.values())} finished runs are kept in {_where(kept)}: fix it and run the same command to go on "
+        "from them"
+    )
+
+
+def _where(kept: dict[Path, int]) -> str:
+    """The stores of ``kept`` in words: ``out/fig3 (61 in results.sqlite, 4 in track.sqlite)``."""
+    folders = sorted({str(p.parent) for p in kept})
+    return f"{', '.join(folders)} ({', '.join(f'{n} in {p.name}' for p, n in kept.items())})"

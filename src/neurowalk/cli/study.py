@@ -3,7 +3,10 @@
 from __future__ import annotations
 
 import argparse
+import sys
+import traceback
 from pathlib import Path
+from typing import Any
 
 from neurowalk.cli.common import UsageError, stop_line
 from neurowalk.cli.settings import add_settings_args, run_and_write, settings_of
@@ -57,4 +60,24 @@ def cmd_study(args: argparse.Namespace) -> int:
             raise
         return stop_line(f"neurowalk: study {args.file} interrupted before it began; nothing was run")
     out = args.out or Path("out") / study.name  # type: ignore[attr-defined]
-    return run_and_write(study, settings.replace(out=out), f"study {study.name}")  # type: ignore[attr-defined]
+    settings = settings.replace(out=out)
+    try:
+        return run_and_write(study, settings, f"study {study.name}")  # type: ignore[attr-defined]
+    except Exception as e:
+        own = [f for f in traceback.extract_tb(e.__traceback__) if Path(f.filename).resolve() == args.file.resolve()]
+        if not own:  # not the file's own code that failed: neurowalk's traceback, whole
+            raise
+        return _own_failure(study, settings, args.file, own, e)
+
+
+def _own_failure(study: Any, settings: Any, file: Path, own: list[traceback.FrameSummary], e: Exception) -> int:
+    """A failure in the study file's own code: its frames of the traceback (not neurowalk's), then one line saying
+    which runs are kept for the next try; exit status 1."""
+    from neurowalk.cli.settings import kept_words
+    from neurowalk.experiments.study import kept_runs
+
+    print("Traceback (the study file's own frames):", file=sys.stderr)
+    print("".join(traceback.format_list(own)) + "".join(traceback.format_exception_only(e)).rstrip(), file=sys.stderr)
+    kept = kept_words(kept_runs(study, settings))
+    print(f"neurowalk: study {study.name} failed in {file} ({type(e).__name__}); {kept}", file=sys.stderr)
+    return 1

@@ -50,6 +50,12 @@ def store_path(folder: Path, name: str, fn: Any) -> Path:
     return _SHARED[-1] / f"{f.__module__}.{f.__qualname__}.sqlite"
 
 
+def store_files(folder: Path) -> list[Path]:
+    """The result stores :func:`run_store` keeps a figure's runs in: ``folder``'s, or inside :func:`shared_stores`
+    the shared folder's (which hold other figures' runs too)."""
+    return sorted((_SHARED[-1] if _SHARED else Path(folder)).glob("*.sqlite"))
+
+
 def run_store(
     specs: list[dict[str, Any]],
     folder: Path,

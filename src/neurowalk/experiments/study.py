@@ -259,6 +259,27 @@ def resolve(study: Study, s: Settings) -> Settings:
     return s.replace(body=body)
 
 
+def kept_runs(study: Study, settings: Settings) -> dict[Path, int]:
+    """The finished runs the study's command would go on from, by store file (none: empty): for a study of runs,
+    those of its own runs with these settings; for one with its own loop, every finished run in the stores it keeps
+    its runs in (its folder's, or the shared stores in force, which hold other figures' runs too)."""
+    from neurowalk.experiments.stores import store_files, store_path
+    from neurowalk.runners.store import count_finished
+
+    if not study.keeps_runs or settings.out is None:
+        return {}
+    if study.runs is None:
+        return {p: n for p in store_files(settings.out) if (n := count_finished(p))}
+    try:
+        s = resolve(study, settings)
+        keys = {s.apply(cfg).key() for _, cfg in study.runs(s)}
+    except ValueError:  # settings the study refuses: it runs nothing, and says why
+        return {}
+    path = store_path(settings.out, "results.sqlite", None)
+    n = count_finished(path, keys)
+    return {path: n} if n else {}
+
+
 def run_study(study: Study, settings: Settings | None = None) -> tuple[Result, dict[str, Path]]:
     """Run ``study`` with ``settings`` and write NAME.json (NAME.npz) and NAME.png into ``settings.out`` (default
     ``out/NAME``); return the result and the files written.

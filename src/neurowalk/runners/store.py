@@ -21,6 +21,7 @@ import csv
 import datetime
 import json
 import sqlite3
+from collections.abc import Collection
 from pathlib import Path
 from typing import IO, Any
 
@@ -235,16 +236,20 @@ class ResultStore:
         self.close()
 
 
-def count_finished(path: Path | str) -> int:
-    """Runs stored without error in the store at ``path``, read without taking its lock (0 if there is no readable
-    store there): what an interrupted command reports as kept. Opened for reading and writing but only read, so
-    that its close leaves no write-ahead-log files behind (a read-only connection cannot remove them)."""
+def count_finished(path: Path | str, keys: Collection[str] | None = None) -> int:
+    """Runs stored without error in the store at ``path`` (only those whose key is in ``keys``, where given), read
+    without taking its lock (0 if there is no readable store there): what an interrupted command reports as kept.
+    Opened for reading and writing but only read, so that its close leaves no write-ahead-log files behind (a
+    read-only connection cannot remove them)."""
     try:
         db = sqlite3.connect(f"file:{Path(path)}?mode=rw", uri=True)
     except sqlite3.Error:
         return 0
     try:
-        return int(db.execute("SELECT count(*) FROM runs WHERE status = 'ok'").fetchone()[0])
+        if keys is None:
+            return int(db.execute("SELECT count(*) FROM runs WHERE status = 'ok'").fetchone()[0])
+        wanted = set(keys)
+        return sum(1 for (k,) in db.execute("SELECT key FROM runs WHERE status = 'ok'") if k in wanted)
     except sqlite3.Error:
         return 0
     finally:

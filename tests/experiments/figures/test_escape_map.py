@@ -11,10 +11,25 @@ def test_escape_map_counts_every_network_and_size(monkeypatch, tmp_path):
     counts = res.summary["counts"]["simple-deadlock width (m)"]
     assert set(counts) == {"plastic", "static", "braitenberg"}
     for net in counts.values():
-        assert set(net) == {"0.8", "1.4"} and all(c["runs"] == 1 and 0 <= c["escaped"] <= 1 for c in net.values())
+        assert set(net) == {"0.8", "1.4"} and all(c["runs"] == 1 for c in net.values())
     fig = FIGURES["escape-map"].plot(res)
     fig.savefig(tmp_path / "map.png")
     assert (tmp_path / "map.png").stat().st_size > 10_000
+
+
+def test_escape_map_counts_each_run_under_its_network_and_size(monkeypatch):
+    monkeypatch.setattr(escape_map, "SWEEPS", {"simple-deadlock width (m)": ("simple-deadlock", "width", (0.8, 1.4))})
+
+    def stored_runs(configs, *args, **kwargs):  # the plastic network escapes the narrow one only, and from seed 1
+        return [
+            {"escaped": c.controller == "plastic" and c.arena_opts["width"] == 0.8 and c.seed >= 1} for c in configs
+        ]
+
+    monkeypatch.setattr(escape_map, "stored_runs", stored_runs)
+    res = escape_map.run(Settings(seeds=3))
+    counts = res.summary["counts"]["simple-deadlock width (m)"]
+    assert counts["plastic"] == {"0.8": {"runs": 3, "escaped": 2}, "1.4": {"runs": 3, "escaped": 0}}
+    assert all(c == {"runs": 3, "escaped": 0} for net in ("static", "braitenberg") for c in counts[net].values())
 
 
 def test_escape_map_runs_at_the_control_rate(monkeypatch):

@@ -155,8 +155,19 @@ def test_fig9_quick_from_the_command_line(tmp_path):
         assert s["map"][0][net]["got_out"] == c["got_out"]  # the map's default cell is the same runs
         assert s["example"][net]["outcome"] == c["runs"][0]["outcome"]
     assert s["geometry"]["right_wall_face_y"] == pytest.approx(-0.23)
-    assert isinstance(s["paper_contrast"]["seen"], bool)
+    assert "paper_contrast" not in s  # no verdict rule of its own: the title reads the report's judge
     assert (tmp_path / "fig9.png").stat().st_size > 50_000
+
+
+def test_fig9s_title_gives_the_reports_verdicts_of_the_same_runs():
+    from neurowalk.experiments.reproduce.judge_robot import fig9 as judge
+
+    seven_of_ten = {"plastic": {"got_out": 7, "seeds": 10}, "static": {"got_out": 0, "seeds": 10}}
+    s = {"counts": seven_of_ten, "quick": False}
+    verdicts = [c.verdict for c in judge(s, False)]
+    title = fig9.verdict_title(s)
+    assert "plastic 7/10, static 0/10" in title and "NOT" not in title
+    assert f"plastic goes out, {verdicts[0]}; static gets stuck, {verdicts[1]}" in title
 
 
 def test_videos_are_written_on_request(tmp_path):

@@ -1,5 +1,6 @@
 """Figures 2 and 4 from the command line, as a user runs them."""
 
+import dataclasses
 import json
 
 import numpy as np
@@ -59,6 +60,19 @@ def test_fig4_replot_and_seed_determinism(fig4, tmp_path):
     assert (fig4 / "fig4.json").read_text() == before
     assert main(["figure", "fig4", "--out", str(tmp_path), "--quick"]) == 0
     assert (tmp_path / "fig4.json").read_text() == before
+
+
+def test_a_replot_that_fails_in_the_drawing_says_where(fig4, tmp_path, monkeypatch, capsys):
+    import shutil
+
+    from neurowalk.experiments import FIGURES
+
+    shutil.copytree(fig4, tmp_path / "fig4")
+    broken = dataclasses.replace(FIGURES["fig4"], plot=lambda result: result.summary["no such key"])
+    monkeypatch.setitem(FIGURES, "fig4", broken)
+    assert main(["figure", "fig4", "--out", str(tmp_path / "fig4"), "--replot"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "KeyError: 'no such key', at test_figures.py:" in err and "<lambda>" in err
 
 
 def test_fig2_thresholds_and_widths(tmp_path):

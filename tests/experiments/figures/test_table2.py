@@ -98,6 +98,15 @@ def test_quick_table_json_has_both_rules_and_replots(tmp_path: Path) -> None:
     assert main(["figure", "table2", "--replot", "--out", str(tmp_path)]) == 0 and png.stat().st_size > 50_000
 
 
+def test_under_shared_runs_the_json_names_the_store_that_holds_its_runs(tmp_path: Path) -> None:
+    from neurowalk.runners.store import count_finished
+
+    out, runs = tmp_path / "table2", tmp_path / "runs"
+    assert main(["figure", "table2", "--quick", "--seeds", "2", "--out", str(out), "--shared-runs", str(runs)]) == 0
+    store = Path(json.loads((out / "table2.json").read_text())["store"])
+    assert store.parent == runs and count_finished(store) == len(table2.plan(Settings(quick=True, seeds=2))["specs"])
+
+
 def test_the_braitenberg_row_runs_on_the_surrogate_only() -> None:
     physics = table2.plan(Settings(body="amosii", quick=True))
     surrogate = table2.plan(Settings(quick=True))

@@ -4,16 +4,19 @@ and the committed records carry it."""
 
 from __future__ import annotations
 
+import dataclasses
 import fnmatch
 import json
 import tomllib
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import neurowalk
 from neurowalk.experiments.reproduce import authors
 from neurowalk.experiments.reproduce.judge_authors import RULES, compare
+from neurowalk.experiments.reproduce.plan import ITEMS
 from neurowalk.experiments.reproduce.report import render
 from neurowalk.neural.cpg import period, simulate_cpg
 
@@ -109,6 +112,15 @@ def test_compare_judges_every_comparable_claim_and_nothing_else():
     fig3 = json.loads((RESULTS / "fig3.json").read_text())["authors"]["claims"]
     simple = next(c for c in fig3 if c["what"].startswith("static network escapes the simple dead end"))
     assert simple["measured"] == f"{authors.dead_ends()['simple-deadlock']['static']['escaped']}/3"
+
+
+def test_a_reworded_claim_is_not_dropped_from_the_comparison_unseen():
+    summary = json.loads((RESULTS / "fig3" / "fig3.json").read_text())
+    claims = ITEMS["fig3"].judge(summary, False)
+    assert compare("fig3", summary, claims) is not None
+    reworded = [dataclasses.replace(c, what="the static robot " + c.what) for c in claims]
+    with pytest.raises(ValueError, match="matches none of its claims"):
+        compare("fig3", summary, reworded)
 
 
 def test_the_report_shows_the_authors_column_and_where_the_data_come_from():

@@ -76,3 +76,13 @@ def test_a_json_written_before_the_held_periods_counts_every_wedged_period_as_he
     assert claim["verdict"] == "not" and "held not measured" in claim["rule"]
     del s["wedged"]["difficult (plastic)"]["held"]  # a json written before wedged_counts counted held periods
     assert _held_claim(s)["verdict"] == "not"
+
+
+def test_table2s_not_stuck_rule_says_the_300_s_it_applies_at_any_rate():
+    from neurowalk.experiments.reproduce.judge_arena import table2
+
+    cell = {"controller": "plastic", "success": 45, "success_coverage": 44, "environments": 50}
+    s = {"paper": {"success": 49, "environments": 50}, "body": "amosii", "steps": 54_000, "control_hz": 27.0,
+         "counts": {"plastic-paper": cell}, "coverage_rule": "coverage"}  # fmt: skip
+    rule = table2(s, False)[0].rule
+    assert "last 300 s of simulated time" in rule and "3000 control steps not" not in rule

@@ -110,3 +110,20 @@ def test_a_reproduce_killed_outright_takes_its_figure_with_it(tmp_path):
         os.kill(child, signal.SIGKILL)
         raise AssertionError("the figure outlived its reproduce")
     assert not (out / "fig3" / "command.json").exists()  # it did not finish: no record claims it did
+
+
+def test_a_judge_that_fails_on_a_finished_run_says_where_it_failed(tmp_path, monkeypatch, capsys):
+    import dataclasses
+
+    from neurowalk.experiments.reproduce import plan
+
+    def judge(summary, quick):
+        return summary["no such key"]
+
+    broken = dataclasses.replace(ITEMS["fig2"], judge=judge)
+    monkeypatch.setattr(plan, "PLAN", tuple(broken if i.name == "fig2" else i for i in plan.PLAN))
+    monkeypatch.setitem(plan.ITEMS, "fig2", broken)
+    main(["reproduce", "--quick", "--only", "fig2", "--out", str(tmp_path)])
+    err = capsys.readouterr().err
+    assert "fig2: its judge could not read fig2.json (KeyError: 'no such key', at test_runner.py:" in err
+    assert "in judge)" in err and not (tmp_path / "fig2.json").exists()

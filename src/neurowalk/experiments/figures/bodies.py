@@ -29,7 +29,7 @@ from matplotlib.ticker import PercentFormatter
 
 from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result, Settings
-from neurowalk.experiments.stores import run_store
+from neurowalk.experiments.stores import run_store, store_path
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.random_envs import (
     COVERAGE_CELL_M,
@@ -44,7 +44,7 @@ from neurowalk.experiments.suites.random_envs import (
     spec,
     wilson,
 )
-from neurowalk.experiments.suites.real_robot import run_store_paths
+from neurowalk.experiments.suites.real_robot import run_store_paths, run_with_path
 from neurowalk.experiments.suites.timing import steps_for
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting.style import (
@@ -196,7 +196,8 @@ def run(s: Settings) -> Result:
         "coverage_threshold": threshold,
         "coverage_cell_m": COVERAGE_CELL_M,
         "held_up_rule": HELD_UP_RULE,
-        "store": str(folder / "results.sqlite"),
+        # where the runs are (shared stores: their files): the dead ends with their paths, then Table 2
+        "stores": [str(store_path(folder, "results.sqlite", fn)) for fn in (run_with_path, None)],
     }
     return Result("bodies", summary, arrays=paths)
 

@@ -28,6 +28,7 @@ from neurowalk.arenas import arena_options, make_arena
 from neurowalk.arenas.deadlocks import EXIT_MARGIN, WALL
 from neurowalk.arenas.generated import MOUTH, OPENING
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.reproduce import judge_robot
 from neurowalk.experiments.suites.real_robot import (
     N_SNAPSHOTS,
     NETWORKS,
@@ -139,7 +140,6 @@ def run(s: Settings, *, steps: int | None = None) -> Result:
         "counts": counts,
         "sweep_factors": list(factors),
         "map": [_map_cell(c, {net: stored(net, c) for net in NETWORKS}) for c in cells],
-        "paper_contrast": _paper_contrast(counts, n),
         "example": {net: _example(examples[net], s.seed) for net in NETWORKS},
         "snapshots": N_SNAPSHOTS,
         "real_robot": _real_robot(counts, n, steps, control_hz),
@@ -205,18 +205,6 @@ def _map_cell(cell: tuple[float, float], runs: dict[str, list[dict[str, Any]]]) 
     for net, seeds in runs.items():
         entry[net] = _tally([outcome(np.asarray(r["path"]), arena)[0] for r in seeds])
     return entry
-
-
-def _paper_contrast(counts: dict[str, Any], n: int) -> dict[str, Any]:
-    """Did the plastic network get out where the static one got stuck, as in the paper (``n`` seeds each)?"""
-    p_out, s_out = counts["plastic"]["got_out"], counts["static"]["got_out"]
-    return {
-        "paper": "plastic went out of the path, static got stuck in it",
-        "plastic_got_out": f"{p_out}/{n}",
-        "static_got_out": f"{s_out}/{n}",
-        "criterion": "plastic out in >= 80% of the seeds and static in <= 30%",
-        "seen": bool(p_out >= 0.8 * n and s_out <= 0.3 * n),
-    }
 
 
 def _example(ex: dict[str, Any], seed: int) -> dict[str, Any]:
@@ -342,10 +330,16 @@ def plot(res: Result) -> Figure:
         panels.append(draw_traces(rows[-1], traces[0, row], e["t"], e["outputs"], e["b"], e["q"], label))
     for ax in panels:
         letter(ax, next(letters))
-    pc = s["paper_contrast"]
-    seen = "as in the paper" if pc["seen"] else "NOT as in the paper"
-    fig.suptitle(
-        f"Complex path (paper Fig. 9): got out of the path plastic {pc['plastic_got_out']}, static "
-        f"{pc['static_got_out']}\n({seen}: {pc['paper']})"
-    )
+    fig.suptitle(verdict_title(s))
     return fig
+
+
+def verdict_title(s: dict[str, Any]) -> str:
+    """The picture's title: the counts, and the verdicts the report gives them (its judge's, the one rule)."""
+    plastic, static = judge_robot.fig9(s, bool(s.get("quick")))
+    p, st = s["counts"]["plastic"], s["counts"]["static"]
+    return (
+        f"Complex path (paper Fig. 9): got out of the path plastic {p['got_out']}/{p['seeds']}, static "
+        f"{st['got_out']}/{st['seeds']}\n(the report's verdicts: plastic goes out, {plastic.verdict}; "
+        f"static gets stuck, {static.verdict})"
+    )

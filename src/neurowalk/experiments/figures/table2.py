@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 from neurowalk.body.registry import bodies_where, body_info
 from neurowalk.experiments import Result, Settings
-from neurowalk.experiments.stores import run_store
+from neurowalk.experiments.stores import run_store, store_path
 from neurowalk.experiments.suites.random_envs import (
     BOXES,
     COVERAGE_CELL_M,
@@ -156,7 +156,7 @@ def run(s: Settings) -> Result:
         "counts": counts,
         "environments": env_rows,
         "paper": {**PAPER, "success_rate": PAPER["success"] / PAPER["environments"], "success_rate_95ci": ci},
-        "store": str(folder / "results.sqlite"),
+        "store": str(store_path(folder, "results.sqlite", None)),  # where the runs are (a shared store: its file)
         "sweep": report.counts(),
         "surrogate": p["surrogate"],
         "surrogate_note": p["surrogate_note"],

@@ -272,11 +272,15 @@ def compare(item: str, summary: dict[str, Any], claims: list[Claim]) -> dict[str
     (see the module doc); None where the authors' runs answer nothing of the item."""
     if item not in RULES:
         return None
-    theirs = []
+    theirs, used = [], set()
     for c in claims:
-        rule = next((r for start, r in RULES[item].items() if c.what.startswith(start)), None)
-        if rule is not None:
-            theirs.append(rule(c, summary))
+        start = next((start for start in RULES[item] if c.what.startswith(start)), None)
+        if start is not None:
+            theirs.append(RULES[item][start](c, summary))
+            used.add(start)
+    lost = [start for start in RULES[item] if start not in used]
+    if lost:  # a claim reworded: its comparison with the authors' runs would drop out unseen
+        raise ValueError(f"the authors' rule {lost[0]!r} of {item} matches none of its claims (reworded?)")
     keep = ("what", "measured", "verdict", "rule")
     return {
         "source": SOURCE,

@@ -17,15 +17,18 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from neurowalk.body.physics import AmosII
-from neurowalk.experiments.stores import run_store
+from neurowalk.experiments.stores import run_store, store_path
 from neurowalk.experiments.suites.long_runs import sample_steps
 from neurowalk.experiments.suites.timing import SIM_HZ, steps_for
+from neurowalk.neural.sensory import STATIC_B, STATIC_Q, initial_weights
+from neurowalk.neural.variants import get_variant
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting import runs as run_plots
 from neurowalk.plotting.style import (
@@ -110,7 +113,8 @@ def run_store_paths(specs: list[dict[str, Any]], folder: Path, workers: int) -> 
     results, _ = run_store(specs, folder, workers, fn=run_with_path)
     if any("path" not in r for r in results.values()):
         raise RuntimeError(
-            f"{folder / 'results.sqlite'} holds runs without their paths (another sweep's store); "
+            f"{store_path(folder, 'results.sqlite', run_with_path)} holds runs without their paths (another sweep's "
+            "store); "
             "use a fresh output folder"
         )
     return results
@@ -215,8 +219,20 @@ def run_record(
         "variant": s.variant or "paper",
         "params": s.params,
         "body": "amosii",
-        "networks": {"plastic": "plastic, weights start at 0", "static": "static (b = 2.4, c = -3.5)"},
+        "networks": network_words(s.variant or "paper", s.params),
         "rule": rule,
+    }
+
+
+def network_words(variant: str, params: Mapping[str, float] | None = None) -> dict[str, str]:
+    """The two networks of the real-robot figures in words, from the network ``variant`` and its ``params``: the
+    plastic one's start weights, the static one's fixed weights."""
+    v = get_variant(variant, params)
+    b, q = initial_weights("plastic", v.sensory)
+    start = f"b = {b[0]:g}, q = {q[0]:g}" if b[0] == b[1] and q[0] == q[1] else f"b = {b.tolist()}, q = {q.tolist()}"
+    return {
+        "plastic": f"plastic ({v.name}), weights start at {start}",
+        "static": f"static (b = {STATIC_B:g}, c = {-STATIC_Q:g})",
     }
 
 
