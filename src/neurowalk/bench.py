@@ -36,8 +36,8 @@ import numpy as np
 
 import neurowalk
 from neurowalk import profiling
-from neurowalk.experiments import Settings
-from neurowalk.experiments.figures.table2 import run as table2_run
+from neurowalk.experiments import FIGURES, Settings
+from neurowalk.experiments.study import compute
 from neurowalk.runners.local import run_many
 from neurowalk.sim.config import DEFAULT_ENGINE
 from neurowalk.sim.engines import ENGINES
@@ -189,7 +189,7 @@ def table2_time(workers: int, environments: int = 50) -> dict[str, float]:
     ``neurowalk figure table2 --seeds N`` costs to compute (the picture aside)."""
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
-        res = table2_run(Settings(out=Path(tmp), workers=workers, seeds=environments))
+        res = compute(FIGURES["table2"], Settings(out=Path(tmp), workers=workers, seeds=environments))
         wall = time.perf_counter() - t0
     counts = res.summary["counts"]
     return {

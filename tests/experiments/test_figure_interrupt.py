@@ -27,7 +27,7 @@ SMALL = """
 import sys
 from neurowalk.experiments.suites import deadends
 deadends.TRAP_STEPS = 150
-deadends.QUICK_LONG_STEPS = 200  # long_runs' constant, as deadends.build reads it
+deadends.QUICK_LONG_STEPS = 200  # long_runs' constant, as deadends.runs reads it
 deadends.VARIANTS = {k: deadends.VARIANTS[k] for k in ("simple-deadlock", "narrow-passage")}
 from neurowalk.cli import main
 sys.exit(main(sys.argv[1:]))
@@ -41,7 +41,7 @@ MACHINE = ("wall_time_s", "real_time_factor")
 @pytest.fixture
 def small(monkeypatch):
     monkeypatch.setattr(deadends, "TRAP_STEPS", 150)
-    monkeypatch.setattr(deadends, "QUICK_LONG_STEPS", 200)  # long_runs' constant, as deadends.build reads it
+    monkeypatch.setattr(deadends, "QUICK_LONG_STEPS", 200)  # long_runs' constant, as deadends.runs reads it
     monkeypatch.setattr(deadends, "VARIANTS", {k: deadends.VARIANTS[k] for k in ("simple-deadlock", "narrow-passage")})
 
 
@@ -100,8 +100,9 @@ def test_an_interrupted_fig3_keeps_its_runs_and_the_rerun_gives_the_uninterrupte
     assert main([*ARGS, "--out", str(tmp_path / "whole")]) == 0
     whole = _numbers(tmp_path / "whole")
     out = tmp_path / "stopped"
-    for store, rows in (("results.sqlite", 4), ("traces.sqlite", 1)):  # amid the dead ends; amid the example runs
-        line = _interrupt(out, store, rows)
+    tables = 2 * len(deadends.NETWORKS) * 2  # the outcome table's runs: 2 dead ends, 4 networks, 2 seeds
+    for rows in (4, tables + 1):  # amid the outcome table; amid the example runs
+        line = _interrupt(out, "results.sqlite", rows)
         m = LINE.match(line)
         assert m is not None, line
         on_disk = {p.name: _count(p) for p in out.glob("*.sqlite") if _count(p)}
@@ -111,35 +112,36 @@ def test_an_interrupted_fig3_keeps_its_runs_and_the_rerun_gives_the_uninterrupte
     kept = _finished_at(out)
     assert main([*ARGS, "--out", str(out)]) == 0
     after = _finished_at(out)
-    assert len(kept) >= 5 and all(after[k] == t for k, t in kept.items())  # went on from them: none run again
+    assert len(kept) >= tables + 1 and all(after[k] == t for k, t in kept.items())  # went on from them: none rerun
     again = _numbers(out)
     assert again[0] == whole[0]
     assert again[1].keys() == whole[1].keys() and all(np.array_equal(again[1][k], whole[1][k]) for k in whole[1])
-    assert _count(out / "results.sqlite") == 16 and _count(out / "traces.sqlite") == 4
+    assert _count(out / "results.sqlite") == tables + 4  # and two example runs, two long runs
 
 
 @pytest.mark.parametrize(("name", "store_rows", "says"), [
-    ("fig7", 0, "fig7 interrupted; this figure keeps no runs"),  # four short runs, in this process
+    ("fig7", 0, "fig7 interrupted before any of its runs finished; nothing is kept"),
     ("fig6", 0, "fig6 interrupted before any of its runs finished; nothing is kept"),
     ("fig6", 3, "fig6 interrupted: 3 finished runs are kept in"),
 ])  # fmt: skip
 def test_the_line_of_an_interrupted_figure_is_what_its_folder_holds(name, store_rows, says, tmp_path, monkeypatch,
                                                                     capsys):  # fmt: skip
-    import dataclasses
-
-    from neurowalk.experiments import FIGURES
+    from neurowalk.experiments import FIGURES, Settings, stores
+    from neurowalk.experiments.study import planned
     from neurowalk.runners.store import ResultStore
 
     if store_rows:
+        runs = planned(FIGURES[name], Settings(quick=True, out=tmp_path))
         with ResultStore(tmp_path / "results.sqlite") as store:
-            for i in range(store_rows):
-                store.put(f"k{i}", {"seed": i}, result={"x": i})
-            store.put("failed", {"seed": 99}, error="ValueError: no")  # not a finished run
+            for _, cfg, _ in runs[:store_rows]:
+                store.put(cfg.key(), cfg.spec(), result={"x": 1})
+            store.put(runs[-1][1].key(), runs[-1][1].spec(), error="ValueError: no")  # not a finished run
+            store.put("other", {"seed": 99}, result={"x": 1})  # a run of another study: not this one's to go on from
 
-    def stopped(settings):  # stopped at once
+    def stopped(*args, **kwargs):  # stopped at once
         raise KeyboardInterrupt
 
-    monkeypatch.setitem(FIGURES, name, dataclasses.replace(FIGURES[name], compute=stopped))
+    monkeypatch.setattr(stores, "run_store", stopped)
     assert main(["figure", name, "--quick", "--out", str(tmp_path)]) == 130
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and says in err[0], err

@@ -1,16 +1,16 @@
-"""FIGURES is a table written out: every figure module is in it once, with a run and a plot and the settings its run
-takes, and importing the table imports no figure."""
+"""FIGURES is a table written out: every figure module is in it once, with its runs, measure and plot (or its own
+loop) and the settings it takes, each of which reaches its runs; importing the table imports no figure."""
 
 from __future__ import annotations
 
 import importlib
-import inspect
 import pkgutil
 import subprocess
 import sys
 
 import neurowalk.experiments.figures
-from neurowalk.experiments import FIGURES, FunctionAt
+from fake_runs import plan
+from neurowalk.experiments import FIGURES, FunctionAt, Settings
 
 
 def test_every_figure_module_is_in_the_table_once_with_its_run_and_plot():
@@ -25,26 +25,28 @@ def test_every_figure_module_is_in_the_table_once_with_its_run_and_plot():
         assert all(isinstance(p, FunctionAt) and p.module == exp.plot.module for p in parts), name
 
 
-def _settings_read(module: str) -> set[str]:
-    """The settings the module, and the suites it imports, read from a Settings (``s.X``; ``s.n(...)``: seeds)."""
-    import ast
-
-    mod = importlib.import_module(module)
-    tree = ast.parse(inspect.getsource(mod))
-    names = {a.attr for a in ast.walk(tree) if isinstance(a, ast.Attribute) and getattr(a.value, "id", "") == "s"}
-    suites = {n.module for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) and "suites" in (n.module or "")}
-    for suite in suites - {module}:
-        names |= _settings_read(suite)
-    return names | ({"seeds"} if "n" in names else set())
+#: Values away from the default of each setting, one of which changes what a study runs.
+GIVEN = {"seeds": [4], "body": ["amosii"], "climbing": [True], "variant": ["original", "paper"],
+         "params": [{"mu_b": 0.02}], "gait": ["tripod"], "size": [0.7], "engine": ["warp"],
+         "control_hz": [20.0]}  # fmt: skip
+EXECUTION = {"workers", "backend", "video"}  # how the runs run, or what else is written: not what is run
 
 
-def test_each_figure_reads_every_setting_it_declares():
-    """A setting a figure offers on the command line is one its code reads (engine: with its device)."""
-    for name, exp in FIGURES.items():
-        read = _settings_read(exp.plot.module)  # type: ignore[attr-defined]
-        missing = set(exp.takes) - read
-        assert not missing, f"{name} declares {sorted(missing)} but never reads them"
-        assert ("engine" in exp.takes) <= ("device" in read), name
+def test_each_setting_a_study_takes_changes_the_runs_it_asks_for():
+    """A setting a study offers on the command line reaches its runs (the runner applies it, or the study reads
+    it): the configs it asks for with the setting given differ from those without."""
+    for name, study in FIGURES.items():
+        if study.runs is None:
+            assert not set(study.takes) - EXECUTION, name  # a study of its own loop takes none of the run settings
+            continue
+        for setting in set(study.takes) - EXECUTION:
+            base = {"body": "amosii"} if "body" in study.takes and setting in ("control_hz", "engine") else {}
+            if setting == "variant" and "params" in study.takes:  # the variant params apply over (Table 2: its row)
+                base = {"params": GIVEN["params"][0]}
+            before = [c.key() for _, c, _ in plan(name, Settings(quick=True, **base))]
+            afters = [[c.key() for _, c, _ in plan(name, Settings(quick=True, **base, **{setting: v}))]
+                      for v in GIVEN[setting]]  # fmt: skip
+            assert any(before != after for after in afters), f"{name}: {setting} changes none of its runs"
 
 
 def test_importing_the_table_imports_no_figure():

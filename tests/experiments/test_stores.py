@@ -1,42 +1,105 @@
-"""Result stores shared by figures (``figure --shared-runs``, :func:`neurowalk.experiments.stores.shared_stores`)."""
+"""The one run function and the one store of a study's runs (:mod:`neurowalk.experiments.stores`): terms kept with a
+run, a run asked for twice made once, a run lacking a term made again keeping both, stores shared by figures
+(``figure --shared-runs``), the stores of an older neurowalk refused."""
 
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
-from neurowalk.experiments.stores import run_store, shared_stores, store_path
-from neurowalk.runners.specs import run_spec
+import numpy as np
+import pytest
 
-
-def cheap(spec: dict) -> dict:
-    """A result that depends on the spec alone (as a seeded run's does), without a simulation."""
-    return {"seed": spec["seed"], "x": spec["seed"] * 0.5}
-
-
-SPECS = [{"arena": "open", "steps": 10, "seed": s} for s in range(3)]
+from neurowalk.experiments.stores import Term, run_kept, run_store, shared_stores, store_path
+from neurowalk.runners.store import ResultStore
+from neurowalk.sim.config import EpisodeConfig
+from neurowalk.sim.episode import Episode
 
 
-def test_without_sharing_a_figure_keeps_its_runs_in_its_own_folder(tmp_path: Path) -> None:
-    assert store_path(tmp_path / "fig", "results.sqlite", cheap) == tmp_path / "fig" / "results.sqlite"
-    run_store(SPECS, tmp_path / "fig", 1, fn=cheap)
-    assert (tmp_path / "fig" / "results.sqlite").is_file()
+def keep_start(ep: Episode) -> dict[str, Any]:
+    """The first pose row (3,) and the number of rows."""
+    return {"start": ep.trajectory.pose[0], "rows": len(ep.trajectory)}
 
 
-def test_a_run_one_figure_made_is_taken_by_another(tmp_path: Path) -> None:
+def keep_end(ep: Episode) -> dict[str, Any]:
+    """The last pose row (3,)."""
+    return {"end": ep.trajectory.pose[-1]}
+
+
+START = Term("test start", keep_start, arrays={"start": "float64"})
+END = Term("test end", keep_end, arrays={"end": "float64"})
+CONFIGS = [EpisodeConfig(arena="open", body="surrogate", steps=20, seed=s) for s in range(3)]
+
+
+def finished(path: Path) -> dict[str, str]:
+    """Each stored run's key and when it finished."""
+    with ResultStore(path) as store:
+        return {r["key"]: r["finished_at"] for r in store.rows()}
+
+
+def test_a_run_keeps_its_terms_beside_its_summary_arrays_read_back_as_arrays(tmp_path: Path) -> None:
+    (r,) = run_store([(CONFIGS[0], (START,))], tmp_path, 1)
+    assert r["seed"] == 0 and r["steps"] == 20  # the summary, as run_spec gives it
+    assert r["kept"]["test start"]["rows"] == 20
+    start = r["kept"]["test start"]["start"]
+    assert isinstance(start, np.ndarray) and start.dtype == np.float64 and start.shape == (3,)
+    assert (tmp_path / "results.sqlite").is_file()  # a study's one store, in its folder
+
+
+def test_a_run_asked_twice_is_made_once_keeping_every_term(tmp_path: Path) -> None:
+    a, b = run_store([(CONFIGS[0], (START,)), (CONFIGS[0], (END,))], tmp_path, 1)
+    assert a is not b and set(a["kept"]) == set(b["kept"]) == {"test start", "test end"}
+    np.testing.assert_array_equal(a["kept"]["test end"]["end"], b["kept"]["test end"]["end"])
+    assert len(finished(tmp_path / "results.sqlite")) == 1
+
+
+def test_a_stored_run_lacking_a_term_is_made_again_and_keeps_its_old_terms(tmp_path: Path) -> None:
+    run_store([(c, (START,)) for c in CONFIGS], tmp_path, 1)
+    before = finished(tmp_path / "results.sqlite")
+    again = run_store([(c, (START,)) for c in CONFIGS], tmp_path, 1)  # nothing lacking: nothing run
+    assert finished(tmp_path / "results.sqlite") == before
+    (r,) = run_store([(CONFIGS[1], (END,))], tmp_path, 1)  # lacks END: made again, with START too
+    after = finished(tmp_path / "results.sqlite")
+    key = CONFIGS[1].key()
+    assert after[key] != before[key] and {k: v for k, v in after.items() if k != key} == {
+        k: v for k, v in before.items() if k != key
+    }
+    assert set(r["kept"]) == {"test start", "test end"}
+    np.testing.assert_array_equal(r["kept"]["test start"]["start"], again[1]["kept"]["test start"]["start"])
+
+
+def test_a_run_one_figure_made_is_taken_by_another_in_shared_stores(tmp_path: Path) -> None:
     shared = tmp_path / "runs"
     with shared_stores(shared):
-        first, report1 = run_store(SPECS, tmp_path / "a", 1, fn=cheap)
-        second, report2 = run_store([*SPECS[:2], {**SPECS[0], "seed": 9}], tmp_path / "b", 1, fn=cheap)
-        default = store_path(tmp_path / "a", "results.sqlite", None)
-    assert default == shared / "neurowalk.runners.specs.run_spec.sqlite"  # run_spec's, by default
-    assert (report1.skipped, report1.ok) == (0, 3)
-    assert (report2.skipped, report2.ok) == (2, 1)  # two taken from the first figure's runs, one made
-    assert [second[k] for k in list(second)[:2]] == [first[k] for k in list(first)[:2]]
+        first = run_store([(c, ()) for c in CONFIGS], tmp_path / "a", 1)
+        before = finished(shared / "results.sqlite")
+        other = EpisodeConfig(arena="open", body="surrogate", steps=20, seed=9)
+        second = run_store([(CONFIGS[0], ()), (CONFIGS[1], ()), (other, ())], tmp_path / "b", 1)
+        assert store_path(tmp_path / "a") == shared / "results.sqlite"
+    after = finished(shared / "results.sqlite")
+    assert {k: after[k] for k in before} == before and len(after) == 4  # two taken, one made
+    assert [r["path_length_m"] for r in second[:2]] == [r["path_length_m"] for r in first[:2]]
     assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()  # nothing in the figures' own folders
-    assert (shared / f"{cheap.__module__}.cheap.sqlite").is_file()
+    assert store_path(tmp_path / "a") == tmp_path / "a" / "results.sqlite"  # the block ended
 
 
-def test_each_run_function_has_its_own_shared_store(tmp_path: Path) -> None:
-    with shared_stores(tmp_path):
-        assert store_path(Path("x"), "results.sqlite", cheap) != store_path(Path("x"), "results.sqlite", run_spec)
-    assert store_path(Path("x"), "results.sqlite", cheap) == Path("x") / "results.sqlite"  # the block ended
+def test_a_run_is_the_same_kept_in_memory_or_streamed_alone(tmp_path: Path) -> None:
+    from neurowalk.experiments.suites.long_runs import LONG
+
+    spec = EpisodeConfig(arena="cluttered", body="surrogate", steps=300, seed=1).spec()
+    streamed = run_kept((LONG,), spec)["kept"]["long"]
+    from neurowalk.experiments.stores import kept_of
+    from neurowalk.runners.specs import episode_of
+
+    held = kept_of((LONG,), episode_of(spec))["kept"]["long"]
+    assert streamed == held
+    with pytest.raises(ValueError, match="streams its run"):
+        run_kept((LONG, START), spec)
+
+
+@pytest.mark.parametrize("old", ["traces.sqlite", "track.sqlite", "neurowalk.runners.specs.run_spec.sqlite"])
+def test_a_store_of_an_older_neurowalk_is_refused_in_one_line_naming_it(tmp_path: Path, old: str) -> None:
+    (tmp_path / old).write_bytes(b"")
+    with pytest.raises(ValueError) as e:
+        run_store([(CONFIGS[0], ())], tmp_path, 1)
+    assert old in str(e.value) and "\n" not in str(e.value)

@@ -168,16 +168,16 @@ def test_a_figure_inside_shared_stores_counts_the_runs_kept_there(tmp_path: Path
     from neurowalk.cli.settings import interrupted_line
     from neurowalk.experiments import FIGURES
     from neurowalk.experiments.stores import run_store, shared_stores
-    from neurowalk.experiments.study import kept_runs
+    from neurowalk.experiments.study import kept_runs, planned
 
-    figure = FIGURES["fig3"]
-    assert figure.runs is None and figure.keeps_runs  # a figure with its own loop (what the shared stores serve)
+    figure, s = FIGURES["table2"], Settings(quick=True, seeds=1, out=tmp_path / "table2")
+    (_, first, terms), *_ = planned(figure, s)
     with shared_stores(tmp_path / "runs"):
-        run_store([{"arena": "box", "body": "surrogate", "steps": 20}], tmp_path / "fig3", 1)
-        kept = kept_runs(figure, Settings(out=tmp_path / "fig3"))
-    assert list(kept.values()) == [1] and all(p.parent == tmp_path / "runs" for p in kept)
-    assert f"1 finished runs are kept in {tmp_path / 'runs'} (1 in " in interrupted_line("fig3", kept)
-    assert kept_runs(figure, Settings(out=tmp_path / "fig3")) == {}  # outside them: its own folder holds none
+        run_store([(first, terms), (first.replace(seed=99), ())], tmp_path / "elsewhere", 1)  # one of its runs, one not
+        kept = kept_runs(figure, s)
+    assert kept == {tmp_path / "runs" / "results.sqlite": 1}  # only the runs its own settings need
+    assert f"1 finished runs are kept in {tmp_path / 'runs'}" in interrupted_line("table2", kept)
+    assert kept_runs(figure, s) == {}  # outside them: its own folder holds none
 
 
 def test_a_study_whose_own_measure_raises_shows_its_own_frames_and_what_is_kept(tmp_path: Path, capsys):

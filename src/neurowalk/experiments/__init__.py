@@ -63,100 +63,94 @@ def _figure(name: str, title: str, module: str, takes: str = "", body: str | Non
     )
 
 
-def _study(
-    name: str,
-    title: str,
-    module: str,
-    takes: tuple[str, ...] = ("seeds", "workers", "backend"),
-    judged: bool = False,
-) -> Study:
+def _study(name: str, title: str, module: str, takes: str = "", body: str | None = None) -> Study:
     """Study ``name`` declared by :mod:`neurowalk.experiments.figures`.``module``'s ``runs``, ``measure`` and
-    ``plot`` (as a user's study file declares them); ``takes``: the optional settings it honours; ``judged``: the
-    module's ``claims(summary, quick)`` judges its results (``neurowalk reproduce`` then runs it)."""
+    ``plot`` (as a user's study file declares them), run by :func:`~neurowalk.experiments.study.run_study`;
+    ``takes``: the optional settings it honours (a space-separated list)."""
     path = f"{__name__}.figures.{module}"
-    at = {part: FunctionAt(path, part) for part in ("runs", "measure", "plot", *(("claims",) if judged else ()))}
-    return Study(name, title, takes=takes, **at)  # type: ignore[arg-type]
+    at = {part: FunctionAt(path, part) for part in ("runs", "measure", "plot")}
+    return Study(name, title, takes=takes.split(), body=body, **at)  # type: ignore[arg-type]
 
 
-PHYSICS = "seeds climbing variant gait engine control_hz out"  # fig3 and fig5
+PHYSICS = "seeds climbing variant gait engine control_hz"  # fig3 and fig5
 
 FIGURES: dict[str, Study] = {
-    "table1": _figure(
+    "table1": _study(
         "table1",
         "walking direction for each sign of the outputs O1, O2, and speed (paper Table 1)",
         "table1",
         "control_hz",
     ),
     "fig2": _figure("fig2", "fixed points and hysteresis of the sensory network", "fig2"),
-    "fig3": _figure("fig3", "static network: dead ends, hysteresis, cluttered and difficult arenas", "fig3", PHYSICS),
-    "fig4": _figure("fig4", "weight changes for constant and changing inputs", "fig4", "variant params control_hz"),
-    "fig5": _figure("fig5", "plastic network: dead ends, weight dynamics, the difficult arena", "fig5", PHYSICS),
-    "fig6": _figure(
+    "fig3": _study("fig3", "static network: dead ends, hysteresis, cluttered and difficult arenas", "fig3", PHYSICS),
+    "fig4": _study("fig4", "weight changes for constant and changing inputs", "fig4", "variant params control_hz"),
+    "fig5": _study("fig5", "plastic network: dead ends, weight dynamics, the difficult arena", "fig5", PHYSICS),
+    "fig6": _study(
         "fig6",
         "sixteen random environments: trajectories, start and end, failures marked (paper Fig. 6)",
         "fig6",
-        "body workers size variant params control_hz out",
+        "body workers size variant params control_hz",
         body="surrogate",
     ),
-    "fig7": _figure(
+    "fig7": _study(
         "fig7",
         "joint angles of all legs: forward, backward, turn right, turn left (physics)",
         "fig7",
         "control_hz",
     ),
-    "fig8": _figure(
+    "fig8": _study(
         "fig8",
         "narrow passage: snapshots, paths and escapes of the plastic and static networks (paper Fig. 8)",
         "fig8",
-        "seeds workers video variant params control_hz out",
+        "seeds workers video variant params control_hz",
     ),
-    "fig9": _figure(
+    "fig9": _study(
         "fig9",
         "complex path: snapshots, paths and outcome map of the plastic and static networks (paper Fig. 9)",
         "fig9",
-        "seeds workers video variant params control_hz out",
+        "seeds workers video variant params control_hz",
     ),
-    "fig10": _figure(
+    "fig10": _study(
         "fig10",
         "climbing track: climb a step, avoid a wall, climb a second step (paper Fig. 10)",
         "fig10",
-        "seeds workers variant control_hz out",
+        "seeds workers variant control_hz",
     ),
-    "table2": _figure(
+    "table2": _study(
         "table2",
         "random environments: success and failure counts per network (paper Table 2)",
         "table2",
-        "seeds body workers climbing size variant params engine control_hz out",
+        "seeds body workers climbing size variant params engine control_hz",
         body="surrogate",
     ),
-    "escape-map": _figure(
+    "escape-map": _study(
         "escape-map",
         "escape rate against trap size for all three networks",
         "escape_map",
-        "seeds climbing variant gait workers control_hz out",
+        "seeds climbing variant gait workers control_hz",
     ),
-    "latched-spin": _figure(
+    "latched-spin": _study(
         "latched-spin",
         "the plastic network's failure in Table 2: a latched spin in a pocket (surrogate)",
         "latched",
-        "variant params workers out",
+        "variant params workers",
     ),
-    "steps": _figure(
+    "steps": _study(
         "steps",
         "step-height sweep: highest step climbed, with and without backbone control and reflexes",
         "steps",
-        "seeds workers control_hz out",
+        "seeds workers control_hz",
     ),
-    "bodies": _figure(
+    "bodies": _study(
         "bodies",
         "the networks on other robots: dead ends and Table 2 on AMOSII and a wheeled robot at two sizes",
         "bodies",
-        "seeds workers control_hz out",
+        "seeds workers control_hz",
     ),
-    "surrogate": _figure(
+    "surrogate": _study(
         "surrogate",
         "planar surrogate vs physics: held-out calibration and dead-end outcomes",
         "surrogate_check",
-        "seeds out",
+        "seeds",
     ),
 }

@@ -1,38 +1,113 @@
-"""A figure's runs kept in resumable result stores in its output folder.
+"""A study's runs: the one run function and the one result store they are kept in.
 
-:func:`run_store` runs specs through a store (each run stored as it finishes, so an interrupted figure keeps its
-finished runs and the same call again runs only the others); :func:`store_folder` is the folder of a figure's stores;
-:func:`as_lists` is a run's result as a store keeps it.
+.. code-block:: text
 
-:func:`shared_stores` puts every store of the figures run inside it into one folder shared by many figures (``neurowalk
-figure --shared-runs DIR``; ``neurowalk reproduce`` shares one across its figures): one store per function that
-runs a spec, so a run one figure made is taken by another that asks for the same config and the same kept result
-(the same config gives the same result bit for bit), not run again.
+    (config, terms) ... ─► run_store ─► store.sqlite: one row per run spec (its key), the run's summary and
+                                         │ "kept": {term: what the term keeps}   (rows lacking a term: run again)
+                              run_kept ◄─┘ (pool | Ray; MuJoCo Warp: the worlds of shared calls, kept the same way)
+
+A :class:`Term` is what a study keeps of a run beside its summary (a recorder term: a path every second, the traces a
+figure draws, a streamed long run's rows, ...). :func:`run_kept` is the one function that runs a spec and keeps its
+terms; :func:`run_store` runs configs through the store of a folder, each run stored as it finishes, so that a stopped
+study keeps its finished runs and the same call again runs only the others.
+
+:func:`shared_stores` puts the store of every study run inside it into one folder shared by many studies (``neurowalk
+figure --shared-runs DIR``; ``neurowalk reproduce`` shares one across its figures): a run one figure made is taken by
+another that asks for the same config (the same config gives the same result, bit for bit), not run again.
 """
 
 from __future__ import annotations
 
 import contextlib
+import functools
 import tempfile
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from neurowalk.runners.specs import run_spec, spec_key
+from neurowalk.runners.specs import episode_of, result_of
 from neurowalk.runners.stopping import deferred
 from neurowalk.runners.store import ResultStore
 from neurowalk.runners.sweep import run_sweep
-from neurowalk.sim.engine import EngineOptions
+from neurowalk.sim.config import EpisodeConfig
+from neurowalk.sim.engine import EngineOptions, Streaming
+from neurowalk.sim.episode import Episode
 
+STORE = "results.sqlite"  # a study's store in its folder (and in a shared folder)
+OLD_STORES = ("traces.sqlite", "track.sqlite", "neurowalk.*.sqlite")  # the stores of neurowalk before the terms
 _SHARED: list[Path] = []  # the folder of shared stores in force (shared_stores), innermost last
+_TERMS: dict[str, Term] = {}  # every term made so far, by name (the last made of a name)
+
+
+@dataclass(frozen=True)
+class Term:
+    """What a study keeps of a run beside its summary.
+
+    Attributes:
+        name: its name (the key of what it keeps in a stored run's ``kept``).
+        keep: ``keep(episode) -> dict`` of JSON-able values or numpy arrays (a module-level function: it runs in
+            the pool's workers).
+        arrays: the kept entries read back as numpy arrays, by name: their dtype (``"float64"``, ``"int64"``).
+        stream: for a run too long to hold in memory: ``stream(config) -> (Streaming, finish)``; the run streams
+            its rows to the Streaming's sink and ``finish(episode)`` gives what it keeps (``keep`` serves an
+            episode held in memory: a many-worlds engine's).
+    """
+
+    name: str
+    keep: Callable[[Episode], dict[str, Any]]
+    arrays: Mapping[str, str] = field(default_factory=dict)
+    stream: Callable[[EpisodeConfig], tuple[Streaming, Callable[[Episode], dict[str, Any]]]] | None = None
+
+    def __post_init__(self) -> None:
+        _TERMS[self.name] = self  # known by its name: a stored run that kept it keeps it when it runs again
+
+
+@dataclass(frozen=True)
+class Kept:
+    """A finished run: its summary (a :class:`~neurowalk.sim.run_summary.RunSummary`, read by attribute here too)
+    and what its terms kept, by term name (arrays as the terms declare)."""
+
+    summary: Any
+    kept: Mapping[str, dict[str, Any]]
+
+    def __getattr__(self, name: str) -> Any:
+        if name in ("summary", "kept"):  # not yet set (while unpickling)
+            raise AttributeError(name)
+        return getattr(self.summary, name)
+
+
+def run_kept(terms: Sequence[Term], spec: dict[str, Any]) -> dict[str, Any]:
+    """The one run function: run ``spec`` to its end; its summary (JSON-safe, without the machine's keys) and, with
+    ``terms``, ``kept``: what each term keeps. A term that streams (:attr:`Term.stream`) runs alone."""
+    streamed = [t for t in terms if t.stream is not None]
+    if streamed:
+        if len(terms) > 1:
+            raise ValueError(f"term {streamed[0].name!r} streams its run: it is kept alone")
+        stream, finish = streamed[0].stream(EpisodeConfig.from_spec(spec))  # type: ignore[misc]
+        ep = episode_of(spec, stream)
+        return {**result_of(ep), "kept": {streamed[0].name: _lists(finish(ep))}}
+    return kept_of(terms, episode_of(spec))
+
+
+def kept_of(terms: Sequence[Term], ep: Episode) -> dict[str, Any]:
+    """What :func:`run_kept` stores of an episode held in memory."""
+    out = result_of(ep)
+    if terms:
+        out["kept"] = {t.name: _lists(t.keep(ep)) for t in terms}
+    return out
+
+
+def _lists(d: dict[str, Any]) -> dict[str, Any]:
+    """``d`` with its numpy arrays as lists (as a store keeps it: JSON)."""
+    return {k: v.tolist() if isinstance(v, np.ndarray) else v for k, v in d.items()}
 
 
 @contextlib.contextmanager
 def shared_stores(folder: Path) -> Iterator[Path]:
-    """Inside the block, :func:`run_store` keeps and takes runs in ``folder``'s stores, one per run function (named
-    after it: ``neurowalk.runners.specs.run_spec.sqlite``), instead of the figure's own."""
+    """Inside the block, :func:`run_store` keeps and takes runs in ``folder``'s store instead of a study's own."""
     folder = Path(folder)
     _SHARED.append(folder)
     try:
@@ -41,69 +116,104 @@ def shared_stores(folder: Path) -> Iterator[Path]:
         _SHARED.pop()
 
 
-def store_path(folder: Path, name: str, fn: Any) -> Path:
-    """Where :func:`run_store` keeps the runs of ``fn`` (None: ``run_spec``): ``folder/name``, or inside
-    :func:`shared_stores` the shared folder's store of that function."""
-    if not _SHARED:
-        return Path(folder) / name
-    f = fn if fn is not None else run_spec
-    return _SHARED[-1] / f"{f.__module__}.{f.__qualname__}.sqlite"
-
-
-def store_files(folder: Path) -> list[Path]:
-    """The result stores :func:`run_store` keeps a figure's runs in: ``folder``'s, or inside :func:`shared_stores`
-    the shared folder's (which hold other figures' runs too)."""
-    return sorted((_SHARED[-1] if _SHARED else Path(folder)).glob("*.sqlite"))
+def store_path(folder: Path) -> Path:
+    """Where :func:`run_store` keeps a study's runs: ``folder/results.sqlite``, or inside :func:`shared_stores` the
+    shared folder's."""
+    return (_SHARED[-1] if _SHARED else Path(folder)) / STORE
 
 
 def run_store(
-    specs: list[dict[str, Any]],
+    runs: Sequence[tuple[EpisodeConfig, Sequence[Term]]],
     folder: Path,
     workers: int,
-    fn: Any = None,
-    name: str = "results.sqlite",
     options: EngineOptions | None = None,
     backend: str = "local",
     address: str | None = None,
-    desc: str = "sweep",
-) -> tuple[dict[str, dict[str, Any]], Any]:
-    """Run ``specs`` through the resumable store ``folder/name``; return (results by spec key, report).
+    desc: str = "runs",
+) -> list[dict[str, Any]]:
+    """Run each (config, terms) through the store of ``folder`` (:func:`store_path`); each run's stored result, in
+    order, its kept arrays as numpy arrays.
 
-    ``fn``: what runs one spec (default :func:`~neurowalk.runners.specs.run_spec`; a module-level function).
-    Each run is stored as it finishes: an interrupted figure (KeyboardInterrupt, raised here once the store is
-    closed) keeps its finished runs, and the same call again runs only the others. ``options``: how the engines run
-    (e.g. MuJoCo Warp's device); ``backend``, ``address``: a process pool (``local``) or Ray (and the cluster to
-    join); ``desc``: the progress bar's label.
+    A config asked for twice runs once, keeping every term asked for; a stored run lacking a term now asked for runs
+    again (keeping its old terms too). Each run is stored as it finishes: a stopped study (KeyboardInterrupt, raised
+    here once the store is closed) keeps its finished runs. ``options``: how the engines run (MuJoCo Warp's device);
+    ``backend``, ``address``: a process pool (``local``) or Ray (and the cluster to join); ``desc``: the progress
+    bar's label. RuntimeError where runs failed.
     """
-    path = store_path(folder, name, fn)
+    path = store_path(folder)
+    _refuse_old(path.parent)
+    keys = [cfg.key() for cfg, _ in runs]
+    wanted: dict[str, dict[str, Term]] = {}
+    specs: dict[str, dict[str, Any]] = {}
+    for key, (cfg, terms) in zip(keys, runs, strict=True):
+        wanted.setdefault(key, {}).update({t.name: t for t in terms})
+        specs.setdefault(key, cfg.spec())
     path.parent.mkdir(parents=True, exist_ok=True)
     with deferred():  # opened whole (its lock, its tables), or not at all
         store = ResultStore(path)
     with store:
-        report = run_sweep(
-            specs,
-            store,
-            workers=workers,
-            options=options,
-            backend=backend,
-            address=address,
-            desc=desc,
-            **({"fn": fn} if fn is not None else {}),
-        )
-        results = store.results()
-    if report.interrupted:
+        held = store.results(keys=wanted)
+        for key, terms in wanted.items():  # a run kept again keeps what it kept before (the union of the terms)
+            old = held.get(key, {}).get("kept", {})
+            if set(terms) - set(old) and key in held:
+                terms.update({n: _TERMS[n] for n in old if n in _TERMS})
+        groups: dict[tuple[str, ...], list[str]] = {}
+        for key, terms in wanted.items():
+            groups.setdefault(tuple(sorted(terms)), []).append(key)
+        report, ran = None, []
+        for names, group in groups.items():
+            terms_ = tuple(wanted[group[0]][n] for n in names)
+            redo = [k for k in group if k in held and set(names) - set(held[k].get("kept", {}))]
+            ran += [k for k in group if k not in held] + redo
+            report = run_sweep(
+                [specs[k] for k in group],
+                store,
+                workers=workers,
+                options=options,
+                backend=backend,
+                address=address,
+                desc=desc,
+                fn=functools.partial(run_kept, terms_),
+                world_fn=functools.partial(kept_of, terms_),
+                redo=redo,
+            )
+            if report.interrupted:
+                break
+        results = {**held, **store.results(keys=ran)}
+    if report is not None and report.interrupted:
         raise KeyboardInterrupt
-    keys = [spec_key(s) for s in specs]  # once: a key costs a config's checks
-    missing = [k for k in keys if k not in results]
+    missing = [k for k in wanted if k not in results]
     if missing:
         raise RuntimeError(f"{len(missing)} runs failed (see {path}); rerun to retry them")
-    return {k: results[k] for k in keys}, report
+    arrays = {n: t.arrays for terms in wanted.values() for n, t in terms.items()}
+    return [_read(results[k], arrays) for k in keys]
+
+
+def _read(result: dict[str, Any], arrays: Mapping[str, Mapping[str, str]]) -> dict[str, Any]:
+    """A stored result with its terms' arrays as numpy arrays."""
+    if "kept" not in result:
+        return result
+    kept = {
+        n: {k: np.asarray(v, dtype=arrays.get(n, {})[k]) if k in arrays.get(n, {}) else v for k, v in d.items()}
+        for n, d in result["kept"].items()
+    }
+    return {**result, "kept": kept}
+
+
+def _refuse_old(folder: Path) -> None:
+    """ValueError naming a store of an older neurowalk in ``folder`` (its runs are kept another way)."""
+    old = [p for pattern in OLD_STORES for p in sorted(Path(folder).glob(pattern))]
+    if old:
+        raise ValueError(
+            f"{old[0]} is a store of an older neurowalk; run the command again with a new --out (or --shared-runs) "
+            "folder, or delete it"
+        )
 
 
 @contextlib.contextmanager
 def store_folder(out: Path | None) -> Iterator[Path]:
-    """The folder of a figure's stores: ``out``, or (a figure run from Python without one) a temporary folder,
-    removed afterwards."""
+    """The folder of a study's store: ``out``, or (a study run from Python without one) a temporary folder, removed
+    afterwards."""
     if out is not None:
         yield Path(out)
         return
@@ -111,6 +221,9 @@ def store_folder(out: Path | None) -> Iterator[Path]:
         yield Path(tmp)
 
 
-def as_lists(d: dict[str, Any]) -> dict[str, Any]:
-    """``d`` with its numpy arrays as lists (a run's result as a store keeps it: JSON)."""
-    return {k: v.tolist() if isinstance(v, np.ndarray) else v for k, v in d.items()}
+def group(labels: Sequence[Any], results: Sequence[Any]) -> dict[Any, list[Any]]:
+    """``{label: [result, ...]}`` in the order given."""
+    out: dict[Any, list[Any]] = {}
+    for label, r in zip(labels, results, strict=True):
+        out.setdefault(label, []).append(r)
+    return out

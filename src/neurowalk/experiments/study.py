@@ -30,6 +30,7 @@ from neurowalk.sim.config_values import FrozenDict
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
+    from neurowalk.experiments.stores import Term
     from neurowalk.sim.config import EpisodeConfig
     from neurowalk.sim.run_summary import RunSummary
 
@@ -111,8 +112,9 @@ class Settings:
         """Seeds per condition: ``seeds`` where given, else ``quick`` with ``quick``, else ``full``."""
         return self.seeds if self.seeds is not None else quick if self.quick else full
 
-    def apply(self, cfg: EpisodeConfig) -> EpisodeConfig:
-        """``cfg`` with the run settings that are given (body, climbing, variant, params, gait, engine, rate)."""
+    def apply(self, cfg: EpisodeConfig, fixed: Iterable[str] = ()) -> EpisodeConfig:
+        """``cfg`` with the run settings that are given (body, climbing, variant, params, gait, engine, rate), but
+        those ``fixed`` (names of settings a run fixes itself: a table row's own variant, say)."""
         changes: dict[str, Any] = {
             "body": self.body,
             "variant": self.variant,
@@ -120,10 +122,11 @@ class Settings:
             "gait": self.gait,
             "control_hz": self.control_hz,
         }
-        changes = {k: v for k, v in changes.items() if v is not None}
-        if self.engine != _DEFAULTS["engine"]:
+        fixed = set(fixed)
+        changes = {k: v for k, v in changes.items() if v is not None and k not in fixed}
+        if self.engine != _DEFAULTS["engine"] and "engine" not in fixed:
             changes["engine"] = self.engine
-        if self.climbing:
+        if self.climbing and "climbing" not in fixed:
             changes.update(reflexes=True, backbone=True)
         return cfg.replace(**changes) if changes else cfg
 
@@ -208,15 +211,14 @@ def compute(study: Study, settings: Settings) -> Result:
     settings = resolve(study, settings)
     if study.compute is not None:
         return study.compute(settings)
-    from neurowalk.experiments.stores import run_store, store_folder
+    from neurowalk.experiments.stores import Kept, run_store, store_folder
     from neurowalk.sim.engine import EngineOptions
     from neurowalk.sim.run_summary import RunSummary
 
-    labelled = [(label, settings.apply(cfg)) for label, cfg in study.runs(settings)]  # type: ignore[misc]
-    specs = [cfg.spec() for _, cfg in labelled]
+    labelled = planned(study, settings)
     with store_folder(settings.out) as folder:
-        results, _ = run_store(
-            specs,
+        results = run_store(
+            [(cfg, terms) for _, cfg, terms in labelled],
             folder,
             settings.workers or 2,
             options=EngineOptions(device=settings.device),
@@ -224,11 +226,26 @@ def compute(study: Study, settings: Settings) -> Result:
             address=settings.address,
             desc=study.name,
         )
-    grouped: dict[Label, list[RunSummary]] = {}
-    for label, cfg in labelled:
-        grouped.setdefault(label, []).append(RunSummary.from_dict(results[cfg.key()]))
+    grouped: dict[Label, list[Kept]] = {}
+    for (label, _, _), r in zip(labelled, results, strict=True):
+        summary = RunSummary.from_dict({k: v for k, v in r.items() if k != "kept"})
+        grouped.setdefault(label, []).append(Kept(summary, r.get("kept", {})))
     measured = study.measure(settings, grouped)  # type: ignore[misc]
     return measured if isinstance(measured, Result) else Result(study.name, dict(measured))
+
+
+def planned(study: Study, settings: Settings) -> list[tuple[Label, EpisodeConfig, tuple[Term, ...]]]:
+    """The runs ``study`` asks for with ``settings`` (resolved): each ``(label, config, terms)``, the settings
+    applied to the config."""
+    return [_run(settings, item) for item in study.runs(settings)]  # type: ignore[misc]
+
+
+def _run(settings: Settings, item: tuple) -> tuple[Label, EpisodeConfig, tuple[Term, ...]]:
+    """A run of ``Study.runs``, ``(label, config)``, ``(label, config, terms)`` or ``(label, config, terms,
+    fixed)``, with the settings applied (but those ``fixed``: :meth:`Settings.apply`)."""
+    label, cfg, *rest = item
+    terms, fixed = (tuple(rest[0]) if rest else ()), (rest[1] if len(rest) > 1 else ())
+    return label, settings.apply(cfg, fixed), terms
 
 
 def resolve(study: Study, s: Settings) -> Settings:
@@ -263,19 +280,20 @@ def kept_runs(study: Study, settings: Settings) -> dict[Path, int]:
     """The finished runs the study's command would go on from, by store file (none: empty): for a study of runs,
     those of its own runs with these settings; for one with its own loop, every finished run in the stores it keeps
     its runs in (its folder's, or the shared stores in force, which hold other figures' runs too)."""
-    from neurowalk.experiments.stores import store_files, store_path
+    from neurowalk.experiments.stores import store_path
     from neurowalk.runners.store import count_finished
 
     if not study.keeps_runs or settings.out is None:
         return {}
+    path = store_path(settings.out)
     if study.runs is None:
-        return {p: n for p in store_files(settings.out) if (n := count_finished(p))}
+        n = count_finished(path)
+        return {path: n} if n else {}
     try:
         s = resolve(study, settings)
-        keys = {s.apply(cfg).key() for _, cfg in study.runs(s)}
+        keys = {cfg.key() for _, cfg, _ in planned(study, s)}
     except ValueError:  # settings the study refuses: it runs nothing, and says why
         return {}
-    path = store_path(settings.out, "results.sqlite", None)
     n = count_finished(path, keys)
     return {path: n} if n else {}
 

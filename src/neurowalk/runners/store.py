@@ -156,20 +156,31 @@ class ResultStore:
     def __len__(self) -> int:
         return int(self._db.execute("SELECT count(*) FROM runs").fetchone()[0])
 
-    def rows(self, status: str | None = None) -> list[dict[str, Any]]:
-        """Every row (or those of one status) ordered by key, with ``spec`` and ``result`` parsed from JSON."""
-        sql = "SELECT * FROM runs" + (" WHERE status = ?" if status else "") + " ORDER BY key"
+    def rows(self, status: str | None = None, keys: Collection[str] | None = None) -> list[dict[str, Any]]:
+        """Every row (or those of one status, or those of ``keys``) ordered by key, with ``spec`` and ``result``
+        parsed from JSON."""
+        where = " WHERE status = ?" if status else ""
+        if keys is None:
+            found = list(self._db.execute(f"SELECT * FROM runs{where} ORDER BY key", (status,) if status else ()))
+        else:
+            found, wanted = [], sorted(set(keys))
+            for i in range(0, len(wanted), 500):  # SQLite's limit on a statement's parameters
+                chunk = wanted[i : i + 500]
+                sql = f"SELECT * FROM runs{where}{' AND' if where else ' WHERE'} key IN ({','.join('?' * len(chunk))})"
+                found += self._db.execute(sql, ((status,) if status else ()) + tuple(chunk)).fetchall()
+            found.sort(key=lambda r: r[0])
         out = []
-        for r in self._db.execute(sql, (status,) if status else ()):
+        for r in found:
             row = dict(zip(RUN_COLUMNS, r, strict=True))
             row["spec"] = json.loads(row["spec"])
             row["result"] = None if row["result"] is None else json.loads(row["result"])
             out.append(row)
         return out
 
-    def results(self, status: str = "ok") -> dict[str, dict[str, Any]]:
-        """``{key: result}`` of the runs with ``status`` (results of errored runs are None)."""
-        return {r["key"]: r["result"] for r in self.rows(status)}
+    def results(self, status: str = "ok", keys: Collection[str] | None = None) -> dict[str, dict[str, Any]]:
+        """``{key: result}`` of the runs with ``status`` (results of errored runs are None), of ``keys`` only where
+        given (a shared store holds many studies' runs)."""
+        return {r["key"]: r["result"] for r in self.rows(status, keys)}
 
     def meta(self) -> dict[str, str]:
         """The store's meta table (schema_version, created_at, neurowalk_version)."""

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import sys
 import time
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Collection, Iterable, Iterator
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -29,6 +29,7 @@ from neurowalk.runners.stopping import deferred
 from neurowalk.runners.store import ResultStore
 from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.engine import Engine, EngineOptions
+from neurowalk.sim.episode import Episode
 
 BACKENDS = ("local", "ray")
 
@@ -92,6 +93,8 @@ def run_sweep(
     retries: int = 0,
     options: EngineOptions | None = None,
     desc: str = "sweep",
+    world_fn: Callable[[Episode], dict[str, Any]] | None = None,
+    redo: Collection[str] = (),
 ) -> SweepReport:
     """Run every spec not yet done into ``store``; return the counts.
 
@@ -107,6 +110,9 @@ def run_sweep(
             (default 0: stored at once as ``WorkerDiedError``).
         options: how the engines run (e.g. MuJoCo Warp's device).
         desc: the progress bar's label.
+        world_fn: what ``fn`` keeps, from an episode held in memory: with it (or with ``fn`` the default), the runs
+            of a many-worlds engine (MuJoCo Warp) run here as the worlds of shared calls; without it, on the pool.
+        redo: keys run again though the store holds them (e.g. rows that lack something now kept).
 
     Raises:
         ValueError: bad spec, backend or worker count (before any run).
@@ -123,12 +129,15 @@ def run_sweep(
     t0 = time.perf_counter()
     keyed, total = prepare(specs)
     done = store.done_keys()
-    todo = [(k, s) for k, s in keyed if k not in done]
+    redo = set(redo)
+    todo = [(k, s) for k, s in keyed if k not in done or k in redo]
     report = SweepReport(total=total, unique=len(keyed), duplicates=total - len(keyed), skipped=len(keyed) - len(todo))
     results = bar = None
     try:
         if todo:
-            results = _backend(backend, fn, [s for _, s in todo], workers, address, retries, options or EngineOptions())
+            keep = world_fn if world_fn is not None else (result_of if fn is run_spec else None)
+            items = [s for _, s in todo]
+            results = _backend(backend, fn, keep, items, workers, address, retries, options or EngineOptions())
             bar = Progress(
                 total=len(todo), unit="run", desc=desc, disable=not progress, mininterval=0.5, file=sys.stderr
             )
@@ -154,6 +163,7 @@ def run_sweep(
 def _backend(
     backend: str,
     fn: Callable[[Spec], Any],
+    keep: Callable[[Episode], dict[str, Any]] | None,
     items: list[Spec],
     workers: int,
     address: str | None,
@@ -161,8 +171,9 @@ def _backend(
     options: EngineOptions,
 ) -> Any:
     """Results (:class:`JobResult`, any order) of ``fn`` on ``items``: runs of a many-worlds engine (MuJoCo Warp) as the
-    worlds of shared calls, in this process; the others on the backend."""
-    valid = [(i, cfg) for i, cfg in enumerate(_configs(items))] if fn is run_spec else []
+    worlds of shared calls, in this process (``keep`` of each episode; None: every run on the backend); the others
+    on the backend."""
+    valid = [(i, cfg) for i, cfg in enumerate(_configs(items))] if keep is not None else []
     valid = [(i, cfg) for i, cfg in valid if cfg is not None]
     shared = [([valid[j][0] for j in group], engine) for group, engine in world_groups([c for _, c in valid], options)]
     if not shared:
@@ -171,7 +182,7 @@ def _backend(
     others = [i for i in range(len(items)) if i not in done]
 
     def chained() -> Iterator[JobResult]:
-        yield from world_runs(items, shared, options)
+        yield from world_runs(items, shared, options, keep)
         if others:
             inner = _pool(backend, fn, [items[i] for i in others], workers, address, retries)
             try:
@@ -195,11 +206,14 @@ def _configs(items: list[Spec]) -> list[EpisodeConfig | None]:
 
 
 def world_runs(
-    items: list[Spec], groups: list[tuple[list[int], Engine]], options: EngineOptions
+    items: list[Spec],
+    groups: list[tuple[list[int], Engine]],
+    options: EngineOptions,
+    keep: Callable[[Episode], dict[str, Any]] = result_of,
 ) -> Iterator[JobResult]:
     """Run the specs of each group (:func:`~neurowalk.runners.jobs.world_groups`) as the worlds of one call of its
-    engine; one :class:`JobResult` per run, its wall time the call's divided by its worlds. A call that raises gives
-    each of its runs that error."""
+    engine; one :class:`JobResult` per run (``keep`` of its episode), its wall time the call's divided by its worlds.
+    A call that raises gives each of its runs that error."""
     for runs, engine in groups:
         t0 = time.perf_counter()
         try:
@@ -210,7 +224,7 @@ def world_runs(
             continue
         wall = (time.perf_counter() - t0) / len(runs)
         for i, ep in zip(runs, eps, strict=True):
-            yield JobResult(i, value=result_of(ep), wall_time_s=wall)
+            yield JobResult(i, value=keep(ep), wall_time_s=wall)
 
 
 def _pool(

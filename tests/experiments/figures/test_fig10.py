@@ -3,9 +3,11 @@
 import numpy as np
 import pytest
 
-from neurowalk.experiments import Settings
+from fake_runs import dead_end_table, plan
+from neurowalk.experiments import FIGURES, Settings
 from neurowalk.experiments.figures import fig10
 from neurowalk.experiments.figures.fig10 import key_moments
+from neurowalk.experiments.study import compute
 from neurowalk.experiments.suites.climbing import (
     climbed,
     first_platform_step,
@@ -77,10 +79,10 @@ def test_flat_walking_is_kept_with_the_modules_on():
 
 @pytest.mark.slow
 def test_dead_end_results_hold_with_the_modules_on():
-    from neurowalk.experiments.suites.deadends import VARIANTS, outcome_table
+    from neurowalk.experiments.suites.deadends import VARIANTS
 
-    variants = {"narrow-passage": VARIANTS["narrow-passage"]}
-    narrow = outcome_table(4, variants=variants, progress=False, climbing=True)["counts"]["narrow-passage"]
+    table = dead_end_table(Settings(seeds=4, climbing=True), {"narrow-passage": VARIANTS["narrow-passage"]})
+    narrow = table["counts"]["narrow-passage"]
     assert narrow["plastic"]["escaped"] >= 3
     assert narrow["static"]["escaped"] <= 1
 
@@ -107,22 +109,10 @@ def test_track_and_step_runs_last_their_seconds_at_the_rate():
     }
 
 
-class _StopError(Exception):
-    pass
-
-
 @pytest.mark.parametrize(("quick", "hz", "steps"), [(True, 10.0, 12_000), (True, 27.0, 12_000), (False, 27.0, 32_400)])
-def test_fig10_runs_at_its_control_rate(monkeypatch, tmp_path, quick, hz, steps):
-    seen = []
-
-    def run_episode(cfg, **kwargs):
-        seen.append(cfg)
-        raise _StopError
-
-    monkeypatch.setattr(fig10, "run_episode", run_episode)
-    with pytest.raises(_StopError):
-        fig10.run(Settings(quick=quick, seeds=1, out=tmp_path, control_hz=hz))
-    assert seen[0].control_hz == hz and seen[0].steps == steps  # a quick run at 27 Hz: 444 s, not 1200 s
+def test_fig10_runs_at_its_control_rate(quick, hz, steps):
+    seen = [c for _, c, _ in plan("fig10", Settings(quick=quick, seeds=1, control_hz=hz))]
+    assert all(c.control_hz == hz and c.steps == steps for c in seen)  # a quick run at 27 Hz: 444 s, not 1200 s
 
 
 def test_first_platform_is_the_trunk_centre_0_3_m_past_its_edge():
@@ -132,8 +122,9 @@ def test_first_platform_is_the_trunk_centre_0_3_m_past_its_edge():
     assert first_platform_step(pose[:10], 0.06) is None
 
 
-def test_a_27_hz_track_run_reports_its_events_on_the_27_hz_clock(tmp_path):
-    res = fig10.run(Settings(seeds=1, out=tmp_path, control_hz=27.0), steps=1800)
+def test_a_27_hz_track_run_reports_its_events_on_the_27_hz_clock(monkeypatch, tmp_path):
+    monkeypatch.setattr(fig10, "TRACK_S", 1800 / 27.0)
+    res = compute(FIGURES["fig10"], Settings(seeds=1, out=tmp_path, control_hz=27.0))
     s = res.summary
     assert s["control_hz"] == 27.0 and s["duration_s"] == pytest.approx(1800 / 27.0)
     row = s["table"]["0.06"]["runs"][0]
@@ -148,34 +139,8 @@ def test_a_27_hz_track_run_reports_its_events_on_the_27_hz_clock(tmp_path):
 
 
 @pytest.mark.parametrize(("hz", "heights"), [(10.0, 3), (27.0, 1)])
-def test_fig10_runs_the_height_table_at_the_simulators_rate_only(monkeypatch, tmp_path, hz, heights):
-    seen = []
-
-    class _DoneError(Exception):
-        pass
-
-    def store(specs, folder, workers, **kwargs):
-        seen.extend(specs)
-        raise _DoneError
-
-    monkeypatch.setattr(fig10, "run_episode", lambda cfg, **kw: _FakeEpisode(cfg))
-    monkeypatch.setattr(fig10, "render_frames", lambda *a, **k: np.zeros((4, 2, 2, 3), np.uint8))
-    monkeypatch.setattr(fig10, "run_store", store)
-    with pytest.raises(_DoneError):
-        fig10.run(Settings(seeds=2, out=tmp_path, control_hz=hz))
-    assert len({s["arena_opts"]["step"] for s in seen}) == heights and len(seen) == 2 * heights
-
-
-class _FakeEpisode:
-    """What fig10.run reads of its example run, without running it."""
-
-    def __init__(self, cfg):
-        from neurowalk.arenas import make_arena
-
-        n = 50
-        self.arena = make_arena(cfg.arena, **cfg.arena_opts)
-        self.trajectory = type("T", (), {})()
-        self.trajectory.qpos = np.zeros((n, 26))
-        self.trajectory.targets = np.zeros((n, 19))
-        self.trajectory.outputs = -np.ones((n, 2))
-        self.summary = {}
+def test_fig10_runs_the_height_table_at_the_simulators_rate_only(hz, heights):
+    runs = plan("fig10", Settings(seeds=2, control_hz=hz))
+    assert len({c.arena_opts["step"] for _, c, _ in runs}) == heights and len(runs) == 2 * heights
+    examples = [c for _, c, terms in runs if fig10.EXAMPLE in terms]
+    assert [(c.arena_opts["step"], c.seed) for c in examples] == [(0.06, 0)]  # the example: a run of the table

@@ -1,53 +1,29 @@
 """Fig. 3 and Fig. 5: the long runs' length by the stated reading of "time step", the control rate in every run,
 the panels named as the paper names them, and Fig. 5G's weights over the whole long run.
 
-The figures' runs are replaced by stand-ins here (:func:`fake_runs`), except in the streamed long-run tests, which
+The figures' runs are replaced by stand-ins here (:mod:`fake_runs`), except in the streamed long-run tests, which
 run a few thousand control steps.
 """
 
 import numpy as np
 import pytest
 
+from fake_runs import fake_measure
 from neurowalk.experiments import Settings
 from neurowalk.experiments.figures import fig3, fig5
+from neurowalk.experiments.stores import run_kept
 from neurowalk.experiments.suites import deadends, long_runs
 from neurowalk.plotting.style import LETTER_GID
+from neurowalk.runners.specs import result_of
 from neurowalk.sim.episode import EpisodeConfig
 
 
-def fake_runs(seen: list[EpisodeConfig]):
-    """A stand-in for :func:`deadends.stored_runs`: records the configs, returns results of the right shape."""
-
-    def stored_runs(configs, folder, name, workers, progress, desc, traces, device=None):
+def run(fig, s: Settings, seen: list[EpisodeConfig] | None = None):
+    """Fig. 3's or Fig. 5's measure of stand-in runs (:mod:`fake_runs`); the configs it asked for into ``seen``."""
+    configs, res = fake_measure(fig.NAME, s)
+    if seen is not None:
         seen.extend(configs)
-        out = []
-        for c in configs:
-            summary = {"arena": c.arena, "arena_opts": {}, "steps": c.steps, "escaped": None, "trapped": False,
-                       "coverage": 0.1, "wedged_periods": 0, "longest_wedged_s": 0.0, "wedged_causes": {},
-                       "wedged": [], "control_hz": c.control_hz}  # fmt: skip
-            if traces == "long":
-                step = long_runs.sample_steps(c.steps, long_runs.LONG_STRIDE)
-                n = len(step)
-                out.append({"summary": summary, "step": step, "pose": np.zeros((n, 3)), "inputs": np.zeros((n, 2)),
-                            "outputs": np.zeros((n, 2)), "b": np.ones((n, 2)), "q": np.ones((n, 2)),
-                            "coverage": np.linspace(0, 0.1, n)})  # fmt: skip
-            elif traces:
-                n = c.steps
-                out.append({"summary": {**summary, "escaped": True}, "pose": np.zeros((n, 3)),
-                            "inputs": np.zeros((n, 2)), "outputs": np.zeros((n, 2)), "b": np.ones((n, 2)),
-                            "q": np.ones((n, 2))})  # fmt: skip
-            else:
-                out.append({"escaped": True, "trapped": False, "direction_switches": 1, "max_turn_deg": 90.0})
-        return out
-
-    return stored_runs
-
-
-@pytest.fixture
-def faked(monkeypatch):
-    seen: list[EpisodeConfig] = []
-    monkeypatch.setattr(deadends, "stored_runs", fake_runs(seen))
-    return seen
+    return res
 
 
 def test_the_long_runs_are_the_papers_time_steps_read_as_physics_steps():
@@ -63,8 +39,9 @@ def test_the_long_runs_are_the_papers_time_steps_read_as_physics_steps():
     (fig5, False, 100_000), (fig5, True, long_runs.QUICK_LONG_STEPS),
     (fig3, False, 40_000), (fig3, True, long_runs.QUICK_LONG_STEPS),
 ])  # fmt: skip
-def test_every_run_gets_the_control_rate_and_the_long_runs_their_length(faked, fig, quick, long_steps):
-    res = fig.run(Settings(quick=quick, seeds=1, control_hz=20.0))
+def test_every_run_gets_the_control_rate_and_the_long_runs_their_length(fig, quick, long_steps):
+    faked: list[EpisodeConfig] = []
+    res = run(fig, Settings(quick=quick, seeds=1, control_hz=20.0), faked)
     assert faked and all(c.control_hz == 20.0 for c in faked)
     long_cfgs = [c for c in faked if c.arena in ("cluttered", "difficult")]
     dead_ends = [c for c in faked if c.arena not in ("cluttered", "difficult")]
@@ -95,9 +72,9 @@ def lettered(figure) -> dict[str, str]:
     return out
 
 
-def test_the_panels_are_named_as_the_papers(faked):
+def test_the_panels_are_named_as_the_papers():
     for fig, long_panels in ((fig3, {"F": "cluttered", "G": "difficult"}), (fig5, {"F": "difficult (plastic)"})):
-        res = fig.run(Settings(quick=True, seeds=1))
+        res = run(fig, Settings(quick=True, seeds=1))
         assert list(res.summary["panels"]) == list("ABCDEFG")
         figure = fig.plot(res)
         titles = lettered(figure)
@@ -114,8 +91,8 @@ def test_the_panels_are_named_as_the_papers(faked):
 
 
 @pytest.mark.parametrize("weights_change", [True, False])
-def test_panel_c_has_one_axes_per_signal_with_its_own_scale(faked, weights_change):
-    res = fig5.run(Settings(quick=True, seeds=1))
+def test_panel_c_has_one_axes_per_signal_with_its_own_scale(weights_change):
+    res = run(fig5, Settings(quick=True, seeds=1))
     if weights_change:  # the plastic network's weights grow; constant weights (the static network's) are not drawn
         n = len(res.arrays["narrow-passage/b"])
         res.arrays["narrow-passage/b"] = np.linspace(0, 3, 2 * n).reshape(n, 2)
@@ -129,8 +106,8 @@ def test_panel_c_has_one_axes_per_signal_with_its_own_scale(faked, weights_chang
     assert all(ax.get_legend() is not None for ax in c)
 
 
-def test_fig5g_covers_the_whole_run(faked):
-    res = fig5.run(Settings(seeds=1))
+def test_fig5g_covers_the_whole_run():
+    res = run(fig5, Settings(seeds=1))
     g = res.summary["fig5g"]
     step = res.arrays["difficult (plastic)/step"]
     assert g["first_step"] == step[0] == 0 and g["last_step"] == step[-1] == fig5.LONG_STEPS - 1
@@ -146,11 +123,12 @@ def streamed():
     from neurowalk.sim.episode import run_episode
 
     spec = {"arena": "difficult", "controller": "plastic", "steps": 3001}
-    return long_runs.long_traces_of(spec), run_episode(EpisodeConfig(**spec))
+    return run_kept((long_runs.LONG,), spec), run_episode(EpisodeConfig(**spec))
 
 
 def test_a_streamed_long_run_keeps_every_tenth_row_and_the_summary_of_the_whole_run(streamed):
-    kept, whole = streamed
+    stored, whole = streamed
+    kept = stored["kept"]["long"]
     step = np.asarray(kept["step"])
     assert step[0] == 0 and step[-1] == 3000 and set(np.diff(step)) == {10}  # 3000 is a tenth step itself
     tr = whole.trajectory
@@ -158,8 +136,8 @@ def test_a_streamed_long_run_keeps_every_tenth_row_and_the_summary_of_the_whole_
         assert np.array_equal(np.asarray(kept[k]), getattr(tr, k)[step]), k  # bit for bit the rows of the run
     assert np.isfinite(np.asarray(kept["b"])).all() and np.isfinite(np.asarray(kept["q"])).all()
     machine = ("wall_time_s", "real_time_factor")
-    a = {k: v for k, v in kept["summary"].items() if k not in machine}
-    b = {k: v for k, v in whole.summary.items() if k not in machine}
+    a = {k: v for k, v in stored.items() if k not in machine and k != "kept"}
+    b = {k: v for k, v in result_of(whole).items() if k not in machine}
     assert a == b
     assert whole.summary["wedged_periods"] >= 1  # the contacts of a wedged period are replayed for its cause
     assert kept["coverage"][-1] == whole.summary["coverage"]

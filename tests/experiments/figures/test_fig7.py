@@ -3,8 +3,8 @@ import json
 import pytest
 
 from neurowalk.cli import main
-from neurowalk.experiments import Settings
-from neurowalk.experiments.figures import fig7
+from neurowalk.experiments import FIGURES, Settings
+from neurowalk.experiments.study import compute
 
 
 def test_fig7_from_physics_is_a_wave_gait(tmp_path):
@@ -27,7 +27,7 @@ def test_fig7_from_physics_is_a_wave_gait(tmp_path):
 
 
 def test_fig7_at_27_hz_measures_on_the_27_hz_clock():
-    s = fig7.run(Settings(quick=True, control_hz=27.0)).summary
+    s = compute(FIGURES["fig7"], Settings(quick=True, control_hz=27.0)).summary
     assert s["control_hz"] == 27.0 and s["window"]["duration_s"] == pytest.approx(299 / 27.0)
     c = s["conditions"]
     for name, cond in c.items():

@@ -5,16 +5,19 @@ import json
 import numpy as np
 import pytest
 
+from fake_runs import plan
 from neurowalk.arenas import make_arena
 from neurowalk.arenas.generated import MOUTH, OPENING
 from neurowalk.cli import main
 from neurowalk.experiments import FIGURES, Settings
 from neurowalk.experiments.figures import fig8, fig9
+from neurowalk.experiments.stores import run_store
+from neurowalk.experiments.study import compute
 from neurowalk.experiments.suites.real_robot import (
+    PATH,
     camera_view,
-    make_spec,
+    config,
     path_every,
-    run_store_paths,
     sampled,
     snapshot_rows,
     video_every,
@@ -28,37 +31,32 @@ def test_both_figures_are_registered_with_the_options_the_cli_passes():
         assert FIGURES[name].keeps_runs
 
 
-def test_specs_carry_the_network_variant_and_overrides():
-    s = make_spec(Settings(variant="original", params={"a": 4.0}), "narrow-passage", {}, "static", 3, 100)
-    assert s["controller"] == "static" and s["seed"] == 3 and s["steps"] == 100
-    assert s["variant"] == "original" and s["params"] == {"a": 4.0}
-    assert "params" not in make_spec(Settings(), "narrow-passage", {}, "plastic", 0, 100)
-    at27 = make_spec(Settings(control_hz=27), "narrow-passage", {}, "static", 3, 100)
-    assert s["control_hz"] == 10.0 and at27["control_hz"] == 27 and at27["variant"] == "paper"
-
-
-class _StopError(Exception):
-    pass
+def test_the_runs_carry_the_network_variant_and_overrides():
+    _, cfg, _ = plan("fig8", Settings(variant="original", params={"a": 4.0}, seeds=1))[0]
+    assert cfg.controller == "plastic" and cfg.seed == 0 and cfg.variant == "original" and cfg.params == {"a": 4.0}
+    plain = [c for _, c, _ in plan("fig8", Settings(seeds=1))]
+    at27 = [c for _, c, _ in plan("fig8", Settings(control_hz=27, seeds=1))]
+    assert all(c.params is None and c.variant == "paper" and c.control_hz == 10.0 for c in plain)
+    assert all(c.control_hz == 27 for c in at27)
 
 
 @pytest.mark.parametrize(
     "fig,quick,seconds", [(fig8, True, fig8.QUICK_S), (fig8, False, fig8.RUN_S), (fig9, True, fig9.QUICK_S)]
 )
 @pytest.mark.parametrize("hz", [10.0, 27.0])
-def test_runs_last_their_seconds_at_the_figures_control_rate(monkeypatch, tmp_path, fig, quick, seconds, hz):
-    seen = []
-
-    def store(specs, folder, workers):
-        seen.extend(specs)
-        raise _StopError
-
-    monkeypatch.setattr(fig, "run_store_paths", store)
-    with pytest.raises(_StopError):
-        fig.run(Settings(quick=quick, seeds=2, out=tmp_path, control_hz=hz))
-    assert seen and all(s["control_hz"] == hz for s in seen)
-    assert {s["steps"] for s in seen} == {round(seconds * hz)}
+def test_runs_last_their_seconds_at_the_figures_control_rate(fig, quick, seconds, hz):
+    seen = [c for _, c, _ in plan(fig.NAME, Settings(quick=quick, seeds=2, control_hz=hz))]
+    assert seen and all(c.control_hz == hz for c in seen)
+    assert {c.steps for c in seen} == {round(seconds * hz)}
     if hz == 10.0:  # the runs of the 10 Hz figures, to the step (quick runs as long, with fewer seeds)
-        assert seen[0]["steps"] == {fig8.RUN_S: 5000, fig9.PATH_S: 8000}[seconds]
+        assert seen[0].steps == {fig8.RUN_S: 5000, fig9.PATH_S: 8000}[seconds]
+
+
+def test_each_run_keeps_its_path_and_the_first_seed_of_each_network_its_example():
+    runs = plan("fig9", Settings(seeds=2))
+    full = [(label, c.seed) for label, c, terms in runs if [t.name for t in terms] == ["path", "example"]]
+    assert full == [(("plastic", (1.0, 1.0)), 0), (("static", (1.0, 1.0)), 0)]
+    assert all(PATH in terms for _, _, terms in runs)
 
 
 def test_path_points_and_video_frames_are_spaced_in_seconds():
@@ -91,20 +89,9 @@ def test_fig9_outcome_rule(xy, label, row):
     assert fig9.outcome(np.asarray(xy, dtype=float), make_arena("complex-path")) == (label, row)
 
 
-def test_store_resumes_instead_of_rerunning(tmp_path):
-    from neurowalk.runners.store import ResultStore
-
-    specs = [make_spec(Settings(), "narrow-passage", {}, net, 0, 30) for net in ("plastic", "static")]
-    first = run_store_paths(specs, tmp_path, workers=1)
-    with ResultStore(tmp_path / "results.sqlite") as store:
-        before = {r["key"]: r["finished_at"] for r in store.rows()}
-    more = [*specs, make_spec(Settings(), "narrow-passage", {}, "plastic", 1, 30)]
-    again = run_store_paths(more, tmp_path, workers=1)
-    with ResultStore(tmp_path / "results.sqlite") as store:
-        after = {r["key"]: r["finished_at"] for r in store.rows()}
-    assert len(after) == 3 and all(after[k] == t for k, t in before.items())  # the first two were not rerun
-    assert all(again[k] == v for k, v in first.items())
-    assert all(len(r["path"]) == 4 for r in again.values())  # rows 0, 10, 20 and the last (29)
+def test_a_path_holds_a_point_a_second_and_the_last(tmp_path):
+    runs = [(config("narrow-passage", {}, net, 0, 30), (PATH,)) for net in ("plastic", "static")]
+    assert all(len(r["kept"]["path"]["path"]) == 4 for r in run_store(runs, tmp_path, 1))  # rows 0, 10, 20, 29
 
 
 def _check_strip_and_paths(s: dict, a: dict, seeds: int) -> None:
@@ -170,23 +157,23 @@ def test_fig9s_title_gives_the_reports_verdicts_of_the_same_runs():
     assert f"plastic goes out, {verdicts[0]}; static gets stuck, {verdicts[1]}" in title
 
 
-def test_videos_are_written_on_request(tmp_path):
-    res = fig8.run(Settings(seeds=1, out=tmp_path, video=True), steps=40)
+def test_videos_are_written_on_request(monkeypatch, tmp_path):
+    monkeypatch.setattr(fig8, "RUN_S", 4.0)  # 40 control steps
+    res = compute(FIGURES["fig8"], Settings(seeds=1, out=tmp_path, video=True))
     assert len(res.summary["videos"]) == 2
     for path in res.summary["videos"]:
         assert path.endswith(".mp4") and (tmp_path / path.split("/")[-1]).stat().st_size > 1000
 
 
-def test_bad_seeds_and_steps_are_refused(tmp_path):
+def test_bad_seeds_are_refused(tmp_path):
     with pytest.raises(ValueError, match="seeds"):
-        fig8.run(Settings(seeds=0, out=tmp_path))
-    with pytest.raises(ValueError, match="steps"):
-        fig9.run(Settings(seeds=1, out=tmp_path), steps=0)
+        compute(FIGURES["fig8"], Settings(seeds=0, out=tmp_path))
 
 
-def test_a_27_hz_run_reports_times_on_the_27_hz_clock(tmp_path):
+def test_a_27_hz_run_reports_times_on_the_27_hz_clock(monkeypatch, tmp_path):
     steps = 300
-    res = fig9.run(Settings(seeds=1, out=tmp_path, control_hz=27.0), steps=steps)
+    monkeypatch.setattr(fig9, "PATH_S", steps / 27.0)
+    res = compute(FIGURES["fig9"], Settings(seeds=1, out=tmp_path, control_hz=27.0))
     s, a = res.summary, res.arrays
     assert s["control_hz"] == 27.0 and s["duration_s"] == pytest.approx(steps / 27.0)
     assert s["path_every_steps"] == 27
@@ -202,16 +189,8 @@ def test_a_27_hz_run_reports_times_on_the_27_hz_clock(tmp_path):
 
 
 @pytest.mark.parametrize("hz,cells", [(10.0, 9), (27.0, 1)])
-def test_fig9_sweeps_its_map_at_the_simulators_rate_only(monkeypatch, tmp_path, hz, cells):
-    seen = []
-
-    def store(specs, folder, workers):
-        seen.extend(specs)
-        raise _StopError
-
-    monkeypatch.setattr(fig9, "run_store_paths", store)
-    with pytest.raises(_StopError):
-        fig9.run(Settings(seeds=1, out=tmp_path, control_hz=hz))
-    geometries = {json.dumps(s["arena_opts"], sort_keys=True) for s in seen}
-    runs = {json.dumps(s, sort_keys=True) for s in seen}  # the default cell's runs are the main runs
+def test_fig9_sweeps_its_map_at_the_simulators_rate_only(hz, cells):
+    seen = [c for _, c, _ in plan("fig9", Settings(seeds=1, control_hz=hz))]
+    geometries = {json.dumps(c.arena_opts, sort_keys=True) for c in seen}
+    runs = {c.key() for c in seen}  # the default cell's runs are the main runs
     assert len(geometries) == cells and len(runs) == 2 * cells  # two networks, one seed per cell

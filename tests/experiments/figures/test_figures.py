@@ -6,6 +6,7 @@ import json
 import numpy as np
 import pytest
 
+from fake_runs import plan
 from neurowalk.cli import main
 
 
@@ -37,19 +38,7 @@ def test_fig4_panel_b_runs_at_the_figures_control_rate(monkeypatch):
     from neurowalk.experiments import Settings
     from neurowalk.experiments.figures import fig4
 
-    seen = []
-
-    class StopError(Exception):
-        pass
-
-    def run_episode(cfg, **kwargs):
-        seen.append(cfg)
-        raise StopError
-
-    monkeypatch.setattr(fig4, "run_episode", run_episode)
-    with pytest.raises(StopError):
-        fig4.run(Settings(quick=True, seed=3, control_hz=27.0))
-    cfg = seen[0]
+    ((_, cfg, _),) = plan("fig4", Settings(quick=True, seed=3, control_hz=27.0))
     assert (cfg.control_hz, cfg.seed, cfg.steps, cfg.arena, cfg.controller) == (27.0, 3, 3000, "difficult", "plastic")
     assert (cfg.b0, cfg.q0) == fig4.PAPER_START
 

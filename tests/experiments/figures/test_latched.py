@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from neurowalk.experiments import Settings
+from neurowalk.experiments import FIGURES, Settings
 from neurowalk.experiments.figures import latched
+from neurowalk.experiments.study import compute
 
 
 @pytest.mark.xfail(
@@ -16,7 +17,7 @@ from neurowalk.experiments.figures import latched
     "looked into",
 )
 def test_latched_spins_hold_while_b_on_plus_mean_q_exceeds_the_input_weight() -> None:
-    res = latched.run(Settings(quick=True, workers=2))
+    res = compute(FIGURES["latched-spin"], Settings(quick=True, workers=2))
     s = res.summary
     assert s["failures"]["latched spin"] >= 1 and s["shown"]
     for k, env in enumerate(s["shown"]):

@@ -3,15 +3,17 @@
 import numpy as np
 import pytest
 
+from fake_runs import dead_end_table, fake_measure
 from neurowalk import metrics
-from neurowalk.experiments.suites.deadends import VARIANTS, outcome_table
+from neurowalk.experiments import Settings
+from neurowalk.experiments.suites.deadends import VARIANTS
 from neurowalk.experiments.suites.long_runs import wedged_counts
 
 
 @pytest.mark.slow
 def test_plastic_escapes_the_narrow_passage_static_does_not_both_escape_simple_deadlock():
     variants = {k: VARIANTS[k] for k in ("simple-deadlock", "narrow-passage")}
-    counts = outcome_table(4, variants=variants, progress=False)["counts"]
+    counts = dead_end_table(Settings(seeds=4), variants)["counts"]
     narrow, simple = counts["narrow-passage"], counts["simple-deadlock"]
     assert narrow["plastic"]["escaped"] >= 3
     assert narrow["static"]["escaped"] <= 1
@@ -112,19 +114,14 @@ def test_wedged_periods_over_300_s_are_counted_with_their_causes():
     assert [p["start_s"] for p in w["list"]] == [0.5, 250.0, 350.0]  # steps / rate
 
 
-def test_the_dead_ends_get_the_control_rate_and_keep_their_control_steps(monkeypatch):
+def test_the_dead_ends_get_the_control_rate_and_keep_their_control_steps():
     from neurowalk.experiments.suites import deadends
 
-    seen = []
-
-    def stored_runs(configs, *args, **kwargs):
-        seen.extend(configs)
-        return [{"escaped": True, "trapped": False, "direction_switches": 0} for _ in configs]
-
-    monkeypatch.setattr(deadends, "stored_runs", stored_runs)
-    t = outcome_table(1, control_hz=27.0, progress=False)
-    assert len(seen) == len(VARIANTS) * len(deadends.NETWORKS)
-    assert all(c.control_hz == 27.0 and c.steps == 5000 for c in seen)
+    seen, res = fake_measure("fig3", Settings(seeds=1, control_hz=27.0))
+    table = [c for c in seen if c.arena in ("simple-deadlock", "narrow-passage") and c.until == "escaped"]
+    assert len(table) == len(VARIANTS) * len(deadends.NETWORKS)
+    assert all(c.control_hz == 27.0 and c.steps == 5000 for c in table)
+    t = res.summary["table"]
     assert t["control_hz"] == 27.0 and t["seconds"] == pytest.approx(5000 / 27.0)
 
 

@@ -9,8 +9,9 @@ import pytest
 
 from neurowalk.arenas import make_arena
 from neurowalk.cli import main
-from neurowalk.experiments import Settings
+from neurowalk.experiments import FIGURES, Settings
 from neurowalk.experiments.figures import table2
+from neurowalk.experiments.study import compute
 from neurowalk.experiments.suites.random_envs import (
     BOXES,
     ROWS,
@@ -23,6 +24,8 @@ from neurowalk.experiments.suites.random_envs import (
 from neurowalk.runners.store import ResultStore
 from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.summary import Record, summarize
+
+TABLE2 = FIGURES["table2"]
 
 
 def test_environments_are_drawn_from_the_seed_with_2_to_20_boxes() -> None:
@@ -71,13 +74,12 @@ def test_the_stuck_window_is_300_s_at_any_control_rate() -> None:
 
 def test_table2_resumes_from_its_store_without_rerunning(tmp_path: Path) -> None:
     n = len(table2.rows())
-    r1 = table2.run(Settings(quick=True, seeds=3, out=tmp_path, workers=1))
-    assert r1.summary["sweep"]["ok"] == 3 * n and r1.summary["sweep"]["skipped"] == 0
+    r1 = compute(TABLE2, Settings(quick=True, seeds=3, out=tmp_path, workers=1))
     assert "not stuck" in r1.summary["rule"] and r1.summary["box_size_m"] == 1.0 and r1.summary["control_hz"] == 10.0
     with ResultStore(tmp_path / "results.sqlite") as store:
         first = {row["key"]: row["finished_at"] for row in store.rows()}
-    r2 = table2.run(Settings(quick=True, seeds=4, out=tmp_path, workers=1))
-    assert r2.summary["sweep"]["skipped"] == 3 * n and r2.summary["sweep"]["ok"] == n
+    assert len(first) == 3 * n
+    r2 = compute(TABLE2, Settings(quick=True, seeds=4, out=tmp_path, workers=1))
     with ResultStore(tmp_path / "results.sqlite") as store:
         again = {row["key"]: row["finished_at"] for row in store.rows()}
     assert len(again) == 4 * n and all(again[k] == t for k, t in first.items())
@@ -93,7 +95,7 @@ def test_figure_rejects_a_body_it_cannot_use(capsys: pytest.CaptureFixture[str])
 
 def test_table2_rows_counts_and_intervals(tmp_path: Path) -> None:
     """Every row of the issue's contract, with Wilson intervals and the paper's own interval."""
-    s = table2.run(Settings(quick=True, seeds=6, out=tmp_path, workers=2)).summary
+    s = compute(TABLE2, Settings(quick=True, seeds=6, out=tmp_path, workers=2)).summary
     assert set(ROWS) <= set(s["counts"])
     for name, c in s["counts"].items():
         assert c["environments"] == 6 and 0 <= c["success"] <= 6
@@ -138,7 +140,7 @@ def test_spec_is_the_same_environment_for_every_network() -> None:
 @pytest.mark.slow
 def test_table2_on_the_surrogate_plastic_explores_and_static_gets_stuck(tmp_path: Path) -> None:
     """The paper's claim, measured: the plastic network is stuck in few environments, static in many more."""
-    res = table2.run(Settings(out=tmp_path, workers=2))
+    res = compute(TABLE2, Settings(out=tmp_path, workers=2))
     c = res.summary["counts"]
     for plastic in ("plastic-paper", "plastic-original"):
         assert c[plastic]["success"] >= 40  # of 50 (paper: 49; see the README for the measured rates)
@@ -147,9 +149,9 @@ def test_table2_on_the_surrogate_plastic_explores_and_static_gets_stuck(tmp_path
 
 
 def test_table2_on_the_wheeled_robot_runs_its_own_surrogate_beside_it(tmp_path: Path) -> None:
-    s = table2.run(Settings(quick=True, seeds=1, body="wheeled", out=tmp_path, workers=2)).summary
+    s = compute(TABLE2, Settings(quick=True, seeds=1, body="wheeled", out=tmp_path, workers=2)).summary
     n = len(table2.rows()) - 1  # on a physics body the Braitenberg row is the surrogate's table's only
-    assert s["body"] == "wheeled" and s["surrogate"] == "surrogate-wheeled" and s["sweep"]["ok"] == 2 * n
+    assert s["body"] == "wheeled" and s["surrogate"] == "surrogate-wheeled"
     with ResultStore(tmp_path / "results.sqlite") as store:
         bodies = sorted(row["spec"]["body"] for row in store.rows())
     assert bodies == ["surrogate-wheeled"] * n + ["wheeled"] * n  # not AMOSII's surrogate
@@ -159,24 +161,12 @@ def test_table2_on_the_wheeled_robot_runs_its_own_surrogate_beside_it(tmp_path: 
 
 
 def test_table2_on_the_wheeled_surrogate_alone(tmp_path: Path) -> None:
-    s = table2.run(Settings(quick=True, seeds=3, body="surrogate-wheeled", out=tmp_path, workers=2)).summary
+    s = compute(TABLE2, Settings(quick=True, seeds=3, body="surrogate-wheeled", out=tmp_path, workers=2)).summary
     assert s["surrogate"] is None and s["surrogate_agreement"] is None
-    assert s["sweep"]["ok"] == 3 * len(table2.rows())
-    plain = table2.run(Settings(quick=True, seeds=3, body="surrogate", out=tmp_path / "amosii", workers=2)).summary
+    assert len(s["environments"]) == 3 and all(set(table2.rows()) <= set(e) for e in s["environments"])
+    plain = compute(TABLE2, Settings(quick=True, seeds=3, body="surrogate", out=tmp_path / "amosii", workers=2)).summary
     rows = [[e[name]["path_length_m"] for name in s["counts"]] for e in s["environments"]]
     assert rows != [[e[name]["path_length_m"] for name in plain["counts"]] for e in plain["environments"]]
-
-
-def test_failed_runs_stored_before_the_classes_are_rerun_with_them() -> None:
-    from neurowalk.runners.specs import run_spec, spec_key
-
-    specs = [spec(e, "braitenberg", 300, "surrogate") for e in environments(3, 7)]
-    keys = [spec_key(s) for s in specs]
-    results = {keys[0]: {"trapped": True}, keys[1]: {"trapped": False}, keys[2]: run_spec(specs[2])}
-    table2._reclassify(results, specs, keys, workers=1)
-    assert results[keys[0]] == run_spec(specs[0]) and "wedged_periods" in results[keys[0]]  # the old one, rerun
-    assert results[keys[1]] == {"trapped": False}  # a success keeps its stored summary
-    assert results[keys[2]] == run_spec(specs[2])
 
 
 def test_held_up_asks_for_a_held_period_not_a_slow_turn() -> None:

@@ -20,6 +20,7 @@ ends with their sampled paths).
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -29,12 +30,13 @@ from matplotlib.ticker import PercentFormatter
 
 from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result, Settings
-from neurowalk.experiments.stores import run_store, store_path
+from neurowalk.experiments.stores import Kept, store_path
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.random_envs import (
     COVERAGE_CELL_M,
     DURATION_S,
     HELD_UP_RULE,
+    LATCH,
     RULE,
     check_rate,
     coverage_rule,
@@ -44,7 +46,7 @@ from neurowalk.experiments.suites.random_envs import (
     spec,
     wilson,
 )
-from neurowalk.experiments.suites.real_robot import run_store_paths, run_with_path
+from neurowalk.experiments.suites.real_robot import PATH
 from neurowalk.experiments.suites.timing import steps_for
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting.style import (
@@ -58,8 +60,7 @@ from neurowalk.plotting.style import (
     place_bar_counts,
     pyplot,
 )
-from neurowalk.runners.specs import spec_key
-from neurowalk.sim.config import UNTIL
+from neurowalk.sim.config import UNTIL, EpisodeConfig
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -95,7 +96,7 @@ def _slower(steps: int, opts: dict[str, float]) -> int:
 
 
 def plan(s: Settings) -> dict[str, Any]:
-    """What :func:`run` runs: ``n`` seeds per dead end, ``envs``, ``dead_steps`` and ``t2_steps`` (at the default body
+    """What :func:`runs` runs: ``n`` seeds per dead end, ``envs``, ``dead_steps`` and ``t2_steps`` (at the default body
     size), the durations in seconds, and the specs ``dead`` ((body, network, dead end, seed) -> spec) and ``table``
     ((body, network, environment seed) -> spec), every one at the control rate of ``s`` (10 Hz by default).
 
@@ -136,21 +137,27 @@ def plan(s: Settings) -> dict[str, Any]:
     }
 
 
-def run(s: Settings) -> Result:
-    """Dead-end escapes and Table 2 outcomes per body and network (see the module doc; the settings are
-    :class:`Settings`'s: ``seeds`` runs per dead end, default 10, and 5x as many Table 2 environments; with
-    ``quick`` 2 seeds and 3 environments of 100 s, dead ends of 60 s: a smoke test)."""
+def runs(s: Settings) -> Iterator[tuple]:
+    """Dead ends ``("dead", body, network, dead end)`` (each with its path, :data:`PATH`) and Table 2's runs
+    ``("table", body, network)`` on every body of :data:`BODIES`: ``seeds`` runs per dead end, default 10, and 5x as
+    many Table 2 environments; with ``quick`` 2 seeds and 3 environments of 100 s, dead ends of 60 s (a smoke
+    test). Every run at the control rate of ``s`` (10 Hz by default)."""
     p = plan(s)
-    n, envs, dead, table = p["n"], p["envs"], p["dead"], p["table"]
+    for (b, net, a, _), one in p["dead"].items():
+        yield ("dead", b, net, a), EpisodeConfig.from_spec(one), (PATH,)
+    for (b, net, _), one in p["table"].items():
+        yield ("table", b, net), EpisodeConfig.from_spec(one), (LATCH,)  # as Table 2's own runs keep them
+
+
+def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
+    """Dead-end escapes and Table 2 outcomes per body and network (see the module doc); the paths of seed 0."""
+    p = plan(s)
     threshold = coverage_threshold(p["table2_s"])
-    folder, workers = s.out or Path("out/bodies"), s.workers or 2
-    res = run_store_paths(list(dead.values()), folder, workers)  # the dead ends with their paths (drawn)
-    res.update(run_store(list(table.values()), folder, workers)[0])  # Table 2: outcomes only
     rows, paths = [], {}
     for b in BODIES:
         for net in NETWORKS:
-            escapes = {a: sum(res[spec_key(dead[(b, net, a, s)])]["escaped"] for s in range(n)) for a in DEAD_ENDS}
-            t2 = [res[spec_key(table[(b, net, e["seed"])])] for e in envs]
+            escapes = {a: sum(bool(r.escaped) for r in runs["dead", b, net, a]) for a in DEAD_ENDS}
+            t2 = [r.summary.to_dict() for r in runs["table", b, net]]
             ok = sum(not r["trapped"] for r in t2)
             cov = np.array([r["coverage"] for r in t2], dtype=float)
             ok_cov = int(np.sum(cov >= threshold))
@@ -160,7 +167,7 @@ def run(s: Settings) -> Result:
                     "body": b,
                     "network": net,
                     "dead_ends": escapes,
-                    "dead_end_runs": n,
+                    "dead_end_runs": p["n"],
                     "table2_success": ok,
                     "table2_failure": len(t2) - ok,
                     "table2_environments": len(t2),
@@ -176,7 +183,7 @@ def run(s: Settings) -> Result:
                 }
             )
             for a in DEAD_ENDS:
-                paths[f"{b}|{net}|{a}"] = np.array(res[spec_key(dead[(b, net, a, 0)])]["path"])
+                paths[f"{b}|{net}|{a}"] = np.array(runs["dead", b, net, a][0].kept["path"]["path"])
     summary = {
         "bodies": {b: {"body": body, "body_opts": opts} for b, (body, opts) in BODIES.items()},
         "networks": list(NETWORKS),
@@ -196,8 +203,7 @@ def run(s: Settings) -> Result:
         "coverage_threshold": threshold,
         "coverage_cell_m": COVERAGE_CELL_M,
         "held_up_rule": HELD_UP_RULE,
-        # where the runs are (shared stores: their files): the dead ends with their paths, then Table 2
-        "stores": [str(store_path(folder, "results.sqlite", fn)) for fn in (run_with_path, None)],
+        "store": str(store_path(Path(s.out or "out/bodies"))),  # where the runs are (a shared store: its file)
     }
     return Result("bodies", summary, arrays=paths)
 

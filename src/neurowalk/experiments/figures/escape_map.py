@@ -9,14 +9,14 @@ space (some wall always within reflex range) its weights stay grown and it keeps
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping
 from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.ticker import PercentFormatter
 
 from neurowalk.experiments import Result, Settings
-from neurowalk.experiments.stores import store_folder
-from neurowalk.experiments.suites.deadends import TRAP_STEPS, stored_runs
+from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.plotting.style import legend_outside, letter_panels, network_line, pyplot
 from neurowalk.sim.config import UNTIL
@@ -36,55 +36,46 @@ QUICK_SIZES = 2  # sizes per sweep with --quick (the smallest and the largest)
 QUICK_SEEDS = 1  # seeds per size with --quick (unless --seeds)
 
 
-def run(s: Settings) -> Result:
-    """Every sweep x network x size x seed: ``s.seeds`` seeds (default 5; 1 with ``quick``), with the settings it
-    takes (:data:`~neurowalk.experiments.FIGURES`): climbing, variant, gait, control_hz (each run keeps its
-    :data:`TRAP_STEPS` control steps), workers; its runs are kept in the resumable store ``s.out/results.sqlite``."""
-    quick, seed, climbing, n = s.quick, s.seed, s.climbing, s.n(full=5, quick=QUICK_SEEDS)
-    variant, gait, control_hz = s.variant or "paper", s.gait or "wave", s.control_hz or SIM_HZ
-    keys, configs = [], []
-    sweeps = {}
-    for label, (arena, opt, sizes) in SWEEPS.items():
-        if quick:
-            sizes = (sizes[0], sizes[-1])[:QUICK_SIZES]
-        sweeps[label] = {"arena": arena, "option": opt, "sizes": list(sizes)}
-        for size in sizes:
+def sizes(s: Settings) -> dict[str, dict]:
+    """Each sweep's arena, option and sizes (the smallest and largest with ``quick``)."""
+    return {
+        label: {"arena": arena, "option": opt, "sizes": list((sizes[0], sizes[-1])[:QUICK_SIZES] if s.quick else sizes)}
+        for label, (arena, opt, sizes) in SWEEPS.items()
+    }
+
+
+def runs(s: Settings) -> Iterator[tuple[tuple, EpisodeConfig]]:
+    """Every sweep x size x network x seed: ``s.seeds`` seeds (default 5; 1 with ``quick``), each run its
+    :data:`TRAP_STEPS` control steps at any rate, stopped once escaped."""
+    for label, sweep in sizes(s).items():
+        for size in sweep["sizes"]:
             for net in NETWORKS:
-                for i in range(seed, seed + n):
-                    keys.append((label, size, net))
-                    configs.append(
-                        EpisodeConfig(
-                            arena=arena,
-                            arena_opts={opt: size},
-                            controller=net,
-                            steps=TRAP_STEPS,
-                            until="escaped",
-                            seed=i,
-                            control_hz=control_hz,
-                            reflexes=climbing,
-                            backbone=climbing,
-                            variant=variant,
-                            gait=gait,
-                        )
-                    )
-    with store_folder(s.out) as folder:
-        results = stored_runs(configs, folder, "results.sqlite", s.workers or 2, True, "escape map", traces=False)
+                for i in range(s.seed, s.seed + s.n(full=5, quick=QUICK_SEEDS)):
+                    cfg = EpisodeConfig(arena=sweep["arena"], arena_opts={sweep["option"]: size}, controller=net,
+                                        steps=TRAP_STEPS, until="escaped", seed=i)  # fmt: skip
+                    yield (label, size, net), cfg
+
+
+def measure(s: Settings, runs: Mapping[tuple, list]) -> Result:
+    """Escaped runs out of runs, by sweep, network and size."""
     counts: dict = {}
-    for (label, size, net), r in zip(keys, results, strict=True):
-        c = counts.setdefault(label, {}).setdefault(net, {}).setdefault(str(size), {"runs": 0, "escaped": 0})
-        c["runs"] += 1
-        c["escaped"] += int(bool(r["escaped"]))
+    for (label, size, net), rs in runs.items():
+        counts.setdefault(label, {}).setdefault(net, {})[str(size)] = {
+            "runs": len(rs),
+            "escaped": sum(bool(r.escaped) for r in rs),
+        }
+    control_hz = s.control_hz or SIM_HZ
     summary = {
-        "seeds": n,
-        "first_seed": seed,
-        "climbing": climbing,
-        "variant": variant,
-        "gait": gait,
-        "quick": quick,
+        "seeds": s.n(full=5, quick=QUICK_SEEDS),
+        "first_seed": s.seed,
+        "climbing": s.climbing,
+        "variant": s.variant or "paper",
+        "gait": s.gait or "wave",
+        "quick": s.quick,
         "steps": TRAP_STEPS,
         "control_hz": control_hz,
         "seconds": TRAP_STEPS / control_hz,
-        "sweeps": sweeps,
+        "sweeps": sizes(s),
         "counts": counts,
         "rule": "escape rate = runs that reached the exit region behind the trap's mouth / runs",
         "stop_rule": UNTIL["escaped"] + "; a run that does not escape runs all its steps",

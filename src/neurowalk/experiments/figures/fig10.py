@@ -16,8 +16,8 @@ platform at 0:23 min, on the second at 1:14 min, with the controller at 27 Hz) b
 
 from __future__ import annotations
 
-from pathlib import Path
-from typing import TYPE_CHECKING
+from collections.abc import Iterator, Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.patches import Polygon
@@ -26,13 +26,12 @@ from neurowalk import anatomy
 from neurowalk.arenas import make_arena
 from neurowalk.body.physics import AmosII
 from neurowalk.experiments import Result, Settings
-from neurowalk.experiments.stores import run_store
+from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.climbing import (
+    FIRST_PLATFORM,
     TRACK_HEIGHTS,
     TRACK_RULE,
     TRACK_S,
-    first_platform_step,
-    run_track,
     track_spec,
     track_success,
 )
@@ -40,9 +39,7 @@ from neurowalk.experiments.suites.timing import SIM_HZ, quick_note, quick_second
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting.style import FONT, LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, time_colorbar
 from neurowalk.render import render_frames
-from neurowalk.runners.specs import spec_key
 from neurowalk.sim.config import EpisodeConfig
-from neurowalk.sim.episode import run_episode
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -51,6 +48,7 @@ if TYPE_CHECKING:
     from neurowalk.sim.episode import Episode
 
 MOMENTS: tuple[str, ...] = ("start", "first climb", "wall avoidance", "second climb")
+ARRAYS = ("t", "pose", "z", "bj_command", "bj_angle", "foot_contact", "outputs")  # the example's traces drawn
 MOMENT_COLOUR = "#D62728"  # the key moments' dashed lines and numbers
 QUICK_MAX_STEPS = 12_000  # control steps of a quick run at most (TRACK_S at 10 Hz; 444 s at 27 Hz)
 PAPER_FIRST_S = 23.0  # the real robot climbed onto the first platform at 0:17-0:23 min (paper §3, Fig. 10)
@@ -78,48 +76,14 @@ def key_moments(bj_command: np.ndarray, outputs: np.ndarray, lean: float = 0.26)
     return {"start": 0, "first climb": climb1, "wall avoidance": wall, "second climb": climb2}
 
 
-def run(s: Settings, *, steps: int | None = None) -> Result:
-    """The example run (step 0.06 m, seed ``seed``) and the outcome table over the seeds per step height (see the
-    module doc; the settings are :class:`Settings`'s). ``steps``: control steps per run (default
-    :data:`~neurowalk.experiments.suites.climbing.TRACK_S` s at the control rate, at most :data:`QUICK_MAX_STEPS`
-    with ``quick``)."""
-    control_hz, variant = s.control_hz or SIM_HZ, s.variant or "paper"
-    seconds = quick_seconds(TRACK_S, QUICK_MAX_STEPS, control_hz) if s.quick else TRACK_S
-    n, steps = s.n(10, 3), run_steps(steps, seconds, control_hz)
-
-    def spec(h: float, seed: int) -> dict:
-        return track_spec(h, seed, steps, variant=variant, control_hz=control_hz)
-
-    step = TRACK_HEIGHTS[0]
-    ep, moments, frames = _example(spec(step, s.seed))
+def keep_example(ep: Episode) -> dict[str, Any]:
+    """What the figure draws of the example run: t (T,) s, pose (T, 3), trunk z (T,) m, the backbone's command and
+    angle (T,) rad, foot contacts (T, 6), steering (T, 2), the :func:`key_moments` and the positions (4, nq) at
+    them (the last step for a moment that never happened)."""
     tr = ep.trajectory
-    heights = TRACK_HEIGHTS if control_hz == SIM_HZ else TRACK_HEIGHTS[:1]  # other rates: the real-robot comparison
-    specs = [spec(h, s.seed + k) for h in heights for k in range(n)]
-    results, _ = run_store(specs, s.out or Path("out/fig10"), s.workers or 2, fn=run_track, name="track.sqlite")
-    table = {
-        f"{h:.2f}": _height_row([results[spec_key(spec(h, s.seed + k))] for k in range(n)], h, s.seed, control_hz)
-        for h in heights
-    }
-    summary = {
-        "step_m": step,
-        "seed": s.seed,
-        "steps": steps,
-        "control_hz": float(control_hz),
-        "duration_s": steps / control_hz,
-        "quick_note": quick_note(TRACK_S, seconds, control_hz) if s.quick else None,
-        "variant": variant,
-        "rule": TRACK_RULE,
-        "moments": moments,
-        "moments_s": {m: _seconds(k, control_hz) for m, k in moments.items()},
-        "example": {
-            **{k: ep.summary[k] for k in ("exit_step", "max_z_m", "final_z_m", "final_pose")},
-            "first_platform_step": first_platform_step(tr.pose, step),
-        },
-        "table": table,
-        "arena": ep.arena.options,
-        "real_robot": _real_robot(table[f"{step:.2f}"]["runs"], n, step, steps, control_hz),
-    }
-    arrays = {
+    moments = key_moments(tr.targets[:, -1], tr.outputs)
+    rows = [moments[m] if moments[m] is not None else len(tr.qpos) - 1 for m in MOMENTS]
+    return {
         "t": tr.t,
         "pose": tr.pose,
         "z": tr.qpos[:, 2],
@@ -127,25 +91,83 @@ def run(s: Settings, *, steps: int | None = None) -> Result:
         "bj_angle": tr.joint_angles[:, -1],
         "foot_contact": tr.foot_contact,
         "outputs": tr.outputs,
-        "frames": frames,
+        "moments": moments,
+        "moment_qpos": tr.qpos[rows],
     }
-    return Result("fig10", summary, arrays)
+
+
+EXAMPLE = Term("fig10 example", keep_example, arrays={k: "float64" for k in (*ARRAYS, "moment_qpos")})
+
+
+def _steps(s: Settings) -> int:
+    """Control steps per run: :data:`~neurowalk.experiments.suites.climbing.TRACK_S` s at the control rate, at most
+    :data:`QUICK_MAX_STEPS` with ``quick``."""
+    control_hz = s.control_hz or SIM_HZ
+    return run_steps(None, quick_seconds(TRACK_S, QUICK_MAX_STEPS, control_hz) if s.quick else TRACK_S, control_hz)
+
+
+def _heights(s: Settings) -> tuple[float, ...]:
+    """The step heights of the table: the first only away from the simulator's rate (the real-robot comparison)."""
+    return TRACK_HEIGHTS if (s.control_hz or SIM_HZ) == SIM_HZ else TRACK_HEIGHTS[:1]
+
+
+def runs(s: Settings) -> Iterator[tuple]:
+    """The outcome table's runs over the seeds per step height (``(height)``), the first of step 0.06 m (seed
+    ``seed``) the example, kept in full."""
+    for h in _heights(s):
+        for k in range(s.n(10, 3)):
+            first = h == TRACK_HEIGHTS[0] and k == 0
+            cfg = EpisodeConfig.from_spec(track_spec(h, s.seed + k, _steps(s), control_hz=s.control_hz or SIM_HZ))
+            yield h, cfg, (FIRST_PLATFORM, EXAMPLE) if first else (FIRST_PLATFORM,)
+
+
+def measure(s: Settings, runs: Mapping[float, Sequence[Kept]]) -> Result:
+    """The example run (step 0.06 m, seed ``seed``): its key moments and their snapshots; the outcome table (see the
+    module doc)."""
+    control_hz, steps, n = s.control_hz or SIM_HZ, _steps(s), s.n(10, 3)
+    seconds = steps / control_hz
+    step = TRACK_HEIGHTS[0]
+    ex = runs[step][0]
+    kept = ex.kept["fig10 example"]
+    moments = kept["moments"]
+    arena = make_arena("climbing-track", step=step)
+    frames = render_frames(AmosII(arena).model, kept["moment_qpos"], distance=1.4, elevation=-50.0, centred=True)
+    table = {f"{h:.2f}": _height_row([_track_row(r) for r in runs[h]], h, s.seed, control_hz) for h in _heights(s)}
+    summary = {
+        "step_m": step,
+        "seed": s.seed,
+        "steps": steps,
+        "control_hz": float(control_hz),
+        "duration_s": seconds,
+        "quick_note": quick_note(TRACK_S, seconds, control_hz) if s.quick else None,
+        "variant": s.variant or "paper",
+        "rule": TRACK_RULE,
+        "moments": moments,
+        "moments_s": {m: _seconds(k, control_hz) for m, k in moments.items()},
+        "example": {
+            **{k: _json(getattr(ex, k)) for k in ("exit_step", "max_z_m", "final_z_m", "final_pose")},
+            "first_platform_step": ex.kept["first_platform"]["first_platform_step"],
+        },
+        "table": table,
+        "arena": arena.options,
+        "real_robot": _real_robot(table[f"{step:.2f}"]["runs"], n, step, steps, control_hz),
+    }
+    return Result("fig10", summary, {**{k: kept[k] for k in ARRAYS}, "frames": frames})
+
+
+def _json(v: Any) -> Any:
+    """A summary's value as JSON has it (tuples as lists)."""
+    return list(v) if isinstance(v, tuple) else v
+
+
+def _track_row(r: Kept) -> dict[str, Any]:
+    """A track run's summary (a dict) with its ``first_platform_step``."""
+    return {**r.summary.to_dict(), **r.kept["first_platform"]}
 
 
 def _seconds(k: int | None, control_hz: float) -> float | None:
     """Time (s) of control step ``k`` at ``control_hz`` Hz (None: it never happened)."""
     return None if k is None else k / control_hz
-
-
-def _example(spec: dict) -> tuple[Episode, dict[str, int | None], np.ndarray]:
-    """The example run of ``spec`` in full, its :func:`key_moments` and their snapshots (4, H, W, 3; the last step
-    for a moment that never happened)."""
-    ep = run_episode(EpisodeConfig.from_spec(spec), progress=True)
-    tr = ep.trajectory
-    moments = key_moments(tr.targets[:, -1], tr.outputs)
-    rows = [moments[m] if moments[m] is not None else len(tr.qpos) - 1 for m in MOMENTS]
-    model = AmosII(ep.arena).model
-    return ep, moments, render_frames(model, tr.qpos[rows], distance=1.4, elevation=-50.0, centred=True)
 
 
 def _height_row(runs: list[dict], h: float, seed: int, control_hz: float) -> dict:

@@ -15,17 +15,19 @@ B. Changing inputs, recorded in a simulated environment as in the paper: the ult
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.neural.plasticity import fixed_point
 from neurowalk.neural.sensory import SensoryParams, simulate
 from neurowalk.neural.variants import get_variant
 from neurowalk.plotting.style import FONT, LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, weight_style
-from neurowalk.sim.episode import EpisodeConfig, run_episode
+from neurowalk.sim.episode import Episode, EpisodeConfig
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -62,15 +64,34 @@ def reflex_episodes(inputs: np.ndarray, distance: np.ndarray, t: np.ndarray, thr
     return out
 
 
-def run(s: Settings) -> Result:
-    """Compute both panels: panel B's physics run lasts :data:`PANEL_B_STEPS` control steps (quick:
-    :data:`QUICK_B_STEPS`); the network is Eq. 1-6 unless ``s.variant``/``s.params``; the settings: :class:`Settings`.
-    """
+def keep_panel_b(ep: Episode) -> dict[str, Any]:
+    """What panel B takes of its physics run: t (T,) s, inputs, b, q (T, 2) and its reflex episodes
+    (:func:`reflex_episodes`, at the run's network's reflex threshold)."""
+    tr = ep.trajectory
+    threshold = get_variant(ep.config.variant, ep.config.params).sensory.reflex_threshold
+    episodes = reflex_episodes(tr.inputs, tr.us_distance, tr.t, threshold)
+    return {"t": tr.t, "inputs": tr.inputs, "b": tr.b, "q": tr.q, "episodes": episodes}
+
+
+PANEL_B = Term("fig4 panel B", keep_panel_b, arrays=dict.fromkeys(("t", "inputs", "b", "q"), "float64"))
+
+
+def runs(s: Settings) -> Iterator[tuple[str, EpisodeConfig, tuple[Term, ...]]]:
+    """Panel B's physics run: :data:`PANEL_B_STEPS` control steps (quick: :data:`QUICK_B_STEPS`) of the plastic
+    network from :data:`PAPER_START` (Eq. 1-6 unless ``s.variant``/``s.params``)."""
+    steps = QUICK_B_STEPS if s.quick else PANEL_B_STEPS
+    cfg = EpisodeConfig(arena=PANEL_B_ARENA, controller="plastic", steps=steps, seed=s.seed, b0=PAPER_START[0],
+                        q0=PAPER_START[1])  # fmt: skip
+    yield "B", cfg, (PANEL_B,)
+
+
+def measure(s: Settings, runs: Mapping[str, Sequence[Kept]]) -> Result:
+    """Both panels: A the network alone (no run), B the inputs of panel B's run replayed through the network."""
     p = get_variant(s.variant or "paper", s.params).sensory
     b_star = fixed_point(p.mu_b, p.gamma_b, p.k)
     q_star = fixed_point(p.mu_q, p.gamma_q, p.k)
     panel_a, arrays_a = _panel_a(p, b_star, q_star)
-    panel_b, arrays_b = _panel_b(p, s)
+    panel_b, arrays_b = _panel_b(p, s, runs["B"][0])
     summary = {
         "fixed_points": {"b": b_star, "q": q_star, "rule": "sqrt(mu/(gamma*(1-k)))"},
         "panel_a": panel_a,
@@ -114,20 +135,17 @@ def _panel_a(p: SensoryParams, b_star: float, q_star: float) -> tuple[dict[str, 
     return summary, arrays
 
 
-def _panel_b(p: SensoryParams, s: Settings) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+def _panel_b(p: SensoryParams, s: Settings, run: Kept) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
     """Panel B: the inputs of a physics run of AMOSII (the network ``p``, as ``s`` names it, at its seed and control
     rate) replayed through ``p`` from :data:`PAPER_START`; its reflex episodes and the weights' growth and decay per
     step; arrays ``b_t`` (T,) s and ``b_inputs``, ``b_outputs``, ``b_b``, ``b_q`` (T, 2)."""
     steps_b, seed, control_hz = QUICK_B_STEPS if s.quick else PANEL_B_STEPS, s.seed, s.control_hz or SIM_HZ
-    cfg = EpisodeConfig(arena=PANEL_B_ARENA, controller="plastic", steps=steps_b, seed=seed, control_hz=control_hz,
-                        b0=PAPER_START[0], q0=PAPER_START[1], variant=s.variant or "paper",
-                        params=s.params)  # fmt: skip
-    rec = run_episode(cfg).trajectory
-    inputs = rec.inputs
+    rec = run.kept["fig4 panel B"]
+    inputs = rec["inputs"]
     tr = simulate(inputs, b0=PAPER_START[0], q0=PAPER_START[1], params=p)
-    replay_diff = float(max(np.abs(tr.b - rec.b).max(), np.abs(tr.q - rec.q).max()))
-    episodes = reflex_episodes(inputs, rec.us_distance, rec.t, p.reflex_threshold)
-    arrays = {"b_t": rec.t, "b_inputs": inputs, "b_outputs": tr.outputs, "b_b": tr.b, "b_q": tr.q}
+    replay_diff = float(max(np.abs(tr.b - rec["b"]).max(), np.abs(tr.q - rec["q"]).max()))
+    episodes = rec["episodes"]
+    arrays = {"b_t": rec["t"], "b_inputs": inputs, "b_outputs": tr.outputs, "b_b": tr.b, "b_q": tr.q}
     reflex = inputs > p.reflex_threshold
     db = np.diff(np.vstack([[PAPER_START[0]] * 2, tr.b]), axis=0)
     growth = float(np.mean(db[reflex][db[reflex] > 0])) if np.any(db[reflex] > 0) else 0.0
@@ -135,8 +153,8 @@ def _panel_b(p: SensoryParams, s: Settings) -> tuple[dict[str, Any], dict[str, n
     summary = {
         "source": "ultrasonic inputs recorded in a physics run, replayed offline through the plastic network",
         "arena": PANEL_B_ARENA,
-        "body": cfg.body,
-        "controller": cfg.controller,
+        "body": run.body,
+        "controller": run.controller,
         "steps": steps_b,
         "seed": seed,
         "control_hz": float(control_hz),

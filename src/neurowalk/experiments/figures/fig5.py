@@ -20,12 +20,14 @@ from zero (as in the paper's exploration experiment) and from b = 2.4, q = 3.5 (
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Iterator, Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from neurowalk.experiments import Result, Settings
-from neurowalk.experiments.suites.deadends import build
+from neurowalk.experiments.stores import Kept
+from neurowalk.experiments.suites import deadends
 from neurowalk.experiments.suites.deadends_plot import plot as draw
 from neurowalk.experiments.suites.long_runs import WEDGED_LONG_S, control_steps_of
 
@@ -53,11 +55,15 @@ PANELS = {
 WEIGHTS = ("b1", "b2", "c1", "c2")  # G: b (self) and c = -q (inhibition) of the left and right neuron
 
 
-def run(s: Settings) -> Result:
-    """Outcome table over ``s.seeds`` seeds (default 10; 1 with ``quick``), example and long runs, with the settings
-    it takes (:data:`~neurowalk.experiments.FIGURES`): climbing, variant, gait, engine, control_hz (the runs keep
-    their control steps; seconds follow the rate); its runs are kept in resumable stores in ``s.out``."""
-    res = build(NAME, NETWORK, LONG, s, long_steps=LONG_STEPS, paper_time_steps=PAPER_TIME_STEPS)
+def runs(s: Settings) -> Iterator[tuple]:
+    """The outcome table over ``s.seeds`` seeds (default 10; 1 with ``quick``), the example and the long runs
+    (:func:`~neurowalk.experiments.suites.deadends.runs`)."""
+    return deadends.runs(s, NETWORK, LONG, LONG_STEPS)
+
+
+def measure(s: Settings, runs: Mapping[Any, Sequence[Kept]]) -> Result:
+    """The outcome table, the traces, the long runs' coverage and wedged periods, the difficult arena compared."""
+    res = deadends.measure(NAME, NETWORK, LONG, s, runs, long_steps=LONG_STEPS, paper_time_steps=PAPER_TIME_STEPS)
     summary = res.summary
     summary["panels"] = PANELS
     runs, wedged = summary["runs"], summary["wedged"]

@@ -10,6 +10,7 @@ and Table 2's coverage rule.
 from __future__ import annotations
 
 from collections import Counter
+from collections.abc import Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -17,7 +18,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from neurowalk.experiments import Result, Settings
-from neurowalk.experiments.stores import run_store, store_folder
+from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites import confinement
 from neurowalk.experiments.suites.random_envs import (
     COVERAGE_CELL_M,
@@ -36,10 +37,12 @@ from neurowalk.experiments.suites.random_envs import (
 from neurowalk.experiments.suites.timing import steps_for
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting.style import FONT, OUTCOME_COLOURS, pyplot, time_colorbar
-from neurowalk.runners.specs import episode_of, result_of, spec_key
+from neurowalk.sim.config import EpisodeConfig
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
+
+    from neurowalk.sim.episode import Episode
 
 #: Frame colour of each class (the paper's red, green and blue squares; a plain success unframed).
 COLOURS = {
@@ -55,11 +58,12 @@ def pose_stride(control_hz: float) -> int:
     return max(1, round(control_hz))
 
 
-def path_of(spec_: dict[str, Any]) -> dict[str, Any]:
-    """The stored result of one run: its summary and its pose every second of simulated time (a list)."""
-    ep = episode_of(spec_)  # a half run is not a result
-    stride = pose_stride(float(spec_.get("control_hz", 10.0)))
-    return {"summary": result_of(ep), "pose": ep.trajectory.pose[::stride].tolist()}
+def keep_pose(ep: Episode) -> dict[str, Any]:
+    """A run's pose (n, 3: x m, y m, yaw rad) every second of simulated time (:func:`pose_stride`)."""
+    return {"pose": ep.trajectory.pose[:: pose_stride(ep.config.control_hz)]}
+
+
+POSE = Term("pose", keep_pose, arrays={"pose": "float64"})
 
 
 def specs(s: Settings) -> list[dict[str, Any]]:
@@ -71,37 +75,35 @@ def specs(s: Settings) -> list[dict[str, Any]]:
                  control_hz=hz) for e in environments(16, s.seed)]  # fmt: skip
 
 
-def run(s: Settings) -> Result:
-    """The plastic network (Eq. 1-6 unless ``s.variant``) in the first 16 environments of Table 2 (same seeds), whole
-    paths, through a resumable store in ``s.out``; the settings: :class:`Settings`. Every run lasts the same
-    simulated time (2000 s, quick 500 s) whatever the control rate."""
-    run_specs = specs(s)
-    envs, hz = environments(16, s.seed), s.control_hz or 10.0
+def runs(s: Settings) -> Iterator[tuple[int, EpisodeConfig, tuple[Term, ...]]]:
+    """The plastic network (Eq. 1-6 unless ``s.variant``) in the first 16 environments of Table 2 (same seeds), each
+    with its pose every second; every run lasts the same simulated time (2000 s, quick 500 s) whatever the control
+    rate."""
+    for i, one in enumerate(specs(s)):
+        yield i, EpisodeConfig.from_spec(one), (POSE,)
+
+
+def measure(s: Settings, runs: Mapping[int, Sequence[Kept]]) -> Result:
+    """Each environment's outcome, coverage and the confined spaces it met (:mod:`.confinement`)."""
+    run_specs, envs, hz = specs(s), environments(16, s.seed), s.control_hz or 10.0
     duration = QUICK_DURATION_S if s.quick else DURATION_S
     threshold = coverage_threshold(duration)
     stride = pose_stride(hz)
-    with store_folder(s.out) as folder:
-        stored, _ = run_store(run_specs, folder, s.workers or 2, fn=path_of)
-    if any("pose" not in r for r in stored.values()):
-        raise RuntimeError(
-            f"{folder / 'results.sqlite'} holds other runs than fig6's (another figure's or sweep's "
-            "store); use a fresh output folder"
-        )
-    runs = [{**stored[spec_key(x)], "pose": np.asarray(stored[spec_key(x)]["pose"], dtype=float)} for x in run_specs]
-    arrays = {f"env{i}/pose": r["pose"] for i, r in enumerate(runs)}
+    arrays = {f"env{i}/pose": runs[i][0].kept["pose"]["pose"] for i in range(len(envs))}
     end_rows = round(STUCK_S * hz / stride)  # the kept poses of the last 300 s
     rows = []
-    for e, one, r in zip(envs, run_specs, runs, strict=True):
-        success = not r["summary"]["trapped"]
-        faced = confinement.classify(arena_of(one), r["pose"], success, end_rows=end_rows)
+    for i, (e, one) in enumerate(zip(envs, run_specs, strict=True)):
+        r = runs[i][0]
+        success = not r.trapped
+        faced = confinement.classify(arena_of(one), arrays[f"env{i}/pose"], success, end_rows=end_rows)
         rows.append(
             {
                 **e,
                 "success": success,
                 "outcome": faced.pop("class"),
-                "coverage": r["summary"]["coverage"],
-                "success_coverage": r["summary"]["coverage"] >= threshold,
-                "final_pose": r["summary"]["final_pose"],
+                "coverage": r.coverage,
+                "success_coverage": r.coverage >= threshold,
+                "final_pose": list(r.final_pose),
                 **faced,
             }
         )

@@ -14,7 +14,8 @@ as fast in seconds, and so are the speed and turning rate.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Iterator, Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.lines import Line2D
@@ -22,10 +23,11 @@ from matplotlib.patches import Patch
 
 from neurowalk import anatomy, gait
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.neural.cpg import period
 from neurowalk.plotting.style import FONT, LINE, letter_panels, pyplot
-from neurowalk.sim.episode import EpisodeConfig, run_episode
+from neurowalk.sim.episode import Episode, EpisodeConfig
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -41,12 +43,24 @@ def measured_swing(angles: np.ndarray) -> np.ndarray:
     return gait.swing_mask_hysteresis(angles)
 
 
-def run(s: Settings) -> Result:
-    """Run the four conditions (1000 control steps each; quick: 600); the settings: :class:`Settings`.
+def keep_gait(ep: Episode) -> dict[str, Any]:
+    """A constant-steer run's joint angles (T - :data:`WARMUP`, 19) rad and pose (T - :data:`WARMUP`, 3) after the
+    warm-up."""
+    return {"angles": ep.trajectory.joint_angles[WARMUP:], "pose": ep.trajectory.pose[WARMUP:]}
 
-    Gait numbers, speed (m/s) and turning rate (deg/s) are measured over rows :data:`WARMUP` to the last of each
-    run (the ``window`` of the json).
-    """
+
+GAIT = Term("gait", keep_gait, arrays={"angles": "float64", "pose": "float64"})
+
+
+def runs(s: Settings) -> Iterator[tuple[str, EpisodeConfig, tuple[Term, ...]]]:
+    """The four conditions (constant steering), 1000 control steps each (quick: 600)."""
+    for name, steer in CONDITIONS.items():
+        yield name, EpisodeConfig(controller="fixed", steer=steer, steps=600 if s.quick else 1000, seed=s.seed), (GAIT,)
+
+
+def measure(s: Settings, runs: Mapping[str, Sequence[Kept]]) -> Result:
+    """Gait numbers, speed (m/s) and turning rate (deg/s) over rows :data:`WARMUP` to the last of each run (the
+    ``window`` of the json)."""
     steps, seed, control_hz = 600 if s.quick else 1000, s.seed, s.control_hz or SIM_HZ
     duration = (steps - 1 - WARMUP) / control_hz  # s from the window's first row to its last
     window = {
@@ -69,12 +83,11 @@ def run(s: Settings) -> Result:
     }
     arrays: dict[str, np.ndarray] = {}
     for i, (name, steer) in enumerate(CONDITIONS.items()):
-        ep = run_episode(EpisodeConfig(controller="fixed", steer=steer, steps=steps, seed=seed, control_hz=control_hz))
-        tr, done = ep.trajectory, ep.summary
-        angles = tr.joint_angles[WARMUP:]
+        run = runs[name][0]
+        done = run.summary.to_dict()
+        angles, pose = run.kept["gait"]["angles"], run.kept["gait"]["pose"]
         swing = measured_swing(angles)
         ctr3 = angles[:, anatomy.CTR_INDICES[2]]
-        pose = tr.pose[WARMUP:]
         fwd = (pose[-1, :2] - pose[0, :2]) @ np.array([np.cos(pose[0, 2]), np.sin(pose[0, 2])])
         yaw = np.unwrap(pose[:, 2])
         summary["conditions"][name] = {

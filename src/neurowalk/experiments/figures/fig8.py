@@ -16,28 +16,31 @@ top view of every seed's path per network with the escape count, and the example
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.suites.real_robot import (
+    EXAMPLE,
     N_SNAPSHOTS,
     NETWORKS,
+    PATH,
     arena_geometry,
+    config,
     draw_paths,
     draw_strip,
     draw_traces,
-    example_runs,
-    make_spec,
+    example_of,
     network_arrays,
     run_record,
-    run_store_paths,
+    with_path,
     write_videos,
 )
 from neurowalk.experiments.suites.timing import SIM_HZ, real_robot_entry, run_steps
 from neurowalk.plotting.style import letter, pyplot
-from neurowalk.runners.specs import spec_key
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -54,25 +57,26 @@ RULE = (
 )
 
 
-def run(s: Settings, *, steps: int | None = None) -> Result:
-    """Each network's escapes over its seeds, the example seed ``seed`` in full (see the module doc; the settings
-    are :class:`Settings`'s). ``steps``: control steps per run (default :data:`RUN_S` s at the control rate)."""
+def runs(s: Settings) -> Iterator[tuple]:
+    """Each network's ``s.seeds`` seeds (10; quick: 3) from ``s.seed``, each with its path, the first one (the
+    example) in full; :data:`RUN_S` s each at the control rate."""
+    steps = run_steps(None, QUICK_S if s.quick else RUN_S, s.control_hz or SIM_HZ)
+    for net in NETWORKS:
+        for k in range(s.n(10, 3)):
+            yield net, config(ARENA, {}, net, s.seed + k, steps), (PATH, EXAMPLE) if k == 0 else (PATH,)
+
+
+def measure(s: Settings, runs: Mapping[str, Sequence[Kept]]) -> Result:
+    """Each network's escapes over its seeds, the example seed ``seed`` in full (see the module doc)."""
     control_hz = s.control_hz or SIM_HZ
-    n, steps = s.n(10, 3), run_steps(steps, QUICK_S if s.quick else RUN_S, control_hz)
-    folder = s.out or Path("out") / NAME
-
-    def spec(net: str, seed: int) -> dict[str, Any]:
-        return make_spec(s, ARENA, {}, net, seed, steps)
-
-    specs = [spec(net, s.seed + k) for net in NETWORKS for k in range(n)]
-    results = run_store_paths(specs, folder, s.workers or 2)
-    examples = example_runs({net: spec(net, s.seed) for net in NETWORKS}, s.workers or 2)
+    n, steps = s.n(10, 3), run_steps(None, QUICK_S if s.quick else RUN_S, control_hz)
+    examples = {net: example_of(runs[net][0]) for net in NETWORKS}
     arena = make_arena(ARENA)
     counts, arrays = {}, {}
     for net in NETWORKS:
-        runs = [results[spec_key(spec(net, s.seed + k))] for k in range(n)]
-        counts[net] = _counts(runs, s.seed)
-        arrays.update(network_arrays(net, runs, examples[net], arena, examples[net]["summary"]["exit_step"]))
+        paths = with_path(runs[net])
+        counts[net] = _counts(paths, s.seed)
+        arrays.update(network_arrays(net, paths, examples[net], arena, examples[net]["summary"]["exit_step"]))
     keys = ("seed", "escaped", "exit_step", "trapped", "direction_switches", "final_weights")
     summary = {
         **run_record(s, arena, arena_geometry(arena), seeds=n, steps=steps, rule=RULE),
@@ -83,7 +87,7 @@ def run(s: Settings, *, steps: int | None = None) -> Result:
         "real_robot": _real_robot(counts, n, steps, control_hz),
     }
     if s.video:
-        summary["videos"] = write_videos(NAME, arena, examples, folder)
+        summary["videos"] = write_videos(NAME, arena, examples, Path(s.out or Path("out") / NAME))
     return Result(NAME, summary, arrays)
 
 

@@ -19,6 +19,7 @@ top view of every seed's path, the outcome map of each network, and the example 
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -29,25 +30,27 @@ from neurowalk.arenas.deadlocks import EXIT_MARGIN, WALL
 from neurowalk.arenas.generated import MOUTH, OPENING
 from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.reproduce import judge_robot
+from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.suites.real_robot import (
+    EXAMPLE,
     N_SNAPSHOTS,
     NETWORKS,
+    PATH,
     PATH_EVERY_S,
     arena_geometry,
+    config,
     draw_paths,
     draw_strip,
     draw_traces,
-    example_runs,
-    make_spec,
+    example_of,
     network_arrays,
     path_every,
     run_record,
-    run_store_paths,
+    with_path,
     write_videos,
 )
 from neurowalk.experiments.suites.timing import SIM_HZ, real_robot_entry, run_steps
 from neurowalk.plotting.style import FONT, colorbar, letter, pyplot
-from neurowalk.runners.specs import spec_key
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -107,26 +110,36 @@ def _cell(width_f: float, spacing_f: float) -> dict[str, float]:
     return {"width": round(d["width"] * width_f, 6), "spacing": round(d["spacing"] * spacing_f, 6)}
 
 
-def run(s: Settings, *, steps: int | None = None) -> Result:
-    """Each network's outcomes over its seeds in each geometry, the example seed ``seed`` in full (see the module doc;
-    the settings are :class:`Settings`'s). ``steps``: control steps per run (default :data:`PATH_S` s at the control
-    rate)."""
+def _cells(s: Settings) -> list[tuple[float, float]]:
+    """The outcome map's (width, spacing) factors: :data:`FACTORS` squared, the default geometry only with
+    ``quick`` or away from the simulator's rate."""
+    factors = FACTORS if not s.quick and (s.control_hz or SIM_HZ) == SIM_HZ else (1.0,)
+    return [(fw, fs) for fw in factors for fs in factors]
+
+
+def runs(s: Settings) -> Iterator[tuple]:
+    """Each network's ``s.seeds`` seeds (10; quick: 3) from ``s.seed`` in the default geometry, then in each cell of
+    the outcome map (labelled ``(network, cell)``), each with its path, the first one (the example) in full;
+    :data:`PATH_S` s each at the control rate."""
+    steps = run_steps(None, QUICK_S if s.quick else PATH_S, s.control_hz or SIM_HZ)
+    for c in dict.fromkeys([(1.0, 1.0), *_cells(s)]):  # first the default geometry, then the map's other cells
+        for net in NETWORKS:
+            for k in range(s.n(10, 3)):
+                first = k == 0 and c == (1.0, 1.0)
+                yield (net, c), config(ARENA, _cell(*c), net, s.seed + k, steps), (PATH, EXAMPLE) if first else (PATH,)
+
+
+def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
+    """Each network's outcomes over its seeds in each geometry, the example seed ``seed`` in full (see the module
+    doc)."""
     control_hz = s.control_hz or SIM_HZ
-    n, steps = s.n(10, 3), run_steps(steps, QUICK_S if s.quick else PATH_S, control_hz)
-    folder = s.out or Path("out") / NAME
-    factors = FACTORS if not s.quick and control_hz == SIM_HZ else (1.0,)  # the map at the simulator's rate only
-    cells = [(fw, fs) for fw in factors for fs in factors]
-
-    def spec(net: str, seed: int, cell: tuple[float, float] = (1.0, 1.0)) -> dict[str, Any]:
-        return make_spec(s, ARENA, _cell(*cell), net, seed, steps)
-
-    # first the default geometry, then the map's cells
-    specs = [spec(net, s.seed + k, c) for c in [(1.0, 1.0), *cells] for net in NETWORKS for k in range(n)]
-    results = run_store_paths(specs, folder, s.workers or 2)
-    examples = example_runs({net: spec(net, s.seed) for net in NETWORKS}, s.workers or 2)
+    n, steps = s.n(10, 3), run_steps(None, QUICK_S if s.quick else PATH_S, control_hz)
+    cells = _cells(s)
+    factors = sorted({c[0] for c in cells})
+    examples = {net: example_of(runs[net, (1.0, 1.0)][0]) for net in NETWORKS}
 
     def stored(net: str, cell: tuple[float, float] = (1.0, 1.0)) -> list[dict[str, Any]]:
-        return [results[spec_key(spec(net, s.seed + k, cell))] for k in range(n)]
+        return with_path(runs[net, cell])
 
     arena = make_arena(ARENA)
     every = path_every(control_hz)
@@ -145,7 +158,7 @@ def run(s: Settings, *, steps: int | None = None) -> Result:
         "real_robot": _real_robot(counts, n, steps, control_hz),
     }
     if s.video:
-        summary["videos"] = write_videos(NAME, arena, examples, folder)
+        summary["videos"] = write_videos(NAME, arena, examples, Path(s.out or Path("out") / NAME))
     return Result(NAME, summary, arrays)
 
 

@@ -5,25 +5,24 @@ A neuron that is on (O ≈ 1) while its partner is off (O ≈ -1) keeps itself o
 (tanh saturation aside; facts §3.4: b ≥ 3, c ≥ 4 never switch off without decay). In a pocket between a
 box and a wall the turn grows these weights with every echo, the turn never switches off, and the
 robot spins in place: the body is never blocked. This figure finds the first Table 2 environments whose
-plastic run ends in a latched spin (the Table 2 failure rule) on the surrogate, reruns them with their
-trajectories, and draws the path in the pocket, the steering, and b_on + mean q against 4.7.
+plastic run ends in a latched spin (the Table 2 failure rule) on the surrogate, with their kept traces, and
+draws the path in the pocket, the steering, and b_on + mean q against 4.7.
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result, Settings
-from neurowalk.experiments.stores import run_store, store_folder
-from neurowalk.experiments.suites.random_envs import STEPS, environments, failure_class, spec
-from neurowalk.metrics import turn_state
+from neurowalk.experiments.stores import Kept, Term
+from neurowalk.experiments.suites.random_envs import LATCH, STEPS, STRIDE, environments, failure_class, spec
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting.style import LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, time_colorbar
-from neurowalk.runners.specs import spec_key
-from neurowalk.sim.episode import EpisodeConfig, run_episode, seeds
+from neurowalk.sim.episode import EpisodeConfig, seeds
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -33,60 +32,50 @@ SHOWN = 2  # environments drawn
 SEARCHED = 200  # environments searched for latched spins
 
 
-def run(s: Settings) -> Result:
-    """Search the first :data:`SEARCHED` Table 2 environments (quick: 40) for latched spins of the plastic network
-    (Eq. 1-6 unless ``s.variant``) through a resumable store in ``s.out``; keep two. The settings: :class:`Settings`.
-    """
-    variant = s.variant or "paper"
-    envs = environments(40 if s.quick else SEARCHED, s.seed)
-    specs = [spec(e, "plastic", STEPS, "surrogate", variant=variant, params=s.params) for e in envs]
-    with store_folder(s.out) as folder:
-        stored, _ = run_store(specs, folder, s.workers or 2)
-    summaries = [stored[spec_key(x)] for x in specs]
-    cfgs = [EpisodeConfig.from_spec(x) for x in specs]
-    classes = [failure_class(x) for x in summaries]
+def runs(s: Settings) -> Iterator[tuple[int, EpisodeConfig, tuple[Term, ...]]]:
+    """The plastic network (Eq. 1-6 unless ``s.variant``) in the first :data:`SEARCHED` Table 2 environments
+    (quick: 40) on the surrogate, a latched spin kept with its traces."""
+    for i, e in enumerate(_envs(s)):
+        yield i, EpisodeConfig.from_spec(spec(e, "plastic", STEPS, "surrogate")), (LATCH,)
+
+
+def measure(s: Settings, runs: Mapping[int, Sequence[Kept]]) -> Result:
+    """The failures' classes over the environments searched, and the first :data:`SHOWN` latched spins."""
+    envs = _envs(s)
+    classes = [failure_class(runs[i][0].summary.to_dict()) for i in range(len(envs))]
     chosen = [i for i, c in enumerate(classes) if c == "latched spin"][:SHOWN]
     arrays: dict[str, np.ndarray] = {}
     shown = []
     for k, i in enumerate(chosen):
-        ep = run_episode(cfgs[i])
-        tr = ep.trajectory
-        on = np.where(tr.outputs[:, 0:1] > tr.outputs[:, 1:2], tr.b[:, 0:1], tr.b[:, 1:2])[:, 0]
-        arrays[f"env{k}/pose"] = tr.pose[::5].copy()
-        arrays[f"env{k}/outputs"] = tr.outputs[::5].copy()
-        arrays[f"env{k}/latch"] = (on + tr.q.mean(axis=1))[::5].copy()
-        start = _latch_start(tr.outputs)
+        r = runs[i][0]
+        latch = r.kept["latch"]
+        arrays.update({f"env{k}/{key}": latch[key] for key in ("pose", "outputs", "latch")})
         shown.append(
             {
                 **envs[i],
-                "latched_from_step": start,
-                "final_weights": ep.summary["final_weights"],
-                "end_turn_share": ep.summary["end_turn_share"],
+                "latched_from_step": latch["latched_from_step"],
+                "final_weights": r.summary.to_dict()["final_weights"],
+                "end_turn_share": r.end_turn_share,
             }
         )
     counts = {c: classes.count(c) for c in ("latched spin", "wedged", "other")}
     summary = {
-        "variant": variant,
+        "variant": s.variant or "paper",
         "params": s.params,
         "steps": STEPS,
         "seed": s.seed,
         "searched": len(envs),
         "failures": counts,
         "shown": shown,
-        "stride": 5,
+        "stride": STRIDE,
         "threshold": THRESHOLD,
     }
     return Result("latched-spin", summary, arrays)
 
 
-def _latch_start(outputs: np.ndarray) -> int:
-    """First step of the final unbroken run of one turn direction (the latch)."""
-    s = turn_state(outputs)
-    last = s[-1]
-    k = len(s) - 1
-    while k > 0 and s[k - 1] == last:
-        k -= 1
-    return int(k)
+def _envs(s: Settings) -> list[dict[str, Any]]:
+    """The environments searched: the first :data:`SEARCHED` of Table 2 (quick: 40)."""
+    return environments(40 if s.quick else SEARCHED, s.seed)
 
 
 def _arena(env: dict[str, Any], variant: str) -> Any:

@@ -12,14 +12,14 @@ json).
 
 from __future__ import annotations
 
-from pathlib import Path
+from collections.abc import Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
 from matplotlib.ticker import PercentFormatter
 
 from neurowalk.experiments import Result, Settings
-from neurowalk.experiments.stores import run_store
+from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.suites.climbing import (
     QUICK_SWEEP_HEIGHTS,
     RELIABLE,
@@ -33,7 +33,7 @@ from neurowalk.experiments.suites.climbing import (
 )
 from neurowalk.experiments.suites.timing import SIM_HZ, quick_note, quick_seconds, steps_for
 from neurowalk.plotting.style import LINE, legend_outside, pyplot
-from neurowalk.runners.specs import spec_key
+from neurowalk.sim.config import EpisodeConfig
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -41,27 +41,41 @@ if TYPE_CHECKING:
 QUICK_MAX_STEPS = 3000  # control steps of a quick run at most (STEP_S at 10 Hz; 111 s at 27 Hz)
 
 
-def run(s: Settings) -> Result:
-    """Climb rates per variant and height, and the highest height each variant climbs reliably (see the module doc;
-    the settings are :class:`Settings`'s)."""
+def _steps(s: Settings) -> tuple[float, int]:
+    """Seconds and control steps per run: :data:`~neurowalk.experiments.suites.climbing.STEP_S` s at the control
+    rate, at most :data:`QUICK_MAX_STEPS` control steps with ``quick``."""
+    control_hz = s.control_hz or SIM_HZ
+    seconds = quick_seconds(STEP_S, QUICK_MAX_STEPS, control_hz) if s.quick else STEP_S
+    return seconds, steps_for(seconds, control_hz)
+
+
+def runs(s: Settings) -> Iterator[tuple[tuple[str, float], EpisodeConfig]]:
+    """Every variant of the climbing modules at every height (``(variant, height)``), ``s.seeds`` seeds (10; quick:
+    3)."""
+    heights, (_, steps) = QUICK_SWEEP_HEIGHTS if s.quick else SWEEP_HEIGHTS, _steps(s)
+    for v in VARIANTS:
+        for h in heights:
+            for k in range(s.n(10, 3)):
+                yield (
+                    (v, h),
+                    EpisodeConfig.from_spec(step_spec(h, v, s.seed + k, steps, control_hz=s.control_hz or SIM_HZ)),
+                )
+
+
+def measure(s: Settings, runs: Mapping[tuple[str, float], Sequence[Kept]]) -> Result:
+    """Climb rates per variant and height, and the highest height each variant climbs reliably (see the module
+    doc)."""
     control_hz = s.control_hz or SIM_HZ
     n, heights = s.n(10, 3), QUICK_SWEEP_HEIGHTS if s.quick else SWEEP_HEIGHTS
-    seconds = quick_seconds(STEP_S, QUICK_MAX_STEPS, control_hz) if s.quick else STEP_S
-    steps = steps_for(seconds, control_hz)
-
-    def spec(h: float, v: str, seed: int) -> dict:
-        return step_spec(h, v, seed, steps, control_hz=control_hz)
-
-    specs = [spec(h, v, s.seed + k) for v in VARIANTS for h in heights for k in range(n)]
-    results, _ = run_store(specs, s.out or Path("out/steps"), s.workers or 2)
+    seconds, steps = _steps(s)
     variants = {}
     for v in VARIANTS:
         rates, times = {}, {}
         for h in heights:
-            runs = [results[spec_key(spec(h, v, s.seed + k))] for k in range(n)]
-            ok = [climbed(r) for r in runs]
+            rs = [r.summary.to_dict() for r in runs[v, h]]
+            ok = [climbed(r) for r in rs]
             rates[h] = sum(ok) / n
-            done = [r["exit_step"] for r in runs if r["exit_step"] is not None]
+            done = [r["exit_step"] for r in rs if r["exit_step"] is not None]
             times[h] = float(np.median(done)) if done else None
         best = highest_reliable(rates)
         variants[v] = {

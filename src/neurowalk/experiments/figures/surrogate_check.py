@@ -9,6 +9,7 @@ both bodies with the same seeds: escape counts side by side, and the fraction of
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -18,8 +19,8 @@ from neurowalk.body.surrogate import load_calibration
 from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.calibration.calibrate import validation
 from neurowalk.experiments.calibration.subjects import HELD_OUT
-from neurowalk.experiments.stores import store_folder
-from neurowalk.experiments.suites.deadends import NETWORKS, VARIANTS, outcome_table
+from neurowalk.experiments.stores import Kept
+from neurowalk.experiments.suites.deadends import NETWORKS, VARIANTS, table_counts, table_runs
 from neurowalk.plotting.style import FONT, LINE, legend_outside, letter_panels, network_colour, pyplot
 
 if TYPE_CHECKING:
@@ -47,18 +48,26 @@ def agreement(phys_runs: list[list[Any]], sur_runs: list[list[Any]]) -> dict[str
     }
 
 
-def run(s: Settings) -> Result:
-    """Held-out calibration check and the dead-end suite on both bodies (``s.seeds`` seeds: 10; quick: 1), the
-    dead-end runs through a resumable store in ``s.out``; the settings: :class:`Settings`."""
-    n, seed = s.n(full=10, quick=1), s.seed
+BODIES = ("amosii", "surrogate")  # the physics body, and its planar surrogate
+
+
+def runs(s: Settings) -> Iterator[tuple]:
+    """The dead-end suite on both bodies (``s.seeds`` seeds: 10; quick: 1), labelled ``(body, dead end,
+    network)``."""
+    for body in BODIES:
+        for label, cfg, terms in table_runs(s, body=body):
+            yield (body, *label[1:]), cfg, terms
+
+
+def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
+    """The outcome tables of both bodies and their agreement, run by run; the held-out calibration check (the
+    surrogate's velocities against fresh physics drives at steering pairs between its grid's)."""
     cal = load_calibration()
     val = validation(cal, QUICK_HELD_OUT if s.quick else HELD_OUT, workers=2, progress=True)
-    with store_folder(s.out) as folder:
-        phys = outcome_table(n, first_seed=seed, body="amosii", folder=folder)
-        sur = outcome_table(n, first_seed=seed, body="surrogate", folder=folder)
+    phys, sur = (table_counts(s, runs, body=b, prefix=(b,)) for b in BODIES)
     summary = {
-        "seeds": n,
-        "first_seed": seed,
+        "seeds": s.n(full=10, quick=1),
+        "first_seed": s.seed,
         "calibration": {
             "file_meta": {k: v for k, v in cal.meta.items() if k != "validation"},
             "tau_s": cal.tau_s,

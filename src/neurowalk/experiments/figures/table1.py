@@ -11,14 +11,16 @@ simulated time at the run's control rate. A run's direction is named from them b
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Iterator, Mapping, Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.lines import Line2D
 
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.stores import Kept, Term
 from neurowalk.plotting.style import FONT, LINE, letter_panels, pyplot
-from neurowalk.sim.episode import EpisodeConfig, run_episode
+from neurowalk.sim.episode import Episode, EpisodeConfig
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -61,32 +63,51 @@ def pace(pose: np.ndarray, control_hz: float) -> tuple[float, float]:
     return speed, turn
 
 
-def _measure(steer: tuple[float, float], steps: int, seed: int, control_hz: float) -> tuple[dict, np.ndarray]:
-    """Speed (m/s) and turning rate (deg/s) after the warm-up of one constant-steer run, and its (T, 2) path."""
-    ep = run_episode(EpisodeConfig(controller="fixed", steer=steer, steps=steps, seed=seed, control_hz=control_hz))
-    pose = ep.trajectory.pose[WARMUP:]
+def keep_walk(ep: Episode) -> dict[str, Any]:
+    """A constant-steer run's pose (T - :data:`WARMUP`, 3) after the warm-up."""
+    return {"pose": ep.trajectory.pose[WARMUP:]}
+
+
+WALK = Term("walk", keep_walk, arrays={"pose": "float64"})
+SIGNS = tuple((a, b) for a in (-1, 0, 1) for b in (-1, 0, 1))  # (sign of O1, sign of O2)
+AMPLITUDES = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)
+
+
+def runs(s: Settings) -> Iterator[tuple[tuple, EpisodeConfig, tuple[Term, ...]]]:
+    """Nine sign pairs (``("signs", O1, O2)``) and six amplitudes of forward steering (``("amplitude", a)``), 600
+    control steps each (quick: 450)."""
+    steps = 450 if s.quick else 600
+    for s1, s2 in SIGNS:
+        yield ("signs", s1, s2), _walk((float(s1), float(s2)), steps, s.seed), (WALK,)
+    for a in AMPLITUDES:
+        yield ("amplitude", a), _walk((-a, -a), steps, s.seed), (WALK,)
+
+
+def _walk(steer: tuple[float, float], steps: int, seed: int) -> EpisodeConfig:
+    return EpisodeConfig(controller="fixed", steer=steer, steps=steps, seed=seed)
+
+
+def _measured(run: Kept, control_hz: float) -> tuple[dict, np.ndarray]:
+    """Speed (m/s), turning rate (deg/s) and direction after the warm-up of one constant-steer run, and its (T, 2)
+    path."""
+    pose = run.kept["walk"]["pose"]
     speed, turn = pace(pose, control_hz)
     return {"speed_m_per_s": speed, "turn_rate_deg_per_s": turn, "direction": direction(speed, turn)}, pose[:, :2]
 
 
-def run(s: Settings) -> Result:
-    """Nine sign pairs and six amplitudes, 600 control steps each (quick: 450); the settings: :class:`Settings`."""
-    steps, seed, control_hz = 450 if s.quick else 600, s.seed, s.control_hz or 10.0
-    amplitudes = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)
+def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
+    """Each run's speed, turning rate and walking direction; the paths of the sign pairs."""
+    control_hz = s.control_hz or 10.0
     signs, arrays = [], {}
-    for i, (s1, s2) in enumerate((a, b) for a in (-1, 0, 1) for b in (-1, 0, 1)):
-        m, path = _measure((float(s1), float(s2)), steps, seed, control_hz)
+    for i, (s1, s2) in enumerate(SIGNS):
+        m, arrays[f"path{i}"] = _measured(runs["signs", s1, s2][0], control_hz)
         signs.append({"O1": s1, "O2": s2, **m, "paper": PAPER.get((s1, s2))})
-        arrays[f"path{i}"] = path
-    speeds = []
-    for a in amplitudes:
-        m, _ = _measure((-a, -a), steps, seed, control_hz)
-        speeds.append({"amplitude": a, **m})
+    speeds = [{"amplitude": a, **_measured(runs["amplitude", a][0], control_hz)[0]} for a in AMPLITUDES]
     summary = {
-        "steps": steps,
+        "steps": 450 if s.quick else 600,
         "warmup_steps": WARMUP,
         "control_hz": control_hz,
-        "seed": seed,
+        "seed": s.seed,
         "signs": signs,
         "amplitude": speeds,
         "rule": {"moving_m_per_s": MOVING, "turning_deg_per_s": TURNING, "turn_over_speed": 100},

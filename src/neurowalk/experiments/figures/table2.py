@@ -13,18 +13,20 @@ Every environment row holds each network's coverage and both outcomes.
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from neurowalk.body.registry import bodies_where, body_info
 from neurowalk.experiments import Result, Settings
-from neurowalk.experiments.stores import run_store, store_path
+from neurowalk.experiments.stores import Kept, store_path
 from neurowalk.experiments.suites.random_envs import (
     BOXES,
     COVERAGE_CELL_M,
     DURATION_S,
     FAILURE_RULE,
     HELD_UP_RULE,
+    LATCH,
     QUICK_DURATION_S,
     ROWS,
     RULE,
@@ -44,11 +46,7 @@ from neurowalk.experiments.suites.random_envs_plot import PAPER
 from neurowalk.experiments.suites.random_envs_plot import plot as draw
 from neurowalk.experiments.suites.timing import steps_for
 from neurowalk.neural.variants import variant_names
-from neurowalk.progress import Progress
-from neurowalk.runners.local import run_unordered
-from neurowalk.runners.specs import run_spec, spec_key
-from neurowalk.sim.config import engine_refusal
-from neurowalk.sim.engine import EngineOptions
+from neurowalk.sim.config import EpisodeConfig, engine_refusal
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -73,10 +71,9 @@ def rows(variant: str | None = None, params: dict[str, float] | None = None) -> 
 
 
 def plan(s: Settings) -> dict[str, Any]:
-    """What :func:`run` runs, checked before any run: ``envs`` (``s.seeds``: 50; quick: 10), ``table`` (rows),
+    """What :func:`runs` runs, checked before any run: ``envs`` (``s.seeds``: 50; quick: 10), ``table`` (rows),
     ``bodies`` (the body, and its surrogate beside a physics body where the surrogate runs at the control rate),
-    ``steps``, ``duration_s``, ``specs`` (body by body, environment by environment, row by row), ``surrogate`` and
-    ``surrogate_note``.
+    ``steps``, ``duration_s``, ``specs`` ({(body, environment, row): spec}), ``surrogate`` and ``surrogate_note``.
 
     ValueError on an engine or climbing the body cannot run, or a rate it cannot run at (a planar surrogate runs at
     its calibration rate, 10 Hz, only).
@@ -116,15 +113,22 @@ def plan(s: Settings) -> dict[str, Any]:
         "bodies": bodies,
         "steps": steps,
         "duration_s": duration,
-        "specs": [spec_of(e, r, b) for b in bodies for e in envs for r in table.values()],
+        "specs": {
+            (b, i, name): spec_of(e, r, b) for b in bodies for i, e in enumerate(envs) for name, r in table.items()
+        },
         "surrogate": surrogate,
         "surrogate_note": note,
     }
 
 
-def run(s: Settings) -> Result:
+#: The settings each run of the table fixes itself (a row's variant and params, the body's engine and climbing):
+#: :func:`plan` builds them from the settings.
+FIXED = ("body", "variant", "params", "engine", "climbing", "control_hz")
+
+
+def runs(s: Settings) -> Iterator[tuple]:
     """Every row in ``s.seeds`` random environments (50; quick: 10) on ``s.body`` (the surrogate by default),
-    through a resumable store in ``s.out`` (default ``out/table2``); the settings: :class:`Settings`.
+    labelled ``(body, environment index, row)`` (:func:`plan`).
 
     ``variant``/``params`` add a plastic row (``--params FILE``). A physics body with a calibrated surrogate (AMOSII:
     ``surrogate``, wheeled: ``surrogate-wheeled``) runs it beside, environment for environment
@@ -132,14 +136,15 @@ def run(s: Settings) -> Result:
     Warp, every environment a world of one model (a GPU makes 1000 environments in physics practical). Runs last
     2000 s (quick: 500 s) of simulated time and the stuck window is 300 s at any control rate.
     """
+    for label, one in plan(s)["specs"].items():
+        yield label, EpisodeConfig.from_spec(one), (LATCH,), FIXED  # a latched spin kept for latched-spin
+
+
+def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
+    """Each row's counts under both rules, every environment's outcomes, the surrogate's agreement."""
     p = plan(s)
     threshold = coverage_threshold(p["duration_s"])
-    folder = Path(s.out or "out/table2")
-    folder.mkdir(parents=True, exist_ok=True)
-    results, report = run_store(p["specs"], folder, s.workers or 2, options=EngineOptions(device=s.device))
-    keys = [spec_key(x) for x in p["specs"]]  # in the order of specs: body, environment, row
-    _reclassify(results, p["specs"], keys, s.workers or 2)
-    env_rows, counts, agreement = _count(p, [results[k] for k in keys], threshold)
+    env_rows, counts, agreement = _count(p, runs, threshold)
     ci = list(wilson(PAPER["success"], PAPER["environments"]))  # the paper's 49/50
     summary = {
         "body": p["bodies"][0],
@@ -156,8 +161,7 @@ def run(s: Settings) -> Result:
         "counts": counts,
         "environments": env_rows,
         "paper": {**PAPER, "success_rate": PAPER["success"] / PAPER["environments"], "success_rate_95ci": ci},
-        "store": str(store_path(folder, "results.sqlite", None)),  # where the runs are (a shared store: its file)
-        "sweep": report.counts(),
+        "store": str(store_path(Path(s.out or "out/table2"))),  # where the runs are (a shared store: its file)
         "surrogate": p["surrogate"],
         "surrogate_note": p["surrogate_note"],
         "surrogate_agreement": agreement,
@@ -180,19 +184,17 @@ def _rules(duration_s: float, threshold: float) -> dict[str, Any]:
 
 
 def _count(
-    p: dict[str, Any], runs: list[dict[str, Any]], threshold: float
+    p: dict[str, Any], runs: Mapping[tuple, Sequence[Kept]], threshold: float
 ) -> tuple[list[dict[str, Any]], dict[str, dict[str, Any]], dict[str, dict[str, Any]] | None]:
-    """The table from the runs of the plan ``p`` (in the order of its specs; ``threshold``: the coverage rule's):
-    each environment with every row's outcome on the body, each row's counts over them, and environment by
-    environment the surrogate's agreement with the body where it ran beside (None where it did not)."""
+    """The table from the runs of the plan ``p`` (``threshold``: the coverage rule's): each environment with every
+    row's outcome on the body, each row's counts over them, and environment by environment the surrogate's
+    agreement with the body where it ran beside (None where it did not)."""
     envs, table, bodies = p["envs"], p["table"], p["bodies"]
-    per_body = len(envs) * len(table)
-    by_body = {b: runs[i * per_body : (i + 1) * per_body] for i, b in enumerate(bodies)}
 
     def outcomes(b: str) -> list[dict[str, Any]]:
         """Per environment, each row's outcome on body ``b``."""
-        r = iter(by_body[b])
-        return [{name: outcome(next(r), threshold) for name in table} for _ in envs]
+        return [{name: outcome(runs[b, i, name][0].summary.to_dict(), threshold) for name in table}
+                for i in range(len(envs))]  # fmt: skip
 
     env_rows = [{**e, **o} for e, o in zip(envs, outcomes(bodies[0]), strict=True)]
     counts = {name: {**r, **row_counts(env_rows, name)} for name, r in table.items()}
@@ -201,29 +203,6 @@ def _count(
         sur = outcomes(p["surrogate"])
         agreement = {name: _agreement(env_rows, sur, name) for name in table}
     return env_rows, counts, agreement
-
-
-def _reclassify(
-    results: dict[str, dict[str, Any]], specs: list[dict[str, Any]], keys: list[str], workers: int = 2
-) -> None:
-    """Rerun (deterministic, on ``workers`` processes) the failed runs whose stored summary predates the class keys.
-
-    Stores written before the failure classes existed lack ``wedged_periods`` and a blind share by
-    :data:`~neurowalk.metrics.BLIND_M`; the rerun gives the same run, bit for bit, with them.
-    """
-    stale = [(s, k) for s, k in zip(specs, keys, strict=True) if _predates_classes(results[k])]
-    old, old_keys = [s for s, _ in stale], [k for _, k in stale]
-    with Progress(total=len(old), unit="run", desc="reclassify", disable=not old, mininterval=0.5) as bar:
-        for done in run_unordered(run_spec, old, workers=workers):
-            if done.error is not None:
-                raise done.error
-            results[old_keys[done.index]] = done.value
-            bar.update(1)
-
-
-def _predates_classes(res: dict[str, Any]) -> bool:
-    """A failed run stored before the failure classes existed (no ``wedged_periods``)."""
-    return bool(res["trapped"]) and "wedged_periods" not in res
 
 
 def _agreement(physics: list[dict[str, Any]], surrogate: list[dict[str, Any]], name: str) -> dict[str, Any]:

@@ -3,8 +3,8 @@
 * On ``climbing-track`` (plastic network, reflexes and backbone control on) a run succeeds when the
   trunk centre reaches the second platform (0.3 m beyond its edge) within :data:`TRACK_S` s of simulated
   time and the trunk never rose to the top of a wall on the way (``max_z`` below the wall tops, 2 x step +
-  0.20 m); the run stops there. :func:`run_track` also records when the trunk centre first got 0.3 m onto
-  the first platform.
+  0.20 m); the run stops there. The term :data:`FIRST_PLATFORM` also keeps when the trunk centre first got 0.3 m
+  onto the first platform.
 * On ``steps`` (steering fixed straight ahead, so only the climbing modules decide) a run climbs when
   the trunk centre gets 0.3 m onto the platform within :data:`STEP_S` s (the run stops there). The highest step
   climbed reliably is the highest height at which at least :data:`RELIABLE` of the seeds climbed, all
@@ -25,8 +25,9 @@ import numpy as np
 
 from neurowalk.arenas.climbing import track_regions
 from neurowalk.arenas.spec import WALL_HEIGHT
+from neurowalk.experiments.stores import Term
 from neurowalk.experiments.suites.timing import SIM_HZ, steps_for
-from neurowalk.runners.specs import episode_of, result_of
+from neurowalk.sim.episode import Episode
 
 TRACK_S = 1200.0  # s of simulated time per climbing-track run (12,000 control steps at 10 Hz)
 TRACK_HEIGHTS = (0.06, 0.08, 0.10)  # m
@@ -98,13 +99,13 @@ def first_platform_step(pose: np.ndarray, step: float) -> int | None:
     return int(idx[0]) if len(idx) else None
 
 
-def run_track(spec: dict[str, Any]) -> dict[str, Any]:
-    """One climbing-track run's summary (as :func:`~neurowalk.runners.specs.run_spec`) plus ``first_platform_step``
-    (:func:`first_platform_step`; the second platform is the summary's ``exit_step``)."""
-    ep = episode_of(spec)
-    summary = result_of(ep)
-    summary["first_platform_step"] = first_platform_step(ep.trajectory.pose, ep.config.arena_opts["step"])
-    return summary
+def keep_first_platform(ep: Episode) -> dict[str, Any]:
+    """``first_platform_step`` of a climbing-track run (:func:`first_platform_step`; the second platform is the
+    summary's ``exit_step``)."""
+    return {"first_platform_step": first_platform_step(ep.trajectory.pose, ep.config.arena_opts["step"])}
+
+
+FIRST_PLATFORM = Term("first_platform", keep_first_platform)
 
 
 def track_success(summary: dict[str, Any], step: float) -> bool:

@@ -3,42 +3,37 @@
 * Outcome table: every network (plastic from zero and from the paper's Fig. 4 start, static,
   Braitenberg) in the simple deadlock and in the narrow passage (default geometry, and gap and
   funnel angle changed by ±20%), ``seeds`` seeds each, 5000 control steps.
-* Example runs (seed 0): the figure's network in both dead ends, with neural traces.
-* :func:`stored_runs`: a figure's runs (outcomes, traces, long runs) through its resumable stores.
-* :func:`build`: the outcome table, the example runs and the long runs in the original arenas (how those are run
-  and kept, and what the paper's "time steps" are: :mod:`.long_runs`).
+* Example runs (seed 0): the figure's network in both dead ends, with neural traces (the term :data:`TRACED`).
+* :func:`runs` and :func:`measure`: what Fig. 3 and Fig. 5 run and measure: the outcome table, the example runs
+  and the long runs in the original arenas (how those are run and kept, and what the paper's "time steps" are:
+  :mod:`.long_runs`).
 """
 
 from __future__ import annotations
 
-import dataclasses
-from pathlib import Path
+from collections.abc import Iterator, Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
-from neurowalk import metrics
 from neurowalk.arenas import arena_options
 from neurowalk.arenas.spec import WALL_HEIGHT
 from neurowalk.experiments import Result, Settings
-from neurowalk.experiments.stores import as_lists, run_store, store_folder
+from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.long_runs import (
+    LONG,
     LONG_STRIDE,
     LONG_TRACES,
     QUICK_LONG_STEPS,
     TRACES,
     coverage_table,
-    keep_long_traces,
-    long_traces_of,
     time_step_reading,
     wedged_counts,
 )
+from neurowalk.experiments.suites.real_robot import PATH
 from neurowalk.experiments.suites.timing import SIM_HZ
-from neurowalk.runners.local import run_many
-from neurowalk.runners.specs import episode_of, spec_key
-from neurowalk.sim.config import DEFAULT_ENGINE, UNTIL
-from neurowalk.sim.engines import engine_for
-from neurowalk.sim.episode import EngineOptions, Episode, EpisodeConfig
+from neurowalk.sim.config import UNTIL
+from neurowalk.sim.episode import Episode, EpisodeConfig
 
 NETWORKS: dict[str, dict[str, Any]] = {
     "plastic": {"controller": "plastic"},
@@ -63,256 +58,123 @@ TRAP_STEPS = PAPER_TRAP_TIME_STEPS  # control steps in a dead end (the paper's t
 
 
 def keep_traces(ep: Episode) -> dict[str, Any]:
-    """Summary plus the traces a figure draws (pose, inputs, outputs, b, q)."""
+    """The traces a figure draws of a dead-end run (pose, inputs, outputs, b, q), every row."""
     tr = ep.trajectory
-    return {"summary": ep.summary, "pose": tr.pose, "inputs": tr.inputs, "outputs": tr.outputs, "b": tr.b, "q": tr.q}
+    return {"pose": tr.pose, "inputs": tr.inputs, "outputs": tr.outputs, "b": tr.b, "q": tr.q}
 
 
-def keep_outcome(ep: Episode) -> dict[str, Any]:
-    """Outcome of a dead-end run: escaped, trapped, direction switches, turning episodes."""
-    tr = ep.trajectory
-    eps = metrics.avoidance_episodes(tr.outputs, tr.pose)
-    return {
-        "escaped": ep.summary["escaped"],
-        "trapped": ep.summary["trapped"],
-        "direction_switches": metrics.direction_switches(tr.outputs),
-        "max_turn_deg": max((abs(e["turn_deg"]) for e in eps), default=0.0),
-    }
+TRACED = Term("traces", keep_traces, arrays=dict.fromkeys(TRACES, "float64"))
 
 
-def outcome_of(spec: dict[str, Any]) -> dict[str, Any]:
-    """:func:`keep_outcome` of the run of ``spec`` (what the result store keeps of a dead-end run)."""
-    return keep_outcome(episode_of(spec))
-
-
-def traces_of(spec: dict[str, Any]) -> dict[str, Any]:
-    """:func:`keep_traces` of the run of ``spec``, its arrays as lists (what the store keeps of an example run)."""
-    return as_lists(keep_traces(episode_of(spec)))
-
-
-def _spec(cfg: EpisodeConfig) -> dict[str, Any]:
-    """The run spec of ``cfg`` (its fields; the store keys it after normalising)."""
-    return {f.name: getattr(cfg, f.name) for f in dataclasses.fields(cfg)}
-
-
-_KEEP = {
-    "outcome": (keep_outcome, outcome_of, "direction_switches", ()),
-    "traces": (keep_traces, traces_of, "pose", TRACES),
-    "long": (keep_long_traces, long_traces_of, "step", LONG_TRACES),
-}
-
-
-def stored_runs(
-    configs: list[EpisodeConfig],
-    folder: Path | None,
-    name: str,
-    workers: int,
-    progress: bool,
-    desc: str,
-    traces: bool | str,
-    device: str | None = None,
-) -> list[dict[str, Any]]:
-    """Outcomes (``traces`` False), traces (True) or streamed long-run traces (``"long"``) of ``configs``: through
-    the store ``folder/name`` (resumable), or, without a folder or on a many-worlds engine such as MuJoCo Warp (its
-    runs are the worlds of one model, on ``device``), all at once."""
-    kind = "long" if traces == "long" else ("traces" if traces else "outcome")
-    keep, fn, want, arrays = _KEEP[kind]
-    if folder is None or any(engine_for(c).many_worlds for c in configs):
-        options = EngineOptions(device=device)
-        out = run_many(configs, workers=workers, progress=progress, keep=keep, desc=desc, options=options)
-        return [{**r, **{k: np.asarray(r[k], dtype=float) for k in arrays if k != "step"}} for r in out]
-    specs = [_spec(c) for c in configs]
-    results, _ = run_store(specs, folder, workers, fn=fn, name=name)
-    out = [results[spec_key(s)] for s in specs]
-    if any(want not in r for r in out):
-        raise RuntimeError(
-            f"{folder / name} holds other runs than this figure's (another figure's or sweep's "
-            "store, or an older version's); use a fresh output folder"
-        )
-    return [{**r, **{k: np.asarray(r[k], dtype=np.int64 if k == "step" else float) for k in arrays}} for r in out]
-
-
-def outcome_table(
-    seeds: int,
-    *,
-    first_seed: int = 0,
-    variants: dict | None = None,
-    workers: int = 2,
-    progress: bool = True,
-    body: str = "amosii",
-    climbing: bool = False,
-    variant: str = "paper",
-    gait: str = "wave",
-    engine: str = DEFAULT_ENGINE,
-    device: str | None = None,
-    folder: Path | None = None,
-    control_hz: float = 10.0,
-) -> dict:
-    """Escape counts per variant and network over seeds ``first_seed`` ... ``first_seed + seeds - 1``.
-
-    ``climbing``: run with the leg reflexes and backbone control switched on. ``variant``: the networks'
-    variant (``paper`` or ``original``; see :mod:`neurowalk.neural.variants`). ``engine``: ``mujoco`` or ``warp``
-    (the runs as the worlds of one MuJoCo Warp model). ``folder``: the runs go through the resumable store
-    ``folder/results.sqlite`` (default: all at once, nothing kept). ``control_hz``: the control rate; every run
-    keeps its :data:`TRAP_STEPS` control steps (``seconds`` in the table: steps / rate).
-
-    ``runs`` lists every run as [variant, network, seed, escaped, trapped].
-    """
-    variants = variants or VARIANTS
-    keys, configs = [], []
-    for vname, (arena, opts) in variants.items():
+def table_runs(s: Settings, variants: Mapping[str, tuple[str, dict]] | None = None, body: str | None = None
+               ) -> Iterator[tuple[tuple[str, str, str], EpisodeConfig, tuple[Term, ...]]]:  # fmt: skip
+    """The outcome table's runs, labelled ``("table", variant, network)``: every network in every dead end
+    ``variants`` (default :data:`VARIANTS`), ``s.seeds`` seeds from ``s.seed`` (default 10; 1 with ``quick``),
+    :data:`TRAP_STEPS` control steps each, stopped once escaped (``body``: where the settings name none); each kept
+    with its path (the figure ``bodies`` draws the same runs)."""
+    for vname, (arena, opts) in (variants or VARIANTS).items():
         for nname, net in NETWORKS.items():
-            for seed in range(first_seed, first_seed + seeds):
-                keys.append((vname, nname))
-                shared = _shared(seed, climbing, variant, gait, engine, control_hz)
-                configs.append(
-                    EpisodeConfig(
-                        arena=arena, arena_opts=opts, steps=TRAP_STEPS, body=body, until="escaped", **shared, **net
-                    )
-                )
-    results = stored_runs(
-        configs, folder, "results.sqlite", workers, progress, f"dead ends ({body})", traces=False, device=device
-    )
-    table, runs = _count(keys, results, configs)
-    described = {k: {"arena": a, "options": o} for k, (a, o) in variants.items()}
+            for seed in range(s.seed, s.seed + s.n(full=10, quick=QUICK_SEEDS)):
+                cfg = EpisodeConfig(arena=arena, arena_opts=opts, steps=TRAP_STEPS, until="escaped", seed=seed, **net)
+                yield ("table", vname, nname), cfg.replace(body=body) if body else cfg, (PATH,)  # as bodies' keep them
+
+
+def table_counts(s: Settings, runs: Mapping[Any, Sequence[Kept]], body: str = "amosii", prefix: tuple = ("table",)
+                  ) -> dict[str, Any]:  # fmt: skip
+    """Escape counts per dead end and network from the runs of :func:`table_runs` (labels ``prefix + (variant,
+    network)``). ``runs`` in the table lists every run as [variant, network, seed, escaped, trapped]."""
+    n = len(prefix)
+    cells = {k[n:]: v for k, v in runs.items() if k[:n] == prefix}
+    table: dict[str, dict[str, dict[str, Any]]] = {}
+    every = []
+    for (vname, nname), rs in cells.items():
+        every += [[vname, nname, r.seed, bool(r.escaped), bool(r.trapped)] for r in rs]
+        table.setdefault(vname, {})[nname] = {
+            "runs": len(rs),
+            "escaped": sum(bool(r.escaped) for r in rs),
+            "trapped": sum(bool(r.trapped) for r in rs),
+            "median_direction_switches": float(np.median([r.direction_switches for r in rs])),
+        }
+    variants = {v for v, _ in cells}
+    control_hz = s.control_hz or SIM_HZ
     return {
-        "seeds": seeds,
-        "first_seed": first_seed,
+        "seeds": s.n(full=10, quick=QUICK_SEEDS),
+        "first_seed": s.seed,
         "steps": TRAP_STEPS,
         "control_hz": control_hz,
         "seconds": TRAP_STEPS / control_hz,
         "body": body,
-        "climbing": climbing,
-        "variants": described,
-        "network_variant": variant,
-        "gait": gait,
-        "engine": engine,
+        "climbing": s.climbing,
+        "variants": {k: {"arena": a, "options": o} for k, (a, o) in VARIANTS.items() if k in variants},
+        "network_variant": s.variant or "paper",
+        "gait": s.gait or "wave",
+        "engine": s.engine,
         "counts": table,
-        "runs": runs,
+        "runs": every,
         "rule": "escaped: the trunk centre reached the exit region behind the trap's mouth within the steps; "
         "trapped: the last 3000 steps stayed within a disc of radius 0.5 m",
         "stop_rule": UNTIL["escaped"] + "; a run that does not escape runs all its steps",
     }
 
 
-def _shared(seed: int, climbing: bool, variant: str, gait: str, engine: str, control_hz: float) -> dict[str, Any]:
-    """The config fields every run of a dead-end figure shares (``climbing``: leg reflexes and backbone control)."""
-    return {
-        "seed": seed,
-        "control_hz": control_hz,
-        "reflexes": climbing,
-        "backbone": climbing,
-        "variant": variant,
-        "gait": gait,
-        "engine": engine,
-    }
+def runs(s: Settings, network: str, long_runs: dict[str, dict[str, Any]], long_steps: int) -> Iterator[tuple]:
+    """Fig. 3's or Fig. 5's runs: the outcome table (:func:`table_runs`; ``quick``: the :data:`QUICK_VARIANTS`
+    only), ``network``'s example runs in both dead ends (``("example", name)``, every row kept) and the long runs
+    ``{name: config fields}`` (``("long", name)``, ``long_steps`` control steps, :data:`QUICK_LONG_STEPS` at most
+    with ``quick``; streamed, every :data:`LONG_STRIDE`-th row kept), all with seed ``s.seed``. With ``s.climbing``
+    (leg reflexes and backbone control on) the original arenas' boxes are raised to
+    :data:`~neurowalk.arenas.spec.WALL_HEIGHT` (their 0.10 m boxes would be climbable steps)."""
+    yield from table_runs(s, {k: v for k, v in VARIANTS.items() if k in QUICK_VARIANTS} if s.quick else VARIANTS)
+    for arena in ("simple-deadlock", "narrow-passage"):
+        cfg = EpisodeConfig(arena=arena, steps=TRAP_STEPS, seed=s.seed, **NETWORKS[network])  # every step drawn
+        yield ("example", arena), cfg, (TRACED,)
+    steps = min(long_steps, QUICK_LONG_STEPS) if s.quick else long_steps
+    opts = {"height": WALL_HEIGHT} if s.climbing else {}
+    for name, fields in long_runs.items():
+        yield ("long", name), EpisodeConfig(steps=steps, arena_opts=opts, seed=s.seed, **fields), (LONG,)
 
 
-def _count(
-    keys: list[tuple[str, str]], results: list[dict[str, Any]], configs: list[EpisodeConfig]
-) -> tuple[dict[str, dict[str, dict[str, Any]]], list[list[Any]]]:
-    """The outcome table's cells {variant: {network: runs, escaped, trapped, median direction switches}} from the
-    ``results`` of ``configs`` (their cells ``keys``), and every run as [variant, network, seed, escaped, trapped]."""
-    table: dict[str, dict[str, dict[str, Any]]] = {}
-    runs = []
-    for (vname, nname), r, cfg in zip(keys, results, configs, strict=True):
-        runs.append([vname, nname, cfg.seed, bool(r["escaped"]), bool(r["trapped"])])
-        cell = table.setdefault(vname, {}).setdefault(nname, {"runs": 0, "escaped": 0, "trapped": 0, "switches": []})
-        cell["runs"] += 1
-        cell["escaped"] += int(bool(r["escaped"]))
-        cell["trapped"] += int(r["trapped"])
-        cell["switches"].append(r["direction_switches"])
-    for row in table.values():
-        for cell in row.values():
-            cell["median_direction_switches"] = float(np.median(cell.pop("switches")))
-    return table, runs
-
-
-def example_and_long_runs(
-    network: str, long_runs: dict[str, dict[str, Any]], long_steps: int, s: Settings, folder: Path | None
-) -> dict[str, dict[str, Any]]:
-    """Traces of ``network`` in both dead ends, and the long runs {name: config kwargs}, all with seed ``s.seed``.
-
-    The dead ends keep every row; the long runs are streamed and keep every :data:`LONG_STRIDE`-th row and the
-    last (:class:`LongRunKeeper`). With ``s.climbing`` (leg reflexes and backbone control on) the original arenas'
-    boxes are raised to :data:`~neurowalk.arenas.spec.WALL_HEIGHT` (their 0.10 m boxes would be climbable steps).
-    ``folder``: the runs go through the resumable store ``folder/traces.sqlite``.
-    """
-    climbing, device = s.climbing, s.device
-    common = _shared(s.seed, climbing, s.variant or "paper", s.gait or "wave", s.engine, s.control_hz or SIM_HZ)
-    net = {**NETWORKS[network], **common}
-    examples = {
-        "simple-deadlock": EpisodeConfig(arena="simple-deadlock", steps=TRAP_STEPS, **net),
-        "narrow-passage": EpisodeConfig(arena="narrow-passage", steps=TRAP_STEPS, **net),
-    }
-    opts = {"height": WALL_HEIGHT} if climbing else {}
-    longs = {k: EpisodeConfig(steps=long_steps, arena_opts=opts, **common, **v) for k, v in long_runs.items()}
-    ex = stored_runs(
-        list(examples.values()), folder, "traces.sqlite", 2, True, "example runs", traces=True, device=device
-    )
-    lo = stored_runs(list(longs.values()), folder, "traces.sqlite", 2, True, "long runs", traces="long", device=device)
-    return {**dict(zip(examples, ex, strict=True)), **dict(zip(longs, lo, strict=True))}
-
-
-def build(
+def measure(
     name: str,
     network: str,
     long_runs: dict,
     s: Settings,
+    runs: Mapping[Any, Sequence[Kept]],
     *,
     long_steps: int,
     paper_time_steps: dict[str, int],
     mark_step: int | None = None,
 ) -> Result:
-    """Shared by Fig. 3 and Fig. 5: outcome table, example runs, long runs, with the settings ``s``.
-
-    ``long_steps``: control steps of the long runs (``s.quick``: :data:`QUICK_LONG_STEPS` when fewer);
-    ``paper_time_steps``: the paper's counts behind them (for ``time_step_reading``); ``mark_step``: a step the
-    figure marks on the long runs (Fig. 3: 7,000, the paper's 70,000 time steps). ``s.quick``: also only the
-    :data:`QUICK_VARIANTS` and :data:`QUICK_SEEDS` seeds (default 10). Every run takes ``s``'s network variant,
-    gait, engine, control rate (the runs keep their control steps; seconds follow the rate) and ``climbing`` (the
-    modules of Fig. 10 on). ``s.out``: the runs go through resumable stores there (``results.sqlite``: the outcome
-    table, ``traces.sqlite``: the example and long runs), so that an interrupted figure goes on from them.
-    """
-    quick, seed, climbing, engine = s.quick, s.seed, s.climbing, s.engine
-    variant, gait, control_hz = s.variant or "paper", s.gait or "wave", s.control_hz or SIM_HZ
-    full_steps = long_steps
-    if quick:
-        long_steps = min(long_steps, QUICK_LONG_STEPS)
-    variants = {k: v for k, v in VARIANTS.items() if k in QUICK_VARIANTS} if quick else VARIANTS
-    kw: dict[str, Any] = {"climbing": climbing, "variant": variant, "gait": gait, "engine": engine, "device": s.device}
-    with store_folder(s.out) as folder:
-        table = outcome_table(
-            s.n(full=10, quick=QUICK_SEEDS),
-            first_seed=seed,
-            variants=variants,
-            folder=folder,
-            control_hz=control_hz,
-            **kw,
-        )
-        runs = example_and_long_runs(network, long_runs, long_steps, s, folder)
+    """Fig. 3's or Fig. 5's numbers from its :func:`runs`: the outcome table, the example runs' traces, the long
+    runs' rows, coverage over time and wedged periods. ``long_steps``: the long runs' control steps without
+    ``quick``; ``paper_time_steps``: the paper's counts behind them (for ``time_step_reading``); ``mark_step``: a
+    step the figure marks on the long runs (Fig. 3: 7,000, the paper's 70,000 time steps)."""
+    control_hz = s.control_hz or SIM_HZ
+    kept = {k[1]: v[0] for k, v in runs.items() if k[0] in ("example", "long")}
+    traces = {k: r.kept["traces" if k not in long_runs else "long"] for k, r in kept.items()}
+    steps = min(long_steps, QUICK_LONG_STEPS) if s.quick else long_steps
     arrays = {
-        f"{k}/{field}": v[field] for k, v in runs.items() for field in (LONG_TRACES if k in long_runs else TRACES)
+        f"{k}/{field}": v[field] for k, v in traces.items() for field in (LONG_TRACES if k in long_runs else TRACES)
     }
-    long_summaries = {k: runs[k]["summary"] for k in long_runs}
+    summaries = {k: r.summary.to_dict() for k, r in kept.items()}
     summary = {
         "network": network,
-        "variant": variant,
-        "gait": gait,
-        "engine": engine,
-        "seed": seed,
-        "climbing": climbing,
-        "quick": quick,
+        "variant": s.variant or "paper",
+        "gait": s.gait or "wave",
+        "engine": s.engine,
+        "seed": s.seed,
+        "climbing": s.climbing,
+        "quick": s.quick,
         "control_hz": control_hz,
         "time_step_reading": time_step_reading(
-            paper_time_steps, long_steps, control_hz, paper_trap_steps=PAPER_TRAP_TIME_STEPS, trap_steps=TRAP_STEPS
+            paper_time_steps, steps, control_hz, paper_trap_steps=PAPER_TRAP_TIME_STEPS, trap_steps=TRAP_STEPS
         ),
-        "table": table,
-        **_long_steps(long_steps, full_steps, control_hz, {k: len(runs[k]["step"]) for k in long_runs}),
-        "mark_step": mark_step if mark_step is not None and mark_step < long_steps else None,
-        "runs": {k: v["summary"] for k, v in runs.items()},
-        "coverage_over_time": {k: coverage_table(runs[k]["step"], runs[k]["coverage"]) for k in long_runs},
-        "wedged": wedged_counts(long_summaries, control_hz=control_hz),
+        "table": table_counts(s, runs),
+        **_long_steps(steps, long_steps, control_hz, {k: len(traces[k]["step"]) for k in long_runs}),
+        "mark_step": mark_step if mark_step is not None and mark_step < steps else None,
+        "runs": summaries,
+        "coverage_over_time": {k: coverage_table(traces[k]["step"], traces[k]["coverage"]) for k in long_runs},
+        "wedged": wedged_counts({k: summaries[k] for k in long_runs}, control_hz=control_hz),
     }
     return Result(name, summary, arrays)
 

@@ -39,14 +39,14 @@ steps / ``control_hz``. ``time_step_reading`` in the figures' json says all this
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
 from neurowalk import metrics
 from neurowalk.arenas import ArenaSpec, make_arena
-from neurowalk.experiments.stores import as_lists
-from neurowalk.runners.specs import episode_of
+from neurowalk.experiments.stores import Term
 from neurowalk.sim.episode import Episode, EpisodeConfig, Streaming
 from neurowalk.sim.trajectory import Trajectory
 
@@ -179,16 +179,23 @@ def keep_long_traces(ep: Episode) -> dict[str, Any]:
     """:class:`LongRunKeeper`'s traces of a run held in memory (the many-worlds engines' path)."""
     keeper = LongRunKeeper(ep.config)
     keeper(ep.trajectory, 0)
-    return {"summary": ep.summary, **keeper.traces(len(ep.trajectory))}
+    return keeper.traces(len(ep.trajectory))
 
 
-def long_traces_of(spec: dict[str, Any]) -> dict[str, Any]:
-    """The run of ``spec``, streamed (:class:`LongRunKeeper`): its summary and kept rows, arrays as lists."""
-    cfg = EpisodeConfig.from_spec(spec)
+def stream_long_traces(cfg: EpisodeConfig) -> tuple[Streaming, Callable[[Episode], dict[str, Any]]]:
+    """The run of ``cfg`` streamed to a :class:`LongRunKeeper` (its rows not held in memory), and what is kept."""
     keeper = LongRunKeeper(cfg)
     stream = Streaming(sink=keeper, chunk=min(LONG_CHUNK, cfg.steps), keep_rows=False, picture_rows=1)
-    ep = episode_of(spec, stream)
-    return as_lists({"summary": ep.summary, **keeper.traces(cfg.steps)})
+    return stream, lambda ep: keeper.traces(cfg.steps)
+
+
+#: The term of a long run: every :data:`LONG_STRIDE`-th row (and the last) of :data:`LONG_TRACES`, streamed.
+LONG = Term(
+    "long",
+    keep_long_traces,
+    arrays={k: "int64" if k == "step" else "float64" for k in LONG_TRACES},
+    stream=stream_long_traces,
+)
 
 
 def coverage_table(step: np.ndarray, coverage: np.ndarray, points: int = 10) -> dict[str, list]:

@@ -31,7 +31,10 @@ import numpy as np
 from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.body.registry import body_info
 from neurowalk.body.surrogate import load_calibration
+from neurowalk.experiments.stores import Term
+from neurowalk.metrics import turn_state
 from neurowalk.sim.config import EpisodeConfig, seeds
+from neurowalk.sim.episode import Episode
 from neurowalk.sim.summary import STUCK_S  # the stuck window of the not-stuck rule: 300 s at any control rate
 
 NETWORKS: tuple[str, ...] = ("plastic", "static", "braitenberg")
@@ -139,6 +142,7 @@ FAILURE_RULE = (
     "echo nearer than 0.38 m) for >= 50% of them; else 'other'"
 )
 LATCHED, BLIND = 0.8, 0.5
+STRIDE = 5  # rows between the kept rows of a latched spin (:data:`LATCH`)
 FAILURE_CLASSES = ("latched spin", "wedged", "other")  # the classes of FAILURE_RULE, in the table's order
 
 
@@ -249,3 +253,31 @@ def row_counts(env_rows: list[dict[str, Any]], name: str) -> dict[str, Any]:
         "ever_held_up_300s": sum(r["ever_held_up_300s"] for r in runs),
         "ever_held_up_1000s": sum(r["ever_held_up_1000s"] for r in runs),
     }
+
+
+def latch_start(outputs: np.ndarray) -> int:
+    """First step of the final unbroken run of one turn direction (the latch)."""
+    s = turn_state(outputs)
+    last = s[-1]
+    k = len(s) - 1
+    while k > 0 and s[k - 1] == last:
+        k -= 1
+    return int(k)
+
+
+def keep_latch(ep: Episode) -> dict[str, Any]:
+    """Of a run that ends in a latched spin (nothing of another): every :data:`STRIDE`-th row of its pose, steering
+    and b_on + mean q, and the step its latch began."""
+    if failure_class(ep.summary) != "latched spin":
+        return {}
+    tr = ep.trajectory
+    on = np.where(tr.outputs[:, 0:1] > tr.outputs[:, 1:2], tr.b[:, 0:1], tr.b[:, 1:2])[:, 0]
+    return {
+        "pose": tr.pose[::STRIDE],
+        "outputs": tr.outputs[::STRIDE],
+        "latch": (on + tr.q.mean(axis=1))[::STRIDE],
+        "latched_from_step": latch_start(tr.outputs),
+    }
+
+
+LATCH = Term("latch", keep_latch, arrays=dict.fromkeys(("pose", "outputs", "latch"), "float64"))

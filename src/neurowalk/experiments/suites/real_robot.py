@@ -3,11 +3,10 @@
 * Durations: a run's length is set in seconds of simulated time and turned into control steps at the run's control
   rate (:func:`~neurowalk.experiments.suites.timing.steps_for`), so that a run covers the same time at 10 Hz (the
   authors' simulator) as at 27 Hz (the real robot's controller).
-* Runs: one spec per network and seed, through the resumable SQLite store in the figure's output folder
-  (:func:`run_store_paths`); each stored result is the run's summary plus its top-view path, sampled every
-  :data:`PATH_EVERY_S` s (:func:`path_every` control steps), so that a figure can draw every seed's path without
-  rerunning.
-* The example seed of each network is run again in full (:func:`example_runs`) for the snapshot strip, the
+* Runs: one per network and seed (:func:`config`), each kept with its top-view path (the term :data:`PATH`),
+  sampled every :data:`PATH_EVERY_S` s (:func:`path_every` control steps), so that a figure can draw every seed's
+  path without rerunning.
+* The example seed of each network is kept in full too (the term :data:`EXAMPLE`) for the snapshot strip, the
   neural traces and, on request, a video.
 * Snapshots: rendered offscreen from a fixed camera over the arena, as the paper's photos are taken, at
   moments evenly spread from the start to the moment the robot got out (or the end of the run); the strip
@@ -17,14 +16,14 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from neurowalk.body.physics import AmosII
-from neurowalk.experiments.stores import run_store, store_path
+from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.long_runs import sample_steps
 from neurowalk.experiments.suites.timing import SIM_HZ, steps_for
 from neurowalk.neural.sensory import STATIC_B, STATIC_Q, initial_weights
@@ -40,8 +39,6 @@ from neurowalk.plotting.style import (
     letter,
 )
 from neurowalk.render import render_frames, render_video
-from neurowalk.runners.local import run_many
-from neurowalk.runners.specs import episode_of, result_of
 from neurowalk.sim.config import EpisodeConfig
 
 if TYPE_CHECKING:
@@ -71,33 +68,16 @@ def video_every(control_hz: float) -> int:
     return steps_for(VIDEO_SPEEDUP / VIDEO_FPS, control_hz)
 
 
-def make_spec(s: Settings, arena: str, opts: dict[str, float], network: str, seed: int, steps: int) -> dict[str, Any]:
-    """Run spec of one run: the ``network`` (a controller name) in ``arena`` (its options ``opts``) for ``steps``
-    control steps, with the variant, params and control rate of ``s`` (``paper``, none, :data:`SIM_HZ`)."""
-    spec: dict[str, Any] = {
-        "arena": arena,
-        "arena_opts": dict(opts),
-        "controller": network,
-        "steps": steps,
-        "seed": seed,
-        "control_hz": float(s.control_hz or SIM_HZ),
-        "variant": s.variant or "paper",
-    }
-    if s.params:
-        spec["params"] = dict(s.params)
-    return spec
+def config(arena: str, opts: dict[str, float], network: str, seed: int, steps: int) -> EpisodeConfig:
+    """One run: the ``network`` (a controller name) in ``arena`` (its options ``opts``) for ``steps`` control
+    steps (the settings' variant, params and control rate are applied by the runner)."""
+    return EpisodeConfig(arena=arena, arena_opts=dict(opts), controller=network, steps=steps, seed=seed)
 
 
-def run_with_path(spec: dict[str, Any]) -> dict[str, Any]:
-    """One run's summary (as :func:`~neurowalk.runners.specs.run_spec`) plus ``path``: (n, 2) x, y in m.
-
-    The path holds every :func:`path_every`-th row (every :data:`PATH_EVERY_S` s at the run's control rate) of the
-    trunk's pose and the last row, rounded to 1 mm.
-    """
-    ep = episode_of(spec)
-    summary = result_of(ep)
-    summary["path"] = np.round(sampled(ep.trajectory.pose[:, :2], path_every(ep.config.control_hz)), 3).tolist()
-    return summary
+def keep_path(ep: Episode) -> dict[str, Any]:
+    """``path``: (n, 2) x, y in m: every :func:`path_every`-th row (every :data:`PATH_EVERY_S` s at the run's
+    control rate) of the trunk's pose and the last row, rounded to 1 mm."""
+    return {"path": np.round(sampled(ep.trajectory.pose[:, :2], path_every(ep.config.control_hz)), 3)}
 
 
 def sampled(xy: np.ndarray, every: int) -> np.ndarray:
@@ -105,40 +85,25 @@ def sampled(xy: np.ndarray, every: int) -> np.ndarray:
     return xy[sample_steps(len(xy), every)]
 
 
-def run_store_paths(specs: list[dict[str, Any]], folder: Path, workers: int) -> dict[str, dict[str, Any]]:
-    """Run ``specs`` (with :func:`run_with_path`) through the resumable store ``folder/results.sqlite``.
-
-    Returns the results by spec key. A killed figure, rerun with the same folder, runs only what is missing.
-    """
-    results, _ = run_store(specs, folder, workers, fn=run_with_path)
-    if any("path" not in r for r in results.values()):
-        raise RuntimeError(
-            f"{store_path(folder, 'results.sqlite', run_with_path)} holds runs without their paths (another sweep's "
-            "store); "
-            "use a fresh output folder"
-        )
-    return results
-
-
 def keep_example(ep: Episode) -> dict[str, Any]:
-    """What the figures draw of an example run: summary, time (T,) s, pose (T, 3), outputs, b, q (T, 2), qpos."""
+    """What the figures draw of an example run: time (T,) s, pose (T, 3), outputs, b, q (T, 2), qpos (T, nq)."""
     tr = ep.trajectory
-    return {
-        "summary": ep.summary,
-        "t": tr.t,
-        "pose": tr.pose,
-        "outputs": tr.outputs,
-        "b": tr.b,
-        "q": tr.q,
-        "qpos": tr.qpos,
-    }
+    return {"t": tr.t, "pose": tr.pose, "outputs": tr.outputs, "b": tr.b, "q": tr.q, "qpos": tr.qpos}
 
 
-def example_runs(specs: dict[str, dict[str, Any]], workers: int = 2) -> dict[str, dict[str, Any]]:
-    """Run each spec of {network: spec} in full; :func:`keep_example` of each, by network."""
-    configs = [EpisodeConfig.from_spec(s) for s in specs.values()]
-    out = run_many(configs, workers=workers, keep=keep_example, desc="example runs")
-    return dict(zip(specs, out, strict=True))
+#: The top-view path of a run (:func:`keep_path`), and an example run kept in full (:func:`keep_example`).
+PATH = Term("path", keep_path, arrays={"path": "float64"})
+EXAMPLE = Term("example", keep_example, arrays=dict.fromkeys(("t", "pose", "outputs", "b", "q", "qpos"), "float64"))
+
+
+def with_path(runs: Sequence[Kept]) -> list[dict[str, Any]]:
+    """Each run's summary (a dict) with its ``path``."""
+    return [{**r.summary.to_dict(), "path": r.kept["path"]["path"]} for r in runs]
+
+
+def example_of(run: Kept) -> dict[str, Any]:
+    """An example run as the figures draw it: ``summary`` (a dict) and the arrays of :func:`keep_example`."""
+    return {"summary": run.summary.to_dict(), **run.kept["example"]}
 
 
 def snapshot_rows(n_rows: int, end: int | None, n: int = N_SNAPSHOTS) -> np.ndarray:
