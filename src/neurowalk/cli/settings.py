@@ -201,13 +201,13 @@ def run_and_write(study: Study, settings: Settings, what: str) -> int:
 
 
 def claim_lines(name: str, summary: dict[str, Any], quick: bool) -> list[str]:
-    """The results ``neurowalk reproduce`` judges from figure ``name``'s plain command, measured in ``summary``: one
+    """The results figure ``name`` judges (its study's claims, those of ``neurowalk reproduce``) from ``summary``: one
     line each (what, the paper's value, neurowalk's, the verdict) and where the rules are (none: no judged result)."""
-    from neurowalk.experiments.reproduce.plan import PLAN
+    from neurowalk.experiments import FIGURES
     from neurowalk.experiments.reproduce.report import cell
 
-    plain = ("--quick",) if quick else ()
-    claims = [c for i in PLAN if i.figure == name and i.args(quick) == plain for c in i.judge(summary, quick)]
+    study = FIGURES.get(name)
+    claims = study.claims(summary, quick) if study is not None and study.claims is not None else []
     if not claims:
         return []
     lines = [f"{name} against the paper{' (--quick: fewer, shorter runs)' if quick else ''}:"]

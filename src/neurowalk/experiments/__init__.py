@@ -46,29 +46,20 @@ class FunctionAt:
         return self.load()(*args, **kwargs)
 
 
-def _figure(name: str, title: str, module: str, takes: str = "", body: str | None = None) -> Study:
-    """Figure ``name``: ``run(settings) -> Result`` and ``plot(result)`` of
-    :mod:`neurowalk.experiments.figures`.``module``; ``takes``: the optional settings it honours (a space-separated
-    list; ``out`` among them: it keeps its runs in result stores there)."""
+def _figure(name: str, title: str, module: str) -> Study:
+    """Figure ``name`` of its own loop (the network alone, no run): ``run(settings) -> Result``, ``plot(result)``
+    and ``claims`` of :mod:`neurowalk.experiments.figures`.``module``; it takes none of the optional settings."""
     path = f"{__name__}.figures.{module}"
-    names = takes.split()
-    return Study(
-        name,
-        title,
-        plot=FunctionAt(path, "plot"),
-        compute=FunctionAt(path, "run"),
-        takes=[n for n in names if n != "out"],
-        keeps_runs="out" in names,
-        body=body,
-    )
+    at = {"plot": FunctionAt(path, "plot"), "compute": FunctionAt(path, "run"), "claims": FunctionAt(path, "claims")}
+    return Study(name, title, takes=(), keeps_runs=False, **at)  # type: ignore[arg-type]
 
 
 def _study(name: str, title: str, module: str, takes: str = "", body: str | None = None) -> Study:
     """Study ``name`` declared by :mod:`neurowalk.experiments.figures`.``module``'s ``runs``, ``measure`` and
-    ``plot`` (as a user's study file declares them), run by :func:`~neurowalk.experiments.study.run_study`;
-    ``takes``: the optional settings it honours (a space-separated list)."""
+    ``plot`` (as a user's study file declares them), run by :func:`~neurowalk.experiments.study.run_study`, and
+    judged by its ``claims``; ``takes``: the optional settings it honours (a space-separated list)."""
     path = f"{__name__}.figures.{module}"
-    at = {part: FunctionAt(path, part) for part in ("runs", "measure", "plot")}
+    at = {part: FunctionAt(path, part) for part in ("runs", "measure", "plot", "claims")}
     return Study(name, title, takes=takes.split(), body=body, **at)  # type: ignore[arg-type]
 
 

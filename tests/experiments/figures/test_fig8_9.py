@@ -147,7 +147,7 @@ def test_fig9_quick_from_the_command_line(tmp_path):
 
 
 def test_fig9s_title_gives_the_reports_verdicts_of_the_same_runs():
-    from neurowalk.experiments.reproduce.judge_robot import fig9 as judge
+    judge = fig9.claims
 
     seven_of_ten = {"plastic": {"got_out": 7, "seeds": 10}, "static": {"got_out": 0, "seeds": 10}}
     s = {"counts": seven_of_ten, "quick": False}

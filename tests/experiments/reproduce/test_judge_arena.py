@@ -8,7 +8,7 @@ from typing import Any
 import numpy as np
 
 from neurowalk import metrics
-from neurowalk.experiments.reproduce.judge_arena import fig5
+from neurowalk.experiments.figures.fig5 import claims as fig5
 from neurowalk.experiments.suites.long_runs import wedged_counts
 
 HZ = 10.0
@@ -79,7 +79,7 @@ def test_a_json_written_before_the_held_periods_counts_every_wedged_period_as_he
 
 
 def test_table2s_not_stuck_rule_says_the_300_s_it_applies_at_any_rate():
-    from neurowalk.experiments.reproduce.judge_arena import table2
+    from neurowalk.experiments.figures.table2 import claims as table2
 
     cell = {"controller": "plastic", "success": 45, "success_coverage": 44, "environments": 50}
     s = {"paper": {"success": 49, "environments": 50}, "body": "amosii", "steps": 54_000, "control_hz": 27.0,

@@ -120,7 +120,7 @@ def test_a_judge_that_fails_on_a_finished_run_says_where_it_failed(tmp_path, mon
     def judge(summary, quick):
         return summary["no such key"]
 
-    broken = dataclasses.replace(ITEMS["fig2"], judge=judge)
+    broken = dataclasses.replace(ITEMS["fig2"], claims=judge)
     monkeypatch.setattr(plan, "PLAN", tuple(broken if i.name == "fig2" else i for i in plan.PLAN))
     monkeypatch.setitem(plan.ITEMS, "fig2", broken)
     main(["reproduce", "--quick", "--only", "fig2", "--out", str(tmp_path)])

@@ -30,6 +30,7 @@ from matplotlib.ticker import PercentFormatter
 
 from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.stores import Kept, store_path
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.random_envs import (
@@ -289,3 +290,33 @@ def plot(res: Result) -> Figure:
     fig.suptitle(f"The same networks on other robots ({s.get('variant', 'paper')} variant)")
     place_bar_counts(fig, counts)  # once the layout is done: no count covers another bar or its error bar
     return fig
+
+
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """Beyond the paper: on every body the plastic network escapes at least as many dead ends as the static one and
+    succeeds at least as often in random environments."""
+    rows = {(r["body"], r["network"]): r for r in s["rows"]}
+    claims = []
+    for body in s["bodies"]:
+        p, st = rows[(body, "plastic")], rows[(body, "static")]
+        (pk, n), (sk, _) = ((sum(r["dead_ends"].values()), r["dead_end_runs"] * len(r["dead_ends"])) for r in (p, st))
+        claims.append(
+            holds(
+                f"{body}: the plastic network escapes at least as many dead ends as the static one",
+                "beyond the paper",
+                pk >= sk,
+                f"plastic {pk}/{n}, static {sk}/{n}",
+                f"escaped runs over the dead ends {', '.join(p['dead_ends'])}, {p['dead_end_runs']} seeds each",
+            )
+        )
+        claims.append(
+            holds(
+                f"{body}: the plastic network is not stuck in at least as many random environments as the static one",
+                "beyond the paper",
+                p["table2_success"] >= st["table2_success"],
+                f"plastic {p['table2_success']}/{p['table2_environments']}, static "
+                f"{st['table2_success']}/{st['table2_environments']}",
+                "Table 2 successes (not stuck at the end) of each network on the body",
+            )
+        )
+    return claims

@@ -10,12 +10,13 @@ space (some wall always within reflex range) its weights stay grown and it keeps
 from __future__ import annotations
 
 from collections.abc import Iterator, Mapping
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.ticker import PercentFormatter
 
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.plotting.style import legend_outside, letter_panels, network_line, pyplot
@@ -111,3 +112,25 @@ def plot(res: Result) -> Figure:
         f"({s['steps'] / s.get('control_hz', 10.0):g} s) per run"
     )
     return fig
+
+
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """Beyond the paper: over every trap size swept, the plastic network escapes at least as often as the static
+    one, and the static one at least as often as the Braitenberg vehicle (no memory)."""
+    claims = []
+    for label, by_net in s["counts"].items():
+        total = {
+            net: (sum(c["escaped"] for c in cells.values()), sum(c["runs"] for c in cells.values()))
+            for net, cells in by_net.items()
+        }
+        (p, n), (st, _), (br, _) = total["plastic"], total["static"], total["braitenberg"]
+        claims.append(
+            holds(
+                f"{label}: escapes, plastic >= static >= Braitenberg",
+                "beyond the paper: memory and plasticity widen the traps escaped",
+                p >= st >= br,
+                f"plastic {p}/{n}, static {st}/{n}, Braitenberg {br}/{n}",
+                f"escaped runs over the sizes {s['sweeps'][label]['sizes']}, {s['seeds']} seeds each",
+            )
+        )
+    return claims

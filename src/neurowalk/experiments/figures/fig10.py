@@ -26,6 +26,7 @@ from neurowalk import anatomy
 from neurowalk.arenas import make_arena
 from neurowalk.body.physics import AmosII
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.reproduce.claims import Claim, outcome
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.climbing import (
     FIRST_PLATFORM,
@@ -35,6 +36,7 @@ from neurowalk.experiments.suites.climbing import (
     track_spec,
     track_success,
 )
+from neurowalk.experiments.suites.real_robot import real_robot_claims
 from neurowalk.experiments.suites.timing import SIM_HZ, quick_note, quick_seconds, real_robot_entry, run_steps
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting.style import FONT, LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, time_colorbar
@@ -309,3 +311,22 @@ def plot(res: Result) -> Figure:
     )
     fig.suptitle(f"Climbing track: reached the second platform with steps of {ok}{rate}")
     return fig
+
+
+def _claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """The climbing track crossed: first step climbed, wall avoided, second step climbed."""
+    row = s["table"][f"{s['step_m']:.2f}"]
+    return [
+        outcome(
+            f"climbs the first step, avoids the wall, climbs the second (steps of {s['step_m']} m; Fig. 10)",
+            "crossed",
+            row["success"],
+            row["seeds"],
+        )
+    ]
+
+
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """The paper's results the figure shows; at the real robot's control rate also its times
+    (:func:`~neurowalk.experiments.suites.real_robot.real_robot_claims`)."""
+    return [*_claims(s, quick), *(real_robot_claims(s) if s.get("real_robot", {}).get("same_clock") else [])]

@@ -17,12 +17,13 @@ G.   Hysteresis width of the two-neuron network over (b, c); black where it latc
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.patches import Circle, FancyArrowPatch
 
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.neural.analysis import (
     hysteresis_loop,
     hysteresis_width_map,
@@ -263,3 +264,43 @@ def plot(res: Result) -> Figure:
     legend_outside(ax, side="below", ncol=2, fontsize=FONT["small"])
     letter_panels(panels)
     return fig
+
+
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """Single neuron: linear for small b, a hysteresis for larger b, its width growing with b; the static
+    network's b = 2.4, c = -3.5 has a hysteresis; the strong weights latch (permanent turning)."""
+    single = s["single_neuron"]
+    small = [r for r in single if r["b"] < 1.0]
+    larger = [r for r in single if r["b"] > 1.0 and not r["latched"]]
+    widths = [r["width"] for r in larger]
+    static, strong = s["two_neuron_loops"][0], s["two_neuron_loops"][-1]
+    return [
+        holds(
+            "single neuron, small self-connection b < 1: no hysteresis (Fig. 2B)",
+            "approximately linear I-O",
+            all(r["width"] < 1e-6 for r in small),
+            max(r["width"] for r in small),
+            f"largest hysteresis width for b < 1 (input units): {max(r['width'] for r in small):.2g}",
+        ),
+        holds(
+            "single neuron, b > 1: a hysteresis (Fig. 2C) whose width grows with b",
+            "hysteresis, width proportional to b",
+            len(widths) > 1 and all(w > 0 for w in widths) and bool(np.all(np.diff(widths) > 0)),
+            [round(w, 3) for w in widths],
+            f"widths at b = {[r['b'] for r in larger]}",
+        ),
+        holds(
+            f"static network b = {static['b']}, c = {static['c']}: a hysteresis, not latched",
+            "hysteresis interval (Fig. 2C)",
+            static["width"] is not None and static["width"] > 0 and not static["latched"],
+            static["width"],
+            f"width {static['width']} of the input range [-1, 1]",
+        ),
+        holds(
+            f"strong weights b = {strong['b']}, c = {strong['c']}: two states, the active one kept (Fig. 2D)",
+            "permanent turning (active state)",
+            bool(strong["latched"]),
+            "latched" if strong["latched"] else f"width {strong['width']}",
+            "latched: switched on and never off within the input range",
+        ),
+    ]

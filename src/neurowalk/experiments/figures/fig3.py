@@ -21,8 +21,10 @@ from collections.abc import Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.suites import deadends
+from neurowalk.experiments.suites.deadends import dead_end_claim
 from neurowalk.experiments.suites.deadends_plot import plot as draw
 from neurowalk.experiments.suites.long_runs import control_steps_of
 
@@ -66,3 +68,33 @@ def measure(s: Settings, runs: Mapping[Any, Sequence[Kept]]) -> Result:
 def plot(res: Result) -> Figure:
     """Panels A-G; the escape counts as a table below them."""
     return draw(res, NETWORK, list(LONG))
+
+
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """Static network: escapes the simple dead end, trapped in the narrow passage, explores the cluttered arena,
+    trapped in the difficult one."""
+    clut, diff = s["runs"]["cluttered (static)"], s["runs"]["difficult (static)"]
+    return [
+        dead_end_claim(
+            s, "simple-deadlock", "static", "escaped", "static network escapes the simple dead end (Fig. 3A)"
+        ),
+        dead_end_claim(
+            s, "narrow-passage", "static", "trapped", "static network is trapped in the narrow passage (Fig. 3B)"
+        ),
+        holds(
+            "static network explores the cluttered arena without getting stuck (Fig. 3F)",
+            "not stuck",
+            not clut["trapped"],
+            f"coverage {clut['coverage']:.1%}",
+            f"one run of {clut['steps']} control steps; stuck: held in a 0.5 m disc over its last 300 s",
+        ),
+        holds(
+            "static network is trapped in the difficult arena (Fig. 3G)",
+            "trapped",
+            bool(diff["trapped"]),
+            f"coverage {diff['coverage']:.1%}",
+            f"one run of {diff['steps']} control steps ({s['time_step_reading']['long_runs']}); longest wedged "
+            f"period {diff['longest_wedged_s']:.0f} s"
+            + (f", longest held {diff['longest_held_s']:.0f} s" if diff.get("longest_held_s") is not None else ""),
+        ),
+    ]

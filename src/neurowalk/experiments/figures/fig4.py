@@ -21,6 +21,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.reproduce.claims import Claim, holds, value
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.neural.plasticity import fixed_point
@@ -220,3 +221,36 @@ def plot(res: Result) -> Figure:
         axb.tick_params(labelbottom=False)
     letter_panels([ax, top])
     return fig
+
+
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """Constant inputs: b1, c1 converge to values independent of the start while b2, c2 stay; changing inputs:
+    fast rises on a reflex, slow decay after."""
+    a = s["panel_a"]
+    paper = a["starts"][0]
+    change = max(abs(paper["b2"] - paper["b0"]) / paper["b0"], abs(paper["q2"] - paper["q0"]) / paper["q0"])
+    b = s["panel_b"]
+    return [
+        holds(
+            "constant inputs: b1 and c1 converge to the same values from every start (Fig. 4A)",
+            "converge, independent of the initial conditions",
+            max(a["max_b1_rel_error"], a["max_q1_rel_error"]) < 1e-3,
+            {"b1": round(s["fixed_points"]["b"], 4), "|c1|": round(s["fixed_points"]["q"], 4)},
+            f"{len(a['starts'])} starts after {a['steps']} steps: largest relative distance to the fixed point "
+            f"{max(a['max_b1_rel_error'], a['max_q1_rel_error']):.1e} (below 1e-3 counts as converged)",
+        ),
+        value(
+            "constant inputs: b2 and c2 (inactive input) remain unchanged (Fig. 4A)",
+            0.0,
+            100 * change,
+            5.0,
+            unit="%",
+        ),
+        holds(
+            "changing inputs: weights rise fast on a reflex and decay slowly after (Fig. 4B)",
+            "fast rise, slow decay",
+            b["growth_to_decay_ratio"] > 1,
+            round(b["growth_to_decay_ratio"], 1),
+            f"mean rise per step with the reflex on over mean decay per step with it off, over {b['steps']} steps",
+        ),
+    ]

@@ -18,6 +18,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.reproduce.claims import Claim, holds, rate
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites import confinement
 from neurowalk.experiments.suites.random_envs import (
@@ -186,3 +187,21 @@ def plot(res: Result) -> Figure:
         + (f", {s['success_coverage']}/16 by coverage" if "success_coverage" in s else "")
     )
     return fig
+
+
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """Sixteen random environments: the paper's one failure in sixteen, and successes that faced a confined space
+    (green) and a trap (blue)."""
+    rows = s["environments"]
+    ok = sum(bool(r["success"]) for r in rows)
+    classes = s["classes"]
+    return [
+        rate(f"random environments explored ({s['body']}, {s['steps']} steps; Fig. 6)", 15, 16, ok, len(rows)),
+        holds(
+            "successes that faced a confined space and a trap both occur (Fig. 6, green and blue)",
+            "green and blue squares",
+            classes["passed a confined space"] > 0 and classes["escaped a trap"] > 0,
+            classes,
+            s["class_rule"],
+        ),
+    ]

@@ -23,6 +23,7 @@ from matplotlib.patches import Patch
 
 from neurowalk import anatomy, gait
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.neural.cpg import period
@@ -149,3 +150,40 @@ def plot(res: Result) -> Figure:
     over = f"; speed and turning rate over t = {w['from_s']:.1f}-{w['to_s']:.1f} s" if w else ""
     fig.suptitle(f"Joint angles of all legs at {hz:g} Hz control{over}")
     return fig
+
+
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """The wave gait: legs swing one by one from hind to front; strokes follow the walking direction."""
+    claims = []
+    for name, c in s["conditions"].items():
+        order = tuple(c["leg_order"])
+        sides = (order[:3], order[3:]) if order[0][0] == "R" else (order[3:], order[:3])
+        one_by_one = c["time_two_or_more_in_swing"] <= 0.1
+        claims.append(
+            holds(
+                f"{name}: legs swing one by one from hind to front (Fig. 7)",
+                "wave gait, hind to front",
+                sides == HIND_TO_FRONT and one_by_one,
+                " ".join(order),
+                f"swing order {' '.join(order)}; two or more legs in swing {c['time_two_or_more_in_swing']:.0%} of "
+                "the time (one by one: at most 10%)",
+            )
+        )
+    want = {"forward": (1, 1), "backward": (-1, -1), "turn right": (-1, 1), "turn left": (1, -1)}
+    for name, (right, left) in want.items():
+        d = s["conditions"][name]["stroke_direction"]
+        ok = all(d[f"R{i}"] == right and d[f"L{i}"] == left for i in (1, 2, 3))
+        claims.append(
+            holds(
+                f"{name}: stance strokes of the right and left legs (Fig. 7, TC joints)",
+                f"right {'forward' if right > 0 else 'backward'} legs, left {'forward' if left > 0 else 'backward'}",
+                ok,
+                d,
+                "sign of each leg's TC stroke (+1: the leg pushes the body forward)",
+            )
+        )
+    return claims
+
+
+#: Fig. 7's caption: in the wave gait "the legs swing one by one from hind to front".
+HIND_TO_FRONT = (("R3", "R2", "R1"), ("L3", "L2", "L1"))

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.reproduce.claims import Claim, outcome
 from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.suites.real_robot import (
     EXAMPLE,
@@ -35,6 +36,7 @@ from neurowalk.experiments.suites.real_robot import (
     draw_traces,
     example_of,
     network_arrays,
+    real_robot_claims,
     run_record,
     with_path,
     write_videos,
@@ -169,3 +171,23 @@ def plot(res: Result) -> Figure:
         "escaped " + ", ".join(f"{net} {s['escaped'][net]}" for net in NETWORKS)
     )
     return fig
+
+
+def _claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """The plastic network escapes the narrow passage; the static one stays trapped."""
+    p, st = s["counts"]["plastic"], s["counts"]["static"]
+    return [
+        outcome("plastic network escapes the narrow passage (Fig. 8)", "escaped", p["escaped"], p["seeds"]),
+        outcome(
+            "static network fails to escape (Fig. 8, Supplementary Video 1)",
+            "stuck",
+            st["seeds"] - st["escaped"],
+            st["seeds"],
+        ),
+    ]
+
+
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """The paper's results the figure shows; at the real robot's control rate also its times
+    (:func:`~neurowalk.experiments.suites.real_robot.real_robot_claims`)."""
+    return [*_claims(s, quick), *(real_robot_claims(s) if s.get("real_robot", {}).get("same_clock") else [])]

@@ -29,7 +29,8 @@ from neurowalk.arenas import arena_options, make_arena
 from neurowalk.arenas.deadlocks import EXIT_MARGIN, WALL
 from neurowalk.arenas.generated import MOUTH, OPENING
 from neurowalk.experiments import Result, Settings
-from neurowalk.experiments.reproduce import judge_robot
+from neurowalk.experiments.reproduce.claims import Claim
+from neurowalk.experiments.reproduce.claims import outcome as outcome_claim
 from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.suites.real_robot import (
     EXAMPLE,
@@ -45,6 +46,7 @@ from neurowalk.experiments.suites.real_robot import (
     example_of,
     network_arrays,
     path_every,
+    real_robot_claims,
     run_record,
     with_path,
     write_videos,
@@ -349,10 +351,30 @@ def plot(res: Result) -> Figure:
 
 def verdict_title(s: dict[str, Any]) -> str:
     """The picture's title: the counts, and the verdicts the report gives them (its judge's, the one rule)."""
-    plastic, static = judge_robot.fig9(s, bool(s.get("quick")))
+    plastic, static = _claims(s, bool(s.get("quick")))
     p, st = s["counts"]["plastic"], s["counts"]["static"]
     return (
         f"Complex path (paper Fig. 9): got out of the path plastic {p['got_out']}/{p['seeds']}, static "
         f"{st['got_out']}/{st['seeds']}\n(the report's verdicts: plastic goes out, {plastic.verdict}; "
         f"static gets stuck, {static.verdict})"
     )
+
+
+def _claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """The plastic network goes out of the complex path; the static one gets stuck in it."""
+    p, st = s["counts"]["plastic"], s["counts"]["static"]
+    return [
+        outcome_claim("plastic network goes out of the complex path (Fig. 9)", "out", p["got_out"], p["seeds"]),
+        outcome_claim(
+            "static network gets stuck in the path (Fig. 9, Supplementary Video 2)",
+            "stuck",
+            st["seeds"] - st["got_out"],
+            st["seeds"],
+        ),
+    ]
+
+
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """The paper's results the figure shows; at the real robot's control rate also its times
+    (:func:`~neurowalk.experiments.suites.real_robot.real_robot_claims`)."""
+    return [*_claims(s, quick), *(real_robot_claims(s) if s.get("real_robot", {}).get("same_clock") else [])]

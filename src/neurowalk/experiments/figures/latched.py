@@ -18,6 +18,7 @@ import numpy as np
 
 from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.random_envs import LATCH, STEPS, STRIDE, environments, failure_class, spec
 from neurowalk.plotting import draw_arena
@@ -127,3 +128,19 @@ def plot(res: Result) -> Figure:
         f"{f['latched spin']} latched spins, {f['wedged']} wedged, {f['other']} other failures"
     )
     return fig
+
+
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """Beyond the paper: the plastic network's failures in random environments are mostly latched spins."""
+    f = s["failures"]
+    total = sum(f.values())
+    return [
+        holds(
+            "the plastic network's failures in random environments are mostly latched spins (a turn held by the "
+            "learned weights)",
+            "beyond the paper: neurowalk's diagnosis",
+            total > 0 and f["latched spin"] > total / 2,
+            f"{f['latched spin']} of {total} failures",
+            f"failure classes of {s['searched']} surrogate runs of {s['steps']} steps: {f}",
+        )
+    ]

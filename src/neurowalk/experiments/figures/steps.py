@@ -13,12 +13,13 @@ json).
 from __future__ import annotations
 
 from collections.abc import Iterator, Mapping, Sequence
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.ticker import PercentFormatter
 
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.suites.climbing import (
     QUICK_SWEEP_HEIGHTS,
@@ -134,3 +135,20 @@ def plot(res: Result) -> Figure:
     ax.yaxis.set_major_formatter(PercentFormatter(1.0))
     legend_outside(ax)
     return fig
+
+
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """Beyond the paper: backbone control and the leg reflexes together climb the highest step (Fig. 10's modules,
+    ablated)."""
+    v = s["variants"]
+    full, none = v["reflexes + backbone"]["highest_reliable_m"], v["neither"]["highest_reliable_m"]
+    best = max((x["highest_reliable_m"] or 0.0) for x in v.values())
+    return [
+        holds(
+            "backbone control with the leg reflexes climbs the highest step of all module sets",
+            "beyond the paper: the modules of Fig. 10 ablated",
+            (full or 0.0) >= best and (full or 0.0) > (none or 0.0),
+            {name: x["highest_reliable_m"] for name, x in v.items()},
+            f"highest step (m) climbed reliably ({s['rule']})",
+        )
+    ]

@@ -19,6 +19,7 @@ from neurowalk.body.surrogate import load_calibration
 from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.calibration.calibrate import validation
 from neurowalk.experiments.calibration.subjects import HELD_OUT
+from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.suites.deadends import NETWORKS, VARIANTS, table_counts, table_runs
 from neurowalk.plotting.style import FONT, LINE, legend_outside, letter_panels, network_colour, pyplot
@@ -123,3 +124,17 @@ def plot(res: Result) -> Figure:
     letter_panels(ax)
     fig.suptitle("The planar surrogate against the physics body")
     return fig
+
+
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """Beyond the paper: the planar surrogate and the physics robot agree on the dead-end outcomes."""
+    a = s["agreement"]
+    return [
+        holds(
+            "the planar surrogate ends the dead-end runs as the physics robot does in at least 80% of them",
+            "beyond the paper: the surrogate stands in for the physics in Table 2",
+            a["fraction"] is not None and a["fraction"] >= 0.8,
+            f"{a['same_outcome']}/{a['runs']}",
+            s["rule"],
+        )
+    ]

@@ -18,6 +18,7 @@ import numpy as np
 from matplotlib.lines import Line2D
 
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.plotting.style import FONT, LINE, letter_panels, pyplot
 from neurowalk.sim.episode import Episode, EpisodeConfig
@@ -169,3 +170,34 @@ def plot(res: Result) -> Figure:
         f"Table 1: walking direction from the sensory network's outputs (physics AMOSII, {s['control_hz']:g} Hz)"
     )
     return fig
+
+
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """Each sign pair of the paper's Table 1 walks in the paper's direction; the amplitude sets the speed."""
+    claims = []
+    for row in s["signs"]:
+        if row["paper"] is None:
+            continue
+        claims.append(
+            holds(
+                f"outputs ({row['O1']:+d}, {row['O2']:+d}) walk {row['paper']}",
+                row["paper"],
+                row["direction"] == row["paper"],
+                row["direction"],
+                f"{100 * row['speed_m_per_s']:.2f} cm/s along the start heading, {row['turn_rate_deg_per_s']:.2f} "
+                f"deg/s turning (positive left) after the warm-up, named by figures.table1.direction",
+            )
+        )
+    speeds = [r["speed_m_per_s"] for r in s["amplitude"]]
+    rising = bool(np.all(np.diff(speeds) > 0))
+    claims.append(
+        holds(
+            "the amplitude determines the walking speed",
+            "speed rises with |O|",
+            rising,
+            [round(100 * v, 2) for v in speeds],
+            f"forward speed (cm/s) at amplitudes {[r['amplitude'] for r in s['amplitude']]}: "
+            + ("rises at every step" if rising else "does not rise at every step"),
+        )
+    )
+    return claims

@@ -14,11 +14,13 @@ Every environment row holds each network's coverage and both outcomes.
 from __future__ import annotations
 
 from collections.abc import Iterator, Mapping, Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from neurowalk.body.registry import bodies_where, body_info
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.reproduce.claims import Claim, rate
 from neurowalk.experiments.stores import Kept, store_path
 from neurowalk.experiments.suites.random_envs import (
     BOXES,
@@ -220,3 +222,22 @@ def plot(res: Result) -> Figure:
     """Success rates under both rules beside the paper's, coverage, failures by clutter and by class
     (:mod:`~neurowalk.experiments.suites.random_envs_plot`)."""
     return draw(res)
+
+
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """The plastic network's count of explored environments against the paper's 49 of 50, under neurowalk's two
+    rules: not stuck at the end, and the coverage rule (the paper's "explores the environment" made a number)."""
+    paper = s["paper"]
+    where = f"{s['body']}, {s['steps']} steps at {s.get('control_hz', 10.0):g} Hz"
+    claims = []
+    for name, c in s["counts"].items():
+        if c["controller"] != "plastic":
+            continue
+        for what, key, how in (
+            ("not stuck at the end", "success", RULE),
+            ("explored by the coverage rule", "success_coverage", s["coverage_rule"]),
+        ):
+            k, n = c[key], c["environments"]
+            claim = rate(f"{name}: {what} ({where})", paper["success"], paper["environments"], k, n)
+            claims.append(replace(claim, rule=f"{claim.rule}; {how}"))
+    return claims

@@ -14,7 +14,6 @@ from dataclasses import dataclass
 from typing import Any
 
 from neurowalk.experiments import FIGURES, Study
-from neurowalk.experiments.reproduce import judge_arena, judge_network, judge_robot
 from neurowalk.experiments.reproduce.claims import Claim
 
 #: The real AMOSII's control rate (paper §2.2: "updated with a frequency of approximately 27 Hz").
@@ -29,19 +28,23 @@ class Item:
         name: the item's name (``DIR/NAME.json``; ``--only NAME``).
         figure: the figure that measures it (``neurowalk figure FIG``).
         paper: what the paper shows, in a line, with where.
-        judge: ``judge(summary, quick) -> claims``, from the figure's ``FIG.json``.
         flags: figure flags of both modes.
         full: flags of the full reproduction only.
         quick: flags of the quick one only (after ``--quick``).
+        claims: its judge where it is not that of the registered figure (a study of a table of one's own).
     """
 
     name: str
     figure: str
     paper: str
-    judge: Callable[[dict[str, Any], bool], list[Claim]]
     flags: tuple[str, ...] = ()
     full: tuple[str, ...] = ()
     quick: tuple[str, ...] = ()
+    claims: Callable[[dict[str, Any], bool], list[Claim]] | None = None
+
+    def judge(self, summary: dict[str, Any], quick: bool) -> list[Claim]:
+        """The paper's results the figure's saved numbers ``summary`` show, judged: its study's ``claims``."""
+        return (self.claims or FIGURES[self.figure].claims)(summary, quick)  # type: ignore[misc]
 
     def args(self, quick: bool) -> tuple[str, ...]:
         """The figure command's flags (after ``figure FIG --out DIR``)."""
@@ -49,48 +52,40 @@ class Item:
 
 
 PAPER: tuple[Item, ...] = (
-    Item("table1", "table1", "Table 1: walking direction for each sign of the outputs O1, O2", judge_network.table1),
-    Item(
-        "fig2", "fig2", "Fig. 2: linear, hysteresis and two-state dynamics of the recurrent neurons", judge_network.fig2
-    ),
+    Item("table1", "table1", "Table 1: walking direction for each sign of the outputs O1, O2"),
+    Item("fig2", "fig2", "Fig. 2: linear, hysteresis and two-state dynamics of the recurrent neurons"),
     Item(
         "fig3",
         "fig3",
         "Fig. 3: the static network escapes a simple dead end, is trapped in a narrow passage and in "
         "the difficult arena, explores the cluttered one",
-        judge_arena.fig3,
     ),
     Item(
         "fig4",
         "fig4",
         "Fig. 4: weights converge for constant inputs, rise and decay for changing ones",
-        judge_network.fig4,
     ),
     Item(
         "fig5",
         "fig5",
         "Fig. 5: the plastic network escapes both dead ends and explores the difficult arena with "
         "weights adapting stably over 1,000,000 time steps",
-        judge_arena.fig5,
     ),
     Item(
         "fig6",
         "fig6",
         "Fig. 6: sixteen random environments: one failure, successes facing a confined space and a trap",
-        judge_arena.fig6,
     ),
     Item(
         "fig7",
         "fig7",
         "Fig. 7: joint angles of the wave gait, legs swinging one by one from hind to front",
-        judge_network.fig7,
     ),
-    Item("table2", "table2", "Table 2: 49 of 50 random environments explored (planar surrogate)", judge_arena.table2),
+    Item("table2", "table2", "Table 2: 49 of 50 random environments explored (planar surrogate)"),
     Item(
         "table2-1000",
         "table2",
         "Table 2 on 1000 random environments (planar surrogate; 100 with --quick)",
-        judge_arena.table2,
         full=("--seeds", "1000"),
         quick=("--seeds", "100"),
     ),
@@ -98,20 +93,17 @@ PAPER: tuple[Item, ...] = (
         "table2-physics",
         "table2",
         "Table 2: 49 of 50 random environments explored (physics AMOSII)",
-        judge_arena.table2,
         flags=("--body", "amosii"),
     ),
     Item(
         "fig8",
         "fig8",
         "Fig. 8: narrow passage: the plastic network escapes, the static one stays trapped (simulator rate, 10 Hz)",
-        judge_robot.fig8,
     ),
     Item(
         "fig8-27hz",
         "fig8",
         "Fig. 8: the real robot (27 Hz) escaped the narrow passage at 0:50",
-        judge_robot.fig8_real,
         flags=("--control-hz", REAL_ROBOT_HZ),
     ),
     Item(
@@ -119,52 +111,44 @@ PAPER: tuple[Item, ...] = (
         "fig9",
         "Fig. 9: complex path: the plastic network goes out of the path, the static one is stuck "
         "(simulator rate, 10 Hz)",
-        judge_robot.fig9,
     ),
     Item(
         "fig9-27hz",
         "fig9",
         "Fig. 9: the real robot (27 Hz) went out of the complex path at 3:20",
-        judge_robot.fig9_real,
         flags=("--control-hz", REAL_ROBOT_HZ),
     ),
     Item(
         "fig10",
         "fig10",
         "Fig. 10: climbs a step, avoids a wall, climbs a second step (simulator rate, 10 Hz)",
-        judge_robot.fig10,
     ),
     Item(
         "fig10-27hz",
         "fig10",
         "Fig. 10: the real robot (27 Hz) was on the first platform at 0:23, the second at 1:14",
-        judge_robot.fig10_real,
         flags=("--control-hz", REAL_ROBOT_HZ),
     ),
     Item(
         "escape-map",
         "escape-map",
         "Beyond the paper: escape rate against trap size, three networks",
-        judge_arena.escape_map,
     ),
     Item(
         "latched-spin",
         "latched-spin",
         "Beyond the paper: the plastic network's failure case of Table 2",
-        judge_arena.latched_spin,
     ),
     Item(
         "steps",
         "steps",
         "Beyond the paper: the highest step climbed with and without backbone control",
-        judge_robot.steps,
     ),
-    Item("bodies", "bodies", "Beyond the paper: the networks on a wheeled robot at two sizes", judge_arena.bodies),
+    Item("bodies", "bodies", "Beyond the paper: the networks on a wheeled robot at two sizes"),
     Item(
         "surrogate",
         "surrogate",
         "Beyond the paper: the planar surrogate against the physics robot",
-        judge_arena.surrogate,
     ),
 )
 
@@ -173,7 +157,9 @@ def judged_studies(figures: Mapping[str, Study], named: Iterable[str]) -> tuple[
     """An item for each study of ``figures`` that judges its own results (``Study.claims``) and that ``named`` (the
     figures of :data:`PAPER`) leaves out: its claims are its judge, its title what it shows."""
     skip = set(named)
-    return tuple(Item(n, n, s.title, s.claims) for n, s in figures.items() if s.claims is not None and n not in skip)
+    return tuple(
+        Item(n, n, s.title, claims=s.claims) for n, s in figures.items() if s.claims is not None and n not in skip
+    )
 
 
 #: Every result ``neurowalk reproduce`` runs and judges: the paper's, then every registered study with claims.

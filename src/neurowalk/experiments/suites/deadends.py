@@ -19,6 +19,7 @@ import numpy as np
 from neurowalk.arenas import arena_options
 from neurowalk.arenas.spec import WALL_HEIGHT
 from neurowalk.experiments import Result, Settings
+from neurowalk.experiments.reproduce.claims import Claim, outcome
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.long_runs import (
     LONG,
@@ -193,3 +194,9 @@ def _long_steps(long_steps: int, full_steps: int, control_hz: float, rows: dict[
             "rows": rows,
         },
     }
+
+
+def dead_end_claim(s: dict[str, Any], arena: str, network: str, want: str, what: str) -> Claim:
+    """An outcome claim of the dead-end table: ``want`` is ``escaped`` or ``trapped``."""
+    cell = s["table"]["counts"][arena][network]
+    return outcome(what, want, cell[want], cell["runs"])

@@ -23,6 +23,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from neurowalk.body.physics import AmosII
+from neurowalk.experiments.reproduce.claims import Claim, timing
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.long_runs import sample_steps
 from neurowalk.experiments.suites.timing import SIM_HZ, steps_for
@@ -273,3 +274,20 @@ def draw_traces(
     title = f"{label}: steering" + (" and weights" if plastic else "")
     signals = [(outputs, "O", "steering O")]
     return run_plots.draw_traces(fig, spec, t, signals, b, q, title, plastic=plastic, lw=LINE["thin"])
+
+
+def real_robot_claims(s: dict[str, Any]) -> list[Claim]:
+    """Each event of the figure's ``real_robot`` entry: the median simulated time over the runs where it happened
+    against the real robot's time (:func:`~neurowalk.experiments.reproduce.claims.timing`)."""
+    rr = s["real_robot"]
+    claims = []
+    for name, e in rr["events"].items():
+        sim = e["sim"]
+        context = (
+            f" at {rr['control_hz']:g} Hz, median over the {sim['happened']} of {sim['runs']} runs where it happened "
+            f"(range {sim['min_s']}-{sim['max_s']} s)"
+            if sim["happened"]
+            else f" at {rr['control_hz']:g} Hz: in none of {sim['runs']} runs"
+        )
+        claims.append(timing(f"{name} (real robot: {e['paper']})", e["paper_s"], sim["median_s"], context))
+    return claims
