@@ -30,7 +30,7 @@ import numpy as np
 from neurowalk.envs.policy import NetworkPolicy, evaluate_batch
 from neurowalk.experiments.baselines import evolved_rnn, ppo
 from neurowalk.experiments.baselines.evolved_rnn import RecurrentPolicy
-from neurowalk.experiments.baselines.ppo import Sb3Policy, import_rl
+from neurowalk.experiments.baselines.ppo import MODEL, Sb3Policy, import_rl
 from neurowalk.experiments.cma_record import import_cma
 from neurowalk.experiments.suites.random_envs import wilson
 from neurowalk.fileio import atomic_write, write_json
@@ -112,7 +112,7 @@ def policy_of(name: str, record: dict[str, Any] | None, folder: Path) -> Any:
     assert record is not None
     if name == "neuroevo":
         return RecurrentPolicy(np.array(record["theta"]), record["hidden"])
-    return Sb3Policy(name, folder / "model.zip")
+    return Sb3Policy(name, folder / MODEL)
 
 
 def check_methods(methods: Sequence[str], *, available: bool = True) -> None:

@@ -5,9 +5,14 @@ over :class:`~neurowalk.envs.vector.ExploreVectorEnv`: observations are the read
 evolved network (:func:`.evolved_rnn.features`), the reward is the environment's (m^2 newly covered), every
 episode ends by truncation after ``steps`` control steps (so all copies end together and restart on the next
 training seeds: ``train_seed * 1_000_000 + e * n_envs + j`` for the e-th round of episodes, below the held-out
-seeds of ``neurowalk baseline``). Checkpoints (``model.zip`` and ``progress.json``) are written every
+seeds of ``neurowalk baseline``). Checkpoints (``model.npz`` and ``progress.json``) are written every
 ``checkpoint_every`` steps; a run started again continues from the last one (the same environments onward, not
 the same numbers bit for bit: torch's and stable-baselines3's state between checkpoints is not kept).
+
+A checkpoint holds the policy's and its optimizer's tensors as plain arrays (``model.npz``, read with
+``allow_pickle=False``) and the optimizer's settings as JSON inside it; the model is built again from
+:data:`HYPER` and the run's settings and the arrays are put into it. stable-baselines3's own ``model.zip`` holds
+cloudpickle, which can run code when read: a folder with one is refused.
 
 Needs the ``rl`` extra (torch, stable-baselines3, sb3-contrib), imported in one place (:func:`import_rl`); see the
 README for a CPU-only torch.
@@ -27,7 +32,7 @@ import numpy as np
 
 from neurowalk.envs.vector import ExploreVectorEnv
 from neurowalk.experiments.baselines.evolved_rnn import features
-from neurowalk.fileio import write_json
+from neurowalk.fileio import atomic_write, write_json
 from neurowalk.progress import Progress as ProgressBar
 from neurowalk.runners.stopping import deferred
 
@@ -152,10 +157,11 @@ def train(
     progress: bool = True,
     log: Callable[[str], None] = print,
 ) -> dict[str, Any]:
-    """Train ``algo`` for ``total_steps`` environment steps (resuming from ``out/model.zip``); the training record.
+    """Train ``algo`` for ``total_steps`` environment steps (resuming from ``out/model.npz``); the training record.
 
     Returns ``env_steps``, ``wall_s`` (summed over sessions), ``hyperparameters``, ``curve`` (mean episode
-    return of each round of episodes, m^2) and the settings; the model is ``out/model.zip``.
+    return of each round of episodes, m^2) and the settings; the model is ``out/model.npz``
+    (:func:`save_model`). ValueError where ``out`` holds another run's settings or a pickled ``model.zip``.
     """
     rl = import_rl(algo)
     if total_steps < 1 or n_envs < 1 or steps < 1:
@@ -163,7 +169,8 @@ def train(
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     settings = {"algo": algo, "n_envs": n_envs, "steps": steps, "seed": seed, "train_seed": train_seed}
-    prog_path, model_path = out / "progress.json", out / "model.zip"
+    prog_path, model_path = out / "progress.json", out / MODEL
+    refuse_pickled(out)
     record: dict[str, Any] = {**settings, "env_steps": 0, "wall_s": 0.0, "curve": []}
     if prog_path.is_file() and model_path.is_file():
         old = json.loads(prog_path.read_text())
@@ -177,12 +184,9 @@ def train(
     rl.torch.manual_seed(seed)
     rounds = record["env_steps"] // (n_envs * steps)
     venv = make_vec_env(n_envs, steps, train_seed, first_round=rounds)
-    hyper = dict(HYPER[algo])
-    policy = hyper.pop("policy")
+    model = new_model(rl, algo, venv, seed)
     if record["env_steps"]:
-        model = rl.algo.load(model_path, env=venv, device="cpu")
-    else:
-        model = rl.algo(policy, venv, seed=seed, device="cpu", verbose=0, **hyper)
+        load_model(rl, model, model_path)
     callback = _callback(rl, record, n_envs, total_steps, progress)
     while record["env_steps"] < total_steps:
         chunk = min(checkpoint_every, total_steps - record["env_steps"])
@@ -191,8 +195,7 @@ def train(
         record["wall_s"] += time.perf_counter() - t0
         record["env_steps"] = int(model.num_timesteps)
         with deferred():  # the model and its progress agree: a Ctrl-C now stops the training after this checkpoint
-            model.save(out / ".model.tmp.zip")
-            (out / ".model.tmp.zip").replace(model_path)
+            save_model(model, model_path)
             write_json(prog_path, {**record, "hyperparameters": HYPER[algo]})
     callback.close()
     log(f"{algo}: {record['env_steps']:,} env steps, {record['wall_s']:.0f} s")
@@ -230,12 +233,70 @@ def _callback(rl: Rl, record: dict[str, Any], n_envs: int, total: int, progress:
     return Progress()
 
 
+MODEL = "model.npz"  # a checkpoint: the policy's and the optimizer's tensors, plain arrays
+
+
+def new_model(rl: Rl, algo: str, venv: Any, seed: int = 0) -> Any:
+    """``algo``'s model with :data:`HYPER`'s settings on ``venv``, its weights drawn from ``seed``."""
+    hyper = dict(HYPER[algo])
+    policy = hyper.pop("policy")
+    return rl.algo(policy, venv, seed=seed, device="cpu", verbose=0, **hyper)
+
+
+def save_model(model: Any, path: Path) -> None:
+    """Write ``model``'s policy and optimizer state to ``path`` (.npz, whole or not at all): every tensor as a plain
+    array (``policy/NAME``, ``optimizer/PARAM/NAME``) and, as JSON bytes in ``meta``, the optimizer's parameter
+    groups and the steps trained."""
+    arrays = {f"policy/{k}": v.detach().cpu().numpy() for k, v in model.policy.state_dict().items()}
+    opt = model.policy.optimizer.state_dict()
+    for i, state in opt["state"].items():
+        arrays.update({f"optimizer/{i}/{k}": np.asarray(v.detach().cpu() if hasattr(v, "detach") else v)
+                       for k, v in state.items()})  # fmt: skip
+    meta = {"param_groups": opt["param_groups"], "num_timesteps": int(model.num_timesteps)}
+    arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
+    atomic_write(Path(path), lambda tmp: np.savez(open(tmp, "wb"), **arrays))  # noqa: SIM115 (np.savez closes it)
+
+
+def load_model(rl: Rl, model: Any, path: Path) -> None:
+    """Put the state :func:`save_model` wrote to ``path`` into ``model`` (made by :func:`new_model` with the same
+    algorithm); ValueError naming the file where it is not such a checkpoint."""
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            arrays = {k: z[k] for k in z.files}
+        meta = json.loads(arrays.pop("meta").tobytes())
+        policy = {k[len("policy/") :]: rl.torch.as_tensor(v) for k, v in arrays.items() if k.startswith("policy/")}
+        state: dict[int, dict[str, Any]] = {}
+        for k, v in arrays.items():
+            if k.startswith("optimizer/"):
+                _, i, name = k.split("/", 2)
+                state.setdefault(int(i), {})[name] = rl.torch.as_tensor(v)
+        model.policy.load_state_dict(policy, strict=True)
+        groups = [{k: tuple(v) if isinstance(v, list) and k != "params" else v for k, v in g.items()}
+                  for g in meta["param_groups"]]  # fmt: skip  (JSON's lists back to the tuples they were: betas)
+        model.policy.optimizer.load_state_dict({"state": state, "param_groups": groups})
+    except (OSError, ValueError, KeyError, RuntimeError) as e:
+        raise ValueError(f"{path}: not a checkpoint of this model ({type(e).__name__}: {e})") from None
+    model.num_timesteps = int(meta["num_timesteps"])
+
+
+def refuse_pickled(out: Path) -> None:
+    """ValueError where ``out`` holds stable-baselines3's ``model.zip`` (cloudpickle: reading it can run code)."""
+    if (Path(out) / "model.zip").exists():
+        raise ValueError(
+            f"{Path(out) / 'model.zip'}: a checkpoint of an older neurowalk, in stable-baselines3's format, whose "
+            "pickles can run code when read: not read; train again into another folder"
+        )
+
+
 class Sb3Policy:
     """A trained model as a batched policy for :func:`~neurowalk.envs.policy.evaluate_batch`: (n, 2) readings in m
     -> (n, 2) steering, deterministic (the mean action), with the LSTM's state kept per copy for ``rppo``."""
 
     def __init__(self, algo: str, path: Path) -> None:
-        self.model = import_rl(algo).algo.load(path, device="cpu")
+        refuse_pickled(Path(path).parent)
+        rl = import_rl(algo)
+        self.model = new_model(rl, algo, make_vec_env(1, 1, 0))
+        load_model(rl, self.model, path)
         self.recurrent = algo == "rppo"
         self.reset()
 
