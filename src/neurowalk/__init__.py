@@ -48,6 +48,8 @@ _LAZY = {
     "Settings": "neurowalk.experiments.study",
     "run_study": "neurowalk.experiments.study",
     "load_study": "neurowalk.experiments.study",
+    "Term": "neurowalk.experiments.stores",
+    "Kept": "neurowalk.experiments.stores",
     "RunSummary": "neurowalk.sim.run_summary",
     "make_arena": "neurowalk.arenas",
     "ARENAS": "neurowalk.arenas",
@@ -83,6 +85,8 @@ __all__ = [  # noqa: RUF022 (grouped by what they are)
     "Settings",
     "run_study",
     "load_study",
+    "Term",
+    "Kept",
     "RunSummary",
     # worlds, robots, engines
     "make_arena",

@@ -1,19 +1,26 @@
 """Paper figures and tables, and the studies behind them.
 
-* :mod:`.study`: :class:`Study` (an experiment: its runs, measure and picture), :class:`Settings` and
-  :func:`~neurowalk.experiments.study.run_study`.
-* :mod:`.figures`: one module per paper figure or table, ``run(settings) -> Result`` and ``plot(result)``
-  (or ``runs``, ``measure`` and ``plot``); :data:`FIGURES` below names them, as studies.
-* :mod:`.suites`: the run suites figures and studies share (dead ends, random environments, climbing, the
-  real-robot runs).
+* :mod:`.study`: :class:`Study` (an experiment: its runs, measure, picture and claims), :class:`Settings` and
+  :func:`~neurowalk.experiments.study.run_study`, the one runner.
+* :mod:`.stores`: the one run function (:func:`~neurowalk.experiments.stores.run_kept`) and the one result store
+  a study's runs are kept in, with the :class:`~neurowalk.experiments.stores.Term` s a run keeps beside its summary.
+* :mod:`.figures`: one module per paper figure or table, declared as a study: ``runs(settings)`` (each run a config,
+  with the terms it keeps), ``measure(settings, runs)``, ``plot(result)`` and ``claims(summary, quick)`` (its
+  results judged against the paper); ``fig2``, the network alone, gives ``run(settings) -> Result`` instead.
+* :mod:`.suites`: the runs and terms figures share (dead ends, random environments, climbing, the real-robot runs).
 * :mod:`.optimize`, :mod:`.calibration`, :mod:`.baselines`: the studies of ``neurowalk optimize``, ``calibrate``
   and ``baseline``.
-* :mod:`.output` writes a figure's numbers and picture; :mod:`.stores` keeps a figure's runs; :mod:`.cma_record`
-  keeps a CMA-ES search (optimize and the evolved baseline).
+* :mod:`.output` writes a figure's numbers and picture; :mod:`.cma_record` keeps a CMA-ES search (optimize and the
+  evolved baseline).
+
+Where a setting comes from: the command line's flags make one frozen :class:`Settings`; a study takes the optional
+ones it names (its line below); the runner applies the run settings to every config a study's ``runs`` gives
+(:meth:`Settings.apply`: body, climbing, variant, params, gait, engine, control rate), but those a run fixes
+itself; ``runs`` and ``measure`` read the others (seeds, size, quick, seed).
 
 :data:`FIGURES` maps a figure name to its :class:`~neurowalk.experiments.study.Study`; the CLI, the tests and
 batch runs look them up there. It is a table written out below, each figure with the settings it takes: a figure's
-module is imported when its ``run`` or ``plot`` is first used, so listing the figures imports none of them. A
+module is imported when one of its functions is first used, so listing the figures imports none of them. A
 :class:`Result` holds a JSON-able summary (the numbers behind the picture) and named arrays, which
 :func:`~neurowalk.experiments.output.save` writes next to the PNG so that a figure can be redrawn without
 rerunning.

@@ -67,8 +67,12 @@ class Term:
 
 @dataclass(frozen=True)
 class Kept:
-    """A finished run: its summary (a :class:`~neurowalk.sim.run_summary.RunSummary`, read by attribute here too)
-    and what its terms kept, by term name (arrays as the terms declare)."""
+    """A finished run, as a study's measure gets it: ``r.escaped`` reads its summary's attribute.
+
+    Attributes:
+        summary: the run's :class:`~neurowalk.sim.run_summary.RunSummary`.
+        kept: what its terms kept, by term name: {name: {key: value}}, the arrays a term declares as numpy arrays.
+    """
 
     summary: Any
     kept: Mapping[str, dict[str, Any]]
