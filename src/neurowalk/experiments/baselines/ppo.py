@@ -271,8 +271,10 @@ def load_model(rl: Rl, model: Any, path: Path) -> None:
                 _, i, name = k.split("/", 2)
                 state.setdefault(int(i), {})[name] = rl.torch.as_tensor(v)
         model.policy.load_state_dict(policy, strict=True)
-        groups = [{k: tuple(v) if isinstance(v, list) and k != "params" else v for k, v in g.items()}
-                  for g in meta["param_groups"]]  # fmt: skip  (JSON's lists back to the tuples they were: betas)
+        groups = [
+            {k: tuple(v) if isinstance(v, list) and k != "params" else v for k, v in g.items()}
+            for g in meta["param_groups"]
+        ]  # fmt: skip  (JSON's lists back to the tuples they were: betas)
         model.policy.optimizer.load_state_dict({"state": state, "param_groups": groups})
     except (OSError, ValueError, KeyError, RuntimeError) as e:
         raise ValueError(f"{path}: not a checkpoint of this model ({type(e).__name__}: {e})") from None
