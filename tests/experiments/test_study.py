@@ -200,3 +200,15 @@ def test_a_study_whose_own_measure_raises_shows_its_own_frames_and_what_is_kept(
     assert not any("neurowalk" in line and "File" in line for line in err)  # none of neurowalk's frames
     assert err[-2] == "ZeroDivisionError: division by zero"
     assert err[-1].startswith("neurowalk: study bad failed in ") and "3 finished runs are kept in" in err[-1]
+
+
+def test_a_grid_declares_every_combination_for_every_seed_labelled_by_its_values():
+    from neurowalk.experiments.study import grid
+
+    base = EpisodeConfig(arena="narrow-passage", body="surrogate", steps=50)
+    s = Settings(seed=3, seeds=2)
+    runs = list(grid(base, s.seed_range(10), controller=["static", "plastic"], **{"arena_opts.gap": [0.2, 0.3]}))
+    assert [label for label, _ in runs[::2]] == [("static", 0.2), ("static", 0.3), ("plastic", 0.2), ("plastic", 0.3)]
+    assert [cfg.seed for _, cfg in runs] == [3, 4] * 4 and len({cfg.key() for _, cfg in runs}) == 8
+    assert all(cfg.controller == c and cfg.arena_opts["gap"] == g for (c, g), cfg in runs)
+    assert Settings(quick=True).seed_range(10, 3) == range(0, 3)

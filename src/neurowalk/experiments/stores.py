@@ -223,11 +223,3 @@ def store_folder(out: Path | None) -> Iterator[Path]:
         return
     with tempfile.TemporaryDirectory(prefix="neurowalk-") as tmp:
         yield Path(tmp)
-
-
-def group(labels: Sequence[Any], results: Sequence[Any]) -> dict[Any, list[Any]]:
-    """``{label: [result, ...]}`` in the order given."""
-    out: dict[Any, list[Any]] = {}
-    for label, r in zip(labels, results, strict=True):
-        out.setdefault(label, []).append(r)
-    return out

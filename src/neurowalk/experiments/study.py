@@ -16,8 +16,9 @@ from __future__ import annotations
 
 import dataclasses
 import importlib.util
+import itertools
 import sys
-from collections.abc import Callable, Hashable, Iterable, Mapping
+from collections.abc import Callable, Hashable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -111,6 +112,10 @@ class Settings:
     def n(self, full: int, quick: int = 1) -> int:
         """Seeds per condition: ``seeds`` where given, else ``quick`` with ``quick``, else ``full``."""
         return self.seeds if self.seeds is not None else quick if self.quick else full
+
+    def seed_range(self, full: int, quick: int = 1) -> range:
+        """The seeds of each condition: :meth:`n` of them from ``seed`` on."""
+        return range(self.seed, self.seed + self.n(full, quick))
 
     def apply(self, cfg: EpisodeConfig, fixed: Iterable[str] = ()) -> EpisodeConfig:
         """``cfg`` with the run settings that are given (body, climbing, variant, params, gait, engine, rate), but
@@ -232,6 +237,21 @@ def compute(study: Study, settings: Settings) -> Result:
         grouped.setdefault(label, []).append(Kept(summary, r.get("kept", {})))
     measured = study.measure(settings, grouped)  # type: ignore[misc]
     return measured if isinstance(measured, Result) else Result(study.name, dict(measured))
+
+
+def grid(base: EpisodeConfig, seeds: Iterable[int], **axes: Iterable[Any]) -> Iterator[tuple[tuple, EpisodeConfig]]:
+    """A sweep declared in a line: ``base`` with every combination of the ``axes`` (config fields; a dotted name
+    such as ``arena_opts.gap`` sets one option; the last axis varies fastest), each for every seed of ``seeds``;
+    ``((value, ...), config)`` pairs, labelled by the axes' values, as ``Study.runs`` yields them.
+
+    ``grid(EpisodeConfig(arena="narrow-passage"), s.seed_range(10), controller=["static", "plastic"],
+    **{"arena_opts.gap": [0.2, 0.3]})`` gives 40 runs, labels ``("static", 0.2)`` ... ``("plastic", 0.3)``.
+    """
+    names = list(axes)
+    for values in itertools.product(*axes.values()):
+        cfg = base.replace(**dict(zip(names, values, strict=True)))
+        for seed in seeds:
+            yield values, cfg.replace(seed=seed)
 
 
 def planned(study: Study, settings: Settings) -> list[tuple[Label, EpisodeConfig, tuple[Term, ...]]]:

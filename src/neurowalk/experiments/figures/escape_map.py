@@ -17,6 +17,7 @@ from matplotlib.ticker import PercentFormatter
 
 from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
+from neurowalk.experiments.study import grid
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.plotting.style import legend_outside, letter_panels, network_line, pyplot
@@ -49,12 +50,10 @@ def runs(s: Settings) -> Iterator[tuple[tuple, EpisodeConfig]]:
     """Every sweep x size x network x seed: ``s.seeds`` seeds (default 5; 1 with ``quick``), each run its
     :data:`TRAP_STEPS` control steps at any rate, stopped once escaped."""
     for label, sweep in sizes(s).items():
-        for size in sweep["sizes"]:
-            for net in NETWORKS:
-                for i in range(s.seed, s.seed + s.n(full=5, quick=QUICK_SEEDS)):
-                    cfg = EpisodeConfig(arena=sweep["arena"], arena_opts={sweep["option"]: size}, controller=net,
-                                        steps=TRAP_STEPS, until="escaped", seed=i)  # fmt: skip
-                    yield (label, size, net), cfg
+        base = EpisodeConfig(arena=sweep["arena"], steps=TRAP_STEPS, until="escaped")
+        axes = {f"arena_opts.{sweep['option']}": sweep["sizes"], "controller": NETWORKS}
+        for (size, net), cfg in grid(base, s.seed_range(5, QUICK_SEEDS), **axes):
+            yield (label, size, net), cfg
 
 
 def measure(s: Settings, runs: Mapping[tuple, list]) -> Result:
