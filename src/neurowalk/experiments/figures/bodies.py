@@ -43,9 +43,9 @@ from neurowalk.experiments.suites.random_envs import (
     coverage_rule,
     coverage_threshold,
     environments,
-    held_up,
+    outcome,
+    row_counts,
     spec,
-    wilson,
 )
 from neurowalk.experiments.suites.real_robot import PATH
 from neurowalk.experiments.suites.timing import steps_for
@@ -74,6 +74,21 @@ BODIES: dict[str, tuple[str, dict[str, float]]] = {
 }
 NETWORKS = ("plastic", "static")  # the networks compared (the Braitenberg vehicle: the surrogate's Table 2, escape-map)
 DEAD_ENDS = ("simple-deadlock", "narrow-passage", "corner")
+#: A row's Table 2 numbers: its name here (after ``table2_``) -> the name in Table 2's own counts (``row_counts``).
+TABLE2_KEYS = {
+    "success": "success",
+    "failure": "failure",
+    "environments": "environments",
+    "rate": "success_rate",
+    "ci95": "success_rate_95ci",
+    "success_coverage": "success_coverage",
+    "failure_coverage": "failure_coverage",
+    "coverage_rate": "success_coverage_rate",
+    "coverage_ci95": "success_coverage_rate_95ci",
+    "median_coverage": "median_coverage",
+    "coverage_quartiles": "coverage_quartiles",
+    "held_up_300s_success": "held_up_300s_success",
+}
 
 
 def _dead_end(
@@ -158,31 +173,9 @@ def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
     for b in BODIES:
         for net in NETWORKS:
             escapes = {a: sum(bool(r.escaped) for r in runs["dead", b, net, a]) for a in DEAD_ENDS}
-            t2 = [r.summary.to_dict() for r in runs["table", b, net]]
-            ok = sum(not r["trapped"] for r in t2)
-            cov = np.array([r["coverage"] for r in t2], dtype=float)
-            ok_cov = int(np.sum(cov >= threshold))
-            q1, median, q3 = (float(v) for v in np.percentile(cov, [25, 50, 75]))
-            rows.append(
-                {
-                    "body": b,
-                    "network": net,
-                    "dead_ends": escapes,
-                    "dead_end_runs": p["n"],
-                    "table2_success": ok,
-                    "table2_failure": len(t2) - ok,
-                    "table2_environments": len(t2),
-                    "table2_rate": ok / len(t2),
-                    "table2_ci95": list(wilson(ok, len(t2))),
-                    "table2_success_coverage": ok_cov,
-                    "table2_failure_coverage": len(t2) - ok_cov,
-                    "table2_coverage_rate": ok_cov / len(t2),
-                    "table2_coverage_ci95": list(wilson(ok_cov, len(t2))),
-                    "table2_median_coverage": median,
-                    "table2_coverage_quartiles": [q1, q3],
-                    "table2_held_up_300s_success": sum(not r["trapped"] and held_up(r) for r in t2),
-                }
-            )
+            c = row_counts([{net: outcome(r.summary.to_dict(), threshold)} for r in runs["table", b, net]], net)
+            rows.append({"body": b, "network": net, "dead_ends": escapes, "dead_end_runs": p["n"],
+                         **{f"table2_{k}": c[key] for k, key in TABLE2_KEYS.items()}})  # fmt: skip
             for a in DEAD_ENDS:
                 paths[f"{b}|{net}|{a}"] = np.array(runs["dead", b, net, a][0].kept["path"]["path"])
     summary = {
