@@ -1,5 +1,6 @@
-"""The committed reproduction (docs/results/): its report is what its records render, every result has its record
-with a verdict, and the times `figure list` shows are the committed runs' times."""
+"""The committed reproduction (docs/results/) and the current code agree: its report is what its records render,
+every record is what the current claims judge from its numbers, and the times `figure list` shows are the committed
+runs' times. (How long the runs took is a benchmark's: benchmarks/reproduction_times.py, not a test's.)"""
 
 from __future__ import annotations
 
@@ -26,10 +27,7 @@ def test_the_quick_reproduction_has_a_verdict_for_every_result_and_its_report():
     assert (QUICK / "report.md").read_text() == render(QUICK, quick=True)
 
 
-def test_quick_reproduction_took_under_fifteen_minutes():
-    """Read from the committed run's records (not timed here)."""
-    total = sum(json.loads(p.read_text())["wall_time_s"] for p in QUICK.glob("*/command.json"))
-    assert 0 < total < 15 * 60
+def test_the_quick_reproductions_totals_are_what_its_records_sum_to():
     assert json.loads((QUICK / "reproduce.json").read_text()) == totals(QUICK, quick=True)
 
 
@@ -50,12 +48,6 @@ def test_the_gallery_shows_every_figure_of_the_full_run():
     assert page.read_text() == gallery(RESULTS, page)
     for item in PLAN:
         assert f"](results/{item.name}/" in page.read_text(), item.name
-
-
-def test_every_quick_figure_took_under_ninety_seconds():
-    """The acceptance line for each figure's --quick, from the committed quick run's records."""
-    took = {p.parent.name: json.loads(p.read_text())["wall_time_s"] for p in QUICK.glob("*/command.json")}
-    assert took and all(t < 90 for t in took.values()), {k: t for k, t in took.items() if t >= 90}
 
 
 def test_figure_times_are_the_committed_runs():
