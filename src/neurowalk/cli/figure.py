@@ -54,8 +54,9 @@ def add_figure_parser(sub: argparse._SubParsersAction, name: str | None = None) 
         type=Path,
         default=None,
         metavar="RUNS",
-        help="keep the runs in the stores of folder RUNS, which figures share (a run another figure made with the same "
-        "config is taken, not run again); default: the figure's own stores in DIR; `neurowalk reproduce` shares one",
+        help="keep the runs in the result store of folder RUNS, which figures share (a run another figure made with "
+        "the same config is taken, not run again); default: the figure's own store in DIR; `neurowalk reproduce` "
+        "shares one",
     )
     add_settings_args(f, FIGURES[name].takes if name in FIGURES else None)
 
