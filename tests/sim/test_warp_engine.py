@@ -221,6 +221,28 @@ def test_a_sweep_runs_warp_specs_as_worlds_of_one_model(wp_cpu, tmp_path, monkey
 
 
 @warp
+def test_a_study_keeps_its_warp_runs_and_their_terms_in_its_store(wp_cpu, tmp_path, monkeypatch):
+    """A study's runs on engine 'warp' are the worlds of shared calls and kept like the pool's, terms and all: its
+    store holds them, and the same call again runs none (what fig3/fig5 with --engine warp resume and share)."""
+    from neurowalk.experiments.stores import run_store
+    from neurowalk.experiments.suites.long_runs import LONG
+    from neurowalk.experiments.suites.real_robot import PATH
+    from neurowalk.runners.store import ResultStore
+    from neurowalk.sim import warp_engine
+
+    runs = [(EpisodeConfig(arena="box", steps=8, seed=s, engine="warp"), (PATH,)) for s in (0, 1)]
+    runs.append((EpisodeConfig(arena="box", steps=12, seed=0, engine="warp"), (LONG,)))
+    first = run_store(runs, tmp_path, 1, options=EngineOptions(device=wp_cpu))
+    assert [len(r["kept"]["path"]["path"]) for r in first[:2]] == [2, 2]  # rows 0 and the last (7)
+    assert list(first[2]["kept"]["long"]["step"]) == [0, 10, 11] and first[0]["engine"] == "warp"
+    with ResultStore(tmp_path / "results.sqlite") as store:
+        assert len(store) == 3
+    monkeypatch.setattr(warp_engine.WarpWorlds, "advance", lambda *a: pytest.fail("a stored run ran again"))
+    again = run_store(runs, tmp_path, 1, options=EngineOptions(device=wp_cpu))
+    assert [r["final_pose"] for r in again] == [r["final_pose"] for r in first]
+
+
+@warp
 def test_bench_measures_warp_beside_nothing_else_it_needs(wp_cpu):
     """`neurowalk bench --engine warp`'s measurement: one row per number of worlds, rates from the timed run."""
     from neurowalk.bench import warp_rates
