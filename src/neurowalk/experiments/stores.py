@@ -92,7 +92,7 @@ def run_kept(terms: Sequence[Term], spec: dict[str, Any]) -> dict[str, Any]:
             raise ValueError(f"term {streamed[0].name!r} streams its run: it is kept alone")
         stream, finish = streamed[0].stream(EpisodeConfig.from_spec(spec))  # type: ignore[misc]
         ep = episode_of(spec, stream)
-        return {**result_of(ep), "kept": {streamed[0].name: _lists(finish(ep))}}
+        return {**result_of(ep), "kept": {streamed[0].name: finish(ep)}}
     return kept_of(terms, episode_of(spec))
 
 
@@ -100,13 +100,8 @@ def kept_of(terms: Sequence[Term], ep: Episode) -> dict[str, Any]:
     """What :func:`run_kept` stores of an episode held in memory."""
     out = result_of(ep)
     if terms:
-        out["kept"] = {t.name: _lists(t.keep(ep)) for t in terms}
+        out["kept"] = {t.name: t.keep(ep) for t in terms}  # arrays as they are: the store writes them as JSON
     return out
-
-
-def _lists(d: dict[str, Any]) -> dict[str, Any]:
-    """``d`` with its numpy arrays as lists (as a store keeps it: JSON)."""
-    return {k: v.tolist() if isinstance(v, np.ndarray) else v for k, v in d.items()}
 
 
 @contextlib.contextmanager

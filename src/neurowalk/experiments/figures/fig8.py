@@ -190,4 +190,4 @@ def _claims(s: dict[str, Any], quick: bool) -> list[Claim]:
 def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
     """The paper's results the figure shows; at the real robot's control rate also its times
     (:func:`~neurowalk.experiments.suites.real_robot.real_robot_claims`)."""
-    return [*_claims(s, quick), *(real_robot_claims(s) if s.get("real_robot", {}).get("same_clock") else [])]
+    return [*_claims(s, quick), *real_robot_claims(s)]
