@@ -30,15 +30,17 @@ from pathlib import Path
 from typing import Any
 
 from neurowalk.body.amosii_params import BodyParams
-from neurowalk.experiments import Settings
+from neurowalk.experiments import FIGURES, Settings
 from neurowalk.experiments.figures import fig7, table1
-from neurowalk.experiments.reproduce.judge_network import fig7 as judge_fig7
+from neurowalk.experiments.stores import Kept, run_kept
+from neurowalk.experiments.study import compute
 from neurowalk.experiments.suites import random_envs
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.random_envs import wilson
 from neurowalk.fileio import write_json
 from neurowalk.runners.local import run_many
 from neurowalk.sim.episode import EpisodeConfig, run_episode
+from neurowalk.sim.run_summary import RunSummary
 
 SETTINGS: dict[str, dict[str, Any]] = {
     "5 ms": {"timestep": 0.005, "solver_iterations": 100, "solver_tolerance": 1e-8},
@@ -113,10 +115,12 @@ def measure(seeds: int, environments: int) -> dict[str, Any]:
     t0 = time.perf_counter()
     speeds = {}
     for name, steer in STEERS.items():
-        m, _ = table1._measure(steer, TABLE1_STEPS, 0, 10.0)
+        r = run_kept((table1.WALK,), table1._walk(steer, TABLE1_STEPS, 0).spec())
+        summary = RunSummary.from_dict({k: v for k, v in r.items() if k != "kept"})
+        m, _ = table1._measured(Kept(summary, r["kept"]), 10.0)
         speeds[name] = {"speed_cm_per_s": 100 * m["speed_m_per_s"], "turn_rate_deg_per_s": m["turn_rate_deg_per_s"]}
-    gait = fig7.run(Settings(quick=False)).summary
-    claims = judge_fig7(gait, False)
+    gait = compute(FIGURES["fig7"], Settings(quick=False)).summary
+    claims = fig7.claims(gait, False)
     return {
         "table1": speeds,
         "fig7_claims_reproduced": f"{sum(c.verdict == 'reproduced' for c in claims)}/{len(claims)}",

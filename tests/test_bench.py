@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import importlib.util
 import json
 from pathlib import Path
 
@@ -78,3 +79,13 @@ def test_surrogate_has_no_video_and_calibrate_needs_a_worker(capsys: pytest.Capt
     assert main(["calibrate", "--workers", "0"]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 2 and "--video needs a MuJoCo body" in err[0] and "--workers" in err[1]
+
+
+@pytest.mark.parametrize("script", sorted(p.name for p in (Path(__file__).parents[1] / "benchmarks").glob("*.py")))
+def test_benchmark_scripts_import(script: str) -> None:
+    """Every script in benchmarks/ imports against today's package (a renamed or removed name breaks it here,
+    not months later when someone measures)."""
+    path = Path(__file__).parents[1] / "benchmarks" / script
+    spec = importlib.util.spec_from_file_location(f"bench_{path.stem}", path)
+    assert spec is not None and spec.loader is not None
+    spec.loader.exec_module(importlib.util.module_from_spec(spec))
