@@ -15,7 +15,7 @@ RESULTS = Path(__file__).parents[1] / "docs" / "results"
 def test_table2_says_its_rows_and_the_papers_counts_with_verdicts():
     summary = json.loads((RESULTS / "table2" / "table2.json").read_text())
     lines = claim_lines("table2", summary, quick=False)
-    assert lines[0] == "table2 against the paper:" and lines[-1].endswith("docs/results/report.md#table2)")
+    assert lines[0] == "table2 against the paper:" and lines[-1].endswith("docs/results/details.md#table2)")
     rows = summary["counts"]
     assert lines[1] == "  successes: " + ", ".join(f"{k} {r['success']}/{r['environments']}" for k, r in rows.items())
     judged = [line for line in lines if "paper 49/50" in line]

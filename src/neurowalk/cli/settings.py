@@ -218,7 +218,7 @@ def claim_lines(name: str, summary: dict[str, Any], quick: bool) -> list[str]:
         lines.append("  successes: " + ", ".join(f"{k} {r['success']}/{r['environments']}" for k, r in rows.items()))
     for c in claims:
         lines.append(f"  {c.what}: paper {cell(c.paper, c.unit)}, neurowalk {cell(c.measured, c.unit)} -> {c.verdict}")
-    lines.append(f"  (the rules and the full runs' verdicts: docs/results/report.md#{name})")
+    lines.append(f"  (the rules and the full runs' verdicts: docs/results/details.md#{name})")
     return lines
 
 

@@ -125,7 +125,7 @@ def test_a_reworded_claim_is_not_dropped_from_the_comparison_unseen():
 
 def test_the_report_shows_the_authors_column_and_where_the_data_come_from():
     text = render(RESULTS, quick=False)
-    assert "| result | the paper | verdict | why | authors' simulator | figure | time |" in text
+    assert "| result | the paper | neurowalk: claims reproduced | authors' simulator | verdict | time |" in text
     assert "## The authors' simulator" in text and "94d406a" in text
     row = next(line for line in text.splitlines() if line.startswith("| [table1](#table1)"))
-    assert "reproduced (5/5)" in row
+    assert "| 6 of 6 | 5 of 5 | reproduced |" in row  # neurowalk's claims, then the authors' simulator's

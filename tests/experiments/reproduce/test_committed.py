@@ -5,12 +5,15 @@ runs' times. (How long the runs took is a benchmark's: benchmarks/reproduction_t
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
+
+import pytest
 
 from neurowalk.experiments.reproduce.claims import VERDICTS
 from neurowalk.experiments.reproduce.gallery import REPLAYS, gallery
 from neurowalk.experiments.reproduce.plan import PLAN
-from neurowalk.experiments.reproduce.report import render, totals
+from neurowalk.experiments.reproduce.report import render, render_details, totals
 from neurowalk.experiments.reproduce.runner import rejudged
 from neurowalk.experiments.reproduce.timing import TIMES, measured_times
 
@@ -25,6 +28,7 @@ def test_the_quick_reproduction_has_a_verdict_for_every_result_and_its_report():
         assert rec["claims"] and all(c["verdict"] in VERDICTS for c in rec["claims"]), item.name
         assert (QUICK / rec["files"]["json"]).is_file(), item.name  # the numbers it was judged from
     assert (QUICK / "report.md").read_text() == render(QUICK, quick=True)
+    assert (QUICK / "details.md").read_text() == render_details(QUICK, quick=True)
 
 
 def test_the_quick_reproductions_totals_are_what_its_records_sum_to():
@@ -39,6 +43,7 @@ def test_the_full_reproduction_has_a_record_for_every_result_and_its_report():
         assert "--quick" not in rec["command"].split(), item.name
         assert (RESULTS / rec["files"]["json"]).is_file() and (RESULTS / rec["files"]["png"]).is_file(), item.name
     assert (RESULTS / "report.md").read_text() == render(RESULTS, quick=False)
+    assert (RESULTS / "details.md").read_text() == render_details(RESULTS, quick=False)
     summary = json.loads((RESULTS / "reproduce.json").read_text())
     assert summary == totals(RESULTS, quick=False) and summary["measured"] == len(PLAN)
 
@@ -71,3 +76,14 @@ def test_the_gallery_embeds_its_replays():
         head = path.read_text(encoding="utf-8")[:200].lower()
         assert head.lstrip().startswith("<!doctype html") and path.stat().st_size < 5e6, name
         assert f'src="../replays/{name}.html"' in page, name
+
+
+@pytest.mark.parametrize("folder", [RESULTS, QUICK], ids=["full", "quick"])
+def test_the_report_reads_as_a_page(folder: Path):
+    """The report is a page a person reads (issue 47): short, numbers rounded, no names from the code."""
+    report, details = (folder / "report.md").read_text(), (folder / "details.md").read_text()
+    assert len(report.split()) <= 4500
+    for text in (report, details):
+        assert not re.search(r"\d\.\d{7,}", text)  # no float printed raw
+        assert not re.search(r"\b(?:figures|suites|metrics|experiments|neurowalk)\.[a-z_]+", text)  # no module path
+        assert not re.search(r"\b[a-z]+_[a-z_]+\(", text)  # no function call

@@ -47,6 +47,11 @@ def test_quick_reproduction_of_two_results_records_judges_and_resumes(tmp_path, 
         assert all(c["verdict"] in VERDICTS and c["rule"] for c in rec["claims"])
     report = (out / "report.md").read_text()
     assert "| [fig2](#fig2) |" in report and "| table2 |" in report and "not run" in report
+    details = (out / "details.md").read_text()  # every claim's rule, on the report's second page
+    for name in ("fig2", "fig4"):
+        rec = json.loads((out / f"{name}.json").read_text())
+        assert f"(details.md#{name})" in report and f"## {name}" in details
+        assert all(c["rule"] in details for c in rec["claims"])
     stamp = (out / "fig2" / "fig2.json").stat().st_mtime_ns
     assert main(["reproduce", "--quick", "--only", "fig2", "--out", str(out)]) == 0  # resumes: nothing rerun
     assert (out / "fig2" / "fig2.json").stat().st_mtime_ns == stamp

@@ -294,13 +294,13 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
             "hysteresis interval (Fig. 2C)",
             static["width"] is not None and static["width"] > 0 and not static["latched"],
             static["width"],
-            f"width {static['width']} of the input range [-1, 1]",
+            f"width {static['width']:.3g} of the input range [-1, 1]",
         ),
         holds(
             f"strong weights b = {strong['b']}, c = {strong['c']}: two states, the active one kept (Fig. 2D)",
             "permanent turning (active state)",
             bool(strong["latched"]),
-            "latched" if strong["latched"] else f"width {strong['width']}",
+            "latched" if strong["latched"] else f"width {strong['width']:.3g}",
             "latched: switched on and never off within the input range",
         ),
     ]

@@ -173,7 +173,7 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
             + ("turning not told apart (an older json)" if older else f"of which {held['turning_periods']} turning")
             + f"; longest wedged {wedged['longest_s']:.0f} s",
             f"held: trunk centre within {metrics.WEDGE_RADIUS:g} m and heading within {metrics.HELD_HEADING_DEG:g} "
-            f"degrees for more than {metrics.WEDGE_MIN_S:g} s (metrics.wedged_periods); turning: wedged with the "
+            f"degrees for more than {metrics.WEDGE_MIN_S:g} s; turning: wedged with the "
             f"heading sweeping more, a slow turn in place; causes over 300 s: {held_over['causes'] or '-'}"
             + ("; held not measured (an older json): every wedged period counted as held" if older else ""),
         ),

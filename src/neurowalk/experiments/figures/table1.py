@@ -38,6 +38,10 @@ PAPER = {
 }
 MOVING = 0.002  # m/s: slower than this (and turning slower than TURNING) is standing still
 TURNING = 0.5  # deg/s: a turn is at least this fast and faster (in deg/s) than 100x the speed (in m/s)
+DIRECTION_RULE = (  # :func:`direction` in words, for the claims' rules
+    f"named by Table 1's rule (stop: under {100 * MOVING:g} cm/s and {TURNING:g} deg/s; a turn: over {TURNING:g} "
+    "deg/s and over 100x the speed in m/s; else forward or backward)"
+)
 
 
 def direction(speed: float, turn_rate: float) -> str:
@@ -185,7 +189,7 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
                 row["direction"] == row["paper"],
                 row["direction"],
                 f"{100 * row['speed_m_per_s']:.2f} cm/s along the start heading, {row['turn_rate_deg_per_s']:.2f} "
-                f"deg/s turning (positive left) after the warm-up, named by figures.table1.direction",
+                f"deg/s turning (positive left) after the warm-up, {DIRECTION_RULE}",
             )
         )
     speeds = [r["speed_m_per_s"] for r in s["amplitude"]]

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from neurowalk import metrics
+from neurowalk.experiments.figures import table1
 from neurowalk.experiments.reproduce import authors
 from neurowalk.experiments.reproduce.claims import Claim, holds, outcome
 from neurowalk.experiments.suites.random_envs import COVERAGE_PER_1000S, coverage_threshold
@@ -27,9 +28,9 @@ from neurowalk.experiments.suites.random_envs import COVERAGE_PER_1000S, coverag
 #: Where the runs come from, in a line (the package data's README.md says it in full).
 SOURCE = (
     "the authors' simulator: LPZRobots 94d406a (ODE 0.11.1) with the authors' AMOSII controller (gorobots_edu "
-    "a2cadfe), 0.01 s physics step, 10 Hz control, sensor noise 0.02; data in "
-    "neurowalk/experiments/reproduce/authors_simulator/"
+    "a2cadfe), 0.01 s physics step, 10 Hz control, sensor noise 0.02"
 )
+DATA = "neurowalk/experiments/reproduce/authors_simulator/"  # where their runs are, in the package
 #: A claim's authors' counterpart: ``(claim, summary) -> Claim`` on the authors' runs.
 Rule = Callable[[Claim, dict[str, Any]], Claim]
 
@@ -116,7 +117,7 @@ def _direction(case: str) -> Rule:
             r["direction"] == r["paper"],
             r["direction"],
             f"{100 * r['speed_m_per_s']:.2f} cm/s along the start heading, {r['turn_rate_deg_per_s']:.2f} deg/s "
-            f"turning (positive left) over t = {lo:g}-{hi:g} s, named by figures.table1.direction",
+            f"turning (positive left) over t = {lo:g}-{hi:g} s, {table1.DIRECTION_RULE}",
         )
 
     return rule
@@ -283,7 +284,7 @@ def compare(item: str, summary: dict[str, Any], claims: list[Claim]) -> dict[str
         raise ValueError(f"the authors' rule {lost[0]!r} of {item} matches none of its claims (reworded?)")
     keep = ("what", "measured", "verdict", "rule")
     return {
-        "source": SOURCE,
+        "source": f"{SOURCE}; data in {DATA}",
         "claims": [{k: v for k, v in c.to_json().items() if k in keep} for c in theirs],
         "side_by_side": ROWS[item](summary),
         "reason": f"the authors' simulator: {reason(theirs)}",

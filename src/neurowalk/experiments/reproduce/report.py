@@ -46,10 +46,18 @@ def _took(rec: dict[str, Any]) -> str:
     return f"{rec['wall_time_s']:.0f} s" + (" (resumed: its last part)" if rec.get("resumed") else "")
 
 
-def _authors_reason(rec: dict[str, Any]) -> str:
-    """The authors' simulator's line of a record for the table of all items ("-" where it has no runs of it)."""
+def _count(claims: list[dict[str, Any]]) -> str:
+    """How many of ``claims`` (as in a record) are reproduced: "5 of 6"."""
+    return f"{sum(c['verdict'] == 'reproduced' for c in claims)} of {len(claims)}"
+
+
+def _authors_summary(rec: dict[str, Any]) -> str:
+    """The authors' simulator's cell of the summary table: its claims reproduced, or that it is measured beside
+    neurowalk only ("-" where it has no runs of the result)."""
     entry = rec.get("authors")
-    return "-" if entry is None else cell(entry["reason"].removeprefix("the authors' simulator: "))
+    if entry is None:
+        return "-"
+    return _count(entry["claims"]) if entry["claims"] else "side by side (no claim to judge)"
 
 
 def _authors_claim(rec: dict[str, Any], what: str) -> str:
@@ -82,47 +90,39 @@ def _side_by_side(rec: dict[str, Any]) -> list[str]:
 
 
 def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
-    """The report's markdown for the records in ``out`` (``failed``: item name -> why its run failed)."""
+    """The report's markdown for the records in ``out`` (``failed``: item name -> why its run failed): one table
+    of every result, then a section per result with its picture and its claims (their rules: :func:`render_details`)."""
     records, failed = read_records(out, quick), failed or {}
     counts = {v: sum(r["verdict"] == v for r in records.values()) for v in MARK}
     lines = [
-        "# neurowalk reproduce: the paper against neurowalk",
+        "# The paper against neurowalk",
         "",
         f"{'Quick' if quick else 'Full'} reproduction: {len(records)} of {len(PLAN)} results measured; "
         f"{counts['reproduced']} reproduced, {counts['partly']} partly, {counts['not']} not"
         + (f"; {len(failed)} failed to run" if failed else "")
-        + ". Each result's file `NAME.json` holds the command, versions, seeds, wall time, the measured values "
-        "with 95% intervals where they are rates, the paper's values and the rule of each verdict. The same "
-        "commands give these numbers bit for bit on the same versions and CPU type; on another CPU a few of them "
-        'may differ in their last bits, and no verdict or count does (measured: `docs/usage.md`, "Same seed, same '
-        'result").',
+        + f". {_made_on(records)} Each result's numbers are in its folder (`NAME/NAME.json`, the numbers behind "
+        "its picture) and in `NAME.json` (its claims); the same commands give them bit for bit on the same versions "
+        'and CPU type (another CPU changes a few last bits, no verdict: `docs/usage.md`, "Same seed, same result").',
         "",
-        "How a verdict is reached (each claim states its own rule and numbers): an outcome the paper shows in one "
-        "run is reproduced where two thirds or more of the seeds end that way, partly where some do; a count such "
-        "as 49/50 is reproduced where the paper's rate lies in the measured 95% interval, partly within 10 points; a "
-        "time of the real robot is reproduced within a factor of 1.5, partly within 3; a property stated in words "
-        "is reproduced where it holds. A result is reproduced where all its claims are, not where all are not, and "
-        "partly otherwise; its reason counts the claims reproduced and names the others under their verdicts.",
+        "A claim is reproduced where the simulated robot does what the paper shows: in two thirds or more of the "
+        "seeds for an outcome of one run, within the measured 95% interval for a count such as 49/50, within a "
+        "factor of 1.5 for a time of the real robot (partly: some seeds, within 10 points, within a factor of 3). A "
+        "result is reproduced where all its claims are. Each claim's own rule, with its numbers, is in "
+        "[the details](details.md). The column *authors' simulator* judges the same claims on runs of the authors' own "
+        "simulator, where it has them (last section).",
         "",
-        "A second reference: the column *authors' simulator* judges the same claims, by the same rules, on runs of "
-        "the authors' own simulator (LPZRobots with their controller; the last section says where they come from), "
-        "where it has runs of them: Table 1, Fig. 3 and 5 (the dead ends with seeds 10-12, the difficult arena for "
-        "10,000 s), and the CPG period beside Fig. 7. It says whether their system reproduces the paper; the verdict "
-        "column is neurowalk's alone.",
-        "",
-        "| result | the paper | verdict | why | authors' simulator | figure | time |",
-        "|---|---|---|---|---|---|---|",
+        "| result | the paper | neurowalk: claims reproduced | authors' simulator | verdict | time |",
+        "|---|---|---|---|---|---|",
     ]
     for item in PLAN:
         rec = records.get(item.name)
         if rec is None:
             why = f"failed: {failed[item.name]}" if item.name in failed else "not run"
-            lines.append(f"| {item.name} | {cell(item.paper)} | - | {cell(why)} | - | - | - |")
+            lines.append(f"| {item.name} | {cell(item.paper)} | {cell(why)} | - | - | - |")
             continue
-        png = f"[{rec['figure']}.png]({rec['files']['png']})"
         lines.append(
-            f"| [{item.name}](#{item.name}) | {cell(item.paper)} | {MARK[rec['verdict']]} | {cell(rec['reason'])} "
-            f"| {_authors_reason(rec)} | {png} | {_took(rec)} |"
+            f"| [{item.name}](#{item.name}) | {cell(item.paper)} | {_count(rec['claims'])} | {_authors_summary(rec)} "
+            f"| {MARK[rec['verdict']]} | {_took(rec)} |"
         )
     for item in PLAN:
         rec = records.get(item.name)
@@ -132,23 +132,54 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
             "",
             f"## {item.name}",
             "",
-            f"{item.paper}. Command: `{rec['command']}` ({_took(rec)}; control rate "
-            f"{rec['control_hz']:g} Hz; neurowalk {rec['versions']['neurowalk']}, MuJoCo {rec['versions']['mujoco']}; "
-            f"{rec['versions']['machine']}).",
+            f"{item.paper}: **{rec['verdict']}**. `{rec['command']}` ({_took(rec)}; "
+            f"[its verdicts in detail](details.md#{item.name}), [its numbers]({rec['files']['json']})).",
             "",
             f"![{item.name}]({rec['files']['png']})",
             "",
-            "| result | paper | neurowalk | 95% interval | verdict | rule | authors' simulator |",
-            "|---|---|---|---|---|---|---|",
+            "| claim | paper | neurowalk | 95% interval | verdict | authors' simulator |",
+            "|---|---|---|---|---|---|",
         ]
         for c in rec["claims"]:
-            ci = "-" if c["interval"] is None else f"{c['interval'][0]:.0%}-{c['interval'][1]:.0%}"
             lines.append(
-                f"| {cell(c['what'])} | {cell(c['paper'], c['unit'])} | {cell(c['measured'], c['unit'])} | {ci} "
-                f"| {MARK[c['verdict']]} | {cell(c['rule'])} | {_authors_claim(rec, c['what'])} |"
+                f"| {cell(c['what'])} | {cell(c['paper'], c['unit'])} | {cell(c['measured'], c['unit'])} "
+                f"| {_interval(c)} | {MARK[c['verdict']]} | {_authors_claim(rec, c['what'])} |"
             )
-        lines += _side_by_side(rec)
     return "\n".join([*lines, *_provenance()]) + "\n"
+
+
+def render_details(out: Path, quick: bool) -> str:
+    """``DIR/details.md``, the report's second page: result by result, how each claim's verdict was reached (its
+    rule, with the numbers it compared) and the numbers measured in both simulators, for the records in ``out``."""
+    records = read_records(out, quick)
+    lines = [
+        "# The verdicts in detail",
+        "",
+        "Each claim of [the report](report.md) with the rule that gave its verdict and the numbers it compared; "
+        "where the authors' simulator has runs of a result, the numbers measured in both simulators.",
+    ]
+    for item in PLAN:
+        rec = records.get(item.name)
+        if rec is None:
+            continue
+        lines += ["", f"## {item.name}", "", f"{item.paper} ([in the report](report.md#{item.name})).", ""]
+        lines += [f"- **{c['what']}** ({c['verdict']}): {c['rule']}." for c in rec["claims"]]
+        lines += _side_by_side(rec)
+    return "\n".join(lines) + "\n"
+
+
+def _interval(c: dict[str, Any]) -> str:
+    """A claim's 95% interval as percentages ("-" where it has none)."""
+    return "-" if c["interval"] is None else f"{c['interval'][0]:.0%}-{c['interval'][1]:.0%}"
+
+
+def _made_on(records: dict[str, dict[str, Any]]) -> str:
+    """The versions and machine of the records, said once where they share them."""
+    made = {(r["versions"]["neurowalk"], r["versions"]["mujoco"], r["versions"]["machine"]) for r in records.values()}
+    if len(made) != 1:
+        return "The versions and machine of each result are in its `NAME.json`."
+    nw, mj, machine = made.pop()
+    return f"Made with neurowalk {nw} and MuJoCo {mj} on {machine}."
 
 
 def _provenance() -> list[str]:
@@ -157,11 +188,11 @@ def _provenance() -> list[str]:
         "",
         "## The authors' simulator",
         "",
-        f"The second reference is {SOURCE}. Their trajectories were measured here with neurowalk's own metrics "
-        "(escape, trapping, wedged periods, coverage; the trunk centre 0.06 m ahead of the logged rear trunk box) "
-        "and judged by each claim's own rule; each result's file `NAME.json` holds them under `authors`. The "
-        "data's README.md (in that folder) gives the build, the settings and the trimming; `docs/authors-simulator.md` "
-        "compares the two simulators.",
+        f"The second reference is {SOURCE}. Their trajectories were measured here with neurowalk's own "
+        "metrics (escape, trapping, wedged periods, coverage; the trunk centre 0.06 m ahead of the logged rear "
+        "trunk box) and judged by each claim's own rule; each result's `NAME.json` holds them under `authors`. "
+        "[The authors' simulator](../authors-simulator.md) says where the data come from and compares the two "
+        "simulators.",
     ]
 
 
@@ -207,11 +238,13 @@ def profile_totals(out: Path) -> dict[str, Any]:
 
 
 def write_report(out: Path, quick: bool, failed: dict[str, str] | None = None) -> Path:
-    """Write ``DIR/report.md`` and ``DIR/reproduce.json`` (:func:`totals`), each atomically, from the records in
-    ``out``; the report's path."""
+    """Write ``DIR/report.md``, ``DIR/details.md`` (:func:`render_details`) and ``DIR/reproduce.json`` (:func:`totals`),
+    each atomically, from the records in ``out``; the report's path."""
     path = out / "report.md"
     text = render(out, quick, failed)
     atomic_write(path, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
+    details = render_details(out, quick)
+    atomic_write(out / "details.md", lambda tmp: Path(tmp).write_text(details, encoding="utf-8"))
     summary = json.dumps(totals(out, quick), indent=2) + "\n"
     atomic_write(out / "reproduce.json", lambda tmp: Path(tmp).write_text(summary, encoding="utf-8"))
     return path

@@ -288,7 +288,7 @@ def real_robot_claims(s: dict[str, Any]) -> list[Claim]:
         sim = e["sim"]
         context = (
             f" at {rr['control_hz']:g} Hz, median over the {sim['happened']} of {sim['runs']} runs where it happened "
-            f"(range {sim['min_s']}-{sim['max_s']} s)"
+            f"(range {sim['min_s']:.0f}-{sim['max_s']:.0f} s)"
             if sim["happened"]
             else f" at {rr['control_hz']:g} Hz: in none of {sim['runs']} runs"
         )
