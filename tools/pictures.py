@@ -1,0 +1,94 @@
+"""Make again every picture in the README and docs/ that a documented command draws, where the page shows it.
+
+Each picture is made by the command its page gives, in a temporary folder, and copied (with the numbers it is drawn
+from) to where the page shows it. ``tests/docs/test_pictures.py`` holds the committed files to what the commands
+make today. The figures of ``neurowalk reproduce`` (docs/results/), the baselines (docs/baselines/) and the
+parameter search (docs/optimize/) are made by their own long commands and held by their own tests; the viewer's
+screenshot (docs/tutorials/view.png) is a browser's picture of the page, taken by hand.
+
+Run: ``python tools/pictures.py [NAME ...]`` (default: all of :data:`PICTURES`; ``--list`` names them).
+"""
+
+from __future__ import annotations
+
+import argparse
+import shlex
+import shutil
+import subprocess
+import sys
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@dataclass(frozen=True)
+class Picture:
+    """A committed picture and the command that draws it.
+
+    Attributes:
+        command: the page's command, ``OUT`` standing for its output folder.
+        files: ``{file the command writes: where it is committed}`` (relative to OUT and to the repository).
+        page: the page that shows it (and gives the command).
+    """
+
+    command: str
+    files: dict[str, str]
+    page: str
+
+
+def readme_command() -> str:
+    """The README's first command's run (``neurowalk run ...``), its output folder written ``OUT``."""
+    first = next(line for line in (ROOT / "README.md").read_text().splitlines() if "neurowalk run" in line)
+    run = first[first.index("neurowalk run") :]
+    args = shlex.split(run)
+    args[args.index("--out") + 1] = "OUT"
+    return shlex.join(args)
+
+
+PICTURES: dict[str, Picture] = {
+    "run": Picture(readme_command(), {"run.png": "docs/run.png", "summary.json": "docs/run.json"}, "README.md"),
+    "climb-height": Picture(
+        "neurowalk study docs/studies/climb_height.py --out OUT",
+        {
+            "climb-height.png": "docs/studies/climb-height/climb-height.png",
+            "climb-height.json": "docs/studies/climb-height/climb-height.json",
+        },
+        "docs/experiments.md",
+    ),
+}
+
+
+def make(name: str, out: Path) -> dict[str, Path]:
+    """Run picture ``name``'s command with its output in ``out``; the files it wrote, by their committed path."""
+    pic = PICTURES[name]
+    args = [a.replace("OUT", str(out)) for a in shlex.split(pic.command)]
+    exe = Path(sys.executable).with_name("neurowalk")
+    subprocess.run([str(exe) if exe.exists() else "neurowalk", *args[1:]], cwd=ROOT, check=True)
+    return {to: out / made for made, to in pic.files.items()}
+
+
+def main() -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("names", nargs="*", help=f"pictures to make (default all: {', '.join(PICTURES)})")
+    ap.add_argument("--list", action="store_true", help="print each picture's command and files, make none")
+    args = ap.parse_args()
+    unknown = [n for n in args.names if n not in PICTURES]
+    if unknown:
+        print(f"pictures.py: no picture {unknown[0]!r}; pictures: {', '.join(PICTURES)}", file=sys.stderr)
+        return 2
+    for name in args.names or list(PICTURES):
+        pic = PICTURES[name]
+        if args.list:
+            print(f"{name}: {pic.command} ({pic.page}) -> {', '.join(pic.files.values())}")
+            continue
+        with tempfile.TemporaryDirectory(prefix=f"pictures-{name}-") as tmp:
+            for to, made in make(name, Path(tmp) / name).items():
+                shutil.copyfile(made, ROOT / to)
+                print(f"{name}: wrote {to}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
