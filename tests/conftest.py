@@ -31,3 +31,14 @@ def run_folder(tmp_path_factory):
         return made[args]
 
     return make
+
+
+def pytest_unconfigure(config):
+    """At the end of the suite (finished or stopped by Ctrl-C), end the Ray processes its tests started and left in
+    its process group (:mod:`leftovers`); an xdist worker leaves it to the controller, which ends after it."""
+    if hasattr(config, "workerinput") or not sys.platform.startswith("linux"):
+        return
+    sys.path.insert(0, os.path.dirname(__file__))
+    from leftovers import end_ray
+
+    end_ray(os.getpgrp())
