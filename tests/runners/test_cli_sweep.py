@@ -168,12 +168,12 @@ def test_ray_backend_without_ray_exits_2_with_the_install_hint(tmp_path, capsys,
     from neurowalk.runners import ray_backend
 
     monkeypatch.setitem(sys.modules, "ray", None)  # `import ray` fails as if it were not installed
-    with pytest.raises(ray_backend.RayMissingError, match=r"pip install neurowalk\[ray\]"):
+    with pytest.raises(ray_backend.RayMissingError, match=r"pip install -e '\.\[ray\]'"):
         ray_backend.import_ray()
     assert issubclass(ray_backend.RayMissingError, ImportError)
     assert main(["sweep", "--backend", "ray", "--steps", "30", "--out", str(tmp_path / "x")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert err == ["neurowalk: error: the ray backend needs `pip install neurowalk[ray]`"]
+    assert err == ["neurowalk: error: the ray backend needs `pip install -e '.[ray]'` in neurowalk's folder"]
     assert not (tmp_path / "x").exists()
 
 

@@ -70,7 +70,7 @@ def test_a_missing_extra_names_what_to_install(monkeypatch):
     from neurowalk.sim import warp_engine
 
     monkeypatch.setitem(sys.modules, "mujoco_warp", None)  # import fails as if not installed
-    with pytest.raises(ValueError, match=r"pip install 'neurowalk\[warp\]'"):
+    with pytest.raises(ValueError, match=r"pip install -e '\.\[warp\]'"):
         warp_engine.import_warp()
 
 
@@ -80,7 +80,7 @@ def test_cli_without_the_extra_exits_2_with_one_line(monkeypatch, capsys, tmp_pa
     monkeypatch.setitem(sys.modules, "mujoco_warp", None)
     assert main(["run", "--engine", "warp", "--steps", "2", "--out", str(tmp_path / "r")]) == 2
     err = capsys.readouterr().err.strip().splitlines()
-    assert len(err) == 1 and "neurowalk[warp]" in err[0]
+    assert len(err) == 1 and "pip install -e '.[warp]'" in err[0]
 
 
 warp = pytest.mark.warp

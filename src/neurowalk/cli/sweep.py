@@ -235,7 +235,7 @@ def _open(args: argparse.Namespace) -> tuple[list[dict], Path, dict, ResultStore
     named = [sp["engine"] for sp in specs if isinstance(sp, dict) and isinstance(sp.get("engine"), str)]
     options = check_engine(args, named)  # a --specs file's own engines
     if args.export == "parquet" and importlib.util.find_spec("pyarrow") is None:
-        raise UsageError("--export parquet needs `pip install neurowalk[parquet]`")
+        raise UsageError("--export parquet needs `pip install -e '.[parquet]'` in neurowalk's folder")
     import neurowalk.runners.sweep  # noqa: F401  (here, with the signals held: it loads the simulation's modules)
 
     out = out_folder(args.out)

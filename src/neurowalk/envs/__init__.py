@@ -1,4 +1,4 @@
-"""Gymnasium environments over neurowalk's bodies (needs the ``gym`` extra: ``pip install neurowalk[gym]``).
+"""Gymnasium environments over neurowalk's bodies (needs the ``gym`` extra: ``pip install -e '.[gym]'``).
 
 ``neurowalk/Explore-v0``: the planar surrogate in a random Table 2 environment, steered by an agent
 (:class:`~neurowalk.envs.explore.ExploreEnv`; vectorised: :class:`~neurowalk.envs.vector.ExploreVectorEnv`).

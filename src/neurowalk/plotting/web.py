@@ -47,9 +47,9 @@ PLAY_HZ = 20.0  # frames per second of wall time while playing
 
 
 def require_viser() -> Any:
-    """viser, or ImportError saying how to install it (``pip install 'neurowalk[web]'``)."""
+    """viser, or ImportError saying how to install it (``pip install -e '.[web]'`` in neurowalk's folder)."""
     if viser is None:
-        raise ImportError(f"the web viewer needs viser: pip install 'neurowalk[web]' ({_VISER_ERROR})")
+        raise ImportError(f"the web viewer needs viser: pip install -e '.[web]' in neurowalk's folder ({_VISER_ERROR})")
     return viser
 
 

@@ -13,7 +13,7 @@ from typing import Any
 
 from neurowalk.runners.jobs import JobResult, WorkerDiedError, call_timed
 
-INSTALL_HINT = "the ray backend needs `pip install neurowalk[ray]`"
+INSTALL_HINT = "the ray backend needs `pip install -e '.[ray]'` in neurowalk's folder"
 
 
 class RayMissingError(ImportError):

@@ -36,7 +36,7 @@ from neurowalk.progress import Progress
 from neurowalk.runners.stopping import deferred
 
 HIDDEN = 4
-CMA_MISSING = "neuroevo needs cma: pip install 'neurowalk[rl]'"
+CMA_MISSING = "neuroevo needs cma: pip install -e '.[rl]' in neurowalk's folder"
 
 
 def n_weights(hidden: int) -> int:

@@ -69,7 +69,7 @@ def import_rl(algo: str) -> Rl:
         from stable_baselines3.common.vec_env import VecEnv
     except ImportError as e:
         raise RlMissingError(
-            f"{algo} needs the rl extra ({e.name} is missing): pip install 'neurowalk[rl]' (CPU "
+            f"{algo} needs the rl extra ({e.name} is missing): pip install -e '.[rl]' in neurowalk's folder (CPU "
             "torch first: pip install torch --index-url https://download.pytorch.org/whl/cpu)"
         ) from e
     return Rl(algo_class, torch, VecEnv, BaseCallback)

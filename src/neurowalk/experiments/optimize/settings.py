@@ -23,7 +23,7 @@ HELDOUT_SEED = 0  # table seed of the held-out environments: Table 2's own (run 
 SIGMA0 = 0.2  # initial CMA-ES step size in the normalised space (the bounds are 1 apart)
 STATE_FILE = "cmaes.json"
 OLD_STATE_FILE = "cmaes.pkl"  # older versions' pickled state: never read
-CMA_MISSING = "neurowalk optimize needs the cma package: `pip install neurowalk[optimize]`"
+CMA_MISSING = "neurowalk optimize needs the cma package: `pip install -e '.[optimize]'` in neurowalk's folder"
 
 
 @dataclass(frozen=True)
