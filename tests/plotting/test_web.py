@@ -3,6 +3,7 @@ a port in use is refused before anything starts, and the export is one HTML file
 
 from __future__ import annotations
 
+import base64
 import re
 import socket
 from pathlib import Path
@@ -13,7 +14,15 @@ import pytest
 pytest.importorskip("viser", reason="the web viewer needs the `web` extra (viser)")
 
 from neurowalk.plotting.replay import load_replay
-from neurowalk.plotting.web import PortError, ReplayPage, check_port, export_html, free_port, ray_colours
+from neurowalk.plotting.web import (
+    PortError,
+    ReplayPage,
+    check_port,
+    export_html,
+    free_port,
+    ray_colours,
+    y_ticks,
+)
 
 
 @pytest.fixture(scope="module")
@@ -54,10 +63,20 @@ def test_the_slider_poses_the_scene_and_moves_the_markers(run_dir: Path):
                 shown = (marker >= lo) & (marker <= hi)
                 assert shown.sum() == 1, title  # one point on the panel: the moment shown
                 assert plot.data[0][np.argmax(shown)] == pytest.approx(replay.t[step], abs=1.0)
+                assert plot.axes[1]["splits"] == y_ticks(lo, hi), title  # the y axis's ticks: the panel's range
         page.go(10_000)  # past the end: the last step
         assert int(page.slider.value) == 299
     finally:
         page.close()
+
+
+@pytest.mark.parametrize("lo, hi", [(-1.06, 1.06), (-2.4, 1.7), (-5.3, 2.2), (-0.001, 0.001), (0.2, 0.9)])
+def test_a_trace_panel_has_three_to_five_round_ticks_inside_its_range(lo: float, hi: float):
+    """uPlot alone gives a short panel one tick (a weights panel read "0", as if it were the axis's label)."""
+    ticks = y_ticks(lo, hi)
+    assert 3 <= len(ticks) <= 5 and all(lo <= t <= hi for t in ticks) and ticks == sorted(ticks)
+    steps = np.diff(ticks)
+    assert np.allclose(steps, steps[0])  # evenly spaced round values
 
 
 def test_the_export_is_one_html_file(run_dir: Path, tmp_path: Path):
@@ -67,3 +86,7 @@ def test_the_export_is_one_html_file(run_dir: Path, tmp_path: Path):
     assert size == path.stat().st_size and text.lstrip().lower().startswith("<!doctype html")
     assert list(tmp_path.iterdir()) == [path]  # nothing else written (no half-written file left)
     assert not re.search(r"""(?:src|href)=["']https?://""", text)  # nothing loaded from elsewhere: it plays offline
+    panel = re.search(r'<figure id="neurowalk-traces".*?src="data:image/png;base64,([^"]+)"', text)
+    assert panel is not None  # the run's traces beside the replay, as the served page has them
+    png = base64.b64decode(panel.group(1))
+    assert png.startswith(b"\x89PNG") and len(png) > 10_000

@@ -6,13 +6,14 @@ and beside the scene a time slider with play, pause and speed (1x to 100x real t
 inputs I1/I2, outputs O1/O2 and weights b1, b2, c over the whole run with a marker at the moment shown, and the
 run's outcome with a button per wedged period. Clicking the path moves the replay to the moment the trunk was
 there. :func:`export_html` writes the replay as one self-contained HTML file (viser's scene recording and its
-client: it plays with no server).
+client: it plays with no server), with a picture of the traces in a corner.
 
 viser is the ``web`` extra; it is imported here only, and :func:`require_viser` says how to install it.
 """
 
 from __future__ import annotations
 
+import base64
 import contextlib
 import io
 import socket
@@ -22,9 +23,12 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from matplotlib.figure import Figure
+from matplotlib.ticker import MaxNLocator
 
 from neurowalk.fileio import atomic_write
 from neurowalk.plotting.replay import Part, Replay
+from neurowalk.plotting.runs import draw_traces
 
 try:  # the optional extra, behind this one guarded import
     import viser
@@ -166,6 +170,16 @@ class Scene:
         return step if gap[step] <= within else None
 
 
+def y_ticks(lo: float, hi: float) -> list[float]:
+    """Three to five round values inside [``lo``, ``hi``] for a trace panel's y axis."""
+    for nbins in (4, 5, 6, 8):  # the coarsest round step that leaves three inside
+        ticks = [float(round(t, 10)) for t in MaxNLocator(nbins, steps=[1, 2, 2.5, 5, 10]).tick_values(lo, hi)]
+        inside = [t for t in ticks if lo <= t <= hi]
+        if len(inside) >= 3:
+            return inside[:5]
+    return inside
+
+
 def _traces(r: Replay) -> list[tuple[str, list[str], np.ndarray]]:
     """(title, labels, (T, n) values) of each trace panel: inputs, outputs, weights (where they learn)."""
     panels = [
@@ -211,14 +225,15 @@ class ReplayPage:
             series = [{"label": "time (s)"}]
             series += [{"label": lab, "stroke": TRACE_COLOURS[i], "width": 1.5} for i, lab in enumerate(labels)]
             series.append({"label": "now", "stroke": "#d62728", "width": 0, "points": {"show": True, "size": 10}})
-            data, scales = self._panel(title, values)
-            plot = gui.add_uplot(data, tuple(series), title=title, scales=scales, aspect=2.2)
+            data, scales, axes = self._panel(title, values)
+            plot = gui.add_uplot(data, tuple(series), title=title, scales=scales, axes=axes, aspect=2.2)
             self.plots.append((title, plot, values))
         self._outcome(gui)
         self.server.scene.on_click()(self._clicked)
 
-    def _panel(self, title: str, values: np.ndarray) -> tuple[tuple[np.ndarray, ...], dict[str, Any]]:
-        """The data (time, each trace, the marker) and scales of trace panel ``title`` over the steps available."""
+    def _panel(self, title: str, values: np.ndarray) -> tuple[tuple[np.ndarray, ...], dict[str, Any], tuple]:
+        """The data (time, each trace, the marker), scales and axes of trace panel ``title`` over the steps
+        available: the y axis ticked at :func:`y_ticks` (uPlot's own choice on a short panel is one tick, 0)."""
         rows = self._rows
         shown = np.where(np.isfinite(values[rows]), values[rows], 0.0)  # uPlot draws no line through NaN
         lo, hi = float(shown.min()), float(shown.max())
@@ -226,14 +241,15 @@ class ReplayPage:
         self._y[title] = (lo - pad, hi + pad)
         data = (self.replay.t[rows], *shown.T, self._marker(title, 0, float(shown[0, 0])))
         scales = {"x": {"time": False}, "y": {"auto": False, "range": list(self._y[title])}}
-        return tuple(np.asarray(d, dtype=float) for d in data), scales
+        axes = ({}, {"splits": y_ticks(*self._y[title])})
+        return tuple(np.asarray(d, dtype=float) for d in data), scales, axes
 
     def refresh_traces(self) -> None:
         """Draw the traces again over the steps available now (a live run's grow)."""
         self._rows = _thin(max(self.available, 1), TRACE_POINTS)
         with self._lock, self.server.atomic():
             for title, plot, values in self.plots:
-                plot.data, plot.scales = self._panel(title, values)
+                plot.data, plot.scales, plot.axes = self._panel(title, values)
 
     def _outcome(self, gui: Any) -> None:
         s, r = self.replay.summary, self.replay
@@ -298,9 +314,36 @@ class ReplayPage:
             stop_server(self.server)
 
 
+def traces_png(replay: Replay) -> bytes:
+    """The run's traces over the whole run as a PNG picture (inputs, outputs and, where they learn, the weights), as
+    ``run.png`` draws them."""
+    fig = Figure(figsize=(5.2, 4.2 if np.isfinite(replay.b).any() else 3.0), dpi=100, layout="constrained")
+    signals = [(replay.inputs, "I", "input I"), (replay.outputs, "O", "steering O")]
+    plastic = bool(np.isfinite(replay.b).any())
+    draw_traces(fig, fig.add_gridspec(1, 1)[0], replay.t, signals, replay.b, replay.q, "", plastic=plastic)
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png")
+    return buf.getvalue()
+
+
+def with_traces(html: str, png: bytes) -> str:
+    """viser's exported page ``html`` with the picture ``png`` of the run's traces fixed in its lower left corner."""
+    panel = (
+        '<figure id="neurowalk-traces" style="position:fixed;left:12px;bottom:12px;width:min(440px,38vw);margin:0;'
+        'padding:6px;background:#fff;border:1px solid #ccc;border-radius:6px;z-index:10;font:12px sans-serif">'
+        f'<img alt="the run\'s inputs, outputs and weights over time" style="width:100%" '
+        f'src="data:image/png;base64,{base64.b64encode(png).decode()}"/>'
+        "<figcaption>The run's inputs, outputs and weights over the whole run (the served page, <code>neurowalk "
+        "view RUN_DIR</code>, marks the moment shown).</figcaption></figure>"
+    )
+    head, tail = html.rsplit("</body>", 1)
+    return f"{head}{panel}\n</body>{tail}"
+
+
 def export_html(replay: Replay, path: str | Path, speed: float = 10.0, fps: float = 10.0) -> int:
     """Write ``path``: one HTML file that plays ``replay`` at ``speed`` times real time, ``fps`` frames per second,
-    with no server (viser's scene recording inside its client). Returns the file's size in bytes."""
+    with no server (viser's scene recording inside its client), the run's traces beside it (:func:`traces_png`).
+    Returns the file's size in bytes."""
     server = start_server("127.0.0.1", free_port())
     try:
         scene = Scene(server, replay)
@@ -311,7 +354,7 @@ def export_html(replay: Replay, path: str | Path, speed: float = 10.0, fps: floa
             scene.show(step)
             recording.insert_sleep(1.0 / fps)
         scene.show(replay.steps - 1)
-        html = recording.as_html()
+        html = with_traces(recording.as_html(), traces_png(replay))
     finally:
         stop_server(server)
     atomic_write(Path(path), lambda tmp: Path(tmp).write_text(html, encoding="utf-8"))
