@@ -3,8 +3,9 @@
 Each picture is made by the command its page gives, in a temporary folder, and copied (with the numbers it is drawn
 from) to where the page shows it. ``tests/docs/test_pictures.py`` holds the committed files to what the commands
 make today. The figures of ``neurowalk reproduce`` (docs/results/), the baselines (docs/baselines/) and the
-parameter search (docs/optimize/) are made by their own long commands and held by their own tests; the viewer's
-screenshot (docs/tutorials/view.png) is a browser's picture of the page, taken by hand.
+parameter search (docs/optimize/) are made by their own long commands and held by their own tests. The viewer's
+picture (docs/tutorials/view.png) is headless Chromium's screenshot of the served replay at the step the page shows
+(Debian's ``chromium``, the ``web`` extra, and tests/browser/cdp.py to drive it).
 
 Run: ``python tools/pictures.py [NAME ...]`` (default: all of :data:`PICTURES`; ``--list`` names them).
 """
@@ -36,6 +37,7 @@ class Picture:
     command: str
     files: dict[str, str]
     page: str
+    screenshot_step: int | None = None  # the served replay's step to take a screenshot of (``OUT/view.png``)
 
 
 def readme_command() -> str:
@@ -49,6 +51,12 @@ def readme_command() -> str:
 
 PICTURES: dict[str, Picture] = {
     "run": Picture(readme_command(), {"run.png": "docs/run.png", "summary.json": "docs/run.json"}, "README.md"),
+    "view": Picture(
+        "neurowalk run --arena narrow-passage --controller plastic --steps 5000 --out OUT --overwrite",
+        {"view.png": "docs/tutorials/view.png", "summary.json": "docs/tutorials/view.json"},
+        "docs/tutorials/view.md",
+        screenshot_step=2600,
+    ),
     "climb-height": Picture(
         "neurowalk study docs/studies/climb_height.py --out OUT",
         {
@@ -66,7 +74,30 @@ def make(name: str, out: Path) -> dict[str, Path]:
     args = [a.replace("OUT", str(out)) for a in shlex.split(pic.command)]
     exe = Path(sys.executable).with_name("neurowalk")
     subprocess.run([str(exe) if exe.exists() else "neurowalk", *args[1:]], cwd=ROOT, check=True)
+    if pic.screenshot_step is not None:
+        screenshot(out, pic.screenshot_step, out / "view.png")
     return {to: out / made for made, to in pic.files.items()}
+
+
+def screenshot(run: Path, step: int, path: Path) -> None:
+    """Write ``path``: Chromium's picture (1400 x 860) of run ``run``'s replay as ``neurowalk view`` serves it,
+    moved to ``step``, once it has stopped changing (the notice of software WebGL closed)."""
+    sys.path.insert(0, str(ROOT / "tests" / "browser"))
+    from cdp import Browser
+
+    from neurowalk.plotting.replay import load_replay
+    from neurowalk.plotting.web import ReplayPage, free_port
+
+    page = ReplayPage(load_replay(run), port=free_port())
+    try:
+        page.go(step)
+        with Browser(1400, 860) as b:
+            b.open(f"http://127.0.0.1:{page.server.get_port()}/")
+            b.wait_for("document.querySelectorAll('canvas').length > 1")
+            b.evaluate("document.querySelectorAll('.mantine-Notification-closeButton').forEach(x => x.click())")
+            b.save(b.settled(), path)
+    finally:
+        page.close()
 
 
 def main() -> int:

@@ -53,16 +53,31 @@ def _flat(value: object, key: str = "") -> dict[str, object]:
     return {key: value}
 
 
-def test_the_readme_run_is_the_committed_one(readme_run: Path):
-    """Its outcome, path and weights as committed (floats within 1e-9: the same on another CPU, usage.md)."""
+def _same_run(made: Path, committed_json: Path) -> None:
+    """The run's summary ``made`` is the committed one: its outcome, path and weights (floats within 1e-9: the same
+    on another CPU, usage.md)."""
     today, committed = (
-        _flat({k: v for k, v in json.loads(p.read_text()).items() if k not in MACHINE})
-        for p in (readme_run / "summary.json", ROOT / "docs" / "run.json")
+        _flat({k: v for k, v in json.loads(p.read_text()).items() if k not in MACHINE}) for p in (made, committed_json)
     )
     assert today.keys() == committed.keys()
     floats = [k for k, v in committed.items() if isinstance(v, float)]
     assert {k: today[k] for k in floats} == pytest.approx({k: committed[k] for k in floats}, rel=1e-9, abs=1e-9)
     assert {k: v for k, v in today.items() if k not in floats} == {k: committed[k] for k in today if k not in floats}
+
+
+def test_the_readme_run_is_the_committed_one(readme_run: Path):
+    _same_run(readme_run / "summary.json", ROOT / "docs" / "run.json")
+
+
+@pytest.mark.slow
+def test_the_viewer_pictures_run_is_the_committed_one(tmp_path: Path):
+    """docs/tutorials/view.png shows the run of the page's command (its screenshot needs a browser: the numbers of
+    the run it shows are held here)."""
+    pic = pictures.PICTURES["view"]
+    args = [a.replace("OUT", str(tmp_path / "np")) for a in shlex.split(pic.command)]
+    assert main([*args[1:], "--quiet"]) == 0
+    assert pic.command.replace("--out OUT", "--out out/np") in (ROOT / pic.page).read_text()
+    _same_run(tmp_path / "np" / "summary.json", ROOT / pic.files["summary.json"])
 
 
 def test_docs_run_png_is_what_the_readme_command_draws(readme_run: Path):
