@@ -67,17 +67,37 @@ def numbers_uri(json_uri: str) -> str:
     return "numbers/" + json_uri.removesuffix(".json").replace("/", "-") + ".md"
 
 
-def _rows(value: object, key: str, linked: set[str]) -> Iterator[tuple[str, object]]:
-    """(key path, value) of every leaf of ``value`` and of every linked inner key, in the file's order."""
+def identity(item: object) -> str | None:
+    """What an element of a list is, for a reader: its ``what`` or ``name`` where it has one, else its leading
+    fields up to the first measured (float) one, at most two (``layer omp, hogs 0``); None for a bare value."""
+    if not isinstance(item, dict):
+        return None
+    for k in ("what", "name"):
+        if isinstance(item.get(k), str):
+            return item[k]
+    lead = []
+    for k, v in list(item.items())[:2]:
+        if isinstance(v, float | dict | list) or v is None:
+            break
+        lead.append(f"{k} {v}")
+    return ", ".join(lead) or None
+
+
+def _rows(value: object, key: str, linked: set[str], shown: str = "") -> Iterator[tuple[str, str, object]]:
+    """(key path, the path as a reader reads it, value) of every leaf of ``value`` and of every linked inner key, in
+    the file's order; a list's element is read by its :func:`identity` (``claims/[the static network escapes the
+    simple dead end]/measured``), its link keyed by position all the same."""
     inner = isinstance(value, dict | list)
     if key and (not inner or key in linked):
-        yield key, value
+        yield key, shown, value
     if isinstance(value, dict):
         for k, v in value.items():
-            yield from _rows(v, f"{key}/{k}" if key else str(k), linked)
+            yield from _rows(v, f"{key}/{k}" if key else str(k), linked, f"{shown}/{k}" if shown else str(k))
     elif isinstance(value, list):
         for i, v in enumerate(value):
-            yield from _rows(v, f"{key}/{i}" if key else str(i), linked)
+            name = identity(v)
+            part = str(i) if name is None else f"[{name}]"
+            yield from _rows(v, f"{key}/{i}" if key else str(i), linked, f"{shown}/{part}" if shown else part)
 
 
 def numbers_page(json_uri: str, data: object, linked: set[str]) -> str:
@@ -91,15 +111,15 @@ def numbers_page(json_uri: str, data: object, linked: set[str]) -> str:
         "",
         f"# {json_uri}",
         "",
-        f"Every value of [`{json_uri}`]({raw}) (committed with the code), by its key path; the row a link "
-        "pointed at is highlighted.",
+        f"Every value of [`{json_uri}`]({raw}) (committed with the code), by its key path (an element of a list by "
+        "what it is, in brackets); the row a link pointed at is highlighted.",
         "",
         '<table class="numbers"><thead><tr><th>key</th><th>value</th></tr></thead><tbody>',
     ]
-    for key, value in _rows(data, "", linked):
+    for key, read, value in _rows(data, "", linked):
         shown = value if isinstance(value, str) else json.dumps(value)
         lines.append(
-            f'<tr id="{anchor(key)}"><td><code>{_html.escape(key)}</code></td><td>{_html.escape(str(shown))}</td></tr>'
+            f'<tr id="{anchor(key)}"><td><code>{_html.escape(read)}</code></td><td>{_html.escape(str(shown))}</td></tr>'
         )
     lines.append("</tbody></table>")
     return "\n".join(lines) + "\n"

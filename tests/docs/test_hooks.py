@@ -64,6 +64,15 @@ def test_the_numbers_page_has_a_row_for_every_leaf_and_every_linked_key():
     assert "[`results/x.json`](../results-x.json)" not in page and "(../results/x.json)" in page
 
 
+def test_a_list_element_is_read_by_what_it_is():
+    data = {"claims": [{"what": "escapes", "measured": "9/10"}], "rows": [{"layer": "omp", "hogs": 2, "rate": 1.5}]}
+    page = hooks.numbers_page("results/x.json", data, set())
+    assert '<tr id="k.claims.0.measured"><td><code>claims/[escapes]/measured</code></td><td>9/10</td></tr>' in page
+    assert '<tr id="k.rows.0.rate"><td><code>rows/[layer omp, hogs 2]/rate</code></td><td>1.5</td></tr>' in page
+    page = hooks.numbers_page("results/y.json", {"xs": [[0.5, 1.0]]}, set())  # a bare value: by its position
+    assert '<tr id="k.xs.0.1"><td><code>xs/0/1</code></td><td>1.0</td></tr>' in page
+
+
 def test_every_number_link_of_the_docs_lands_on_a_row():
     """Each ``file.json#key`` link of the docs: its numbers page (built from the committed file) has the key's row."""
     docs = Path(__file__).resolve().parents[2] / "docs"
