@@ -13,6 +13,7 @@ Run: ``python tools/pictures.py [NAME ...]`` (default: all of :data:`PICTURES`; 
 from __future__ import annotations
 
 import argparse
+import re
 import shlex
 import shutil
 import subprocess
@@ -38,6 +39,7 @@ class Picture:
     files: dict[str, str]
     page: str
     screenshot_step: int | None = None  # the served replay's step to take a screenshot of (``OUT/view.png``)
+    study_file: str | None = None  # a page whose first Python block is the command's study file (``DIR/gap.py``)
 
 
 def readme_command() -> str:
@@ -57,6 +59,12 @@ PICTURES: dict[str, Picture] = {
         "docs/tutorials/view.md",
         screenshot_step=2600,
     ),
+    "gap": Picture(
+        "neurowalk study DIR/gap.py --out OUT",
+        {"gap.png": "docs/studies/gap/gap.png", "gap.json": "docs/studies/gap/gap.json"},
+        "docs/tutorials/study.md",
+        study_file="docs/tutorials/study.md",
+    ),
     "climb-height": Picture(
         "neurowalk study docs/studies/climb_height.py --out OUT",
         {
@@ -71,7 +79,10 @@ PICTURES: dict[str, Picture] = {
 def make(name: str, out: Path) -> dict[str, Path]:
     """Run picture ``name``'s command with its output in ``out``; the files it wrote, by their committed path."""
     pic = PICTURES[name]
-    args = [a.replace("OUT", str(out)) for a in shlex.split(pic.command)]
+    if pic.study_file is not None:  # the reader saves the page's study file and runs it
+        page = (ROOT / pic.study_file).read_text(encoding="utf-8")
+        (out.parent / "gap.py").write_text(re.search(r"```python\n(.*?)```", page, re.S).group(1), encoding="utf-8")  # type: ignore[union-attr]
+    args = [a.replace("OUT", str(out)).replace("DIR", str(out.parent)) for a in shlex.split(pic.command)]
     exe = Path(sys.executable).with_name("neurowalk")
     subprocess.run([str(exe) if exe.exists() else "neurowalk", *args[1:]], cwd=ROOT, check=True)
     if pic.screenshot_step is not None:

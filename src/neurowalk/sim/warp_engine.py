@@ -15,7 +15,8 @@ positions within about 1e-6 rad after 200 physics steps) and then drifts apart a
 so single runs agree in behaviour and statistics, not bit for bit (tests/sim/test_warp_engine.py states the
 tolerances). On Warp's CPU device a run is repeatable; on a GPU the order of contacts may vary.
 
-The engine needs the ``warp`` extra (``pip install -e '.[warp]'`` in neurowalk's folder: ``mujoco-warp``, ``warp-lang``).
+The engine needs the ``warp`` extra (``pip install -e '.[warp]'`` in neurowalk's folder: ``mujoco-warp``,
+``warp-lang``).
 Device: ``cuda`` where a CUDA GPU is present, else ``cpu`` with a warning (about 100-1000x slower than CPU
 MuJoCo: for tests and checks); ``EngineOptions.device`` (``--device``) chooses.
 """
@@ -57,7 +58,9 @@ def import_warp() -> tuple[Any, Any]:
         warp.config.log_level = warp.LOG_ERROR  # no banner, no module-load lines (we name the device ourselves)
         import mujoco_warp
     except ImportError as e:
-        raise ValueError(f"engine 'warp' needs the warp extra: pip install -e '.[warp]' in neurowalk's folder ({e})") from e
+        raise ValueError(
+            f"engine 'warp' needs the warp extra: pip install -e '.[warp]' in neurowalk's folder ({e})"
+        ) from e
     return warp, mujoco_warp
 
 
