@@ -157,12 +157,12 @@ def test_signals_are_held_during_the_final_save():
     import os
     import signal
 
-    from neurowalk.cli import _signals_held
+    from neurowalk.cli.run import signals_held
 
     seen = []
     old = signal.signal(signal.SIGTERM, lambda *a: seen.append("term"))
     try:
-        with _signals_held():
+        with signals_held():
             os.kill(os.getpid(), signal.SIGTERM)  # ignored: the save would finish
         assert seen == []
         os.kill(os.getpid(), signal.SIGTERM)  # the handler is back afterwards

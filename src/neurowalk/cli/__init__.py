@@ -19,7 +19,7 @@ from neurowalk.cli.common import Parser, UsageError, out_file, out_folder
 from neurowalk.cli.figure import add_figure_parser, cmd_figure, figure_listing
 from neurowalk.cli.optimize import add_optimize_parser, cmd_optimize
 from neurowalk.cli.reproduce import add_reproduce_parser, cmd_reproduce
-from neurowalk.cli.run import add_run_parsers, cmd_run, signals_held
+from neurowalk.cli.run import add_run_parsers, cmd_run
 from neurowalk.cli.study import add_study_parser, cmd_study
 from neurowalk.cli.sweep import add_sweep_parser, cmd_sweep
 from neurowalk.cli.tools import add_tool_parsers, cmd_arenas, cmd_bench, cmd_bodies, cmd_calibrate, cmd_export
@@ -28,8 +28,6 @@ from neurowalk.fileio import write_error
 from neurowalk.runners.stopping import stop_on_signals, stop_status
 
 __all__ = ["UsageError", "build_parser", "figure_listing", "main", "out_file", "out_folder", "parse"]
-
-_signals_held = signals_held  # its name here before the split, which the tests use
 
 _COMMANDS = {
     "figure": cmd_figure,

@@ -22,7 +22,7 @@ itself; ``runs`` and ``measure`` read the others (seeds, size, quick, seed).
 batch runs look them up there. It is a table written out below, each figure with the settings it takes: a figure's
 module is imported when one of its functions is first used, so listing the figures imports none of them. A
 :class:`Result` holds a JSON-able summary (the numbers behind the picture) and named arrays, which
-:func:`~neurowalk.experiments.output.save` writes next to the PNG so that a figure can be redrawn without
+:func:`~neurowalk.experiments.output.save_data` writes next to the PNG so that a figure can be redrawn without
 rerunning.
 """
 

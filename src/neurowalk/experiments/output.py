@@ -37,11 +37,6 @@ def save_figure(result: Result, fig: Figure, out_dir: str | Path) -> Path:
     return path
 
 
-def save(result: Result, fig: Figure, out_dir: str | Path) -> dict[str, Path]:
-    """Write NAME.png, NAME.json and NAME.npz (if there are arrays) into ``out_dir``."""
-    return {"png": save_figure(result, fig, out_dir), **save_data(result, out_dir)}
-
-
 class DataError(ValueError):
     """Saved figure numbers that cannot be read back (missing, damaged, truncated, foreign); names the file."""
 

@@ -36,8 +36,6 @@ from neurowalk.fileio import atomic_write, write_json
 from neurowalk.progress import Progress as ProgressBar
 from neurowalk.runners.stopping import deferred
 
-ALGOS: tuple[str, ...] = ("ppo", "rppo")
-
 
 class RlMissingError(ImportError):
     """stable-baselines3 / sb3-contrib (the ``rl`` extra) is not installed."""
