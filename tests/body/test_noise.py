@@ -4,8 +4,9 @@ import math
 import pickle
 
 import numpy as np
+import pytest
 
-from neurowalk.body.noise import BLOCK, ColoredNoise
+from neurowalk.body.noise import BLOCK, ColoredNoise, ColoredNoiseBatch
 
 
 def _by_hand(seed: int, n: int, steps: int, strength: float = 0.02, tau: float = 0.05) -> np.ndarray:
@@ -44,3 +45,24 @@ def test_zero_strength_is_silent_and_reset_restarts():
     first = [noise.step().copy() for _ in range(7)]
     noise.reset(np.random.default_rng(1))
     np.testing.assert_array_equal(first, [noise.step().copy() for _ in range(7)])
+
+
+def test_the_batch_steps_every_world_as_its_own_source_does_bit_for_bit():
+    """Worlds of other seeds, strengths (0 included: silent) and filter constants, across block boundaries: each row
+    of the batch is its world's source stepped alone, bit for bit; a reset starts every world again."""
+    settings = [(0.02, 0.05), (0.0, 0.05), (0.05, 0.3), (0.02, 0.05), (0.01, 1.0)]
+    alone = [ColoredNoise(27, s, t) for s, t in settings]
+    batch = ColoredNoiseBatch([ColoredNoise(27, s, t) for s, t in settings])
+    for round_ in range(2):
+        for k, source in enumerate(alone):
+            source.reset(np.random.default_rng(10 * round_ + k))
+        batch.reset([np.random.default_rng(10 * round_ + k) for k in range(len(settings))])
+        for _ in range(2 * BLOCK + 7):
+            got = batch.step()
+            np.testing.assert_array_equal(got, np.stack([s.step() for s in alone]))
+        assert not got[1].any()  # strength 0
+
+
+def test_a_batch_refuses_sources_of_other_channels():
+    with pytest.raises(ValueError, match=r"same channels, got \[2, 27\]"):
+        ColoredNoiseBatch([ColoredNoise(27), ColoredNoise(2)])

@@ -105,6 +105,21 @@ def test_threads_memory_controller_path_and_padding_do_not_change_a_bit(batch, o
         assert not other.controllers.compiled
 
 
+def test_worlds_of_one_arena_share_its_model_and_run_as_alone():
+    """A seed sweep in one arena builds one model for all its worlds (16,384 worlds need not build 16,384), and
+    each world is still its single run, bit for bit (noise strengths and controllers of its own)."""
+    configs = [
+        INTO_BOX.replace(seed=0),
+        INTO_BOX.replace(seed=1, controller="plastic", steer=None),
+        INTO_BOX.replace(seed=2, noise=0.0),
+        INTO_TILTED_BOX,
+    ]
+    be = MujocoBatchWorlds(configs, nthread=2)
+    assert len({id(m) for m in be.models}) == 2 and be.models[0] is be.models[2]  # two arenas, two models
+    for cfg, ep in zip(configs, be.run(), strict=True):
+        assert_same_run(run_episode(cfg), ep)
+
+
 def test_padded_models_share_sizes_and_park_out_of_reach(batch):
     be, _ = batch
     sizes = {(m.nbody, m.ngeom, m.nbvh, m.nbvhstatic, m.nq, m.nsensordata) for m in be.models}

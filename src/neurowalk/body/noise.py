@@ -48,3 +48,55 @@ class ColoredNoise:
             v += self._gain * self._block[self._next] - self.tau * v
             self._next += 1
         return self.value
+
+
+class ColoredNoiseBatch:
+    """The :class:`ColoredNoise` sources of n lock-step worlds, stepped together: one array operation a control
+    step for all of them, the same numbers, bit for bit, as each source's own :meth:`~ColoredNoise.step`.
+
+    Each world draws its uniform numbers from its own source's Generator, :data:`BLOCK` steps at a time, as the
+    source does (a Python loop over the worlds once every :data:`BLOCK` steps); the filter step is the source's
+    arithmetic on (n, channels) arrays. A world of strength 0 stays at 0 and draws nothing, as its source does.
+
+    Args:
+        sources: one per world, all with the same number of channels.
+
+    Attributes:
+        value: (n, channels) the current noise of every world (updated in place by :meth:`step`).
+    """
+
+    def __init__(self, sources: list[ColoredNoise]) -> None:
+        channels = {s.n for s in sources}
+        if len(channels) > 1:
+            raise ValueError(f"the worlds' noise sources need the same channels, got {sorted(channels)}")
+        self.sources = sources
+        self.channels = channels.pop() if channels else 0
+        self.on = np.array([s.strength > 0 for s in sources], dtype=bool)
+        self._all_on = bool(self.on.all())
+        self._gain = np.array([[s._gain] for s in sources]) if sources else np.zeros((0, 1))
+        self._tau = np.array([[s.tau] for s in sources]) if sources else np.zeros((0, 1))
+        self.value = np.zeros((len(sources), self.channels))
+        self._block = np.zeros((len(sources), BLOCK, self.channels))
+        self._next = BLOCK
+
+    def reset(self, rngs: list[np.random.Generator]) -> None:
+        """Every world's source reset with its Generator (:meth:`ColoredNoise.reset`); zero state."""
+        for source, rng in zip(self.sources, rngs, strict=True):
+            source.reset(rng)
+        self.value[:] = 0.0
+        self._next = BLOCK
+
+    def step(self) -> np.ndarray:
+        """Advance every world one control step; returns :attr:`value`."""
+        if self._next == BLOCK:
+            for i in np.flatnonzero(self.on):
+                self._block[i] = self.sources[i]._rng.uniform(-1.0, 1.0, (BLOCK, self.channels))
+            self._next = 0
+        u, v = self._block[:, self._next], self.value
+        if self._all_on:
+            v += self._gain * u - self._tau * v
+        else:
+            on = self.on
+            v[on] += self._gain[on] * u[on] - self._tau[on] * v[on]
+        self._next += 1
+        return v

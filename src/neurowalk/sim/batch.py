@@ -2,7 +2,8 @@
 
 .. code-block:: text
 
-    models  = AmosII(arena_i, pad_boxes=max_boxes).model   # same sizes for all (body/obstacle_slots.py)
+    models  = AmosII(arena_i, pad_boxes=max_boxes).model   # same sizes for all (body/obstacle_slots.py); one per
+                                                           # distinct arena, shared by the worlds in it
     batch   = mujoco.batch.Batch(models[0], n, nthread); batch.set_models(models)
     reset:  stand keyframe at each arena's start pose; noise and controllers from each run's seeds()
     each control step (sim/lockstep.py): sense all copies, controllers in one compiled call,
@@ -22,10 +23,12 @@ import mujoco
 import mujoco.batch
 import numpy as np
 
-from neurowalk.arenas import make_arena
+from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.body.common import place_at_start
+from neurowalk.body.noise import ColoredNoise
 from neurowalk.body.physics import AmosII
-from neurowalk.sim.config import Episode, EpisodeConfig, build, seeds
+from neurowalk.body.registry import make_body
+from neurowalk.sim.config import Episode, EpisodeConfig, build_controller, seeds
 from neurowalk.sim.engine import EngineOptions
 from neurowalk.sim.lockstep import LockstepEngine, LockstepWorlds
 
@@ -61,21 +64,23 @@ class MujocoBatchWorlds(LockstepWorlds):
     ) -> None:
         configs = list(configs)
         MujocoBatch().check(configs, EngineOptions(threads=nthread))
-        if max_boxes is None:  # the arenas alone, as build() makes them, to size the padding
-            max_boxes = max(len(make_arena(c.arena, rng=seeds(c)[2], **c.arena_opts).boxes) for c in configs)
-        self.max_boxes = max_boxes
-        parts = [build(cfg, pad_boxes=max_boxes) for cfg in configs]
-        bodies = [p[1] for p in parts]
-        assert all(isinstance(b, AmosII) for b in bodies)
+        arenas = [make_arena(c.arena, rng=seeds(c)[2], **c.arena_opts) for c in configs]  # as build() makes them
+        self.max_boxes = max_boxes = max(len(a.boxes) for a in arenas) if max_boxes is None else max_boxes
+        built: dict[tuple[ArenaSpec, bool], AmosII] = {}  # worlds of one arena share its model (a seed sweep: one)
+        for cfg, arena in zip(configs, arenas, strict=True):
+            if (arena, cfg.climbing) not in built:  # the body options and the rate are the call's (check above)
+                opts = {"control_hz": cfg.control_hz, "climbing": cfg.climbing, "pad_boxes": max_boxes}
+                built[arena, cfg.climbing] = make_body(cfg.body, arena, cfg.body_opts, **opts)
+        bodies = [built[a, c.climbing] for a, c in zip(arenas, configs, strict=True)]
         self.models: list[mujoco.MjModel] = [b.model for b in bodies]
         super().__init__(
             configs,
-            [p[0] for p in parts],
+            arenas,
             self.models[0],
             bodies[0].params,
             bodies[0].n_substeps,
-            [p[2] for p in parts],
-            [b.noise for b in bodies],  # the bodies' own noise sources: the single loop's draws
+            [build_controller(c) for c in configs],
+            [ColoredNoise(b.noise.n, strength=c.noise) for b, c in zip(bodies, configs, strict=True)],  # AmosII's own
             compiled,
         )
         self.batch = mujoco.batch.Batch(self.models[0], self.n, nthread, persistent)

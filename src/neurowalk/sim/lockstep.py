@@ -30,7 +30,7 @@ import numpy as np
 from neurowalk.arenas import ArenaSpec
 from neurowalk.body.amosii_params import STAND_KEY, BodyParams
 from neurowalk.body.amosii_sensors import joint_qpos_indices, sensed, sensor_layout
-from neurowalk.body.noise import ColoredNoise
+from neurowalk.body.noise import ColoredNoise, ColoredNoiseBatch
 from neurowalk.body.registry import BODIES
 from neurowalk.controller import Controller
 from neurowalk.observation import Observation
@@ -77,13 +77,13 @@ class LockstepWorlds(ABC):
         self.configs, self.arenas = list(configs), list(arenas)
         self.model, self.params, self.n_substeps = model, params, n_substeps
         self.controllers = BatchControllers(controllers, compiled=compiled)
-        self.noises = list(noises)
+        self.noise = ColoredNoiseBatch(list(noises))  # every world's sensor noise, one array step for all
         self.layout = lay = sensor_layout(model)
         self.us_range = params.us_range
         self.qidx = joint_qpos_indices(model)
         self.trunk = lay.trunk
         self.stand_key = model.key(STAND_KEY).id
-        self.noise_now = np.zeros((len(noises), 2 + len(self.qidx) + 6))
+        self.noise_now = self.noise.value  # (n, 2 + joints + 6): this step's noise of every world
         self.timing = {"physics": 0.0, "control": 0.0}
         self.qpos: np.ndarray = np.zeros((self.n, model.nq))
         self.sensordata: np.ndarray = np.zeros((self.n, model.nsensordata))
@@ -117,8 +117,7 @@ class LockstepWorlds(ABC):
         """Every world at its start pose, at rest; noise and controllers from each run's seeds."""
         self.reset_physics()
         rngs = [seeds(cfg) for cfg in self.configs]
-        for noise, (body_rng, _, _) in zip(self.noises, rngs, strict=True):
-            noise.reset(body_rng)
+        self.noise.reset([body_rng for body_rng, _, _ in rngs])
         self.controllers.reset([ctrl_rng for _, ctrl_rng, _ in rngs])
 
     def sense(self) -> tuple[np.ndarray, np.ndarray]:
@@ -126,9 +125,7 @@ class LockstepWorlds(ABC):
 
         Advances every world's sensor noise by one control step (kept, with the readings, for :meth:`observation`).
         """
-        noise = self.noise_now
-        for i, source in enumerate(self.noises):
-            noise[i] = source.step()
+        noise = self.noise.step()
         dist, foot = sensed(self.layout, self.sensordata, self.us_range, noise)  # AmosII.observe's sensor model
         self._sensed = (dist, foot)
         return dist, foot
