@@ -8,7 +8,8 @@ docs/results/ (`neurowalk reproduce`), docs/benchmarks/ (`neurowalk bench`, benc
     the plastic network escaped [10/10](docs/results/fig8.json#claims/0/measured) of the narrow passages
 
 The link's text must show the value at that key: the same string, or the same number as rounded in the text (a
-``%`` after it: the value is a share, shown times 100; `` min`` or `` h`` after it: the value is in seconds). A
+``%`` after it: the value is a share, shown times 100; `` min`` or `` h`` after it: the value is in seconds; ``e-7``
+after it: the mantissa as rounded, times that power of ten). A
 string value holding several numbers (a rule, a command) backs the numbers of the text that it holds as whole
 numbers, each as often as the text shows it (a text of words alone: words the string holds). A link
 to a whole source file (no ``#key``) names the file and states nothing: its text is prose, where a number that
@@ -90,6 +91,11 @@ def shows(text: str, value: object) -> bool:
     if m is None:
         return False
     shown = m.group(0)
+    power = re.match(r"e([-+−]?\d+)", text[m.end() :])  # 4.77e-7: the mantissa as rounded, times its power of ten
+    if power:
+        exponent = int(power.group(1).replace("−", "-"))
+        digits = len(shown.split(".")[1]) if "." in shown else 0
+        return round(float(value) / 10.0**exponent, digits) == _number(shown)
     x = float(value) * (100.0 if text[m.end() : m.end() + 1] == "%" else 1.0)
     digits = len(shown.split(".")[1]) if "." in shown else 0
     scale = {" min": 60.0, " h": 3600.0}.get(text[m.end() : m.end() + 4].rstrip(), 1.0)

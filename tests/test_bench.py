@@ -89,3 +89,18 @@ def test_benchmark_scripts_import(script: str) -> None:
     spec = importlib.util.spec_from_file_location(f"bench_{path.stem}", path)
     assert spec is not None and spec.loader is not None
     spec.loader.exec_module(importlib.util.module_from_spec(spec))
+
+
+def test_lockstep_rates_split_a_world_step_into_host_and_physics():
+    """The lock-step benchmark's rows (mujoco.batch, one shared arena): rates from the timed run, and the host's
+    microseconds per world-step the sum of its parts."""
+    from neurowalk.bench import lockstep_rates
+
+    r = lockstep_rates((1, 3), steps=2, engine="mujoco.batch", arena="box", progress=False)
+    assert r["engine"] == "mujoco.batch" and r["device_name"].startswith("cpu")
+    assert [row["worlds"] for row in r["rows"]] == [1, 3]
+    for row in r["rows"]:
+        assert row["control_steps_per_s"] == pytest.approx(row["worlds"] * row["control_steps"] / row["wall_s"])
+        parts = row["sense_us"] + row["controllers_us"] + row["record_us"]
+        assert row["host_us"] == pytest.approx(parts) and min(row["physics_us"], parts) > 0
+        assert row["physics_share"] == pytest.approx(row["physics_us"] / (row["physics_us"] + row["host_us"]))

@@ -24,6 +24,8 @@ def test_shows_rounds_as_the_text_does():
     assert shows("41 s", 41.26) and shows("41.3 s", 41.26) and not shows("42 s", 41.26)
     assert shows("300 s", "held 300 s in 0.5 m") and not shows("200 s", "held 300 s in 0.5 m")
     assert shows("2 min", 120.0) and not shows("3 min", 120.0)
+    assert shows("4.8e-7", 4.768e-07) and shows("4.77e-7", 4.768e-07) and not shows("4.7e-7", 4.768e-07)
+    assert not shows("4.8e-6", 4.768e-07)  # the power of ten counts
     assert shows("3.3 min", 197.8) and shows("7.0 min", 417.3) and not shows("3.2 min", 197.8)
     assert not shows("1", True)
 

@@ -284,28 +284,43 @@ def physics_settings(steps: int = 3000, repeats: int = 5) -> dict[str, Any]:
     }
 
 
-def warp_rates(
-    worlds: tuple[int, ...] = (1, 64, 1024, 4096), steps: int = 5, device: str | None = None, progress: bool = True
+def lockstep_rates(
+    worlds: tuple[int, ...] = (1, 64, 1024, 4096),
+    steps: int = 5,
+    *,
+    engine: str = "warp",
+    device: str | None = None,
+    threads: int = 2,
+    arena: str = "random",
+    progress: bool = True,
 ) -> dict[str, Any]:
-    """The closed loop on MuJoCo Warp: control and physics world-steps/s for each number of worlds.
+    """The closed loop of lock-step worlds: world-steps/s and where a world-step's time goes, for each number of
+    worlds, on MuJoCo Warp (``engine`` "warp", on ``device``) or ``mujoco.batch`` (on ``threads`` threads).
 
-    Worlds are random arenas (as :func:`physics_rates`), plastic network; each measurement runs ``steps``
-    control steps after one untimed run of the same worlds (kernel compilation, CUDA graph capture).
+    Worlds run the plastic network in ``arena``: "random" (random arenas as :func:`physics_rates`, one model per
+    world on ``mujoco.batch``) or "box" (one arena, every world its own seed: one shared model, so that 16,384 worlds
+    fit a laptop's memory). Each measurement runs ``steps`` control steps after one untimed run of the same worlds
+    (kernels compiled, CUDA graphs captured). A row's ``host_us`` and ``physics_us`` are microseconds per world and
+    control step: the host's part (``sense_us``: sensor model and noise, ``controllers_us``, ``record_us``) and the
+    physics'.
     """
+    from neurowalk.sim.batch import MujocoBatchWorlds
 
-    device = resolve_device(device)
+    device = resolve_device(device) if engine == "warp" else "cpu"
+    opts = ARENA_OPTS if arena == "random" else {}
     rows = []
     for n in worlds:
-        cfgs = [
-            EpisodeConfig(arena="random", arena_opts=ARENA_OPTS, steps=steps, seed=s, engine="warp") for s in range(n)
-        ]
+        kind = "warp" if engine == "warp" else DEFAULT_ENGINE  # the config's engine; mujoco.batch runs CPU configs
+        cfgs = [EpisodeConfig(arena=arena, arena_opts=opts, steps=steps, seed=s, engine=kind) for s in range(n)]
         t0 = time.perf_counter()
-        runs = WarpWorlds(cfgs, device=device)
+        runs = WarpWorlds(cfgs, device=device) if engine == "warp" else MujocoBatchWorlds(cfgs, nthread=threads)
         build = time.perf_counter() - t0
         runs.run()  # untimed: compile, capture
+        runs.timing = dict.fromkeys(runs.timing, 0.0)
         t0 = time.perf_counter()
         runs.run()
         wall = time.perf_counter() - t0
+        per = {k: 1e6 * v / (n * steps) for k, v in runs.timing.items()}
         rows.append(
             {
                 "worlds": n,
@@ -314,12 +329,28 @@ def warp_rates(
                 "build_s": build,
                 "control_steps_per_s": n * steps / wall,
                 "physics_steps_per_s": n * steps * runs.n_substeps / wall,
-                "physics_share": runs.timing["physics"] / max(sum(runs.timing.values()), 1e-12),
+                "physics_share": runs.timing["physics"] / max(runs.timing["physics"] + runs.timing["control"], 1e-12),
+                "host_us": per["control"],
+                "physics_us": per["physics"],
+                **{f"{k}_us": per[k] for k in ("sense", "controllers", "record")},
             }
         )
         if progress:
-            print(f"warp {device}: {n} worlds, {rows[-1]['control_steps_per_s']:.0f} control steps/s", flush=True)
-    return {"device": device, "device_name": device_name(device), "rows": rows}
+            r = rows[-1]
+            print(
+                f"{engine} {device}: {n} worlds, {r['control_steps_per_s']:.0f} control steps/s, host "
+                f"{r['host_us']:.2f} us and physics {r['physics_us']:.2f} us per world-step",
+                flush=True,
+            )
+    name = device_name(device) if engine == "warp" else f"cpu ({platform.processor() or platform.machine()})"
+    return {"engine": engine, "device": device, "device_name": name, "threads": threads, "rows": rows}
+
+
+def warp_rates(
+    worlds: tuple[int, ...] = (1, 64, 1024, 4096), steps: int = 5, device: str | None = None, progress: bool = True
+) -> dict[str, Any]:
+    """The closed loop on MuJoCo Warp (:func:`lockstep_rates`, random arenas) for each number of worlds."""
+    return lockstep_rates(worlds, steps, engine="warp", device=device, progress=progress)
 
 
 def run_bench(

@@ -7,6 +7,7 @@ repeats bit for bit, and the engine agrees with the CPU loop (bit for bit for ``
 tolerance for Warp).
 """
 
+import os
 from dataclasses import replace
 
 import numpy as np
@@ -46,7 +47,8 @@ class Simulator:
 
 def _warp() -> Simulator:
     pytest.importorskip("mujoco_warp")
-    options = ENGINES["warp"].resolve(EngineOptions(device="cpu"))
+    device = os.environ.get("NEUROWALK_TEST_DEVICE", "cpu")  # cuda on a GPU machine: the same tests hold
+    options = ENGINES["warp"].resolve(EngineOptions(device=device))
     return Simulator(ENGINES["warp"], options, "warp", 1e-3)
 
 
@@ -54,7 +56,7 @@ def _warp() -> Simulator:
     params=[
         pytest.param("cpu", id="cpu-loop"),
         pytest.param("batch", id="mujoco.batch"),
-        pytest.param("warp", id="warp-cpu", marks=pytest.mark.warp),
+        pytest.param("warp", id="warp", marks=pytest.mark.warp),
     ]
 )
 def simulator(request) -> Simulator:

@@ -6,6 +6,7 @@ the same on/off. After that two contact-rich runs drift apart, so longer runs ar
 Marked ``warp``: CI runs them in a step of their own, with the warp extra installed.
 """
 
+import os
 import sys
 from dataclasses import replace
 
@@ -87,41 +88,49 @@ warp = pytest.mark.warp
 
 
 @pytest.fixture(scope="module")
-def wp_cpu():
+def wp_device():
+    """The Warp device the tests run on: ``NEUROWALK_TEST_DEVICE`` (``cpu``, the default, or ``cuda`` on a GPU
+    machine: the same tests hold on both)."""
     pytest.importorskip("mujoco_warp")
     from neurowalk.sim.warp_engine import resolve_device
 
-    return resolve_device("cpu")
+    return resolve_device(os.environ.get("NEUROWALK_TEST_DEVICE", "cpu"))
 
 
 @warp
-def test_worlds_follow_cpu_mujoco(wp_cpu):
+def test_worlds_follow_cpu_mujoco(wp_device):
     """Two worlds with different arenas and controllers: each within float32 of its CPU MuJoCo run."""
     from neurowalk.sim.warp_engine import run_warp
 
-    eps = run_warp([TILTED, RANDOM], device=wp_cpu, progress=False)
+    eps = run_warp([TILTED, RANDOM], device=wp_device, progress=False)
     for cfg, ep in zip((TILTED, RANDOM), eps, strict=True):
         ref = run_episode(replace(cfg, engine="mujoco"))
         dq = np.abs(ep.trajectory.qpos - ref.trajectory.qpos).max()
         assert dq < QPOS_TOL, (cfg.arena, dq)
         np.testing.assert_allclose(ep.trajectory.t, ref.trajectory.t, atol=1e-9)
-        assert ep.summary["engine"] == "warp" and ep.summary["device"] == "cpu"
+        assert ep.summary["engine"] == "warp" and ep.summary["device"] == wp_device
         assert ep.summary["steps"] == cfg.steps
 
 
 @warp
-def test_worlds_are_independent_and_runs_repeat(wp_cpu):
-    """A world's run does not depend on the other worlds, and the same configs give the same numbers."""
-    from neurowalk.sim.warp_engine import run_warp
+def test_worlds_are_independent_and_runs_repeat(wp_device):
+    """A world's run does not depend on the other worlds, and the same configs give the same numbers (a rerun, bit
+    for bit): MuJoCo Warp's deterministic execution is on."""
+    from neurowalk.sim.warp_engine import WarpWorlds, run_warp
 
-    alone = run_warp([RANDOM], device=wp_cpu, progress=False)[0]
-    pair = run_warp([TILTED, RANDOM], device=wp_cpu, progress=False)[1]
-    np.testing.assert_array_equal(alone.trajectory.qpos, pair.trajectory.qpos)
-    np.testing.assert_array_equal(alone.trajectory.outputs, pair.trajectory.outputs)
+    alone = run_warp([RANDOM], device=wp_device, progress=False)[0]
+    again = run_warp([RANDOM], device=wp_device, progress=False)[0]
+    pair = run_warp([TILTED, RANDOM], device=wp_device, progress=False)[1]
+    for other in (again, pair):
+        np.testing.assert_array_equal(alone.trajectory.qpos, other.trajectory.qpos)
+        np.testing.assert_array_equal(alone.trajectory.outputs, other.trajectory.outputs)
+    import mujoco_warp
+
+    assert WarpWorlds([RANDOM], device=wp_device).wmodel.opt.deterministic == mujoco_warp.DeterminismType.ALL
 
 
 @warp
-def test_sensors_equal_at_the_same_states(wp_cpu):
+def test_sensors_equal_at_the_same_states(wp_device):
     """Rangefinders and foot contacts of Warp and CPU MuJoCo at the same states (a robot walking into a tilted
     box, seen by both rays, feet on and off the ground)."""
     import mujoco_warp as mjw
@@ -133,7 +142,7 @@ def test_sensors_equal_at_the_same_states(wp_cpu):
     cfg = replace(TILTED, steps=100, engine="mujoco")
     ref = run_episode(cfg)
     rows = [20, 60, 80, 99]  # walking, nearing the box (rays on it), touching it (first contact at 71)
-    runs = WarpWorlds([replace(cfg, engine="warp")], device=wp_cpu)
+    runs = WarpWorlds([replace(cfg, engine="warp")], device=wp_device)
     runs.reset()
     _, body, _ = build(cfg)
     lay = sensor_layout(body.model)
@@ -142,7 +151,7 @@ def test_sensors_equal_at_the_same_states(wp_cpu):
         body.data.qpos[:] = qpos
         body.data.ctrl[:] = ref.trajectory.targets[k]
         mujoco.mj_forward(body.model, body.data)
-        with wp.ScopedDevice(wp_cpu):
+        with wp.ScopedDevice(wp_device):
             runs.wdata.qpos.assign(qpos[None].astype(np.float32))
             runs.wdata.qvel.zero_()
             runs.wdata.ctrl.assign(ref.trajectory.targets[k][None].astype(np.float32))
@@ -158,7 +167,7 @@ def test_sensors_equal_at_the_same_states(wp_cpu):
 
 
 @warp
-def test_a_world_sees_its_boxes_in_slots_another_world_leaves_empty(wp_cpu):
+def test_a_world_sees_its_boxes_in_slots_another_world_leaves_empty(wp_device):
     """World 0 has no box, world 1 a box ahead in slot 0: world 1's rays read it as CPU MuJoCo does (a slot that
     world 0 parks once made it invisible to every world, and the robot walked into unseen walls)."""
     import mujoco_warp as mjw
@@ -175,9 +184,9 @@ def test_a_world_sees_its_boxes_in_slots_another_world_leaves_empty(wp_cpu):
     us_cpu = body.data.sensordata[lay.us].copy()
     assert np.all((us_cpu >= 0) & (us_cpu < 0.4))  # both rays see the box from the start pose
     runs = WarpWorlds([replace(near, arena="open", arena_opts={}, engine="warp"), replace(near, engine="warp")],
-                        device=wp_cpu)  # fmt: skip
+                        device=wp_device)  # fmt: skip
     runs.reset()
-    with wp.ScopedDevice(wp_cpu):
+    with wp.ScopedDevice(wp_device):
         mjw.forward(runs.wmodel, runs.wdata)
     sd = runs.wdata.sensordata.numpy()
     np.testing.assert_allclose(sd[1, lay.us], us_cpu, atol=US_TOL)
@@ -185,7 +194,7 @@ def test_a_world_sees_its_boxes_in_slots_another_world_leaves_empty(wp_cpu):
 
 
 @warp
-def test_bad_devices_exit_2(wp_cpu, capsys, tmp_path):
+def test_bad_devices_exit_2(wp_device, capsys, tmp_path):
     import warp as wp
 
     from neurowalk.cli import main
@@ -199,7 +208,7 @@ def test_bad_devices_exit_2(wp_cpu, capsys, tmp_path):
 
 
 @warp
-def test_a_sweep_runs_warp_specs_as_worlds_of_one_model(wp_cpu, tmp_path, monkeypatch):
+def test_a_sweep_runs_warp_specs_as_worlds_of_one_model(wp_device, tmp_path, monkeypatch):
     """Specs on engine 'warp' go to one Warp model, the others to the pool; each stored result is its run's."""
     from neurowalk.runners.specs import result_of, spec_key
     from neurowalk.runners.store import ResultStore
@@ -208,7 +217,7 @@ def test_a_sweep_runs_warp_specs_as_worlds_of_one_model(wp_cpu, tmp_path, monkey
     specs = [{"arena": "box", "steps": 8, "seed": s, "engine": "warp"} for s in (0, 1)]
     specs.append({"arena": "box", "steps": 8, "seed": 0})
     with ResultStore(tmp_path / "r.sqlite") as store:
-        report = run_sweep(specs, store, workers=1, progress=False, options=EngineOptions(device=wp_cpu))
+        report = run_sweep(specs, store, workers=1, progress=False, options=EngineOptions(device=wp_device))
         results = store.results()
     assert report.ok == 3 and report.error == 0
     for s in specs:
@@ -221,7 +230,7 @@ def test_a_sweep_runs_warp_specs_as_worlds_of_one_model(wp_cpu, tmp_path, monkey
 
 
 @warp
-def test_a_study_keeps_its_warp_runs_and_their_terms_in_its_store(wp_cpu, tmp_path, monkeypatch):
+def test_a_study_keeps_its_warp_runs_and_their_terms_in_its_store(wp_device, tmp_path, monkeypatch):
     """A study's runs on engine 'warp' are the worlds of shared calls and kept like the pool's, terms and all: its
     store holds them, and the same call again runs none (what fig3/fig5 with --engine warp resume and share)."""
     from neurowalk.experiments.stores import run_store
@@ -232,23 +241,23 @@ def test_a_study_keeps_its_warp_runs_and_their_terms_in_its_store(wp_cpu, tmp_pa
 
     runs = [(EpisodeConfig(arena="box", steps=8, seed=s, engine="warp"), (PATH,)) for s in (0, 1)]
     runs.append((EpisodeConfig(arena="box", steps=12, seed=0, engine="warp"), (LONG,)))
-    first = run_store(runs, tmp_path, 1, options=EngineOptions(device=wp_cpu))
+    first = run_store(runs, tmp_path, 1, options=EngineOptions(device=wp_device))
     assert [len(r["kept"]["path"]["path"]) for r in first[:2]] == [2, 2]  # rows 0 and the last (7)
     assert list(first[2]["kept"]["long"]["step"]) == [0, 10, 11] and first[0]["engine"] == "warp"
     with ResultStore(tmp_path / "results.sqlite") as store:
         assert len(store) == 3
     monkeypatch.setattr(warp_engine.WarpWorlds, "advance", lambda *a: pytest.fail("a stored run ran again"))
-    again = run_store(runs, tmp_path, 1, options=EngineOptions(device=wp_cpu))
+    again = run_store(runs, tmp_path, 1, options=EngineOptions(device=wp_device))
     assert [r["final_pose"] for r in again] == [r["final_pose"] for r in first]
 
 
 @warp
-def test_bench_measures_warp_beside_nothing_else_it_needs(wp_cpu):
+def test_bench_measures_warp_beside_nothing_else_it_needs(wp_device):
     """`neurowalk bench --engine warp`'s measurement: one row per number of worlds, rates from the timed run."""
     from neurowalk.bench import warp_rates
 
-    r = warp_rates((1, 3), steps=1, device=wp_cpu, progress=False)
-    assert r["device"] == "cpu" and r["device_name"].startswith("cpu")
+    r = warp_rates((1, 3), steps=1, device=wp_device, progress=False)
+    assert r["device"] == wp_device and r["device_name"].startswith("cpu") == (wp_device == "cpu")
     assert [row["worlds"] for row in r["rows"]] == [1, 3]
     for row in r["rows"]:
         assert row["control_steps_per_s"] == pytest.approx(row["worlds"] * row["control_steps"] / row["wall_s"])
@@ -256,24 +265,24 @@ def test_bench_measures_warp_beside_nothing_else_it_needs(wp_cpu):
 
 
 @warp
-def test_run_many_puts_warp_configs_into_one_model_and_keeps_the_order(wp_cpu, monkeypatch):
+def test_run_many_puts_warp_configs_into_one_model_and_keeps_the_order(wp_device, monkeypatch):
     from neurowalk.runners.local import run_many
 
     cfgs = [EpisodeConfig(arena="box", steps=6, seed=s, engine=e) for s, e in ((0, "warp"), (1, "mujoco"), (2, "warp"))]
-    got = run_many(cfgs, workers=1, progress=False, options=EngineOptions(device=wp_cpu))
+    got = run_many(cfgs, workers=1, progress=False, options=EngineOptions(device=wp_device))
     for cfg, summary in zip(cfgs, got, strict=True):
         assert summary["final_pose"] == run_episode(cfg).summary["final_pose"]
         assert summary.get("engine", "mujoco") == cfg.engine
 
 
 @warp
-def test_walking_and_turning_in_the_open_match_cpu_mujoco(wp_cpu):
+def test_walking_and_turning_in_the_open_match_cpu_mujoco(wp_device):
     """No obstacles (no obstacle slots at all): Table 1's forward walk and left turn go as on CPU MuJoCo."""
     from neurowalk.sim.warp_engine import run_warp
 
     cfgs = [EpisodeConfig(arena="open", controller="fixed", steer=s, steps=150, engine="warp", noise=0.0)
             for s in ((-1.0, -1.0), (-1.0, 1.0))]  # fmt: skip
-    for cfg, ep in zip(cfgs, run_warp(cfgs, device=wp_cpu, progress=False), strict=True):
+    for cfg, ep in zip(cfgs, run_warp(cfgs, device=wp_device, progress=False), strict=True):
         ref = run_episode(replace(cfg, engine="mujoco")).trajectory.pose
         np.testing.assert_allclose(ep.trajectory.pose, ref, atol=1e-3)
 
@@ -294,7 +303,7 @@ def test_figures_take_the_engine_where_they_can(capsys, tmp_path):
 
 
 @warp
-def test_a_stopped_warp_run_keeps_its_steps(wp_cpu, monkeypatch):
+def test_a_stopped_warp_run_keeps_its_steps(wp_device, monkeypatch):
     from neurowalk.sim.config import RunInterruptedError
     from neurowalk.sim.warp_engine import WarpWorlds
 
@@ -312,7 +321,7 @@ def test_a_stopped_warp_run_keeps_its_steps(wp_cpu, monkeypatch):
         run_episode(
             EpisodeConfig(arena="box", steps=10, engine="warp"),
             stream=Streaming(sink=lambda r, start: rows.append(len(r))),
-            options=EngineOptions(device=wp_cpu),
+            options=EngineOptions(device=wp_device),
         )
     assert stop.value.episode.summary["steps"] == 3 and stop.value.episode.summary["completed"] is False
     assert sum(rows) == 3  # the sink got every completed row

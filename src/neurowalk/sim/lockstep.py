@@ -59,8 +59,8 @@ class LockstepWorlds(ABC):
 
     Attributes:
         qpos (n, nq), sensordata (n, nsensordata), sim_time (n,): the worlds' state after the last reset or step
-            (the subclass fills them). timing: seconds in ``physics`` and in ``control`` (sensing, controllers,
-            recording).
+            (the subclass fills them). timing: seconds in ``physics`` and in ``control``, the host's part, which is
+            ``sense`` (sensor model and noise) + ``controllers`` + ``record``.
     """
 
     def __init__(
@@ -84,7 +84,7 @@ class LockstepWorlds(ABC):
         self.trunk = lay.trunk
         self.stand_key = model.key(STAND_KEY).id
         self.noise_now = self.noise.value  # (n, 2 + joints + 6): this step's noise of every world
-        self.timing = {"physics": 0.0, "control": 0.0}
+        self.timing = dict.fromkeys(("physics", "control", "sense", "controllers", "record"), 0.0)
         self.qpos: np.ndarray = np.zeros((self.n, model.nq))
         self.sensordata: np.ndarray = np.zeros((self.n, model.nsensordata))
         self.sim_time: np.ndarray = np.zeros(self.n)
@@ -171,20 +171,25 @@ class LockstepWorlds(ABC):
 
     def _loop(self, steps: int, rec: dict[str, np.ndarray], bar: Any) -> None:
         """The control steps, recording into ``rec``."""
-        ctl, n = self.controllers, self.n
+        ctl, n, timing = self.controllers, self.n, self.timing
         for k in range(steps):
-            tc = time.perf_counter()
+            t0 = time.perf_counter()
             dist, foot = self.sense()
+            t1 = time.perf_counter()
             targets = ctl.step(dist, self.observation)
-            tp = time.perf_counter()
+            t2 = time.perf_counter()
             self.advance(targets)
-            tr = time.perf_counter()
+            t3 = time.perf_counter()
             rec["inputs"][k], rec["outputs"][k], rec["b"][k], rec["q"][k] = ctl.inputs, ctl.outputs, ctl.b, ctl.q
             rec["targets"][k], rec["us_distance"][k], rec["foot_contact"][k] = targets, dist, foot
             rec["qpos"][k] = self.qpos
             rec["t"][k] = self.sim_time  # last: a row with a time is complete
-            self.timing["physics"] += tr - tp
-            self.timing["control"] += (tp - tc) + (time.perf_counter() - tr)
+            t4 = time.perf_counter()
+            timing["physics"] += t3 - t2
+            timing["control"] += (t2 - t0) + (t4 - t3)
+            timing["sense"] += t1 - t0
+            timing["controllers"] += t2 - t1
+            timing["record"] += t4 - t3
             if bar is not None and k % 10 == 9:
                 bar.update(10 * n)
 

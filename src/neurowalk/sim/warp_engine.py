@@ -13,7 +13,10 @@ The sensing, noise, controllers and recording are :class:`~neurowalk.sim.lockste
 differs. Warp computes in float32, MuJoCo in float64: a world follows the CPU run closely for a while (joint
 positions within about 1e-6 rad after 200 physics steps) and then drifts apart as any two contact-rich runs do,
 so single runs agree in behaviour and statistics, not bit for bit (tests/sim/test_warp_engine.py states the
-tolerances). On Warp's CPU device a run is repeatable; on a GPU the order of contacts may vary.
+tolerances). MuJoCo Warp's deterministic execution is on (``opt.deterministic``): a rerun of the same worlds
+repeats bit for bit, on Warp's CPU device and, measured on an H200 (docs/gpu.md), on a GPU; on a GPU a world's
+run may still differ in its last bits with the size of the batch beside it (measured: alone and beside one world
+equal, beside 64 not).
 
 The engine needs the ``warp`` extra (``pip install -e '.[warp]'`` in neurowalk's folder: ``mujoco-warp``,
 ``warp-lang``).
@@ -126,6 +129,9 @@ class WarpWorlds(LockstepWorlds):
         device: ``cpu`` or ``cuda`` (default: :func:`resolve_device`).
         max_boxes: obstacle slots (default: the most boxes of any arena).
         nconmax, njmax: contacts and constraint rows allocated per world.
+        deterministic: MuJoCo Warp's deterministic execution (``opt.deterministic``, all of
+            ``mujoco_warp.DeterminismType``: stable contact order, canonical constraint rows, invariant atomic sums),
+            so that a rerun repeats bit for bit on a GPU too; off: the faster, run-to-run varying kernels.
 
     Attributes:
         device: the Warp device. arenas: each world's arena. model: the CPU MjModel of world 0 (sizes, names).
@@ -141,6 +147,7 @@ class WarpWorlds(LockstepWorlds):
         nconmax: int = 48,
         njmax: int = 256,
         compiled: bool = True,
+        deterministic: bool = True,
     ) -> None:
         configs = list(configs)
         Warp().check(configs, EngineOptions(device=device))
@@ -170,6 +177,7 @@ class WarpWorlds(LockstepWorlds):
         rows = [slot_rows(a, self.max_boxes) for a in self.arenas]
         with wp.ScopedDevice(self.device):
             self.wmodel = mjw.put_model(model, batch_sizes={f"geom_{f}": n for f in GEOM_FIELDS})
+            mjw.override_model(self.wmodel, {"opt.deterministic": deterministic})
             for f in GEOM_FIELDS:
                 arr = getattr(self.wmodel, f"geom_{f}")
                 full = np.repeat(arr.numpy()[:1], n, axis=0)
