@@ -103,4 +103,6 @@ def test_lockstep_rates_split_a_world_step_into_host_and_physics():
         assert row["control_steps_per_s"] == pytest.approx(row["worlds"] * row["control_steps"] / row["wall_s"])
         parts = row["sense_us"] + row["controllers_us"] + row["record_us"]
         assert row["host_us"] == pytest.approx(parts) and min(row["physics_us"], parts) > 0
-        assert row["physics_share"] == pytest.approx(row["physics_us"] / (row["physics_us"] + row["host_us"]))
+        assert 0 < row["noise_draw_us"] < row["sense_us"]  # a block's draw shared by its 256 steps
+        assert row["host_us_this_run"] > row["host_us"]  # a 2-step run paid a whole block
+        assert row["physics_share"] == pytest.approx(row["physics_us"] / (row["physics_us"] + row["host_us_this_run"]))

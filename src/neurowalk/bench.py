@@ -36,6 +36,7 @@ import numpy as np
 
 import neurowalk
 from neurowalk import profiling
+from neurowalk.body.noise import BLOCK
 from neurowalk.experiments import FIGURES, Settings
 from neurowalk.experiments.study import compute
 from neurowalk.runners.local import run_many
@@ -302,7 +303,9 @@ def lockstep_rates(
     fit a laptop's memory). Each measurement runs ``steps`` control steps after one untimed run of the same worlds
     (kernels compiled, CUDA graphs captured). A row's ``host_us`` and ``physics_us`` are microseconds per world and
     control step: the host's part (``sense_us``: sensor model and noise, ``controllers_us``, ``record_us``) and the
-    physics'.
+    physics'. The sensor noise is drawn :data:`~neurowalk.body.noise.BLOCK` control steps ahead, so a run shorter
+    than a block pays a whole block's draw: ``noise_draw_us`` is a world-step's share of the draws in a run of whole
+    blocks, and ``host_us`` and ``sense_us`` count it so (``host_us_this_run``: as this short run paid it).
     """
     from neurowalk.sim.batch import MujocoBatchWorlds
 
@@ -317,10 +320,14 @@ def lockstep_rates(
         build = time.perf_counter() - t0
         runs.run()  # untimed: compile, capture
         runs.timing = dict.fromkeys(runs.timing, 0.0)
+        runs.noise.draw_s, runs.noise.blocks = 0.0, 0
         t0 = time.perf_counter()
         runs.run()
         wall = time.perf_counter() - t0
         per = {k: 1e6 * v / (n * steps) for k, v in runs.timing.items()}
+        # the noise is drawn BLOCK steps ahead: a run of whole blocks pays a block's draw once per BLOCK steps
+        draw_us = 1e6 * runs.noise.draw_s / (n * BLOCK * max(runs.noise.blocks, 1))
+        drawn_here_us = 1e6 * runs.noise.draw_s / (n * steps)
         rows.append(
             {
                 "worlds": n,
@@ -330,9 +337,12 @@ def lockstep_rates(
                 "control_steps_per_s": n * steps / wall,
                 "physics_steps_per_s": n * steps * runs.n_substeps / wall,
                 "physics_share": runs.timing["physics"] / max(runs.timing["physics"] + runs.timing["control"], 1e-12),
-                "host_us": per["control"],
+                "host_us": per["control"] - drawn_here_us + draw_us,
                 "physics_us": per["physics"],
-                **{f"{k}_us": per[k] for k in ("sense", "controllers", "record")},
+                "sense_us": per["sense"] - drawn_here_us + draw_us,
+                "noise_draw_us": draw_us,
+                **{f"{k}_us": per[k] for k in ("controllers", "record")},
+                "host_us_this_run": per["control"],
             }
         )
         if progress:

@@ -12,6 +12,7 @@ for the noise alone), so drawing ahead changes nothing else; a pickled body carr
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 
@@ -63,6 +64,7 @@ class ColoredNoiseBatch:
 
     Attributes:
         value: (n, channels) the current noise of every world (updated in place by :meth:`step`).
+        draw_s: seconds spent drawing blocks so far; blocks: blocks drawn (each :data:`BLOCK` steps of all worlds).
     """
 
     def __init__(self, sources: list[ColoredNoise]) -> None:
@@ -78,6 +80,7 @@ class ColoredNoiseBatch:
         self.value = np.zeros((len(sources), self.channels))
         self._block = np.zeros((len(sources), BLOCK, self.channels))
         self._next = BLOCK
+        self.draw_s, self.blocks = 0.0, 0
 
     def reset(self, rngs: list[np.random.Generator]) -> None:
         """Every world's source reset with its Generator (:meth:`ColoredNoise.reset`); zero state."""
@@ -89,9 +92,12 @@ class ColoredNoiseBatch:
     def step(self) -> np.ndarray:
         """Advance every world one control step; returns :attr:`value`."""
         if self._next == BLOCK:
+            t = time.perf_counter()
             for i in np.flatnonzero(self.on):
                 self._block[i] = self.sources[i]._rng.uniform(-1.0, 1.0, (BLOCK, self.channels))
             self._next = 0
+            self.draw_s += time.perf_counter() - t
+            self.blocks += 1
         u, v = self._block[:, self._next], self.value
         if self._all_on:
             v += self._gain * u - self._tau * v
