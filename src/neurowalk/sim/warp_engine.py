@@ -177,7 +177,7 @@ class WarpWorlds(LockstepWorlds):
         rows = [slot_rows(a, self.max_boxes) for a in self.arenas]
         with wp.ScopedDevice(self.device):
             self.wmodel = mjw.put_model(model, batch_sizes={f"geom_{f}": n for f in GEOM_FIELDS})
-            mjw.override_model(self.wmodel, {"opt.deterministic": deterministic})
+            self.wmodel.opt.deterministic = int(mjw.DeterminismType.ALL if deterministic else mjw.DeterminismType.NONE)
             for f in GEOM_FIELDS:
                 arr = getattr(self.wmodel, f"geom_{f}")
                 full = np.repeat(arr.numpy()[:1], n, axis=0)
