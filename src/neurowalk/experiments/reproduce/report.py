@@ -4,6 +4,7 @@ against the authors' own simulator: :mod:`.judge_authors`), then each item's res
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 from typing import Any
 
@@ -11,6 +12,7 @@ from neurowalk.experiments.reproduce.judge_authors import SOURCE
 from neurowalk.experiments.reproduce.plan import PLAN
 from neurowalk.fileio import atomic_write
 
+DOCS = Path(__file__).resolve().parents[4] / "docs"  # the documentation, in a checkout
 MARK = {"reproduced": "reproduced", "partly": "partly", "not": "**not**"}
 
 
@@ -145,7 +147,7 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
                 f"| {cell(c['what'])} | {cell(c['paper'], c['unit'])} | {cell(c['measured'], c['unit'])} "
                 f"| {_interval(c)} | {MARK[c['verdict']]} | {_authors_claim(rec, c['what'])} |"
             )
-    return "\n".join([*lines, *_provenance()]) + "\n"
+    return "\n".join([*lines, *_provenance(out)]) + "\n"
 
 
 def render_details(out: Path, quick: bool) -> str:
@@ -182,8 +184,18 @@ def _made_on(records: dict[str, dict[str, Any]]) -> str:
     return f"Made with neurowalk {nw} and MuJoCo {mj} on {machine}."
 
 
-def _provenance() -> list[str]:
+def _docs_link(out: Path, page: str, words: str) -> str:
+    """``words`` linked to the documentation's ``page`` from a report in ``out`` (where the docs are beside the
+    package, as in a checkout), else with the page's path."""
+    target = DOCS / page
+    if not target.is_file():
+        return f"{words} (`docs/{page}`)"
+    return f"[{words}]({Path(os.path.relpath(target, Path(out).resolve())).as_posix()})"
+
+
+def _provenance(out: Path) -> list[str]:
     """The closing section: where the authors' simulator's runs come from."""
+    page = _docs_link(out, "authors-simulator.md", "The authors' simulator")
     return [
         "",
         "## The authors' simulator",
@@ -191,8 +203,7 @@ def _provenance() -> list[str]:
         f"The second reference is {SOURCE}. Their trajectories were measured here with neurowalk's own "
         "metrics (escape, trapping, wedged periods, coverage; the trunk centre 0.06 m ahead of the logged rear "
         "trunk box) and judged by each claim's own rule; each result's `NAME.json` holds them under `authors`. "
-        "[The authors' simulator](../authors-simulator.md) says where the data come from and compares the two "
-        "simulators.",
+        f"{page} says where the data come from and compares the two simulators.",
     ]
 
 
