@@ -25,10 +25,9 @@ import numpy as np
 
 from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.body.common import place_at_start
-from neurowalk.body.noise import ColoredNoise
 from neurowalk.body.physics import AmosII
 from neurowalk.body.registry import make_body
-from neurowalk.sim.config import Episode, EpisodeConfig, build_controller, seeds
+from neurowalk.sim.config import Episode, EpisodeConfig, seeds
 from neurowalk.sim.engine import EngineOptions
 from neurowalk.sim.lockstep import LockstepEngine, LockstepWorlds
 
@@ -79,8 +78,6 @@ class MujocoBatchWorlds(LockstepWorlds):
             self.models[0],
             bodies[0].params,
             bodies[0].n_substeps,
-            [build_controller(c) for c in configs],
-            [ColoredNoise(b.noise.n, strength=c.noise) for b, c in zip(bodies, configs, strict=True)],  # AmosII's own
             compiled,
         )
         self.batch = mujoco.batch.Batch(self.models[0], self.n, nthread, persistent)

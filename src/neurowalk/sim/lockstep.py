@@ -32,10 +32,9 @@ from neurowalk.body.amosii_params import STAND_KEY, BodyParams
 from neurowalk.body.amosii_sensors import joint_qpos_indices, sensed, sensor_layout
 from neurowalk.body.noise import ColoredNoise, ColoredNoiseBatch
 from neurowalk.body.registry import BODIES
-from neurowalk.controller import Controller
 from neurowalk.observation import Observation
 from neurowalk.sim.batch_control import BatchControllers
-from neurowalk.sim.config import Episode, EpisodeConfig, progress_bar, seeds
+from neurowalk.sim.config import Episode, EpisodeConfig, build_controller, progress_bar, seeds
 from neurowalk.sim.engine import Engine, EngineOptions
 from neurowalk.sim.recorder import derive_columns, finish_episode
 from neurowalk.sim.trajectory import Trajectory
@@ -54,8 +53,10 @@ class LockstepWorlds(ABC):
         arenas: each run's arena.
         model: the CPU ``MjModel`` of world 0 (sizes, names, sensor addresses; every world has its structure).
         params: the body's numbers. n_substeps: physics steps per control step.
-        controllers: each run's controller. noises: each run's sensor noise source (as ``AmosII.noise``).
         compiled: step the controllers in one compiled call (else each controller's ``act``).
+
+    Each run's controller is its config's (:func:`~neurowalk.sim.config.build_controller`) and its sensor noise
+    AMOSII's own source (2 ultrasonic, the joints and 6 feet channels, its config's ``noise`` strength).
 
     Attributes:
         qpos (n, nq), sensordata (n, nsensordata), sim_time (n,): the worlds' state after the last reset or step
@@ -70,17 +71,17 @@ class LockstepWorlds(ABC):
         model: mujoco.MjModel,
         params: BodyParams,
         n_substeps: int,
-        controllers: Sequence[Controller],
-        noises: Sequence[ColoredNoise],
         compiled: bool,
     ) -> None:
         self.configs, self.arenas = list(configs), list(arenas)
         self.model, self.params, self.n_substeps = model, params, n_substeps
-        self.controllers = BatchControllers(controllers, compiled=compiled)
-        self.noise = ColoredNoiseBatch(list(noises))  # every world's sensor noise, one array step for all
+        self.controllers = BatchControllers([build_controller(c) for c in configs], compiled=compiled)
         self.layout = lay = sensor_layout(model)
         self.us_range = params.us_range
         self.qidx = joint_qpos_indices(model)
+        channels = 2 + len(self.qidx) + 6  # as AmosII's own source
+        sources = [ColoredNoise(channels, strength=c.noise) for c in self.configs]
+        self.noise = ColoredNoiseBatch(sources)  # every world's sensor noise, one array step for all
         self.trunk = lay.trunk
         self.stand_key = model.key(STAND_KEY).id
         self.noise_now = self.noise.value  # (n, 2 + joints + 6): this step's noise of every world

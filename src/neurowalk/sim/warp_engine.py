@@ -38,13 +38,12 @@ import mujoco
 import numpy as np
 
 from neurowalk.arenas import make_arena
-from neurowalk.body.amosii import amosii_xml, joint_qpos_indices
+from neurowalk.body.amosii import amosii_xml
 from neurowalk.body.common import place_at_start
-from neurowalk.body.noise import ColoredNoise
 from neurowalk.body.obstacle_slots import slot_rows, slot_world
 from neurowalk.body.physics import set_control_rate
 from neurowalk.body.registry import amosii_params
-from neurowalk.sim.config import Episode, EpisodeConfig, build_controller, seeds
+from neurowalk.sim.config import Episode, EpisodeConfig, seeds
 from neurowalk.sim.engine import EngineOptions
 from neurowalk.sim.lockstep import LockstepEngine, LockstepWorlds
 
@@ -159,16 +158,12 @@ class WarpWorlds(LockstepWorlds):
         self.max_boxes = max_boxes if max_boxes is not None else max(len(a.boxes) for a in arenas)
         params = amosii_params(configs[0].body_opts)  # one call's configs share them (LockstepEngine.check)
         model = mujoco.MjModel.from_xml_string(amosii_xml(params, world=slot_world(arenas[0], self.max_boxes)))
-        nj = len(joint_qpos_indices(model))
-        noises = [ColoredNoise(2 + nj + 6, strength=c.noise) for c in configs]  # as AmosII's own source
         super().__init__(
             configs,
             arenas,
             model,
             params,
             set_control_rate(model, configs[0].control_hz),
-            [build_controller(c) for c in configs],
-            noises,
             compiled,
         )
         if not self.controllers.compiled:
