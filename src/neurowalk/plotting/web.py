@@ -317,9 +317,9 @@ class ReplayPage:
 def traces_png(replay: Replay) -> bytes:
     """The run's traces over the whole run as a PNG picture (inputs, outputs and, where they learn, the weights), as
     ``run.png`` draws them."""
-    fig = Figure(figsize=(5.2, 4.2 if np.isfinite(replay.b).any() else 3.0), dpi=100, layout="constrained")
-    signals = [(replay.inputs, "I", "input I"), (replay.outputs, "O", "steering O")]
     plastic = bool(np.isfinite(replay.b).any())
+    fig = Figure(figsize=(5.2, 4.2 if plastic else 3.0), dpi=100, layout="constrained")
+    signals = [(replay.inputs, "I", "input I"), (replay.outputs, "O", "steering O")]
     draw_traces(fig, fig.add_gridspec(1, 1)[0], replay.t, signals, replay.b, replay.q, "", plastic=plastic)
     buf = io.BytesIO()
     fig.savefig(buf, format="png")
