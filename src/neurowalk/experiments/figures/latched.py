@@ -2,7 +2,8 @@
 
 A neuron that is on (O ≈ 1) while its partner is off (O ≈ -1) keeps itself on with no echo at all
 (I = -1) while its drive b_on·1 + c·(-1) + 4.7·(-1) stays positive, i.e. while b_on + (q1 + q2)/2 > 4.7
-(tanh saturation aside; facts §3.4: b ≥ 3, c ≥ 4 never switch off without decay). In a pocket between a
+(tanh saturation aside; facts §3.4: b ≥ 3, c ≥ 4 never switch off without decay); below that, an echo on
+the side of the neuron that is on (its I above -1) holds it, as at a latch's start. In a pocket between a
 box and a wall the turn grows these weights with every echo, the turn never switches off, and the
 robot spins in place: the body is never blocked. This figure finds the first Table 2 environments whose
 plastic run ends in a latched spin (the Table 2 failure rule) on the surrogate, with their kept traces, and
@@ -28,7 +29,7 @@ from neurowalk.sim.episode import EpisodeConfig, seeds
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-THRESHOLD = 4.7  # the input weight: the latch holds while b_on + mean q exceeds it
+THRESHOLD = 4.7  # the input weight: with no echo, the latch holds while b_on + mean q exceeds it
 SHOWN = 2  # environments drawn
 SEARCHED = 200  # environments searched for latched spins
 
