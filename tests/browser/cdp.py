@@ -10,6 +10,7 @@ import base64
 import io
 import itertools
 import json
+import os
 import re
 import subprocess
 import tempfile
@@ -28,10 +29,12 @@ class Browser:
 
     def __init__(self, width: int = 1400, height: int = 900) -> None:
         self._profile = tempfile.TemporaryDirectory()
+        # its temporary files too (a stopped Chromium leaves its org.chromium.Chromium.* folder there): removed with it
+        env = {**os.environ, "TMPDIR": self._profile.name}
         self._proc = subprocess.Popen(
             [CHROMIUM, *FLAGS, f"--window-size={width},{height}", "--remote-debugging-port=0",
              f"--user-data-dir={self._profile.name}", "--allow-file-access-from-files", "about:blank"],
-            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=env,
         )  # fmt: skip
         endpoint = self._endpoint()
         port = re.search(r":(\d+)/", endpoint).group(1)  # type: ignore[union-attr]

@@ -13,9 +13,11 @@ from __future__ import annotations
 import functools
 import html
 import http.server
+import os
 import re
 import shutil
 import subprocess
+import tempfile
 import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -77,14 +79,18 @@ def pages(site: Path) -> list[str]:
     return out
 
 
+def chromium(args: list[str], **kw: object) -> subprocess.CompletedProcess:
+    """Run headless Chromium with ``args`` in a profile and temporary folder of its own, removed when it ends (the
+    user's profile is not touched, and nothing of Chromium's stays in the temporary folder)."""
+    with tempfile.TemporaryDirectory(prefix="chromium-") as own:
+        env = {**os.environ, "TMPDIR": own}
+        return subprocess.run([CHROMIUM, *FLAGS, f"--user-data-dir={own}", *args], env=env, **kw)  # type: ignore[call-overload]
+
+
 def load(url: str, budget_ms: int = 6000) -> tuple[str, list[str]]:
     """The page's DOM once its scripts ran (``budget_ms`` of virtual time) and the lines it wrote to the console."""
-    done = subprocess.run(
-        [CHROMIUM, *FLAGS, "--enable-logging=stderr", "--v=0", f"--virtual-time-budget={budget_ms}", "--dump-dom", url],
-        capture_output=True,
-        text=True,
-        timeout=120,
-    )
+    args = ["--enable-logging=stderr", "--v=0", f"--virtual-time-budget={budget_ms}", "--dump-dom", url]
+    done = chromium(args, capture_output=True, text=True, timeout=120)
     console = [line.split("] ", 1)[-1] for line in done.stderr.splitlines() if ":CONSOLE" in line]
     console = [line for line in console if not VISER_NOTES.match(line)]
     return done.stdout, console
@@ -121,10 +127,6 @@ def screenshots(base: str, out: Path) -> list[Path]:
     shots = []
     for name, page in SCREENSHOTS.items():
         path = out / f"{name}.png"
-        subprocess.run(
-            [CHROMIUM, *FLAGS, "--window-size=1400,2200", f"--screenshot={path}", base + page],
-            capture_output=True,
-            timeout=120,
-        )
+        chromium(["--window-size=1400,2200", f"--screenshot={path}", base + page], capture_output=True, timeout=120)
         shots.append(path)
     return shots

@@ -8,7 +8,6 @@ from __future__ import annotations
 import os
 import subprocess
 import sys
-import tempfile
 from pathlib import Path
 
 import pytest
@@ -34,12 +33,12 @@ def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return out
 
 
-def test_every_page_loads_whole_in_a_browser(site: Path) -> None:
+def test_every_page_loads_whole_in_a_browser(site: Path, tmp_path: Path) -> None:
     found = pages(site)
     assert len(found) >= 20 and "" in found and "architecture/" in found
     with serve(site) as (base, missing):
         wrong = [p for page in found for p in problems(site, base, page, missing)]
-        shots = screenshots(base, Path(os.environ.get("NEUROWALK_SCREENSHOTS") or tempfile.mkdtemp(prefix="site-")))
+        shots = screenshots(base, Path(os.environ.get("NEUROWALK_SCREENSHOTS") or tmp_path))
     assert not wrong, "\n".join(wrong)
     assert all(p.is_file() and p.stat().st_size > 10_000 for p in shots)  # a drawn page, not a blank one
     print("screenshots:", *shots)

@@ -1,13 +1,12 @@
 """The web replay as a person sees it, in headless Chromium (software WebGL): the robot is drawn, moving the slider
 with the keyboard moves the robot and each trace's marker, and an exported file plays with no server. Screenshots go
-to $NEUROWALK_SCREENSHOTS (else a temporary folder) for a person to look at."""
+to $NEUROWALK_SCREENSHOTS (else pytest's temporary folder of the test) for a person to look at."""
 
 from __future__ import annotations
 
 import os
 import subprocess
 import sys
-import tempfile
 import time
 from pathlib import Path
 
@@ -26,8 +25,8 @@ PANEL = (0.74, 0.2, 1.0, 1.0)  # the control panel's traces
 SLIDER = "document.querySelector('[role=slider]')"
 
 
-def _shots() -> Path:
-    folder = Path(os.environ.get("NEUROWALK_SCREENSHOTS") or tempfile.mkdtemp(prefix="viewer-"))
+def _shots(tmp_path: Path) -> Path:
+    folder = Path(os.environ.get("NEUROWALK_SCREENSHOTS") or tmp_path)
     folder.mkdir(parents=True, exist_ok=True)
     return folder
 
@@ -59,7 +58,7 @@ def test_the_slider_moves_the_robot_and_the_markers(body: str, tmp_path: Path):
                 part.visible = False
             time.sleep(1)
             empty = b.settled()
-            b.save(last, _shots() / f"viewer-{body}.png")
+            b.save(last, _shots(tmp_path) / f"viewer-{body}.png")
     finally:
         page.close()
     assert changed(first, last, SCENE) > 1e-3  # the robot (and its path) moved
@@ -78,5 +77,5 @@ def test_an_exported_file_plays_with_no_server(tmp_path: Path):
         early = b.screenshot()
         time.sleep(6)
         later = b.screenshot()
-        b.save(later, _shots() / "viewer-export.png")
+        b.save(later, _shots(tmp_path) / "viewer-export.png")
     assert changed(early, later, (0.0, 0.2, 1.0, 0.9)) > 1e-3  # it plays: the robot walks on

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import tempfile
 
 import numpy as np
 import pytest
@@ -33,25 +34,31 @@ def test_vec_env_ends_every_copy_together_and_restarts_on_the_next_training_seed
 
 
 @pytest.mark.parametrize("algo", ["ppo", "rppo"])
-def test_training_checkpoints_and_resumes_and_the_policy_acts_in_bounds(tmp_path, algo):
+def test_training_checkpoints_and_resumes_and_the_policy_acts_in_bounds(tmp_path, algo, monkeypatch):
+    temp = tmp_path / "temp"  # stable-baselines3's own logger would make SB3-<time> folders here at each learn()
+    temp.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(temp))
+    monkeypatch.delenv("SB3_LOGDIR", raising=False)
+    out = tmp_path / "run"
     n_steps = ppo.HYPER[algo]["n_steps"]
     per_rollout = n_steps * 2
     kw = {"n_envs": 2, "steps": 100, "checkpoint_every": per_rollout, "progress": False, "log": lambda _: None}
-    rec = ppo.train(algo, tmp_path, total_steps=per_rollout, **kw)
-    assert rec["env_steps"] == per_rollout and (tmp_path / "model.npz").is_file()
-    with np.load(tmp_path / "model.npz", allow_pickle=False) as z:  # plain arrays only: nothing in it runs code
+    rec = ppo.train(algo, out, total_steps=per_rollout, **kw)
+    assert rec["env_steps"] == per_rollout and (out / "model.npz").is_file()
+    with np.load(out / "model.npz", allow_pickle=False) as z:  # plain arrays only: nothing in it runs code
         assert all(z[k].dtype != object for k in z.files) and "meta" in z.files
-    assert json.loads((tmp_path / "progress.json").read_text())["env_steps"] == per_rollout
-    more = ppo.train(algo, tmp_path, total_steps=2 * per_rollout, **kw)
+    assert json.loads((out / "progress.json").read_text())["env_steps"] == per_rollout
+    more = ppo.train(algo, out, total_steps=2 * per_rollout, **kw)
     assert more["env_steps"] == 2 * per_rollout and len(more["curve"]) >= len(rec["curve"])
     with pytest.raises(ValueError, match="other settings"):
-        ppo.train(algo, tmp_path, total_steps=3 * per_rollout, **{**kw, "n_envs": 4})
-    policy = ppo.Sb3Policy(algo, tmp_path / "model.npz")
+        ppo.train(algo, out, total_steps=3 * per_rollout, **{**kw, "n_envs": 4})
+    policy = ppo.Sb3Policy(algo, out / "model.npz")
     obs = np.random.default_rng(0).uniform(0, 0.4, size=(5, 2))
     a = policy(obs)
     assert a.shape == (5, 2) and np.all(np.isfinite(a))
     policy.reset()
     np.testing.assert_array_equal(policy(obs), a)  # deterministic, and reset() restarts the LSTM's state
+    assert list(temp.glob("SB3-*")) == []  # no logger folder left in the temporary folder
 
 
 @pytest.mark.parametrize("algo", ["ppo", "rppo"])

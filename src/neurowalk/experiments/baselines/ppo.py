@@ -49,6 +49,7 @@ class Rl:
     torch: Any
     vec_env: Any  # stable-baselines3's VecEnv
     callback: Any  # stable-baselines3's BaseCallback
+    logger: Any  # stable-baselines3's Logger
 
 
 def import_rl(algo: str) -> Rl:
@@ -64,13 +65,14 @@ def import_rl(algo: str) -> Rl:
             algo_class = RecurrentPPO
         import torch
         from stable_baselines3.common.callbacks import BaseCallback
+        from stable_baselines3.common.logger import Logger
         from stable_baselines3.common.vec_env import VecEnv
     except ImportError as e:
         raise RlMissingError(
             f"{algo} needs the rl extra ({e.name} is missing): pip install -e '.[rl]' in neurowalk's folder (CPU "
             "torch first: pip install torch --index-url https://download.pytorch.org/whl/cpu)"
         ) from e
-    return Rl(algo_class, torch, VecEnv, BaseCallback)
+    return Rl(algo_class, torch, VecEnv, BaseCallback, Logger)
 
 
 def make_vec_env(n_envs: int, steps: int, train_seed: int, first_round: int = 0) -> Any:
@@ -235,10 +237,14 @@ MODEL = "model.npz"  # a checkpoint: the policy's and the optimizer's tensors, p
 
 
 def new_model(rl: Rl, algo: str, venv: Any, seed: int = 0) -> Any:
-    """``algo``'s model with :data:`HYPER`'s settings on ``venv``, its weights drawn from ``seed``."""
+    """``algo``'s model with :data:`HYPER`'s settings on ``venv``, its weights drawn from ``seed``; it logs nowhere
+    (stable-baselines3's own logger would leave an empty ``SB3-<time>`` folder in the temporary folder at each
+    ``learn``)."""
     hyper = dict(HYPER[algo])
     policy = hyper.pop("policy")
-    return rl.algo(policy, venv, seed=seed, device="cpu", verbose=0, **hyper)
+    model = rl.algo(policy, venv, seed=seed, device="cpu", verbose=0, **hyper)
+    model.set_logger(rl.logger(folder=None, output_formats=[]))
+    return model
 
 
 def save_model(model: Any, path: Path) -> None:
