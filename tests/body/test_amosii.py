@@ -109,6 +109,9 @@ def test_export_model_writes_a_loadable_file_and_nothing_on_error(tmp_path):
         ("shoulder_mass", -0.1),
         ("solver_iterations", 2.5),
         ("solver_tolerance", 0.0),
+        ("integrator", "rk4"),
+        ("contact_timeconst", 0.0),
+        ("armature", -0.01),
     ],
 )
 def test_bad_params_raise_naming_the_field(field, value):
@@ -318,3 +321,18 @@ def test_params_change_the_model():
     assert m.jnt_stiffness[hinge] == 2.0
     assert m.dof_damping[m.jnt_dofadr[hinge]] == 0.1
     assert m.geom_friction[m.geom("foot_L2").id, 0] == 1.5
+
+
+def test_integrator_armature_and_contact_time_constant_reach_every_part_of_the_model():
+    """The physics options set the model's integrator, every hinge's armature (not the free joint's) and the time
+    constant of every geom's contacts, the arena's boxes included (a contact mixes the two geoms' solref)."""
+    from neurowalk.arenas import make_arena
+
+    p = BodyParams(integrator="discrete", armature=0.04, contact_timeconst=0.04)
+    m = mujoco.MjModel.from_xml_string(amosii_xml(p, world=make_arena("box").to_mjcf()))
+    assert m.opt.integrator == mujoco.mjtIntegrator.mjINT_DISCRETE
+    assert np.all(m.dof_armature[:6] == 0.0) and np.all(m.dof_armature[6:] == 0.04)
+    boxes = [i for i in range(m.ngeom) if m.geom_bodyid[i] == 0 and m.geom_type[i] == mujoco.mjtGeom.mjGEOM_BOX]
+    assert boxes and np.all(m.geom_solref[:, 0] == 0.04) and np.all(m.geom_solref[:, 1] == 1.0)
+    default = mujoco.MjModel.from_xml_string(amosii_xml(BodyParams()))
+    assert np.all(default.geom_solref == mujoco.MjModel.from_xml_string("<mujoco/>").opt.o_solref)  # MuJoCo's

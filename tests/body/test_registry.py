@@ -2,11 +2,20 @@
 
 from __future__ import annotations
 
+import mujoco
 import numpy as np
 import pytest
 
 from neurowalk.arenas import make_arena
-from neurowalk.body.registry import BODIES, body_info, body_listing, check_body_opts, make_body, replay_contacts
+from neurowalk.body.registry import (
+    BODIES,
+    body_info,
+    body_listing,
+    body_settings,
+    check_body_opts,
+    make_body,
+    replay_contacts,
+)
 from neurowalk.observation import Observation
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
@@ -113,3 +122,33 @@ def test_a_climbing_runs_key_names_its_physics():
     assert climb.key() != climb.replace(body_opts={"timestep": 0.01}).key()
     assert climb.spec()["body_opts"] == {"timestep": 0.005}
     assert "body_opts" not in EpisodeConfig(arena="steps").spec()  # a walking run's key is as before
+
+
+@pytest.mark.parametrize(
+    ("name", "opts", "hz", "climbing"),
+    [("amosii", {}, 10.0, False), ("amosii", {}, 27.0, False), ("amosii", {}, 27.0, True), ("wheeled", {}, 10.0, False),
+     ("amosii", {"integrator": "discrete", "solver_iterations": 7}, 10.0, False)],
+)  # fmt: skip
+def test_the_physics_record_is_the_physics_the_body_steps(name, opts, hz, climbing):
+    """summary.json's ``physics`` is the built body's model as it steps: the step fitted to the control rate (27 Hz:
+    not the 10 or 5 ms asked for), the physics steps of a control step, and the solver's settings."""
+    from neurowalk.body.registry import physics_settings
+
+    body = make_body(name, make_arena("open"), opts, control_hz=hz, climbing=climbing)
+    rec, o = physics_settings(name, opts, hz, climbing), body.model.opt
+    assert rec["timestep_s"] == pytest.approx(o.timestep, rel=1e-12)
+    assert rec["substeps"] * rec["timestep_s"] == pytest.approx(1.0 / hz, rel=1e-12)
+    assert rec["integrator"] == mujoco.mjtIntegrator(o.integrator).name[len("mjINT_") :].lower()
+    assert (rec["iterations"], rec["tolerance"]) == (o.iterations, o.tolerance)
+    assert rec["cone"] == mujoco.mjtCone(o.cone).name[len("mjCONE_") :].lower()
+    if hz == 27.0:
+        assert rec["timestep_s"] != body_settings(name, opts, climbing)["timestep"]
+    assert physics_settings("surrogate") is None
+
+
+def test_a_runs_summary_records_its_physics():
+    ep = run_episode(EpisodeConfig(steps=3, body_opts={"integrator": "discrete"}, control_hz=27.0))
+    assert ep.summary["physics"]["integrator"] == "discrete" and ep.summary["physics"]["substeps"] == 4
+    assert ep.result.physics["timestep_s"] == pytest.approx(1 / 108)
+    with pytest.raises(ValueError, match="integrator must be one of implicitfast, discrete"):
+        EpisodeConfig(body_opts={"integrator": "rk5"})

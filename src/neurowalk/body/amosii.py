@@ -260,10 +260,11 @@ def amosii_xml(params: BodyParams = _DEFAULT, *, world: str = "") -> str:
     fric = "0.005 0.0001"  # torsional, rolling
     return f"""<mujoco model="amosii">
   <compiler angle="radian" autolimits="true"/>
-  <option timestep="{_n(p.timestep)}" integrator="implicitfast" cone="elliptic" \
+  <option timestep="{_n(p.timestep)}" integrator="{p.integrator}" cone="elliptic" \
 iterations="{p.solver_iterations}" tolerance="{_n(p.solver_tolerance)}"/>
   <visual><global offwidth="1280" offheight="720"/></visual>
   <default>
+    <geom solref="{_n(p.contact_timeconst)} 1"/>
     <default class="amosii">
       <geom contype="2" conaffinity="1" friction="{_n(p.body_friction)} {fric}" rgba=".6 .62 .68 1"/>
       <joint armature="{_n(p.armature)}" stiffness="{_n(p.joint_stiffness)}" \

@@ -98,7 +98,7 @@ class BodyParams:
     bj_kp: float = 90.0  # N·m/rad, about the legs' kp scaled by the power ratio
     bj_kv: float = 3.0  # N·m·s/rad
     bj_force: float = 80.26  # N·m
-    armature: float = 0.005  # kg·m², rotor inertia added to every hinge
+    armature: float = 0.005  # kg·m², rotor inertia added to every hinge (a geared servo's reflected rotor inertia)
     # Optional passive compliance of every hinge about the standing pose (0, 0 = off).
     joint_stiffness: float = 0.0  # N·m/rad
     joint_damping: float = 0.0  # N·m·s/rad
@@ -109,6 +109,8 @@ class BodyParams:
     timestep: float = 0.01  # s, physics step: the authors' simulator's (10 physics steps per 10 Hz control step)
     solver_iterations: int = 20  # most Newton iterations per physics step (MuJoCo's default 100; it converges in fewer)
     solver_tolerance: float = 1e-6  # the solver stops when its cost improves by less than this (MuJoCo's 1e-8)
+    integrator: str = "implicitfast"  # MuJoCo's integrator: one of INTEGRATORS
+    contact_timeconst: float = 0.02  # s, time constant of every contact (geom solref, damping ratio 1; MuJoCo's 0.02)
     # Ultrasonic sensors: rays from 1 mm ahead of the front face, yawed outward.
     us_yaw: float = 35.0 * _DEG  # rad, outward yaw of each ray
     us_range: float = 0.40  # m, farther echoes read as none
@@ -127,8 +129,12 @@ class BodyParams:
 
     def __post_init__(self) -> None:
         """Check every field; raise ValueError naming the first bad one."""
+        if self.integrator not in INTEGRATORS:
+            _bad("integrator", self.integrator, f"must be one of {', '.join(INTEGRATORS)}")
         for f in fields(self):
             v = getattr(self, f.name)
+            if f.name == "integrator":
+                continue
             n = _TUPLE_LENGTHS.get(f.name)
             if n is not None and not (isinstance(v, tuple) and len(v) == n):
                 _bad(f.name, v, f"must be a tuple of {n} numbers")
@@ -195,6 +201,9 @@ class BodyParams:
         per_leg = self.shoulder_mass + 3 * self.link_mass + self.foot_mass
         return self.front_mass + self.rear_mass + len(anatomy.LEGS) * per_leg
 
+
+INTEGRATORS: tuple[str, ...] = ("implicitfast", "discrete", "implicit", "RK4", "Euler")
+"""MuJoCo's integrators by their MJCF names (``<option integrator=...>``)."""
 
 _NONNEGATIVE = frozenset({"joint_stiffness", "joint_damping", "body_friction", "shoulder_mass"})
 _SIGNED = frozenset({"us_z"})

@@ -18,6 +18,8 @@ its range here, before anything is built.
 
 from __future__ import annotations
 
+import functools
+import json
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -28,8 +30,8 @@ import numpy as np
 
 from neurowalk.arenas import ArenaSpec
 from neurowalk.body.amosii import amosii_xml
-from neurowalk.body.amosii_params import BodyParams
-from neurowalk.body.physics import AmosII, obstacle_contacts
+from neurowalk.body.amosii_params import INTEGRATORS, BodyParams
+from neurowalk.body.physics import AmosII, n_substeps, obstacle_contacts
 from neurowalk.body.surrogate import Surrogate, load_calibration
 from neurowalk.body.user_mjcf import UserMjcf, check_opts
 from neurowalk.body.wheeled import WheeledParams, wheeled_xml
@@ -45,6 +47,7 @@ class BodyInfo:
         action: ``"targets"`` (19 joint targets from the locomotion network) or ``"steering"`` (O1, O2).
         physics: a MuJoCo body (else a planar surrogate). climbs: it can take the climbing controls
             (``--reflexes``, ``--backbone``). options: name -> (default, low, high, meaning).
+        choices: the options that take a name: name -> (default, the names allowed, meaning).
         climbing_options: the defaults of some options where the controller climbs (reflexes or backbone on),
             over ``options``' own; an option the run gives is kept (:func:`body_settings`).
         surrogate: the planar body calibrated on this physics body (``neurowalk calibrate --body NAME``), if any.
@@ -63,6 +66,7 @@ class BodyInfo:
     physics: bool
     climbs: bool
     options: dict[str, tuple[float, float, float, str]] = field(default_factory=dict)
+    choices: dict[str, tuple[str, tuple[str, ...], str]] = field(default_factory=dict)
     climbing_options: dict[str, float] = field(default_factory=dict)
     surrogate: str | None = None
     engines: tuple[str, ...] = ("mujoco",)
@@ -103,7 +107,10 @@ BODIES: dict[str, BodyInfo] = {
             "timestep": (0.01, 0.001, 0.02, "physics step (s); a control step is a whole number of them"),
             "solver_iterations": (20, 1, 1000, "most solver iterations of a physics step (whole number)"),
             "solver_tolerance": (1e-6, 1e-12, 1e-3, "the solver stops when its cost improves by less"),
+            "armature": (0.005, 1e-4, 0.5, "rotor inertia of every servo, reflected through its gears (kg m^2)"),
+            "contact_timeconst": (0.02, 0.002, 0.2, "time constant of every contact (s); at least 2 physics steps"),
         },
+        choices={"integrator": ("implicitfast", INTEGRATORS, "MuJoCo's integrator")},
         # Climbing at the 10 ms step fails at some heights (0.07 m: 0 of 10 seeds): implicitfast integrates the leg
         # servos coarsely at that step, the start's first steps yaw the robot by 0.2 rad and it meets the step's
         # edge at a slant and slides along it. At 5 ms (or RK4 at 10 ms) it meets it square and climbs every time
@@ -158,7 +165,7 @@ MJCF = BodyInfo(
 
 
 def amosii_params(opts: Mapping[str, Any] | None = None) -> BodyParams:
-    """AMOSII's numbers with its body options (``timestep``, ``solver_iterations``, ``solver_tolerance``; checked by
+    """AMOSII's numbers with its body options (``timestep``, ``solver_iterations``, ``integrator``, ...; checked by
     :func:`check_body_opts`) set over the defaults."""
     options = dict(opts or {})
     if "solver_iterations" in options:
@@ -184,14 +191,21 @@ def bodies_where(test: Any) -> tuple[str, ...]:
 
 
 def check_body_opts(name: str, opts: dict[str, Any]) -> dict[str, Any]:
-    """The body's options as numbers, each checked against its range; ValueError names a bad key or value."""
+    """The body's options as numbers (a named option as its name), each checked against its range or its names;
+    ValueError names a bad key or value."""
     info = body_info(name)
     if info is MJCF:
         return check_opts(name, opts)
     out = {}
     for key, value in opts.items():
+        if key in info.choices:
+            _, allowed, _ = info.choices[key]
+            if value not in allowed:
+                raise ValueError(f"body option {key} must be one of {', '.join(allowed)}, got {value!r}")
+            out[key] = value
+            continue
         if key not in info.options:
-            known = ", ".join(info.options) or "none"
+            known = ", ".join([*info.options, *info.choices]) or "none"
             raise ValueError(f"unknown option {key!r} of body {name!r}; its options: {known}")
         _, low, high, _ = info.options[key]
         try:
@@ -223,8 +237,46 @@ def body_settings(name: str, opts: Mapping[str, Any] | None = None, climbing: bo
     MJCF body: its options as given.
     """
     info = body_info(name)
-    defaults = {} if info is MJCF else {key: spec[0] for key, spec in info.options.items()}
+    defaults = {} if info is MJCF else {key: spec[0] for key, spec in (*info.options.items(), *info.choices.items())}
     return {**defaults, **run_body_opts(name, opts, climbing)}
+
+
+def physics_settings(
+    name: str, opts: Mapping[str, Any] | None = None, control_hz: float = 10.0, climbing: bool = False
+) -> dict[str, Any] | None:
+    """The physics a run of body ``name`` steps, as it ran (None: a planar body).
+
+    ``timestep_s`` is the step after fitting to the control rate (:func:`~neurowalk.body.physics.set_control_rate`:
+    at 27 Hz a 0.01 s step runs as 4 steps of 9.26 ms), ``substeps`` the physics steps of a control step; then
+    MuJoCo's integrator, solver, friction cone, Jacobian, most iterations and tolerance. E.g.
+    ``physics_settings("amosii")["timestep_s"]`` is 0.01.
+    """
+    info = body_info(name)
+    if info is not MJCF and not info.physics:
+        return None
+    options = dict(run_body_opts(name, opts, climbing)) if info is not MJCF else dict(opts or {})
+    return dict(_physics_of(name, json.dumps(options, sort_keys=True), float(control_hz)))
+
+
+@functools.lru_cache(maxsize=64)
+def _physics_of(name: str, options: str, control_hz: float) -> tuple[tuple[str, Any], ...]:
+    opts = json.loads(options)
+    if name.startswith("mjcf:"):
+        model = mujoco.MjModel.from_xml_path(name.removeprefix("mjcf:"))
+    else:
+        model = mujoco.MjModel.from_xml_string(body_xml(name, opts))
+    o = model.opt
+    n = n_substeps(control_hz, o.timestep)
+    return (
+        ("timestep_s", 1.0 / (control_hz * n)),
+        ("substeps", n),
+        ("integrator", mujoco.mjtIntegrator(o.integrator).name.removeprefix("mjINT_").lower()),
+        ("solver", mujoco.mjtSolver(o.solver).name.removeprefix("mjSOL_").lower()),
+        ("cone", mujoco.mjtCone(o.cone).name.removeprefix("mjCONE_").lower()),
+        ("jacobian", mujoco.mjtJacobian(o.jacobian).name.removeprefix("mjJAC_").lower()),
+        ("iterations", int(o.iterations)),
+        ("tolerance", float(o.tolerance)),
+    )
 
 
 def make_body(
@@ -296,7 +348,10 @@ def body_listing() -> str:
     """The registry as text, one block per body (``neurowalk bodies``)."""
     lines = []
     for b in (*BODIES.values(), MJCF):
-        opts = ", ".join(f"{k}={d:g} ({lo:g} to {hi:g}: {what})" for k, (d, lo, hi, what) in b.options.items())
+        opts = ", ".join(
+            [f"{k}={d:g} ({lo:g} to {hi:g}: {what})" for k, (d, lo, hi, what) in b.options.items()]
+            + [f"{k}={d} ({' | '.join(names)}: {what})" for k, (d, names, what) in b.choices.items()]
+        )
         if b is MJCF:
             opts = "drive (wheels|legs), left, right, right_motor, left_motor (names), key, range (m), speed (rad/s)"
         lines += [

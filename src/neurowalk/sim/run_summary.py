@@ -33,6 +33,8 @@ class RunSummary:
         body_opts: the body's options as given.
         body_settings: every option of the body with the value the run used: given, or the climbing default where
             the controller climbs (AMOSII's 0.005 s step), or the default (None: an older run).
+        physics: the physics as it ran (``body.registry.physics_settings``: the step after fitting to the control
+            rate, its substeps, integrator, solver, cone, Jacobian, iterations, tolerance); None: a planar body.
         params: SensoryParams fields set over the variant, or None.
         steer: (O1, O2) of a ``fixed`` controller, or None.
         start_weights: the plastic network's start weights {b0, q0}, or None.
@@ -85,6 +87,7 @@ class RunSummary:
     arena_opts: Mapping[str, Any] = field(default_factory=FrozenDict)
     body_opts: Mapping[str, Any] = field(default_factory=FrozenDict)
     body_settings: Mapping[str, Any] | None = None
+    physics: Mapping[str, Any] | None = None
     params: Mapping[str, Any] | None = None
     steer: tuple[float, ...] | None = None
     start_weights: Mapping[str, float] | None = None

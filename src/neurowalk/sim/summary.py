@@ -12,7 +12,7 @@ import numpy as np
 import neurowalk
 from neurowalk import metrics
 from neurowalk.arenas import ArenaSpec
-from neurowalk.body.registry import body_settings, replay_contacts
+from neurowalk.body.registry import body_settings, physics_settings, replay_contacts
 from neurowalk.neural.variants import get_variant
 from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.trajectory import Trajectory
@@ -182,6 +182,7 @@ def summarize(
         "gait": cfg.gait,
         "body_opts": cfg.body_opts,
         "body_settings": body_settings(cfg.body, cfg.body_opts, cfg.climbing),
+        "physics": physics_settings(cfg.body, cfg.body_opts, cfg.control_hz, cfg.climbing),
         "final_z_m": rec.final_z,  # trunk height (None: planar body)
         "max_z_m": rec.max_z,
         "exit_step": metrics.exit_step(pose, arena),
