@@ -1,4 +1,7 @@
-"""Why climbing fails at the 10 ms physics step, and what climbs (issue 44): three physics settings side by side.
+"""Why climbing failed at the 10 ms physics step, and what climbed (issue 44): physics settings side by side.
+
+The former physics (before issue 51: implicitfast, servos without a lag) is given in full to every setting below, so
+that the script measures what it measured then; the adopted physics is measured by ``bench_convergence.py``.
 
 The run is the user's ``neurowalk run --arena steps --arena-opt height=H --climb --steps 3000 --seed S`` (plastic
 network, leg reflexes and backbone control, the step's edge 0.5 m ahead), for H in 0.06 ... 0.10 m and S in
@@ -7,7 +10,7 @@ the AMOSII model, its solver as adopted (at most 20 iterations to 1e-6) unless s
 
 * ``10 ms``: the adopted walking step, 0.01 s, MuJoCo's ``implicitfast`` integrator;
 * ``10 ms, 100 iterations``: the same with MuJoCo's default solver (at most 100 iterations to 1e-8);
-* ``5 ms``: 0.005 s, ``implicitfast`` (what a climbing run uses now, ``CLIMBING_TIMESTEP``);
+* ``5 ms``: 0.005 s, ``implicitfast`` (what a climbing run used from issue 44 to issue 51);
 * ``10 ms RK4``: 0.01 s with the 4th-order Runge-Kutta integrator (set on the built model).
 
 For each: climbed counts per height; the robot's yaw after the start's first 50 control steps and where its trunk
@@ -38,11 +41,15 @@ from neurowalk.metrics import exit_step
 from neurowalk.sim.config import build, seeds
 from neurowalk.sim.episode import EpisodeConfig
 
-SETTINGS: dict[str, tuple[dict[str, float], str]] = {
-    "10 ms": ({"timestep": 0.01}, "implicitfast"),
-    "10 ms, 100 iterations": ({"timestep": 0.01, "solver_iterations": 100, "solver_tolerance": 1e-8}, "implicitfast"),
-    "5 ms": ({"timestep": 0.005}, "implicitfast"),
-    "10 ms RK4": ({"timestep": 0.01}, "RK4"),
+FORMER = {"servo_timeconst": 0.0, "jacobian": "auto"}  # with the integrator set below: the physics before issue 51
+SETTINGS: dict[str, tuple[dict[str, Any], str]] = {
+    "10 ms": ({**FORMER, "timestep": 0.01}, "implicitfast"),
+    "10 ms, 100 iterations": (
+        {**FORMER, "timestep": 0.01, "solver_iterations": 100, "solver_tolerance": 1e-8},
+        "implicitfast",
+    ),
+    "5 ms": ({**FORMER, "timestep": 0.005}, "implicitfast"),
+    "10 ms RK4": ({**FORMER, "timestep": 0.01}, "RK4"),
 }
 HEIGHTS = (0.06, 0.07, 0.08, 0.09, 0.10)  # m
 STEPS = 3000  # control steps (300 s at 10 Hz)

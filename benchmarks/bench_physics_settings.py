@@ -1,4 +1,7 @@
-"""Today's physics against the adopted one (issue 39, item 3): speed and behaviour side by side in one run.
+"""The 5 ms physics against the 10 ms one adopted by issue 39 (item 3): speed and behaviour side by side in one run.
+
+Both with the integrator and servos of issue 39's time (:data:`ISSUE_39`); issue 51's physics is measured by
+``bench_convergence.py``.
 
 Two settings of the AMOSII model (``BodyParams``), both with the masses the authors' simulator applies (6.70 kg):
 
@@ -42,9 +45,11 @@ from neurowalk.runners.local import run_many
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 from neurowalk.sim.run_summary import RunSummary
 
+#: The physics of issue 39's time (implicitfast, servos without a lag), given to both: issue 51 adopted another.
+ISSUE_39 = {"integrator": "implicitfast", "servo_timeconst": 0.0, "jacobian": "auto"}
 SETTINGS: dict[str, dict[str, Any]] = {
-    "5 ms": {"timestep": 0.005, "solver_iterations": 100, "solver_tolerance": 1e-8},
-    "adopted": {},
+    "5 ms": {**ISSUE_39, "timestep": 0.005, "solver_iterations": 100, "solver_tolerance": 1e-8},
+    "adopted": dict(ISSUE_39),
 }
 STEERS = {"forward": (-1.0, -1.0), "turn left": (-1.0, 1.0), "turn right": (1.0, -1.0), "backward": (1.0, 1.0)}
 TABLE1_STEPS = 3200  # 320 s at 10 Hz, the authors' simulator's window end
@@ -59,7 +64,9 @@ def use(setting: dict[str, Any]) -> None:
         defaults[name] = value
 
 
-_ADOPTED = {k: BodyParams.__init__.__kwdefaults__[k] for k in ("timestep", "solver_iterations", "solver_tolerance")}
+_ADOPTED = {
+    k: BodyParams.__init__.__kwdefaults__[k] for k in ("timestep", "solver_iterations", "solver_tolerance", *ISSUE_39)
+}
 
 
 def closed_loops(steps: int, repeats: int) -> dict[str, float]:

@@ -28,7 +28,7 @@ def test_bench_writes_rates_and_ratios(tmp_path: Path, capsys: pytest.CaptureFix
     assert ps["adopted_over_former"] == pytest.approx(
         ps["control_steps_per_s_adopted"] / ps["control_steps_per_s_former"]
     )
-    assert ps["former_body_opts"]["timestep"] == 0.005 and ps["control_steps_per_s_former"] > 0
+    assert ps["former_body_opts"]["integrator"] == "implicitfast" and ps["control_steps_per_s_former"] > 0
     e2e = b["surrogate_end_to_end"]
     assert 0 < e2e["env_steps_per_s_end_to_end"] < e2e["env_steps_per_s_in_loop"]  # the loop is part of the whole
     assert e2e["end_to_end_over_in_loop"] == pytest.approx(e2e["ms_per_run_in_loop"] / e2e["ms_per_run_end_to_end"])
@@ -106,3 +106,27 @@ def test_lockstep_rates_split_a_world_step_into_host_and_physics():
         assert 0 < row["noise_draw_us"] < row["sense_us"]  # a block's draw shared by its 256 steps
         assert row["host_us_this_run"] > row["host_us"]  # a 2-step run paid a whole block
         assert row["physics_share"] == pytest.approx(row["physics_us"] / (row["physics_us"] + row["host_us_this_run"]))
+
+
+def test_the_convergence_benchmark_judges_its_committed_result_as_committed() -> None:
+    """docs/benchmarks/convergence.json is what bench_convergence.py's rules say of its numbers: the adopted physics
+    converges, the former does not (its 60 s walk is too far at 10 ms), and a count agrees with another where the
+    share of either lies inside the other's 95% interval (20/20 against 19/20 does; 20/20 against 12/20 does not)."""
+    from neurowalk.body.registry import body_settings
+
+    path = Path(__file__).parents[1] / "benchmarks" / "bench_convergence.py"
+    spec = importlib.util.spec_from_file_location("bench_convergence", path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)  # type: ignore[union-attr]
+    done = json.loads((path.parents[1] / "docs" / "benchmarks" / "convergence.json").read_text())
+    for p in done["physics"].values():
+        assert mod.verdict(p["measured"], p["reference"]) == {"checks": p["checks"], "converged": p["converged"]}
+    assert done["physics"]["adopted"]["converged"] and not done["physics"]["before"]["converged"]
+    assert not done["physics"]["before"]["checks"]["forward_60s"]["holds"]
+    assert done["physics"]["adopted"]["body_opts"] == mod.PHYSICS["adopted"] == body_settings("amosii")  # the defaults
+
+    def count(k: int) -> dict:
+        return {"runs": 20, "n": k, "95ci": list(mod.wilson(k, 20))}
+
+    assert mod.compatible(count(20), count(19), "n") and mod.compatible(count(19), count(20), "n")
+    assert not mod.compatible(count(20), count(12), "n")

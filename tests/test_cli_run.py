@@ -331,4 +331,4 @@ def test_a_runs_line_says_its_outcome_in_words(args, said, tmp_path, capsys):
     s = json.loads((tmp_path / "summary.json").read_text())
     assert ("climbed at" in line) == (s["exit_step"] is not None)
     if "--climb" in args:
-        assert s["body_settings"]["timestep"] == 0.005 and s["body_opts"] == {}
+        assert s["physics"]["timestep_s"] == 0.01 and s["body_opts"] == {}  # one physics, climbing or not

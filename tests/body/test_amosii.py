@@ -64,7 +64,8 @@ def test_actuators_are_the_19_in_anatomy_order_each_driving_its_joint(model):
 
 def test_options_and_total_mass(model):
     assert model.opt.timestep == P.timestep
-    assert model.opt.integrator == mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    assert model.opt.integrator == mujoco.mjtIntegrator.mjINT_DISCRETE
+    assert model.opt.solver == mujoco.mjtSolver.mjSOL_NEWTON and model.opt.jacobian == mujoco.mjtJacobian.mjJAC_SPARSE
     assert model.opt.cone == mujoco.mjtCone.mjCONE_ELLIPTIC
     assert model.body_mass.sum() == pytest.approx(P.total_mass, rel=1e-9)
     # the mass the authors' simulator applies (original_code_facts.md §13): 6.70 kg, its shoulders weightless
@@ -110,6 +111,7 @@ def test_export_model_writes_a_loadable_file_and_nothing_on_error(tmp_path):
         ("solver_iterations", 2.5),
         ("solver_tolerance", 0.0),
         ("integrator", "rk4"),
+        ("solver", "newton"),
         ("contact_timeconst", 0.0),
         ("armature", -0.01),
     ],
@@ -328,11 +330,58 @@ def test_integrator_armature_and_contact_time_constant_reach_every_part_of_the_m
     constant of every geom's contacts, the arena's boxes included (a contact mixes the two geoms' solref)."""
     from neurowalk.arenas import make_arena
 
-    p = BodyParams(integrator="discrete", armature=0.04, contact_timeconst=0.04)
+    p = BodyParams(integrator="RK4", solver="CG", armature=0.03, contact_timeconst=0.05)
     m = mujoco.MjModel.from_xml_string(amosii_xml(p, world=make_arena("box").to_mjcf()))
-    assert m.opt.integrator == mujoco.mjtIntegrator.mjINT_DISCRETE
-    assert np.all(m.dof_armature[:6] == 0.0) and np.all(m.dof_armature[6:] == 0.04)
+    assert m.opt.integrator == mujoco.mjtIntegrator.mjINT_RK4 and m.opt.solver == mujoco.mjtSolver.mjSOL_CG
+    assert np.all(m.dof_armature[:6] == 0.0) and np.all(m.dof_armature[6:] == 0.03)
     boxes = [i for i in range(m.ngeom) if m.geom_bodyid[i] == 0 and m.geom_type[i] == mujoco.mjtGeom.mjGEOM_BOX]
-    assert boxes and np.all(m.geom_solref[:, 0] == 0.04) and np.all(m.geom_solref[:, 1] == 1.0)
-    default = mujoco.MjModel.from_xml_string(amosii_xml(BodyParams()))
-    assert np.all(default.geom_solref == mujoco.MjModel.from_xml_string("<mujoco/>").opt.o_solref)  # MuJoCo's
+    assert boxes and np.all(m.geom_solref[:, 0] == 0.05) and np.all(m.geom_solref[:, 1] == 1.0)
+
+
+def test_a_control_step_with_sensors_in_its_last_physics_step_only_is_plain_stepping_bit_for_bit():
+    """AmosII.advance leaves the sensors off in all but the last physics step of a control step: the state, the
+    sensor data (an echo, foot contacts) and the warnings after it are those of plain ``mj_step`` steps, exactly."""
+    from neurowalk.arenas import make_arena
+    from neurowalk.body.physics import AmosII
+    from neurowalk.controller import FixedController
+
+    arena = make_arena("box")
+    a, b = (AmosII(arena, BodyParams(), control_hz=10.0, noise=0.0) for _ in range(2))
+    for body in (a, b):
+        body.reset(np.random.default_rng(0))
+    ctrl = FixedController((-1.0, -1.0))
+    echo = False
+    for _ in range(900):  # 90 s: it walks into the box's range
+        targets = ctrl.act(a.observe())
+        for body in (a, b):
+            body.apply(targets)
+        a.advance()
+        mujoco.mj_step(b.model, b.data, nstep=b.n_substeps)
+        for name in ("qpos", "qvel", "act", "sensordata", "qacc_warmstart", "ctrl"):
+            assert np.array_equal(getattr(a.data, name), getattr(b.data, name)), name
+        echo |= bool(np.any(np.isfinite(a.observe().us_distance)))
+    assert a.data.time == b.data.time and a.warnings() == b.warnings()
+    assert a.model.opt.disableflags == b.model.opt.disableflags == 0
+    assert a.n_substeps == 10 and echo  # it saw the box: the rays' reading is compared, not only empty ones
+
+
+def test_each_servo_follows_its_target_through_its_lag_from_the_standing_pose():
+    """servo_timeconst: every actuator filters its target (first order, time constant servo_timeconst), starting at
+    the standing pose; after a step of the target its filtered target has moved 1 - exp(-t / tau) of the way; 0: the
+    servos take their targets at once (no activation state)."""
+    from neurowalk.arenas import make_arena
+    from neurowalk.body.physics import AmosII
+
+    p = BodyParams(servo_timeconst=0.05)
+    body = AmosII(make_arena("open"), p, control_hz=10.0, noise=0.0)
+    body.reset(np.random.default_rng(0))
+    m, d = body.model, body.data
+    assert m.na == m.nu == 19 and np.all(m.actuator_dyntype == mujoco.mjtDyn.mjDYN_FILTEREXACT)
+    assert np.all(m.actuator_dynprm[:, 0] == 0.05)
+    np.testing.assert_allclose(d.act, standing_pose(p), atol=1e-8)  # the keyframe's 9 digits
+    assert np.array_equal(d.act, d.ctrl)
+    target = standing_pose(p) + 0.1
+    body.apply(target)
+    body.advance()  # 0.1 s: two time constants
+    np.testing.assert_allclose(d.act - (target - 0.1), 0.1 * (1 - np.exp(-0.1 / 0.05)), atol=1e-8)
+    assert mujoco.MjModel.from_xml_string(amosii_xml(BodyParams(servo_timeconst=0.0))).na == 0

@@ -101,33 +101,27 @@ def test_the_wheeled_surrogate_is_a_planar_body_of_the_registry():
         check_body_opts("surrogate-wheeled", {"scale": 0.5})  # calibrated at scale 1 only
 
 
-def test_a_climbing_amosii_steps_its_physics_at_5_ms_unless_the_run_gives_a_step():
-    from neurowalk.body.registry import CLIMBING_TIMESTEP, body_settings, run_body_opts
+def test_one_physics_for_every_amosii_run_climbing_or_not():
+    """A climbing run steps the same physics as any other (no climbing defaults), the registry's defaults are
+    BodyParams', and a run's key names only the options it was given."""
+    from neurowalk.body.amosii_params import BodyParams
 
-    assert body_settings("amosii")["timestep"] == BODIES["amosii"].options["timestep"][0] == 0.01
-    assert body_settings("amosii", {}, climbing=True)["timestep"] == CLIMBING_TIMESTEP == 0.005
-    assert body_settings("amosii", {"timestep": 0.01}, climbing=True)["timestep"] == 0.01  # a given step wins
-    assert run_body_opts("amosii", {}, climbing=False) == {}  # a walking run's options (and key) as before
-    assert run_body_opts("wheeled", {}, climbing=True) == {}  # no climbing defaults: it does not climb
+    walk, climb = EpisodeConfig(arena="steps"), EpisodeConfig(arena="steps", reflexes=True, backbone=True)
+    assert body_settings("amosii") == {k: getattr(BodyParams(), k) for k in body_settings("amosii")}
     arena = make_arena("steps")
-    assert make_body("amosii", arena, climbing=True).model.opt.timestep == CLIMBING_TIMESTEP
-    assert make_body("amosii", arena, {"timestep": 0.01}, climbing=True).model.opt.timestep == 0.01
-    assert make_body("amosii", arena).model.opt.timestep == 0.01
-    assert "climbing (reflexes or backbone on): timestep=0.005" in body_listing()
-
-
-def test_a_climbing_runs_key_names_its_physics():
-    climb = EpisodeConfig(arena="steps", reflexes=True)
-    assert climb.key() == climb.replace(body_opts={"timestep": 0.005}).key()  # the same physics, the same run
-    assert climb.key() != climb.replace(body_opts={"timestep": 0.01}).key()
-    assert climb.spec()["body_opts"] == {"timestep": 0.005}
-    assert "body_opts" not in EpisodeConfig(arena="steps").spec()  # a walking run's key is as before
+    made = [make_body("amosii", arena, climbing=c).model.opt for c in (False, True)]
+    assert made[0].timestep == made[1].timestep == 0.01 and made[0].integrator == made[1].integrator
+    assert (
+        run_episode(walk.replace(steps=2)).summary["physics"] == run_episode(climb.replace(steps=2)).summary["physics"]
+    )
+    assert "body_opts" not in climb.spec() and "climbing (" not in body_listing()
+    assert climb.key() != climb.replace(body_opts={"timestep": 0.005}).key()
 
 
 @pytest.mark.parametrize(
     ("name", "opts", "hz", "climbing"),
     [("amosii", {}, 10.0, False), ("amosii", {}, 27.0, False), ("amosii", {}, 27.0, True), ("wheeled", {}, 10.0, False),
-     ("amosii", {"integrator": "discrete", "solver_iterations": 7}, 10.0, False)],
+     ("amosii", {"integrator": "implicitfast", "solver_iterations": 7}, 10.0, False)],
 )  # fmt: skip
 def test_the_physics_record_is_the_physics_the_body_steps(name, opts, hz, climbing):
     """summary.json's ``physics`` is the built body's model as it steps: the step fitted to the control rate (27 Hz:
@@ -135,20 +129,20 @@ def test_the_physics_record_is_the_physics_the_body_steps(name, opts, hz, climbi
     from neurowalk.body.registry import physics_settings
 
     body = make_body(name, make_arena("open"), opts, control_hz=hz, climbing=climbing)
-    rec, o = physics_settings(name, opts, hz, climbing), body.model.opt
+    rec, o = physics_settings(name, opts, hz), body.model.opt
     assert rec["timestep_s"] == pytest.approx(o.timestep, rel=1e-12)
     assert rec["substeps"] * rec["timestep_s"] == pytest.approx(1.0 / hz, rel=1e-12)
     assert rec["integrator"] == mujoco.mjtIntegrator(o.integrator).name[len("mjINT_") :].lower()
     assert (rec["iterations"], rec["tolerance"]) == (o.iterations, o.tolerance)
     assert rec["cone"] == mujoco.mjtCone(o.cone).name[len("mjCONE_") :].lower()
     if hz == 27.0:
-        assert rec["timestep_s"] != body_settings(name, opts, climbing)["timestep"]
+        assert rec["timestep_s"] != body_settings(name, opts)["timestep"]
     assert physics_settings("surrogate") is None
 
 
 def test_a_runs_summary_records_its_physics():
-    ep = run_episode(EpisodeConfig(steps=3, body_opts={"integrator": "discrete"}, control_hz=27.0))
-    assert ep.summary["physics"]["integrator"] == "discrete" and ep.summary["physics"]["substeps"] == 4
+    ep = run_episode(EpisodeConfig(steps=3, body_opts={"integrator": "implicitfast"}, control_hz=27.0))
+    assert ep.summary["physics"]["integrator"] == "implicitfast" and ep.summary["physics"]["substeps"] == 4
     assert ep.result.physics["timestep_s"] == pytest.approx(1 / 108)
     with pytest.raises(ValueError, match="integrator must be one of implicitfast, discrete"):
         EpisodeConfig(body_opts={"integrator": "rk5"})

@@ -75,7 +75,8 @@ def test_run_study_writes_its_files_and_resumes_from_its_store(tmp_path: Path):
     s = Settings(quick=True, out=tmp_path, workers=1)
     result, paths = run_study(TINY, s)
     assert set(paths) == {"png", "json"} and all(p.is_file() for p in paths.values())
-    assert list(result.summary) == ["static", "plastic"] and all(len(v) == 2 for v in result.summary.values())
+    assert list(result.summary) == ["static", "plastic"]  # what its measure returned, nothing added
+    assert all(len(result.summary[k]) == 2 for k in ("static", "plastic"))
     assert json.loads(paths["json"].read_text()) == result.summary
     with ResultStore(tmp_path / "results.sqlite") as store:
         first = {row["key"]: row["finished_at"] for row in store.rows()}
@@ -84,7 +85,7 @@ def test_run_study_writes_its_files_and_resumes_from_its_store(tmp_path: Path):
     with ResultStore(tmp_path / "results.sqlite") as store:
         rows = {row["key"]: row["finished_at"] for row in store.rows()}
     assert len(rows) == 6 and all(rows[k] == t for k, t in first.items())
-    assert [v[:2] for v in again.summary.values()] == list(result.summary.values())
+    assert [again.summary[k][:2] for k in ("static", "plastic")] == [result.summary[k] for k in ("static", "plastic")]
 
 
 def test_the_runs_get_the_settings_and_the_study_sees_typed_summaries(tmp_path: Path):
@@ -212,3 +213,52 @@ def test_a_grid_declares_every_combination_for_every_seed_labelled_by_its_values
     assert [cfg.seed for _, cfg in runs] == [3, 4] * 4 and len({cfg.key() for _, cfg in runs}) == 8
     assert all(cfg.controller == c and cfg.arena_opts["gap"] == g for (c, g), cfg in runs)
     assert Settings(quick=True).seed_range(10, 3) == range(0, 3)
+
+
+def test_a_figures_json_records_each_physics_its_runs_stepped(tmp_path: Path):
+    """A study's json says the physics of its runs as they ran (the step fitted to the control rate), each distinct
+    one once: two runs of one physics give one record, a run given another integrator a second."""
+    walk = EpisodeConfig(arena="open", steps=2)
+
+    def runs(s: Settings):
+        yield "a", walk.replace(seed=0)
+        yield "a", walk.replace(seed=1)
+        yield "b", walk.replace(body_opts={"integrator": "implicitfast"}, control_hz=27.0)
+
+    study = Study("phys", "physics", plot=_plot, runs=runs, measure=lambda s, r: {"n": len(r)}, records_physics=True)
+    physics = compute(study, Settings(out=tmp_path, workers=1)).summary["physics_settings"]
+    assert [(p["body"], p["control_hz"], p["integrator"], p["substeps"]) for p in physics] == [
+        ("amosii", 10.0, "discrete", 10),
+        ("amosii", 27.0, "implicitfast", 4),
+    ]
+    assert physics[1]["timestep_s"] == pytest.approx(1 / 108)
+
+
+def test_a_run_stored_with_another_physics_runs_again(tmp_path: Path):
+    """A store of an older neurowalk holds its runs under the keys today's configs have (a key names the options
+    given, not the defaults); a run whose stored physics is not the physics it steps today runs again, the others
+    are taken as they are."""
+    walk = EpisodeConfig(arena="open", steps=3)
+
+    def runs(s: Settings):
+        yield "a", walk.replace(seed=0)
+        yield "a", walk.replace(seed=1)
+
+    study = Study("older", "physics", plot=_plot, runs=runs, measure=lambda s, r: {"x": [k.final_pose for k in r["a"]]})
+    s = Settings(out=tmp_path, workers=1)
+    first = compute(study, s)
+    with ResultStore(tmp_path / "results.sqlite") as store:
+        rows = {r["key"]: r for r in store.rows()}
+        older = walk.replace(seed=0).key()
+        former = {
+            **rows[older]["result"],
+            "physics": {**rows[older]["result"]["physics"], "integrator": "implicitfast"},
+        }
+        store.put(older, rows[older]["spec"], result=former)
+        before = {k: store.rows(keys=[k])[0]["finished_at"] for k in rows}
+    again = compute(study, s)
+    with ResultStore(tmp_path / "results.sqlite") as store:
+        after = {k: store.rows(keys=[k])[0]["finished_at"] for k in rows}
+        assert store.results(keys=[older])[older]["physics"]["integrator"] == "discrete"
+    assert after[older] != before[older] and all(after[k] == before[k] for k in rows if k != older)
+    assert again.summary == first.summary

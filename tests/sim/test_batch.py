@@ -13,9 +13,9 @@ STEPS = 100
 FIELDS = ("t", "qpos", "pose", "inputs", "outputs", "b", "q", "targets", "joint_angles", "us_distance",
           "foot_contact", "up_z")  # fmt: skip
 MACHINE = ("wall_time_s", "real_time_factor")
-# The robot walks into these boxes within STEPS (first box contact at control step 94 and 71).
-INTO_BOX = EpisodeConfig(arena="box", arena_opts={"distance": 0.3}, controller="fixed", steer=(-1, -1), steps=STEPS)
-INTO_TILTED_BOX = EpisodeConfig(arena="box", arena_opts={"distance": 0.38, "angle": 30.0}, controller="fixed",
+# The robot walks into these boxes within STEPS (first box contact at control step 86 and 71).
+INTO_BOX = EpisodeConfig(arena="box", arena_opts={"distance": 0.28}, controller="fixed", steer=(-1, -1), steps=STEPS)
+INTO_TILTED_BOX = EpisodeConfig(arena="box", arena_opts={"distance": 0.37, "angle": 30.0}, controller="fixed",
                                 steer=(-1, -1), steps=STEPS, seed=7)  # fmt: skip
 RANDOM = {"arena": "random", "steps": STEPS}
 CONFIGS = [  # different seeds, box counts and controllers; one without sensor noise

@@ -26,25 +26,11 @@ STORED = {
     '{"arena": "random", "body": "surrogate", "seed": 7, "variant": "original", "params": {"mu_b": 0.01}}':
         "b83214b12ee497185490c250066af26d5bb04f31b3d73ac227dc709103c6fd0b",
 }  # fmt: skip
-#: A climbing run's key before issue 44: it ran at the 10 ms step; now a climbing run steps at 5 ms, another run, so
-#: a store's row of the former must not be found for it.
-CLIMBING_AT_10_MS = (
-    '{"arena": "steps", "reflexes": true, "backbone": true, "control_hz": 27}',
-    "6e988d01f78211a1d64553528d8fe731003f8c8ceefafe9ca259eac7b259e249",
-)
 
 
 @pytest.mark.parametrize("spec", sorted(STORED))
 def test_the_keys_of_stores_written_before_stay_valid(spec):
     assert EpisodeConfig.from_spec(json.loads(spec)).key() == STORED[spec]
-
-
-def test_a_climbing_run_at_10_ms_stored_before_is_not_found_for_one_at_5_ms():
-    spec, key = json.loads(CLIMBING_AT_10_MS[0]), CLIMBING_AT_10_MS[1]
-    assert EpisodeConfig.from_spec(spec).key() != key
-    assert (
-        EpisodeConfig.from_spec(spec).key() == EpisodeConfig.from_spec({**spec, "body_opts": {"timestep": 0.005}}).key()
-    )
 
 
 def test_a_config_hashes_and_equal_configs_are_one_key_of_a_dict():

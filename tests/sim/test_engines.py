@@ -21,6 +21,7 @@ from neurowalk.sim.episode import EpisodeConfig, run_episode
 WALK = EpisodeConfig(arena="open", controller="fixed", steer=(-1.0, -1.0), steps=150, noise=0.0)
 LEFT = replace(WALK, steer=(-1.0, 1.0))
 RIGHT = replace(WALK, steer=(1.0, -1.0))
+STARTED = 50  # control steps (5 s): the gait's start is over
 
 
 class Simulator:
@@ -67,17 +68,23 @@ def simulator(request) -> Simulator:
     return _warp()
 
 
+def _turned(ep, since: int = STARTED) -> float:
+    """Heading change (rad, counter-clockwise positive) of a run from control step ``since`` to its end."""
+    pose = ep.trajectory.pose[since:]
+    return heading_change(pose, pose[0, 2])
+
+
 def test_walks_forward_and_turns_on_the_spot_both_ways(simulator):
     walk, left, right = simulator([WALK, LEFT, RIGHT])
     start = walk.arena.start
     assert forward_displacement(walk.trajectory.pose, start) > 0.04  # m in 15 s: Table 1's forward walk
-    turned_left = heading_change(left.trajectory.pose, start[2])
-    turned_right = heading_change(right.trajectory.pose, start[2])
-    assert turned_left > 0.2 and turned_right < -0.2  # rad in 15 s, counter-clockwise positive
+    # after the start (its first steps yaw the robot a little, the same way whatever the steering: the same model at
+    # a quarter of the step does so too, docs/performance.md), rad in 10 s
+    turned_left, turned_right = _turned(left), _turned(right)
+    assert turned_left > 0.2 and turned_right < -0.2
     assert abs(turned_left + turned_right) < 0.35 * turned_left  # both ways at similar rates
-    # walking turns far less than turning on the spot (its heading in 15 s: the start's first steps and the gait's
-    # sway, about a tenth of a radian at the 10 ms physics step)
-    assert abs(heading_change(walk.trajectory.pose, start[2])) < 0.5 * min(turned_left, -turned_right)
+    # walking turns far less than turning on the spot (the gait's sway)
+    assert abs(_turned(walk)) < 0.5 * min(turned_left, -turned_right)
     for ep in (walk, left, right):
         assert ep.summary["completed"] and float(np.min(ep.trajectory.up_z)) > 0.9  # upright throughout
 

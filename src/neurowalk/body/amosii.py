@@ -212,8 +212,9 @@ def _actuators(p: BodyParams) -> str:
             joint, leg = leg_joints[name]
             rng = {"TC": tc_range(p, leg), "CTr": p.ctr_range, "FTi": p.fti_range}[joint]
             kp, kv, force = p.leg_kp, p.leg_kv, p.leg_force
+        lag = f' timeconst="{_n(p.servo_timeconst)}"' if p.servo_timeconst > 0 else ""
         lines.append(
-            f'    <position name="{name}" joint="{name}" kp="{_n(kp)}" kv="{_n(kv)}" '
+            f'    <position name="{name}" joint="{name}" kp="{_n(kp)}" kv="{_n(kv)}"{lag} '
             f'forcerange="{_n(-force, force)}" ctrlrange="{_n(*rng)}"/>'
         )
     return "\n".join(lines)
@@ -224,6 +225,11 @@ def _sensors() -> str:
     lines += [f'    <touch name="{foot_name(g)}" site="{foot_name(g)}"/>' for g in anatomy.LEGS]
     lines.append(f'    <framezaxis name="{UP_SENSOR}" objtype="site" objname="{IMU_SITE}"/>')
     return "\n".join(lines)
+
+
+def _lagged_start(p: BodyParams) -> str:
+    """The stand keyframe's servo states: each lagged target starts at the standing pose (none without a lag)."""
+    return f' act="{_n(*standing_pose(p))}"' if p.servo_timeconst > 0 else ""
 
 
 SCENE_HEAD = """  <asset>
@@ -260,8 +266,8 @@ def amosii_xml(params: BodyParams = _DEFAULT, *, world: str = "") -> str:
     fric = "0.005 0.0001"  # torsional, rolling
     return f"""<mujoco model="amosii">
   <compiler angle="radian" autolimits="true"/>
-  <option timestep="{_n(p.timestep)}" integrator="{p.integrator}" cone="elliptic" \
-iterations="{p.solver_iterations}" tolerance="{_n(p.solver_tolerance)}"/>
+  <option timestep="{_n(p.timestep)}" integrator="{p.integrator}" solver="{p.solver}" cone="{p.cone}" \
+jacobian="{p.jacobian}" iterations="{p.solver_iterations}" tolerance="{_n(p.solver_tolerance)}"/>
   <visual><global offwidth="1280" offheight="720"/></visual>
   <default>
     <geom solref="{_n(p.contact_timeconst)} 1"/>
@@ -288,7 +294,7 @@ friction="{_n(p.floor_friction)} {fric}"/>
 {_sensors()}
   </sensor>
   <keyframe>
-    <key name="{STAND_KEY}" ctrl="{_n(*standing_pose(p))}"/>
+    <key name="{STAND_KEY}" ctrl="{_n(*standing_pose(p))}"{_lagged_start(p)}/>
   </keyframe>
 </mujoco>
 """

@@ -98,7 +98,12 @@ class BodyParams:
     bj_kp: float = 90.0  # N·m/rad, about the legs' kp scaled by the power ratio
     bj_kv: float = 3.0  # N·m·s/rad
     bj_force: float = 80.26  # N·m
-    armature: float = 0.005  # kg·m², rotor inertia added to every hinge (a geared servo's reflected rotor inertia)
+    armature: float = 0.005  # kg·m², rotor inertia added to every hinge (a servo's rotor, reflected by its gears)
+    # Each servo follows its target through a first-order lag of this time constant (s; 0: none), as a servo does
+    # (the authors' simulated servo is a lag of 1 / 5.24 s before its speed limit): a jump of the target no longer
+    # whips the legs in one physics step, and a 10 ms step integrates the gait as a 2.5 ms one does
+    # (docs/performance.md, "One physics for every run"). MuJoCo's position actuator ``timeconst``.
+    servo_timeconst: float = 0.03  # s
     # Optional passive compliance of every hinge about the standing pose (0, 0 = off).
     joint_stiffness: float = 0.0  # N·m/rad
     joint_damping: float = 0.0  # N·m·s/rad
@@ -107,9 +112,18 @@ class BodyParams:
     body_friction: float = 0.5  # sliding friction of all other robot geoms
     floor_friction: float = 0.1  # sliding friction of the floor plane
     timestep: float = 0.01  # s, physics step: the authors' simulator's (10 physics steps per 10 Hz control step)
-    solver_iterations: int = 20  # most Newton iterations per physics step (MuJoCo's default 100; it converges in fewer)
+    solver_iterations: int = 20  # most solver iterations per physics step (MuJoCo's default 100)
     solver_tolerance: float = 1e-6  # the solver stops when its cost improves by less than this (MuJoCo's 1e-8)
-    integrator: str = "implicitfast"  # MuJoCo's integrator: one of INTEGRATORS
+    # MuJoCo's integrator (one of INTEGRATORS): "discrete" takes the servos' stiffness and damping into the step's
+    # implicit update ("implicitfast" their damping only).
+    integrator: str = "discrete"
+    solver: str = "Newton"  # MuJoCo's constraint solver: one of SOLVERS (MuJoCo Warp has no PGS)
+    # The friction cone (one of CONES). Elliptic: with the pyramid the robot climbs less (and with a foot friction of
+    # 2 or more the trunk sinks).
+    cone: str = "elliptic"
+    # MuJoCo's constraint Jacobian: one of JACOBIANS. Its layout changes no physics, only the cost (MuJoCo Warp
+    # takes it dense: its sparse path does not repeat a run bit for bit).
+    jacobian: str = "sparse"
     contact_timeconst: float = 0.02  # s, time constant of every contact (geom solref, damping ratio 1; MuJoCo's 0.02)
     # Ultrasonic sensors: rays from 1 mm ahead of the front face, yawed outward.
     us_yaw: float = 35.0 * _DEG  # rad, outward yaw of each ray
@@ -129,11 +143,17 @@ class BodyParams:
 
     def __post_init__(self) -> None:
         """Check every field; raise ValueError naming the first bad one."""
-        if self.integrator not in INTEGRATORS:
-            _bad("integrator", self.integrator, f"must be one of {', '.join(INTEGRATORS)}")
+        for name, allowed in (
+            ("integrator", INTEGRATORS),
+            ("solver", SOLVERS),
+            ("cone", CONES),
+            ("jacobian", JACOBIANS),
+        ):
+            if getattr(self, name) not in allowed:
+                _bad(name, getattr(self, name), f"must be one of {', '.join(allowed)}")
         for f in fields(self):
             v = getattr(self, f.name)
-            if f.name == "integrator":
+            if f.name in ("integrator", "solver", "cone", "jacobian"):
                 continue
             n = _TUPLE_LENGTHS.get(f.name)
             if n is not None and not (isinstance(v, tuple) and len(v) == n):
@@ -204,8 +224,14 @@ class BodyParams:
 
 INTEGRATORS: tuple[str, ...] = ("implicitfast", "discrete", "implicit", "RK4", "Euler")
 """MuJoCo's integrators by their MJCF names (``<option integrator=...>``)."""
+SOLVERS: tuple[str, ...] = ("Newton", "PGS", "CG")
+"""MuJoCo's constraint solvers by their MJCF names (``<option solver=...>``)."""
+CONES: tuple[str, ...] = ("elliptic", "pyramidal")
+"""MuJoCo's friction cones by their MJCF names (``<option cone=...>``)."""
+JACOBIANS: tuple[str, ...] = ("sparse", "dense", "auto")
+"""MuJoCo's constraint Jacobians by their MJCF names (``<option jacobian=...>``)."""
 
-_NONNEGATIVE = frozenset({"joint_stiffness", "joint_damping", "body_friction", "shoulder_mass"})
+_NONNEGATIVE = frozenset({"joint_stiffness", "joint_damping", "body_friction", "shoulder_mass", "servo_timeconst"})
 _SIGNED = frozenset({"us_z"})
 _TUPLE_LENGTHS = {"leg_x": 3, "stand_tc": 3} | {
     name: 2 for name in ("tc_range_outer", "tc_range_middle", "ctr_range", "fti_range", "bj_range")

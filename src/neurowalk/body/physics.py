@@ -31,6 +31,8 @@ from neurowalk.body.noise import ColoredNoise
 from neurowalk.body.obstacle_slots import padded_world
 from neurowalk.observation import Observation
 
+_SENSORS_OFF = int(mujoco.mjtDisableBit.mjDSBL_SENSOR)
+
 
 def n_substeps(control_hz: float, timestep: float) -> int:
     """Physics steps per control step: the whole number nearest ``1 / (control_hz * timestep)`` (at least 1).
@@ -172,8 +174,22 @@ class AmosII:
         self.data.ctrl[:] = targets
 
     def advance(self) -> None:
-        """One control step of physics."""
-        mujoco.mj_step(self.model, self.data, nstep=self.n_substeps)
+        """One control step of physics: its sensors are computed in the last physics step only.
+
+        ``mj_step`` computes the sensors of the state it starts from; those of the first ``n_substeps - 1`` steps
+        are never read, so they are switched off there (the ultrasonic rays are most of a sensor update). The
+        physics does not read sensors: the state and the sensor data after the control step are bit for bit those
+        of ``n_substeps`` plain steps (tested).
+        """
+        m, n = self.model, self.n_substeps
+        if n > 1:
+            flags = m.opt.disableflags
+            m.opt.disableflags = flags | _SENSORS_OFF
+            try:
+                mujoco.mj_step(m, self.data, nstep=n - 1)
+            finally:
+                m.opt.disableflags = flags
+        mujoco.mj_step(m, self.data)
 
     def up_z(self) -> float:
         """z component of the trunk's up vector (1 = upright)."""

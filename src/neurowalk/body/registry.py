@@ -30,7 +30,7 @@ import numpy as np
 
 from neurowalk.arenas import ArenaSpec
 from neurowalk.body.amosii import amosii_xml
-from neurowalk.body.amosii_params import INTEGRATORS, BodyParams
+from neurowalk.body.amosii_params import CONES, INTEGRATORS, JACOBIANS, SOLVERS, BodyParams
 from neurowalk.body.physics import AmosII, n_substeps, obstacle_contacts
 from neurowalk.body.surrogate import Surrogate, load_calibration
 from neurowalk.body.user_mjcf import UserMjcf, check_opts
@@ -48,8 +48,6 @@ class BodyInfo:
         physics: a MuJoCo body (else a planar surrogate). climbs: it can take the climbing controls
             (``--reflexes``, ``--backbone``). options: name -> (default, low, high, meaning).
         choices: the options that take a name: name -> (default, the names allowed, meaning).
-        climbing_options: the defaults of some options where the controller climbs (reflexes or backbone on),
-            over ``options``' own; an option the run gives is kept (:func:`body_settings`).
         surrogate: the planar body calibrated on this physics body (``neurowalk calibrate --body NAME``), if any.
         engines: the physics engines (a config's ``engine``) it runs on; a planar body runs its own compiled loop.
         climbs_on: those of its engines that run it with the climbing controls.
@@ -67,7 +65,6 @@ class BodyInfo:
     climbs: bool
     options: dict[str, tuple[float, float, float, str]] = field(default_factory=dict)
     choices: dict[str, tuple[str, tuple[str, ...], str]] = field(default_factory=dict)
-    climbing_options: dict[str, float] = field(default_factory=dict)
     surrogate: str | None = None
     engines: tuple[str, ...] = ("mujoco",)
     climbs_on: tuple[str, ...] = ("mujoco",)
@@ -86,8 +83,6 @@ PLANAR_OPTIONS: dict[str, tuple[float, float, float, str]] = {
     "speed": (1.0, 0.25, 4.0, "forward and sideways speed x speed (the measured body's)"),
     "turn": (1.0, 0.25, 4.0, "yaw rate x turn (the measured body's)"),
 }
-
-CLIMBING_TIMESTEP = 0.005  # s, AMOSII's physics step where the controller climbs (reflexes or backbone on)
 
 BODIES: dict[str, BodyInfo] = {
     "amosii": BodyInfo(
@@ -109,13 +104,14 @@ BODIES: dict[str, BodyInfo] = {
             "solver_tolerance": (1e-6, 1e-12, 1e-3, "the solver stops when its cost improves by less"),
             "armature": (0.005, 1e-4, 0.5, "rotor inertia of every servo, reflected through its gears (kg m^2)"),
             "contact_timeconst": (0.02, 0.002, 0.2, "time constant of every contact (s); at least 2 physics steps"),
+            "servo_timeconst": (0.03, 0.0, 0.5, "each servo follows its target with this lag (s; 0: none)"),
         },
-        choices={"integrator": ("implicitfast", INTEGRATORS, "MuJoCo's integrator")},
-        # Climbing at the 10 ms step fails at some heights (0.07 m: 0 of 10 seeds): implicitfast integrates the leg
-        # servos coarsely at that step, the start's first steps yaw the robot by 0.2 rad and it meets the step's
-        # edge at a slant and slides along it. At 5 ms (or RK4 at 10 ms) it meets it square and climbs every time
-        # (docs/performance.md, "Climbing and the physics step").
-        climbing_options={"timestep": CLIMBING_TIMESTEP},
+        choices={
+            "integrator": ("discrete", INTEGRATORS, "MuJoCo's integrator"),
+            "solver": ("Newton", SOLVERS, "MuJoCo's constraint solver"),
+            "cone": ("elliptic", CONES, "MuJoCo's friction cone"),
+            "jacobian": ("sparse", JACOBIANS, "MuJoCo's constraint Jacobian"),
+        },
     ),
     "surrogate": BodyInfo(
         "surrogate",
@@ -220,29 +216,19 @@ def check_body_opts(name: str, opts: dict[str, Any]) -> dict[str, Any]:
     return out
 
 
-def run_body_opts(name: str, opts: Mapping[str, Any] | None = None, climbing: bool = False) -> dict[str, Any]:
-    """The options a run gives body ``name``: those in ``opts`` (checked), with the body's climbing defaults added
-    where the controller climbs (``climbing``: reflexes or backbone on). A run's key holds them
-    (:meth:`~neurowalk.sim.config.EpisodeConfig.spec`), so a climbing run at 5 ms is another run than one at 10 ms.
-    """
-    given = check_body_opts(name, dict(opts or {}))
-    info = body_info(name)
-    return {**(info.climbing_options if climbing and info is not MJCF else {}), **given}
+def body_settings(name: str, opts: Mapping[str, Any] | None = None) -> dict[str, Any]:
+    """Every option of body ``name`` with the value a run uses: given in ``opts`` (checked), else its default.
 
-
-def body_settings(name: str, opts: Mapping[str, Any] | None = None, climbing: bool = False) -> dict[str, Any]:
-    """Every option of body ``name`` with the value a run uses: :func:`run_body_opts`, else the option's default.
-
-    E.g. ``body_settings("amosii", {}, climbing=True)["timestep"]`` is 0.005 (s), 0.01 without climbing. A user's
-    MJCF body: its options as given.
+    One physics for every run: a climbing run takes the same defaults as any other. E.g.
+    ``body_settings("amosii")["timestep"]`` is 0.01 (s). A user's MJCF body: its options as given.
     """
     info = body_info(name)
     defaults = {} if info is MJCF else {key: spec[0] for key, spec in (*info.options.items(), *info.choices.items())}
-    return {**defaults, **run_body_opts(name, opts, climbing)}
+    return {**defaults, **check_body_opts(name, dict(opts or {}))}
 
 
 def physics_settings(
-    name: str, opts: Mapping[str, Any] | None = None, control_hz: float = 10.0, climbing: bool = False
+    name: str, opts: Mapping[str, Any] | None = None, control_hz: float = 10.0
 ) -> dict[str, Any] | None:
     """The physics a run of body ``name`` steps, as it ran (None: a planar body).
 
@@ -254,7 +240,7 @@ def physics_settings(
     info = body_info(name)
     if info is not MJCF and not info.physics:
         return None
-    options = dict(run_body_opts(name, opts, climbing)) if info is not MJCF else dict(opts or {})
+    options = check_body_opts(name, dict(opts or {})) if info is not MJCF else dict(opts or {})
     return dict(_physics_of(name, json.dumps(options, sort_keys=True), float(control_hz)))
 
 
@@ -291,14 +277,13 @@ def make_body(
 ) -> Any:
     """Build body ``name`` in ``arena`` with its options.
 
-    ``climbing``: the controller climbs (a climbing body reads its obstacle-height scanner every step, and takes
-    its climbing defaults: :func:`body_settings`).
+    ``climbing``: the controller climbs (a climbing body reads its obstacle-height scanner every step).
     ``pad_boxes``: AMOSII's model with room for that many obstacle slots (the model :mod:`neurowalk.sim.batch`
     steps, bit for bit the plain model's physics); other bodies have one model and ignore it.
     """
     if body_info(name) is MJCF:  # it checks its options and its file as it builds (one compile)
         return UserMjcf(name, arena, opts, control_hz=control_hz, noise=noise)
-    options = run_body_opts(name, opts, climbing)
+    options = check_body_opts(name, dict(opts or {}))
     if name == "amosii":
         params = amosii_params(options)
         return AmosII(arena, params, control_hz=control_hz, noise=noise, scan_obstacles=climbing, pad_boxes=pad_boxes)
@@ -362,7 +347,4 @@ def body_listing() -> str:
             f"{'physics (MuJoCo)' if b.physics else 'planar'}; {'climbs' if b.climbs else 'does not climb'}",
             f"{'':10s} options: {opts or 'none'}",
         ]
-        if b.climbing_options:
-            climbing = ", ".join(f"{k}={v:g}" for k, v in b.climbing_options.items())
-            lines.append(f"{'':10s} climbing (reflexes or backbone on): {climbing} unless given")
     return "\n".join(lines)

@@ -213,14 +213,9 @@ def episode_args(p: argparse.ArgumentParser) -> None:
     p.add_argument("--steps", type=int, default=1000, help="control steps (default 1000: 100 s at 10 Hz)")
     control_hz_arg(p)
     p.add_argument("--seed", type=int, default=0, help="seed of every random draw (default 0)")
-    climbing = "; AMOSII then steps its physics at 5 ms, not 10 (--body-opt timestep=0.01 keeps 10)"
-    p.add_argument(
-        "--reflexes", action="store_true", help="local leg control: searching and elevation reflexes" + climbing
-    )
-    p.add_argument(
-        "--backbone", action="store_true", help="backbone joint control and climbable-step detection" + climbing
-    )
-    p.add_argument("--climb", action="store_true", help="both --reflexes and --backbone (climbing)" + climbing)
+    p.add_argument("--reflexes", action="store_true", help="local leg control: searching and elevation reflexes")
+    p.add_argument("--backbone", action="store_true", help="backbone joint control and climbable-step detection")
+    p.add_argument("--climb", action="store_true", help="both --reflexes and --backbone (climbing)")
     variant_args(p)
     p.add_argument("--gait", default="wave", help="{gaits} (default wave)")
 

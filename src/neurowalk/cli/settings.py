@@ -58,7 +58,7 @@ def _add(p: argparse.ArgumentParser, name: str) -> None:
             "--climb",
             dest="climbing",
             action="store_true",
-            help="leg reflexes and backbone control on (AMOSII's physics then steps at 5 ms, not 10)",
+            help="leg reflexes and backbone control on",
         )
     elif name in ("variant", "params"):
         variant_args(p, only=name)

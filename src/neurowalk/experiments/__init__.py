@@ -67,7 +67,7 @@ def _study(name: str, title: str, module: str, takes: str = "", body: str | None
     judged by its ``claims``; ``takes``: the optional settings it honours (a space-separated list)."""
     path = f"{__name__}.figures.{module}"
     at = {part: FunctionAt(path, part) for part in ("runs", "measure", "plot", "claims")}
-    return Study(name, title, takes=takes.split(), body=body, **at)  # type: ignore[arg-type]
+    return Study(name, title, takes=takes.split(), body=body, records_physics=True, **at)  # type: ignore[arg-type]
 
 
 PHYSICS = "seeds climbing variant gait engine control_hz"  # fig3 and fig5

@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from neurowalk.body.registry import physics_settings
 from neurowalk.runners.specs import episode_of, result_of
 from neurowalk.runners.stopping import deferred
 from neurowalk.runners.store import ResultStore
@@ -134,7 +135,9 @@ def run_store(
     order, its kept arrays as numpy arrays.
 
     A config asked for twice runs once, keeping every term asked for; a stored run lacking a term now asked for runs
-    again (keeping its old terms too). Each run is stored as it finishes: a stopped study (KeyboardInterrupt, raised
+    again (keeping its old terms too), and so does one stored with another physics than its config steps today
+    (``summary.json``'s ``physics``: a store of an older neurowalk; its key names the options given, not the
+    defaults). Each run is stored as it finishes: a stopped study (KeyboardInterrupt, raised
     here once the store is closed) keeps its finished runs. ``options``: how the engines run (MuJoCo Warp's device);
     ``backend``, ``address``: a process pool (``local``) or Ray (and the cluster to join); ``desc``: the progress
     bar's label. RuntimeError where runs failed.
@@ -144,14 +147,22 @@ def run_store(
     keys = [cfg.key() for cfg, _ in runs]
     wanted: dict[str, dict[str, Term]] = {}
     specs: dict[str, dict[str, Any]] = {}
+    configs: dict[str, EpisodeConfig] = {}
     for key, (cfg, terms) in zip(keys, runs, strict=True):
         wanted.setdefault(key, {}).update({t.name: t for t in terms})
         specs.setdefault(key, cfg.spec())
+        configs.setdefault(key, cfg)
     path.parent.mkdir(parents=True, exist_ok=True)
     with deferred():  # opened whole (its lock, its tables), or not at all
         store = ResultStore(path)
     with store:
         held = store.results(keys=wanted)
+
+        def stale(key: str) -> bool:
+            """A stored run of another physics than its config's today (an older neurowalk's): it runs again."""
+            cfg = configs[key]
+            return held[key].get("physics") != physics_settings(cfg.body, cfg.body_opts, cfg.control_hz)
+
         for key, terms in wanted.items():  # a run kept again keeps what it kept before (the union of the terms)
             old = held.get(key, {}).get("kept", {})
             if set(terms) - set(old) and key in held:
@@ -162,7 +173,7 @@ def run_store(
         report, ran = None, []
         for names, group in groups.items():
             terms_ = tuple(wanted[group[0]][n] for n in names)
-            redo = [k for k in group if k in held and set(names) - set(held[k].get("kept", {}))]
+            redo = [k for k in group if k in held and (set(names) - set(held[k].get("kept", {})) or stale(k))]
             ran += [k for k in group if k not in held] + redo
             report = run_sweep(
                 [specs[k] for k in group],

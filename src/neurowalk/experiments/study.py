@@ -17,6 +17,7 @@ from __future__ import annotations
 import dataclasses
 import importlib.util
 import itertools
+import json
 import sys
 from collections.abc import Callable, Hashable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
@@ -174,6 +175,8 @@ class Study:
         takes: the optional settings (:data:`OPTIONAL`) it honours; quick, seed and out it always takes.
         keeps_runs: its runs are kept in result stores in its folder (a stopped study goes on from them).
         body: the body its runs have where ``--body`` names none (for the checks of settings that need a body).
+        records_physics: its json says the physics its runs stepped (``physics_settings``, :func:`physics_of`): the
+            figures do; a user's study's summary is what its ``measure`` returns, nothing added.
         claims: ``claims(summary, quick) -> [Claim]``: its results judged against a reference
             (:mod:`neurowalk.experiments.reproduce.claims`) from its saved numbers; ``neurowalk reproduce`` runs and
             judges every study that has them.
@@ -189,6 +192,7 @@ class Study:
     keeps_runs: bool = True
     body: str | None = field(default=None, compare=False)  # the body its runs have unless --body says
     claims: Callable[[dict[str, Any], bool], list[Any]] | None = None
+    records_physics: bool = False
 
     def __post_init__(self) -> None:
         unknown = set(self.takes) - set(OPTIONAL)
@@ -236,7 +240,22 @@ def compute(study: Study, settings: Settings) -> Result:
         summary = RunSummary.from_dict({k: v for k, v in r.items() if k != "kept"})
         grouped.setdefault(label, []).append(Kept(summary, r.get("kept", {})))
     measured = study.measure(settings, grouped)  # type: ignore[misc]
-    return measured if isinstance(measured, Result) else Result(study.name, dict(measured))
+    result = measured if isinstance(measured, Result) else Result(study.name, dict(measured))
+    if study.records_physics:
+        result.summary["physics_settings"] = physics_of([k.summary for runs in grouped.values() for k in runs])
+    return result
+
+
+def physics_of(summaries: Iterable[RunSummary]) -> list[dict[str, Any]]:
+    """The physics the runs stepped, each distinct one once: ``{"body", "control_hz", **physics}`` (a run's
+    ``physics``: the step as it ran, its substeps, integrator, solver, cone, ...); a planar body's none."""
+    seen: dict[str, dict[str, Any]] = {}
+    for r in summaries:
+        if r.physics is None:
+            continue
+        rec = {"body": r.body, "control_hz": r.control_hz, **dict(r.physics)}
+        seen.setdefault(json.dumps(rec, sort_keys=True), rec)
+    return list(seen.values())
 
 
 def grid(base: EpisodeConfig, seeds: Iterable[int], **axes: Iterable[Any]) -> Iterator[tuple[tuple, EpisodeConfig]]:

@@ -18,7 +18,7 @@ import numpy as np
 
 from neurowalk.arenas import ArenaSpec, arena_options, make_arena
 from neurowalk.body.registry import BODIES as REGISTRY
-from neurowalk.body.registry import body_info, check_body_opts, make_body, run_body_opts
+from neurowalk.body.registry import body_info, check_body_opts, make_body
 from neurowalk.body.surrogate import load_calibration
 from neurowalk.controller import CONTROLLERS, Controller, make_controller
 from neurowalk.fileio import to_jsonable
@@ -198,7 +198,7 @@ class EpisodeConfig:
         }
         canonical = {
             "params": check_overrides(self.params) if self.params else None,
-            "body_opts": run_body_opts(self.body, dict(self.body_opts), self.climbing),  # a climbing run's physics
+            "body_opts": check_body_opts(self.body, dict(self.body_opts)),
         }
         for name in LATER:
             value = canonical.get(name, getattr(self, name))

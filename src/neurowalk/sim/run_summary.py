@@ -31,8 +31,8 @@ class RunSummary:
         gait: the CPG's gait.
         arena_opts: the arena's options, all filled in.
         body_opts: the body's options as given.
-        body_settings: every option of the body with the value the run used: given, or the climbing default where
-            the controller climbs (AMOSII's 0.005 s step), or the default (None: an older run).
+        body_settings: every option of the body with the value the run used: given, or its default (None: an older
+            run).
         physics: the physics as it ran (``body.registry.physics_settings``: the step after fitting to the control
             rate, its substeps, integrator, solver, cone, Jacobian, iterations, tolerance); None: a planar body.
         params: SensoryParams fields set over the variant, or None.

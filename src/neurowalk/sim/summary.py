@@ -181,8 +181,8 @@ def summarize(
         "params": cfg.params,
         "gait": cfg.gait,
         "body_opts": cfg.body_opts,
-        "body_settings": body_settings(cfg.body, cfg.body_opts, cfg.climbing),
-        "physics": physics_settings(cfg.body, cfg.body_opts, cfg.control_hz, cfg.climbing),
+        "body_settings": body_settings(cfg.body, cfg.body_opts),
+        "physics": physics_settings(cfg.body, cfg.body_opts, cfg.control_hz),
         "final_z_m": rec.final_z,  # trunk height (None: planar body)
         "max_z_m": rec.max_z,
         "exit_step": metrics.exit_step(pose, arena),

@@ -170,6 +170,8 @@ class WarpWorlds(LockstepWorlds):
             raise ValueError("engine 'warp' steps the controllers compiled only (plastic, static, braitenberg, fixed)")
         slots = np.array([model.geom(f"obstacle_{k}").id for k in range(self.max_boxes)], dtype=int)
         rows = [slot_rows(a, self.max_boxes) for a in self.arenas]
+        # Warp's sparse constraint Jacobian does not repeat a run bit for bit; the dense one is the same physics
+        model.opt.jacobian = mujoco.mjtJacobian.mjJAC_DENSE
         with wp.ScopedDevice(self.device):
             self.wmodel = mjw.put_model(model, batch_sizes={f"geom_{f}": n for f in GEOM_FIELDS})
             self.wmodel.opt.deterministic = int(mjw.DeterminismType.ALL if deterministic else mjw.DeterminismType.NONE)
@@ -198,6 +200,8 @@ class WarpWorlds(LockstepWorlds):
             d.qpos.assign(qpos)
             d.qvel.zero_()
             d.ctrl.assign(np.tile(key.ctrl, (self.n, 1)))
+            if m.na:  # the servos' lagged targets (BodyParams.servo_timeconst)
+                d.act.assign(np.tile(key.act, (self.n, 1)))
             d.time.fill_(float(key.time[0]))
             for name, rows in (("geom_xpos", self._slot_xpos), ("geom_xmat", self._slot_xmat)):
                 full = getattr(d, name).numpy()

@@ -9,9 +9,9 @@ example's height only: those rates are for the real-robot comparison), through t
 in the output folder; the success rule is in the json. Every run lasts at most
 :data:`~neurowalk.experiments.suites.climbing.TRACK_S` s of simulated time at the control rate ``control_hz`` (10 Hz
 by default, the authors' simulator; 27 Hz is the real robot's); with ``quick`` at a high rate, at most
-:data:`QUICK_MAX_STEPS` control steps; it stops once on the second platform. AMOSII's physics steps at 5 ms (the
-climbing modules are on). The json's ``real_robot`` entry puts the paper's times (on the first
-platform at 0:23 min, on the second at 1:14 min, with the controller at 27 Hz) beside the simulated ones.
+:data:`QUICK_MAX_STEPS` control steps; it stops once on the second platform. The json's ``real_robot`` entry puts
+the paper's times (on the first platform at 0:23 min, on the second at 1:14 min, with the controller at 27 Hz) beside
+the simulated ones.
 """
 
 from __future__ import annotations

@@ -4,8 +4,8 @@ The robot walks straight at a single step (arena ``steps``, steering fixed forwa
 backbone control both on, each alone, and neither; ``seeds`` seeds (default 10; 3 with ``quick``) per
 height and variant, through the resumable store in the output folder. Every run lasts at most
 :data:`~neurowalk.experiments.suites.climbing.STEP_S` s of simulated time at the control rate ``control_hz`` (10 Hz by
-default; with ``quick`` at a high rate, at most :data:`QUICK_MAX_STEPS` control steps); it stops once climbed. With a
-climbing module on, AMOSII's physics steps at 5 ms (``neither`` walks at 10 ms). The json gives each
+default; with ``quick`` at a high rate, at most :data:`QUICK_MAX_STEPS` control steps); it stops once climbed. Every
+variant steps the same physics. The json gives each
 variant's climb rate per height, the median time to climb (s) and its highest step climbed reliably (rule in the
 json).
 """

@@ -166,8 +166,22 @@ def render_details(out: Path, quick: bool) -> str:
             continue
         lines += ["", f"## {item.name}", "", f"{item.paper} ([in the report](report.md#{item.name})).", ""]
         lines += [f"- **{c['what']}** ({c['verdict']}): {c['rule']}." for c in rec["claims"]]
+        lines += _physics(out, rec)
         lines += _side_by_side(rec)
     return "\n".join(lines) + "\n"
+
+
+def _physics(out: Path, rec: dict[str, Any]) -> list[str]:
+    """The physics the result's runs stepped (its json's ``physics_settings``), a line each; none for a result
+    without physics runs."""
+    path = Path(out) / rec["files"]["json"]
+    physics = json.loads(path.read_text()).get("physics_settings", []) if path.is_file() else []
+    return [
+        f"- Physics of its `{p['body']}` runs at `{p['control_hz']:g} Hz`: `{p['substeps']}` steps of "
+        f"`{p['timestep_s'] * 1000:.4g} ms` a control step, `{p['integrator']}`, `{p['solver']}` to "
+        f"`{p['tolerance']:g}` (at most `{p['iterations']}` iterations), the `{p['cone']}` friction cone."
+        for p in physics
+    ]
 
 
 def _interval(c: dict[str, Any]) -> str:

@@ -10,8 +10,7 @@
   climbed reliably is the highest height at which at least :data:`RELIABLE` of the seeds climbed, all
   lower heights included.
 
-With the climbing modules on, AMOSII's physics steps at 5 ms, not 10
-(:data:`~neurowalk.body.registry.CLIMBING_TIMESTEP`); the ``neither`` variant walks at the 10 ms step.
+Every variant steps the same physics (AMOSII's defaults), the climbing modules on or off.
 
 Run lengths are in seconds of simulated time, turned into control steps at the run's control rate
 (:func:`~neurowalk.experiments.suites.timing.steps_for`; at 10 Hz, the default, 12,000 and 3000 steps).
