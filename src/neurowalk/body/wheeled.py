@@ -14,7 +14,8 @@ over at ``scale`` = 1:
   axle sits where AMOSII's trunk centre is (``front`` = 0.2301 m behind the front face); the wheels' outer faces are
   the footprint's sides.
 - Forward speed at full forward command (steering (-1, -1)): 0.01415 m/s, AMOSII's measured forward speed at that
-  steering in the surrogate calibration (``body/data/calibration.json``, ``velocity[0][0][0]``). The wheel speed
+  steering in the surrogate calibration before issue 51 (``body/data/calibration.json``, ``velocity[0][0][0]``;
+  0.01435 m/s at the physics of issue 51). The wheel speed
   limit is ``omega_max`` = speed / wheel_radius (0.472 rad/s by default). Turning on the spot at (-1, 1) is then
   2·speed / track = 0.0787 rad/s in theory (track 0.3596 m), where AMOSII turns at
   0.045 rad/s (calibration, steering (-1, 1)): an axle as wide as the footprint cannot turn as slowly as the hexapod

@@ -50,8 +50,10 @@ def test_backbone_control_alone_climbs_higher_than_the_reflexes_alone():
 
 @pytest.mark.slow
 def test_without_climbing_modules_a_4_cm_step_stops_the_robot_with_them_it_is_climbed():
+    """Climbed reliably by the steps figure's rule (at least 80% of the seeds): seed 0 does not at the 10 ms step (it
+    does at 2.5 ms, and seeds 1-3 at both: the one climbing case of the figures not converged, issue 51's note)."""
     assert not _climbs(0.04, "neither")
-    assert _climbs(0.04, "reflexes + backbone")
+    assert sum(_climbs(0.04, "reflexes + backbone", seed) for seed in range(5)) >= 4
 
 
 @pytest.mark.slow
@@ -123,10 +125,10 @@ def test_first_platform_is_the_trunk_centre_0_3_m_past_its_edge():
 
 
 def test_a_27_hz_track_run_reports_its_events_on_the_27_hz_clock(monkeypatch, tmp_path):
-    monkeypatch.setattr(fig10, "TRACK_S", 1800 / 27.0)
+    monkeypatch.setattr(fig10, "TRACK_S", 2700 / 27.0)  # 100 s: seed 0 is on the first platform by then
     res = compute(FIGURES["fig10"], Settings(seeds=1, out=tmp_path, control_hz=27.0))
     s = res.summary
-    assert s["control_hz"] == 27.0 and s["duration_s"] == pytest.approx(1800 / 27.0)
+    assert s["control_hz"] == 27.0 and s["duration_s"] == pytest.approx(2700 / 27.0)
     row = s["table"]["0.06"]["runs"][0]
     k = row["first_platform_step"]
     assert k is not None and k == s["example"]["first_platform_step"]  # the example is the stored seed
@@ -134,7 +136,7 @@ def test_a_27_hz_track_run_reports_its_events_on_the_27_hz_clock(monkeypatch, tm
     first = s["real_robot"]["events"]["on the first platform"]
     assert first["paper_s"] == 23.0 and first["sim"]["times_s"] == [row["first_platform_time_s"]]
     assert s["real_robot"]["same_clock"] and s["real_robot"]["control_hz"] == 27.0
-    assert res.arrays["t"][-1] == pytest.approx(1800 / 27.0, rel=1e-3)
+    assert res.arrays["t"][-1] == pytest.approx(2700 / 27.0, rel=1e-3)
     assert s["moments_s"]["first climb"] == pytest.approx(s["moments"]["first climb"] / 27.0)
 
 
