@@ -2,11 +2,17 @@
 
 from __future__ import annotations
 
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
 import mujoco
 import numpy as np
 import pytest
 
 from neurowalk.arenas import make_arena
+from neurowalk.body import registry
 from neurowalk.body.registry import (
     BODIES,
     body_info,
@@ -20,6 +26,37 @@ from neurowalk.observation import Observation
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
 PHYSICS = [name for name, info in BODIES.items() if info.physics]
+REGISTRY = Path(registry.__file__)
+
+
+def test_an_unknown_body_fails_naming_the_known_ones(tmp_path):
+    """From Python and from the command line: one line naming every body of the table."""
+    with pytest.raises(ValueError, match="unknown body 'nosuchbody'; expected one of " + ", ".join(BODIES)):
+        make_body("nosuchbody", make_arena("open"))
+    run = subprocess.run(
+        [sys.executable, "-m", "neurowalk", "run", "--body", "nosuchbody", "--steps", "5", "--out", str(tmp_path)],
+        capture_output=True,
+        text=True,
+    )
+    assert run.returncode == 2 and all(name in run.stderr for name in BODIES), run.stderr
+
+
+def test_the_registry_dispatches_on_its_table_not_on_names():
+    """Each body is built by its entry's callables: registry.py compares no string with a body's name (a new body is
+    an entry, not a branch), and each entry builds a body of its own kind."""
+    tree = ast.parse(REGISTRY.read_text())
+    compared = [
+        c.value
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Compare)
+        for c in [node.left, *node.comparators]
+        if isinstance(c, ast.Constant) and isinstance(c.value, str)
+    ]
+    assert not set(compared) & set(BODIES), compared
+    arena = make_arena("open")
+    kinds = {name: type(make_body(name, arena, noise=0.0)).__name__ for name in BODIES}
+    assert kinds["amosii"] != kinds["wheeled"] != kinds["surrogate"]
+    assert kinds["surrogate"] == kinds["surrogate-wheeled"]
 
 
 def test_names_options_and_listing():

@@ -21,7 +21,7 @@ from __future__ import annotations
 import functools
 import json
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -54,6 +54,16 @@ class BodyInfo:
         viewer: ``neurowalk view`` shows it live in MuJoCo's viewer.
         lockstep: it runs as lock-step worlds (``mujoco.batch``, MuJoCo Warp): one model structure for every arena.
         gait_refusal: why it takes no gait but the wave gait (None: it takes every gait).
+        build: ``build(name, arena, options, control_hz=, noise=, climbing=, pad_boxes=)`` -> the body (its
+            options checked): :func:`make_body` calls it.
+        check: ``check(name, options) -> options``: the options' own checks beyond their ranges (None: none).
+        xml: ``xml(options, world) -> str``: the self-contained MJCF of a built-in physics body around ``world``
+            (None: it has none to export).
+        model: ``model(name, options) -> MjModel``: the model whose physics a run steps (None: a planar body).
+        replay: ``replay(name, options, arena, qpos) -> contacts``: obstacle contact of recorded positions (None:
+            replayed in the model :attr:`build` makes).
+        prefix: the entry of every body named ``PREFIX...`` (``mjcf:``: a user's file); its options are checked
+            as it builds (None: a built-in body of this name).
     """
 
     name: str
@@ -71,11 +81,79 @@ class BodyInfo:
     lockstep: bool = False
     viewer: bool = False
     gait_refusal: str | None = "takes the steering pair (no legs), no gait;"
+    build: Callable[..., Any] = field(kw_only=True, compare=False, repr=False)
+    check: Callable[[str, dict[str, Any]], dict[str, Any]] | None = field(default=None, compare=False, repr=False)
+    xml: Callable[[dict[str, Any], str], str] | None = field(default=None, compare=False, repr=False)
+    model: Callable[[str, dict[str, Any]], mujoco.MjModel] | None = field(default=None, compare=False, repr=False)
+    replay: Callable[..., np.ndarray] | None = field(default=None, compare=False, repr=False)
+    prefix: str | None = None
 
     def check_gait(self, gait: str) -> None:
         """ValueError unless the body takes ``gait`` (a name of :data:`neurowalk.neural.cpg.GAITS`)."""
         if gait != "wave" and self.gait_refusal is not None:
             raise ValueError(f"body {self.name!r} {self.gait_refusal} got gait {gait!r}")
+
+
+def amosii_params(opts: Mapping[str, Any] | None = None) -> BodyParams:
+    """AMOSII's numbers with its body options (``timestep``, ``solver_iterations``, ``integrator``, ...; checked by
+    :func:`check_body_opts`) set over the defaults."""
+    options = dict(opts or {})
+    if "solver_iterations" in options:
+        n = options["solver_iterations"]
+        if float(n) != int(n):
+            raise ValueError(f"option 'solver_iterations' of body 'amosii' must be a whole number, got {n!r}")
+        options["solver_iterations"] = int(n)
+    return BodyParams(**options) if options else BodyParams()
+
+
+def _check_amosii(name: str, options: dict[str, Any]) -> dict[str, Any]:
+    amosii_params(options)  # a whole number of iterations, and BodyParams' own checks
+    return options
+
+
+def _build_amosii(name: str, arena: ArenaSpec, options: dict[str, Any], *, climbing: bool = False,
+                  pad_boxes: int | None = None, **rate: Any) -> AmosII:  # fmt: skip
+    return AmosII(arena, amosii_params(options), scan_obstacles=climbing, pad_boxes=pad_boxes, **rate)
+
+
+def _build_planar(name: str, arena: ArenaSpec, options: dict[str, Any], *, control_hz: float, noise: float,
+                  **_: Any) -> Surrogate:  # fmt: skip
+    cal = load_calibration(body=name)  # each planar body reads its own calibration file
+    body = Surrogate(arena, cal.scaled(**options) if options else cal, noise=noise, name=name)
+    if control_hz != body.control_hz:
+        raise ValueError(f"body {name!r} is calibrated at {body.control_hz} Hz, got control_hz {control_hz}")
+    return body
+
+
+def _build_wheeled(name: str, arena: ArenaSpec, options: dict[str, Any], *, control_hz: float, noise: float,
+                   **_: Any) -> Wheeled:  # fmt: skip
+    return Wheeled(arena, WheeledParams(**options), control_hz=control_hz, noise=noise)
+
+
+def _build_mjcf(name: str, arena: ArenaSpec, options: dict[str, Any], *, control_hz: float, noise: float,
+                **_: Any) -> UserMjcf:  # fmt: skip
+    return UserMjcf(name, arena, options, control_hz=control_hz, noise=noise)
+
+
+def _amosii_xml(options: dict[str, Any], world: str) -> str:
+    return amosii_xml(amosii_params(options), world=world)
+
+
+def _wheeled_xml(options: dict[str, Any], world: str) -> str:
+    return wheeled_xml(WheeledParams(**options), world=world)
+
+
+def _model_of(xml: Callable[[dict[str, Any], str], str]) -> Callable[[str, dict[str, Any]], mujoco.MjModel]:
+    """The model of a built-in physics body, from its MJCF."""
+    return lambda name, options: mujoco.MjModel.from_xml_string(xml(options, ""))
+
+
+def _mjcf_model(name: str, options: dict[str, Any]) -> mujoco.MjModel:
+    return mujoco.MjModel.from_xml_path(name.removeprefix("mjcf:"))
+
+
+def _replay_amosii(name: str, options: dict[str, Any], arena: ArenaSpec, qpos: np.ndarray) -> np.ndarray:
+    return obstacle_contacts(arena, qpos, params=amosii_params(options))
 
 
 #: Options of the planar (calibrated) bodies: the measured motion with its speeds or yaw rates scaled.
@@ -98,6 +176,11 @@ BODIES: dict[str, BodyInfo] = {
         gait_refusal=None,
         lockstep=True,
         viewer=True,
+        build=_build_amosii,
+        check=_check_amosii,
+        xml=_amosii_xml,
+        model=_model_of(_amosii_xml),
+        replay=_replay_amosii,
         options={
             "timestep": (0.01, 0.001, 0.02, "physics step (s); a control step is a whole number of them"),
             "solver_iterations": (20, 1, 1000, "most solver iterations of a physics step (whole number)"),
@@ -123,6 +206,7 @@ BODIES: dict[str, BodyInfo] = {
         False,
         PLANAR_OPTIONS,
         gait_refusal="is calibrated on the wave gait,",
+        build=_build_planar,
     ),
     "wheeled": BodyInfo(
         "wheeled",
@@ -134,6 +218,9 @@ BODIES: dict[str, BodyInfo] = {
         False,
         {"scale": (1.0, 0.05, 4.0, "every length and the speed x scale (0.1: a Khepera-sized robot)")},
         surrogate="surrogate-wheeled",
+        build=_build_wheeled,
+        xml=_wheeled_xml,
+        model=_model_of(_wheeled_xml),
     ),
     "surrogate-wheeled": BodyInfo(
         "surrogate-wheeled",
@@ -144,6 +231,7 @@ BODIES: dict[str, BodyInfo] = {
         False,
         False,
         PLANAR_OPTIONS,
+        build=_build_planar,
     ),
 }
 
@@ -157,24 +245,16 @@ MJCF = BodyInfo(
     True,
     False,
     {},
+    build=_build_mjcf,
+    check=check_opts,
+    model=_mjcf_model,
+    prefix="mjcf:",
 )
-
-
-def amosii_params(opts: Mapping[str, Any] | None = None) -> BodyParams:
-    """AMOSII's numbers with its body options (``timestep``, ``solver_iterations``, ``integrator``, ...; checked by
-    :func:`check_body_opts`) set over the defaults."""
-    options = dict(opts or {})
-    if "solver_iterations" in options:
-        n = options["solver_iterations"]
-        if float(n) != int(n):
-            raise ValueError(f"option 'solver_iterations' of body 'amosii' must be a whole number, got {n!r}")
-        options["solver_iterations"] = int(n)
-    return BodyParams(**options) if options else BodyParams()
 
 
 def body_info(name: str) -> BodyInfo:
     """The registry entry of ``name`` (``mjcf:FILE``: the user-file entry); ValueError names an unknown body."""
-    if name.startswith("mjcf:"):
+    if MJCF.prefix and name.startswith(MJCF.prefix):
         return MJCF
     if name not in BODIES:
         raise ValueError(f"unknown body {name!r}; expected one of {', '.join(BODIES)}, or mjcf:FILE.xml")
@@ -187,13 +267,11 @@ def bodies_where(test: Any) -> tuple[str, ...]:
 
 
 def check_body_opts(name: str, opts: dict[str, Any]) -> dict[str, Any]:
-    """The body's options as numbers (a named option as its name), each checked against its range or its names;
-    ValueError names a bad key or value."""
+    """The body's options as numbers (a named option as its name), each checked against its range or its names,
+    then by the body's own :attr:`BodyInfo.check`; ValueError names a bad key or value."""
     info = body_info(name)
-    if info is MJCF:
-        return check_opts(name, opts)
-    out = {}
-    for key, value in opts.items():
+    out = {} if info.prefix is None else dict(opts)
+    for key, value in opts.items() if info.prefix is None else ():
         if key in info.choices:
             _, allowed, _ = info.choices[key]
             if value not in allowed:
@@ -211,9 +289,7 @@ def check_body_opts(name: str, opts: dict[str, Any]) -> dict[str, Any]:
         if isinstance(value, bool) or not math.isfinite(number) or not low <= number <= high:
             raise ValueError(f"body option {key} must be a number in [{low}, {high}], got {value!r}")
         out[key] = number
-    if name == "amosii":
-        amosii_params(out)  # a whole number of iterations, and BodyParams' own checks
-    return out
+    return info.check(name, out) if info.check is not None else out
 
 
 def body_settings(name: str, opts: Mapping[str, Any] | None = None) -> dict[str, Any]:
@@ -223,7 +299,7 @@ def body_settings(name: str, opts: Mapping[str, Any] | None = None) -> dict[str,
     ``body_settings("amosii")["timestep"]`` is 0.01 (s). A user's MJCF body: its options as given.
     """
     info = body_info(name)
-    defaults = {} if info is MJCF else {key: spec[0] for key, spec in (*info.options.items(), *info.choices.items())}
+    defaults = {key: spec[0] for key, spec in (*info.options.items(), *info.choices.items())}
     return {**defaults, **check_body_opts(name, dict(opts or {}))}
 
 
@@ -238,19 +314,15 @@ def physics_settings(
     ``physics_settings("amosii")["timestep_s"]`` is 0.01.
     """
     info = body_info(name)
-    if info is not MJCF and not info.physics:
+    if info.model is None:
         return None
-    options = check_body_opts(name, dict(opts or {})) if info is not MJCF else dict(opts or {})
+    options = check_body_opts(name, dict(opts or {})) if info.prefix is None else dict(opts or {})
     return dict(_physics_of(name, json.dumps(options, sort_keys=True), float(control_hz)))
 
 
 @functools.lru_cache(maxsize=64)
 def _physics_of(name: str, options: str, control_hz: float) -> tuple[tuple[str, Any], ...]:
-    opts = json.loads(options)
-    if name.startswith("mjcf:"):
-        model = mujoco.MjModel.from_xml_path(name.removeprefix("mjcf:"))
-    else:
-        model = mujoco.MjModel.from_xml_string(body_xml(name, opts))
+    model = body_info(name).model(name, json.loads(options))  # type: ignore[misc]
     o = model.opt
     n = n_substeps(control_hz, o.timestep)
     return (
@@ -275,34 +347,34 @@ def make_body(
     climbing: bool = False,
     pad_boxes: int | None = None,
 ) -> Any:
-    """Build body ``name`` in ``arena`` with its options.
+    """Build body ``name`` in ``arena`` with its options (its registry entry's :attr:`BodyInfo.build`).
 
     ``climbing``: the controller climbs (a climbing body reads its obstacle-height scanner every step).
     ``pad_boxes``: AMOSII's model with room for that many obstacle slots (the model :mod:`neurowalk.sim.batch`
-    steps, bit for bit the plain model's physics); other bodies have one model and ignore it.
+    steps, bit for bit the plain model's physics); other bodies have one model and ignore it. ValueError names an
+    unknown body (and the known ones) or a bad option.
     """
-    if body_info(name) is MJCF:  # it checks its options and its file as it builds (one compile)
-        return UserMjcf(name, arena, opts, control_hz=control_hz, noise=noise)
-    options = check_body_opts(name, dict(opts or {}))
-    if name == "amosii":
-        params = amosii_params(options)
-        return AmosII(arena, params, control_hz=control_hz, noise=noise, scan_obstacles=climbing, pad_boxes=pad_boxes)
-    if not BODIES[name].physics:  # surrogate, surrogate-wheeled: each reads its own calibration file
-        cal = load_calibration(body=name)
-        body = Surrogate(arena, cal.scaled(**options) if options else cal, noise=noise, name=name)
-        if control_hz != body.control_hz:
-            raise ValueError(f"body {name!r} is calibrated at {body.control_hz} Hz, got control_hz {control_hz}")
-        return body
-    return Wheeled(arena, WheeledParams(**options), control_hz=control_hz, noise=noise)
+    info = body_info(name)
+    options = dict(opts or {}) if info.prefix is not None else check_body_opts(name, dict(opts or {}))
+    return info.build(name, arena, options, control_hz=control_hz, noise=noise, climbing=climbing, pad_boxes=pad_boxes)
+
+
+def body_model(name: str, arena: ArenaSpec, opts: dict[str, Any] | None = None) -> mujoco.MjModel:
+    """The MuJoCo model of physics body ``name`` in ``arena`` (what a picture of its recorded positions renders);
+    ValueError for a planar body."""
+    if body_info(name).model is None:
+        raise ValueError(f"body {name!r} is planar: it has no MuJoCo model")
+    return make_body(name, arena, opts, noise=0.0).model
 
 
 def replay_contacts(name: str, opts: dict[str, Any], arena: ArenaSpec, qpos: np.ndarray) -> np.ndarray:
     """Per-row obstacle contact (1.0 / 0.0) of recorded positions ``qpos`` (T, nq) of a physics body, replayed in a
     fresh model of its arena (collision depends on positions only): the robot touching any geom of the world but
     a plane."""
-    if name == "amosii":
-        return obstacle_contacts(arena, qpos)
-    model = make_body(name, arena, opts, noise=0.0).model
+    info = body_info(name)
+    if info.replay is not None:
+        return info.replay(name, opts, arena, qpos)
+    model = body_model(name, arena, opts)
     if qpos.ndim != 2 or qpos.shape[1] != model.nq:
         raise ValueError(f"qpos must have shape (T, {model.nq}), got {qpos.shape}")
     data = mujoco.MjData(model)
@@ -320,13 +392,11 @@ def replay_contacts(name: str, opts: dict[str, Any], arena: ArenaSpec, qpos: np.
 
 def body_xml(name: str, opts: dict[str, Any] | None = None, world: str = "") -> str:
     """The self-contained MJCF of physics body ``name`` with its options, around ``world`` (an arena's
-    ``to_mjcf()``); ValueError for a planar body."""
-    options = check_body_opts(name, opts or {})
-    if name == "amosii":
-        return amosii_xml(amosii_params(options), world=world)
-    if name == "wheeled":
-        return wheeled_xml(WheeledParams(**options), world=world)
-    raise ValueError(f"body {name!r} has no built-in MuJoCo model to export")
+    ``to_mjcf()``); ValueError for a body without one (a planar body, a user's file)."""
+    info = body_info(name)
+    if info.xml is None:
+        raise ValueError(f"body {name!r} has no built-in MuJoCo model to export")
+    return info.xml(check_body_opts(name, opts or {}), world)
 
 
 def body_listing() -> str:
@@ -337,7 +407,7 @@ def body_listing() -> str:
             [f"{k}={d:g} ({lo:g} to {hi:g}: {what})" for k, (d, lo, hi, what) in b.options.items()]
             + [f"{k}={d} ({' | '.join(names)}: {what})" for k, (d, names, what) in b.choices.items()]
         )
-        if b is MJCF:
+        if b.prefix is not None:
             opts = "drive (wheels|legs), left, right, right_motor, left_motor (names), key, range (m), speed (rad/s)"
         lines += [
             f"{b.name:10s} {b.summary}",

@@ -302,6 +302,12 @@ class Surrogate:
         return out
 
 
+def steered_poses(cal: Calibration, arena: ArenaSpec, steps: int, steer: tuple[float, float]) -> np.ndarray:
+    """Poses (steps, 3) (x m, y m, yaw rad) of a noiseless surrogate of calibration ``cal`` in ``arena``, steered
+    with the fixed pair ``steer`` (O1, O2) from the arena's start pose: how calibration checks a fitted motion."""
+    return Surrogate(arena, cal, noise=0.0).run(steps, np.random.default_rng(0), None, None, steer=steer).pose
+
+
 class Walker:
     """The surrogate stepped one control step at a time from Python, steered from outside (e.g. a Gymnasium agent).
 

@@ -18,7 +18,7 @@ import numpy as np
 
 import neurowalk
 from neurowalk.arenas import make_arena
-from neurowalk.body.surrogate import CALIBRATION_FILES, Calibration, Surrogate
+from neurowalk.body.surrogate import CALIBRATION_FILES, Calibration, steered_poses
 from neurowalk.experiments.calibration.fit import body_velocity, fit_lag, sway_fit, yaw_sway
 from neurowalk.experiments.calibration.physics import fit_startup, geometry, steady_poses, steady_table, step_runs
 from neurowalk.experiments.calibration.subjects import (
@@ -40,10 +40,8 @@ def surrogate_velocity(cal: Calibration, pairs: Sequence[tuple[float, float]]) -
     """Steady velocity (n, 3) of the surrogate at steering pairs, measured like the physics robot's."""
     out = []
     for a, b in pairs:
-        run = Surrogate(make_arena("open"), cal, noise=0.0).run(
-            WARMUP + WINDOW, np.random.default_rng(0), None, None, steer=(a, b)
-        )
-        out.append(body_velocity(run.pose[WARMUP:], cal.control_hz))
+        pose = steered_poses(cal, make_arena("open"), WARMUP + WINDOW, (a, b))
+        out.append(body_velocity(pose[WARMUP:], cal.control_hz))
     return np.asarray(out)
 
 

@@ -24,7 +24,7 @@ from matplotlib.patches import Polygon
 
 from neurowalk import anatomy
 from neurowalk.arenas import make_arena
-from neurowalk.body.physics import AmosII
+from neurowalk.body.registry import body_model
 from neurowalk.experiments import Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, outcome
 from neurowalk.experiments.stores import Kept, Term
@@ -133,7 +133,9 @@ def measure(s: Settings, runs: Mapping[float, Sequence[Kept]]) -> Result:
     kept = ex.kept["fig10 example"]
     moments = kept["moments"]
     arena = make_arena("climbing-track", step=step)
-    frames = render_frames(AmosII(arena).model, kept["moment_qpos"], distance=1.4, elevation=-50.0, centred=True)
+    frames = render_frames(
+        body_model("amosii", arena), kept["moment_qpos"], distance=1.4, elevation=-50.0, centred=True
+    )
     table = {f"{h:.2f}": _height_row([_track_row(r) for r in runs[h]], h, s.seed, control_hz) for h in _heights(s)}
     summary = {
         "step_m": step,

@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from neurowalk.body.physics import AmosII
+from neurowalk.body.registry import body_model
 from neurowalk.experiments.reproduce.claims import Claim, timing
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.long_runs import sample_steps
@@ -137,7 +137,7 @@ def snapshots(
 ) -> np.ndarray:
     """Rendered frames (len(rows), height, width, 3) of the run's positions ``qpos`` (T, nq) at ``rows``."""
     view = camera_view(arena, aspect=width / height)
-    return render_frames(AmosII(arena).model, qpos[rows], view=view, width=width, height=height)
+    return render_frames(body_model("amosii", arena), qpos[rows], view=view, width=width, height=height)
 
 
 def network_arrays(
@@ -205,7 +205,7 @@ def network_words(variant: str, params: Mapping[str, float] | None = None) -> di
 def write_videos(name: str, arena: ArenaSpec, examples: dict[str, dict[str, Any]], out: Path) -> list[str]:
     """One mp4 per network's example run in ``out`` (camera tracking the trunk, :data:`VIDEO_SPEEDUP` x simulated
     time); the paths written."""
-    model = AmosII(arena).model
+    model = body_model("amosii", arena)
     paths = []
     for net, ex in examples.items():
         path = Path(out) / f"{name}-{net}-seed{ex['summary']['seed']}.mp4"
