@@ -151,7 +151,7 @@ def table2(device: str, envs: int, cpu_envs: int, steps: int | None) -> dict[str
 
     def configs(engine: str, n: int) -> list[Any]:
         s = Settings(quick=True, body="amosii", engine=engine, seeds=n, device=device if engine == "warp" else None)
-        runs = [cfg for _, cfg, _ in planned(FIGURES["table2"], s)]
+        runs = [p.config for p in planned(FIGURES["table2"], s)]
         return [cfg.replace(steps=steps) for cfg in runs] if steps else runs
 
     out: dict[str, Any] = {}

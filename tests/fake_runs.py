@@ -8,7 +8,7 @@ from typing import Any
 
 import numpy as np
 
-from neurowalk.experiments import FIGURES, Result, Settings
+from neurowalk.experiments import FIGURES, Plan, Result, Settings
 from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.study import planned, resolve
 from neurowalk.experiments.suites import long_runs
@@ -16,8 +16,8 @@ from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.run_summary import RunSummary
 
 
-def plan(name: str, s: Settings) -> list[tuple[Any, EpisodeConfig, tuple]]:
-    """The runs figure ``name`` asks for with settings ``s``: (label, config with the settings applied, terms)."""
+def plan(name: str, s: Settings) -> list[Plan]:
+    """The runs figure ``name`` asks for with settings ``s``: each a Plan (its config with the settings applied)."""
     study = FIGURES[name]
     study.check(s)
     return planned(study, resolve(study, s))
@@ -64,10 +64,10 @@ def fake_measure(
     """The configs figure ``name`` runs with ``s``, and its measure of stand-ins (``summary(config)`` each)."""
     runs = plan(name, s)
     grouped: dict[Any, list[Kept]] = {}
-    for label, cfg, terms in runs:
-        kept = kept_of(cfg, [t.name for t in terms])
-        grouped.setdefault(label, []).append(Kept(RunSummary.from_dict(summary(cfg)), kept))
-    return [cfg for _, cfg, _ in runs], FIGURES[name].measure(s, grouped)  # type: ignore[misc]
+    for p in runs:
+        kept = kept_of(p.config, [t.name for t in p.terms])
+        grouped.setdefault(p.label, []).append(Kept(RunSummary.from_dict(summary(p.config)), kept, p))
+    return [p.config for p in runs], FIGURES[name].measure(s, grouped)  # type: ignore[misc]
 
 
 def dead_end_table(s: Settings, variants: dict[str, tuple[str, dict]]) -> dict[str, Any]:
@@ -78,7 +78,7 @@ def dead_end_table(s: Settings, variants: dict[str, tuple[str, dict]]) -> dict[s
     from neurowalk.experiments.stores import run_store
     from neurowalk.experiments.suites.deadends import table_counts, table_runs
 
-    runs = [(label, s.apply(cfg)) for label, cfg, _ in table_runs(s, variants)]
+    runs = [(p.label, s.apply(p.config)) for p in table_runs(s, variants)]
     with tempfile.TemporaryDirectory() as tmp:
         results = run_store([(cfg, ()) for _, cfg in runs], Path(tmp), s.workers or 2)
     grouped: dict[Any, list[Kept]] = {}

@@ -536,10 +536,10 @@ REPRODUCE_CASES = [
 
 STUDY = _file(
     "tiny_study.py",
-    "from neurowalk import EpisodeConfig, Study\n"
+    "from neurowalk import EpisodeConfig, Plan, Study\n"
     "def runs(s):\n"
     "    for seed in range(s.n(2)):\n"
-    "        yield 'plastic', EpisodeConfig(body='surrogate', steps=20, seed=s.seed + seed)\n"
+    "        yield Plan('plastic', EpisodeConfig(body='surrogate', steps=20, seed=s.seed + seed))\n"
     "study = Study('tiny', 'a tiny study', plot=print, runs=runs, measure=lambda s, r: {'n': len(r)})\n",
 )
 NO_STUDY = _file("no_study.py", "x = 1\n")
@@ -832,8 +832,7 @@ def tripwires(places: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
         monkeypatch.setattr(module, name, wire(f"{module.__name__}.{name}"))
     monkeypatch.setattr(neurowalk.render, "has_display", lambda: True)  # view gets as far as it can
     for name, exp in FIGURES.items():
-        part = "compute" if exp.compute is not None else "runs"  # a study of runs is tripped where its runs begin
-        monkeypatch.setitem(FIGURES, name, dataclasses.replace(exp, **{part: wire(f"figure {name}")}))
+        monkeypatch.setitem(FIGURES, name, dataclasses.replace(exp, runs=wire(f"figure {name}")))  # where it begins
 
 
 def _resolve(argv: list[str], places: dict[str, Path]) -> list[str]:

@@ -124,13 +124,14 @@ def test_ctrl_c_in_a_figure_says_what_it_kept(monkeypatch, tmp_path, capsys):
 
     from neurowalk.experiments import FIGURES
 
-    def stop(settings):
+    def stop(settings, runs):
         raise KeyboardInterrupt
 
-    monkeypatch.setitem(FIGURES, "fig2", dataclasses.replace(FIGURES["fig2"], compute=stop))
+    monkeypatch.setitem(FIGURES, "fig2", dataclasses.replace(FIGURES["fig2"], measure=stop))
     assert main(["figure", "fig2", "--out", str(tmp_path)]) == 130
     err = capsys.readouterr().err
-    assert err.strip() == "neurowalk: fig2 interrupted; this figure keeps no runs (a few short ones): run it again"
+    said = "neurowalk: fig2 interrupted; it runs no episode (the network alone), so none is kept: run it again"
+    assert err.strip() == said
 
 
 def test_a_folder_with_an_unfinished_run_is_refused_unless_overwritten(tmp_path, capsys):

@@ -14,7 +14,7 @@ climbs steps up to 11 cm with the backbone joint control (Fig. 10, section 3.3).
 import matplotlib.pyplot as plt
 import numpy as np
 
-from neurowalk import EpisodeConfig, Study
+from neurowalk import EpisodeConfig, Plan, Study
 
 HEIGHTS = tuple(round(0.04 + 0.01 * k, 2) for k in range(9))  # m: 0.04 ... 0.12
 QUICK_HEIGHTS = (0.06, 0.12)  # m
@@ -29,7 +29,7 @@ def runs(s):
     for name, modules in MODULES.items():
         for h in QUICK_HEIGHTS if s.quick else HEIGHTS:
             for k in range(s.n(full=10, quick=2)):
-                yield (name, h), base.replace(seed=s.seed + k, **modules, **{"arena_opts.height": h})
+                yield Plan((name, h), base.replace(seed=s.seed + k, **modules, **{"arena_opts.height": h}))
 
 
 def measure(s, results):

@@ -33,6 +33,6 @@ def test_a_committed_all_or_none_count_holds_for_its_first_seed_run_again(label:
     committed = json.loads((ROOT / "docs/studies/climb-height/climb-height.json").read_text())
     count = committed[label[0]]["climbed"][committed["heights_m"].index(label[1])]
     assert count in (0, committed["seeds"])  # the cases chosen: every seed climbed, or none
-    cfg = next(cfg for got, cfg in load_study(FILE).runs(Settings()) if got == label)
+    cfg = next(p.config for p in load_study(FILE).runs(Settings()) if p.label == label)
     assert cfg.seed == 0
     assert (run_episode(cfg).summary["exit_step"] is not None) == (count > 0)

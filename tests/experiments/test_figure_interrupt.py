@@ -133,9 +133,9 @@ def test_the_line_of_an_interrupted_figure_is_what_its_folder_holds(name, store_
     if store_rows:
         runs = planned(FIGURES[name], Settings(quick=True, out=tmp_path))
         with ResultStore(tmp_path / "results.sqlite") as store:
-            for _, cfg, _ in runs[:store_rows]:
-                store.put(cfg.key(), cfg.spec(), result={"x": 1})
-            store.put(runs[-1][1].key(), runs[-1][1].spec(), error="ValueError: no")  # not a finished run
+            for p in runs[:store_rows]:
+                store.put(p.config.key(), p.config.spec(), result={"x": 1})
+            store.put(runs[-1].config.key(), runs[-1].config.spec(), error="ValueError: no")  # not a finished run
             store.put("other", {"seed": 99}, result={"x": 1})  # a run of another study: not this one's to go on from
 
     def stopped(*args, **kwargs):  # stopped at once

@@ -21,7 +21,7 @@ def test_every_figure_module_is_in_the_table_once_with_its_run_and_plot():
         assert exp.name == name and exp.title and isinstance(exp.plot, FunctionAt)
         module = importlib.import_module(exp.plot.module)
         assert exp.plot.load() is module.plot and getattr(module, "NAME", name) == name
-        parts = (exp.compute,) if exp.compute is not None else (exp.runs, exp.measure)
+        parts = (exp.runs, exp.measure, *(p for p in (exp.render, exp.videos) if p is not None))
         assert all(isinstance(p, FunctionAt) and p.module == exp.plot.module for p in parts), name
 
 
@@ -36,15 +36,15 @@ def test_each_setting_a_study_takes_changes_the_runs_it_asks_for():
     """A setting a study offers on the command line reaches its runs (the runner applies it, or the study reads
     it): the configs it asks for with the setting given differ from those without."""
     for name, study in FIGURES.items():
-        if study.runs is None:
-            assert not set(study.takes) - EXECUTION, name  # a study of its own loop takes none of the run settings
+        if not plan(name, Settings(quick=True)):
+            assert not set(study.takes) - EXECUTION, name  # a study of no run takes none of the run settings
             continue
         for setting in set(study.takes) - EXECUTION:
             base = {"body": "amosii"} if "body" in study.takes and setting in ("control_hz", "engine") else {}
             if setting == "variant" and "params" in study.takes:  # the variant params apply over (Table 2: its row)
                 base = {"params": GIVEN["params"][0]}
-            before = [c.key() for _, c, _ in plan(name, Settings(quick=True, **base))]
-            afters = [[c.key() for _, c, _ in plan(name, Settings(quick=True, **base, **{setting: v}))]
+            before = [p.config.key() for p in plan(name, Settings(quick=True, **base))]
+            afters = [[p.config.key() for p in plan(name, Settings(quick=True, **base, **{setting: v}))]
                       for v in GIVEN[setting]]  # fmt: skip
             assert any(before != after for after in afters), f"{name}: {setting} changes none of its runs"
 

@@ -7,8 +7,9 @@ from pathlib import Path
 
 import pytest
 
-from neurowalk import EpisodeConfig, Settings, Study, run_study
-from neurowalk.experiments.study import OPTIONAL, compute, load_study
+from neurowalk import EpisodeConfig, Plan, Settings, Study, run_study
+from neurowalk.experiments.study import OPTIONAL, compute
+from neurowalk.experiments.study_check import load_study
 from neurowalk.runners.store import ResultStore
 
 BASE = EpisodeConfig(arena="simple-deadlock", body="surrogate", steps=300)
@@ -17,7 +18,7 @@ BASE = EpisodeConfig(arena="simple-deadlock", body="surrogate", steps=300)
 def _runs(s: Settings):
     for controller in ("static", "plastic"):
         for i in range(s.n(full=3, quick=2)):
-            yield controller, BASE.replace(controller=controller, seed=s.seed + i)
+            yield Plan(controller, BASE.replace(controller=controller, seed=s.seed + i))
 
 
 def _measure(s: Settings, results):
@@ -64,10 +65,29 @@ def test_a_study_declares_what_it_takes_and_refuses_the_rest():
         TINY.check(Settings(video=True, gait="tripod"))
     with pytest.raises(ValueError, match="unknown settings"):
         Study("x", "x", plot=_plot, runs=_runs, measure=_measure, takes=("seeds", "colour"))
-    with pytest.raises(ValueError, match="runs and measure, or compute"):
-        Study("x", "x", plot=_plot, runs=_runs)
-    with pytest.raises(ValueError, match="runs and measure, or compute"):
-        Study("x", "x", plot=_plot, runs=_runs, measure=_measure, compute=lambda s: None)
+    with pytest.raises(TypeError, match="measure"):
+        Study("x", "x", plot=_plot, runs=_runs)  # type: ignore[call-arg]
+    with pytest.raises(ValueError, match="study 'x' needs measure"):
+        Study("x", "x", plot=_plot, runs=_runs, measure=None)  # type: ignore[arg-type]
+
+
+def test_runs_yield_typed_plans_and_measure_gets_each_run_with_its_plan(tmp_path: Path):
+    """A bare tuple is refused naming the study; measure sees the config each run ran (the settings applied)."""
+    bare = Study("bare", "x", plot=_plot, runs=lambda s: iter([("a", BASE)]), measure=_measure)
+    with pytest.raises(TypeError, match="study 'bare': runs must yield Plan"):
+        compute(bare, Settings(out=tmp_path / "bare"))
+    seen = {}
+
+    def measure(s, results):
+        seen.update({label: [r.config for r in rs] for label, rs in results.items()})
+        return {}
+
+    study = Study("typed", "x", plot=_plot, runs=_runs, measure=measure, takes=("seeds", "control_hz", "workers"))
+    compute(study, Settings(seeds=2, seed=5, workers=1, out=tmp_path / "typed"))
+    assert {label: [c.seed for c in cs] for label, cs in seen.items()} == {"static": [5, 6], "plastic": [5, 6]}
+    assert all(c.controller == label for label, cs in seen.items() for c in cs)
+    with pytest.raises(ValueError, match="fixes only run settings"):
+        Plan("a", BASE, fixed=("seeds",))
     assert set(OPTIONAL) >= {"seeds", "body", "control_hz", "workers", "backend"}
 
 
@@ -104,8 +124,8 @@ def test_the_runs_get_the_settings_and_the_study_sees_typed_summaries(tmp_path: 
 
 def test_a_study_file_is_read_by_its_variable_or_its_only_study(tmp_path: Path):
     text = (
-        "from neurowalk import EpisodeConfig, Study\n"
-        "def runs(s):\n    yield 'a', EpisodeConfig(body='surrogate', steps=20)\n"
+        "from neurowalk import EpisodeConfig, Plan, Study\n"
+        "def runs(s):\n    yield Plan('a', EpisodeConfig(body='surrogate', steps=20))\n"
         "{name} = Study('f', 'f', plot=print, runs=runs, measure=lambda s, r: {{}})\n"
     )
     for name in ("study", "mine"):
@@ -126,7 +146,7 @@ def test_the_help_of_a_study_and_of_a_figure_lists_exactly_the_settings_each_tak
     every = {f for flags in FLAGS.values() for f in flags.split()[0].split("/")}
     (tmp_path / "s.py").write_text(
         "from neurowalk import Study\n"
-        "study = Study('s', 's', plot=print, compute=print, takes=('seeds', 'control_hz'))\n"
+        "study = Study('s', 's', plot=print, runs=print, measure=print, takes=('seeds', 'control_hz'))\n"
     )
     for argv, takes in ((["study", str(tmp_path / "s.py")], ("seeds", "control_hz")),
                         *((["figure", name], exp.takes) for name, exp in FIGURES.items())):  # fmt: skip
@@ -172,7 +192,8 @@ def test_a_figure_inside_shared_stores_counts_the_runs_kept_there(tmp_path: Path
     from neurowalk.experiments.study import kept_runs, planned
 
     figure, s = FIGURES["table2"], Settings(quick=True, seeds=1, out=tmp_path / "table2")
-    (_, first, terms), *_ = planned(figure, s)
+    plan, *_ = planned(figure, s)
+    first, terms = plan.config, plan.terms
     with shared_stores(tmp_path / "runs"):
         run_store([(first, terms), (first.replace(seed=99), ())], tmp_path / "elsewhere", 1)  # one of its runs, one not
         kept = kept_runs(figure, s)
@@ -185,10 +206,10 @@ def test_a_study_whose_own_measure_raises_shows_its_own_frames_and_what_is_kept(
     from neurowalk.cli import main
 
     (tmp_path / "bad.py").write_text(
-        "from neurowalk import EpisodeConfig, Study\n"
+        "from neurowalk import EpisodeConfig, Plan, Study\n"
         "def runs(s):\n"
         "    for seed in range(3):\n"
-        "        yield 'a', EpisodeConfig(body='surrogate', steps=20, seed=seed)\n"
+        "        yield Plan('a', EpisodeConfig(body='surrogate', steps=20, seed=seed))\n"
         "def measure(s, results):\n"
         "    return {'x': 1 / 0}\n"
         "study = Study('bad', 'bad', plot=print, runs=runs, measure=measure)\n"
@@ -209,9 +230,9 @@ def test_a_grid_declares_every_combination_for_every_seed_labelled_by_its_values
     base = EpisodeConfig(arena="narrow-passage", body="surrogate", steps=50)
     s = Settings(seed=3, seeds=2)
     runs = list(grid(base, s.seed_range(10), controller=["static", "plastic"], **{"arena_opts.gap": [0.2, 0.3]}))
-    assert [label for label, _ in runs[::2]] == [("static", 0.2), ("static", 0.3), ("plastic", 0.2), ("plastic", 0.3)]
-    assert [cfg.seed for _, cfg in runs] == [3, 4] * 4 and len({cfg.key() for _, cfg in runs}) == 8
-    assert all(cfg.controller == c and cfg.arena_opts["gap"] == g for (c, g), cfg in runs)
+    assert [p.label for p in runs[::2]] == [("static", 0.2), ("static", 0.3), ("plastic", 0.2), ("plastic", 0.3)]
+    assert [p.config.seed for p in runs] == [3, 4] * 4 and len({p.config.key() for p in runs}) == 8
+    assert all(p.config.controller == p.label[0] and p.config.arena_opts["gap"] == p.label[1] for p in runs)
     assert Settings(quick=True).seed_range(10, 3) == range(0, 3)
 
 
@@ -221,9 +242,9 @@ def test_a_figures_json_records_each_physics_its_runs_stepped(tmp_path: Path):
     walk = EpisodeConfig(arena="open", steps=2)
 
     def runs(s: Settings):
-        yield "a", walk.replace(seed=0)
-        yield "a", walk.replace(seed=1)
-        yield "b", walk.replace(body_opts={"integrator": "implicitfast"}, control_hz=27.0)
+        yield Plan("a", walk.replace(seed=0))
+        yield Plan("a", walk.replace(seed=1))
+        yield Plan("b", walk.replace(body_opts={"integrator": "implicitfast"}, control_hz=27.0))
 
     study = Study("phys", "physics", plot=_plot, runs=runs, measure=lambda s, r: {"n": len(r)}, records_physics=True)
     physics = compute(study, Settings(out=tmp_path, workers=1)).summary["physics_settings"]
@@ -241,8 +262,8 @@ def test_a_run_stored_with_another_physics_runs_again(tmp_path: Path):
     walk = EpisodeConfig(arena="open", steps=3)
 
     def runs(s: Settings):
-        yield "a", walk.replace(seed=0)
-        yield "a", walk.replace(seed=1)
+        yield Plan("a", walk.replace(seed=0))
+        yield Plan("a", walk.replace(seed=1))
 
     study = Study("older", "physics", plot=_plot, runs=runs, measure=lambda s, r: {"x": [k.final_pose for k in r["a"]]})
     s = Settings(out=tmp_path, workers=1)
@@ -262,3 +283,42 @@ def test_a_run_stored_with_another_physics_runs_again(tmp_path: Path):
         assert store.results(keys=[older])[older]["physics"]["integrator"] == "discrete"
     assert after[older] != before[older] and all(after[k] == before[k] for k in rows if k != older)
     assert again.summary == first.summary
+
+
+@pytest.mark.parametrize(
+    "body,says",
+    [
+        ("x = undefined_name + 1\n", "bad.py, line 2 (`x = undefined_name + 1`): NameError: name 'undefined_name'"),
+        ("x = = 1\n", "bad.py, line 2: SyntaxError: invalid syntax (`x = = 1`)"),
+        ("import no_such_module_here\n", "bad.py, line 2 (`import no_such_module_here`): ModuleNotFoundError"),
+        (
+            "def runs(s):\n    yield 'a', EpisodeConfig(body='surrogate', steps=20)\n"
+            "study = Study('t', 't', plot=print, runs=runs, measure=lambda s, r: {})\n",
+            "study 't': run 0 of runs(settings) is a tuple, not a Plan (write `yield Plan(label, config)`)",
+        ),
+        (
+            "def runs(s):\n    yield Plan('a', EpisodeConfig(body='surrogate', steps=20))\n"
+            "study = Study('t', 't', plot=print, runs=runs, measure=lambda s: {})\n",
+            "study 't': measure must take 2 argument(s) (settings, runs)",
+        ),
+        (
+            "def runs(s):\n    yield Plan(['a'], EpisodeConfig(body='surrogate', steps=20))\n"
+            "study = Study('t', 't', plot=print, runs=runs, measure=lambda s, r: {})\n",
+            "study 't': run 0 of runs(settings): its label ['a'] is not hashable",
+        ),
+    ],
+    ids=["name", "syntax", "import", "tuple", "arity", "label"],
+)
+def test_a_study_file_with_an_error_is_refused_in_one_line_before_anything_runs(tmp_path: Path, body, says):
+    """`neurowalk study` checks the file (check_study) first: one line naming the file's line and the error, exit 2,
+    no traceback, no output folder."""
+    import subprocess
+    import sys
+
+    (tmp_path / "bad.py").write_text("from neurowalk import EpisodeConfig, Plan, Study\n" + body)
+    out = tmp_path / "out"
+    run = subprocess.run([sys.executable, "-m", "neurowalk", "study", "bad.py", "--out", str(out)], cwd=tmp_path,
+                         capture_output=True, text=True)  # fmt: skip
+    assert run.returncode == 2, run.stderr
+    assert run.stderr.strip().splitlines() == [run.stderr.strip()] and says in run.stderr, run.stderr
+    assert not out.exists()

@@ -191,7 +191,7 @@ def run_and_write(study: Study, settings: Settings, what: str) -> int:
         elif paths:
             line = f"neurowalk: {study.name} interrupted while drawing: its numbers are in {files}; `--replot` draws it"
         else:
-            line = interrupted_line(study.name, kept_runs(study, settings) if study.keeps_runs else None)
+            line = interrupted_line(study.name, kept_runs(study, settings))
         return stop_line(line)
     files = [paths[k] for k in ("png", "json", "npz") if k in paths]
     print(f"{study.name}: wrote {', '.join(str(p) for p in files)} in {time.perf_counter() - t0:.1f} s")
@@ -224,9 +224,9 @@ def claim_lines(name: str, summary: dict[str, Any], quick: bool) -> list[str]:
 
 def interrupted_line(name: str, kept: dict[Path, int] | None) -> str:
     """The line of a study interrupted while it ran: the finished runs ``kept`` in its result stores, by file
-    (:func:`~neurowalk.experiments.study.kept_runs`; None: the study keeps no runs)."""
+    (:func:`~neurowalk.experiments.study.kept_runs`; None: the study runs no episode)."""
     if kept is None:
-        return f"neurowalk: {name} interrupted; this figure keeps no runs (a few short ones): run it again"
+        return f"neurowalk: {name} interrupted; it runs no episode (the network alone), so none is kept: run it again"
     if not kept:
         return f"neurowalk: {name} interrupted before any of its runs finished; nothing is kept"
     return (
@@ -235,9 +235,11 @@ def interrupted_line(name: str, kept: dict[Path, int] | None) -> str:
     )
 
 
-def kept_words(kept: dict[Path, int]) -> str:
+def kept_words(kept: dict[Path, int] | None) -> str:
     """What a failed study keeps, in words: ``61 finished runs are kept in out/gap (61 in results.sqlite): fix it and
-    run the same command to go on from them``, or that none is."""
+    run the same command to go on from them``, or that none is (None: it runs no episode)."""
+    if kept is None:
+        return "it runs no episode: nothing is kept"
     if not kept:
         return "none of its runs had finished: nothing is kept"
     return (

@@ -11,20 +11,16 @@ from typing import Any
 from neurowalk.cli.common import UsageError, stop_line
 from neurowalk.cli.settings import add_settings_args, run_and_write, settings_of
 
-_LOADED: dict[Path, object] = {}  # the study files this command ran, by path: the parser's help and the run share one
-
 
 def study_of(path: Path) -> object:
-    """The study of file ``path`` (UsageError naming the file where it has none); the file runs once per command."""
-    from neurowalk.experiments.study import load_study
+    """The study of file ``path``, checked (:func:`~neurowalk.experiments.study_check.check_study`'s structure
+    checks; UsageError in one line naming the file, and its line, where it has none or cannot run)."""
+    from neurowalk.experiments.study_check import load_study
 
-    key = Path(path).resolve()
-    if key not in _LOADED:
-        try:
-            _LOADED[key] = load_study(path)
-        except ValueError as e:
-            raise UsageError(str(e)) from None
-    return _LOADED[key]
+    try:
+        return load_study(path)
+    except ValueError as e:
+        raise UsageError(str(e)) from None
 
 
 def add_study_parser(sub: argparse._SubParsersAction, path: str | None = None) -> None:
@@ -40,20 +36,25 @@ def add_study_parser(sub: argparse._SubParsersAction, path: str | None = None) -
     s.add_argument("file", type=Path, help="the study's Python file")
     takes = None
     if path is not None and Path(path).suffix == ".py" and Path(path).is_file():
-        takes = study_of(Path(path)).takes  # type: ignore[attr-defined]
+        study = study_of(Path(path))  # the file runs once per command: the help and the run share it
+        s.set_defaults(study=study, study_file=Path(path))
+        takes = study.takes  # type: ignore[attr-defined]
     add_settings_args(s, takes)
 
 
 def cmd_study(args: argparse.Namespace) -> int:
     """`neurowalk study FILE.py`: run the file's study, write DIR/NAME.png and its numbers (exit 130/143 when
     stopped, keeping the finished runs)."""
+    from neurowalk.experiments.study_check import check_study
     from neurowalk.render import has_display, use_headless_gl
     from neurowalk.runners.stopping import interrupted
 
     if not has_display():
         use_headless_gl()
     try:
-        study = study_of(args.file)
+        loaded = getattr(args, "study", None)
+        same = loaded is not None and Path(args.study_file).resolve() == Path(args.file).resolve()
+        study = loaded if same else study_of(args.file)
         settings = settings_of(args, study, f"study {study.name!r}")  # type: ignore[attr-defined]
     except (KeyboardInterrupt, Exception) as e:
         if not interrupted(e):
@@ -62,7 +63,13 @@ def cmd_study(args: argparse.Namespace) -> int:
     out = args.out or Path("out") / study.name  # type: ignore[attr-defined]
     settings = settings.replace(out=out)
     try:
+        try:
+            check_study(study, settings)  # before anything runs: what is wrong with the file, in one line
+        except ValueError as e:
+            raise UsageError(str(e)) from None
         return run_and_write(study, settings, f"study {study.name}")  # type: ignore[attr-defined]
+    except UsageError:
+        raise
     except Exception as e:
         own = [f for f in traceback.extract_tb(e.__traceback__) if Path(f.filename).resolve() == args.file.resolve()]
         if not own:  # not the file's own code that failed: neurowalk's traceback, whole

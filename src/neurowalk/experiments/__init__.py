@@ -4,9 +4,9 @@
   :func:`~neurowalk.experiments.study.run_study`, the one runner.
 * :mod:`.stores`: the one run function (:func:`~neurowalk.experiments.stores.run_kept`) and the one result store
   a study's runs are kept in, with the :class:`~neurowalk.experiments.stores.Term` s a run keeps beside its summary.
-* :mod:`.figures`: one module per paper figure or table, declared as a study: ``runs(settings)`` (each run a config,
-  with the terms it keeps), ``measure(settings, runs)``, ``plot(result)`` and ``claims(summary, quick)`` (its
-  results judged against the paper); ``fig2``, the network alone, gives ``run(settings) -> Result`` instead.
+* :mod:`.figures`: one module per paper figure or table, declared as a study: ``runs(settings)`` (each run a
+  :class:`Plan`: its label, config and the terms it keeps), ``measure(settings, runs)`` (numbers only), ``plot(result)``
+  and ``claims(summary, quick)`` (its results judged against the paper); ``fig2``, the network alone, plans no run.
 * :mod:`.suites`: the runs and terms figures share (dead ends, random environments, climbing, the real-robot runs).
 * :mod:`.optimize`, :mod:`.calibration`, :mod:`.baselines`: the studies of ``neurowalk optimize``, ``calibrate``
   and ``baseline``.
@@ -33,9 +33,9 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
-from neurowalk.experiments.study import Result, Settings, Study
+from neurowalk.experiments.study import Plan, Result, Settings, Study
 
-__all__ = ["FIGURES", "FunctionAt", "Result", "Settings", "Study"]
+__all__ = ["FIGURES", "FunctionAt", "Plan", "Result", "Settings", "Study"]
 
 
 @dataclass(frozen=True)
@@ -53,20 +53,13 @@ class FunctionAt:
         return self.load()(*args, **kwargs)
 
 
-def _figure(name: str, title: str, module: str) -> Study:
-    """Figure ``name`` of its own loop (the network alone, no run): ``run(settings) -> Result``, ``plot(result)``
-    and ``claims`` of :mod:`neurowalk.experiments.figures`.``module``; it takes none of the optional settings."""
-    path = f"{__name__}.figures.{module}"
-    at = {"plot": FunctionAt(path, "plot"), "compute": FunctionAt(path, "run"), "claims": FunctionAt(path, "claims")}
-    return Study(name, title, takes=(), keeps_runs=False, **at)  # type: ignore[arg-type]
-
-
-def _study(name: str, title: str, module: str, takes: str = "", body: str | None = None) -> Study:
+def _study(name: str, title: str, module: str, takes: str = "", body: str | None = None, outputs: str = "") -> Study:
     """Study ``name`` declared by :mod:`neurowalk.experiments.figures`.``module``'s ``runs``, ``measure`` and
     ``plot`` (as a user's study file declares them), run by :func:`~neurowalk.experiments.study.run_study`, and
-    judged by its ``claims``; ``takes``: the optional settings it honours (a space-separated list)."""
+    judged by its ``claims``; ``takes``: the optional settings it honours, ``outputs``: its ``render`` and ``videos``
+    where it has them (space-separated lists)."""
     path = f"{__name__}.figures.{module}"
-    at = {part: FunctionAt(path, part) for part in ("runs", "measure", "plot", "claims")}
+    at = {part: FunctionAt(path, part) for part in ("runs", "measure", "plot", "claims", *outputs.split())}
     return Study(name, title, takes=takes.split(), body=body, records_physics=True, **at)  # type: ignore[arg-type]
 
 
@@ -79,7 +72,7 @@ FIGURES: dict[str, Study] = {
         "table1",
         "control_hz",
     ),
-    "fig2": _figure("fig2", "fixed points and hysteresis of the sensory network", "fig2"),
+    "fig2": _study("fig2", "fixed points and hysteresis of the sensory network", "fig2"),
     "fig3": _study("fig3", "static network: dead ends, hysteresis, cluttered and difficult arenas", "fig3", PHYSICS),
     "fig4": _study("fig4", "weight changes for constant and changing inputs", "fig4", "variant params control_hz"),
     "fig5": _study("fig5", "plastic network: dead ends, weight dynamics, the difficult arena", "fig5", PHYSICS),
@@ -101,18 +94,21 @@ FIGURES: dict[str, Study] = {
         "narrow passage: snapshots, paths and escapes of the plastic and static networks (paper Fig. 8)",
         "fig8",
         "seeds workers video variant params control_hz",
+        outputs="render videos",
     ),
     "fig9": _study(
         "fig9",
         "complex path: snapshots, paths and outcome map of the plastic and static networks (paper Fig. 9)",
         "fig9",
         "seeds workers video variant params control_hz",
+        outputs="render videos",
     ),
     "fig10": _study(
         "fig10",
         "climbing track: climb a step, avoid a wall, climb a second step (paper Fig. 10)",
         "fig10",
         "seeds workers variant control_hz",
+        outputs="render",
     ),
     "table2": _study(
         "table2",

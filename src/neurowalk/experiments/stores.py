@@ -73,13 +73,22 @@ class Kept:
     Attributes:
         summary: the run's :class:`~neurowalk.sim.run_summary.RunSummary`.
         kept: what its terms kept, by term name: {name: {key: value}}, the arrays a term declares as numpy arrays.
+        plan: the :class:`~neurowalk.experiments.study.Plan` it ran (its config with the settings applied), or None.
     """
 
     summary: Any
     kept: Mapping[str, dict[str, Any]]
+    plan: Any = None
+
+    @property
+    def config(self) -> EpisodeConfig:
+        """The config it ran (its plan's)."""
+        if self.plan is None:
+            raise AttributeError("this run was kept without its plan")
+        return self.plan.config
 
     def __getattr__(self, name: str) -> Any:
-        if name in ("summary", "kept"):  # not yet set (while unpickling)
+        if name in ("summary", "kept", "plan"):  # not yet set (while unpickling)
             raise AttributeError(name)
         return getattr(self.summary, name)
 

@@ -2,23 +2,22 @@
 
 .. code-block:: text
 
-    Study.runs(settings) ─► (label, EpisodeConfig) ... ─► settings applied ─► result store (resume) ─► pool | Ray
-                                                                                       │ one summary per run
-    NAME.png ◄─ Study.plot ◄─ NAME.json, NAME.npz ◄─ Study.measure(settings, {label: [RunSummary]}) ◄┘
+    Study.runs(settings) ─► Plan(label, config, terms) ... ─► settings applied ─► result store (resume) ─► pool | Ray
+                                                                                           │ one summary per run
+    NAME.png ◄─ Study.plot ◄─ NAME.json, NAME.npz ◄─ Study.measure(settings, {label: [Kept(summary, kept, plan)]}) ◄┘
+                                  ▲ Study.render(result): snapshots of recorded poses; Study.videos: with --video
 
 Every paper figure is a study (:data:`neurowalk.experiments.FIGURES`), and so is a user's own
 (``neurowalk study FILE.py``). One frozen :class:`Settings` is shared by all; a study declares in ``takes`` which of
-its optional settings it honours, and the command line offers and accepts only those. A study whose work is not
-"runs, then a measure" (the network alone, a figure with its own loop) gives ``compute(settings) -> Result``.
+its optional settings it honours, and the command line offers and accepts only those. ``measure`` computes numbers
+only; a study of the network alone plans no run and computes its numbers in ``measure``.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import importlib.util
 import itertools
 import json
-import sys
 from collections.abc import Callable, Hashable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -110,6 +109,14 @@ class Settings:
         out += ["engine"] * (self.device is not None) + ["backend"] * (self.address is not None)
         return list(dict.fromkeys(out))
 
+    @property
+    def rate(self) -> float:
+        """Every run's control rate, Hz: ``control_hz`` where given, else the paper's
+        (:data:`~neurowalk.experiments.suites.timing.SIM_HZ`)."""
+        from neurowalk.experiments.suites.timing import SIM_HZ  # not at import: listing the figures imports none
+
+        return self.control_hz if self.control_hz is not None else SIM_HZ
+
     def n(self, full: int, quick: int = 1) -> int:
         """Seeds per condition: ``seeds`` where given, else ``quick`` with ``quick``, else ``full``."""
         return self.seeds if self.seeds is not None else quick if self.quick else full
@@ -151,10 +158,39 @@ class Result:
 
 
 _DEFAULTS = {f.name: f.default for f in dataclasses.fields(Settings)}
+#: The settings a run can fix itself (:attr:`Plan.fixed`): those :meth:`Settings.apply` sets on a config.
+RUN_SETTINGS = ("body", "climbing", "variant", "params", "gait", "engine", "control_hz")
 
 Label = Hashable
-Runs = Callable[[Settings], Iterable[tuple[Label, "EpisodeConfig"]]]
-Measure = Callable[[Settings, Mapping[Label, list["RunSummary"]]], "Result | dict[str, Any]"]
+
+
+@dataclass(frozen=True)
+class Plan:
+    """One run a study asks for: what ``Study.runs`` yields, and (with the settings applied) what its ``measure``
+    gets back with each run's summary (:attr:`Kept.plan <neurowalk.experiments.stores.Kept.plan>`).
+
+    Attributes:
+        label: its condition (a string or a tuple): the runs of one label are measured together, in order.
+        config: the run.
+        terms: what the runner keeps of it beside its summary (:class:`~neurowalk.experiments.stores.Term`).
+        fixed: the run settings (:data:`RUN_SETTINGS`) it fixes itself: :meth:`Settings.apply` leaves them.
+    """
+
+    label: Label
+    config: EpisodeConfig
+    terms: tuple[Term, ...] = ()
+    fixed: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "terms", tuple(self.terms))
+        object.__setattr__(self, "fixed", tuple(self.fixed))
+        unknown = set(self.fixed) - set(RUN_SETTINGS)
+        if unknown:
+            raise ValueError(f"a plan fixes only run settings {RUN_SETTINGS}, got {sorted(unknown)}")
+
+
+Runs = Callable[[Settings], Iterable[Plan]]
+Measure = Callable[[Settings, Mapping[Label, list[Any]]], "Result | dict[str, Any]"]
 
 
 @dataclass(frozen=True)
@@ -166,17 +202,21 @@ class Study:
         title: one line saying what it shows.
         plot: ``plot(result) -> Figure``: the picture of the measured result (not of the runs: a redraw needs no
             run).
-        runs: ``runs(settings)`` yields ``(label, config)`` pairs: the runs, each labelled by its condition (a
-            string or a tuple); :meth:`Settings.apply` is applied to each config.
-        measure: ``measure(settings, {label: [RunSummary, ...]})`` -> :class:`Result` or a JSON-able dict (its
-            summary): the numbers the picture shows, from the runs' summaries (in the order ``runs`` gave them).
-        compute: instead of ``runs`` and ``measure``: ``compute(settings) -> Result``, for a study that runs its own
-            loop.
+        runs: ``runs(settings)`` yields a :class:`Plan` per run (its label, config and terms; none for a study of
+            the network alone); :meth:`Settings.apply` is applied to each config.
+        measure: ``measure(settings, {label: [Kept, ...]})`` -> :class:`Result` or a JSON-able dict (its summary):
+            the numbers the picture shows, from the runs (in the order ``runs`` gave them; each
+            :class:`~neurowalk.experiments.stores.Kept` has its summary, what its terms kept and its :class:`Plan`).
+            It computes numbers only: it renders, writes and reads no file.
+        render: ``render(result) -> {name: array}``: pictures made from the result's own arrays (MuJoCo snapshots
+            of recorded poses), added to its arrays (NAME.npz) by the runner after ``measure``.
+        videos: ``videos(settings, runs, folder) -> [path]``: with ``--video``, the runner writes the runs' videos
+            into the output folder (recorded as ``videos`` in NAME.json).
         takes: the optional settings (:data:`OPTIONAL`) it honours; quick, seed and out it always takes.
-        keeps_runs: its runs are kept in result stores in its folder (a stopped study goes on from them).
         body: the body its runs have where ``--body`` names none (for the checks of settings that need a body).
-        records_physics: its json says the physics its runs stepped (``physics_settings``, :func:`physics_of`): the
-            figures do; a user's study's summary is what its ``measure`` returns, nothing added.
+        records_physics: its json says the physics its runs stepped (``physics_settings``, :func:`physics_of`) and,
+            where they are kept in a store outside its folder (shared stores), that store (``store``): the figures
+            do; a user's study's summary is what its ``measure`` returns, nothing added.
         claims: ``claims(summary, quick) -> [Claim]``: its results judged against a reference
             (:mod:`neurowalk.experiments.reproduce.claims`) from its saved numbers; ``neurowalk reproduce`` runs and
             judges every study that has them.
@@ -185,11 +225,11 @@ class Study:
     name: str
     title: str
     plot: Callable[[Result], Figure]
-    runs: Runs | None = None
-    measure: Measure | None = None
-    compute: Callable[[Settings], Result] | None = None
+    runs: Runs
+    measure: Measure
+    render: Callable[[Result], dict[str, np.ndarray]] | None = None
+    videos: Callable[[Settings, Mapping[Label, list[Any]], Path], list[str]] | None = None
     takes: Iterable[str] = RUNS_TAKE
-    keeps_runs: bool = True
     body: str | None = field(default=None, compare=False)  # the body its runs have unless --body says
     claims: Callable[[dict[str, Any], bool], list[Any]] | None = None
     records_physics: bool = False
@@ -199,8 +239,9 @@ class Study:
         object.__setattr__(self, "takes", tuple(n for n in OPTIONAL if n in set(self.takes)))
         if unknown:
             raise ValueError(f"study {self.name!r}: unknown settings {sorted(unknown)}; settings: {OPTIONAL}")
-        if (self.compute is None) == (self.runs is None or self.measure is None):
-            raise ValueError(f"study {self.name!r} needs runs and measure, or compute (one of the two)")
+        missing = [part for part in ("plot", "runs", "measure") if not callable(getattr(self, part))]
+        if missing:
+            raise ValueError(f"study {self.name!r} needs {', '.join(missing)} (functions)")
 
     def check(self, settings: Settings) -> None:
         """ValueError naming the settings given that this study does not take, and those it does."""
@@ -216,33 +257,40 @@ def compute(study: Study, settings: Settings) -> Result:
     Raises ValueError on a setting the study does not take or a bad value (before any run), KeyboardInterrupt when
     stopped (the finished runs are kept), RuntimeError where runs failed.
     """
-    study.check(settings)
-    settings = resolve(study, settings)
-    if study.compute is not None:
-        return study.compute(settings)
-    from neurowalk.experiments.stores import Kept, run_store, store_folder
+    from neurowalk.experiments.stores import Kept, run_store, store_folder, store_path
     from neurowalk.sim.engine import EngineOptions
     from neurowalk.sim.run_summary import RunSummary
 
-    labelled = planned(study, settings)
-    with store_folder(settings.out) as folder:
-        results = run_store(
-            [(cfg, terms) for _, cfg, terms in labelled],
-            folder,
-            settings.workers or 2,
-            options=EngineOptions(device=settings.device),
-            backend=settings.backend,
-            address=settings.address,
-            desc=study.name,
-        )
+    study.check(settings)
+    settings = resolve(study, settings)
+    plans = planned(study, settings)
     grouped: dict[Label, list[Kept]] = {}
-    for (label, _, _), r in zip(labelled, results, strict=True):
-        summary = RunSummary.from_dict({k: v for k, v in r.items() if k != "kept"})
-        grouped.setdefault(label, []).append(Kept(summary, r.get("kept", {})))
-    measured = study.measure(settings, grouped)  # type: ignore[misc]
+    if plans:
+        with store_folder(settings.out) as folder:
+            results = run_store(
+                [(p.config, p.terms) for p in plans],
+                folder,
+                settings.workers or 2,
+                options=EngineOptions(device=settings.device),
+                backend=settings.backend,
+                address=settings.address,
+                desc=study.name,
+            )
+            store = store_path(folder)
+        for plan, r in zip(plans, results, strict=True):
+            summary = RunSummary.from_dict({k: v for k, v in r.items() if k != "kept"})
+            grouped.setdefault(plan.label, []).append(Kept(summary, r.get("kept", {}), plan))
+    measured = study.measure(settings, grouped)
     result = measured if isinstance(measured, Result) else Result(study.name, dict(measured))
-    if study.records_physics:
+    if study.render is not None:
+        with profiling.part("drawing"):
+            result.arrays.update(study.render(result))
+    if study.videos is not None and settings.video:
+        result.summary["videos"] = study.videos(settings, grouped, Path(settings.out or Path("out") / study.name))
+    if study.records_physics and plans:
         result.summary["physics_settings"] = physics_of([k.summary for runs in grouped.values() for k in runs])
+        if settings.out is not None and store.parent != Path(settings.out):  # shared stores: name where the runs are
+            result.summary["store"] = str(store)
     return result
 
 
@@ -258,10 +306,12 @@ def physics_of(summaries: Iterable[RunSummary]) -> list[dict[str, Any]]:
     return list(seen.values())
 
 
-def grid(base: EpisodeConfig, seeds: Iterable[int], **axes: Iterable[Any]) -> Iterator[tuple[tuple, EpisodeConfig]]:
+def grid(
+    base: EpisodeConfig, seeds: Iterable[int], terms: Iterable[Term] = (), **axes: Iterable[Any]
+) -> Iterator[Plan]:
     """A sweep declared in a line: ``base`` with every combination of the ``axes`` (config fields; a dotted name
     such as ``arena_opts.gap`` sets one option; the last axis varies fastest), each for every seed of ``seeds``;
-    ``((value, ...), config)`` pairs, labelled by the axes' values, as ``Study.runs`` yields them.
+    a :class:`Plan` per run, labelled by the axes' values (a tuple), each keeping ``terms``.
 
     ``grid(EpisodeConfig(arena="narrow-passage"), s.seed_range(10), controller=["static", "plastic"],
     **{"arena_opts.gap": [0.2, 0.3]})`` gives 40 runs, labels ``("static", 0.2)`` ... ``("plastic", 0.3)``.
@@ -270,21 +320,19 @@ def grid(base: EpisodeConfig, seeds: Iterable[int], **axes: Iterable[Any]) -> It
     for values in itertools.product(*axes.values()):
         cfg = base.replace(**dict(zip(names, values, strict=True)))
         for seed in seeds:
-            yield values, cfg.replace(seed=seed)
+            yield Plan(values, cfg.replace(seed=seed), tuple(terms))
 
 
-def planned(study: Study, settings: Settings) -> list[tuple[Label, EpisodeConfig, tuple[Term, ...]]]:
-    """The runs ``study`` asks for with ``settings`` (resolved): each ``(label, config, terms)``, the settings
-    applied to the config."""
-    return [_run(settings, item) for item in study.runs(settings)]  # type: ignore[misc]
-
-
-def _run(settings: Settings, item: tuple) -> tuple[Label, EpisodeConfig, tuple[Term, ...]]:
-    """A run of ``Study.runs``, ``(label, config)``, ``(label, config, terms)`` or ``(label, config, terms,
-    fixed)``, with the settings applied (but those ``fixed``: :meth:`Settings.apply`)."""
-    label, cfg, *rest = item
-    terms, fixed = (tuple(rest[0]) if rest else ()), (rest[1] if len(rest) > 1 else ())
-    return label, settings.apply(cfg, fixed), terms
+def planned(study: Study, settings: Settings) -> list[Plan]:
+    """The runs ``study`` asks for with ``settings`` (resolved), the settings applied to each config (but those the
+    plan fixes: :meth:`Settings.apply`); TypeError naming the study where ``runs`` yields anything but a
+    :class:`Plan`."""
+    out = []
+    for plan in study.runs(settings):
+        if not isinstance(plan, Plan):
+            raise TypeError(f"study {study.name!r}: runs must yield Plan(label, config, terms), got {plan!r:.80}")
+        out.append(dataclasses.replace(plan, config=settings.apply(plan.config, plan.fixed)))
+    return out
 
 
 def resolve(study: Study, s: Settings) -> Settings:
@@ -315,24 +363,21 @@ def resolve(study: Study, s: Settings) -> Settings:
     return s.replace(body=body)
 
 
-def kept_runs(study: Study, settings: Settings) -> dict[Path, int]:
-    """The finished runs the study's command would go on from, by store file (none: empty): for a study of runs,
-    those of its own runs with these settings; for one with its own loop, every finished run in the stores it keeps
-    its runs in (its folder's, or the shared stores in force, which hold other figures' runs too)."""
+def kept_runs(study: Study, settings: Settings) -> dict[Path, int] | None:
+    """The finished runs of the study's own runs with these settings that its command would go on from, by store
+    file (none: empty; None: the study plans no run, the network alone)."""
     from neurowalk.experiments.stores import store_path
     from neurowalk.runners.store import count_finished
 
-    if not study.keeps_runs or settings.out is None:
+    if settings.out is None:
         return {}
-    path = store_path(settings.out)
-    if study.runs is None:
-        n = count_finished(path)
-        return {path: n} if n else {}
     try:
-        s = resolve(study, settings)
-        keys = {cfg.key() for _, cfg, _ in planned(study, s)}
+        keys = {p.config.key() for p in planned(study, resolve(study, settings))}
     except ValueError:  # settings the study refuses: it runs nothing, and says why
         return {}
+    if not keys:
+        return None
+    path = store_path(settings.out)
     n = count_finished(path, keys)
     return {path: n} if n else {}
 
@@ -368,25 +413,3 @@ def write(study: Study, result: Result, out: Path, written: dict[str, Path] | No
         with deferred():
             paths["png"] = output.save_figure(result, picture, out)
     return paths
-
-
-def load_study(path: Path) -> Study:
-    """The :class:`Study` a Python file defines (its variable ``study``, or its only Study); ValueError naming the
-    file where it cannot be read or defines none. The file runs as a module (it is the user's own code)."""
-    path = Path(path)
-    if not path.is_file():
-        raise ValueError(f"no study file {str(path)!r}")
-    name = f"neurowalk_study_{path.stem.replace('-', '_')}"
-    spec = importlib.util.spec_from_file_location(name, path)
-    if spec is None or spec.loader is None:
-        raise ValueError(f"{path}: not a Python file")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module  # the module's dataclasses and pickles find it
-    spec.loader.exec_module(module)
-    found = [v for v in vars(module).values() if isinstance(v, Study)]
-    chosen = getattr(module, "study", None)
-    if isinstance(chosen, Study):
-        return chosen
-    if len(found) != 1:
-        raise ValueError(f"{path} defines {len(found)} studies; name the one to run `study`")
-    return found[0]

@@ -113,7 +113,7 @@ def test_track_and_step_runs_last_their_seconds_at_the_rate():
 
 @pytest.mark.parametrize(("quick", "hz", "steps"), [(True, 10.0, 12_000), (True, 27.0, 12_000), (False, 27.0, 32_400)])
 def test_fig10_runs_at_its_control_rate(quick, hz, steps):
-    seen = [c for _, c, _ in plan("fig10", Settings(quick=quick, seeds=1, control_hz=hz))]
+    seen = [p.config for p in plan("fig10", Settings(quick=quick, seeds=1, control_hz=hz))]
     assert all(c.control_hz == hz and c.steps == steps for c in seen)  # a quick run at 27 Hz: 444 s, not 1200 s
 
 
@@ -143,6 +143,6 @@ def test_a_27_hz_track_run_reports_its_events_on_the_27_hz_clock(monkeypatch, tm
 @pytest.mark.parametrize(("hz", "heights"), [(10.0, 3), (27.0, 1)])
 def test_fig10_runs_the_height_table_at_the_simulators_rate_only(hz, heights):
     runs = plan("fig10", Settings(seeds=2, control_hz=hz))
-    assert len({c.arena_opts["step"] for _, c, _ in runs}) == heights and len(runs) == 2 * heights
-    examples = [c for _, c, terms in runs if fig10.EXAMPLE in terms]
+    assert len({p.config.arena_opts["step"] for p in runs}) == heights and len(runs) == 2 * heights
+    examples = [p.config for p in runs if fig10.EXAMPLE in p.terms]
     assert [(c.arena_opts["step"], c.seed) for c in examples] == [(0.06, 0)]  # the example: a run of the table

@@ -28,14 +28,13 @@ from neurowalk.experiments.suites.timing import steps_for
 def test_both_figures_are_registered_with_the_options_the_cli_passes():
     for name in ("fig8", "fig9"):
         assert {"seeds", "video", "variant", "params", "control_hz", "workers"} <= set(FIGURES[name].takes)
-        assert FIGURES[name].keeps_runs
 
 
 def test_the_runs_carry_the_network_variant_and_overrides():
-    _, cfg, _ = plan("fig8", Settings(variant="original", params={"a": 4.0}, seeds=1))[0]
+    cfg = plan("fig8", Settings(variant="original", params={"a": 4.0}, seeds=1))[0].config
     assert cfg.controller == "plastic" and cfg.seed == 0 and cfg.variant == "original" and cfg.params == {"a": 4.0}
-    plain = [c for _, c, _ in plan("fig8", Settings(seeds=1))]
-    at27 = [c for _, c, _ in plan("fig8", Settings(control_hz=27, seeds=1))]
+    plain = [p.config for p in plan("fig8", Settings(seeds=1))]
+    at27 = [p.config for p in plan("fig8", Settings(control_hz=27, seeds=1))]
     assert all(c.params is None and c.variant == "paper" and c.control_hz == 10.0 for c in plain)
     assert all(c.control_hz == 27 for c in at27)
 
@@ -45,7 +44,7 @@ def test_the_runs_carry_the_network_variant_and_overrides():
 )
 @pytest.mark.parametrize("hz", [10.0, 27.0])
 def test_runs_last_their_seconds_at_the_figures_control_rate(fig, quick, seconds, hz):
-    seen = [c for _, c, _ in plan(fig.NAME, Settings(quick=quick, seeds=2, control_hz=hz))]
+    seen = [p.config for p in plan(fig.NAME, Settings(quick=quick, seeds=2, control_hz=hz))]
     assert seen and all(c.control_hz == hz for c in seen)
     assert {c.steps for c in seen} == {round(seconds * hz)}
     if hz == 10.0:  # the runs of the 10 Hz figures, to the step (quick runs as long, with fewer seeds)
@@ -54,9 +53,9 @@ def test_runs_last_their_seconds_at_the_figures_control_rate(fig, quick, seconds
 
 def test_each_run_keeps_its_path_and_the_first_seed_of_each_network_its_example():
     runs = plan("fig9", Settings(seeds=2))
-    full = [(label, c.seed) for label, c, terms in runs if [t.name for t in terms] == ["path", "example"]]
+    full = [(p.label, p.config.seed) for p in runs if [t.name for t in p.terms] == ["path", "example"]]
     assert full == [(("plastic", (1.0, 1.0)), 0), (("static", (1.0, 1.0)), 0)]
-    assert all(PATH in terms for _, _, terms in runs)
+    assert all(PATH in p.terms for p in runs)
 
 
 def test_path_points_and_video_frames_are_spaced_in_seconds():
@@ -190,7 +189,7 @@ def test_a_27_hz_run_reports_times_on_the_27_hz_clock(monkeypatch, tmp_path):
 
 @pytest.mark.parametrize("hz,cells", [(10.0, 9), (27.0, 1)])
 def test_fig9_sweeps_its_map_at_the_simulators_rate_only(hz, cells):
-    seen = [c for _, c, _ in plan("fig9", Settings(seeds=1, control_hz=hz))]
+    seen = [p.config for p in plan("fig9", Settings(seeds=1, control_hz=hz))]
     geometries = {json.dumps(c.arena_opts, sort_keys=True) for c in seen}
     runs = {c.key() for c in seen}  # the default cell's runs are the main runs
     assert len(geometries) == cells and len(runs) == 2 * cells  # two networks, one seed per cell

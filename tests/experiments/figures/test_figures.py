@@ -38,7 +38,8 @@ def test_fig4_panel_b_runs_at_the_figures_control_rate(monkeypatch):
     from neurowalk.experiments import Settings
     from neurowalk.experiments.figures import fig4
 
-    ((_, cfg, _),) = plan("fig4", Settings(quick=True, seed=3, control_hz=27.0))
+    (p,) = plan("fig4", Settings(quick=True, seed=3, control_hz=27.0))
+    cfg = p.config
     assert (cfg.control_hz, cfg.seed, cfg.steps, cfg.arena, cfg.controller) == (27.0, 3, 3000, "difficult", "plastic")
     assert (cfg.b0, cfg.q0) == fig4.PAPER_START
 
@@ -94,7 +95,7 @@ def test_fig2_stable_fixed_points_are_marked_on_top_of_the_sweeps():
     from neurowalk.experiments.figures import fig2
     from neurowalk.neural.analysis import single_neuron_branches
 
-    res = fig2.run(Settings(quick=True))
+    res = fig2.measure(Settings(quick=True), {})
     figure = fig2.plot(res)
     d = figure.axes[3]
     assert d.get_title() == "one neuron, b = 8.0"

@@ -12,7 +12,7 @@ def test_a_study_with_claims_joins_the_plan_with_its_claims_as_its_judge():
         rate = summary["rate"]
         return [holds("the plastic network escapes", "escapes", rate > 0.5, rate, f"escape rate {rate} > 0.5")]
 
-    mine = Study("mine", "escape rate of my study", plot=print, compute=print, claims=claims)
+    mine = Study("mine", "escape rate of my study", plot=print, runs=print, measure=print, claims=claims)
     (item,) = judged_studies({**FIGURES, "mine": mine}, {i.figure for i in PAPER})
     assert (item.name, item.figure, item.paper) == ("mine", "mine", "escape rate of my study")
     assert [c.verdict for c in item.judge({"rate": 0.9}, False) + item.judge({"rate": 0.1}, True)] == [

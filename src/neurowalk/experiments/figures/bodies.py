@@ -21,7 +21,6 @@ ends with their sampled paths).
 from __future__ import annotations
 
 from collections.abc import Iterator, Mapping, Sequence
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -29,9 +28,9 @@ from matplotlib.patches import Patch
 from matplotlib.ticker import PercentFormatter
 
 from neurowalk.arenas import make_arena
-from neurowalk.experiments import Result, Settings
+from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
-from neurowalk.experiments.stores import Kept, store_path
+from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.random_envs import (
     COVERAGE_CELL_M,
@@ -118,7 +117,7 @@ def plan(s: Settings) -> dict[str, Any]:
 
     ValueError on a body of :data:`BODIES` that cannot run at that rate.
     """
-    control_hz, seed, n = s.control_hz or 10.0, s.seed, s.n(10, 2)
+    control_hz, seed, n = s.rate, s.seed, s.n(10, 2)
     for body, _ in BODIES.values():
         check_rate(body, control_hz)
     n_env = 3 if s.quick and s.seeds is None else 5 * n
@@ -153,16 +152,16 @@ def plan(s: Settings) -> dict[str, Any]:
     }
 
 
-def runs(s: Settings) -> Iterator[tuple]:
+def runs(s: Settings) -> Iterator[Plan]:
     """Dead ends ``("dead", body, network, dead end)`` (each with its path, :data:`PATH`) and Table 2's runs
     ``("table", body, network)`` on every body of :data:`BODIES`: ``seeds`` runs per dead end, default 10, and 5x as
     many Table 2 environments; with ``quick`` 2 seeds and 3 environments of 100 s, dead ends of 60 s (a smoke
     test). Every run at the control rate of ``s`` (10 Hz by default)."""
     p = plan(s)
     for (b, net, a, _), one in p["dead"].items():
-        yield ("dead", b, net, a), EpisodeConfig.from_spec(one), (PATH,)
+        yield Plan(("dead", b, net, a), EpisodeConfig.from_spec(one), (PATH,))
     for (b, net, _), one in p["table"].items():
-        yield ("table", b, net), EpisodeConfig.from_spec(one), (LATCH,)  # as Table 2's own runs keep them
+        yield Plan(("table", b, net), EpisodeConfig.from_spec(one), (LATCH,))  # as Table 2's own runs keep them
 
 
 def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
@@ -182,7 +181,7 @@ def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
         "bodies": {b: {"body": body, "body_opts": opts} for b, (body, opts) in BODIES.items()},
         "networks": list(NETWORKS),
         "variant": "paper",
-        "control_hz": s.control_hz or 10.0,
+        "control_hz": s.rate,
         "dead_end_steps": p["dead_steps"],
         "dead_end_s": p["dead_end_s"],
         "dead_end_steps_by_body": {b: _slower(p["dead_steps"], opts) for b, (_, opts) in BODIES.items()},
@@ -197,7 +196,6 @@ def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
         "coverage_threshold": threshold,
         "coverage_cell_m": COVERAGE_CELL_M,
         "held_up_rule": HELD_UP_RULE,
-        "store": str(store_path(Path(s.out or "out/bodies"))),  # where the runs are (a shared store: its file)
     }
     return Result("bodies", summary, arrays=paths)
 

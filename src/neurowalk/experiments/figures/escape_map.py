@@ -15,11 +15,10 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from matplotlib.ticker import PercentFormatter
 
-from neurowalk.experiments import Result, Settings
+from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.study import grid
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
-from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.plotting.style import legend_outside, letter_panels, network_line, pyplot
 from neurowalk.sim.config import UNTIL
 from neurowalk.sim.episode import EpisodeConfig
@@ -46,14 +45,14 @@ def sizes(s: Settings) -> dict[str, dict]:
     }
 
 
-def runs(s: Settings) -> Iterator[tuple[tuple, EpisodeConfig]]:
+def runs(s: Settings) -> Iterator[Plan]:
     """Every sweep x size x network x seed: ``s.seeds`` seeds (default 5; 1 with ``quick``), each run its
     :data:`TRAP_STEPS` control steps at any rate, stopped once escaped."""
     for label, sweep in sizes(s).items():
         base = EpisodeConfig(arena=sweep["arena"], steps=TRAP_STEPS, until="escaped")
         axes = {f"arena_opts.{sweep['option']}": sweep["sizes"], "controller": NETWORKS}
-        for (size, net), cfg in grid(base, s.seed_range(5, QUICK_SEEDS), **axes):
-            yield (label, size, net), cfg
+        for plan in grid(base, s.seed_range(5, QUICK_SEEDS), **axes):
+            yield Plan((label, *plan.label), plan.config)
 
 
 def measure(s: Settings, runs: Mapping[tuple, list]) -> Result:
@@ -64,7 +63,7 @@ def measure(s: Settings, runs: Mapping[tuple, list]) -> Result:
             "runs": len(rs),
             "escaped": sum(bool(r.escaped) for r in rs),
         }
-    control_hz = s.control_hz or SIM_HZ
+    control_hz = s.rate
     summary = {
         "seeds": s.n(full=5, quick=QUICK_SEEDS),
         "first_seed": s.seed,

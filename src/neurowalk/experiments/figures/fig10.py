@@ -25,7 +25,7 @@ from matplotlib.patches import Polygon
 from neurowalk import anatomy
 from neurowalk.arenas import make_arena
 from neurowalk.body.registry import body_model
-from neurowalk.experiments import Result, Settings
+from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, outcome
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.climbing import (
@@ -104,39 +104,36 @@ EXAMPLE = Term("fig10 example", keep_example, arrays={k: "float64" for k in (*AR
 def _steps(s: Settings) -> int:
     """Control steps per run: :data:`~neurowalk.experiments.suites.climbing.TRACK_S` s at the control rate, at most
     :data:`QUICK_MAX_STEPS` with ``quick``."""
-    control_hz = s.control_hz or SIM_HZ
+    control_hz = s.rate
     return run_steps(None, quick_seconds(TRACK_S, QUICK_MAX_STEPS, control_hz) if s.quick else TRACK_S, control_hz)
 
 
 def _heights(s: Settings) -> tuple[float, ...]:
     """The step heights of the table: the first only away from the simulator's rate (the real-robot comparison)."""
-    return TRACK_HEIGHTS if (s.control_hz or SIM_HZ) == SIM_HZ else TRACK_HEIGHTS[:1]
+    return TRACK_HEIGHTS if s.rate == SIM_HZ else TRACK_HEIGHTS[:1]
 
 
-def runs(s: Settings) -> Iterator[tuple]:
+def runs(s: Settings) -> Iterator[Plan]:
     """The outcome table's runs over the seeds per step height (``(height)``), the first of step 0.06 m (seed
     ``seed``) the example, kept in full."""
     for h in _heights(s):
         for k in range(s.n(10, 3)):
             first = h == TRACK_HEIGHTS[0] and k == 0
-            cfg = EpisodeConfig.from_spec(track_spec(h, s.seed + k, _steps(s), control_hz=s.control_hz or SIM_HZ))
-            yield h, cfg, (FIRST_PLATFORM, EXAMPLE) if first else (FIRST_PLATFORM,)
+            cfg = EpisodeConfig.from_spec(track_spec(h, s.seed + k, _steps(s), control_hz=s.rate))
+            yield Plan(h, cfg, (FIRST_PLATFORM, EXAMPLE) if first else (FIRST_PLATFORM,))
 
 
 def measure(s: Settings, runs: Mapping[float, Sequence[Kept]]) -> Result:
     """The example run (step 0.06 m, seed ``seed``): its key moments and their snapshots; the outcome table (see the
     module doc)."""
-    control_hz, steps, n = s.control_hz or SIM_HZ, _steps(s), s.n(10, 3)
-    seconds = steps / control_hz
     step = TRACK_HEIGHTS[0]
     ex = runs[step][0]
+    control_hz, steps, n = ex.config.control_hz, ex.config.steps, len(runs[step])
+    seconds = steps / control_hz
     kept = ex.kept["fig10 example"]
     moments = kept["moments"]
     arena = make_arena("climbing-track", step=step)
-    frames = render_frames(
-        body_model("amosii", arena), kept["moment_qpos"], distance=1.4, elevation=-50.0, centred=True
-    )
-    table = {f"{h:.2f}": _height_row([_track_row(r) for r in runs[h]], h, s.seed, control_hz) for h in _heights(s)}
+    table = {f"{h:.2f}": _height_row([_track_row(r) for r in rs], h, s.seed, control_hz) for h, rs in runs.items()}
     summary = {
         "step_m": step,
         "seed": s.seed,
@@ -156,7 +153,14 @@ def measure(s: Settings, runs: Mapping[float, Sequence[Kept]]) -> Result:
         "arena": arena.options,
         "real_robot": _real_robot(table[f"{step:.2f}"]["runs"], n, step, steps, control_hz),
     }
-    return Result("fig10", summary, {**{k: kept[k] for k in ARRAYS}, "frames": frames})
+    return Result("fig10", summary, {**{k: kept[k] for k in ARRAYS}, "moment_qpos": kept["moment_qpos"]})
+
+
+def render(res: Result) -> dict[str, np.ndarray]:
+    """The snapshots at the key moments (``frames``), rendered from their recorded positions (``moment_qpos``)."""
+    arena = make_arena("climbing-track", step=res.summary["step_m"])
+    model = body_model("amosii", arena)
+    return {"frames": render_frames(model, res.arrays["moment_qpos"], distance=1.4, elevation=-50.0, centred=True)}
 
 
 def _json(v: Any) -> Any:

@@ -17,12 +17,13 @@ G.   Hysteresis width of the two-neuron network over (b, c); black where it latc
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.patches import Circle, FancyArrowPatch
 
-from neurowalk.experiments import Result, Settings
+from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.neural.analysis import (
     hysteresis_loop,
@@ -66,7 +67,12 @@ def _thresholds(loop: object) -> dict:
     }  # type: ignore[attr-defined]
 
 
-def run(s: Settings) -> Result:
+def runs(s: Settings) -> Iterator[Plan]:
+    """None: the figure is the sensory network alone, computed by :func:`measure`."""
+    return iter(())
+
+
+def measure(s: Settings, runs: Mapping[Any, Any]) -> Result:
     """Compute every panel (deterministic: no seed); ``s.quick`` coarsens the grids."""
     n_levels = 101 if s.quick else 201
     b_grid = np.round(np.linspace(0.0, 6.0, 13 if s.quick else 25), 6)

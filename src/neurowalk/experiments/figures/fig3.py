@@ -20,7 +20,7 @@ from __future__ import annotations
 from collections.abc import Iterator, Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
-from neurowalk.experiments import Result, Settings
+from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.suites import deadends
@@ -51,7 +51,7 @@ PANELS = {
 }
 
 
-def runs(s: Settings) -> Iterator[tuple]:
+def runs(s: Settings) -> Iterator[Plan]:
     """The outcome table over ``s.seeds`` seeds (default 10; 1 with ``quick``), the example and the long runs
     (:func:`~neurowalk.experiments.suites.deadends.runs`)."""
     return deadends.runs(s, NETWORK, LONG, LONG_STEPS)

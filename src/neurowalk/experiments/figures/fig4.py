@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from neurowalk.experiments import Result, Settings
+from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds, value
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.timing import SIM_HZ
@@ -77,13 +77,13 @@ def keep_panel_b(ep: Episode) -> dict[str, Any]:
 PANEL_B = Term("fig4 panel B", keep_panel_b, arrays=dict.fromkeys(("t", "inputs", "b", "q"), "float64"))
 
 
-def runs(s: Settings) -> Iterator[tuple[str, EpisodeConfig, tuple[Term, ...]]]:
+def runs(s: Settings) -> Iterator[Plan]:
     """Panel B's physics run: :data:`PANEL_B_STEPS` control steps (quick: :data:`QUICK_B_STEPS`) of the plastic
     network from :data:`PAPER_START` (Eq. 1-6 unless ``s.variant``/``s.params``)."""
     steps = QUICK_B_STEPS if s.quick else PANEL_B_STEPS
     cfg = EpisodeConfig(arena=PANEL_B_ARENA, controller="plastic", steps=steps, seed=s.seed, b0=PAPER_START[0],
                         q0=PAPER_START[1])  # fmt: skip
-    yield "B", cfg, (PANEL_B,)
+    yield Plan("B", cfg, (PANEL_B,))
 
 
 def measure(s: Settings, runs: Mapping[str, Sequence[Kept]]) -> Result:
@@ -140,7 +140,7 @@ def _panel_b(p: SensoryParams, s: Settings, run: Kept) -> tuple[dict[str, Any], 
     """Panel B: the inputs of a physics run of AMOSII (the network ``p``, as ``s`` names it, at its seed and control
     rate) replayed through ``p`` from :data:`PAPER_START`; its reflex episodes and the weights' growth and decay per
     step; arrays ``b_t`` (T,) s and ``b_inputs``, ``b_outputs``, ``b_b``, ``b_q`` (T, 2)."""
-    steps_b, seed, control_hz = QUICK_B_STEPS if s.quick else PANEL_B_STEPS, s.seed, s.control_hz or SIM_HZ
+    steps_b, seed, control_hz = QUICK_B_STEPS if s.quick else PANEL_B_STEPS, s.seed, s.rate
     rec = run.kept["fig4 panel B"]
     inputs = rec["inputs"]
     tr = simulate(inputs, b0=PAPER_START[0], q0=PAPER_START[1], params=p)

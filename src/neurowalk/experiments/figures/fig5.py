@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from neurowalk import metrics
-from neurowalk.experiments import Result, Settings
+from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.suites import deadends
@@ -61,7 +61,7 @@ PANELS = {
 WEIGHTS = ("b1", "b2", "c1", "c2")  # G: b (self) and c = -q (inhibition) of the left and right neuron
 
 
-def runs(s: Settings) -> Iterator[tuple]:
+def runs(s: Settings) -> Iterator[Plan]:
     """The outcome table over ``s.seeds`` seeds (default 10; 1 with ``quick``), the example and the long runs
     (:func:`~neurowalk.experiments.suites.deadends.runs`)."""
     return deadends.runs(s, NETWORK, LONG, LONG_STEPS)

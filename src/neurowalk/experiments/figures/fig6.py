@@ -17,7 +17,7 @@ import numpy as np
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
-from neurowalk.experiments import Result, Settings
+from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds, rate
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites import confinement
@@ -69,24 +69,24 @@ POSE = Term("pose", keep_pose, arrays={"pose": "float64"})
 
 def specs(s: Settings) -> list[dict[str, Any]]:
     """The sixteen run specs (ValueError where the body cannot run at the control rate: a surrogate runs at 10 Hz)."""
-    body, hz = s.body or "surrogate", s.control_hz or 10.0
+    body, hz = s.body or "surrogate", s.rate
     check_rate(body, hz)
     steps = steps_for(QUICK_DURATION_S if s.quick else DURATION_S, hz)
     return [spec(e, "plastic", steps, body, variant=s.variant or "paper", size=s.size or SIZE, params=s.params,
                  control_hz=hz) for e in environments(16, s.seed)]  # fmt: skip
 
 
-def runs(s: Settings) -> Iterator[tuple[int, EpisodeConfig, tuple[Term, ...]]]:
+def runs(s: Settings) -> Iterator[Plan]:
     """The plastic network (Eq. 1-6 unless ``s.variant``) in the first 16 environments of Table 2 (same seeds), each
     with its pose every second; every run lasts the same simulated time (2000 s, quick 500 s) whatever the control
     rate."""
     for i, one in enumerate(specs(s)):
-        yield i, EpisodeConfig.from_spec(one), (POSE,)
+        yield Plan(i, EpisodeConfig.from_spec(one), (POSE,))
 
 
 def measure(s: Settings, runs: Mapping[int, Sequence[Kept]]) -> Result:
     """Each environment's outcome, coverage and the confined spaces it met (:mod:`.confinement`)."""
-    run_specs, envs, hz = specs(s), environments(16, s.seed), s.control_hz or 10.0
+    run_specs, envs, hz = specs(s), environments(16, s.seed), s.rate
     duration = QUICK_DURATION_S if s.quick else DURATION_S
     threshold = coverage_threshold(duration)
     stride = pose_stride(hz)

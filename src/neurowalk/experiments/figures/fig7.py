@@ -22,10 +22,9 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from neurowalk import anatomy, gait
-from neurowalk.experiments import Result, Settings
+from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.stores import Kept, Term
-from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.neural.cpg import period
 from neurowalk.plotting.style import FONT, LINE, letter_panels, pyplot
 from neurowalk.sim.episode import Episode, EpisodeConfig
@@ -53,16 +52,17 @@ def keep_gait(ep: Episode) -> dict[str, Any]:
 GAIT = Term("gait", keep_gait, arrays={"angles": "float64", "pose": "float64"})
 
 
-def runs(s: Settings) -> Iterator[tuple[str, EpisodeConfig, tuple[Term, ...]]]:
+def runs(s: Settings) -> Iterator[Plan]:
     """The four conditions (constant steering), 1000 control steps each (quick: 600)."""
     for name, steer in CONDITIONS.items():
-        yield name, EpisodeConfig(controller="fixed", steer=steer, steps=600 if s.quick else 1000, seed=s.seed), (GAIT,)
+        cfg = EpisodeConfig(controller="fixed", steer=steer, steps=600 if s.quick else 1000, seed=s.seed)
+        yield Plan(name, cfg, (GAIT,))
 
 
 def measure(s: Settings, runs: Mapping[str, Sequence[Kept]]) -> Result:
     """Gait numbers, speed (m/s) and turning rate (deg/s) over rows :data:`WARMUP` to the last of each run (the
     ``window`` of the json)."""
-    steps, seed, control_hz = 600 if s.quick else 1000, s.seed, s.control_hz or SIM_HZ
+    steps, seed, control_hz = 600 if s.quick else 1000, s.seed, s.rate
     duration = (steps - 1 - WARMUP) / control_hz  # s from the window's first row to its last
     window = {
         "from_step": WARMUP,

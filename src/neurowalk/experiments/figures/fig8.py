@@ -20,8 +20,10 @@ from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+import numpy as np
+
 from neurowalk.arenas import make_arena
-from neurowalk.experiments import Result, Settings
+from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, outcome
 from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.suites.real_robot import (
@@ -38,10 +40,11 @@ from neurowalk.experiments.suites.real_robot import (
     network_arrays,
     real_robot_claims,
     run_record,
+    snapshot_frames,
     with_path,
     write_videos,
 )
-from neurowalk.experiments.suites.timing import SIM_HZ, real_robot_entry, run_steps
+from neurowalk.experiments.suites.timing import real_robot_entry, run_steps
 from neurowalk.plotting.style import letter, pyplot
 
 if TYPE_CHECKING:
@@ -59,19 +62,19 @@ RULE = (
 )
 
 
-def runs(s: Settings) -> Iterator[tuple]:
+def runs(s: Settings) -> Iterator[Plan]:
     """Each network's ``s.seeds`` seeds (10; quick: 3) from ``s.seed``, each with its path, the first one (the
     example) in full; :data:`RUN_S` s each at the control rate."""
-    steps = run_steps(None, QUICK_S if s.quick else RUN_S, s.control_hz or SIM_HZ)
+    steps = run_steps(None, QUICK_S if s.quick else RUN_S, s.rate)
     for net in NETWORKS:
         for k in range(s.n(10, 3)):
-            yield net, config(ARENA, {}, net, s.seed + k, steps), (PATH, EXAMPLE) if k == 0 else (PATH,)
+            yield Plan(net, config(ARENA, {}, net, s.seed + k, steps), (PATH, EXAMPLE) if k == 0 else (PATH,))
 
 
 def measure(s: Settings, runs: Mapping[str, Sequence[Kept]]) -> Result:
     """Each network's escapes over its seeds, the example seed ``seed`` in full (see the module doc)."""
-    control_hz = s.control_hz or SIM_HZ
-    n, steps = s.n(10, 3), run_steps(None, QUICK_S if s.quick else RUN_S, control_hz)
+    first = runs[NETWORKS[0]][0].config
+    control_hz, n, steps = first.control_hz, len(runs[NETWORKS[0]]), first.steps
     examples = {net: example_of(runs[net][0]) for net in NETWORKS}
     arena = make_arena(ARENA)
     counts, arrays = {}, {}
@@ -88,9 +91,17 @@ def measure(s: Settings, runs: Mapping[str, Sequence[Kept]]) -> Result:
         "snapshots": N_SNAPSHOTS,
         "real_robot": _real_robot(counts, n, steps, control_hz),
     }
-    if s.video:
-        summary["videos"] = write_videos(NAME, arena, examples, Path(s.out or Path("out") / NAME))
     return Result(NAME, summary, arrays)
+
+
+def render(res: Result) -> dict[str, np.ndarray]:
+    """Each network's snapshot strip (``NET/frames``), rendered from the example's recorded positions."""
+    return snapshot_frames(res.arrays, NETWORKS, make_arena(ARENA))
+
+
+def videos(s: Settings, runs: Mapping[str, Sequence[Kept]], folder: Path) -> list[str]:
+    """Each network's example run as an mp4 in ``folder`` (``--video``); the paths written."""
+    return write_videos(NAME, make_arena(ARENA), {net: example_of(runs[net][0]) for net in NETWORKS}, folder)
 
 
 def _real_robot(counts: dict[str, Any], n: int, steps: int, control_hz: float) -> dict[str, Any]:

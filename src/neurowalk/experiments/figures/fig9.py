@@ -28,7 +28,7 @@ import numpy as np
 from neurowalk.arenas import arena_options, make_arena
 from neurowalk.arenas.deadlocks import EXIT_MARGIN, WALL
 from neurowalk.arenas.generated import MOUTH, OPENING
-from neurowalk.experiments import Result, Settings
+from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim
 from neurowalk.experiments.reproduce.claims import outcome as outcome_claim
 from neurowalk.experiments.stores import Kept
@@ -48,6 +48,7 @@ from neurowalk.experiments.suites.real_robot import (
     path_every,
     real_robot_claims,
     run_record,
+    snapshot_frames,
     with_path,
     write_videos,
 )
@@ -115,27 +116,28 @@ def _cell(width_f: float, spacing_f: float) -> dict[str, float]:
 def _cells(s: Settings) -> list[tuple[float, float]]:
     """The outcome map's (width, spacing) factors: :data:`FACTORS` squared, the default geometry only with
     ``quick`` or away from the simulator's rate."""
-    factors = FACTORS if not s.quick and (s.control_hz or SIM_HZ) == SIM_HZ else (1.0,)
+    factors = FACTORS if not s.quick and s.rate == SIM_HZ else (1.0,)
     return [(fw, fs) for fw in factors for fs in factors]
 
 
-def runs(s: Settings) -> Iterator[tuple]:
+def runs(s: Settings) -> Iterator[Plan]:
     """Each network's ``s.seeds`` seeds (10; quick: 3) from ``s.seed`` in the default geometry, then in each cell of
     the outcome map (labelled ``(network, cell)``), each with its path, the first one (the example) in full;
     :data:`PATH_S` s each at the control rate."""
-    steps = run_steps(None, QUICK_S if s.quick else PATH_S, s.control_hz or SIM_HZ)
+    steps = run_steps(None, QUICK_S if s.quick else PATH_S, s.rate)
     for c in dict.fromkeys([(1.0, 1.0), *_cells(s)]):  # first the default geometry, then the map's other cells
         for net in NETWORKS:
             for k in range(s.n(10, 3)):
                 first = k == 0 and c == (1.0, 1.0)
-                yield (net, c), config(ARENA, _cell(*c), net, s.seed + k, steps), (PATH, EXAMPLE) if first else (PATH,)
+                terms = (PATH, EXAMPLE) if first else (PATH,)
+                yield Plan((net, c), config(ARENA, _cell(*c), net, s.seed + k, steps), terms)
 
 
 def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
     """Each network's outcomes over its seeds in each geometry, the example seed ``seed`` in full (see the module
     doc)."""
-    control_hz = s.control_hz or SIM_HZ
-    n, steps = s.n(10, 3), run_steps(None, QUICK_S if s.quick else PATH_S, control_hz)
+    first = runs[NETWORKS[0], (1.0, 1.0)][0].config
+    control_hz, n, steps = first.control_hz, len(runs[NETWORKS[0], (1.0, 1.0)]), first.steps
     cells = _cells(s)
     factors = sorted({c[0] for c in cells})
     examples = {net: example_of(runs[net, (1.0, 1.0)][0]) for net in NETWORKS}
@@ -159,9 +161,18 @@ def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
         "snapshots": N_SNAPSHOTS,
         "real_robot": _real_robot(counts, n, steps, control_hz),
     }
-    if s.video:
-        summary["videos"] = write_videos(NAME, arena, examples, Path(s.out or Path("out") / NAME))
     return Result(NAME, summary, arrays)
+
+
+def render(res: Result) -> dict[str, np.ndarray]:
+    """Each network's snapshot strip (``NET/frames``, 480 x 270), rendered from the example's recorded positions."""
+    return snapshot_frames(res.arrays, NETWORKS, make_arena(ARENA), width=480, height=270)
+
+
+def videos(s: Settings, runs: Mapping[tuple, Sequence[Kept]], folder: Path) -> list[str]:
+    """Each network's example run as an mp4 in ``folder`` (``--video``); the paths written."""
+    examples = {net: example_of(runs[net, (1.0, 1.0)][0]) for net in NETWORKS}
+    return write_videos(NAME, make_arena(ARENA), examples, folder)
 
 
 def _network(
@@ -171,7 +182,7 @@ def _network(
     and its arrays (:func:`network_arrays`); marks its ``example`` run with its outcome and the step it got out."""
     rows = _seed_rows(runs, seed, arena, every)
     example["outcome"], example["out_step"] = outcome(example["pose"][:, :2], arena)
-    arrays = network_arrays(net, runs, example, arena, example["out_step"], width=480, height=270)
+    arrays = network_arrays(net, runs, example, arena, example["out_step"])
     return {**_tally([x["outcome"] for x in rows]), "runs": rows}, arrays
 
 

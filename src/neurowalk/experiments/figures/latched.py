@@ -18,9 +18,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from neurowalk.arenas import make_arena
-from neurowalk.experiments import Result, Settings
+from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
-from neurowalk.experiments.stores import Kept, Term
+from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.suites.random_envs import LATCH, STEPS, STRIDE, environments, failure_class, spec
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting.style import LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, time_colorbar
@@ -34,11 +34,11 @@ SHOWN = 2  # environments drawn
 SEARCHED = 200  # environments searched for latched spins
 
 
-def runs(s: Settings) -> Iterator[tuple[int, EpisodeConfig, tuple[Term, ...]]]:
+def runs(s: Settings) -> Iterator[Plan]:
     """The plastic network (Eq. 1-6 unless ``s.variant``) in the first :data:`SEARCHED` Table 2 environments
     (quick: 40) on the surrogate, a latched spin kept with its traces."""
     for i, e in enumerate(_envs(s)):
-        yield i, EpisodeConfig.from_spec(spec(e, "plastic", STEPS, "surrogate")), (LATCH,)
+        yield Plan(i, EpisodeConfig.from_spec(spec(e, "plastic", STEPS, "surrogate")), (LATCH,))
 
 
 def measure(s: Settings, runs: Mapping[int, Sequence[Kept]]) -> Result:

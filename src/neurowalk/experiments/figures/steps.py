@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from matplotlib.ticker import PercentFormatter
 
-from neurowalk.experiments import Result, Settings
+from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.suites.climbing import (
@@ -32,7 +32,7 @@ from neurowalk.experiments.suites.climbing import (
     highest_reliable,
     step_spec,
 )
-from neurowalk.experiments.suites.timing import SIM_HZ, quick_note, quick_seconds, steps_for
+from neurowalk.experiments.suites.timing import quick_note, quick_seconds, steps_for
 from neurowalk.plotting.style import LINE, legend_outside, pyplot
 from neurowalk.sim.config import EpisodeConfig
 
@@ -45,28 +45,25 @@ QUICK_MAX_STEPS = 3000  # control steps of a quick run at most (STEP_S at 10 Hz;
 def _steps(s: Settings) -> tuple[float, int]:
     """Seconds and control steps per run: :data:`~neurowalk.experiments.suites.climbing.STEP_S` s at the control
     rate, at most :data:`QUICK_MAX_STEPS` control steps with ``quick``."""
-    control_hz = s.control_hz or SIM_HZ
+    control_hz = s.rate
     seconds = quick_seconds(STEP_S, QUICK_MAX_STEPS, control_hz) if s.quick else STEP_S
     return seconds, steps_for(seconds, control_hz)
 
 
-def runs(s: Settings) -> Iterator[tuple[tuple[str, float], EpisodeConfig]]:
+def runs(s: Settings) -> Iterator[Plan]:
     """Every variant of the climbing modules at every height (``(variant, height)``), ``s.seeds`` seeds (10; quick:
     3)."""
     heights, (_, steps) = QUICK_SWEEP_HEIGHTS if s.quick else SWEEP_HEIGHTS, _steps(s)
     for v in VARIANTS:
         for h in heights:
             for k in range(s.n(10, 3)):
-                yield (
-                    (v, h),
-                    EpisodeConfig.from_spec(step_spec(h, v, s.seed + k, steps, control_hz=s.control_hz or SIM_HZ)),
-                )
+                yield Plan((v, h), EpisodeConfig.from_spec(step_spec(h, v, s.seed + k, steps, control_hz=s.rate)))
 
 
 def measure(s: Settings, runs: Mapping[tuple[str, float], Sequence[Kept]]) -> Result:
     """Climb rates per variant and height, and the highest height each variant climbs reliably (see the module
     doc)."""
-    control_hz = s.control_hz or SIM_HZ
+    control_hz = s.rate
     n, heights = s.n(10, 3), QUICK_SWEEP_HEIGHTS if s.quick else SWEEP_HEIGHTS
     seconds, steps = _steps(s)
     variants = {}

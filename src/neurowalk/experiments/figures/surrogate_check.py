@@ -16,7 +16,7 @@ import numpy as np
 from matplotlib.ticker import MaxNLocator
 
 from neurowalk.body.surrogate import load_calibration
-from neurowalk.experiments import Result, Settings
+from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.calibration.calibrate import validation
 from neurowalk.experiments.calibration.subjects import HELD_OUT
 from neurowalk.experiments.reproduce.claims import Claim, holds
@@ -52,12 +52,12 @@ def agreement(phys_runs: list[list[Any]], sur_runs: list[list[Any]]) -> dict[str
 BODIES = ("amosii", "surrogate")  # the physics body, and its planar surrogate
 
 
-def runs(s: Settings) -> Iterator[tuple]:
+def runs(s: Settings) -> Iterator[Plan]:
     """The dead-end suite on both bodies (``s.seeds`` seeds: 10; quick: 1), labelled ``(body, dead end,
     network)``."""
     for body in BODIES:
-        for label, cfg, terms in table_runs(s, body=body):
-            yield (body, *label[1:]), cfg, terms
+        for plan in table_runs(s, body=body):
+            yield Plan((body, *plan.label[1:]), plan.config, plan.terms)
 
 
 def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:

@@ -17,7 +17,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from matplotlib.lines import Line2D
 
-from neurowalk.experiments import Result, Settings
+from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.plotting.style import FONT, LINE, letter_panels, pyplot
@@ -78,14 +78,14 @@ SIGNS = tuple((a, b) for a in (-1, 0, 1) for b in (-1, 0, 1))  # (sign of O1, si
 AMPLITUDES = (0.0, 0.2, 0.4, 0.6, 0.8, 1.0)
 
 
-def runs(s: Settings) -> Iterator[tuple[tuple, EpisodeConfig, tuple[Term, ...]]]:
+def runs(s: Settings) -> Iterator[Plan]:
     """Nine sign pairs (``("signs", O1, O2)``) and six amplitudes of forward steering (``("amplitude", a)``), 600
     control steps each (quick: 450)."""
     steps = 450 if s.quick else 600
     for s1, s2 in SIGNS:
-        yield ("signs", s1, s2), _walk((float(s1), float(s2)), steps, s.seed), (WALK,)
+        yield Plan(("signs", s1, s2), _walk((float(s1), float(s2)), steps, s.seed), (WALK,))
     for a in AMPLITUDES:
-        yield ("amplitude", a), _walk((-a, -a), steps, s.seed), (WALK,)
+        yield Plan(("amplitude", a), _walk((-a, -a), steps, s.seed), (WALK,))
 
 
 def _walk(steer: tuple[float, float], steps: int, seed: int) -> EpisodeConfig:
@@ -102,7 +102,7 @@ def _measured(run: Kept, control_hz: float) -> tuple[dict, np.ndarray]:
 
 def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
     """Each run's speed, turning rate and walking direction; the paths of the sign pairs."""
-    control_hz = s.control_hz or 10.0
+    control_hz = s.rate
     signs, arrays = [], {}
     for i, (s1, s2) in enumerate(SIGNS):
         m, arrays[f"path{i}"] = _measured(runs["signs", s1, s2][0], control_hz)

@@ -15,13 +15,12 @@ from __future__ import annotations
 
 from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import replace
-from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from neurowalk.body.registry import bodies_where, body_info
-from neurowalk.experiments import Result, Settings
+from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, rate
-from neurowalk.experiments.stores import Kept, store_path
+from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.suites.random_envs import (
     BOXES,
     COVERAGE_CELL_M,
@@ -80,7 +79,7 @@ def plan(s: Settings) -> dict[str, Any]:
     ValueError on an engine or climbing the body cannot run, or a rate it cannot run at (a planar surrogate runs at
     its calibration rate, 10 Hz, only).
     """
-    body, hz = s.body or "surrogate", s.control_hz or 10.0
+    body, hz = s.body or "surrogate", s.rate
     info = body_info(body)
     if s.engine not in info.engines:
         raise ValueError(engine_refusal(s.engine, body, s.climbing))
@@ -128,7 +127,7 @@ def plan(s: Settings) -> dict[str, Any]:
 FIXED = ("body", "variant", "params", "engine", "climbing", "control_hz")
 
 
-def runs(s: Settings) -> Iterator[tuple]:
+def runs(s: Settings) -> Iterator[Plan]:
     """Every row in ``s.seeds`` random environments (50; quick: 10) on ``s.body`` (the surrogate by default),
     labelled ``(body, environment index, row)`` (:func:`plan`).
 
@@ -139,7 +138,7 @@ def runs(s: Settings) -> Iterator[tuple]:
     2000 s (quick: 500 s) of simulated time and the stuck window is 300 s at any control rate.
     """
     for label, one in plan(s)["specs"].items():
-        yield label, EpisodeConfig.from_spec(one), (LATCH,), FIXED  # a latched spin kept for latched-spin
+        yield Plan(label, EpisodeConfig.from_spec(one), (LATCH,), FIXED)  # a latched spin kept for latched-spin
 
 
 def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
@@ -153,7 +152,7 @@ def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
         "engine": s.engine,
         "climbing": s.climbing,
         "steps": p["steps"],
-        "control_hz": s.control_hz or 10.0,
+        "control_hz": s.rate,
         "duration_s": p["duration_s"],
         "stuck_window_s": STUCK_S,
         "seed": s.seed,
@@ -163,7 +162,6 @@ def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
         "counts": counts,
         "environments": env_rows,
         "paper": {**PAPER, "success_rate": PAPER["success"] / PAPER["environments"], "success_rate_95ci": ci},
-        "store": str(store_path(Path(s.out or "out/table2"))),  # where the runs are (a shared store: its file)
         "surrogate": p["surrogate"],
         "surrogate_note": p["surrogate_note"],
         "surrogate_agreement": agreement,

@@ -18,7 +18,7 @@ import numpy as np
 
 from neurowalk.arenas import arena_options
 from neurowalk.arenas.spec import WALL_HEIGHT
-from neurowalk.experiments import Result, Settings
+from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, outcome
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.long_runs import (
@@ -32,7 +32,6 @@ from neurowalk.experiments.suites.long_runs import (
     wedged_counts,
 )
 from neurowalk.experiments.suites.real_robot import PATH
-from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.sim.config import UNTIL
 from neurowalk.sim.episode import Episode, EpisodeConfig
 
@@ -68,7 +67,7 @@ TRACED = Term("traces", keep_traces, arrays=dict.fromkeys(TRACES, "float64"))
 
 
 def table_runs(s: Settings, variants: Mapping[str, tuple[str, dict]] | None = None, body: str | None = None
-               ) -> Iterator[tuple[tuple[str, str, str], EpisodeConfig, tuple[Term, ...]]]:  # fmt: skip
+               ) -> Iterator[Plan]:  # fmt: skip
     """The outcome table's runs, labelled ``("table", variant, network)``: every network in every dead end
     ``variants`` (default :data:`VARIANTS`), ``s.seeds`` seeds from ``s.seed`` (default 10; 1 with ``quick``),
     :data:`TRAP_STEPS` control steps each, stopped once escaped (``body``: where the settings name none); each kept
@@ -77,7 +76,8 @@ def table_runs(s: Settings, variants: Mapping[str, tuple[str, dict]] | None = No
         for nname, net in NETWORKS.items():
             for seed in range(s.seed, s.seed + s.n(full=10, quick=QUICK_SEEDS)):
                 cfg = EpisodeConfig(arena=arena, arena_opts=opts, steps=TRAP_STEPS, until="escaped", seed=seed, **net)
-                yield ("table", vname, nname), cfg.replace(body=body) if body else cfg, (PATH,)  # as bodies' keep them
+                cfg = cfg.replace(body=body) if body else cfg
+                yield Plan(("table", vname, nname), cfg, (PATH,))  # kept with its path, as bodies' runs are
 
 
 def table_counts(s: Settings, runs: Mapping[Any, Sequence[Kept]], body: str = "amosii", prefix: tuple = ("table",)
@@ -97,7 +97,7 @@ def table_counts(s: Settings, runs: Mapping[Any, Sequence[Kept]], body: str = "a
             "median_direction_switches": float(np.median([r.direction_switches for r in rs])),
         }
     variants = {v for v, _ in cells}
-    control_hz = s.control_hz or SIM_HZ
+    control_hz = s.rate
     return {
         "seeds": s.n(full=10, quick=QUICK_SEEDS),
         "first_seed": s.seed,
@@ -118,7 +118,7 @@ def table_counts(s: Settings, runs: Mapping[Any, Sequence[Kept]], body: str = "a
     }
 
 
-def runs(s: Settings, network: str, long_runs: dict[str, dict[str, Any]], long_steps: int) -> Iterator[tuple]:
+def runs(s: Settings, network: str, long_runs: dict[str, dict[str, Any]], long_steps: int) -> Iterator[Plan]:
     """Fig. 3's or Fig. 5's runs: the outcome table (:func:`table_runs`; ``quick``: the :data:`QUICK_VARIANTS`
     only), ``network``'s example runs in both dead ends (``("example", name)``, every row kept) and the long runs
     ``{name: config fields}`` (``("long", name)``, ``long_steps`` control steps, :data:`QUICK_LONG_STEPS` at most
@@ -128,11 +128,11 @@ def runs(s: Settings, network: str, long_runs: dict[str, dict[str, Any]], long_s
     yield from table_runs(s, {k: v for k, v in VARIANTS.items() if k in QUICK_VARIANTS} if s.quick else VARIANTS)
     for arena in ("simple-deadlock", "narrow-passage"):
         cfg = EpisodeConfig(arena=arena, steps=TRAP_STEPS, seed=s.seed, **NETWORKS[network])  # every step drawn
-        yield ("example", arena), cfg, (TRACED,)
+        yield Plan(("example", arena), cfg, (TRACED,))
     steps = min(long_steps, QUICK_LONG_STEPS) if s.quick else long_steps
     opts = {"height": WALL_HEIGHT} if s.climbing else {}
     for name, fields in long_runs.items():
-        yield ("long", name), EpisodeConfig(steps=steps, arena_opts=opts, seed=s.seed, **fields), (LONG,)
+        yield Plan(("long", name), EpisodeConfig(steps=steps, arena_opts=opts, seed=s.seed, **fields), (LONG,))
 
 
 def measure(
@@ -150,10 +150,10 @@ def measure(
     runs' rows, coverage over time and wedged periods. ``long_steps``: the long runs' control steps without
     ``quick``; ``paper_time_steps``: the paper's counts behind them (for ``time_step_reading``); ``mark_step``: a
     step the figure marks on the long runs (Fig. 3: 7,000, the paper's 70,000 time steps)."""
-    control_hz = s.control_hz or SIM_HZ
+    control_hz = s.rate
     kept = {k[1]: v[0] for k, v in runs.items() if k[0] in ("example", "long")}
     traces = {k: r.kept["traces" if k not in long_runs else "long"] for k, r in kept.items()}
-    steps = min(long_steps, QUICK_LONG_STEPS) if s.quick else long_steps
+    steps = kept[next(iter(long_runs))].config.steps  # the long runs' control steps, as planned
     arrays = {
         f"{k}/{field}": v[field] for k, v in traces.items() for field in (LONG_TRACES if k in long_runs else TRACES)
     }

@@ -26,7 +26,7 @@ from neurowalk.body.registry import body_model
 from neurowalk.experiments.reproduce.claims import Claim, timing
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.long_runs import sample_steps
-from neurowalk.experiments.suites.timing import SIM_HZ, steps_for
+from neurowalk.experiments.suites.timing import steps_for
 from neurowalk.neural.sensory import STATIC_B, STATIC_Q, initial_weights
 from neurowalk.neural.variants import get_variant
 from neurowalk.plotting import draw_arena
@@ -141,18 +141,30 @@ def snapshots(
 
 
 def network_arrays(
-    net: str, runs: list[dict[str, Any]], example: dict[str, Any], arena: ArenaSpec, end: int | None, **size: int
+    net: str, runs: list[dict[str, Any]], example: dict[str, Any], arena: ArenaSpec, end: int | None
 ) -> dict[str, np.ndarray]:
-    """A network's arrays: ``NET/path/K`` (n, 2) m, the top-view path of each of ``runs``; ``NET/frames`` (n, height,
-    width, 3), the example's snapshots (:func:`snapshot_rows` up to step ``end``; ``size``: width, height in pixels,
-    as :func:`snapshots`), ``NET/snapshot_t`` their times (s), and ``NET/example/KEY`` the example's t, pose, outputs,
-    b, q (:func:`keep_example`)."""
+    """A network's arrays: ``NET/path/K`` (n, 2) m, the top-view path of each of ``runs``; ``NET/snapshot_qpos``
+    (n, nq), the example's positions at its snapshots (:func:`snapshot_rows` up to step ``end``; rendered by
+    :func:`snapshot_frames`), ``NET/snapshot_t`` their times (s), and ``NET/example/KEY`` the example's t, pose,
+    outputs, b, q (:func:`keep_example`)."""
     arrays = {f"{net}/path/{k}": np.asarray(r["path"]) for k, r in enumerate(runs)}
     rows = snapshot_rows(len(example["t"]), end)
-    arrays[f"{net}/frames"] = snapshots(arena, example["qpos"], rows, **size)
+    arrays[f"{net}/snapshot_qpos"] = example["qpos"][rows]
     arrays[f"{net}/snapshot_t"] = example["t"][rows]
     arrays.update({f"{net}/example/{key}": example[key] for key in ("t", "pose", "outputs", "b", "q")})
     return arrays
+
+
+def snapshot_frames(
+    arrays: Mapping[str, np.ndarray], nets: Sequence[str], arena: ArenaSpec, **size: int
+) -> dict[str, np.ndarray]:
+    """Each network's snapshots ``NET/frames`` (n, height, width, 3), rendered from ``NET/snapshot_qpos`` of
+    :func:`network_arrays` (``size``: width, height in pixels, as :func:`snapshots`)."""
+    return {
+        f"{net}/frames": snapshots(arena, q, np.arange(len(q)), **size)
+        for net in nets
+        for q in [arrays[f"{net}/snapshot_qpos"]]
+    }
 
 
 def arena_geometry(arena: ArenaSpec) -> dict[str, Any]:
@@ -171,7 +183,7 @@ def run_record(
     """The head of a figure's summary: the arena and its ``geometry``, the seeds, the runs' length (``steps``
     control steps at the control rate of ``s``; ``timing``: further entries after ``duration_s``), the networks and
     the outcome ``rule``."""
-    control_hz = s.control_hz or SIM_HZ
+    control_hz = s.rate
     return {
         "arena": arena.name,
         "arena_opts": arena.options,
