@@ -53,6 +53,8 @@ def kept_of(cfg: EpisodeConfig, names: list[str]) -> dict[str, Any]:
             out[name] = {"path": np.zeros((max(2, n // 10), 2))}
         elif name == "example":
             out[name] = {"t": np.arange(n) / cfg.control_hz, "qpos": np.zeros((n, 26)), **traces}
+        elif name == "latch":
+            out[name] = {}  # what a run that does not end in a latched spin keeps
         else:
             raise KeyError(f"no stand-in for term {name!r}")
     return out

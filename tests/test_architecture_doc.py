@@ -8,7 +8,7 @@ from pathlib import Path
 import neurowalk
 from neurowalk.body.registry import BODIES, BodyInfo
 from neurowalk.sim import engine as engine_module
-from neurowalk.sim.engines import ENGINES
+from neurowalk.sim.engines import BATCH, ENGINES, PLANAR
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "architecture.md"
 SRC = Path(neurowalk.__file__).resolve().parent
@@ -37,8 +37,11 @@ def test_the_interfaces_have_what_the_page_says():
     text = DOC.read_text()
     for method in re.findall(r"    def ([a-z_]+)\(self", text):
         assert hasattr(engine_module.Engine, method), method
-    for attr in ("name", "many_worlds", "resumable", "devices"):
-        assert hasattr(engine_module.Engine, attr) or attr == "name"
+    outline = text.split("class Engine(ABC):", 1)[1].split("```", 1)[0]
+    attrs = re.findall(r"^    ([a-z_]+): ", outline, re.M)  # the interface's attributes, as the page outlines it
+    assert set(attrs) == set(engine_module.Engine.__annotations__)
+    for engine in (*ENGINES.values(), PLANAR, BATCH):  # and every engine has them
+        assert all(hasattr(engine, attr) for attr in attrs), engine
     for name in ENGINES:
         assert f"`{name}`" in text
     for field in ("engines", "climbs_on", "surrogate", "action", "physics", "climbs"):

@@ -5,13 +5,13 @@ import json
 import numpy as np
 import pytest
 
-from fake_runs import plan
+from fake_runs import kept_of, plan, summary_of
 from neurowalk.arenas import make_arena
 from neurowalk.arenas.generated import MOUTH, OPENING
 from neurowalk.cli import main
 from neurowalk.experiments import FIGURES, Settings
 from neurowalk.experiments.figures import fig8, fig9
-from neurowalk.experiments.stores import run_store
+from neurowalk.experiments.stores import Kept, run_store
 from neurowalk.experiments.study import compute
 from neurowalk.experiments.suites.real_robot import (
     PATH,
@@ -23,6 +23,7 @@ from neurowalk.experiments.suites.real_robot import (
     video_every,
 )
 from neurowalk.experiments.suites.timing import steps_for
+from neurowalk.sim.run_summary import RunSummary
 
 
 def test_both_figures_are_registered_with_the_options_the_cli_passes():
@@ -104,7 +105,11 @@ def _check_strip_and_paths(s: dict, a: dict, seeds: int) -> None:
         for k in range(seeds):
             assert a[f"{net}/path/{k}"].shape[1] == 2
         assert len(s["counts"][net]["runs"]) == seeds
-    assert s["rule"] and s["geometry"]["boxes"] and s["body"] == "amosii"
+        # the example drawn is the first seed's stored run: its pose, sampled as a path is, is that seed's path
+        example_path = np.round(sampled(a[f"{net}/example/pose"][:, :2], path_every(s["control_hz"])), 3)
+        np.testing.assert_array_equal(a[f"{net}/path/0"], example_path)
+    assert s["rule"] and s["geometry"]["boxes"]
+    assert {p["body"] for p in s["physics_settings"]} == {s["body"]}  # the body its runs stepped
 
 
 def test_fig8_quick_from_the_command_line_then_replot(tmp_path):
@@ -121,10 +126,11 @@ def test_fig8_quick_from_the_command_line_then_replot(tmp_path):
         c = s["counts"][net]
         assert c["escaped"] == sum(r["escaped"] for r in c["runs"]) and s["escaped"][net] == f"{c['escaped']}/1"
         assert a[f"{net}/path/0"][0] == pytest.approx([0.0, 0.0], abs=0.02)
-        assert s["example"][net]["escaped"] == c["runs"][0]["escaped"]  # the example reruns the stored seed
-    png = (tmp_path / "fig8.png").stat().st_mtime_ns
+    png, numbers = tmp_path / "fig8.png", (tmp_path / "fig8.json").read_text()
+    png.write_bytes(b"not the picture")
     assert main(["figure", "fig8", "--replot", "--out", str(tmp_path)]) == 0
-    assert (tmp_path / "fig8.png").stat().st_mtime_ns >= png and (tmp_path / "fig8.png").stat().st_size > 50_000
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 50_000  # drawn again
+    assert (tmp_path / "fig8.json").read_text() == numbers  # from the numbers written, nothing run again
 
 
 def test_fig9_quick_from_the_command_line(tmp_path):
@@ -138,7 +144,6 @@ def test_fig9_quick_from_the_command_line(tmp_path):
     for net in ("plastic", "static"):
         c = s["counts"][net]
         assert sum(c[lab] for lab in fig9.OUTCOMES) == 1
-        assert s["map"][0][net]["got_out"] == c["got_out"]  # the map's default cell is the same runs
         assert s["example"][net]["outcome"] == c["runs"][0]["outcome"]
     assert s["geometry"]["right_wall_face_y"] == pytest.approx(-0.23)
     assert "paper_contrast" not in s  # no verdict rule of its own: the title reads the report's judge
@@ -193,3 +198,28 @@ def test_fig9_sweeps_its_map_at_the_simulators_rate_only(hz, cells):
     geometries = {json.dumps(c.arena_opts, sort_keys=True) for c in seen}
     runs = {c.key() for c in seen}  # the default cell's runs are the main runs
     assert len(geometries) == cells and len(runs) == 2 * cells  # two networks, one seed per cell
+
+
+def test_fig9s_map_counts_each_cells_own_runs_and_its_default_cell_the_main_ones():
+    """Stand-in runs: the plastic network's path ends 0.75 m left of the start, out of the path where it is narrower
+    than by default (left edge at 0.684 m) or as wide (0.73 m), not where it is wider (0.776 m); the static network
+    walks out of the default geometry only. Each cell of the map counts its own runs, judged in its own geometry."""
+    edge = np.array([[0.0, 0.0], [1.0, 0.1], [2.0, 0.75]])
+    stuck, out = np.zeros((3, 2)), np.array([[0.0, 0.0], [1.0, 0.1], [2.0, 2.0]])
+    s = Settings(seeds=1)
+    grouped: dict = {}
+    for (net, cell), cfg, terms in plan("fig9", s):
+        kept = {**kept_of(cfg, [t.name for t in terms]), "path": {"path": edge if net == "plastic" else stuck}}
+        if net == "static" and cell == (1.0, 1.0):
+            kept["path"] = {"path": out}
+        grouped.setdefault((net, cell), []).append(Kept(RunSummary.from_dict(summary_of(cfg)), kept))
+    res = fig9.measure(s, grouped)
+    cells = res.summary["map"]
+    assert len(cells) == 9
+    for c in cells:
+        assert c["plastic"]["got_out"] == (c["width_factor"] <= 1.0) and c["plastic"]["seeds"] == 1
+        assert c["static"]["got_out"] == (c["width_factor"] == c["spacing_factor"] == 1.0)
+    (default,) = [c for c in cells if c["width_factor"] == c["spacing_factor"] == 1.0]
+    counts = res.summary["counts"]
+    assert {net: default[net]["got_out"] for net in fig9.NETWORKS} == {"plastic": 1, "static": 1}
+    assert {net: counts[net]["got_out"] for net in fig9.NETWORKS} == {"plastic": 1, "static": 1}

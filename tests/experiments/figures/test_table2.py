@@ -88,13 +88,12 @@ def test_quick_table_json_has_both_rules_and_replots(tmp_path: Path) -> None:
     assert "1.25%" in s["coverage_rule"] and "0.25 m" in s["coverage_rule"] and "held up" in s["held_up_rule"]
     for name, c in s["counts"].items():
         runs = [e[name] for e in s["environments"]]
+        # each row counts the environments' outcomes listed beside it (row_counts' intervals and quartiles:
+        # test_both_rules_are_counted_from_the_runs)
+        assert c["environments"] == len(runs) == 3 and c["success"] == sum(r["success"] for r in runs)
         assert c["success_coverage"] == sum(r["coverage"] >= s["coverage_threshold"] for r in runs)
-        assert c["success_coverage"] + c["failure_coverage"] == 3 and c["success"] + c["failure"] == 3
-        lo, hi = c["success_coverage_rate_95ci"]
-        assert lo <= c["success_coverage_rate"] <= hi
-        assert c["coverage_quartiles"][0] <= c["median_coverage"] <= c["coverage_quartiles"][1]
         assert c["median_coverage"] == pytest.approx(np.median([r["coverage"] for r in runs]))
-        assert 0 <= c["held_up_300s_success"] <= c["success"]
+        assert c["held_up_300s_success"] == sum(r["success"] and r["held_up_300s"] for r in runs)
         assert all({"coverage", "success", "success_coverage", "held_up_300s"} <= set(r) for r in runs)
     png = tmp_path / "table2.png"
     png.unlink()

@@ -10,7 +10,6 @@ from pathlib import Path
 
 import pytest
 
-from neurowalk.experiments.reproduce.claims import VERDICTS
 from neurowalk.experiments.reproduce.gallery import REPLAYS, gallery
 from neurowalk.experiments.reproduce.plan import PLAN
 from neurowalk.experiments.reproduce.report import render, render_details, totals
@@ -24,8 +23,8 @@ QUICK = RESULTS / "quick"
 def test_the_quick_reproduction_has_a_verdict_for_every_result_and_its_report():
     for item in PLAN:
         rec = json.loads((QUICK / f"{item.name}.json").read_text())
-        assert rec["quick"] is True and rec["verdict"] in VERDICTS, item.name
-        assert rec["claims"] and all(c["verdict"] in VERDICTS for c in rec["claims"]), item.name
+        # judged: its claims and verdicts are the judges' now (test_every_committed_record_is_what_the_judges_say_now)
+        assert rec["quick"] is True and rec["claims"], item.name
         assert (QUICK / rec["files"]["json"]).is_file(), item.name  # the numbers it was judged from
     assert (QUICK / "report.md").read_text() == render(QUICK, quick=True)
     assert (QUICK / "details.md").read_text() == render_details(QUICK, quick=True)
@@ -39,7 +38,7 @@ def test_the_full_reproduction_has_a_record_for_every_result_and_its_report():
     """`neurowalk reproduce` (full) ran and is committed: every result, its numbers, its picture, its report."""
     for item in PLAN:
         rec = json.loads((RESULTS / f"{item.name}.json").read_text())
-        assert rec["quick"] is False and rec["verdict"] in VERDICTS, item.name
+        assert rec["quick"] is False and rec["claims"], item.name  # judged, as the quick records
         assert "--quick" not in rec["command"].split(), item.name
         assert (RESULTS / rec["files"]["json"]).is_file() and (RESULTS / rec["files"]["png"]).is_file(), item.name
     assert (RESULTS / "report.md").read_text() == render(RESULTS, quick=False)
