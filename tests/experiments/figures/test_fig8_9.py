@@ -208,11 +208,12 @@ def test_fig9s_map_counts_each_cells_own_runs_and_its_default_cell_the_main_ones
     stuck, out = np.zeros((3, 2)), np.array([[0.0, 0.0], [1.0, 0.1], [2.0, 2.0]])
     s = Settings(seeds=1)
     grouped: dict = {}
-    for (net, cell), cfg, terms in plan("fig9", s):
-        kept = {**kept_of(cfg, [t.name for t in terms]), "path": {"path": edge if net == "plastic" else stuck}}
+    for p in plan("fig9", s):
+        (net, cell), cfg = p.label, p.config
+        kept = {**kept_of(cfg, [t.name for t in p.terms]), "path": {"path": edge if net == "plastic" else stuck}}
         if net == "static" and cell == (1.0, 1.0):
             kept["path"] = {"path": out}
-        grouped.setdefault((net, cell), []).append(Kept(RunSummary.from_dict(summary_of(cfg)), kept))
+        grouped.setdefault((net, cell), []).append(Kept(RunSummary.from_dict(summary_of(cfg)), kept, p))
     res = fig9.measure(s, grouped)
     cells = res.summary["map"]
     assert len(cells) == 9

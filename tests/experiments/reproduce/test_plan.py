@@ -37,7 +37,7 @@ def _plan_module() -> ModuleType:
 def test_the_plan_is_the_papers_results_then_the_judged_studies(monkeypatch):
     assert {n for n, s in FIGURES.items() if s.claims is not None} <= {i.figure for i in PLAN}
     assert {i.figure for i in PLAN} <= set(FIGURES)
-    mine = Study("mine", "my study", plot=print, compute=print, claims=lambda summary, quick: [])
+    mine = Study("mine", "my study", plot=print, runs=print, measure=print, claims=lambda summary, quick: [])
     monkeypatch.setitem(FIGURES, "mine", mine)  # registered before the plan is made
     fresh = _plan_module()
     assert [i.name for i in fresh.PLAN] == [*(i.name for i in PAPER), "mine"]
