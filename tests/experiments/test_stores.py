@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from neurowalk.experiments.stores import Term, run_kept, run_store, shared_stores, store_path
+from neurowalk.experiments.stores import Term, run_kept, run_store, store_path
 from neurowalk.runners.store import ResultStore
 from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.episode import Episode
@@ -68,19 +68,30 @@ def test_a_stored_run_lacking_a_term_is_made_again_and_keeps_its_old_terms(tmp_p
     np.testing.assert_array_equal(r["kept"]["test start"]["start"], again[1]["kept"]["test start"]["start"])
 
 
-def test_a_run_one_figure_made_is_taken_by_another_in_shared_stores(tmp_path: Path) -> None:
+def test_a_run_one_study_made_is_taken_by_another_with_shared_runs(tmp_path: Path) -> None:
+    """Two studies with Settings.shared_runs: the second takes the runs the first made, nothing lands in their own
+    folders, and the first's json names the store."""
+    from neurowalk import Plan, Settings, Study
+    from neurowalk.experiments.study import compute
+
+    other = EpisodeConfig(arena="open", body="surrogate", steps=20, seed=9)
+
+    def study(name: str, configs: list[EpisodeConfig]) -> Study:
+        def measure(s: Settings, r: dict) -> dict:
+            return {"paths": [k.path_length_m for k in r["a"]]}
+
+        return Study(name, name, plot=lambda r: None, runs=lambda s: (Plan("a", c) for c in configs), measure=measure,
+                     records_physics=True)  # fmt: skip
+
     shared = tmp_path / "runs"
-    with shared_stores(shared):
-        first = run_store([(c, ()) for c in CONFIGS], tmp_path / "a", 1)
-        before = finished(shared / "results.sqlite")
-        other = EpisodeConfig(arena="open", body="surrogate", steps=20, seed=9)
-        second = run_store([(CONFIGS[0], ()), (CONFIGS[1], ()), (other, ())], tmp_path / "b", 1)
-        assert store_path(tmp_path / "a") == shared / "results.sqlite"
+    a = compute(study("first", CONFIGS), Settings(out=tmp_path / "a", shared_runs=shared, workers=1))
+    before = finished(shared / "results.sqlite")
+    b = compute(study("second", [*CONFIGS[:2], other]), Settings(out=tmp_path / "b", shared_runs=shared))
     after = finished(shared / "results.sqlite")
     assert {k: after[k] for k in before} == before and len(after) == 4  # two taken, one made
-    assert [r["path_length_m"] for r in second[:2]] == [r["path_length_m"] for r in first[:2]]
-    assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()  # nothing in the figures' own folders
-    assert store_path(tmp_path / "a") == tmp_path / "a" / "results.sqlite"  # the block ended
+    assert b.summary["paths"][:2] == a.summary["paths"][:2]
+    assert not (tmp_path / "a" / "results.sqlite").exists() and not (tmp_path / "b" / "results.sqlite").exists()
+    assert a.summary["store"] == str(store_path(shared))
 
 
 def test_a_run_is_the_same_kept_in_memory_or_streamed_alone(tmp_path: Path) -> None:

@@ -188,18 +188,17 @@ def test_a_resumed_study_counts_only_the_kept_runs_its_own_settings_need(tmp_pat
 def test_a_figure_inside_shared_stores_counts_the_runs_kept_there(tmp_path: Path):
     from neurowalk.cli.settings import interrupted_line
     from neurowalk.experiments import FIGURES
-    from neurowalk.experiments.stores import run_store, shared_stores
+    from neurowalk.experiments.stores import run_store
     from neurowalk.experiments.study import kept_runs, planned
 
     figure, s = FIGURES["table2"], Settings(quick=True, seeds=1, out=tmp_path / "table2")
     plan, *_ = planned(figure, s)
     first, terms = plan.config, plan.terms
-    with shared_stores(tmp_path / "runs"):
-        run_store([(first, terms), (first.replace(seed=99), ())], tmp_path / "elsewhere", 1)  # one of its runs, one not
-        kept = kept_runs(figure, s)
+    run_store([(first, terms), (first.replace(seed=99), ())], tmp_path / "runs", 1)  # one of its runs, one not
+    kept = kept_runs(figure, s.replace(shared_runs=tmp_path / "runs"))
     assert kept == {tmp_path / "runs" / "results.sqlite": 1}  # only the runs its own settings need
     assert f"1 finished runs are kept in {tmp_path / 'runs'}" in interrupted_line("table2", kept)
-    assert kept_runs(figure, s) == {}  # outside them: its own folder holds none
+    assert kept_runs(figure, s) == {}  # without them: its own folder holds none
 
 
 def test_a_study_whose_own_measure_raises_shows_its_own_frames_and_what_is_kept(tmp_path: Path, capsys):

@@ -98,12 +98,7 @@ def _figure(args: argparse.Namespace) -> int:
     out = args.out or Path("out") / (args.name + ("-climb" if args.climbing else "") + _rate_suffix(args.control_hz))
     if args.replot:
         return _replot(args.name, out)
-    if args.shared_runs is not None:
-        from neurowalk.experiments.stores import shared_stores
-
-        with shared_stores(args.shared_runs):
-            return run_and_write(study, settings.replace(out=out), f"figure {args.name}")
-    return run_and_write(study, settings.replace(out=out), f"figure {args.name}")
+    return run_and_write(study, settings.replace(out=out, shared_runs=args.shared_runs), f"figure {args.name}")
 
 
 def _replot(name: str, out: Path) -> int:

@@ -11,9 +11,9 @@ figure draws, a streamed long run's rows, ...). :func:`run_kept` is the one func
 terms; :func:`run_store` runs configs through the store of a folder, each run stored as it finishes, so that a stopped
 study keeps its finished runs and the same call again runs only the others.
 
-:func:`shared_stores` puts the store of every study run inside it into one folder shared by many studies (``neurowalk
-figure --shared-runs DIR``; ``neurowalk reproduce`` shares one across its figures): a run one figure made is taken by
-another that asks for the same config (the same config gives the same result, bit for bit), not run again.
+A store's folder may be shared by many studies (``Settings.shared_runs``, ``neurowalk figure --shared-runs DIR``;
+``neurowalk reproduce`` shares one across its figures): a run one figure made is taken by another that asks for the
+same config (the same config gives the same result, bit for bit), not run again.
 """
 
 from __future__ import annotations
@@ -39,8 +39,6 @@ from neurowalk.sim.episode import Episode
 
 STORE = "results.sqlite"  # a study's store in its folder (and in a shared folder)
 OLD_STORES = ("traces.sqlite", "track.sqlite", "neurowalk.*.sqlite")  # the stores of neurowalk before the terms
-_SHARED: list[Path] = []  # the folder of shared stores in force (shared_stores), innermost last
-_TERMS: dict[str, Term] = {}  # every term made so far, by name (the last made of a name)
 
 
 @dataclass(frozen=True)
@@ -61,9 +59,6 @@ class Term:
     keep: Callable[[Episode], dict[str, Any]]
     arrays: Mapping[str, str] = field(default_factory=dict)
     stream: Callable[[EpisodeConfig], tuple[Streaming, Callable[[Episode], dict[str, Any]]]] | None = None
-
-    def __post_init__(self) -> None:
-        _TERMS[self.name] = self  # known by its name: a stored run that kept it keeps it when it runs again
 
 
 @dataclass(frozen=True)
@@ -114,21 +109,9 @@ def kept_of(terms: Sequence[Term], ep: Episode) -> dict[str, Any]:
     return out
 
 
-@contextlib.contextmanager
-def shared_stores(folder: Path) -> Iterator[Path]:
-    """Inside the block, :func:`run_store` keeps and takes runs in ``folder``'s store instead of a study's own."""
-    folder = Path(folder)
-    _SHARED.append(folder)
-    try:
-        yield folder
-    finally:
-        _SHARED.pop()
-
-
 def store_path(folder: Path) -> Path:
-    """Where :func:`run_store` keeps a study's runs: ``folder/results.sqlite``, or inside :func:`shared_stores` the
-    shared folder's."""
-    return (_SHARED[-1] if _SHARED else Path(folder)) / STORE
+    """Where :func:`run_store` keeps the runs of a store's folder: ``folder/results.sqlite``."""
+    return Path(folder) / STORE
 
 
 def run_store(
@@ -172,10 +155,11 @@ def run_store(
             cfg = configs[key]
             return held[key].get("physics") != physics_settings(cfg.body, cfg.body_opts, cfg.control_hz)
 
-        for key, terms in wanted.items():  # a run kept again keeps what it kept before (the union of the terms)
-            old = held.get(key, {}).get("kept", {})
-            if set(terms) - set(old) and key in held:
-                terms.update({n: _TERMS[n] for n in old if n in _TERMS})
+        def amend(key: str, result: dict[str, Any]) -> dict[str, Any]:
+            """A run kept again keeps what it kept before (of the same physics) beside what it keeps now."""
+            old = held.get(key, {}).get("kept", {}) if key in held and not stale(key) else {}
+            return {**result, "kept": {**old, **result.get("kept", {})}} if old else result
+
         groups: dict[tuple[str, ...], list[str]] = {}
         for key, terms in wanted.items():
             groups.setdefault(tuple(sorted(terms)), []).append(key)
@@ -195,6 +179,7 @@ def run_store(
                 fn=functools.partial(run_kept, terms_),
                 world_fn=functools.partial(kept_of, terms_),
                 redo=redo,
+                amend=amend,
             )
             if report.interrupted:
                 break

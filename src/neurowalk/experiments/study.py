@@ -66,7 +66,9 @@ class Settings:
         workers: processes of the local pool, or CPUs of a local Ray instance.
         backend: where the runs run: ``local`` (a process pool) or ``ray``.
         address: the Ray cluster to join (with backend ``ray``), e.g. ``"10.0.0.1:6379"``.
-        out: the output folder (default ``out/NAME``): NAME.json, NAME.npz, NAME.png and the result stores.
+        out: the output folder (default ``out/NAME``): NAME.json, NAME.npz, NAME.png and the result store.
+        shared_runs: the folder whose result store keeps the runs instead of ``out``'s (``--shared-runs``): shared
+            by many studies, a run one of them made is taken by another that asks for the same config.
     """
 
     quick: bool = False
@@ -86,12 +88,14 @@ class Settings:
     backend: str = "local"
     address: str | None = None
     out: Path | str | None = None
+    shared_runs: Path | str | None = None
 
     def __post_init__(self) -> None:
         if self.params is not None:
             object.__setattr__(self, "params", FrozenDict(self.params))
-        if self.out is not None:
-            object.__setattr__(self, "out", Path(self.out))
+        for name in ("out", "shared_runs"):
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, Path(getattr(self, name)))
         if not isinstance(self.seed, int) or not 0 <= self.seed < 2**63:
             raise ValueError(f"seed must be from 0 to 2**63 - 1, got {self.seed!r}")
         if self.seeds is not None and not 1 <= self.seeds <= MAX_SEEDS:
@@ -266,7 +270,7 @@ def compute(study: Study, settings: Settings) -> Result:
     plans = planned(study, settings)
     grouped: dict[Label, list[Kept]] = {}
     if plans:
-        with store_folder(settings.out) as folder:
+        with store_folder(settings.shared_runs or settings.out) as folder:
             results = run_store(
                 [(p.config, p.terms) for p in plans],
                 folder,
@@ -289,7 +293,7 @@ def compute(study: Study, settings: Settings) -> Result:
         result.summary["videos"] = study.videos(settings, grouped, Path(settings.out or Path("out") / study.name))
     if study.records_physics and plans:
         result.summary["physics_settings"] = physics_of([k.summary for runs in grouped.values() for k in runs])
-        if settings.out is not None and store.parent != Path(settings.out):  # shared stores: name where the runs are
+        if settings.shared_runs is not None:  # the runs are elsewhere: the json names their store
             result.summary["store"] = str(store)
     return result
 
@@ -377,7 +381,7 @@ def kept_runs(study: Study, settings: Settings) -> dict[Path, int] | None:
         return {}
     if not keys:
         return None
-    path = store_path(settings.out)
+    path = store_path(settings.shared_runs or settings.out)
     n = count_finished(path, keys)
     return {path: n} if n else {}
 

@@ -95,6 +95,7 @@ def run_sweep(
     desc: str = "sweep",
     world_fn: Callable[[Episode], dict[str, Any]] | None = None,
     redo: Collection[str] = (),
+    amend: Callable[[str, dict[str, Any]], dict[str, Any]] | None = None,
 ) -> SweepReport:
     """Run every spec not yet done into ``store``; return the counts.
 
@@ -113,6 +114,8 @@ def run_sweep(
         world_fn: what ``fn`` keeps, from an episode held in memory: with it (or with ``fn`` the default), the runs
             of a many-worlds engine (MuJoCo Warp) run here as the worlds of shared calls; without it, on the pool.
         redo: keys run again though the store holds them (e.g. rows that lack something now kept).
+        amend: ``amend(key, result) -> result``: a finished run's result as it is stored, made here in the driver
+            (e.g. what the row it replaces kept, added).
 
     Raises:
         ValueError: bad spec, backend or worker count (before any run).
@@ -143,6 +146,8 @@ def run_sweep(
             )
             for d in results:
                 key, spec = todo[d.index]
+                if amend is not None and d.error is None and isinstance(d.value, dict):
+                    d = replace(d, value=amend(key, d.value))
                 with deferred():  # a run is stored whole, or not at all
                     _store(store, key, spec, d, report)
                 bar.update(1)
