@@ -262,6 +262,8 @@ FIGURE_CASES = [
     fig("workers", "fig8", "--quick", "--workers", "0"),
     fig("fig99", "fig99"),
     fig("fig99", "fig99", "--shared-runs", GOOD),
+    fig("settings", "fig2", "--settings", "no-such-settings.json"),
+    fig("settings", "fig2", "--settings", "no-such-settings.json", "--quick"),
     fig("''", ""),
     fig("FIG2", "FIG2"),
     fig("--seeds", "fig2", "--seeds", "3"),

@@ -6,7 +6,7 @@ import argparse
 import sys
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from neurowalk.cli.common import UsageError, failure_words, stop_line, stopped
 from neurowalk.cli.settings import add_settings_args, run_and_write, settings_of
@@ -58,6 +58,16 @@ def add_figure_parser(sub: argparse._SubParsersAction, name: str | None = None) 
         "the same config is taken, not run again); default: the figure's own store in DIR; `neurowalk reproduce` "
         "shares one",
     )
+    f.add_argument(
+        "--settings",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        dest="settings_file",
+        help='take every setting from FILE, a JSON file {"figure": NAME, "settings": {...}} of the settings\' '
+        "fields (`neurowalk reproduce` writes one per figure, DIR/RUN/settings.json: a figure of a reproduction "
+        "runs again by hand so); no other setting with it",
+    )
     add_settings_args(f, FIGURES[name].takes if name in FIGURES else None)
 
 
@@ -94,11 +104,46 @@ def _figure(args: argparse.Namespace) -> int:
     if args.name not in FIGURES:
         raise UsageError(f"unknown figure {args.name!r}; available: {', '.join(sorted(FIGURES))}")
     study = FIGURES[args.name]
+    if args.settings_file is not None:
+        settings = settings_from_file(args, study)
+        return run_and_write(study, settings, f"figure {args.name}")
     settings = settings_of(args, study, f"figure {args.name!r}")
     out = args.out or Path("out") / (args.name + ("-climb" if args.climbing else "") + _rate_suffix(args.control_hz))
     if args.replot:
         return _replot(args.name, out)
     return run_and_write(study, settings.replace(out=out, shared_runs=args.shared_runs), f"figure {args.name}")
+
+
+def settings_from_file(args: argparse.Namespace, study: Any) -> Any:
+    """The settings of ``--settings FILE`` for figure ``args.name`` (out: the file's, else ``out/NAME``), checked as
+    the flags' are; UsageError in one line naming the file where it cannot be read, names another figure, is given
+    with other settings, or holds a setting the figure does not take or a bad value."""
+    import dataclasses
+    import json
+
+    from neurowalk.experiments.study import Settings, resolve
+
+    path = args.settings_file
+    others = settings_of(args, study, f"figure {args.name!r}")  # the flags alongside: none but their defaults
+    if others != Settings(out=args.out) or args.shared_runs is not None or args.replot:
+        raise UsageError(f"--settings {path}: give no other setting with it (they are all in the file)")
+    try:
+        text = json.loads(Path(path).read_text(encoding="utf-8"))
+        figure, fields = text["figure"], dict(text["settings"])
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        raise UsageError(f"--settings {path}: not a settings file ({failure_words(e)})") from None
+    if figure != args.name:
+        raise UsageError(f"--settings {path} holds the settings of figure {figure!r}, not {args.name!r}")
+    known = {f.name for f in dataclasses.fields(Settings)}
+    if set(fields) - known:
+        raise UsageError(f"--settings {path}: unknown settings {sorted(set(fields) - known)}")
+    try:
+        settings = Settings(**fields)
+        study.check(settings)
+        settings = resolve(study, settings)
+    except (ValueError, TypeError) as e:
+        raise UsageError(f"--settings {path}: {e}") from None
+    return settings if settings.out is not None else settings.replace(out=Path("out") / args.name)
 
 
 def _replot(name: str, out: Path) -> int:

@@ -46,6 +46,7 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     SIGTERM), with one line saying which results are on disk.
     """
     from neurowalk.experiments.reproduce import runner
+    from neurowalk.experiments.reproduce.plan import settings_words
     from neurowalk.experiments.reproduce.report import write_report
     from neurowalk.experiments.reproduce.timing import expected_seconds
     from neurowalk.fileio import folder_lock
@@ -55,7 +56,8 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     runs, run_of = runner.runs_of(items, args.quick, args.workers)
     if args.list:
         for item in items:
-            print(f"{item.name:<15} {' '.join(run_of[item.name].command(out))}")
+            run = run_of[item.name]
+            print(f"{item.name:<15} figure {run.figure}: {settings_words(run.given)}")
         return 0
     out_folder(out)
     lock = folder_lock(out, "reproduce")

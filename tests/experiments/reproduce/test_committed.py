@@ -39,7 +39,7 @@ def test_the_full_reproduction_has_a_record_for_every_result_and_its_report():
     for item in PLAN:
         rec = json.loads((RESULTS / f"{item.name}.json").read_text())
         assert rec["quick"] is False and rec["claims"], item.name  # judged, as the quick records
-        assert "--quick" not in rec["command"].split(), item.name
+        assert not rec["settings"].get("quick") and rec["settings"] == item.given(quick=False), item.name
         assert (RESULTS / rec["files"]["json"]).is_file() and (RESULTS / rec["files"]["png"]).is_file(), item.name
     assert (RESULTS / "report.md").read_text() == render(RESULTS, quick=False)
     assert (RESULTS / "details.md").read_text() == render_details(RESULTS, quick=False)

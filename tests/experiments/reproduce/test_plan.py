@@ -23,7 +23,7 @@ def test_a_study_with_claims_joins_the_plan_with_its_claims_as_its_judge():
         "reproduced",
         "not",
     ]
-    assert item.args(quick=True) == ("--quick",) and item.args(quick=False) == ()
+    assert item.given(quick=True) == {"quick": True} and item.given(quick=False) == {}
 
 
 def _plan_module() -> ModuleType:

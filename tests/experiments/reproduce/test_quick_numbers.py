@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import json
 import math
-import shlex
 from pathlib import Path
 from typing import Any
 
@@ -43,11 +42,11 @@ def _leaves(v: Any, path: str = "") -> dict[str, Any]:
 @pytest.mark.parametrize("name", CHEAP)
 def test_a_quick_result_comes_out_as_committed(name: str, tmp_path: Path) -> None:
     record = json.loads((QUICK / f"{name}.json").read_text())
-    argv = shlex.split(record["command"])[1:]  # neurowalk figure FIG --out DIR FLAGS
-    argv[argv.index("--out") + 1] = str(tmp_path / name)
-    if "--shared-runs" in argv:  # the reproduction's shared stores: a fresh folder here
-        argv[argv.index("--shared-runs") + 1] = str(tmp_path / "runs")
-    assert main(argv) == 0
+    run = record["files"]["json"].split("/")[0]  # the committed settings file, in a fresh folder (and stores) here
+    (tmp_path / "settings.json").write_text(json.dumps({"figure": record["figure"], "settings": {
+        **record["settings"], "out": str(tmp_path / run), "shared_runs": str(tmp_path / "runs")}}))  # fmt: skip
+    assert record["command"].endswith(f"{run}/settings.json")  # the command reads the settings recorded
+    assert main(["figure", record["figure"], "--settings", str(tmp_path / "settings.json")]) == 0
     plt.close("all")
     rel = record["files"]["json"]
     got = _leaves(json.loads((tmp_path / rel).read_text()))

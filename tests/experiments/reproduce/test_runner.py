@@ -4,9 +4,10 @@ from __future__ import annotations
 
 import json
 import shlex
+from pathlib import Path
 
 from neurowalk.cli import main
-from neurowalk.experiments import FIGURES
+from neurowalk.experiments import FIGURES, Settings
 from neurowalk.experiments.reproduce.plan import ITEMS, PLAN
 from neurowalk.experiments.reproduce.runner import rejudged, runs_of
 from neurowalk.experiments.reproduce.timing import measured_times
@@ -25,11 +26,13 @@ def test_results_with_the_same_command_share_one_run():
     runs, of = runs_of([ITEMS["table2"], ITEMS["table2"]], quick=True, workers=None)
     assert len(runs) == 1 and of["table2"] is runs[0]
     runs, of = runs_of([ITEMS["table2"], ITEMS["table2-1000"]], quick=False, workers=None)
-    assert len(runs) == 2 and of["table2-1000"].args[-2:] == ("--seeds", "1000")
+    assert len(runs) == 2 and dict(of["table2-1000"].given) == {"seeds": 1000}
     runs, of = runs_of([ITEMS["table2-1000"]], quick=True, workers=None)
-    assert of["table2-1000"].args == ("--quick", "--seeds", "100")
+    assert dict(of["table2-1000"].given) == {"quick": True, "seeds": 100}
     runs, _ = runs_of([ITEMS["fig8"], ITEMS["fig2"]], quick=True, workers=3)
-    assert "--workers" in runs[0].args and "--workers" not in runs[1].args  # fig2 takes none
+    assert dict(runs[0].given)["workers"] == 3 and "workers" not in dict(runs[1].given)  # fig2 takes none
+    typed = Settings(quick=True, workers=3, out=Path("d/fig8"), shared_runs=Path("d/runs"))
+    assert runs[0].settings(Path("d")) == typed
 
 
 def test_quick_reproduction_of_two_results_records_judges_and_resumes(tmp_path, capsys):
@@ -43,7 +46,13 @@ def test_quick_reproduction_of_two_results_records_judges_and_resumes(tmp_path, 
         assert rejudged(ITEMS[name], rec, out) == rec  # the judge's claims of the numbers the figure wrote
         verdicts = {c["verdict"] for c in rec["claims"]}  # all the same: that one; mixed: partly
         assert rec["verdict"] == (verdicts.pop() if len(verdicts) == 1 else "partly")
-        assert shlex.split(rec["command"])[:3] == ["neurowalk", "figure", name] and "--quick" in rec["command"]
+        assert shlex.split(rec["command"]) == ["neurowalk", "figure", name, "--settings", f"{out}/{name}/settings.json"]
+        assert rec["settings"] == {"quick": True} and rec["figure"] == name
+        written = json.loads((out / name / "settings.json").read_text())  # what the command read
+        assert written == {
+            "figure": name,
+            "settings": {"quick": True, "out": f"{out}/{name}", "shared_runs": f"{out}/runs"},
+        }
         assert rec["versions"]["mujoco"] and rec["wall_time_s"] > 0
         assert (out / rec["files"]["png"]).is_file() and (out / rec["files"]["json"]).is_file()
         assert all(c["rule"] for c in rec["claims"])
@@ -75,7 +84,7 @@ def test_bad_input_exits_2_naming_the_value(tmp_path, capsys):
 def test_list_names_every_command_and_runs_nothing(tmp_path, capsys):
     assert main(["reproduce", "--list", "--quick", "--out", str(tmp_path / "x")]) == 0
     text = capsys.readouterr().out
-    assert all(item.name in text for item in PLAN) and "--control-hz 27" in text
+    assert all(item.name in text for item in PLAN) and "figure fig8: control_hz 27, quick" in text
     assert not (tmp_path / "x").exists()
 
 

@@ -16,7 +16,7 @@ import tempfile
 from pathlib import Path
 
 from neurowalk.experiments import FIGURES
-from neurowalk.experiments.reproduce.plan import PLAN
+from neurowalk.experiments.reproduce.plan import PLAN, settings_words
 from neurowalk.experiments.reproduce.report import read_records
 
 HEADER = """# The figures
@@ -103,7 +103,8 @@ def gallery(results: Path, page: Path) -> str:
                 f"![{item.name}]({png})",
                 "",
                 f"**{item.name}**: {item.paper}. Verdict: {rec['verdict']} "
-                f"([report]({report}#{item.name})). `{rec['command']}`, {rec['wall_time_s']:.0f} s.",
+                f"([report]({report}#{item.name})). `neurowalk figure {rec['figure']}`, "
+                f"{settings_words(rec['settings'])}: {rec['wall_time_s']:.0f} s.",
                 "",
             ]
     return "\n".join(lines).rstrip() + "\n"

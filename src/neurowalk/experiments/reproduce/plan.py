@@ -1,23 +1,23 @@
 """What ``neurowalk reproduce`` runs: every result of the paper as an :class:`Item` (:data:`PAPER`), and every
 registered study that judges its own results (``Study.claims``), in :data:`PLAN`.
 
-An item names the figure command that measures it (``neurowalk figure FIG FLAGS``, with ``--quick`` and the
-quick flags in a quick reproduction, the full flags otherwise), what the paper shows, and the judge that reads
-the figure's saved numbers and gives the paper's results as claims with verdicts (:mod:`.claims`). Items with the
-same command share one run.
+An item names the figure that measures it and that figure's settings (typed: :class:`~neurowalk.experiments.Settings`
+fields, ``quick`` and the quick ones in a quick reproduction, the full ones otherwise), what the paper shows, and the
+judge that reads the figure's saved numbers and gives the paper's results as claims with verdicts (:mod:`.claims`).
+Items of the same figure and settings share one run.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 from neurowalk.experiments import FIGURES, Study
 from neurowalk.experiments.reproduce.claims import Claim
 
 #: The real AMOSII's control rate (paper §2.2: "updated with a frequency of approximately 27 Hz").
-REAL_ROBOT_HZ = "27"
+REAL_ROBOT_HZ = 27.0
 
 
 @dataclass(frozen=True)
@@ -28,27 +28,27 @@ class Item:
         name: the item's name (``DIR/NAME.json``; ``--only NAME``).
         figure: the figure that measures it (``neurowalk figure FIG``).
         paper: what the paper shows, in a line, with where.
-        flags: figure flags of both modes.
-        full: flags of the full reproduction only.
-        quick: flags of the quick one only (after ``--quick``).
+        settings: the figure's settings in both modes (:class:`~neurowalk.experiments.Settings` fields).
+        full: settings of the full reproduction only.
+        quick: settings of the quick one only (with ``quick``).
         claims: its judge where it is not that of the registered figure (a study of a table of one's own).
     """
 
     name: str
     figure: str
     paper: str
-    flags: tuple[str, ...] = ()
-    full: tuple[str, ...] = ()
-    quick: tuple[str, ...] = ()
+    settings: Mapping[str, Any] = field(default_factory=dict)
+    full: Mapping[str, Any] = field(default_factory=dict)
+    quick: Mapping[str, Any] = field(default_factory=dict)
     claims: Callable[[dict[str, Any], bool], list[Claim]] | None = None
 
     def judge(self, summary: dict[str, Any], quick: bool) -> list[Claim]:
         """The paper's results the figure's saved numbers ``summary`` show, judged: its study's ``claims``."""
         return (self.claims or FIGURES[self.figure].claims)(summary, quick)  # type: ignore[misc]
 
-    def args(self, quick: bool) -> tuple[str, ...]:
-        """The figure command's flags (after ``figure FIG --out DIR``)."""
-        return (*self.flags, *(("--quick", *self.quick) if quick else self.full))
+    def given(self, quick: bool) -> dict[str, Any]:
+        """The figure's settings in a quick (``quick`` set) or a full reproduction: Settings fields by name."""
+        return {**self.settings, **({"quick": True, **self.quick} if quick else self.full)}
 
 
 PAPER: tuple[Item, ...] = (
@@ -86,14 +86,14 @@ PAPER: tuple[Item, ...] = (
         "table2-1000",
         "table2",
         "Table 2 on 1000 random environments (planar surrogate; 100 with --quick)",
-        full=("--seeds", "1000"),
-        quick=("--seeds", "100"),
+        full={"seeds": 1000},
+        quick={"seeds": 100},
     ),
     Item(
         "table2-physics",
         "table2",
         "Table 2: 49 of 50 random environments explored (physics AMOSII)",
-        flags=("--body", "amosii"),
+        settings={"body": "amosii"},
     ),
     Item(
         "fig8",
@@ -104,7 +104,7 @@ PAPER: tuple[Item, ...] = (
         "fig8-27hz",
         "fig8",
         "Fig. 8: the real robot (27 Hz) escaped the narrow passage at 0:50",
-        flags=("--control-hz", REAL_ROBOT_HZ),
+        settings={"control_hz": REAL_ROBOT_HZ},
     ),
     Item(
         "fig9",
@@ -116,7 +116,7 @@ PAPER: tuple[Item, ...] = (
         "fig9-27hz",
         "fig9",
         "Fig. 9: the real robot (27 Hz) went out of the complex path at 3:20",
-        flags=("--control-hz", REAL_ROBOT_HZ),
+        settings={"control_hz": REAL_ROBOT_HZ},
     ),
     Item(
         "fig10",
@@ -127,7 +127,7 @@ PAPER: tuple[Item, ...] = (
         "fig10-27hz",
         "fig10",
         "Fig. 10: the real robot (27 Hz) was on the first platform at 0:23, the second at 1:14",
-        flags=("--control-hz", REAL_ROBOT_HZ),
+        settings={"control_hz": REAL_ROBOT_HZ},
     ),
     Item(
         "escape-map",
@@ -151,6 +151,12 @@ PAPER: tuple[Item, ...] = (
         "Beyond the paper: the planar surrogate against the physics robot",
     ),
 )
+
+
+def settings_words(given: dict[str, Any] | tuple[tuple[str, Any], ...]) -> str:
+    """A figure's settings in words: ``quick, control_hz 27`` (``default settings`` where none is given)."""
+    words = [k if v is True else f"{k} {v:g}" if isinstance(v, float) else f"{k} {v}" for k, v in dict(given).items()]
+    return ", ".join(words) or "default settings"
 
 
 def judged_studies(figures: Mapping[str, Study], named: Iterable[str]) -> tuple[Item, ...]:

@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from neurowalk.experiments.reproduce.judge_authors import SOURCE
-from neurowalk.experiments.reproduce.plan import PLAN
+from neurowalk.experiments.reproduce.plan import PLAN, settings_words
 from neurowalk.fileio import atomic_write
 
 DOCS = Path(__file__).resolve().parents[4] / "docs"  # the documentation, in a checkout
@@ -134,7 +134,8 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
             "",
             f"## {item.name}",
             "",
-            f"{item.paper}: **{rec['verdict']}**. `{rec['command']}` ({_took(rec)}; "
+            f"{item.paper}: **{rec['verdict']}**. `neurowalk figure {rec['figure']}`, "
+            f"{settings_words(rec['settings'])} (`{rec['command']}`; {_took(rec)}; "
             f"[its verdicts in detail](details.md#{item.name}), [its numbers]({rec['files']['json']})).",
             "",
             f"![{item.name}]({rec['files']['png']})",

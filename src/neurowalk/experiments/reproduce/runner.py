@@ -1,12 +1,15 @@
-"""Run the plan of :mod:`.plan`: each figure once (a subprocess, `neurowalk figure ...`), each item judged.
+"""Run the plan of :mod:`.plan`: each figure once (a subprocess, `neurowalk figure FIG --settings FILE`: its typed
+settings in a file), each item judged.
 
 Layout of the output folder ``DIR``:
 
 * ``DIR/RUN/``: a figure's own output (``FIG.png``, ``FIG.json``, ``FIG.npz``, its result stores) and ``log.txt``,
   the command's output. ``RUN`` is the name of the first item that uses the run; items that read the same run
   (Table 1's and Fig. 7's share none; the long runs share Fig. 5's) judge the same files.
+* ``DIR/RUN/settings.json``: the figure and its settings (:class:`~neurowalk.experiments.Settings` fields), which the
+  command reads (``neurowalk figure FIG --settings DIR/RUN/settings.json`` runs it again by hand).
 * ``DIR/RUN/command.json``: written after the command succeeded; a later ``reproduce`` skips the run where it
-  names the same command (and otherwise runs it again: the figure's stores keep finished runs).
+  names the same figure and settings (and otherwise runs it again: the figure's stores keep finished runs).
 * ``DIR/NAME.json``: an item's result (:func:`item_record`), written after its run.
 * ``DIR/report.md``: the table of all items (:mod:`.report`).
 
@@ -32,7 +35,7 @@ from pathlib import Path
 from typing import Any
 
 from neurowalk import profiling
-from neurowalk.experiments import FIGURES
+from neurowalk.experiments import FIGURES, Settings
 from neurowalk.experiments.reproduce.claims import Claim, overall
 from neurowalk.experiments.reproduce.judge_authors import compare
 from neurowalk.experiments.reproduce.plan import Item
@@ -42,37 +45,55 @@ from neurowalk.runners.local import die_with_parent
 
 #: The folder in ``DIR/RUN`` the figure's processes write their profiles into (:mod:`neurowalk.profiling`).
 PROFILE = "profile"
-#: The folder in ``DIR`` of the result stores all figures of a reproduction share (``figure --shared-runs``).
+#: The folder in ``DIR`` of the result stores all figures of a reproduction share (``Settings.shared_runs``).
 SHARED_RUNS = "runs"
+#: The file in ``DIR/RUN`` of the figure's settings, which its command reads.
+SETTINGS_FILE = "settings.json"
 
 
 @dataclass(frozen=True)
 class Run:
-    """One figure command: the items judged from it share its folder ``DIR/name``."""
+    """One figure and its settings: the items judged from it share its folder ``DIR/name``.
+
+    Attributes:
+        name: the folder's name (the first item's). figure: the figure (:data:`~neurowalk.experiments.FIGURES`).
+        given: its settings by field name (JSON-able; out and shared_runs are the reproduction's).
+    """
 
     name: str
     figure: str
-    args: tuple[str, ...]
+    given: tuple[tuple[str, Any], ...]
+
+    def settings(self, out: Path) -> Settings:
+        """Its typed settings in the reproduction ``out``: its own folder ``DIR/name`` and the shared stores
+        ``DIR/runs`` (a run two figures need is made once)."""
+        return Settings(**dict(self.given), out=out / self.name, shared_runs=out / SHARED_RUNS)
+
+    def settings_file(self, out: Path) -> dict[str, Any]:
+        """What ``DIR/RUN/settings.json`` holds: the figure and its settings (paths as text)."""
+        s = self.settings(out)
+        return {
+            "figure": self.figure,
+            "settings": {**dict(self.given), "out": str(s.out), "shared_runs": str(s.shared_runs)},
+        }
 
     def command(self, out: Path) -> list[str]:
-        """The command's words, as a user types them (``neurowalk figure ...``); every figure keeps its runs in the
-        shared stores ``DIR/runs`` (a run two figures need is made once)."""
-        shared = ["--shared-runs", str(out / SHARED_RUNS)]
-        return ["neurowalk", "figure", self.figure, "--out", str(out / self.name), *shared, *self.args]
+        """The command's words, as a user types them: ``neurowalk figure FIG --settings DIR/RUN/settings.json``."""
+        return ["neurowalk", "figure", self.figure, "--settings", str(out / self.name / SETTINGS_FILE)]
 
 
 def runs_of(items: list[Item], quick: bool, workers: int | None) -> tuple[list[Run], dict[str, Run]]:
-    """The distinct figure commands of ``items`` in order, and each item's run (by item name); ``workers`` goes to
-    the figures that take it."""
-    runs: dict[tuple[str, tuple[str, ...]], Run] = {}
+    """The distinct figures and settings of ``items`` in order, and each item's run (by item name); ``workers`` goes
+    to the figures that take it."""
+    runs: dict[tuple[str, tuple[tuple[str, Any], ...]], Run] = {}
     of: dict[str, Run] = {}
     for item in items:
-        args = item.args(quick)
+        given = item.given(quick)
         if workers is not None and "workers" in FIGURES[item.figure].takes:
-            args = (*args, "--workers", str(workers))
-        key = (item.figure, args)
+            given["workers"] = workers
+        key = (item.figure, tuple(sorted(given.items())))
         if key not in runs:
-            runs[key] = Run(item.name, item.figure, args)
+            runs[key] = Run(item.name, item.figure, key[1])
         of[item.name] = runs[key]
     return list(runs.values()), of
 
@@ -101,13 +122,13 @@ def versions() -> dict[str, str]:
 
 
 def done(run: Run, out: Path) -> dict[str, Any] | None:
-    """The record of ``run``'s finished command in ``out`` (None where it has not finished with this command)."""
+    """The record of ``run``'s finished command in ``out`` (None where it has not finished with these settings)."""
     path = out / run.name / "command.json"
     try:
         rec = json.loads(path.read_text(encoding="utf-8"))
     except (OSError, ValueError):
         return None
-    ok = isinstance(rec, dict) and rec.get("command") == shlex.join(run.command(out))
+    ok = isinstance(rec, dict) and rec.get("figure") == run.figure and rec.get("settings") == dict(run.given)
     return rec if ok and (out / run.name / f"{run.figure}.json").is_file() else None
 
 
@@ -129,6 +150,7 @@ def execute(run: Run, out: Path, tick: Any = None) -> dict[str, Any]:
     """
     folder = out / run.name
     folder.mkdir(parents=True, exist_ok=True)
+    write_json(folder / SETTINGS_FILE, run.settings_file(out))
     resumed = _stored(run, out)  # the figure goes on from runs an earlier, stopped command stored
     words = run.command(out)
     profile = folder / PROFILE
@@ -160,6 +182,8 @@ def execute(run: Run, out: Path, tick: Any = None) -> dict[str, Any]:
         raise RunFailedError(f"`{shlex.join(words)}` exited with status {proc.returncode}; see {folder / 'log.txt'}")
     record = {
         "command": shlex.join(words),
+        "figure": run.figure,
+        "settings": dict(run.given),
         "wall_time_s": round(wall, 1),
         "resumed": resumed,  # then wall_time_s is what was left to run, not the figure's time
         "profile": read_profile(profile, round(wall, 1)),
@@ -181,11 +205,12 @@ def item_record(item: Item, run: Run, record: dict[str, Any], out: Path, quick: 
         "figure": run.figure,
         "quick": quick,
         "command": record["command"],
+        "settings": record["settings"],
         "wall_time_s": record["wall_time_s"],
         "resumed": bool(record.get("resumed", False)),
         "profile": record.get("profile"),
         "versions": record["versions"],
-        "seed": _seed(run.args),
+        "seed": dict(run.given).get("seed", 0),
         "seeds": summary.get("seeds"),
         "control_hz": summary.get("control_hz", 10.0),
         "files": {
@@ -232,8 +257,3 @@ def summary_line(out: Path, quick: bool, report: Path, wall: float) -> str:
     records = read_records(out, quick).values()
     counts = ", ".join(f"{sum(r['verdict'] == v for r in records)} {v}" for v in ("reproduced", "partly", "not"))
     return f"reproduce: {len(records)} results ({counts}) in {wall:.0f} s; wrote {report}"
-
-
-def _seed(args: tuple[str, ...]) -> int:
-    """The --seed of a figure command's arguments (0, the figures' default, where none is given)."""
-    return int(args[args.index("--seed") + 1]) if "--seed" in args else 0
