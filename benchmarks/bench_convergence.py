@@ -48,12 +48,12 @@ from neurowalk.body.physics import AmosII
 from neurowalk.body.registry import body_settings
 from neurowalk.experiments import FIGURES, Settings
 from neurowalk.experiments.figures import fig7, table1
+from neurowalk.experiments.stores import Term, run_all
 from neurowalk.experiments.study import compute
 from neurowalk.experiments.suites import random_envs
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.random_envs import wilson
 from neurowalk.fileio import write_json
-from neurowalk.runners.local import run_many
 from neurowalk.sim.episode import Episode, EpisodeConfig, run_episode
 
 #: What the two physics below share: the step, the solver, the cone, the servos' rotors, the contacts.
@@ -113,6 +113,11 @@ def keep_outcome(ep: Episode) -> dict[str, Any]:
     return {"escaped": bool(s["escaped"]), "exit_step": s["exit_step"], "success": bool(row.get("success", False))}
 
 
+#: What the benchmark keeps of a walk and of an outcome run (terms of the one runner).
+WALK = Term("convergence walk", keep_walk)
+OUTCOME = Term("convergence outcome", keep_outcome)
+
+
 def configs(opts: dict[str, Any], seeds: int, environments: int) -> dict[str, list[EpisodeConfig]]:
     """Every run of one physics (its body options ``opts``), by measure."""
     walks = [
@@ -167,7 +172,7 @@ def measure(opts: dict[str, Any], seeds: int, environments: int, workers: int, l
     """Every measure of one physics (``light``: the walks and Fig. 7 only)."""
     t0 = time.perf_counter()
     runs = configs(opts, seeds, environments)
-    walks = run_many(runs["walks"], workers=workers, keep=keep_walk, desc="walks")
+    walks = [r.kept[WALK.name] for r in run_all(runs["walks"], (WALK,), workers=workers, desc="walks")]
     out: dict[str, Any] = {"body_settings": body_settings("amosii", opts)}
     out["walks"] = {f"{int(c.steer[0]):+d},{int(c.steer[1]):+d}": w for c, w in zip(runs["walks"], walks, strict=True)}
     straight, left = out["walks"]["-1,-1"], out["walks"]["-1,+1"]
@@ -186,7 +191,7 @@ def measure(opts: dict[str, Any], seeds: int, environments: int, workers: int, l
             ("table2", lambda c: f"plastic {c.variant}", "success"),
         )
     ):
-        rows = run_many(runs[name], workers=workers, keep=keep_outcome, desc=name)
+        rows = [r.kept[OUTCOME.name] for r in run_all(runs[name], (OUTCOME,), workers=workers, desc=name)]
         out[name] = counted(runs[name], rows, label, rule)
     out["wall_time_s"] = time.perf_counter() - t0
     return out

@@ -35,13 +35,12 @@ from typing import Any
 from neurowalk.body.amosii_params import BodyParams
 from neurowalk.experiments import FIGURES, Settings
 from neurowalk.experiments.figures import fig7, table1
-from neurowalk.experiments.stores import Kept, run_kept
+from neurowalk.experiments.stores import Kept, run_all, run_kept
 from neurowalk.experiments.study import compute
 from neurowalk.experiments.suites import random_envs
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.random_envs import wilson
 from neurowalk.fileio import write_json
-from neurowalk.runners.local import run_many
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 from neurowalk.sim.run_summary import RunSummary
 
@@ -88,7 +87,7 @@ def dead_ends(seeds: int) -> dict[str, Any]:
     """Escape counts per dead end and network over ``seeds`` seeds, with 95% intervals."""
     keys = [(a, n, s) for a in DEAD_ENDS for n in NETWORKS for s in range(seeds)]
     cfgs = [EpisodeConfig(arena=a, controller=n, steps=TRAP_STEPS, seed=s, until="escaped") for a, n, s in keys]
-    out = run_many(cfgs, workers=2, progress=False)
+    out = [r.summary.to_dict() for r in run_all(cfgs, workers=2, progress=False)]
     counts: dict[str, Any] = {}
     for (a, n, _), r in zip(keys, out, strict=True):
         c = counts.setdefault(f"{a} {n}", {"runs": 0, "escaped": 0, "exit_s": []})
@@ -108,7 +107,8 @@ def table2(environments: int) -> dict[str, Any]:
     2000 s: successes by both of the table's rules, with 95% intervals."""
     envs = random_envs.environments(environments, 0)
     cfgs = [EpisodeConfig.from_spec(random_envs.spec(e, "plastic", random_envs.STEPS, "amosii")) for e in envs]
-    rows = [random_envs.outcome(r, random_envs.coverage_threshold(random_envs.DURATION_S)) for r in run_many(cfgs)]
+    threshold = random_envs.coverage_threshold(random_envs.DURATION_S)
+    rows = [random_envs.outcome(k.summary.to_dict(), threshold) for k in run_all(cfgs)]
     out: dict[str, Any] = {"environments": environments}
     for rule in ("success", "success_coverage"):
         n = sum(bool(r[rule]) for r in rows)

@@ -144,9 +144,9 @@ def table2(device: str, envs: int, cpu_envs: int, steps: int | None) -> dict[str
     on CPU MuJoCo on every core: runs/s, and the share of those runs whose outcomes agree (``steps``: shorter runs,
     for a smoke run)."""
     from neurowalk.experiments import FIGURES, Settings
+    from neurowalk.experiments.stores import run_all
     from neurowalk.experiments.study import planned
     from neurowalk.experiments.suites.random_envs import QUICK_DURATION_S, coverage_threshold, outcome
-    from neurowalk.runners.local import run_many
     from neurowalk.sim.engine import EngineOptions
 
     def configs(engine: str, n: int) -> list[Any]:
@@ -159,7 +159,8 @@ def table2(device: str, envs: int, cpu_envs: int, steps: int | None) -> dict[str
     for engine, n, workers in (("warp", envs, 1), ("mujoco", cpu_envs, os.cpu_count() or 2)):
         cfgs = configs(engine, n)
         t = time.perf_counter()
-        results[engine] = run_many(cfgs, workers=workers, progress=False, options=EngineOptions(device=device))
+        got = run_all(cfgs, workers=workers, progress=False, options=EngineOptions(device=device))
+        results[engine] = [r.summary.to_dict() for r in got]
         wall = time.perf_counter() - t
         out[engine] = {"environments": n, "runs": len(cfgs), "wall_s": wall, "runs_per_s": len(cfgs) / wall}
     threshold = coverage_threshold(QUICK_DURATION_S)

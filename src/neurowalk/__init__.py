@@ -2,7 +2,7 @@
 
 The public API, in one place::
 
-    from neurowalk import EpisodeConfig, run_episode, run_many, plot_run, make_arena, make_body
+    from neurowalk import EpisodeConfig, run_episode, run_all, plot_run, make_arena, make_body
 
     ep = run_episode(EpisodeConfig(arena="corner", steps=3000, seed=0))   # the paper's robot, the CPU loop
     print(ep.summary["escaped"], ep.summary["final_weights"])
@@ -42,10 +42,10 @@ _LAZY = {
     "Engine": "neurowalk.sim.engine",
     "ENGINES": "neurowalk.sim.engines",
     "engine_for": "neurowalk.sim.engines",
-    "run_many": "neurowalk.runners.local",
+    "run_all": "neurowalk.experiments.stores",
     "plot_run": "neurowalk.plotting",
     "Study": "neurowalk.experiments.study",
-    "Plan": "neurowalk.experiments.study",
+    "Plan": "neurowalk.experiments.plan",
     "Settings": "neurowalk.experiments.study",
     "run_study": "neurowalk.experiments.study",
     "load_study": "neurowalk.experiments.study_check",
@@ -80,7 +80,7 @@ __all__ = [  # noqa: RUF022 (grouped by what they are)
     "EpisodeConfig",
     "Episode",
     "run_episode",
-    "run_many",
+    "run_all",
     "plot_run",
     # experiments of many runs
     "Study",

@@ -8,7 +8,7 @@ Every number is a rate or a ratio against a baseline measured in the same run on
 * surrogate: environment steps per second of the planar surrogate on the same arenas and network, in
   one process and over a process pool, and its ratio to the physics control-step rate; its end-to-end rate
   (build, simulate, summarise through ``run_episode``) as a fraction of its in-loop rate, on the same runs;
-  and ``run_many`` on a pool of ``workers`` processes against one process, end to end;
+  and ``run_all`` (the one runner) on a pool of ``workers`` processes against one process, end to end;
 * batch physics: aggregate physics steps per second of ``mujoco.batch`` on 1 and ``cores`` threads
   against the single loop on the same runs;
 * Table 2 on the surrogate: wall time of the 50-environment table on a process pool;
@@ -38,8 +38,8 @@ import neurowalk
 from neurowalk import profiling
 from neurowalk.body.noise import BLOCK
 from neurowalk.experiments import FIGURES, Settings
+from neurowalk.experiments.stores import run_all
 from neurowalk.experiments.study import compute
-from neurowalk.runners.local import run_many
 from neurowalk.sim.config import DEFAULT_ENGINE
 from neurowalk.sim.engines import ENGINES
 from neurowalk.sim.episode import EpisodeConfig, build, run_episode
@@ -63,7 +63,7 @@ def busy_core() -> Iterator[None]:
 
 def busy_parallel(quick: bool, workers: int) -> dict[str, Any]:
     """The parallel figures with one core busy: ``mujoco.batch`` on 1 and ``workers`` threads (16 random arenas),
-    and the surrogate's ``run_many`` on ``workers`` processes against one; ``*_over_1``: the parallel rate over
+    and the surrogate's ``run_all`` on ``workers`` processes against one; ``*_over_1``: the parallel rate over
     the serial one (at least 1: parallel work must not be slower than serial on a busy machine)."""
     n, steps = (2, 50) if quick else (16, 300)
     with busy_core():
@@ -159,18 +159,19 @@ def surrogate_end_to_end(steps: int, envs: int) -> dict[str, float]:
 
 
 def surrogate_pool(steps: int, runs: int, workers: int, repeats: int) -> dict[str, float]:
-    """The surrogate end to end on ``runs`` runs: ``run_many`` on ``workers`` processes against one process.
+    """The surrogate end to end on ``runs`` runs: ``run_all`` (the one runner, its store in a temporary folder) on
+    ``workers`` processes against one process.
 
     Median wall times over ``repeats``, one process and pool alternating (the pool starts its workers each time).
     """
 
     cfgs = _surrogate_configs(0, runs, steps)
-    run_many(cfgs[:1], workers=1, progress=False)  # compile / load the numba cache here (the workers fork)
+    run_all(cfgs[:1], workers=1, progress=False)  # compile / load the numba cache here (the workers fork)
     one, pool = [], []
     for _ in range(repeats):
         for n, into in ((1, one), (workers, pool)):
             t0 = time.perf_counter()
-            run_many(cfgs, workers=n, progress=False)
+            run_all(cfgs, workers=n, progress=False)
             into.append(time.perf_counter() - t0)
     a, b = float(np.median(one)), float(np.median(pool))
     return {

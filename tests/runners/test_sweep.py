@@ -3,7 +3,7 @@
 import pytest
 import sweep_fns
 
-from neurowalk.runners.local import WorkerDiedError, run_many, run_unordered
+from neurowalk.runners.local import WorkerDiedError, run_unordered
 from neurowalk.runners.specs import grid, spec_key
 from neurowalk.runners.store import ResultStore
 from neurowalk.runners.sweep import run_sweep
@@ -92,13 +92,21 @@ def test_run_unordered_reports_exceptions_and_deaths():
     assert all(d.error is None and d.value["seed"] == d.index and d.wall_time_s >= 0 for d in done if d.index != 2)
 
 
-def test_run_many_keeps_input_order_and_raises():
+def test_a_batch_keeps_input_order_and_names_its_first_failure(tmp_path):
+    """run_all, the one runner on a store: results in the configs' order; a failed run named in one line, the
+    finished ones kept in the folder's store (none where the store was a temporary one)."""
+    from neurowalk.experiments.stores import RunsFailedError, run_all, store_path
+
     cfgs = [EpisodeConfig(steps=20, seed=s) for s in (2, 0, 1)]
-    out = run_many(cfgs, workers=2, progress=False)
-    assert [s["seed"] for s in out] == [2, 0, 1]
-    with pytest.raises(ValueError):
-        run_many([EpisodeConfig(steps=20), EpisodeConfig(steps=20, arena="box", arena_opts={"distance": -5.0})],
-                 workers=2, progress=False)  # fmt: skip
+    out = run_all(cfgs, workers=2, progress=False)
+    assert [r.seed for r in out] == [2, 0, 1] and [r.config for r in out] == cfgs
+    bad = [EpisodeConfig(steps=20), EpisodeConfig(steps=20, arena="box", arena_opts={"distance": -5.0})]
+    with pytest.raises(RunsFailedError, match="1 runs failed, the first with ValueError: arena 'box': distance") as e:
+        run_all(bad, workers=2, progress=False)
+    assert e.value.store is None and "kept" not in str(e.value)
+    with pytest.raises(RunsFailedError, match="finished runs are kept in") as e:
+        run_all(bad, workers=2, progress=False, folder=tmp_path)
+    assert e.value.store == store_path(tmp_path) and len(ResultStore(store_path(tmp_path)).done_keys()) == 1
 
 
 def test_retries_are_a_whole_number_at_least_0(tmp_path):

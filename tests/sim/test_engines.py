@@ -127,15 +127,18 @@ def test_the_plastic_network_escapes_a_dead_end(simulator):
         assert ep.summary["escaped"] and step is not None and step < 5000
 
 
-def test_run_configs_groups_by_engine_and_keeps_the_order():
-    """Mixed bodies and lengths: each episode is its config's, in the configs' order, as run_episode gives it."""
-    from neurowalk.sim.engines import run_configs
+def test_the_runner_groups_by_engine_and_keeps_the_order():
+    """Mixed bodies and lengths through the one runner: each run is its config's, in the configs' order, as
+    run_episode gives it."""
+    from neurowalk.experiments.stores import Term, run_all
+
+    pose = Term("pose", lambda ep: {"pose": ep.trajectory.pose}, arrays={"pose": "float64"})
 
     cfgs = [
         EpisodeConfig(arena="box", steps=30, seed=1),
         EpisodeConfig(arena="box", body="surrogate", steps=40, seed=1),
         EpisodeConfig(arena="box", steps=20, seed=2),
     ]
-    for cfg, ep in zip(cfgs, run_configs(cfgs), strict=True):
-        assert ep.config == cfg
-        np.testing.assert_array_equal(ep.trajectory.pose, run_episode(cfg).trajectory.pose)
+    for cfg, run in zip(cfgs, run_all(cfgs, (pose,), workers=1, progress=False), strict=True):
+        assert run.config == cfg
+        np.testing.assert_array_equal(run.kept["pose"]["pose"], run_episode(cfg).trajectory.pose)

@@ -265,14 +265,14 @@ def test_bench_measures_warp_beside_nothing_else_it_needs(wp_device):
 
 
 @warp
-def test_run_many_puts_warp_configs_into_one_model_and_keeps_the_order(wp_device, monkeypatch):
-    from neurowalk.runners.local import run_many
+def test_the_runner_puts_warp_configs_into_one_model_and_keeps_the_order(wp_device, monkeypatch):
+    from neurowalk.experiments.stores import run_all
 
     cfgs = [EpisodeConfig(arena="box", steps=6, seed=s, engine=e) for s, e in ((0, "warp"), (1, "mujoco"), (2, "warp"))]
-    got = run_many(cfgs, workers=1, progress=False, options=EngineOptions(device=wp_device))
-    for cfg, summary in zip(cfgs, got, strict=True):
-        assert summary["final_pose"] == run_episode(cfg).summary["final_pose"]
-        assert summary.get("engine", "mujoco") == cfg.engine
+    got = run_all(cfgs, workers=1, progress=False, options=EngineOptions(device=wp_device))
+    for cfg, run in zip(cfgs, got, strict=True):
+        assert list(run.final_pose) == run_episode(cfg).summary["final_pose"]
+        assert run.config == cfg
 
 
 @warp

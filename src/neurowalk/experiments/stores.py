@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from neurowalk.body.registry import physics_settings
+from neurowalk.experiments.plan import Plan
 from neurowalk.runners.specs import episode_of, result_of
 from neurowalk.runners.stopping import deferred
 from neurowalk.runners.store import ResultStore
@@ -59,6 +60,15 @@ class Term:
     keep: Callable[[Episode], dict[str, Any]]
     arrays: Mapping[str, str] = field(default_factory=dict)
     stream: Callable[[EpisodeConfig], tuple[Streaming, Callable[[Episode], dict[str, Any]]]] | None = None
+
+
+class RunsFailedError(RuntimeError):
+    """Runs of a batch failed: how many, the first one's error (one line), and the store that keeps the others."""
+
+    def __init__(self, failed: int, first: str, store: Path | None) -> None:
+        self.failed, self.first, self.store = failed, first, store
+        kept = f"; the finished runs are kept in {store}: rerun to retry the failed" if store is not None else ""
+        super().__init__(f"{failed} runs failed, the first with {first}{kept}")
 
 
 @dataclass(frozen=True)
@@ -122,6 +132,7 @@ def run_store(
     backend: str = "local",
     address: str | None = None,
     desc: str = "runs",
+    progress: bool = True,
 ) -> list[dict[str, Any]]:
     """Run each (config, terms) through the store of ``folder`` (:func:`store_path`); each run's stored result, in
     order, its kept arrays as numpy arrays.
@@ -132,7 +143,7 @@ def run_store(
     defaults). Each run is stored as it finishes: a stopped study (KeyboardInterrupt, raised
     here once the store is closed) keeps its finished runs. ``options``: how the engines run (MuJoCo Warp's device);
     ``backend``, ``address``: a process pool (``local``) or Ray (and the cluster to join); ``desc``: the progress
-    bar's label. RuntimeError where runs failed.
+    bar's label (``progress``: shown). RuntimeError where runs failed, naming the first failure.
     """
     path = store_path(folder)
     _refuse_old(path.parent)
@@ -176,6 +187,7 @@ def run_store(
                 backend=backend,
                 address=address,
                 desc=desc,
+                progress=progress,
                 fn=functools.partial(run_kept, terms_),
                 world_fn=functools.partial(kept_of, terms_),
                 redo=redo,
@@ -184,11 +196,12 @@ def run_store(
             if report.interrupted:
                 break
         results = {**held, **store.results(keys=ran)}
+        missing = [k for k in wanted if k not in results]
+        failed = store.rows("error", missing[:1]) if missing else []
     if report is not None and report.interrupted:
         raise KeyboardInterrupt
-    missing = [k for k in wanted if k not in results]
     if missing:
-        raise RuntimeError(f"{len(missing)} runs failed (see {path}); rerun to retry them")
+        raise RunsFailedError(len(missing), failed[0]["error"] if failed else "unknown", path)
     arrays = {n: t.arrays for terms in wanted.values() for n, t in terms.items()}
     return [_read(results[k], arrays) for k in keys]
 
@@ -212,6 +225,39 @@ def _refuse_old(folder: Path) -> None:
             f"{old[0]} is a store of an older neurowalk; run the command again with a new --out (or --shared-runs) "
             "folder, or delete it"
         )
+
+
+def run_all(
+    configs: Sequence[EpisodeConfig],
+    terms: Sequence[Term] = (),
+    *,
+    workers: int = 2,
+    folder: Path | None = None,
+    options: EngineOptions | None = None,
+    progress: bool = True,
+    desc: str = "runs",
+) -> list[Kept]:
+    """Run every config through the one runner (:func:`run_store`: the pool, or MuJoCo Warp's shared calls), in the
+    result store of ``folder`` (a stopped call goes on from the runs it finished) or of a temporary folder; each run
+    as a :class:`Kept` (its summary, what ``terms`` keep of it, its plan), in the configs' order.
+
+    E.g. ``[r.escaped for r in run_all([EpisodeConfig(arena="box", seed=s) for s in range(4)])]``. RuntimeError
+    naming the first failure where runs failed (the others are kept in ``folder``'s store).
+    """
+    from neurowalk.sim.run_summary import RunSummary
+
+    with store_folder(folder) as where:
+        try:
+            results = run_store([(c, tuple(terms)) for c in configs], where, workers, options=options, desc=desc,
+                                progress=progress)  # fmt: skip
+        except RunsFailedError as e:
+            if folder is None:  # a temporary store: nothing is kept
+                raise RunsFailedError(e.failed, e.first, None) from None
+            raise
+    return [
+        Kept(RunSummary.from_dict({k: v for k, v in r.items() if k != "kept"}), r.get("kept", {}), Plan(k, c, terms))
+        for k, (c, r) in enumerate(zip(configs, results, strict=True))
+    ]
 
 
 @contextlib.contextmanager

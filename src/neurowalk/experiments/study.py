@@ -18,7 +18,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 import json
-from collections.abc import Callable, Hashable, Iterable, Iterator, Mapping
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -26,6 +26,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from neurowalk import profiling
+from neurowalk.experiments.plan import Label, Plan
 from neurowalk.sim.config_values import FrozenDict
 
 if TYPE_CHECKING:
@@ -162,37 +163,6 @@ class Result:
 
 
 _DEFAULTS = {f.name: f.default for f in dataclasses.fields(Settings)}
-#: The settings a run can fix itself (:attr:`Plan.fixed`): those :meth:`Settings.apply` sets on a config.
-RUN_SETTINGS = ("body", "climbing", "variant", "params", "gait", "engine", "control_hz")
-
-Label = Hashable
-
-
-@dataclass(frozen=True)
-class Plan:
-    """One run a study asks for: what ``Study.runs`` yields, and (with the settings applied) what its ``measure``
-    gets back with each run's summary (:attr:`Kept.plan <neurowalk.experiments.stores.Kept.plan>`).
-
-    Attributes:
-        label: its condition (a string or a tuple): the runs of one label are measured together, in order.
-        config: the run.
-        terms: what the runner keeps of it beside its summary (:class:`~neurowalk.experiments.stores.Term`).
-        fixed: the run settings (:data:`RUN_SETTINGS`) it fixes itself: :meth:`Settings.apply` leaves them.
-    """
-
-    label: Label
-    config: EpisodeConfig
-    terms: tuple[Term, ...] = ()
-    fixed: tuple[str, ...] = ()
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "terms", tuple(self.terms))
-        object.__setattr__(self, "fixed", tuple(self.fixed))
-        unknown = set(self.fixed) - set(RUN_SETTINGS)
-        if unknown:
-            raise ValueError(f"a plan fixes only run settings {RUN_SETTINGS}, got {sorted(unknown)}")
-
-
 Runs = Callable[[Settings], Iterable[Plan]]
 Measure = Callable[[Settings, Mapping[Label, list[Any]]], "Result | dict[str, Any]"]
 

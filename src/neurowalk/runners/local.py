@@ -1,7 +1,7 @@
 """Run many jobs on a local process pool: results as they finish, a crashed worker costs only its own job.
 
-:func:`run_unordered` is the engine (the sweep stores each result as it arrives); :func:`run_many` keeps the
-simple form the experiments use (episode configs in, results in input order).
+:func:`run_unordered` is the engine of the one runner (:func:`~neurowalk.runners.sweep.run_sweep` stores each result
+as it arrives; every batch of episodes goes through it).
 
 The pool is this module's own: one pipe to each worker process, which runs one job at a time, so the driver knows
 which job each worker runs. A worker that dies (killed, segfault, ``os._exit``) costs only its own job, and the
@@ -22,17 +22,16 @@ import signal
 import sys
 from collections import deque
 from collections.abc import Callable, Generator, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from multiprocessing.connection import Connection
 from multiprocessing.connection import wait as mp_wait
 from multiprocessing.reduction import ForkingPickler
 from typing import Any
 
 from neurowalk.compiled import cache_dir
-from neurowalk.progress import Progress, compiling, forward_notes
-from neurowalk.runners.jobs import JobResult, WorkerDiedError, call_timed, world_groups
+from neurowalk.progress import compiling, forward_notes
+from neurowalk.runners.jobs import JobResult, WorkerDiedError, call_timed
 from neurowalk.runners.stopping import deferred, stop_requested
-from neurowalk.sim.episode import EngineOptions, Episode, EpisodeConfig, run_episode
 
 #: What a worker sends down its pipe as it starts compiling the kernels (a job's result is a pickle: never this).
 COMPILING = b"compiling"
@@ -238,63 +237,3 @@ def die_with_parent(parent: int, signum: int = signal.SIGKILL) -> None:
         ctypes.CDLL(None, use_errno=True).prctl(1, int(signum))  # 1 = PR_SET_PDEATHSIG
     if os.getppid() != parent:
         os._exit(1)
-
-
-def summary_only(ep: Episode) -> dict[str, Any]:
-    """Keep an episode's summary (the default of :func:`run_many`)."""
-    return ep.summary
-
-
-def _run_and_keep(args: tuple[EpisodeConfig, Callable[[Episode], Any]]) -> Any:
-    cfg, keep = args
-    return keep(run_episode(cfg))
-
-
-def run_many(
-    configs: Sequence[EpisodeConfig],
-    *,
-    workers: int = 2,
-    progress: bool = True,
-    keep: Callable[[Episode], Any] = summary_only,
-    desc: str = "runs",
-    options: EngineOptions | None = None,
-) -> list[Any]:
-    """Run every config; return ``keep(episode)`` of each, in order.
-
-    Args:
-        configs: the runs.
-        workers: processes (1 runs them here, one after the other).
-        progress: show a progress bar with rate and time left.
-        keep: what to keep of each episode (a module-level function, so it can be pickled).
-        options: how the engines run (e.g. MuJoCo Warp's device). Runs of a many-worlds engine run here, as the
-            worlds of shared calls (:func:`~neurowalk.runners.jobs.world_groups`); the others on the pool.
-
-    Raises:
-        ValueError: ``workers`` below 1.
-        Exception: the first error of a run, as soon as it arrives (a worker that died: WorkerDiedError).
-    """
-    if workers < 1:
-        raise ValueError(f"workers must be >= 1, got {workers}")
-    options = replace(options or EngineOptions(), progress=progress)
-    jobs = [(c, keep) for c in configs]
-    out: list[Any] = [None] * len(jobs)
-    shared: set[int] = set()
-    for group, engine in world_groups(configs, options):
-        for i, ep in zip(group, engine.run([configs[i] for i in group], options), strict=True):
-            out[i] = keep(ep)
-            shared.add(i)
-    rest = [i for i in range(len(configs)) if i not in shared]
-    jobs = [jobs[i] for i in rest]
-    if not jobs:
-        return out
-    with Progress(total=len(jobs), unit="run", desc=desc, disable=not progress, mininterval=0.5) as bar:
-        results = run_unordered(_run_and_keep, jobs, workers=1 if len(jobs) <= 1 else workers)
-        try:
-            for d in results:
-                if d.error is not None:
-                    raise d.error
-                out[rest[d.index]] = d.value
-                bar.update(1)
-        finally:
-            results.close()  # stops the pool at once on an error
-    return out

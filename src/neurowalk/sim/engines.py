@@ -5,7 +5,6 @@
     engine_for(cfg)      ENGINES[cfg.engine]  (mujoco: the CPU loop; warp: MuJoCo Warp)
                          a planar body: the surrogate's compiled loop, whatever physics engine is named
     call_groups(cfgs)    groups the configs by (engine, engine.group_key(cfg)), as many as a call takes
-    run_configs(cfgs)    one call per group
 
 No other module compares an engine's name: what an engine can do, it says itself (:class:`~.engine.Engine`).
 ``mujoco.batch`` (:class:`~neurowalk.sim.batch.MujocoBatch`) runs the same configs as the CPU loop, bit for bit, as
@@ -19,13 +18,13 @@ from collections.abc import Callable, Hashable, Iterator, Sequence
 from neurowalk.body.registry import body_info
 from neurowalk.sim.batch import MujocoBatch
 from neurowalk.sim.config import ENGINES as ENGINE_NAMES
-from neurowalk.sim.config import Episode, EpisodeConfig
+from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.cpu_loop import CpuLoop
 from neurowalk.sim.engine import Engine, EngineOptions
 from neurowalk.sim.surrogate_episode import SurrogateLoop
 from neurowalk.sim.warp_engine import Warp
 
-__all__ = ["BATCH", "ENGINES", "PLANAR", "call_groups", "engine_for", "run_configs"]
+__all__ = ["BATCH", "ENGINES", "PLANAR", "call_groups", "engine_for"]
 
 ENGINES: dict[str, Engine] = {engine.name: engine for engine in (CpuLoop(), Warp())}
 """The physics engines a config may name (``EpisodeConfig.engine``, ``--engine``)."""
@@ -61,19 +60,3 @@ def call_groups(
         size = worlds or engine.worlds_per_call(options) or len(group)
         for c in range(0, len(group), size):
             yield group[c : c + size], engine
-
-
-def run_configs(configs: Sequence[EpisodeConfig], options: EngineOptions | None = None) -> list[Episode]:
-    """Every config's episode, in order: configs that may share a call (:func:`call_groups`) share one.
-
-    Stopped part-way (KeyboardInterrupt), a call's runs hold their completed steps; runs that had not started are
-    None.
-    """
-    options = options or EngineOptions()
-    out: list[Episode | None] = [None] * len(configs)
-    for idx, engine in call_groups(configs, options):
-        batch = [configs[i] for i in idx]
-        engine.check(batch, options)
-        for i, ep in zip(idx, engine.run(batch, options), strict=False):
-            out[i] = ep
-    return out  # type: ignore[return-value]

@@ -35,7 +35,7 @@ def test_plastic_escapes_the_narrow_passage_static_does_not_both_escape_simple_d
 )
 def test_long_runs_static_explores_cluttered_trapped_in_difficult_plastic_explores_difficult(climbing):
     from neurowalk.arenas.spec import WALL_HEIGHT
-    from neurowalk.runners.local import run_many
+    from neurowalk.experiments.stores import run_all
     from neurowalk.sim.episode import EpisodeConfig
 
     # With climbing on, the original 0.10 m boxes would be steps: they are raised to wall height.
@@ -47,7 +47,7 @@ def test_long_runs_static_explores_cluttered_trapped_in_difficult_plastic_explor
     cfgs = [EpisodeConfig(arena="cluttered", controller="static", steps=30000, seed=1, **on),
             EpisodeConfig(arena="difficult", controller="static", steps=30000, seed=1, **on),
             EpisodeConfig(arena="difficult", controller="plastic", steps=30000, seed=1, **on)]  # fmt: skip
-    clut_static, diff_static, diff_plastic = run_many(cfgs, progress=False)
+    clut_static, diff_static, diff_plastic = [r.summary.to_dict() for r in run_all(cfgs, progress=False)]
     assert not clut_static["trapped"]
     assert diff_static["trapped"] and not diff_plastic["trapped"]
     assert diff_plastic["coverage"] > diff_static["coverage"]
