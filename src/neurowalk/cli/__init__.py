@@ -106,10 +106,10 @@ def _kept(args: argparse.Namespace | None) -> str:
     return f"what was finished is kept in {out}; fix the cause (e.g. free space), then run the same command again"
 
 
-def _quiet(args: argparse.Namespace) -> contextlib.AbstractContextManager[None]:
+def _quiet(quiet: bool) -> contextlib.AbstractContextManager[None]:
     """A command's ``--quiet`` silences the compile note too (:func:`neurowalk.progress.quiet_notes`, imported only
     then: it loads tqdm, which a command line that is refused does not need)."""
-    if not getattr(args, "quiet", False):
+    if not quiet:
         return contextlib.nullcontext()
     from neurowalk.progress import quiet_notes
 
@@ -131,7 +131,7 @@ def _main(argv: Sequence[str] | None) -> int:
     try:
         args = parse(list(sys.argv[1:] if argv is None else argv))
         check_workers(getattr(args, "workers", None))  # every command's --workers, in one place
-        with _quiet(args):
+        with _quiet(getattr(args, "quiet", False)):
             return _COMMANDS[args.command](args)
     except UsageError as e:
         print(f"neurowalk: error: {one_line(str(e))}", file=sys.stderr)

@@ -97,7 +97,8 @@ def add_settings_args(p: Parser, takes: tuple[str, ...] | None) -> None:
 
 def settings_of(args: argparse.Namespace, study: Study, what: str) -> Settings:
     """The settings of the command line, checked (UsageError: one line naming the value, or the flag ``study``
-    does not take and the ones it does; ``what`` names it, e.g. "figure fig3")."""
+    does not take and the ones it does; ``what`` names it, e.g. "figure fig3"); what the study needs of them (a
+    body) :func:`run_and_write` resolves, before any work."""
     from neurowalk.experiments.study import Settings, resolve
 
     given = _given(args)
@@ -120,11 +121,15 @@ def settings_of(args: argparse.Namespace, study: Study, what: str) -> Settings:
     if "size" in given:
         kw["size"] = _size(args.arena_opt)
     try:
-        settings = resolve(study, Settings(**kw))
+        settings = Settings(**kw)
     except ValueError as e:
         flag, _, rest = str(e).partition(" must ")
         raise UsageError(f"--{flag.replace('_', '-')} must {rest}" if rest else str(e)) from None
     if "engine" in given:  # the device resolved (a GPU, or Warp's CPU device, said in one line)
+        try:  # after a body the engine cannot run is refused (the note would say nothing then)
+            resolve(study, settings)
+        except ValueError as e:
+            raise UsageError(str(e)) from None
         settings = settings.replace(device=check_engine(args).device)
     return settings
 
@@ -158,7 +163,7 @@ def _size(items: list[str]) -> float:
 def run_and_write(study: Study, settings: Settings, what: str) -> int:
     """Compute ``study`` and write NAME.json (NAME.npz) and NAME.png into ``settings.out``, saying so in one line;
     a stop (exit 130/143) says in one line what is kept. ``what`` names it in the messages ("figure fig3")."""
-    from neurowalk.experiments.study import compute, kept_runs, write
+    from neurowalk.experiments.study import compute, kept_runs, resolve, write
     from neurowalk.runners.stopping import interrupted
     from neurowalk.runners.store import StoreError
     from neurowalk.sim.episode import RunInterruptedError
@@ -167,10 +172,17 @@ def run_and_write(study: Study, settings: Settings, what: str) -> int:
     assert out is not None
     t0 = time.perf_counter()
     existed = out.exists()
-    out_folder(out)
-    kept = kept_runs(study, settings)
-    if kept:
-        print(f"{study.name}: going on from the {sum(kept.values())} finished runs kept in {_where(kept)}")
+    out_folder(out)  # the runner says where it goes on from finished runs (run_store)
+
+    def leave_nothing() -> None:
+        if not existed and not any(out.iterdir()):
+            out.rmdir()  # made for this command, still empty: leave nothing behind
+
+    try:  # what the study needs of the settings (a body that climbs, runs the engine, the rate): before any work
+        settings = resolve(study, settings)
+    except ValueError as e:
+        leave_nothing()
+        raise UsageError(str(e)) from None
     paths: dict[str, Path] = {}
     try:
         try:
@@ -178,8 +190,7 @@ def run_and_write(study: Study, settings: Settings, what: str) -> int:
         except StoreError as e:
             raise UsageError(str(e)) from None
         except ValueError as e:  # a study checks its settings before it runs (e.g. a surrogate at 27 Hz)
-            if not existed and not any(out.iterdir()):
-                out.rmdir()  # made for this command, still empty: leave nothing behind
+            leave_nothing()
             raise UsageError(f"{what}: {e}") from None
         write(study, result, out, paths)
     except (KeyboardInterrupt, Exception) as e:  # RunInterruptedError: a run in this process, stopped part-way

@@ -140,10 +140,11 @@ def run_store(
     A config asked for twice runs once, keeping every term asked for; a stored run lacking a term now asked for runs
     again (keeping its old terms too), and so does one stored with another physics than its config steps today
     (``summary.json``'s ``physics``: a store of an older neurowalk; its key names the options given, not the
-    defaults). Each run is stored as it finishes: a stopped study (KeyboardInterrupt, raised
-    here once the store is closed) keeps its finished runs. ``options``: how the engines run (MuJoCo Warp's device);
-    ``backend``, ``address``: a process pool (``local``) or Ray (and the cluster to join); ``desc``: the progress
-    bar's label (``progress``: shown). RuntimeError where runs failed, naming the first failure.
+    defaults). Each run is stored as it finishes: a stopped study (KeyboardInterrupt, raised here once the store is
+    closed) keeps its finished runs, and the next call says it goes on from them. ``options``: how the engines run
+    (MuJoCo Warp's device); ``backend``, ``address``: a process pool (``local``) or Ray (and the cluster to join);
+    ``desc``: the progress bar's label (``progress``: shown). RuntimeError where runs failed, naming the first
+    failure.
     """
     path = store_path(folder)
     _refuse_old(path.parent)
@@ -160,6 +161,8 @@ def run_store(
         store = ResultStore(path)
     with store:
         held = store.results(keys=wanted)
+        if held and progress:
+            print(f"{desc}: going on from the {len(held)} finished runs kept in {path.parent} ({len(held)} in {STORE})")
 
         def stale(key: str) -> bool:
             """A stored run of another physics than its config's today (an older neurowalk's): it runs again."""
