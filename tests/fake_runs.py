@@ -29,6 +29,7 @@ def summary_of(cfg: EpisodeConfig, **over: Any) -> dict[str, Any]:
         "arena": cfg.arena, "arena_opts": dict(cfg.arena_opts), "controller": cfg.controller, "body": cfg.body,
         "steps": cfg.steps, "seed": cfg.seed, "control_hz": cfg.control_hz, "escaped": True, "trapped": False,
         "exit_step": 10, "coverage": 0.1, "wedged_periods": 0, "longest_wedged_s": 0.0, "wedged_causes": {},
+        "held_periods": 0, "longest_held_s": 0.0, "turning_periods": 0,
         "wedged": [], "direction_switches": 1, "max_turn_deg": 90.0, "final_pose": [0.0, 0.0, 0.0],
         "final_weights": None, "max_z_m": 0.1, "final_z_m": 0.1, "end_turn_share": 0.0, "end_blind_share": 0.0,
         "ever_trapped": False, "ever_held_up_1000s": False, "path_length_m": 1.0, "min_up_z": 1.0,

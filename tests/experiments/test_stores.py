@@ -1,6 +1,6 @@
 """The one run function and the one store of a study's runs (:mod:`neurowalk.experiments.stores`): terms kept with a
 run, a run asked for twice made once, a run lacking a term made again keeping both, stores shared by figures
-(``figure --shared-runs``), the stores of an older neurowalk refused."""
+(``figure --shared-runs``)."""
 
 from __future__ import annotations
 
@@ -108,11 +108,3 @@ def test_a_run_is_the_same_kept_in_memory_or_streamed_alone(tmp_path: Path) -> N
         np.testing.assert_array_equal(streamed[k], held[k], err_msg=k)
     with pytest.raises(ValueError, match="streams its run"):
         run_kept((LONG, START), spec)
-
-
-@pytest.mark.parametrize("old", ["traces.sqlite", "track.sqlite", "neurowalk.runners.specs.run_spec.sqlite"])
-def test_a_store_of_an_older_neurowalk_is_refused_in_one_line_naming_it(tmp_path: Path, old: str) -> None:
-    (tmp_path / old).write_bytes(b"")
-    with pytest.raises(ValueError) as e:
-        run_store([(CONFIGS[0], ())], tmp_path, 1)
-    assert old in str(e.value) and "\n" not in str(e.value)

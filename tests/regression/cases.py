@@ -170,12 +170,12 @@ def _sweep(tmp: Path) -> Result:
 
 
 def _batch(tmp: Path) -> Result:
-    from neurowalk.sim.batch import run_all
+    from neurowalk.sim.batch import run_batch
     from neurowalk.sim.episode import EpisodeConfig
 
     cfgs = [EpisodeConfig(arena="cluttered", steps=200, seed=s) for s in (0, 1)]
     dig, res = Digest(), Result("")
-    for i, ep in enumerate(run_all(cfgs, nthread=2, progress=False)):
+    for i, ep in enumerate(run_batch(cfgs, nthread=2, progress=False)):
         for name in ("t", "pose", "outputs", "b", "q", "targets", "qpos"):
             dig.array(f"{i}/{name}", getattr(ep.trajectory, name))
         for name in HEAD_ARRAYS:

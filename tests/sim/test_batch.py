@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from neurowalk.body.obstacle_slots import PARK_Z, PARKING_BODY
-from neurowalk.sim.batch import MujocoBatchWorlds, run_all
+from neurowalk.sim.batch import MujocoBatchWorlds, run_batch
 from neurowalk.sim.episode import EngineOptions, EpisodeConfig, build, run_episode, seeds
 from neurowalk.sim.throughput import measure_throughput
 
@@ -147,7 +147,7 @@ def test_bad_batches_raise():
 
 
 def test_run_batch_and_throughput_report():
-    episodes = run_all([EpisodeConfig(steps=5, seed=s) for s in range(2)], nthread=2, progress=False)
+    episodes = run_batch([EpisodeConfig(steps=5, seed=s) for s in range(2)], nthread=2, progress=False)
     assert [len(ep.trajectory) for ep in episodes] == [5, 5]
     r = measure_throughput(n_copies=2, steps=5, nthread=2)
     assert r["physics_steps"] == 2 * 5 * r["n_substeps"]
@@ -157,7 +157,7 @@ def test_run_batch_and_throughput_report():
 def test_a_stopped_batch_keeps_the_completed_steps(monkeypatch):
     """Ctrl-C part-way: every copy's episode holds the steps done, marked not completed; the same rows as a full run."""
     configs = [EpisodeConfig(arena="box", steps=12, seed=s) for s in (0, 1)]
-    full = run_all(configs, progress=False)
+    full = run_batch(configs, progress=False)
     runs = MujocoBatchWorlds(configs)
     advance, calls = runs.advance, []
 

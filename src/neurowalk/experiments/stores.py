@@ -39,7 +39,6 @@ from neurowalk.sim.engine import EngineOptions, Streaming
 from neurowalk.sim.episode import Episode
 
 STORE = "results.sqlite"  # a study's store in its folder (and in a shared folder)
-OLD_STORES = ("traces.sqlite", "track.sqlite", "neurowalk.*.sqlite")  # the stores of neurowalk before the terms
 
 
 @dataclass(frozen=True)
@@ -147,7 +146,6 @@ def run_store(
     failure.
     """
     path = store_path(folder)
-    _refuse_old(path.parent)
     keys = [cfg.key() for cfg, _ in runs]
     wanted: dict[str, dict[str, Term]] = {}
     specs: dict[str, dict[str, Any]] = {}
@@ -218,16 +216,6 @@ def _read(result: dict[str, Any], arrays: Mapping[str, Mapping[str, str]]) -> di
         for n, d in result["kept"].items()
     }
     return {**result, "kept": kept}
-
-
-def _refuse_old(folder: Path) -> None:
-    """ValueError naming a store of an older neurowalk in ``folder`` (its runs are kept another way)."""
-    old = [p for pattern in OLD_STORES for p in sorted(Path(folder).glob(pattern))]
-    if old:
-        raise ValueError(
-            f"{old[0]} is a store of an older neurowalk; run the command again with a new --out (or --shared-runs) "
-            "folder, or delete it"
-        )
 
 
 def run_all(

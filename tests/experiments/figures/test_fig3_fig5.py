@@ -174,17 +174,18 @@ def test_many_wedged_periods_are_all_circled_and_only_the_longest_labelled():
     from neurowalk.plotting.style import pyplot
 
     _, ax = pyplot().subplots()
-    periods = [{"centre": [0.1 * k, 0.0], "extent_m": 0.2, "duration_s": 100.0 + k} for k in range(20)]
+    periods = [{"centre": [0.1 * k, 0.0], "extent_m": 0.2, "duration_s": 110.0 + k, "held": [[0, 1]],
+                "held_s": 100.0 + k} for k in range(20)]  # fmt: skip
     deadends_plot.draw_wedged(ax, periods)
     assert sum(isinstance(p, Circle) for p in ax.patches) == 20
     labels = sorted(t.get_text() for t in ax.texts)
     most = deadends_plot.WEDGED_LABELS
     assert labels == sorted(f"{100 + k} s" for k in range(20 - most, 20))  # the longest, each once
     (entry,) = [line.get_label() for line in ax.get_lines()]
-    assert entry == f"wedged 20x, {most} longest labelled (s)"
+    assert entry == f"held 20x, {most} longest labelled (s)"
     _, ax = pyplot().subplots()
     deadends_plot.draw_wedged(ax, periods[:2])  # few: every one labelled, as before
-    assert len(ax.texts) == 2 and ax.get_lines()[0].get_label() == "wedged (duration)"
+    assert len(ax.texts) == 2 and ax.get_lines()[0].get_label() == "held (duration)"
 
 
 def test_coinciding_coverage_curves_stay_visible_and_say_so():

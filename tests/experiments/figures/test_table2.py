@@ -25,6 +25,7 @@ def _summary(trapped: bool, coverage: float, **more: Any) -> dict[str, Any]:
         "ever_trapped": False,
         "ever_held_up_1000s": False,
         "longest_wedged_s": 0.0,
+        "longest_held_s": 0.0,
         "path_length_m": 20.0,
         "end_turn_share": 0.1,
         "end_blind_share": 0.1,
@@ -39,7 +40,7 @@ def test_both_rules_are_counted_from_the_runs() -> None:
         _summary(False, 0.05),  # both: the threshold counts as reached
         _summary(False, 0.0499),  # not stuck, just below the threshold
         _summary(True, 0.02, end_blind_share=0.7),  # neither (wedged)
-        _summary(False, 0.11, longest_wedged_s=320.0),  # both; wedged for 320 s on the way
+        _summary(False, 0.11, longest_wedged_s=320.0, longest_held_s=320.0),  # both; held for 320 s on the way
     ]
     rows = [{"seed": i, "n_boxes": 5, "net": outcome(r, 0.05)} for i, r in enumerate(runs)]
     assert [r["net"]["success_coverage"] for r in rows] == [False, True, True, False, False, True]

@@ -65,19 +65,6 @@ def test_a_robot_held_still_for_over_300_s_is_not_reproduced():
     assert claim["measured"].startswith("1 held over 300 s; 1 wedged periods, of which 0 turning")
 
 
-def test_a_json_written_before_the_held_periods_counts_every_wedged_period_as_held():
-    run = _run(np.radians(2.0 / HZ) * np.arange(4000))  # a turn: held would excuse it, an older json cannot tell
-    old_keys = ("heading_range_deg", "held", "held_s")
-    old = {k: v for k, v in run.items() if k not in ("held_periods", "longest_held_s", "turning_periods")}
-    old["wedged"] = [{k: v for k, v in p.items() if k not in old_keys} for p in run["wedged"]]
-    s = _fig5_summary(old)
-    assert s["wedged"]["difficult (plastic)"]["held"]["measured"] is False
-    claim = _held_claim(s)
-    assert claim["verdict"] == "not" and "held not measured" in claim["rule"]
-    del s["wedged"]["difficult (plastic)"]["held"]  # a json written before wedged_counts counted held periods
-    assert _held_claim(s)["verdict"] == "not"
-
-
 def test_table2s_not_stuck_rule_says_the_300_s_it_applies_at_any_rate():
     from neurowalk.experiments.figures.table2 import claims as table2
 

@@ -65,16 +65,19 @@ def _fake_fig5():
     trace = {"pose": np.zeros((n, 3)), "inputs": np.zeros((n, 2)), "outputs": np.zeros((n, 2)),
              "b": np.ones((n, 2)), "q": np.ones((n, 2))}  # fmt: skip
     base = {"arena_opts": {}, "escaped": None, "trapped": False, "coverage": 0.1, "steps": n, "wedged_periods": 0,
-            "longest_wedged_s": 0.0, "wedged_causes": {}, "wedged": []}  # fmt: skip
+            "longest_wedged_s": 0.0, "wedged_causes": {}, "wedged": [], "held_periods": 0, "longest_held_s": 0.0,
+            "turning_periods": 0}  # fmt: skip
     periods = [{"start": 0, "end": 2000, "duration_s": 200.1, "centre": [5.0, -2.0], "extent_m": 0.35,
-                "cause": "body contact"},
+                "cause": "body contact", "held": [[0, 2000]], "held_s": 200.1, "heading_range_deg": 3.0},
                {"start": 5000, "end": 6200, "duration_s": 120.1, "centre": [3.4, -0.9], "extent_m": 0.2,
-                "cause": "both rays blind"}]  # fmt: skip
+                "cause": "both rays blind", "held": [[5000, 6200]], "held_s": 120.1,
+                "heading_range_deg": 2.0}]  # fmt: skip
     runs = {"simple-deadlock": {**base, "arena": "simple-deadlock", "escaped": True},
             "narrow-passage": {**base, "arena": "narrow-passage", "escaped": True}}  # fmt: skip
     for k, v in LONG.items():
         runs[k] = {**base, "arena": v["arena"]}
-    runs["difficult (plastic)"].update(wedged_periods=2, longest_wedged_s=200.1, wedged=periods,
+    runs["difficult (plastic)"].update(wedged_periods=2, longest_wedged_s=200.1, wedged=periods, held_periods=2,
+                                       longest_held_s=200.1,
                                        wedged_causes={"body contact": 1, "both rays blind": 1})  # fmt: skip
     table = {"seeds": 1, "counts": {"narrow-passage": {"plastic": {"escaped": 1, "runs": 1}}}}
     summary = {"network": "plastic", "seed": 0, "climbing": False, "table": table, "runs": runs,
@@ -108,9 +111,10 @@ def test_wedged_counts_and_the_long_run_panel_circles_each_period():
 
 
 def test_wedged_periods_over_300_s_are_counted_with_their_causes():
-    periods = [{"start": 10, "end": 4000, "duration_s": 399.1, "cause": "latched turn"},
-               {"start": 5000, "end": 6200, "duration_s": 120.1, "cause": "body contact"},
-               {"start": 7000, "end": 12000, "duration_s": 500.1, "cause": "body contact"}]  # fmt: skip
+    held = {"held": [], "held_s": 0.0, "heading_range_deg": 360.0}  # turning in place throughout
+    periods = [{"start": 10, "end": 4000, "duration_s": 399.1, "cause": "latched turn", **held},
+               {"start": 5000, "end": 6200, "duration_s": 120.1, "cause": "body contact", **held},
+               {"start": 7000, "end": 12000, "duration_s": 500.1, "cause": "body contact", **held}]  # fmt: skip
     s = {"wedged_periods": 3, "longest_wedged_s": 500.1, "wedged": periods,
          "wedged_causes": {"latched turn": 1, "body contact": 2}}  # fmt: skip
     w = wedged_counts({"run": s}, control_hz=20.0)["run"]
@@ -147,17 +151,8 @@ def test_wedged_counts_tell_held_periods_from_turns_in_place():
     w = wedged_counts({"run": run})["run"]
     assert w["periods"] == 2 and w["over_300s"]["periods"] == 2  # both stays are wedged for over 300 s
     h = w["held"]
-    assert h["measured"] and h["periods"] == 1 and h["turning_periods"] == 1  # only the still one is held
+    assert h["periods"] == 1 and h["turning_periods"] == 1  # only the still one is held
     assert h["over_300s"]["periods"] == 1 and h["longest_s"] == pytest.approx(run["longest_held_s"])
     assert sum(h["over_300s"]["causes"].values()) == 1
     assert [p["held_s"] > 0 for p in w["list"]] == [True, False]
     assert w["list"][1]["heading_range_deg"] > 90
-
-
-def test_wedged_counts_of_a_store_without_held_periods_count_every_wedged_period_as_held():
-    run = _held_and_turning_run()
-    old = {**run, "wedged": [{k: v for k, v in p.items() if k not in ("heading_range_deg", "held", "held_s")}
-                             for p in run["wedged"]]}  # fmt: skip
-    h = wedged_counts({"run": old})["run"]["held"]
-    assert not h["measured"] and h["periods"] == 2 and h["turning_periods"] == 0
-    assert h["over_300s"]["periods"] == 2 and "not measured" in h["rule"]

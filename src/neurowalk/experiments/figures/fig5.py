@@ -125,12 +125,8 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
     over the whole long run (Fig. 5G)."""
     p, st = s["runs"]["difficult (plastic)"], s["runs"]["difficult (static)"]
     wedged = s["wedged"]["difficult (plastic)"]
-    over = next(v for k, v in wedged.items() if k.startswith("over_"))
-    # A json written before the held periods lacks ``held``: its wedged periods stand in for held ones (the
-    # conservative reading, as judged before), none counted as turning.
-    held = wedged.get("held", {"periods": wedged["periods"], "turning_periods": 0, "measured": False})
-    held_over = next((v for k, v in held.items() if k.startswith("over_")), over)
-    older = not held.get("measured", True)
+    held = wedged["held"]
+    held_over = next(v for k, v in held.items() if k.startswith("over_"))
     g = s["fig5g"]
     sensory = get_variant(s["variant"]).sensory
     b_star = fixed_point(sensory.mu_b, sensory.gamma_b, sensory.k)
@@ -170,12 +166,11 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
             "escapes from all deadlocks, corners",
             held_over["periods"] == 0,
             f"{held_over['periods']} held over 300 s; {wedged['periods']} wedged periods, "
-            + ("turning not told apart (an older json)" if older else f"of which {held['turning_periods']} turning")
+            + f"of which {held['turning_periods']} turning"
             + f"; longest wedged {wedged['longest_s']:.0f} s",
             f"held: trunk centre within {metrics.WEDGE_RADIUS:g} m and heading within {metrics.HELD_HEADING_DEG:g} "
             f"degrees for more than {metrics.WEDGE_MIN_S:g} s; turning: wedged with the "
-            f"heading sweeping more, a slow turn in place; causes over 300 s: {held_over['causes'] or '-'}"
-            + ("; held not measured (an older json): every wedged period counted as held" if older else ""),
+            f"heading sweeping more, a slow turn in place; causes over 300 s: {held_over['causes'] or '-'}",
         ),
         holds(
             "the weights adapt stably over the whole long run (Fig. 5G)",

@@ -42,23 +42,21 @@ def draw_wedged(ax: Axes, periods: list[dict], most: int = WEDGED_LABELS) -> Non
     ones with the time held (s), so that the labels of a long run wedged many times do not pile up; the legend entry
     says how many there are and which are labelled.
 
-    Periods that carry their held runs (``held``, :func:`neurowalk.metrics.wedged_periods`) are held (dashed black
+    Each period carries its held runs (``held``, :func:`neurowalk.metrics.wedged_periods`): it is held (dashed black
     circles, labelled) or turning in place (no held step: dotted grey circles, not labelled, their own legend
-    entry). Periods stored before the held runs existed lack ``held``: each is drawn and labelled as a wedged
-    period with its duration, as before.
+    entry).
 
     Longest first, a label goes above its circle, or below it, or beside it, whichever is first clear of the labels
     placed before (so that nearby periods' labels do not cover each other).
     """
     placed: list[tuple[float, float]] = []
-    turning = [p for p in periods if "held" in p and not p["held"]]
-    held = [p for p in periods if not ("held" in p and not p["held"])]  # held, or not known (an older store)
-    name = "held" if any("held" in p for p in periods) else "wedged"
-    longest = sorted(held, key=lambda p: -p.get("held_s", p["duration_s"]))[:most]
+    turning = [p for p in periods if not p["held"]]
+    held = [p for p in periods if p["held"]]
+    longest = sorted(held, key=lambda p: -p["held_s"])[:most]
     if held:  # the legend's entry for the circles
-        what = f"{name} (duration)"
+        what = "held (duration)"
         if len(longest) < len(held):
-            what = f"{name} {len(held)}x, {most} longest labelled (s)"
+            what = f"held {len(held)}x, {most} longest labelled (s)"
         ax.plot([], [], "o", mfc="none", mec="k", ms=11, ls="none", label=what)
     if turning:
         label = f"turning in place {len(turning)}x (wedged, not held)"
@@ -81,7 +79,7 @@ def draw_wedged(ax: Axes, periods: list[dict], most: int = WEDGED_LABELS) -> Non
         (lx, ly), ha, va = (clear or spots)[0]
         placed.append((lx, ly))
         ax.annotate(
-            f"{p.get('held_s', p['duration_s']):.0f} s",
+            f"{p['held_s']:.0f} s",
             (lx, ly),
             ha=ha,
             va=va,
@@ -124,9 +122,8 @@ def _long_path(ax: Axes, r: dict, pose: np.ndarray, step: np.ndarray, mark: int 
 
 def _long_title(key: str, r: dict, hz: float) -> str:
     cov = r["coverage"]
-    wedged = f"\nwedged {r['wedged_periods']}x (longest {r['longest_wedged_s']:.0f} s)" if "wedged" in r else ""
-    if r.get("held_periods") is not None:  # older stores lack the held periods
-        wedged += f", held {r['held_periods']}x (longest {r['longest_held_s']:.0f} s)"
+    wedged = f"\nwedged {r['wedged_periods']}x (longest {r['longest_wedged_s']:.0f} s)"
+    wedged += f", held {r['held_periods']}x (longest {r['longest_held_s']:.0f} s)"
     outcome = "trapped" if r["trapped"] else "not trapped"
     return f"{key}, {r['steps'] / hz:,.0f} s\n{outcome}, coverage {cov:.0%}{wedged}"
 
@@ -139,9 +136,9 @@ def _weights(ax: Axes, a: dict, key: str, r: dict, hz: float) -> None:
     ax.plot(tl, b[:, 1], label="b2 (right)", **{**weight_style("b", "right"), "lw": LINE["thin"]})
     ax.plot(tl, 0.0 - q[:, 0], label="c1 (left)", **{**weight_style("c", "left"), "lw": LINE["thin"]})
     ax.plot(tl, 0.0 - q[:, 1], label="c2 (right)", **{**weight_style("c", "right"), "lw": LINE["thin"]})
-    for i, p in enumerate(r.get("wedged", [])):
+    for i, p in enumerate(r["wedged"]):
         ax.axvspan(p["start"] / hz, (p["end"] + 1) / hz, color="0.88", zorder=0, label="wedged" if i == 0 else None)
-    for i, (a0, a1) in enumerate(h for p in r.get("wedged", []) for h in p.get("held", [])):  # absent: older stores
+    for i, (a0, a1) in enumerate(h for p in r["wedged"] for h in p["held"]):
         ax.axvspan(a0 / hz, (a1 + 1) / hz, color="0.7", zorder=0, label="held" if i == 0 else None)
     ax.axhline(0, color="k", lw=0.5)
     stride = int(np.median(np.diff(a[f"{key}/step"]))) if len(tl) > 1 else 1

@@ -210,10 +210,6 @@ def wedged_counts(summaries: dict[str, dict[str, Any]], control_hz: float = 10.0
     held periods (:func:`neurowalk.metrics.held_periods`: in the disc with the heading within the band), the
     longest, those over :data:`WEDGED_LONG_S` (count and the causes of their wedged periods) and the number of
     turning periods (wedged with no held step).
-
-    Summaries stored before the held periods existed have periods without ``held``: each wedged period is then
-    counted as held throughout and none as turning (the conservative reading: no turn is excused), and
-    ``held_rule`` says so.
     """
     out = {}
     for k, s in summaries.items():
@@ -221,16 +217,11 @@ def wedged_counts(summaries: dict[str, dict[str, Any]], control_hz: float = 10.0
         causes: dict[str, int] = {}
         for p in long:
             causes[p["cause"]] = causes.get(p["cause"], 0) + 1
-        known = all("held" in p for p in s["wedged"])
-        if known:
-            held = metrics.held_periods(s["wedged"], control_hz)
-            held_rule = (
-                f"wedged, and the heading's range (max minus min of the unwrapped yaw) within "
-                f"{metrics.HELD_HEADING_DEG:g} degrees over each stretch of more than {metrics.WEDGE_MIN_S:g} s"
-            )
-        else:  # an older store: every wedged period stands in for a held one
-            held = [{k2: p[k2] for k2 in ("start", "end", "duration_s", "cause")} for p in s["wedged"]]
-            held_rule = "not measured (a summary stored before the held periods): every wedged period counted as held"
+        held = metrics.held_periods(s["wedged"], control_hz)
+        held_rule = (
+            f"wedged, and the heading's range (max minus min of the unwrapped yaw) within "
+            f"{metrics.HELD_HEADING_DEG:g} degrees over each stretch of more than {metrics.WEDGE_MIN_S:g} s"
+        )
         held_long = [h for h in held if h["duration_s"] > WEDGED_LONG_S]
         held_causes: dict[str, int] = {}
         for h in held_long:
@@ -247,7 +238,8 @@ def wedged_counts(summaries: dict[str, dict[str, Any]], control_hz: float = 10.0
                     "start_s": float(p["start"]) / control_hz,
                     "duration_s": float(p["duration_s"]),
                     "cause": p["cause"],
-                    **({"heading_range_deg": p["heading_range_deg"], "held_s": p["held_s"]} if known else {}),
+                    "heading_range_deg": p["heading_range_deg"],
+                    "held_s": p["held_s"],
                 }
                 for p in s["wedged"]
             ],
@@ -256,8 +248,7 @@ def wedged_counts(summaries: dict[str, dict[str, Any]], control_hz: float = 10.0
                 "periods": len(held),
                 "longest_s": max((h["duration_s"] for h in held), default=0.0),
                 f"over_{WEDGED_LONG_S:g}s": {"periods": len(held_long), "causes": held_causes},
-                "turning_periods": sum(1 for p in s["wedged"] if not p["held"]) if known else 0,
-                "measured": known,
+                "turning_periods": sum(1 for p in s["wedged"] if not p["held"]),
                 "rule": held_rule,
             },
         }

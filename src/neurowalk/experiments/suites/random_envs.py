@@ -98,16 +98,8 @@ def coverage_rule(duration_s: float) -> str:
 
 
 def held_up(summary: dict[str, Any]) -> bool:
-    """Whether a run was held up for 300 s or more at some time (:data:`HELD_UP_RULE`), from its summary.
-
-    Summaries stored before the held periods existed lack ``longest_held_s``: their longest wedged period stands
-    in for it (every wedged period counted as held, the conservative reading); those stored before the wedged
-    periods existed lack both, and ``ever_trapped`` decides there.
-    """
-    longest = summary.get("longest_held_s")
-    if longest is None:  # an older store: the wedged period stands in for the held one
-        longest = summary.get("longest_wedged_s", 0.0)
-    return bool(summary["ever_trapped"]) or longest >= STUCK_S
+    """Whether a run was held up for 300 s or more at some time (:data:`HELD_UP_RULE`), from its summary."""
+    return bool(summary["ever_trapped"]) or summary["longest_held_s"] >= STUCK_S
 
 
 def check_rate(body: str, control_hz: float) -> None:
