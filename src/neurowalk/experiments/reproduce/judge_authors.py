@@ -174,9 +174,8 @@ def _long_rows(s: dict[str, Any], network: str) -> list[dict[str, Any]]:
     """The long run of ``network`` in the difficult arena: length, coverage, wedged periods, stuck at the end."""
     r, ours, w = _long(network), s["runs"][f"difficult ({network})"], s["wedged"][f"difficult ({network})"]
     over = next(v for k, v in w.items() if k.startswith("over_"))
-    held = w.get("held", {})
-    known = bool(held.get("measured"))  # a json written before the held periods: neurowalk's side not measured
-    held_over = next((v["periods"] for k, v in held.items() if k.startswith("over_")), None) if known else None
+    held = w["held"]
+    held_over = next(v["periods"] for k, v in held.items() if k.startswith("over_"))
     return [
         _row(f"difficult arena, {network}: run length", "s", ours["steps"] / s["control_hz"], r["seconds"], 1),
         _row(f"difficult arena, {network}: coverage", "share", ours["coverage"], r["coverage"]),
@@ -187,14 +186,14 @@ def _long_rows(s: dict[str, Any], network: str) -> list[dict[str, Any]]:
         _row(
             f"difficult arena, {network}: longest held period",
             "s",
-            held.get("longest_s") if known else None,
+            held["longest_s"],
             r["longest_held_s"],
             1,
         ),
         _row(
             f"difficult arena, {network}: turning periods (wedged, never held)",
             "",
-            held.get("turning_periods") if known else None,
+            held["turning_periods"],
             r["turning_periods"],
         ),
         _row(f"difficult arena, {network}: stuck at the end", "", bool(ours["trapped"]), r["trapped"]),
