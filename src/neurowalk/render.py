@@ -1,12 +1,14 @@
 """Video of a recorded run (headless) and MuJoCo's interactive viewer.
 
 Rendering replays recorded physics positions (``trajectory.qpos``) after the run, so it never
-slows the simulation. Headless rendering needs ``MUJOCO_GL=egl`` (or ``osmesa``) set before MuJoCo
-is imported; :func:`use_headless_gl` does that where no display exists.
+slows the simulation. Headless rendering needs ``MUJOCO_GL=egl`` (or ``osmesa``): :func:`use_headless_gl` sets it
+before MuJoCo is imported where no display exists (the commands do), and :func:`offscreen_gl`, where rendering starts
+in a process that imported MuJoCo already (a Gymnasium environment's ``render``), loads MuJoCo's GL context with it.
 """
 
 from __future__ import annotations
 
+import importlib
 import os
 import sys
 import time
@@ -34,6 +36,18 @@ def use_headless_gl() -> None:
     if "mujoco" in sys.modules and "MUJOCO_GL" not in os.environ:
         return  # too late to choose; MuJoCo picked its default
     os.environ.setdefault("MUJOCO_GL", "egl")
+
+
+def offscreen_gl() -> None:
+    """Where offscreen rendering starts: with no display and no backend chosen (``MUJOCO_GL``), choose EGL. MuJoCo
+    reads ``MUJOCO_GL`` as its GL context module loads (with ``import mujoco``): where it is loaded already, it is
+    loaded again with EGL (it has made no context yet: there is no display to have made one on)."""
+    if has_display() or "MUJOCO_GL" in os.environ:
+        return
+    os.environ["MUJOCO_GL"] = "egl"
+    context = sys.modules.get("mujoco.rendering.classic.gl_context")
+    if context is not None:
+        importlib.reload(context)
 
 
 def check_gl() -> str | None:
@@ -181,6 +195,7 @@ def iter_frames(
     if samples is not None:
         quality.offsamples = samples  # read when the renderer is made; the model's own value is put back below
     try:
+        offscreen_gl()  # no display and no backend chosen: EGL, chosen here where rendering starts
         renderer = mujoco.Renderer(model, height, width)
     finally:
         quality.offsamples = own

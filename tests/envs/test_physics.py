@@ -86,3 +86,24 @@ def test_the_real_robots_control_rate_steps_its_clock():
         x, y = env.body.data.qpos[:2]
         moved[hz] = np.hypot(x - env.body.arena.start[0], y - env.body.arena.start[1]) / env.body.data.time
     assert moved[27.0] > 1.5 * moved[10.0]  # the networks keep their steps: more steps a second, faster walking
+
+
+def test_importing_the_environments_chooses_no_gl_backend_rendering_does(tmp_path):
+    """`import neurowalk.envs` registers the ids and nothing else; an rgb_array render without a display chooses
+    EGL where it starts, MuJoCo imported before or not."""
+    import os
+    import subprocess
+    import sys
+
+    code = (
+        "import os, gymnasium, neurowalk.envs\n"
+        "assert 'MUJOCO_GL' not in os.environ, os.environ.get('MUJOCO_GL')\n"
+        "env = gymnasium.make('neurowalk/ExplorePhysics-v0', max_steps=5, render_mode='rgb_array')\n"
+        "env.reset(seed=0)\n"
+        "frame = env.render()\n"
+        "print(frame.shape, int(frame.std() > 5), os.environ['MUJOCO_GL'])\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k not in ("DISPLAY", "WAYLAND_DISPLAY", "MUJOCO_GL")}
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env, timeout=300)
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.strip() == "(480, 640, 3) 1 egl"

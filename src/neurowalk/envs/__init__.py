@@ -11,15 +11,8 @@
 
 from __future__ import annotations
 
-import os
-
 from neurowalk.gym_registration import ENVIRONMENTS, register_envs
 
 IDS: tuple[str, ...] = tuple(ENVIRONMENTS)
 
 register_envs()
-
-if not os.environ.get("DISPLAY"):  # no screen: render_mode="rgb_array" of the physics environments renders offscreen
-    from neurowalk.render import use_headless_gl
-
-    use_headless_gl()  # EGL, unless MUJOCO_GL is set or MuJoCo was imported before (then it is too late to choose)

@@ -24,6 +24,7 @@ from neurowalk.body.amosii_sensors import obstacle_contact, trunk_pose
 from neurowalk.body.physics import AmosII
 from neurowalk.controller import FixedController
 from neurowalk.envs.task import ExploreTask
+from neurowalk.render import offscreen_gl
 
 ACTIONS: tuple[str, ...] = ("steering", "joints")
 
@@ -70,6 +71,7 @@ class ExplorePhysicsEnv(ExploreTask):
         if self.render_mode != "rgb_array" or self.body is None:
             return super().render()
         if self._renderer is None:
+            offscreen_gl()  # no display: EGL, chosen where rendering starts (importing neurowalk chooses nothing)
             self._renderer = mujoco.Renderer(self.body.model, 480, 640)
             self._camera = mujoco.MjvCamera()
             self._camera.type = mujoco.mjtCamera.mjCAMERA_TRACKING
