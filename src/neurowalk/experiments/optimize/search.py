@@ -50,13 +50,13 @@ from neurowalk.experiments.optimize.settings import (
     check_sizes,
 )
 from neurowalk.experiments.optimize.space import Dim, decode, fitness, make_space, start_point
+from neurowalk.experiments.stores import run_store, store_path
 from neurowalk.experiments.suites import deadends, random_envs
 from neurowalk.fileio import make_writable_folder
 from neurowalk.runners import ray_backend
-from neurowalk.runners.specs import spec_key
 from neurowalk.runners.stopping import deferred
-from neurowalk.runners.store import ResultStore
-from neurowalk.runners.sweep import run_sweep
+from neurowalk.runners.store import count_finished
+from neurowalk.sim.config import EpisodeConfig
 
 
 def deadend_specs(variant: str, params: Mapping[str, float] | None, seeds: int) -> list[dict[str, Any]]:
@@ -90,7 +90,8 @@ def train_specs(
 
 
 class Runner:
-    """Runs specs through the resumable store ``folder/results.sqlite`` on a backend; counts what it computed."""
+    """Runs specs through the one runner (:func:`~neurowalk.experiments.stores.run_store`) on the resumable store
+    ``folder/results.sqlite``, on a backend; counts what it computed and what it took from the store."""
 
     def __init__(self, folder: Path, backend: str, workers: int, address: str | None, progress: bool) -> None:
         self.folder, self.backend, self.workers, self.address, self.progress = (
@@ -104,22 +105,14 @@ class Runner:
 
     def __call__(self, specs: list[dict[str, Any]]) -> list[dict[str, Any]]:
         """The results of ``specs`` (summaries, in order), computing only those not in the store."""
-        with deferred():  # opened whole (its lock, its tables), or not at all
-            store = ResultStore(self.folder / "results.sqlite")
-        with store:
-            swept = run_sweep(
-                specs, store, backend=self.backend, workers=self.workers, address=self.address, progress=self.progress
-            )
-            results = store.results()
-        self.computed += swept.ok
-        self.skipped += swept.skipped
-        if swept.interrupted:
-            raise KeyboardInterrupt
-        keys = [spec_key(s) for s in specs]
-        missing = [f.line() for f in swept.failures] or [k[:12] for k in keys if k not in results]
-        if missing:
-            raise RuntimeError(f"{len(missing)} runs failed ({missing[0]}); rerun to retry them")
-        return [results[k] for k in keys]
+        configs = [EpisodeConfig.from_spec(s) for s in specs]
+        keys = {c.key() for c in configs}
+        before = count_finished(store_path(self.folder), keys)
+        results = run_store([(c, ()) for c in configs], self.folder, self.workers, backend=self.backend,
+                            address=self.address, desc="optimize", progress=self.progress)  # fmt: skip
+        self.skipped += before
+        self.computed += len(keys) - before
+        return results
 
 
 def load_state(path: Path, settings: dict[str, Any], space: Sequence[Dim]) -> dict[str, Any]:
