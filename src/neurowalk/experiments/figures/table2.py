@@ -17,7 +17,7 @@ from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any
 
-from neurowalk.body.registry import bodies_where, body_info
+from neurowalk.body.registry import body_info
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, rate
 from neurowalk.experiments.stores import Kept
@@ -34,7 +34,6 @@ from neurowalk.experiments.suites.random_envs import (
     SIZE,
     STUCK_S,
     calibrated_rate,
-    check_rate,
     coverage_rule,
     coverage_threshold,
     environments,
@@ -47,7 +46,7 @@ from neurowalk.experiments.suites.random_envs_plot import PAPER
 from neurowalk.experiments.suites.random_envs_plot import plot as draw
 from neurowalk.experiments.suites.timing import steps_for
 from neurowalk.neural.variants import variant_names
-from neurowalk.sim.config import EpisodeConfig, engine_refusal
+from neurowalk.sim.config import EpisodeConfig
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -72,21 +71,13 @@ def rows(variant: str | None = None, params: dict[str, float] | None = None) -> 
 
 
 def plan(s: Settings) -> dict[str, Any]:
-    """What :func:`runs` runs, checked before any run: ``envs`` (``s.seeds``: 50; quick: 10), ``table`` (rows),
-    ``bodies`` (the body, and its surrogate beside a physics body where the surrogate runs at the control rate),
-    ``steps``, ``duration_s``, ``specs`` ({(body, environment, row): spec}), ``surrogate`` and ``surrogate_note``.
-
-    ValueError on an engine or climbing the body cannot run, or a rate it cannot run at (a planar surrogate runs at
-    its calibration rate, 10 Hz, only).
-    """
+    """What :func:`runs` runs: ``envs`` (``s.seeds``: 50; quick: 10), ``table`` (rows), ``bodies`` (the body, and its
+    surrogate beside a physics body where the surrogate runs at the control rate), ``steps``, ``duration_s``,
+    ``specs`` ({(body, environment, row): spec}, before the runner applies the settings: engine and climbing),
+    ``surrogate`` and ``surrogate_note``. A body, engine, climbing or rate the body cannot run is refused by the
+    settings' checks and the config's own, before any run."""
     body, hz = s.body or "surrogate", s.rate
     info = body_info(body)
-    if s.engine not in info.engines:
-        raise ValueError(engine_refusal(s.engine, body, s.climbing))
-    if s.climbing and not info.climbs:
-        climbers = ", ".join(repr(b) for b in bodies_where(lambda b: b.climbs))
-        raise ValueError(f"climbing needs body {climbers} (the surrogate has no legs), got body {body!r}")
-    check_rate(body, hz)
     duration = QUICK_DURATION_S if s.quick else DURATION_S
     steps = steps_for(duration, hz)
     table = rows(s.variant, s.params)
@@ -104,9 +95,8 @@ def plan(s: Settings) -> dict[str, Any]:
     bodies = [body] if surrogate is None else [body, surrogate]
 
     def spec_of(e: dict[str, Any], r: dict[str, Any], b: str) -> dict[str, Any]:
-        one = spec(e, r["controller"], steps, b, s.climbing and b == body, variant=r["variant"],
-                   size=s.size or SIZE, params=r["params"], control_hz=hz)  # fmt: skip
-        return {**one, "engine": s.engine} if b == body else one  # physics rows on the engine; a surrogate: its loop
+        return spec(e, r["controller"], steps, b, variant=r["variant"], size=s.size or SIZE, params=r["params"],
+                    control_hz=hz)  # fmt: skip
 
     return {
         "envs": envs,
@@ -122,14 +112,16 @@ def plan(s: Settings) -> dict[str, Any]:
     }
 
 
-#: The settings each run of the table fixes itself (a row's variant and params, the body's engine and climbing):
-#: :func:`plan` builds them from the settings.
-FIXED = ("body", "variant", "params", "engine", "climbing", "control_hz")
+#: What each run of the table fixes itself: a row's variant and params; the surrogate beside a physics body all of
+#: its run settings (its own body, its loop, no climbing, its calibration's rate).
+ROW_FIXED = ("variant", "params")
+BESIDE_FIXED = ("body", "variant", "params", "engine", "climbing", "control_hz")
 
 
 def runs(s: Settings) -> Iterator[Plan]:
     """Every row in ``s.seeds`` random environments (50; quick: 10) on ``s.body`` (the surrogate by default),
-    labelled ``(body, environment index, row)`` (:func:`plan`).
+    labelled ``(body, environment index, row)`` (:func:`plan`); the runner applies the body's settings (engine,
+    climbing) to its rows.
 
     ``variant``/``params`` add a plastic row (``--params FILE``). A physics body with a calibrated surrogate (AMOSII:
     ``surrogate``, wheeled: ``surrogate-wheeled``) runs it beside, environment for environment
@@ -137,8 +129,10 @@ def runs(s: Settings) -> Iterator[Plan]:
     Warp, every environment a world of one model (a GPU makes 1000 environments in physics practical). Runs last
     2000 s (quick: 500 s) of simulated time and the stuck window is 300 s at any control rate.
     """
-    for label, one in plan(s)["specs"].items():
-        yield Plan(label, EpisodeConfig.from_spec(one), (LATCH,), FIXED)  # a latched spin kept for latched-spin
+    p = plan(s)
+    for label, one in p["specs"].items():
+        fixed = ROW_FIXED if label[0] == p["bodies"][0] else BESIDE_FIXED
+        yield Plan(label, EpisodeConfig.from_spec(one), (LATCH,), fixed)  # a latched spin kept for latched-spin
 
 
 def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
