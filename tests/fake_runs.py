@@ -75,16 +75,12 @@ def fake_measure(
 
 def dead_end_table(s: Settings, variants: dict[str, tuple[str, dict]]) -> dict[str, Any]:
     """The dead-end outcome table of ``variants`` with settings ``s``, its runs really run (in a temporary store)."""
-    import tempfile
-    from pathlib import Path
-
-    from neurowalk.experiments.stores import run_store
+    from neurowalk.experiments.stores import run_all
     from neurowalk.experiments.suites.deadends import table_counts, table_runs
 
-    runs = [(p.label, s.apply(p.config)) for p in table_runs(s, variants)]
-    with tempfile.TemporaryDirectory() as tmp:
-        results = run_store([(cfg, ()) for _, cfg in runs], Path(tmp), s.workers or 2)
+    plans = list(table_runs(s, variants))
+    runs = run_all([s.apply(p.config) for p in plans], workers=s.workers or 2, progress=False)
     grouped: dict[Any, list[Kept]] = {}
-    for (label, _), r in zip(runs, results, strict=True):
-        grouped.setdefault(label, []).append(Kept(RunSummary.from_dict(r), {}))
+    for p, r in zip(plans, runs, strict=True):
+        grouped.setdefault(p.label, []).append(r)
     return table_counts(s, grouped)

@@ -111,9 +111,10 @@ def _check_amosii(name: str, options: dict[str, Any]) -> dict[str, Any]:
     return options
 
 
-def _build_amosii(name: str, arena: ArenaSpec, options: dict[str, Any], *, climbing: bool = False,
-                  pad_boxes: int | None = None, **rate: Any) -> AmosII:  # fmt: skip
-    return AmosII(arena, amosii_params(options), scan_obstacles=climbing, pad_boxes=pad_boxes, **rate)
+def _build_amosii(name: str, arena: ArenaSpec, options: dict[str, Any], *, control_hz: float, noise: float,
+                  climbing: bool, pad_boxes: int | None) -> AmosII:  # fmt: skip
+    return AmosII(arena, amosii_params(options), control_hz=control_hz, noise=noise, scan_obstacles=climbing,
+                  pad_boxes=pad_boxes)  # fmt: skip
 
 
 def _build_planar(name: str, arena: ArenaSpec, options: dict[str, Any], *, control_hz: float, noise: float,
@@ -270,8 +271,10 @@ def check_body_opts(name: str, opts: dict[str, Any]) -> dict[str, Any]:
     """The body's options as numbers (a named option as its name), each checked against its range or its names,
     then by the body's own :attr:`BodyInfo.check`; ValueError names a bad key or value."""
     info = body_info(name)
-    out = {} if info.prefix is None else dict(opts)
-    for key, value in opts.items() if info.prefix is None else ():
+    if info.prefix is not None:  # a user's file: its own check reads the file
+        return info.check(name, dict(opts)) if info.check is not None else dict(opts)
+    out = {}
+    for key, value in opts.items():
         if key in info.choices:
             _, allowed, _ = info.choices[key]
             if value not in allowed:

@@ -37,6 +37,7 @@ from neurowalk.runners.sweep import run_sweep
 from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.engine import EngineOptions, Streaming
 from neurowalk.sim.episode import Episode
+from neurowalk.sim.run_summary import RunSummary
 
 STORE = "results.sqlite"  # a study's store in its folder (and in a shared folder)
 
@@ -77,18 +78,22 @@ class Kept:
     Attributes:
         summary: the run's :class:`~neurowalk.sim.run_summary.RunSummary`.
         kept: what its terms kept, by term name: {name: {key: value}}, the arrays a term declares as numpy arrays.
-        plan: the :class:`~neurowalk.experiments.study.Plan` it ran (its config with the settings applied), or None.
+        plan: the :class:`~neurowalk.experiments.plan.Plan` it ran (its config with the settings applied).
     """
 
     summary: Any
     kept: Mapping[str, dict[str, Any]]
-    plan: Any = None
+    plan: Plan
+
+    @classmethod
+    def of(cls, result: Mapping[str, Any], plan: Plan) -> Kept:
+        """A run as :func:`run_store` gives it back (its summary and ``kept``), with the plan it ran."""
+        summary = RunSummary.from_dict({k: v for k, v in result.items() if k != "kept"})
+        return cls(summary, result.get("kept", {}), plan)
 
     @property
     def config(self) -> EpisodeConfig:
         """The config it ran (its plan's)."""
-        if self.plan is None:
-            raise AttributeError("this run was kept without its plan")
         return self.plan.config
 
     def __getattr__(self, name: str) -> Any:
@@ -235,8 +240,6 @@ def run_all(
     E.g. ``[r.escaped for r in run_all([EpisodeConfig(arena="box", seed=s) for s in range(4)])]``. RuntimeError
     naming the first failure where runs failed (the others are kept in ``folder``'s store).
     """
-    from neurowalk.sim.run_summary import RunSummary
-
     with store_folder(folder) as where:
         try:
             results = run_store([(c, tuple(terms)) for c in configs], where, workers, options=options, desc=desc,
@@ -245,10 +248,7 @@ def run_all(
             if folder is None:  # a temporary store: nothing is kept
                 raise RunsFailedError(e.failed, e.first, None) from None
             raise
-    return [
-        Kept(RunSummary.from_dict({k: v for k, v in r.items() if k != "kept"}), r.get("kept", {}), Plan(k, c, terms))
-        for k, (c, r) in enumerate(zip(configs, results, strict=True))
-    ]
+    return [Kept.of(r, Plan(k, c, terms)) for k, (c, r) in enumerate(zip(configs, results, strict=True))]
 
 
 @contextlib.contextmanager

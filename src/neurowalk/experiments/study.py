@@ -233,7 +233,6 @@ def compute(study: Study, settings: Settings) -> Result:
     """
     from neurowalk.experiments.stores import Kept, run_store, store_folder, store_path
     from neurowalk.sim.engine import EngineOptions
-    from neurowalk.sim.run_summary import RunSummary
 
     study.check(settings)
     settings = resolve(study, settings)
@@ -252,8 +251,7 @@ def compute(study: Study, settings: Settings) -> Result:
             )
             store = store_path(folder)
         for plan, r in zip(plans, results, strict=True):
-            summary = RunSummary.from_dict({k: v for k, v in r.items() if k != "kept"})
-            grouped.setdefault(plan.label, []).append(Kept(summary, r.get("kept", {}), plan))
+            grouped.setdefault(plan.label, []).append(Kept.of(r, plan))
     measured = study.measure(settings, grouped)
     result = measured if isinstance(measured, Result) else Result(study.name, dict(measured))
     if study.render is not None:
