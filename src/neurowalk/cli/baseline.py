@@ -50,13 +50,17 @@ def cmd_baseline(args: argparse.Namespace) -> int:
 
 
 def kept_line(out: Path) -> str:
-    """The line of an interrupted baseline: its training checkpoints and held-out scores in ``out`` (the files)."""
-    files = [
-        p for p in (*sorted(out.glob("training/*/*")), *sorted(out.glob("eval/*.json"))) if not p.name.startswith(".")
-    ]
+    """The line of an interrupted baseline: its training checkpoints in ``out`` (the files) and its held-out scores
+    (the policies scored, in its result store)."""
+    from neurowalk.runners.store import count_finished
+
+    files = [str(p.relative_to(out)) for p in sorted(out.glob("training/*/*")) if not p.name.startswith(".")]
+    scored = count_finished(out / "results.sqlite")
+    if scored:
+        files.append(f"results.sqlite ({scored} policies scored)")
     if not files:
         return "neurowalk: baseline interrupted before its first checkpoint; nothing is kept"
-    names = ", ".join(str(p.relative_to(out)) for p in files)
+    names = ", ".join(files)
     return f"neurowalk: baseline interrupted; kept in {out}: {names}; run the same command again to go on from them"
 
 

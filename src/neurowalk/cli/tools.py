@@ -63,15 +63,25 @@ def add_tool_parsers(sub: argparse._SubParsersAction) -> None:
 def cmd_calibrate(args: argparse.Namespace) -> int:
     """`neurowalk calibrate`: measure a physics body, write its surrogate's calibration and its plot.
 
-    The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM) with one line saying what it wrote: nothing,
-    if it was still measuring (a calibration keeps no part of its measurement).
+    Its drives are kept in the result store beside the file (``DIR/results.sqlite``) as they finish. The first SIGINT
+    or SIGTERM stops it (exit 130, or 143 for SIGTERM) with one line saying what it kept or wrote; the same command
+    again goes on from the drives it finished.
     """
-    return stopped(  # a stop while it measured (what it wrote after is answered inside)
-        lambda: _calibrate(args),
-        lambda: (
-            "neurowalk: calibrate interrupted before its measurement ended; nothing written (run it again: a "
-            "calibration keeps no part of its measurement)"
-        ),
+    return stopped(lambda: _calibrate(args), lambda: _calibrate_stopped(args))  # a stop while it measured
+
+
+def _calibrate_stopped(args: argparse.Namespace) -> str:
+    """The line of a calibration stopped while it measured: whether drives are kept in its store to go on from."""
+    from neurowalk.runners.store import count_finished
+
+    if args.out is None:
+        return "neurowalk: calibrate interrupted before it began; nothing was run"
+    store = args.out.parent / "results.sqlite"
+    if not store.is_file() or not count_finished(store):
+        return "neurowalk: calibrate interrupted before any of its drives finished; nothing is kept"
+    return (
+        f"neurowalk: calibrate interrupted before its measurement ended; the drives it finished are kept in {store}: "
+        "run the same command again to go on from them"
     )
 
 
@@ -90,7 +100,7 @@ def _calibrate(args: argparse.Namespace) -> int:
         args.out = Path("out/calibration") / CALIBRATION_FILES[sub.surrogate].name
     out_file(args.out)  # before the minute of measuring
     grid = {"grid": (-1.0, -0.3, 0.0, 0.3, 1.0), "held_out": (-0.6, 0.6)} if args.quick else {}
-    cal = calibrate(**grid, workers=args.workers, body=args.body)  # type: ignore[arg-type]
+    cal = calibrate(**grid, workers=args.workers, body=args.body, folder=args.out.parent)  # type: ignore[arg-type]
     png = args.out.with_suffix(".png")
     written: list[Path] = []
     try:

@@ -33,7 +33,7 @@ from neurowalk.experiments.plan import Plan
 from neurowalk.runners.specs import episode_of, result_of
 from neurowalk.runners.stopping import deferred
 from neurowalk.runners.store import ResultStore
-from neurowalk.runners.sweep import run_sweep
+from neurowalk.runners.sweep import Kind, run_sweep
 from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.engine import EngineOptions, Streaming
 from neurowalk.sim.episode import Episode
@@ -249,6 +249,45 @@ def run_all(
                 raise RunsFailedError(e.failed, e.first, None) from None
             raise
     return [Kept.of(r, Plan(k, c, terms)) for k, (c, r) in enumerate(zip(configs, results, strict=True))]
+
+
+def run_jobs(
+    fn: Callable[[dict[str, Any]], dict[str, Any]],
+    specs: Sequence[dict[str, Any]],
+    kind: Kind,
+    *,
+    folder: Path | None = None,
+    workers: int = 2,
+    progress: bool = True,
+    desc: str = "jobs",
+) -> list[dict[str, Any]]:
+    """``[fn(spec) for spec in specs]`` for jobs that are not episodes (``kind``: a
+    :func:`~neurowalk.runners.sweep.job_kind`), through the one runner: the process pool (``workers``; 1 runs them
+    here) and the result store of ``folder`` (of a temporary folder where None), each result kept as it finishes. A
+    stopped call (KeyboardInterrupt, raised once the store is closed) keeps its finished jobs, and the same call again
+    runs only the others, saying so. ``fn``: a module-level function returning a JSON-able dict (floats come back bit
+    for bit). :class:`RunsFailedError` naming the first failure.
+    """
+    with store_folder(folder) as where:
+        path = store_path(where)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        with deferred():
+            store = ResultStore(path)
+        with store:
+            keys = [kind.key(kind.canonical(s)) for s in specs]
+            held = store.results(keys=keys)
+            if held and progress:
+                print(f"{desc}: going on from the {len(held)} finished jobs kept in {where} ({len(held)} in {STORE})")
+            report = run_sweep(specs, store, workers=workers, progress=progress, desc=desc, fn=fn, kind=kind)
+            results = store.results(keys=keys)
+            missing = [k for k in keys if k not in results]
+            failed = store.rows("error", missing[:1]) if missing else []
+        if report.interrupted:
+            raise KeyboardInterrupt
+        if missing:
+            first = failed[0]["error"] if failed else "unknown"
+            raise RunsFailedError(len(set(missing)), first, path if folder is not None else None)
+    return [results[k] for k in keys]
 
 
 @contextlib.contextmanager

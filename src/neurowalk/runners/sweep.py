@@ -14,6 +14,8 @@ number of workers.
 
 from __future__ import annotations
 
+import hashlib
+import json
 import sys
 import time
 from collections.abc import Callable, Collection, Iterable, Iterator
@@ -34,6 +36,40 @@ from neurowalk.sim.episode import Episode
 BACKENDS = ("local", "ray")
 
 
+@dataclass(frozen=True)
+class Kind:
+    """What the specs of a sweep are: how one is made canonical (ValueError naming a bad value), keyed (its row of
+    the store) and named in a line. :data:`EPISODES` (EpisodeConfig specs) by default; :func:`job_kind` for jobs of
+    another kind (a calibration's drives, a baseline's scoring)."""
+
+    name: str
+    canonical: Callable[[Spec], Spec]
+    key: Callable[[Spec], str]
+    describe: Callable[[Spec], str]
+
+
+def _episode_spec(spec: Spec) -> Spec:
+    return EpisodeConfig.from_spec(spec).spec()
+
+
+EPISODES = Kind("episode", _episode_spec, spec_key, describe)
+
+
+def job_kind(name: str) -> Kind:
+    """Jobs called ``name`` whose specs are JSON objects, canonical as they are; each keyed by the SHA-256 of its
+    canonical JSON with ``name`` (so no job of another kind has its key)."""
+
+    def canonical(spec: Spec) -> Spec:
+        if not isinstance(spec, dict):
+            raise ValueError(f"a {name} job's spec must be a JSON object, got {type(spec).__name__}")
+        return json.loads(json.dumps(spec, sort_keys=True, allow_nan=False))
+
+    def key(spec: Spec) -> str:
+        return hashlib.sha256(json.dumps([name, spec], sort_keys=True).encode()).hexdigest()
+
+    return Kind(name, canonical, key, lambda spec: f"{name} {json.dumps(spec, sort_keys=True)[:80]}")
+
+
 @dataclass
 class Failure:
     """A run that ended in an error."""
@@ -41,10 +77,11 @@ class Failure:
     key: str
     spec: Spec
     error: str  # one line: "ExceptionType: message"
+    what: str  # the spec in words (its kind's ``describe``)
 
     def line(self) -> str:
         """``3f2a9c1b0d4e box gap=0.3 plastic amosii seed=3 steps=300: ValueError: ...``"""
-        return f"{self.key[:12]} {describe(self.spec)}: {self.error}"
+        return f"{self.key[:12]} {self.what}: {self.error}"
 
 
 @dataclass
@@ -67,8 +104,9 @@ class SweepReport:
         return {k: getattr(self, k) for k in keys}
 
 
-def prepare(specs: Iterable[Spec]) -> tuple[list[tuple[str, Spec]], int]:
-    """Normalise and key the specs, dropping repeats (first one kept): ([(key, spec)], number of specs given).
+def prepare(specs: Iterable[Spec], kind: Kind = EPISODES) -> tuple[list[tuple[str, Spec]], int]:
+    """Normalise and key the specs (of ``kind``), dropping repeats (first one kept): ([(key, spec)], number of specs
+    given).
 
     Raises ValueError (naming the value) on a bad spec, before any run.
     """
@@ -76,8 +114,8 @@ def prepare(specs: Iterable[Spec]) -> tuple[list[tuple[str, Spec]], int]:
     n = 0
     for spec in specs:
         n += 1
-        s = EpisodeConfig.from_spec(spec).spec()
-        seen.setdefault(spec_key(s), s)
+        s = kind.canonical(spec)
+        seen.setdefault(kind.key(s), s)
     return list(seen.items()), n
 
 
@@ -96,6 +134,7 @@ def run_sweep(
     world_fn: Callable[[Episode], dict[str, Any]] | None = None,
     redo: Collection[str] = (),
     amend: Callable[[str, dict[str, Any]], dict[str, Any]] | None = None,
+    kind: Kind = EPISODES,
 ) -> SweepReport:
     """Run every spec not yet done into ``store``; return the counts.
 
@@ -116,6 +155,7 @@ def run_sweep(
         redo: keys run again though the store holds them (e.g. rows that lack something now kept).
         amend: ``amend(key, result) -> result``: a finished run's result as it is stored, made here in the driver
             (e.g. what the row it replaces kept, added).
+        kind: what the specs are (:data:`EPISODES`; a :func:`job_kind`'s are run by ``fn`` on the backend).
 
     Raises:
         ValueError: bad spec, backend or worker count (before any run).
@@ -130,7 +170,9 @@ def run_sweep(
     if address and backend != "ray":
         raise ValueError("an address goes with backend 'ray'")
     t0 = time.perf_counter()
-    keyed, total = prepare(specs)
+    if kind is not EPISODES and (fn is run_spec or world_fn is not None):
+        raise ValueError(f"{kind.name} jobs are not episodes: give their fn, and no world_fn")
+    keyed, total = prepare(specs, kind)
     done = store.done_keys()
     redo = set(redo)
     todo = [(k, s) for k, s in keyed if k not in done or k in redo]
@@ -149,7 +191,7 @@ def run_sweep(
                 if amend is not None and d.error is None and isinstance(d.value, dict):
                     d = replace(d, value=amend(key, d.value))
                 with deferred():  # a run is stored whole, or not at all
-                    _store(store, key, spec, d, report)
+                    _store(store, key, spec, d, report, kind)
                 bar.update(1)
                 if report.error:
                     bar.set_postfix(errors=report.error, refresh=False)
@@ -241,7 +283,7 @@ def _pool(
     return run_unordered(fn, items, workers=workers, retries=retries)
 
 
-def _store(store: ResultStore, key: str, spec: Spec, d: JobResult, report: SweepReport) -> None:
+def _store(store: ResultStore, key: str, spec: Spec, d: JobResult, report: SweepReport, kind: Kind) -> None:
     """Write one finished run and count it."""
     if d.error is None and not isinstance(d.value, dict):
         d = JobResult(d.index, error=TypeError(f"a run's result must be a dict, got {type(d.value).__name__}"))
@@ -252,7 +294,7 @@ def _store(store: ResultStore, key: str, spec: Spec, d: JobResult, report: Sweep
     message = one_line(d.error)
     store.put(key, spec, error=message, wall_time_s=d.wall_time_s)
     report.error += 1
-    report.failures.append(Failure(key, spec, message))
+    report.failures.append(Failure(key, spec, message, kind.describe(spec)))
 
 
 def one_line(e: BaseException) -> str:

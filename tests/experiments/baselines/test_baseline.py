@@ -15,6 +15,7 @@ pytest.importorskip("cma")
 from neurowalk.envs.policy import NetworkPolicy, evaluate, evaluate_batch
 from neurowalk.experiments.baselines import comparison, evolved_rnn
 from neurowalk.experiments.baselines.evolved_rnn import RecurrentPolicy, n_weights
+from neurowalk.runners.store import ResultStore
 
 
 def test_one_hidden_unit_step_by_hand():
@@ -115,10 +116,17 @@ def test_run_writes_the_table_plot_and_data_and_reuses_finished_work(tmp_path):
     assert saved["rows"] == json.loads(json.dumps(r["rows"]))
     assert (tmp_path / "baselines.png").stat().st_size > 10_000
     assert "| evolved RNN (CMA-ES) |" in (tmp_path / "baselines.md").read_text()
-    stamps = {p.name: p.stat().st_mtime_ns for p in (tmp_path / "eval").iterdir()}
+    with ResultStore(tmp_path / "results.sqlite") as store:  # each policy's score: a job of the one runner
+        stamps = {row["key"]: row["finished_at"] for row in store.rows("ok")}
+    assert len(stamps) == 5
     again = comparison.run(tmp_path, methods=["neuroevo"], quick=True, sizes=sizes, progress=False, log=lambda _: None)
     assert again["rows"] == r["rows"]
-    assert {p.name: p.stat().st_mtime_ns for p in (tmp_path / "eval").iterdir()} == stamps  # nothing rescored
+    with ResultStore(tmp_path / "results.sqlite") as store:
+        assert {row["key"]: row["finished_at"] for row in store.rows("ok")} == stamps  # nothing rescored
+    bigger = {**sizes, "eval_envs": 4}  # other settings: scored again, beside the others
+    comparison.run(tmp_path, methods=["neuroevo"], quick=True, sizes=bigger, progress=False, log=lambda _: None)
+    with ResultStore(tmp_path / "results.sqlite") as store:
+        assert len(store.rows("ok")) == 10
 
 
 def test_sizes_and_methods_are_checked_before_any_work():

@@ -7,8 +7,8 @@
         ppo        PPO, 64-64 MLP                (stable-baselines3)      (baselines/ppo.py)
         rppo       recurrent PPO, 32-unit LSTM   (sb3-contrib)
         all on neurowalk/Explore-v0 (the surrogate), episodes of 10,000 control steps, reward = area newly covered
-    score (DIR/eval/NAME.json), the learned policies and the plastic (variants paper and original), static and
-    Braitenberg networks alike:
+    score (a job each, kept in the result store DIR/results.sqlite), the learned policies and the plastic (variants
+    paper and original), static and Braitenberg networks alike:
         evaluate_batch on the held-out environments (reset seeds 10^9 + i), 20,000 control steps each,
         Table 2's rule (not stuck over the last 300 s), coverage, collisions
     DIR/baselines.json (everything, incl. training curves), baselines.md (the table), baselines.png (the plot)
@@ -19,7 +19,7 @@ same steering pair. Training budgets (env steps, wall time) are recorded with th
 
 from __future__ import annotations
 
-import json
+import functools
 import math
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -32,10 +32,12 @@ from neurowalk.experiments.baselines import evolved_rnn, ppo
 from neurowalk.experiments.baselines.evolved_rnn import RecurrentPolicy
 from neurowalk.experiments.baselines.ppo import MODEL, Sb3Policy, import_rl
 from neurowalk.experiments.cma_record import import_cma
+from neurowalk.experiments.stores import run_jobs
 from neurowalk.experiments.suites.random_envs import wilson
 from neurowalk.fileio import atomic_write, write_json
 from neurowalk.plotting import pyplot
 from neurowalk.runners.stopping import deferred
+from neurowalk.runners.sweep import job_kind
 
 METHODS: tuple[str, ...] = ("neuroevo", "ppo", "rppo")
 NETWORKS: tuple[str, ...] = ("plastic", "plastic-original", "static", "braitenberg")  # NAME[-VARIANT]
@@ -52,6 +54,9 @@ SIZES: dict[str, tuple[int, int, int]] = {
     "episode_steps": (10_000, 200, 10**7),
 }
 FULL, QUICK, LIMITS = ({k: v[i] for k, v in SIZES.items()} for i in range(3))
+#: The runner's kind of a policy's scoring: {"policy": NAME, "environments": n, "steps": T, "first_seed": s,
+#: "trained": its training's env steps (None: a network), and a neuroevo's "theta", "hidden"}.
+SCORE = job_kind("baseline-score")
 LABELS = {
     "plastic": "plastic (2 neurons)",
     "plastic-original": "plastic, authors' code",
@@ -104,6 +109,15 @@ def train_method(
     )
 
 
+def score(folder: str, progress: bool, spec: dict[str, Any]) -> dict[str, Any]:
+    """A policy scored on the held-out environments (the runner's job, :data:`SCORE`; ``folder``: the baseline's
+    DIR, whose training/NAME holds a trained model): :func:`~neurowalk.envs.policy.evaluate_batch`'s dict."""
+    name = spec["policy"]
+    policy = policy_of(name, spec, Path(folder) / "training" / name)
+    seeds = [spec["first_seed"] + i for i in range(spec["environments"])]
+    return evaluate_batch(policy, seeds, steps=spec["steps"], progress=progress)
+
+
 def policy_of(name: str, record: dict[str, Any] | None, folder: Path) -> Any:
     """The batched policy of a network or a trained method."""
     if name in NETWORKS:
@@ -149,26 +163,18 @@ def run(
         log(f"training {m}")
         records[m] = train_method(m, out / "training" / m, sz, seed, progress, log)
     seeds = [HELDOUT_BASE + i for i in range(sz["eval_envs"])]
-    rows = []
-    for name in (*NETWORKS, *methods):
-        path = out / "eval" / f"{name}.json"
-        settings = {"environments": sz["eval_envs"], "steps": sz["eval_steps"], "first_seed": HELDOUT_BASE}
-        done = json.loads(path.read_text()) if path.is_file() else None
-        if (
-            done is None
-            or done.get("settings") != settings
-            or (name in records and done.get("trained") != records[name]["env_steps"])
-        ):
-            log(f"scoring {name} on {len(seeds)} held-out environments, {sz['eval_steps']} steps each")
-            policy = policy_of(name, records.get(name), out / "training" / name)
-            done = {
-                "settings": settings,
-                "trained": records.get(name, {}).get("env_steps"),
-                **evaluate_batch(policy, seeds, steps=sz["eval_steps"], progress=progress),
-            }
-            path.parent.mkdir(parents=True, exist_ok=True)
-            write_json(path, done)
-        rows.append(row(name, done, records.get(name)))
+    names = (*NETWORKS, *methods)
+    specs = []
+    for name in names:
+        spec = {"policy": name, "environments": sz["eval_envs"], "steps": sz["eval_steps"], "first_seed": HELDOUT_BASE}
+        spec["trained"] = records[name]["env_steps"] if name in records else None
+        if name == "neuroevo":  # its weights name it
+            spec.update(theta=list(map(float, records[name]["theta"])), hidden=records[name]["hidden"])
+        specs.append(spec)
+    log(f"scoring {', '.join(names)} on {len(seeds)} held-out environments, {sz['eval_steps']} steps each")
+    scores = run_jobs(functools.partial(score, str(out), progress), specs, SCORE, folder=out, workers=1,
+                      progress=progress, desc="scoring")  # fmt: skip
+    rows = [row(name, done, records.get(name)) for name, done in zip(names, scores, strict=True)]
     result = {
         "sizes": sz,
         "seed": seed,

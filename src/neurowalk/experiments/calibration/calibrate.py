@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 import mujoco
@@ -20,7 +21,14 @@ import neurowalk
 from neurowalk.arenas import make_arena
 from neurowalk.body.surrogate import CALIBRATION_FILES, Calibration, steered_poses
 from neurowalk.experiments.calibration.fit import body_velocity, fit_lag, sway_fit, yaw_sway
-from neurowalk.experiments.calibration.physics import fit_startup, geometry, steady_poses, steady_table, step_runs
+from neurowalk.experiments.calibration.physics import (
+    Drives,
+    fit_startup,
+    geometry,
+    steady_poses,
+    steady_table,
+    step_runs,
+)
 from neurowalk.experiments.calibration.subjects import (
     CONTROL_HZ,
     DEFAULT_SUBJECT,
@@ -45,17 +53,18 @@ def surrogate_velocity(cal: Calibration, pairs: Sequence[tuple[float, float]]) -
     return np.asarray(out)
 
 
-def validation(
-    cal: Calibration, held_out: Sequence[float], workers: int, progress: bool, body: str = "amosii"
-) -> dict[str, Any]:
-    """Surrogate against fresh runs of physics ``body`` at steering pairs between the grid points.
+def held_pairs(held_out: Sequence[float]) -> list[tuple[float, float]]:
+    """The steering pairs of a validation: every (O1, O2) of ``held_out`` values (between the grid points)."""
+    return [(a, b) for a in held_out for b in held_out]
+
+
+def validation(cal: Calibration, pairs: Sequence[tuple[float, float]], physics: np.ndarray) -> dict[str, Any]:
+    """Surrogate against the physics body at steering ``pairs`` (:func:`held_pairs`): its steady velocity against
+    ``physics`` (n, 3), the physics body's steady velocity (forward m/s, lateral m/s, yaw rad/s) at each pair.
 
     Errors are relative to the full scale: the largest forward speed (m/s) and yaw rate (rad/s) over the grid.
     """
-    pairs = [(a, b) for a in held_out for b in held_out]
-    phys = np.array(
-        [body_velocity(p[WARMUP:], CONTROL_HZ) for p in steady_poses(pairs, workers, progress, body, "validation")]
-    )
+    phys = np.asarray(physics, dtype=float)
     sur = surrogate_velocity(cal, pairs)
     speed = np.hypot(phys[:, 0], phys[:, 1]), np.hypot(sur[:, 0], sur[:, 1])
     full_v = float(np.max(np.hypot(cal.velocity[..., 0], cal.velocity[..., 1])))
@@ -81,9 +90,13 @@ def calibrate(
     workers: int = 2,
     progress: bool = True,
     body: str = DEFAULT_SUBJECT,
+    folder: Path | None = None,
 ) -> Calibration:
     """Run every measurement on physics ``body`` (``amosii`` or ``wheeled``, see :data:`SUBJECTS`) and return the
     calibration of its surrogate (with its validation in ``meta``); ``grid`` must hold -1 (the forward run).
+
+    The drives run through the one runner (``workers`` processes), kept in the result store of ``folder`` (None: a
+    temporary one): stopped, the same call goes on from the drives it finished.
 
     Raises:
         ValueError: naming a body that cannot be calibrated, or a grid without -1.
@@ -92,9 +105,10 @@ def calibrate(
     if -1.0 not in grid:
         raise ValueError(f"the calibration grid must hold -1 (steering {FORWARD} walks forward), got {list(grid)}")
     t0 = time.perf_counter()
+    drives = Drives(body, workers, progress, folder)
     circles, rays, us_range = geometry(body)
     g = np.asarray(grid, dtype=float)
-    table, sway, forward = steady_table(g, workers, progress, body)
+    table, sway, forward = steady_table(g, drives)
     extra: dict[str, Any] = {}
     if sub.gait:
         period, phase = sway_fit(yaw_sway(forward[WARMUP:]), WARMUP + 1)
@@ -103,9 +117,9 @@ def calibrate(
         sway, period, phase = np.zeros_like(sway), NO_SWAY_PERIOD, 0.0
     motion = (g, table, sway, period, phase)
     cal = Calibration(*motion, 0.0, 0, 0, CONTROL_HZ, circles, rays, us_range)
-    delay, tau, lag_err = fit_lag(step_runs(cal, body), CONTROL_HZ, sub.delays, sub.taus)
+    delay, tau, lag_err = fit_lag(step_runs(cal, drives), CONTROL_HZ, sub.delays, sub.taus)
     cal = Calibration(*motion, tau, delay, 0, CONTROL_HZ, circles, rays, us_range)
-    startup = fit_startup(cal, body)
+    startup = fit_startup(cal, drives)
     meta = {
         "command": "neurowalk calibrate" + ("" if body == DEFAULT_SUBJECT else f" --body {body}"),
         "neurowalk_version": neurowalk.__version__,
@@ -118,7 +132,9 @@ def calibrate(
         **extra,
     }
     cal = Calibration(*motion, tau, delay, startup, CONTROL_HZ, circles, rays, us_range, meta)
-    meta["validation"] = validation(cal, held_out, workers, progress, body)
+    pairs = held_pairs(held_out)
+    held = [body_velocity(p[WARMUP:], CONTROL_HZ) for p in steady_poses(pairs, drives, "validation")]
+    meta["validation"] = validation(cal, pairs, np.array(held))
     meta["body"], meta["surrogate"], meta["file"] = body, sub.surrogate, CALIBRATION_FILES[sub.surrogate].name
     meta["wall_time_s"] = time.perf_counter() - t0
     return cal

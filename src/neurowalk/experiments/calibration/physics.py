@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import mujoco
@@ -28,7 +30,7 @@ import numpy as np
 
 from neurowalk.arenas import make_arena
 from neurowalk.body import surrogate_kernel as kern
-from neurowalk.body.registry import make_body
+from neurowalk.body.registry import make_body, physics_settings
 from neurowalk.body.surrogate import Calibration
 from neurowalk.experiments.calibration.fit import (
     StepRun,
@@ -48,9 +50,12 @@ from neurowalk.experiments.calibration.subjects import (
     WINDOW,
     subject,
 )
+from neurowalk.experiments.stores import run_jobs
 from neurowalk.neural.motor import LocomotionNetwork
-from neurowalk.progress import Progress
-from neurowalk.runners.local import run_unordered
+from neurowalk.runners.sweep import job_kind
+
+#: The runner's kind of a calibration drive: {"body": NAME, "phases": [[O1, O2, steps], ...], "physics": ...}.
+DRIVE = job_kind("calibration-drive")
 
 
 def _robot(body: str) -> Any:
@@ -74,52 +79,61 @@ def drive(schedule: np.ndarray, body: str = "amosii") -> np.ndarray:
     return poses
 
 
-def _drive_const(args: tuple[float, float, int, str]) -> np.ndarray:
-    o1, o2, steps, body = args
-    return drive(np.tile([o1, o2], (steps, 1)), body)
+def drive_job(spec: dict[str, Any]) -> dict[str, Any]:
+    """A :func:`drive` as the runner's job (:data:`DRIVE`): steering ``spec["phases"]`` ([O1, O2, steps] each, one
+    after the other) on physics body ``spec["body"]``; ``{"poses": (T, 3) as lists}``."""
+    schedule = np.vstack([np.tile([o1, o2], (int(n), 1)) for o1, o2, n in spec["phases"]])
+    return {"poses": drive(schedule, spec["body"]).tolist()}
 
 
-def steady_table(
-    grid: Sequence[float], workers: int = 2, progress: bool = True, body: str = "amosii"
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+@dataclass(frozen=True)
+class Drives:
+    """How a calibration's drives run: on physics ``body``, through the one runner (``workers`` processes, a progress
+    bar where ``progress``), kept in the result store of ``folder`` (None: a temporary one), so that a stopped
+    calibration goes on from the drives it finished."""
+
+    body: str = "amosii"
+    workers: int = 2
+    progress: bool = True
+    folder: Path | None = None
+
+    def poses(self, runs: Sequence[Sequence[tuple[float, float, int]]], desc: str) -> list[np.ndarray]:
+        """Each run's poses (T, 3) (:func:`drive`; a run: its phases, (O1, O2, steps) each); ``desc`` names the
+        progress bar. A drive's key holds the body's physics settings: drives of another physics run again."""
+        physics = physics_settings(subject(self.body).body, {}, CONTROL_HZ)
+        specs = [
+            {"body": self.body, "phases": [[float(a), float(b), int(n)] for a, b, n in run], "physics": physics}
+            for run in runs
+        ]
+        done = run_jobs(drive_job, specs, DRIVE, folder=self.folder, workers=self.workers, progress=self.progress,
+                        desc=desc)  # fmt: skip
+        return [np.asarray(d["poses"], dtype=float) for d in done]
+
+
+def steady_table(grid: Sequence[float], drives: Drives) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Steady velocity (g, g, 3) and measured yaw sway amplitude (g, g) rad at ``grid`` pairs, and the forward
     run's poses (T, 3) (for the sway's period and phase)."""
     pairs = [(a, b) for a in grid for b in grid]
-    poses = steady_poses(pairs, workers, progress, body, "steady")
+    poses = steady_poses(pairs, drives, "steady")
     v = np.array([body_velocity(p[WARMUP:], CONTROL_HZ) for p in poses])
     sway = np.array([math.sqrt(2.0) * np.std(yaw_sway(p[WARMUP:])) for p in poses])
     g = len(grid)
     return v.reshape(g, g, 3), sway.reshape(g, g), poses[pairs.index(FORWARD)]
 
 
-def steady_poses(
-    pairs: Sequence[tuple[float, float]], workers: int, progress: bool, body: str, desc: str
-) -> list[np.ndarray]:
-    """Poses (WARMUP + WINDOW, 3) of physics ``body`` driven at each constant steering pair of ``pairs`` (on the
-    process pool; ``desc`` names the progress bar)."""
-    return _map(_drive_const, [(a, b, WARMUP + WINDOW, body) for a, b in pairs], workers, progress, desc)
+def steady_poses(pairs: Sequence[tuple[float, float]], drives: Drives, desc: str) -> list[np.ndarray]:
+    """Poses (WARMUP + WINDOW, 3) of the physics body driven at each constant steering pair of ``pairs`` (``desc``
+    names the progress bar)."""
+    return drives.poses([[(a, b, WARMUP + WINDOW)] for a, b in pairs], desc)
 
 
-def _map(fn: Any, jobs: list[Any], workers: int, progress: bool, desc: str) -> list[Any]:
-    """``[fn(j) for j in jobs]`` on the project's process pool, with a progress bar; the first error is raised."""
-    out: list[Any] = [None] * len(jobs)
-    with Progress(total=len(jobs), unit="run", desc=desc, disable=not progress, mininterval=0.5) as bar:
-        for d in run_unordered(fn, jobs, workers=workers):
-            if d.error is not None:
-                raise d.error
-            out[d.index] = d.value
-            bar.update(1)
-    return out
-
-
-def step_runs(table_cal: Calibration, body: str = "amosii") -> list[StepRun]:
-    """Physics step-change runs of ``body`` as fitting material: (pose at the switch, velocity before, commands,
-    poses); the commands are the velocities ``table_cal``'s table gives."""
+def step_runs(table_cal: Calibration, drives: Drives) -> list[StepRun]:
+    """Physics step-change runs as fitting material: (pose at the switch, velocity before, commands, poses); the
+    commands are the velocities ``table_cal``'s table gives."""
     runs = []
     hz = table_cal.control_hz
-    for a, b in STEP_CHANGES:
-        sched = np.vstack([np.tile(a, (WARMUP, 1)), np.tile(b, (STEPS_AFTER, 1))])
-        poses = drive(sched, body)
+    phases = [[(*a, WARMUP), (*b, STEPS_AFTER)] for a, b in STEP_CHANGES]
+    for (a, b), poses in zip(STEP_CHANGES, drives.poses(phases, "step changes"), strict=True):
         cmd = np.empty((STEPS_AFTER, 3))
         kern.velocity_command(table_cal.grid, table_cal.velocity, b[0], b[1], cmd[0])
         cmd[:] = cmd[0]
@@ -131,9 +145,10 @@ def step_runs(table_cal: Calibration, body: str = "amosii") -> list[StepRun]:
     return runs
 
 
-def fit_startup(cal: Calibration, body: str = "amosii") -> int:
+def fit_startup(cal: Calibration, drives: Drives) -> int:
     """Control steps after reset before the body moves, fitted on a forward run from reset."""
-    meas = drive(np.tile(FORWARD, (WARMUP, 1)), body)
+    body = drives.body
+    (meas,) = drives.poses([[(*FORWARD, WARMUP)]], "start-up")
     start = np.asarray(make_arena("open").start, dtype=float)
     cmd_full = np.empty(3)
     kern.velocity_command(cal.grid, cal.velocity, *FORWARD, cmd_full)

@@ -17,15 +17,20 @@ from matplotlib.ticker import MaxNLocator
 
 from neurowalk.body.surrogate import load_calibration
 from neurowalk.experiments import Plan, Result, Settings
-from neurowalk.experiments.calibration.calibrate import validation
-from neurowalk.experiments.calibration.subjects import HELD_OUT
+from neurowalk.experiments.calibration.calibrate import held_pairs, validation
+from neurowalk.experiments.calibration.fit import body_velocity
+from neurowalk.experiments.calibration.subjects import CONTROL_HZ, HELD_OUT, WARMUP, WINDOW
+from neurowalk.experiments.plan import RUN_SETTINGS
 from neurowalk.experiments.reproduce.claims import Claim, holds
-from neurowalk.experiments.stores import Kept
+from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.deadends import NETWORKS, VARIANTS, table_counts, table_runs
 from neurowalk.plotting.style import FONT, LINE, legend_outside, letter_panels, network_colour, pyplot
+from neurowalk.sim.config import EpisodeConfig
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
+
+    from neurowalk.sim.episode import Episode
 
 NAME = "surrogate"
 QUICK_HELD_OUT = (-0.4, -0.05, 0.15, 0.75)
@@ -52,19 +57,39 @@ def agreement(phys_runs: list[list[Any]], sur_runs: list[list[Any]]) -> dict[str
 BODIES = ("amosii", "surrogate")  # the physics body, and its planar surrogate
 
 
+def _window_velocity(ep: Episode) -> dict[str, Any]:
+    """The steady body velocity (3,) (forward m/s, lateral m/s, yaw rad/s) of a held-out drive, after its warm-up."""
+    return {"velocity": body_velocity(ep.trajectory.pose[WARMUP:], CONTROL_HZ)}
+
+
+VELOCITY = Term("velocity", _window_velocity, {"velocity": "float64"})
+
+
+def held_out(s: Settings) -> list[tuple[float, float]]:
+    """The held-out steering pairs of the calibration check (quick: fewer)."""
+    return held_pairs(QUICK_HELD_OUT if s.quick else HELD_OUT)
+
+
 def runs(s: Settings) -> Iterator[Plan]:
     """The dead-end suite on both bodies (``s.seeds`` seeds: 10; quick: 1), labelled ``(body, dead end,
-    network)``."""
+    network)``; and the calibration check's drives of the physics body at the held-out steering pairs (constant
+    steering through the locomotion network, no sensor noise, as the calibration measures), labelled
+    ``("held-out", O1, O2)``."""
     for body in BODIES:
         for plan in table_runs(s, body=body):
             yield Plan((body, *plan.label[1:]), plan.config, plan.terms)
+    for pair in held_out(s):
+        cfg = EpisodeConfig(arena="open", body="amosii", controller="fixed", steer=pair, noise=0.0,
+                            control_hz=CONTROL_HZ, steps=WARMUP + WINDOW)  # fmt: skip
+        yield Plan(("held-out", *pair), cfg, (VELOCITY,), fixed=RUN_SETTINGS)
 
 
 def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
     """The outcome tables of both bodies and their agreement, run by run; the held-out calibration check (the
-    surrogate's velocities against fresh physics drives at steering pairs between its grid's)."""
+    surrogate's velocities against the physics drives at steering pairs between its grid's)."""
     cal = load_calibration()
-    val = validation(cal, QUICK_HELD_OUT if s.quick else HELD_OUT, workers=2, progress=True)
+    pairs = held_out(s)
+    val = validation(cal, pairs, np.array([runs[("held-out", *p)][0].kept["velocity"]["velocity"] for p in pairs]))
     phys, sur = (table_counts(s, runs, body=b, prefix=(b,)) for b in BODIES)
     summary = {
         "seeds": s.n(full=10, quick=1),
