@@ -7,14 +7,15 @@ import json
 from pathlib import Path
 
 from neurowalk.cli import main
-from neurowalk.cli.settings import claim_lines
+from neurowalk.experiments import FIGURES, Study
+from neurowalk.experiments.command import claim_lines
 
 RESULTS = Path(__file__).parents[1] / "docs" / "results"
 
 
 def test_table2_says_its_rows_and_the_papers_counts_with_verdicts():
     summary = json.loads((RESULTS / "table2" / "table2.json").read_text())
-    lines = claim_lines("table2", summary, quick=False)
+    lines = claim_lines(FIGURES["table2"], summary, quick=False)
     assert lines[0] == "table2 against the paper:" and lines[-1].endswith("docs/results/details.md#table2)")
     rows = summary["counts"]
     assert lines[1] == "  successes: " + ", ".join(f"{k} {r['success']}/{r['environments']}" for k, r in rows.items())
@@ -31,7 +32,8 @@ def test_a_figure_prints_its_claims_after_its_files_and_not_with_other_settings(
     out = capsys.readouterr().out.splitlines()
     assert out[0].startswith("fig2: wrote") and out[1] == "fig2 against the paper (--quick: fewer, shorter runs):"
     assert all(" -> " in line for line in out[2:-1]) and len(out) > 3
-    assert claim_lines("no-such-figure", {}, quick=False) == []
+    unjudged = Study("mine", "a study of no claims", plot=print, runs=lambda s: [], measure=lambda s, r: {})
+    assert claim_lines(unjudged, {}, quick=False) == []
     assert main(["figure", "table1", "--quick", "--control-hz", "27", "--out", str(tmp_path / "b")]) == 0
     out = capsys.readouterr().out.splitlines()  # another command than the one judged: no verdicts
     assert len(out) == 1 and out[0].startswith("table1: wrote")

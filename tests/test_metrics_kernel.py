@@ -94,7 +94,7 @@ def surrogate_runs() -> list:
         EpisodeConfig(body="surrogate", arena=a, seed=3) for a in ("open", "box", "simple-deadlock", "narrow-passage")
     ]
     cfgs.append(EpisodeConfig(body="surrogate-wheeled", arena="cluttered", seed=5))
-    return [run_episode(EpisodeConfig(**{**c.__dict__, "steps": 20_000})) for c in cfgs]
+    return [run_episode(c.replace(steps=20_000)) for c in cfgs]
 
 
 def test_surrogate_runs_give_the_reference_metrics(surrogate_runs: list) -> None:

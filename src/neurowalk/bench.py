@@ -27,7 +27,6 @@ import sys
 import tempfile
 import time
 from collections.abc import Iterator
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 from typing import Any
 
@@ -109,13 +108,13 @@ def _surrogate_run(seed: int, steps: int) -> float:
 
 
 def surrogate_rates(steps: int, envs: int, workers: int) -> dict[str, float]:
-    """Environment steps/s of the surrogate: in-loop rate in one process, and end-to-end over a pool."""
+    """Environment steps/s of the surrogate: in-loop rate in one process, and end-to-end over the one runner's pool
+    (its result store a temporary one)."""
 
     _surrogate_run(0, 100)  # compile / load the numba cache
     loop = sum(_surrogate_run(s, steps) for s in range(envs))
     t0 = time.perf_counter()
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        list(pool.map(_surrogate_run, range(envs, envs + envs * workers * 2), [steps] * envs * workers * 2))
+    run_all(_surrogate_configs(envs, envs * workers * 2, steps), workers=workers, progress=False)
     pool_wall = time.perf_counter() - t0
     return {
         "env_steps_per_s_one_process": steps * envs / loop,

@@ -138,10 +138,10 @@ def test_the_line_of_an_interrupted_figure_is_what_its_folder_holds(name, store_
             store.put(runs[-1].config.key(), runs[-1].config.spec(), error="ValueError: no")  # not a finished run
             store.put("other", {"seed": 99}, result={"x": 1})  # a run of another study: not this one's to go on from
 
-    def stopped(*args, **kwargs):  # stopped at once
+    def stopped(*args, **kwargs):  # stopped at once, as the runs begin
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(stores, "run_store", stopped)
+    monkeypatch.setattr(stores, "run_sweep", stopped)
     assert main(["figure", name, "--quick", "--out", str(tmp_path)]) == 130
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and says in err[0], err

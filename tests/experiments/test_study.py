@@ -186,8 +186,8 @@ def test_a_resumed_study_counts_only_the_kept_runs_its_own_settings_need(tmp_pat
 
 
 def test_a_figure_inside_shared_stores_counts_the_runs_kept_there(tmp_path: Path):
-    from neurowalk.cli.settings import interrupted_line
     from neurowalk.experiments import FIGURES
+    from neurowalk.experiments.command import interrupted_line
     from neurowalk.experiments.stores import run_store
     from neurowalk.experiments.study import kept_runs, planned
 

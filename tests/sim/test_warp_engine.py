@@ -290,10 +290,10 @@ def test_walking_and_turning_in_the_open_match_cpu_mujoco(wp_device):
 def test_figures_take_the_engine_where_they_can(capsys, tmp_path):
     from neurowalk.cli import main
     from neurowalk.experiments import FIGURES, Settings
-    from neurowalk.experiments.study import compute
+    from neurowalk.experiments.study import resolve
 
     with pytest.raises(ValueError, match="--engine warp runs --body amosii, got --body 'surrogate'"):
-        compute(FIGURES["table2"], Settings(body="surrogate", engine="warp", out=tmp_path / "t"))
+        resolve(FIGURES["table2"], Settings(body="surrogate", engine="warp", out=tmp_path / "t"))
     assert main(["figure", "table2", "--engine", "warp", "--body", "surrogate", "--out", str(tmp_path / "a")]) == 2
     assert capsys.readouterr().err.strip().splitlines() == [
         "neurowalk: error: --engine warp runs --body amosii, got --body 'surrogate'"

@@ -56,7 +56,8 @@ class BodyInfo:
         gait_refusal: why it takes no gait but the wave gait (None: it takes every gait).
         build: ``build(name, arena, options, control_hz=, noise=, climbing=, pad_boxes=)`` -> the body (its
             options checked): :func:`make_body` calls it.
-        check: ``check(name, options) -> options``: the options' own checks beyond their ranges (None: none).
+        check_opts: ``check_opts(name, options) -> options``: the options' own checks beyond their ranges (None:
+            none).
         xml: ``xml(options, world) -> str``: the self-contained MJCF of a built-in physics body around ``world``
             (None: it has none to export).
         model: ``model(name, options) -> MjModel``: the model whose physics a run steps (None: a planar body).
@@ -82,7 +83,7 @@ class BodyInfo:
     viewer: bool = False
     gait_refusal: str | None = "takes the steering pair (no legs), no gait;"
     build: Callable[..., Any] = field(kw_only=True, compare=False, repr=False)
-    check: Callable[[str, dict[str, Any]], dict[str, Any]] | None = field(default=None, compare=False, repr=False)
+    check_opts: Callable[[str, dict[str, Any]], dict[str, Any]] | None = field(default=None, compare=False, repr=False)
     xml: Callable[[dict[str, Any], str], str] | None = field(default=None, compare=False, repr=False)
     model: Callable[[str, dict[str, Any]], mujoco.MjModel] | None = field(default=None, compare=False, repr=False)
     replay: Callable[..., np.ndarray] | None = field(default=None, compare=False, repr=False)
@@ -178,7 +179,7 @@ BODIES: dict[str, BodyInfo] = {
         lockstep=True,
         viewer=True,
         build=_build_amosii,
-        check=_check_amosii,
+        check_opts=_check_amosii,
         xml=_amosii_xml,
         model=_model_of(_amosii_xml),
         replay=_replay_amosii,
@@ -247,7 +248,7 @@ MJCF = BodyInfo(
     False,
     {},
     build=_build_mjcf,
-    check=check_opts,
+    check_opts=check_opts,
     model=_mjcf_model,
     prefix="mjcf:",
 )
@@ -269,10 +270,10 @@ def bodies_where(test: Any) -> tuple[str, ...]:
 
 def check_body_opts(name: str, opts: dict[str, Any]) -> dict[str, Any]:
     """The body's options as numbers (a named option as its name), each checked against its range or its names,
-    then by the body's own :attr:`BodyInfo.check`; ValueError names a bad key or value."""
+    then by the body's own :attr:`BodyInfo.check_opts`; ValueError names a bad key or value."""
     info = body_info(name)
     if info.prefix is not None:  # a user's file: its own check reads the file
-        return info.check(name, dict(opts)) if info.check is not None else dict(opts)
+        return info.check_opts(name, dict(opts)) if info.check_opts is not None else dict(opts)
     out = {}
     for key, value in opts.items():
         if key in info.choices:
@@ -292,7 +293,7 @@ def check_body_opts(name: str, opts: dict[str, Any]) -> dict[str, Any]:
         if isinstance(value, bool) or not math.isfinite(number) or not low <= number <= high:
             raise ValueError(f"body option {key} must be a number in [{low}, {high}], got {value!r}")
         out[key] = number
-    return info.check(name, out) if info.check is not None else out
+    return info.check_opts(name, out) if info.check_opts is not None else out
 
 
 def body_settings(name: str, opts: Mapping[str, Any] | None = None) -> dict[str, Any]:

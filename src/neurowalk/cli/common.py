@@ -5,7 +5,6 @@ from __future__ import annotations
 import argparse
 import contextlib
 import sys
-import traceback
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -105,16 +104,6 @@ def path_value(text: str) -> Path:
     if too_long:
         raise argparse.ArgumentTypeError(too_long)
     return Path(text)
-
-
-def failure_words(e: BaseException, most: int = 160) -> str:
-    """An exception in one line, with where it was raised: ``KeyError: 'counts', at fig9.py:123 in plot`` (a bug
-    shows its line; a file of another shape, the key it lacks)."""
-    why = " ".join(f"{type(e).__name__}: {e}".split())[:most]
-    frames = traceback.extract_tb(e.__traceback__)
-    if not frames:
-        return why
-    return f"{why}, at {Path(frames[-1].filename).name}:{frames[-1].lineno} in {frames[-1].name}"
 
 
 def shortened(text: str, most: int = 60) -> str:

@@ -10,7 +10,7 @@ from functools import partial
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from neurowalk.cli.common import UsageError, failure_words, out_folder, stop_line
+from neurowalk.cli.common import UsageError, out_folder, stop_line
 
 if TYPE_CHECKING:
     from neurowalk.experiments.reproduce.plan import Item
@@ -119,6 +119,7 @@ def _run_and_judge(
     """Run ``run`` into ``out`` unless it finished there before (``tick``: its progress, in expected seconds), then
     judge each of its ``items``; ``failed`` gets an item's reason where its run failed or its judge could not read
     the run's numbers. True where the run ran now."""
+    from neurowalk.experiments.output import failure_words
     from neurowalk.experiments.reproduce import runner
 
     record = runner.done(run, out)

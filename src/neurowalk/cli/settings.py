@@ -1,5 +1,6 @@
 """The flags of a study's settings (``figure`` and ``study``), made from
-:class:`~neurowalk.experiments.study.Settings`, and the run of a study from the command line.
+:class:`~neurowalk.experiments.study.Settings`, and the settings they give: parsed once here, then only the
+:class:`Settings` travel on (:func:`~neurowalk.experiments.command.run_command` checks and runs them).
 
 A study declares the optional settings it takes (``Study.takes``); its ``--help`` shows those only, and a flag of
 another setting is refused in one line naming the ones it takes.
@@ -8,22 +9,17 @@ another setting is refused in one line naming the ones it takes.
 from __future__ import annotations
 
 import argparse
-import time
+import dataclasses
+import json
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from neurowalk.cli.common import (
     Parser,
     UsageError,
-    check_engine,
     control_hz_arg,
     engine_args,
-    known,
     option_args,
-    out_folder,
-    parse_arena_opts,
-    parse_variant,
-    stop_line,
     variant_args,
 )
 
@@ -95,11 +91,12 @@ def add_settings_args(p: Parser, takes: tuple[str, ...] | None) -> None:
     p.hidden = False
 
 
-def settings_of(args: argparse.Namespace, study: Study, what: str) -> Settings:
-    """The settings of the command line, checked (UsageError: one line naming the value, or the flag ``study``
-    does not take and the ones it does; ``what`` names it, e.g. "figure fig3"); what the study needs of them (a
-    body) :func:`run_and_write` resolves, before any work."""
-    from neurowalk.experiments.study import Settings, resolve
+def settings_of(args: argparse.Namespace, study: Study, what: str, **fields: Any) -> Settings:
+    """The settings of the command line, parsed (UsageError: one line naming the flag ``study`` does not take and
+    the ones it does, or a value that is no value of its kind; ``what`` names it, e.g. "figure 'fig3'"), with
+    ``fields`` (e.g. its output folder). Whether the names they give exist, and what the study needs of them,
+    :func:`~neurowalk.experiments.command.run_command` checks, before any work."""
+    from neurowalk.experiments.study import Settings
 
     given = _given(args)
     refused = [FLAGS[n] for n in given if n not in study.takes]
@@ -107,31 +104,72 @@ def settings_of(args: argparse.Namespace, study: Study, what: str) -> Settings:
         takes = ", ".join(FLAGS[n] for n in study.takes) or "none but --quick, --seed and --out"
         raise UsageError(f"{what} takes no {', '.join(refused)}; it takes {takes}")
     kw: dict[str, Any] = {n: getattr(args, n) for n in ("quick", "seed", "out")}
-    kw.update({n: getattr(args, n) for n in ("seeds", "climbing", "video", "control_hz", "workers") if n in given})
-    if "body" in given:
-        kw["body"] = known("body", args.body, "bodies")
-    if "gait" in given:
-        kw["gait"] = known("gait", args.gait, "gaits")
-    if "variant" in given or "params" in given:
-        kw["variant"], kw["params"] = parse_variant(args)
+    kw.update({n: getattr(args, n) for n in ("seeds", "body", "gait", "climbing", "video", "control_hz", "workers")
+               if n in given})  # fmt: skip
     if "engine" in given:
         kw.update(engine=args.engine, device=args.device)
     if "backend" in given:
         kw.update(backend=args.backend, address=args.address)
     if "size" in given:
         kw["size"] = _size(args.arena_opt)
+    if "variant" in given or "params" in given:
+        kw["variant"], kw["params"] = _variant(args.variant, args.params)
+    kw.update(fields)
     try:
-        settings = Settings(**kw)
+        return Settings(**kw)
     except ValueError as e:
         flag, _, rest = str(e).partition(" must ")
         raise UsageError(f"--{flag.replace('_', '-')} must {rest}" if rest else str(e)) from None
-    if "engine" in given:  # the device resolved (a GPU, or Warp's CPU device, said in one line)
-        try:  # after a body the engine cannot run is refused (the note would say nothing then)
-            resolve(study, settings)
-        except ValueError as e:
-            raise UsageError(str(e)) from None
-        settings = settings.replace(device=check_engine(args).device)
-    return settings
+
+
+def figure_settings(args: argparse.Namespace, study: Study) -> Settings:
+    """The settings of ``neurowalk figure NAME``: its flags' (out: ``out/NAME``, ``-climb`` and the rate's suffix
+    added where they are given), or every one from ``--settings FILE`` (:func:`settings_file`)."""
+    default = Path("out") / (args.name + ("-climb" if args.climbing else "") + _rate_suffix(args.control_hz))
+    if args.settings_file is not None:
+        return settings_file(args, study)
+    return settings_of(args, study, f"figure {args.name!r}", out=args.out or default, shared_runs=args.shared_runs)
+
+
+def _rate_suffix(control_hz: float | None) -> str:
+    """The default output folder's suffix for a control rate: "" at the default 10 Hz, else "-27hz"."""
+    if control_hz is None or control_hz == 10.0:
+        return ""
+    return f"-{control_hz:g}hz"
+
+
+def settings_file(args: argparse.Namespace, study: Study) -> Settings:
+    """The settings of ``--settings FILE`` for figure ``args.name`` (out: the file's, else ``out/NAME``), checked as
+    the flags' are (those of a setting the figure does not take, where it runs); UsageError in one line naming the
+    file where it cannot be read, names another figure, is given with other settings, or holds a bad value."""
+    from neurowalk.experiments.output import failure_words
+    from neurowalk.experiments.study import Settings
+
+    path = args.settings_file
+    if _given(args) or args.quick or args.seed or args.out or args.shared_runs is not None or args.replot:
+        raise UsageError(f"--settings {path}: give no other setting with it (they are all in the file)")
+    try:
+        text = json.loads(Path(path).read_text(encoding="utf-8"))
+        figure, fields = text["figure"], dict(text["settings"])
+    except (OSError, ValueError, KeyError, TypeError) as e:
+        raise UsageError(f"--settings {path}: not a settings file ({failure_words(e)})") from None
+    if figure != args.name:
+        raise UsageError(f"--settings {path} holds the settings of figure {figure!r}, not {args.name!r}")
+    known = {f.name for f in dataclasses.fields(Settings)}
+    if set(fields) - known:
+        raise UsageError(f"--settings {path}: unknown settings {sorted(set(fields) - known)}")
+    try:
+        return Settings(**{"out": Path("out") / args.name, **fields})
+    except (ValueError, TypeError) as e:
+        raise UsageError(f"--settings {path}: {e}") from None
+
+
+def _variant(variant: str | None, params: Path | None) -> tuple[str | None, Path | None]:
+    """(variant, params) of --variant and --params: the params file's path, read as the settings are resolved (its
+    fields, and its base variant where --variant names none)."""
+    if variant is not None and not variant.strip():
+        raise UsageError(f"--variant expects a name (e.g. paper, original), got {variant!r}")
+    return variant, params
 
 
 def _given(args: argparse.Namespace) -> list[str]:
@@ -146,120 +184,11 @@ def _given(args: argparse.Namespace) -> list[str]:
 
 
 def _size(items: list[str]) -> float:
-    """The box side of ``--arena-opt size=M`` (the only option a study takes), checked by the arena itself."""
-    from neurowalk.arenas import make_arena
-
-    opts = parse_arena_opts(items)
-    if set(opts) != {"size"}:
+    """The box side of ``--arena-opt size=M`` (the only option a study takes); its range the arena checks."""
+    key, _, value = items[-1].partition("=")
+    if len(items) != 1 or key != "size":
         raise UsageError(f"--arena-opt takes size=M only, got {', '.join(items)}")
     try:
-        size = float(opts["size"])
-        make_arena("random", size=size, n_boxes=0)  # the arena's own range check
-    except ValueError as e:
-        raise UsageError(f"--arena-opt size={opts['size']}: {e}") from None
-    return size
-
-
-def run_and_write(study: Study, settings: Settings, what: str) -> int:
-    """Compute ``study`` and write NAME.json (NAME.npz) and NAME.png into ``settings.out``, saying so in one line;
-    a stop (exit 130/143) says in one line what is kept. ``what`` names it in the messages ("figure fig3")."""
-    from neurowalk.experiments.study import compute, kept_runs, resolve, write
-    from neurowalk.runners.stopping import interrupted
-    from neurowalk.runners.store import StoreError
-    from neurowalk.sim.episode import RunInterruptedError
-
-    out = settings.out
-    assert out is not None
-    t0 = time.perf_counter()
-    existed = out.exists()
-    out_folder(out)  # the runner says where it goes on from finished runs (run_store)
-
-    def leave_nothing() -> None:
-        if not existed and not any(out.iterdir()):
-            out.rmdir()  # made for this command, still empty: leave nothing behind
-
-    try:  # what the study needs of the settings (a body that climbs, runs the engine, the rate): before any work
-        settings = resolve(study, settings)
-    except ValueError as e:
-        leave_nothing()
-        raise UsageError(str(e)) from None
-    paths: dict[str, Path] = {}
-    try:
-        try:
-            result = compute(study, settings)
-        except StoreError as e:
-            raise UsageError(str(e)) from None
-        except ValueError as e:  # a study checks its settings before it runs (e.g. a surrogate at 27 Hz)
-            leave_nothing()
-            raise UsageError(f"{what}: {e}") from None
-        write(study, result, out, paths)
-    except (KeyboardInterrupt, Exception) as e:  # RunInterruptedError: a run in this process, stopped part-way
-        if not (interrupted(e) or isinstance(e, RunInterruptedError)):
-            raise
-        files = ", ".join(str(paths[k]) for k in ("png", "json", "npz") if k in paths)
-        if "png" in paths:
-            line = f"neurowalk: {study.name} interrupted as it ended; it wrote {files}"
-        elif paths:
-            line = f"neurowalk: {study.name} interrupted while drawing: its numbers are in {files}; `--replot` draws it"
-        else:
-            line = interrupted_line(study.name, kept_runs(study, settings))
-        return stop_line(line)
-    files = [paths[k] for k in ("png", "json", "npz") if k in paths]
-    print(f"{study.name}: wrote {', '.join(str(p) for p in files)} in {time.perf_counter() - t0:.1f} s")
-    if not settings.given():  # the command the reproduction judges: its claims, where it has any
-        print("\n".join(claim_lines(study.name, result.summary, settings.quick)))
-    return 0
-
-
-def claim_lines(name: str, summary: dict[str, Any], quick: bool) -> list[str]:
-    """The results figure ``name`` judges (its study's claims, those of ``neurowalk reproduce``) from ``summary``: one
-    line each (what, the paper's value, neurowalk's, the verdict) and where the rules are (none: no judged result)."""
-    from neurowalk.experiments import FIGURES
-    from neurowalk.experiments.reproduce.report import cell
-
-    study = FIGURES.get(name)
-    claims = study.claims(summary, quick) if study is not None and study.claims is not None else []
-    if not claims:
-        return []
-    lines = [f"{name} against the paper{' (--quick: fewer, shorter runs)' if quick else ''}:"]
-    rows = summary.get("counts")
-    if isinstance(rows, dict) and all(
-        isinstance(r, dict) and {"success", "environments"} <= set(r) for r in rows.values()
-    ):
-        lines.append("  successes: " + ", ".join(f"{k} {r['success']}/{r['environments']}" for k, r in rows.items()))
-    for c in claims:
-        lines.append(f"  {c.what}: paper {cell(c.paper, c.unit)}, neurowalk {cell(c.measured, c.unit)} -> {c.verdict}")
-    lines.append(f"  (the rules and the full runs' verdicts: docs/results/details.md#{name})")
-    return lines
-
-
-def interrupted_line(name: str, kept: dict[Path, int] | None) -> str:
-    """The line of a study interrupted while it ran: the finished runs ``kept`` in its result stores, by file
-    (:func:`~neurowalk.experiments.study.kept_runs`; None: the study runs no episode)."""
-    if kept is None:
-        return f"neurowalk: {name} interrupted; it runs no episode (the network alone), so none is kept: run it again"
-    if not kept:
-        return f"neurowalk: {name} interrupted before any of its runs finished; nothing is kept"
-    return (
-        f"neurowalk: {name} interrupted: {sum(kept.values())} finished runs are kept in {_where(kept)}; run "
-        "the same command again to go on from them"
-    )
-
-
-def kept_words(kept: dict[Path, int] | None) -> str:
-    """What a failed study keeps, in words: ``61 finished runs are kept in out/gap (61 in results.sqlite): fix it and
-    run the same command to go on from them``, or that none is (None: it runs no episode)."""
-    if kept is None:
-        return "it runs no episode: nothing is kept"
-    if not kept:
-        return "none of its runs had finished: nothing is kept"
-    return (
-        f"{sum(kept.values())} finished runs are kept in {_where(kept)}: fix it and run the same command to go on "
-        "from them"
-    )
-
-
-def _where(kept: dict[Path, int]) -> str:
-    """The stores of ``kept`` in words: ``out/fig3 (61 in results.sqlite, 4 in track.sqlite)``."""
-    folders = sorted({str(p.parent) for p in kept})
-    return f"{', '.join(folders)} ({', '.join(f'{n} in {p.name}' for p, n in kept.items())})"
+        return float(value)
+    except ValueError:
+        raise UsageError(f"--arena-opt size={value}: not a number") from None

@@ -8,8 +8,8 @@ import traceback
 from pathlib import Path
 from typing import Any
 
-from neurowalk.cli.common import UsageError, stop_line
-from neurowalk.cli.settings import add_settings_args, run_and_write, settings_of
+from neurowalk.cli.common import UsageError, stop_line, usage_errors
+from neurowalk.cli.settings import add_settings_args, settings_of
 
 
 def study_of(path: Path) -> object:
@@ -45,12 +45,10 @@ def add_study_parser(sub: argparse._SubParsersAction, path: str | None = None) -
 def cmd_study(args: argparse.Namespace) -> int:
     """`neurowalk study FILE.py`: run the file's study, write DIR/NAME.png and its numbers (exit 130/143 when
     stopped, keeping the finished runs)."""
+    from neurowalk.experiments.command import CommandError, run_command
     from neurowalk.experiments.study_check import check_study
-    from neurowalk.render import has_display, use_headless_gl
     from neurowalk.runners.stopping import interrupted
 
-    if not has_display():
-        use_headless_gl()
     try:
         loaded = getattr(args, "study", None)
         same = loaded is not None and Path(args.study_file).resolve() == Path(args.file).resolve()
@@ -60,14 +58,14 @@ def cmd_study(args: argparse.Namespace) -> int:
         if not interrupted(e):
             raise
         return stop_line(f"neurowalk: study {args.file} interrupted before it began; nothing was run")
-    out = args.out or Path("out") / study.name  # type: ignore[attr-defined]
-    settings = settings.replace(out=out)
+    settings = settings.replace(out=args.out or Path("out") / study.name)  # type: ignore[attr-defined]
     try:
         try:
             check_study(study, settings)  # before anything runs: what is wrong with the file, in one line
         except ValueError as e:
             raise UsageError(str(e)) from None
-        return run_and_write(study, settings, f"study {study.name}")  # type: ignore[attr-defined]
+        with usage_errors(CommandError):
+            return run_command(study, settings, f"study {study.name}")  # type: ignore[arg-type, attr-defined]
     except UsageError:
         raise
     except Exception as e:
@@ -80,7 +78,7 @@ def cmd_study(args: argparse.Namespace) -> int:
 def _own_failure(study: Any, settings: Any, file: Path, own: list[traceback.FrameSummary], e: Exception) -> int:
     """A failure in the study file's own code: its frames of the traceback (not neurowalk's), then one line saying
     which runs are kept for the next try; exit status 1."""
-    from neurowalk.cli.settings import kept_words
+    from neurowalk.experiments.command import kept_words
     from neurowalk.experiments.study import kept_runs
 
     print("Traceback (the study file's own frames):", file=sys.stderr)

@@ -1,21 +1,51 @@
-"""Writing figure outputs: PNG, JSON and NPZ, all or nothing (atomic renames)."""
+"""A study's files: its numbers (NAME.json, NAME.npz) and its picture (NAME.png), each written whole or not at all
+(atomic renames); read back to redraw the picture without rerunning."""
 
 from __future__ import annotations
 
 import json
+import sys
 import tokenize
+import traceback
+import warnings
 import zipfile
 import zlib
+from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
+from neurowalk import profiling
 from neurowalk.experiments import Result
 from neurowalk.fileio import atomic_write, write_json
+from neurowalk.runners.stopping import deferred
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
+
+
+class Drawn(Protocol):
+    """What is written here: a study's name and how it draws its result (a :class:`~neurowalk.experiments.Study`)."""
+
+    name: str
+    plot: Callable[[Result], Figure]
+
+
+def write(study: Drawn, result: Result, out: Path, written: dict[str, Path] | None = None) -> dict[str, Path]:
+    """Write ``result``'s numbers (NAME.json, NAME.npz), then its picture (NAME.png), into ``out``; the files, by kind.
+
+    Each file is written whole or not at all, the numbers first (a plot error, or a stop while drawing, loses none
+    of them); ``written`` (if given) holds the files written so far, for the line of a stop.
+    """
+    paths = written if written is not None else {}
+    with deferred():
+        paths.update(save_data(result, out))
+    with profiling.part("drawing"):
+        picture = study.plot(result)
+        with deferred():
+            paths["png"] = save_figure(result, picture, out)
+    return paths
 
 
 def save_data(result: Result, out_dir: str | Path) -> dict[str, Path]:
@@ -84,3 +114,40 @@ def _one_line(why: object) -> str:
     """``why`` as one short line."""
     text = " ".join(str(why).split())
     return text if len(text) <= 160 else text[:157] + "..."
+
+
+def redraw(study: Drawn, out: Path) -> Path:
+    """Redraw NAME.png from the numbers NAME.json (NAME.npz) in ``out``; the picture's path. :class:`DataError`
+    naming the file where they cannot be read or are not this study's (damaged, truncated, foreign), which is left
+    as it is."""
+    name = study.name
+    again = f"rerun `neurowalk figure {name}` without --replot to make them again"
+    if not (out / f"{name}.json").is_file():
+        raise DataError(f"--replot: no {name}.json in {str(out)!r}; run the figure without --replot first")
+    try:
+        result = load(name, out)
+    except DataError as e:
+        raise DataError(f"{e}; {again}") from None
+    with warnings.catch_warnings(record=True) as caught:  # shown only where the picture is drawn
+        try:
+            picture = study.plot(result)
+        except Exception as e:  # JSON of another shape: a key, a type or an array missing or odd
+            if "matplotlib.pyplot" in sys.modules:
+                sys.modules["matplotlib.pyplot"].close("all")
+            npz = out / f"{name}.npz"
+            files = f"{out / name}.json" + (f", {npz}" if npz.exists() else f" (no {npz.name} beside it)")
+            raise DataError(f"{files}: not the numbers of figure {name} ({failure_words(e)}); {again}") from None
+    for w in caught:
+        warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+    with deferred():
+        return save_figure(result, picture, out)
+
+
+def failure_words(e: BaseException, most: int = 160) -> str:
+    """An exception in one line, with where it was raised: ``KeyError: 'counts', at fig9.py:123 in plot`` (a bug
+    shows its line; a file of another shape, the key it lacks)."""
+    why = " ".join(f"{type(e).__name__}: {e}".split())[:most]
+    frames = traceback.extract_tb(e.__traceback__)
+    if not frames:
+        return why
+    return f"{why}, at {Path(frames[-1].filename).name}:{frames[-1].lineno} in {frames[-1].name}"

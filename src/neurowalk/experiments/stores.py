@@ -62,6 +62,15 @@ class Term:
     stream: Callable[[EpisodeConfig], tuple[Streaming, Callable[[Episode], dict[str, Any]]]] | None = None
 
 
+class RunsStopped(KeyboardInterrupt):
+    """A stop (SIGINT, SIGTERM) while a study's runs ran, or after they had: ``kept``, its finished runs by store file
+    (empty: none had finished; None: the study runs no episode)."""
+
+    def __init__(self, kept: dict[Path, int] | None) -> None:
+        super().__init__("stopped")
+        self.kept = kept
+
+
 class RunsFailedError(RuntimeError):
     """Runs of a batch failed: how many, the first one's error (one line), and the store that keeps the others."""
 
@@ -148,7 +157,7 @@ def run_store(
     closed) keeps its finished runs, and the next call says it goes on from them. ``options``: how the engines run
     (MuJoCo Warp's device); ``backend``, ``address``: a process pool (``local``) or Ray (and the cluster to join);
     ``desc``: the progress bar's label (``progress``: shown). RuntimeError where runs failed, naming the first
-    failure.
+    failure; :class:`RunsStopped` (a KeyboardInterrupt) when stopped, with the finished runs it keeps.
     """
     path = store_path(folder)
     keys = [cfg.key() for cfg, _ in runs]
@@ -180,11 +189,13 @@ def run_store(
         groups: dict[tuple[str, ...], list[str]] = {}
         for key, terms in wanted.items():
             groups.setdefault(tuple(sorted(terms)), []).append(key)
-        report, ran = None, []
-        for names, group in groups.items():
+        ran: list[str] = []
+
+        def _run_group(names: tuple[str, ...], group: list[str]) -> bool:
+            """Run the group's runs lacking in the store (or stale, or lacking a term); whether it was stopped."""
             terms_ = tuple(wanted[group[0]][n] for n in names)
             redo = [k for k in group if k in held and (set(names) - set(held[k].get("kept", {})) or stale(k))]
-            ran += [k for k in group if k not in held] + redo
+            ran.extend([k for k in group if k not in held] + redo)
             report = run_sweep(
                 [specs[k] for k in group],
                 store,
@@ -199,13 +210,21 @@ def run_store(
                 redo=redo,
                 amend=amend,
             )
-            if report.interrupted:
-                break
+            return report.interrupted
+
+        stopped = False
+        try:
+            for names, group in groups.items():
+                stopped = _run_group(names, group)
+                if stopped:
+                    break
+        except KeyboardInterrupt:  # a stop between the sweeps' own handling of it
+            stopped = True
         results = {**held, **store.results(keys=ran)}
         missing = [k for k in wanted if k not in results]
         failed = store.rows("error", missing[:1]) if missing else []
-    if report is not None and report.interrupted:
-        raise KeyboardInterrupt
+    if stopped:
+        raise RunsStopped({path: len(results)} if results else {})
     if missing:
         raise RunsFailedError(len(missing), failed[0]["error"] if failed else "unknown", path)
     arrays = {n: t.arrays for terms in wanted.values() for n, t in terms.items()}

@@ -57,7 +57,8 @@ class Settings:
         body: the robot of every run (``neurowalk bodies``).
         climbing: leg reflexes and backbone control on (the modules of the paper's Fig. 10).
         variant: the network of every run: ``paper``, ``original`` (the authors' code) or ``tuned``.
-        params: SensoryParams fields set on top of the variant (a params file's), or None.
+        params: SensoryParams fields set on top of the variant, or a params file's path (``--params FILE``: its
+            fields, and its base variant where ``variant`` names none, read as the settings are resolved), or None.
         gait: the locomotion network's gait by name (``neurowalk.neural.cpg.GAITS``).
         video: also write the example runs' videos.
         size: box side of random environments, m.
@@ -78,7 +79,7 @@ class Settings:
     body: str | None = None
     climbing: bool = False
     variant: str | None = None
-    params: Mapping[str, float] | None = None
+    params: Mapping[str, float] | Path | str | None = None
     gait: str | None = None
     video: bool = False
     size: float | None = None
@@ -92,7 +93,9 @@ class Settings:
     shared_runs: Path | str | None = None
 
     def __post_init__(self) -> None:
-        if self.params is not None:
+        if isinstance(self.params, str | Path):
+            object.__setattr__(self, "params", Path(self.params))
+        elif self.params is not None:
             object.__setattr__(self, "params", FrozenDict(self.params))
         for name in ("out", "shared_runs"):
             if getattr(self, name) is not None:
@@ -146,7 +149,7 @@ class Settings:
             changes["engine"] = self.engine
         if self.climbing and "climbing" not in fixed:
             changes.update(reflexes=True, backbone=True)
-        return cfg.replace(**changes) if changes else cfg
+        return dataclasses.replace(cfg, **changes) if changes else cfg  # plain fields: checked as a new config is
 
     def replace(self, **changes: Any) -> Settings:
         """A copy with ``changes``."""
@@ -226,18 +229,20 @@ class Study:
 
 
 def compute(study: Study, settings: Settings) -> Result:
-    """The study's result (its runs run, or taken from its stores in ``settings.out``, and measured).
+    """The study's result (its runs run, or taken from its stores in ``settings.out``, and measured); ``settings``
+    resolved (:func:`resolve`: :func:`run_study` and the commands resolve them).
 
-    Raises ValueError on a setting the study does not take or a bad value (before any run), KeyboardInterrupt when
-    stopped (the finished runs are kept), RuntimeError where runs failed.
+    Raises ValueError on a setting the study does not take or a bad value (before any run), RuntimeError where runs
+    failed; when stopped, :class:`~neurowalk.experiments.stores.RunsStopped` (a KeyboardInterrupt) with the finished
+    runs it keeps (a stop before its runs began: a plain KeyboardInterrupt).
     """
-    from neurowalk.experiments.stores import Kept, run_store, store_folder, store_path
+    from neurowalk.experiments.stores import Kept, RunsStopped, run_store, store_folder, store_path
     from neurowalk.sim.engine import EngineOptions
 
     study.check(settings)
-    settings = resolve(study, settings)
     plans = planned(study, settings)
     grouped: dict[Label, list[Kept]] = {}
+    kept: dict[Path, int] | None = None  # what a stop after the runs keeps (None: the study runs no episode)
     if plans:
         with store_folder(settings.shared_runs or settings.out) as folder:
             results = run_store(
@@ -252,6 +257,20 @@ def compute(study: Study, settings: Settings) -> Result:
             store = store_path(folder)
         for plan, r in zip(plans, results, strict=True):
             grouped.setdefault(plan.label, []).append(Kept.of(r, plan))
+        kept = {store: len({p.config for p in plans})} if settings.shared_runs or settings.out else {}
+    try:
+        result = _measured(study, settings, grouped)
+    except KeyboardInterrupt as e:
+        raise RunsStopped(kept) from e
+    if study.records_physics and plans:
+        result.summary["physics_settings"] = physics_of([k.summary for runs in grouped.values() for k in runs])
+        if settings.shared_runs is not None:  # the runs are elsewhere: the json names their store
+            result.summary["store"] = str(store)
+    return result
+
+
+def _measured(study: Study, settings: Settings, grouped: dict[Label, list[Any]]) -> Result:
+    """The study's measure of its runs, with what its render and (with ``--video``) videos add."""
     measured = study.measure(settings, grouped)
     result = measured if isinstance(measured, Result) else Result(study.name, dict(measured))
     if study.render is not None:
@@ -259,10 +278,6 @@ def compute(study: Study, settings: Settings) -> Result:
             result.arrays.update(study.render(result))
     if study.videos is not None and settings.video:
         result.summary["videos"] = study.videos(settings, grouped, Path(settings.out or Path("out") / study.name))
-    if study.records_physics and plans:
-        result.summary["physics_settings"] = physics_of([k.summary for runs in grouped.values() for k in runs])
-        if settings.shared_runs is not None:  # the runs are elsewhere: the json names their store
-            result.summary["store"] = str(store)
     return result
 
 
@@ -308,31 +323,37 @@ def planned(study: Study, settings: Settings) -> list[Plan]:
 
 
 def resolve(study: Study, s: Settings) -> Settings:
-    """``s`` with the body its other settings need where the study takes a body (a legged one to climb, one the
-    engine runs, one that runs at the control rate) and ``s`` names none; ValueError where the body it names
-    cannot."""
-    if "body" not in study.takes:
-        return s
-    from neurowalk.body.registry import bodies_where
+    """``s`` as the runs take it: where the study takes a body and ``s`` names none, the body its other settings
+    need (a legged one to climb, one the engine runs, one that runs at the control rate); a params file read (its
+    fields, and its base variant where ``s`` names none). ValueError where the body it names is none of the
+    registry's, or cannot; or where the params file cannot be read."""
+    from neurowalk.body.registry import BODIES
+    from neurowalk.neural.variants import read_params_file
     from neurowalk.sim.config import EpisodeConfig
 
     body = s.body
-    if s.climbing:
-        climbers = bodies_where(lambda b: b.climbs)
-        if (body or climbers[0]) not in climbers:
-            raise ValueError(f"--climb needs --body {climbers[0]} (the {body!r} body has no legs)")
-        body = body or climbers[0]
-    if s.engine != _DEFAULTS["engine"]:
-        runs = bodies_where(lambda b: s.engine in b.engines)
-        if runs and (body or runs[0]) not in runs:
-            raise ValueError(f"--engine {s.engine} runs --body {runs[0]}, got --body {body!r}")
-        body = body or (runs[0] if runs else None)
-    if s.control_hz is not None:
-        try:  # a planar surrogate runs at its calibration's rate only
-            EpisodeConfig(body=body or study.body or "amosii", control_hz=s.control_hz)
-        except ValueError as e:
-            raise ValueError(f"--control-hz {s.control_hz:g}: {e} (add --body amosii)") from None
-    return s.replace(body=body)
+    if "body" in study.takes:
+        if body is not None and body not in BODIES:
+            raise ValueError(f"unknown body {body!r}; expected one of {', '.join(BODIES)}")
+        if s.climbing:
+            climbers = [name for name, info in BODIES.items() if info.climbs]
+            if (body or climbers[0]) not in climbers:
+                raise ValueError(f"--climb needs --body {climbers[0]} (the {body!r} body has no legs)")
+            body = body or climbers[0]
+        if s.engine != _DEFAULTS["engine"]:
+            runs = [name for name, info in BODIES.items() if s.engine in info.engines]
+            if runs and (body or runs[0]) not in runs:
+                raise ValueError(f"--engine {s.engine} runs --body {runs[0]}, got --body {body!r}")
+            body = body or (runs[0] if runs else None)
+        if s.control_hz is not None:
+            try:  # a planar surrogate runs at its calibration's rate only
+                EpisodeConfig(body=body or study.body or "amosii", control_hz=s.control_hz)
+            except ValueError as e:
+                raise ValueError(f"--control-hz {s.control_hz:g}: {e} (add --body amosii)") from None
+    if isinstance(s.params, Path):
+        data = read_params_file(s.params)
+        return s.replace(body=body, variant=s.variant or data["variant"], params=data["params"])
+    return s.replace(body=body) if body != s.body else s
 
 
 def kept_runs(study: Study, settings: Settings) -> dict[Path, int] | None:
@@ -364,24 +385,7 @@ def run_study(study: Study, settings: Settings | None = None) -> tuple[Result, d
     settings = settings or Settings()
     if settings.out is None:
         settings = settings.replace(out=Path("out") / study.name)
-    result = compute(study, settings)
+    from neurowalk.experiments.output import write
+
+    result = compute(study, resolve(study, settings))
     return result, write(study, result, Path(settings.out))
-
-
-def write(study: Study, result: Result, out: Path, written: dict[str, Path] | None = None) -> dict[str, Path]:
-    """Write ``result``'s numbers (NAME.json, NAME.npz), then its picture (NAME.png), into ``out``; the files, by kind.
-
-    Each file is written whole or not at all, the numbers first (a plot error, or a stop while drawing, loses none
-    of them); ``written`` (if given) holds the files written so far, for the line of a stop.
-    """
-    from neurowalk.experiments import output
-    from neurowalk.runners.stopping import deferred
-
-    paths = written if written is not None else {}
-    with deferred():
-        paths.update(output.save_data(result, out))
-    with profiling.part("drawing"):
-        picture = study.plot(result)
-        with deferred():
-            paths["png"] = output.save_figure(result, picture, out)
-    return paths

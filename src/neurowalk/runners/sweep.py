@@ -223,8 +223,6 @@ def _backend(
     valid = [(i, cfg) for i, cfg in enumerate(_configs(items))] if keep is not None else []
     valid = [(i, cfg) for i, cfg in valid if cfg is not None]
     shared = [([valid[j][0] for j in group], engine) for group, engine in world_groups([c for _, c in valid], options)]
-    if not shared:
-        return _pool(backend, fn, items, workers, address, retries)
     done = {i for group, _ in shared for i in group}
     others = [i for i in range(len(items)) if i not in done]
 
@@ -238,7 +236,7 @@ def _backend(
             finally:
                 inner.close()
 
-    return chained()
+    return chained()  # the shared calls' runs (none without a many-worlds engine), then the others on the backend
 
 
 def _configs(items: list[Spec]) -> list[EpisodeConfig | None]:

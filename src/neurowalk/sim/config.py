@@ -103,6 +103,14 @@ class EpisodeConfig:
         }
         for name, value in canonical.items():
             object.__setattr__(self, name, value)
+        # the canonical spec's parts of the options (spec()), made once: every arena option filled in (JSON text),
+        # the body's options as numbers or names, the parameters checked
+        parts = {
+            "arena_opts": json.dumps(to_jsonable({**arena_options(self.arena), **self.arena_opts})),
+            "body_opts": check_body_opts(self.body, dict(self.body_opts)),
+            "params": check_overrides(self.params) if self.params else None,
+        }
+        object.__setattr__(self, "_spec_parts", parts)
 
     def _check(self) -> None:
         """Every field's value, each against the others (ValueError naming the field, the value, what is allowed)."""
@@ -183,9 +191,10 @@ class EpisodeConfig:
     def spec(self) -> dict[str, Any]:
         """The canonical run spec: JSON values, the arena's options all filled in, and the fields added after the
         first stores (:data:`LATER`) only where they differ from their defaults, so that older keys stay valid."""
+        parts = self._spec_parts  # type: ignore[attr-defined]
         out: dict[str, Any] = {
             "arena": self.arena,
-            "arena_opts": to_jsonable({**arena_options(self.arena), **self.arena_opts}),
+            "arena_opts": json.loads(parts["arena_opts"]),
             "controller": self.controller,
             "steer": None if self.steer is None else list(self.steer),
             "body": self.body,
@@ -196,12 +205,8 @@ class EpisodeConfig:
             "b0": self.b0,
             "q0": self.q0,
         }
-        canonical = {
-            "params": check_overrides(self.params) if self.params else None,
-            "body_opts": check_body_opts(self.body, dict(self.body_opts)),
-        }
         for name in LATER:
-            value = canonical.get(name, getattr(self, name))
+            value = parts[name] if name in ("body_opts", "params") else getattr(self, name)
             if value and value != DEFAULTS[name]:
                 out[name] = to_jsonable(value)
         return out
