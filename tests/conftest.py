@@ -4,6 +4,9 @@ import sys
 import pytest
 
 os.environ.setdefault("MUJOCO_GL", "egl")
+# The commands the tests start write no compile note (a cold cache would add a line to the stderr many tests read);
+# the note's own tests set it as they need.
+os.environ.setdefault("NEUROWALK_COMPILE_NOTE", "0")
 
 
 @pytest.fixture(autouse=True)

@@ -89,3 +89,27 @@ def test_every_option_with_a_default_says_it():
         and "default" not in a.help
     ]
     assert silent == []
+
+
+def test_a_sweep_writes_to_out_sweep_by_default_as_the_other_commands_to_out_name():
+    from pathlib import Path
+
+    from neurowalk.cli import parse
+
+    assert parse(["sweep", "--arena", "box"]).out == Path("out/sweep")
+    assert parse(["sweep", "--arena", "box", "--out", "elsewhere"]).out == Path("elsewhere")
+
+
+def test_quick_means_the_same_for_a_figure_and_a_study():
+    import contextlib
+    import io
+
+    from neurowalk.cli import main
+
+    helps = []
+    for argv in (["figure", "fig3", "--help"], ["study", "--help"]):
+        out = io.StringIO()
+        with contextlib.redirect_stdout(out), contextlib.suppress(SystemExit):
+            main(argv)
+        helps.append(" ".join(out.getvalue().split()))
+    assert all("--quick a first look: the study's quick version (fewer seeds or environments" in h for h in helps)

@@ -1,6 +1,7 @@
 """`neurowalk run`, `export-model`, `arenas`, `view` as a user runs them."""
 
 import json
+import re
 
 import mujoco
 import numpy as np
@@ -319,9 +320,9 @@ def test_a_computed_output_path_too_long_is_a_usage_error(tmp_path):
     "args,said",
     [
         (["--arena", "steps", "--arena-opt", "height=0.06", "--climb", "--steps", "1700"], "; climbed at 1"),
-        (["--arena", "steps", "--arena-opt", "height=0.18", "--climb", "--steps", "300"], "; did not climb; moved"),
-        (["--arena", "narrow-passage", "--steps", "50"], "; did not escape; moved"),
-        (["--arena", "open", "--steps", "50"], "real time); moved"),
+        (["--arena", "steps", "--arena-opt", "height=0.18", "--climb", "--steps", "300"], "; did not climb; ended"),
+        (["--arena", "narrow-passage", "--steps", "50"], "; did not escape; ended"),
+        (["--arena", "open", "--steps", "50"], "real time); ended"),
     ],
     ids=["climbed", "wall", "dead end", "no exit"],
 )
@@ -331,5 +332,11 @@ def test_a_runs_line_says_its_outcome_in_words(args, said, tmp_path, capsys):
     assert said in line
     s = json.loads((tmp_path / "summary.json").read_text())
     assert ("climbed at" in line) == (s["exit_step"] is not None)
+    assert s.get("climbed") == (None if "--climb" not in args else s["exit_step"] is not None)
+    m = re.search(r"ended (\d+\.\d+) m from its start \(([-+]\d+\.\d+) m ahead\), path (\d+\.\d+) m", line)
+    assert m is not None, line
+    assert [float(v) for v in m.groups()] == [
+        round(s[k], 2) for k in ("net_displacement_m", "forward_displacement_m", "path_length_m")
+    ]
     if "--climb" in args:
         assert s["physics"]["timestep_s"] == 0.01 and s["body_opts"] == {}  # one physics, climbing or not

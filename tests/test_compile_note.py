@@ -126,7 +126,7 @@ def fresh(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.delenv(progress.NOTE_ENV, raising=False)
 
 
-@pytest.mark.parametrize(("setting", "written"), [("1", 1), ("0", 0), (None, 0)])  # None: stderr not a terminal
+@pytest.mark.parametrize(("setting", "written"), [("1", 1), ("0", 0), (None, 1)])  # stderr here: not a terminal
 def test_the_note_goes_where_the_setting_says_and_once(setting, written, fresh, monkeypatch, capsys) -> None:
     if setting is not None:
         monkeypatch.setenv(progress.NOTE_ENV, setting)
@@ -136,7 +136,7 @@ def test_the_note_goes_where_the_setting_says_and_once(setting, written, fresh, 
     assert len(err) == written and all(line.startswith(NOTE) and "/cache" in line for line in err)
 
 
-def test_the_note_is_written_where_stderr_is_a_terminal(fresh, monkeypatch) -> None:
+def test_the_note_is_written_where_stderr_is_a_terminal_too(fresh, monkeypatch) -> None:
     terminal = io.StringIO()
     terminal.isatty = lambda: True  # type: ignore[method-assign]
     monkeypatch.setattr(sys, "stderr", terminal)

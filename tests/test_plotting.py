@@ -50,3 +50,27 @@ def test_every_panel_is_lettered_labelled_and_its_legend_is_off_the_data(surroga
         assert legend is not None
         box, frame = legend.get_window_extent(renderer), ax.get_window_extent(renderer)
         assert not box.overlaps(frame), ax.get_ylabel()
+
+
+def test_a_climb_is_in_the_summary_and_its_height_in_the_picture():
+    ep = run_episode(EpisodeConfig(arena="steps", arena_opts={"height": 0.08}, reflexes=True, backbone=True,
+                                   steps=1500))  # fmt: skip
+    s = ep.summary
+    assert s["climbed"] is True and s["climbed_at_s"] == pytest.approx(s["exit_step"] / s["control_hz"])
+    fig = plot_run(ep.trajectory, ep.arena, s)
+    assert panel_letters(fig) == ["A", "B", "C", "D", "E"]
+    height = fig.axes[-1]
+    assert height.get_ylabel() == "trunk rise (m)" and height.get_xlabel() == "time (s)"
+    (rise,) = (line for line in height.get_lines() if line.get_label() == "trunk rise")
+    assert max(rise.get_ydata()) > 0.08  # it got up the step
+    steps = [line for line in height.get_lines() if line.get_label() == "step height"]
+    assert len(steps) == 1 and steps[0].get_ydata()[0] == pytest.approx(0.08)
+    assert any(line.get_label().startswith("climbed at ") for line in height.get_lines())
+
+
+def test_a_run_that_does_not_climb_says_so_and_other_arenas_say_nothing_of_climbs():
+    short = run_episode(EpisodeConfig(arena="steps", steps=50))
+    assert short.summary["climbed"] is False and short.summary["climbed_at_s"] is None
+    flat = run_episode(EpisodeConfig(arena="box", steps=20))
+    assert "climbed" not in flat.summary
+    assert panel_letters(plot_run(flat.trajectory, flat.arena, flat.summary)) == ["A", "B", "C", "D"]

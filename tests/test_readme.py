@@ -13,6 +13,10 @@ def _commands() -> list[str]:
     return [line for line in block.group(1).splitlines() if line and not line.startswith("#")]
 
 
+def test_readme_is_at_most_150_lines():
+    assert len((ROOT / "README.md").read_text().splitlines()) <= 150
+
+
 def test_readme_starts_with_two_commands_and_ci_runs_the_test_one():
     cmds = _commands()
     assert len(cmds) == 2

@@ -7,10 +7,11 @@ from being a silent wait:
 - **The compile note** (:func:`compiling`): when a kernel really compiles (numba found no cached copy), a command
   says so in one line on stderr, once per process: ``neurowalk: compiling its kernels once for this version (...);
   cached in DIR``. It comes only from work that has begun (a kernel called, never while the command line is checked),
-  so a bad input still gives its one line. It is written where a person reads it, stderr being a terminal;
-  ``NEUROWALK_COMPILE_NOTE=1`` writes it wherever stderr goes (a log), ``=0`` never, and so does a command's
-  ``--quiet`` (:func:`quiet_notes`). A pool worker that compiles hands the note to its driver
-  (:func:`forward_notes`), which writes it, once, above its progress bar: one line, however many workers compile.
+  so a bad input still gives its one line. It is written wherever stderr goes, a terminal (above the progress bar)
+  or a log file (a plain line: a batch job's log says why its first run waits); ``NEUROWALK_COMPILE_NOTE=0`` writes
+  it nowhere, and so does a command's ``--quiet`` (:func:`quiet_notes`). A pool worker that compiles hands the note
+  to its driver (:func:`forward_notes`), which writes it, once, above its progress bar: one line, however many
+  workers compile.
 - **Progress bars** (:class:`Progress`): a tqdm bar whose rate and time left count from its first finished unit
   on. The first unit carries the one-off costs (the compile, the workers' start), which the bar's elapsed time
   shows but which are not the pace of the others: counted from the start, a run of seconds first showed minutes
@@ -30,8 +31,8 @@ from typing import Any
 
 from tqdm import tqdm
 
-#: The environment variable that sets where the compile note goes: "1" always (stderr a file too), "0" never;
-#: unset (or any other value), where stderr is a terminal.
+#: The environment variable that turns the compile note off: "0" never writes it; unset (or any other value), it is
+#: written wherever stderr goes.
 NOTE_ENV = "NEUROWALK_COMPILE_NOTE"
 #: What the first compile of a command's kernels costs, in words: the one-off wall time of the commands of the
 #: README's first steps on a cold cache over a warm one, docs/benchmarks/compile.json
@@ -67,15 +68,7 @@ def compiling(where: Path) -> None:
 
 def _wanted() -> bool:
     """Whether this process writes the note: not ``--quiet``, and as :data:`NOTE_ENV` says (see the module doc)."""
-    setting = os.environ.get(NOTE_ENV, "").strip()
-    if _quiet or setting == "0":
-        return False
-    if setting == "1":
-        return True
-    try:
-        return sys.stderr is not None and sys.stderr.isatty()
-    except (AttributeError, ValueError):  # a stand-in stderr without isatty, or a closed one
-        return False
+    return not _quiet and os.environ.get(NOTE_ENV, "").strip() != "0" and sys.stderr is not None
 
 
 @contextlib.contextmanager

@@ -235,12 +235,20 @@ def _run_and_save(
     print(
         f"{cfg.arena}/{cfg.controller}: {s['steps']} steps{resumed} in {s['wall_time_s']:.1f} s "
         f"({_factor(s['real_time_factor'])}x real time); {outcome_words(ep)}"
-        f"moved {s['forward_displacement_m']:+.2f} m, "
-        f"turned {s['heading_change_deg']:+.0f} deg; wrote {', '.join(str(out / w) for w in written)}"
+        f"{moved_words(s)}, turned {s['heading_change_deg']:+.0f} deg; wrote {', '.join(str(out / w) for w in written)}"
     )
     if page is not None:
         keep_serving(page, args)
     return 0
+
+
+def moved_words(s: dict[str, Any]) -> str:
+    """How far a run's trunk went, in words: ``"ended 1.16 m from its start (+0.69 m ahead), path 2.08 m"`` (the
+    straight line, its part along the start heading, the length of the path)."""
+    return (
+        f"ended {s['net_displacement_m']:.2f} m from its start ({s['forward_displacement_m']:+.2f} m ahead), "
+        f"path {s['path_length_m']:.2f} m"
+    )
 
 
 def outcome_words(ep: Episode) -> str:

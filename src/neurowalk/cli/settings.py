@@ -83,7 +83,11 @@ def add_settings_args(p: Parser, takes: tuple[str, ...] | None) -> None:
     from neurowalk.experiments.study import OPTIONAL
 
     p.add_argument("--out", type=Path, default=None, help="output folder (default: out/NAME)")
-    p.add_argument("--quick", action="store_true", help="shorter runs, coarser grids")
+    p.add_argument(
+        "--quick",
+        action="store_true",
+        help="a first look: the study's quick version (fewer seeds or environments, shorter runs, as it defines)",
+    )
     p.add_argument("--seed", type=int, default=0, help="seed of every random draw (default 0)")
     for name in OPTIONAL:
         p.hidden = takes is not None and name not in takes  # given anyway, hidden flags are refused in one line

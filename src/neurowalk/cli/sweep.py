@@ -62,7 +62,12 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
         help="run a job whose worker died up to N more times (default 0: store it as failed)",
     )
     s.add_argument("--gait", default=None, metavar="NAME[,NAME...]", help="gaits: {gaits} (default wave)")
-    s.add_argument("--out", type=Path, required=True, help="output folder (the store; resumes what is there)")
+    s.add_argument(
+        "--out",
+        type=Path,
+        default=Path("out/sweep"),
+        help="output folder: the result store, resumed where it holds runs (default out/sweep)",
+    )
     s.add_argument("--export", choices=("parquet", "csv"), default=None, help="also write DIR/results.parquet|csv")
     s.add_argument("--quiet", action="store_true", help="no progress bar, nor the note while the kernels compile")
     variant_args(s, many=True)

@@ -51,7 +51,7 @@ class Settings:
     None means the study's own default; a study takes the optional ones it names in ``Study.takes``.
 
     Attributes:
-        quick: shorter runs, coarser grids (a first look).
+        quick: a first look: the study's quick version (fewer seeds or environments, shorter runs, as it defines).
         seed: the seed every run's seed derives from (0 to 2**63 - 1).
         seeds: seeds (or environments) per condition, 1 to :data:`MAX_SEEDS`.
         body: the robot of every run (``neurowalk bodies``).

@@ -10,7 +10,8 @@ import numpy as np
 from matplotlib.collections import LineCollection
 from matplotlib.patches import Polygon, Rectangle
 
-from neurowalk.arenas.spec import ArenaSpec
+from neurowalk.arenas.climbing import CLIMB_WORDS
+from neurowalk.arenas.spec import WALL_HEIGHT, ArenaSpec
 from neurowalk.plotting.style import (
     LINE,
     MEAN_WEIGHT,
@@ -144,10 +145,15 @@ def run_title(summary: dict[str, Any]) -> str:
 
 def plot_run(tr: Trajectory, arena: ArenaSpec, summary: dict[str, Any]) -> Figure:
     """A: top view of the run, the path coloured by time (colour bar in s); B-D: its inputs, steering and weights
-    (or, without a sensory network, the ultrasonic readings) over time (s). The title names the run."""
+    (or, without a sensory network, the ultrasonic readings) over time (s); E, on an arena with steps to climb (a
+    physics body): the trunk's rise over its start height and the steps' heights (m), the climb marked. The title names
+    the run."""
     plt = pyplot()
-    fig = plt.figure(figsize=(13, 6.5), layout="constrained")
-    gs = fig.add_gridspec(3, 2, width_ratios=[1, 1.35])
+    physics = tr.qpos.ndim == 2 and tr.qpos.shape[1] > 2 and bool(np.isfinite(tr.qpos[:, 2]).all())
+    climbs = _step_heights(arena) if physics else []  # a trunk height to draw, and steps to climb
+    rows = 4 if climbs else 3
+    fig = plt.figure(figsize=(13, 6.5 + 1.6 * (rows - 3)), layout="constrained")
+    gs = fig.add_gridspec(rows, 2, width_ratios=[1, 1.35])
     ax = fig.add_subplot(gs[:, 0])
     t = tr.t
     path = draw_arena(ax, arena, tr.pose, t=t)
@@ -156,7 +162,7 @@ def plot_run(tr: Trajectory, arena: ArenaSpec, summary: dict[str, Any]) -> Figur
     legend_outside(ax, side="below", ncol=2)
     fig.suptitle(run_title(summary))
     traces = [fig.add_subplot(gs[0, 1])]
-    traces += [fig.add_subplot(gs[row, 1], sharex=traces[0]) for row in (1, 2)]
+    traces += [fig.add_subplot(gs[row, 1], sharex=traces[0]) for row in range(1, rows)]
     for a, (key, label) in zip(traces, (("inputs", "input I"), ("outputs", "steering O")), strict=False):
         side_lines(a, t, getattr(tr, key), label.split()[-1])
         a.set(ylabel=label, ylim=(-1.1, 1.1))
@@ -165,12 +171,39 @@ def plot_run(tr: Trajectory, arena: ArenaSpec, summary: dict[str, Any]) -> Figur
     a = traces[2]
     if np.isfinite(tr.b).any():
         weight_lines(a, t, tr.b, tr.q)
-        a.set_xlabel("time (s)")
     else:  # no sensory network (fixed steering): what the sensors saw instead
         us = np.where(np.isfinite(tr.us_distance), tr.us_distance, np.nan)
         a.plot(t, us[:, 0], color=SIDE_COLOURS["left"], lw=LINE["trace"], label="left")
         a.plot(t, us[:, 1], color=SIDE_COLOURS["right"], lw=LINE["trace"], label="right")
-        a.set(xlabel="time (s)", ylabel="ultrasonic echo (m)\n(gaps: no echo)", ylim=(0, 0.42))
+        a.set(ylabel="ultrasonic echo (m)\n(gaps: no echo)", ylim=(0, 0.42))
     legend_outside(a)
+    if climbs:
+        a.tick_params(labelbottom=False)
+        height_lines(traces[3], t, tr.qpos[:, 2] - tr.qpos[0, 2], climbs, summary)
+    traces[-1].set_xlabel("time (s)")
     letter_panels([ax, *traces])
     return fig
+
+
+def _step_heights(arena: ArenaSpec) -> list[float]:
+    """The heights (m) of an arena's steps a robot climbs onto (its boxes lower than a wall), lowest first; none
+    where its exit is not a climb."""
+    if arena.exit_words != CLIMB_WORDS:
+        return []
+    return sorted({round(b.h, 4) for b in arena.boxes if b.h < WALL_HEIGHT})
+
+
+def height_lines(a: Axes, t: np.ndarray, rise: np.ndarray, steps: list[float], summary: dict[str, Any]) -> None:
+    """The trunk's rise over its start height (m) against time (s), each step's height dashed, and when the robot
+    climbed (the summary's ``climbed_at_s``) a dotted line."""
+    a.plot(t, rise, color="k", lw=LINE["trace"], label="trunk rise")
+    for k, h in enumerate(steps):
+        a.axhline(h, color=BOX_COLOUR, ls="--", lw=LINE["thin"], label="step height" if k == 0 else None)
+    when = summary.get("climbed_at_s")
+    if when is not None:
+        a.axvline(when, color=EXIT_COLOUR, ls=":", lw=LINE["thin"], label=f"climbed at {when:.1f} s")
+    a.set(
+        ylabel="trunk rise (m)",
+        ylim=(min(-0.02, float(np.nanmin(rise))), 1.25 * max(max(steps), float(np.nanmax(rise)))),
+    )
+    legend_outside(a)

@@ -12,6 +12,7 @@ import numpy as np
 import neurowalk
 from neurowalk import metrics
 from neurowalk.arenas import ArenaSpec
+from neurowalk.arenas.climbing import CLIMB_WORDS
 from neurowalk.body.registry import body_settings, physics_settings, replay_contacts
 from neurowalk.neural.variants import get_variant
 from neurowalk.sim.config import EpisodeConfig
@@ -185,8 +186,9 @@ def summarize(
         "physics": physics_settings(cfg.body, cfg.body_opts, cfg.control_hz),
         "final_z_m": rec.final_z,  # trunk height (None: planar body)
         "max_z_m": rec.max_z,
-        "exit_step": metrics.exit_step(pose, arena),
+        "exit_step": (exit_step := metrics.exit_step(pose, arena)),
         "escaped": metrics.escaped(pose, arena),
+        **_climb(arena, exit_step, cfg.control_hz),
         "trapped": metrics.trapped(pose, window=stuck),
         "ever_trapped": metrics.ever_trapped(pose, window=stuck),
         "ever_held_up_1000s": metrics.ever_trapped(pose, window=round(1000 * cfg.control_hz)),
@@ -214,3 +216,11 @@ def summarize(
         "real_time_factor": sim_time / wall_time_s if wall_time_s > 0 else None,
         "neurowalk_version": neurowalk.__version__,
     }
+
+
+def _climb(arena: ArenaSpec, exit_step: int | None, control_hz: float) -> dict[str, Any]:
+    """On an arena whose exit region is a platform to climb onto (:data:`~neurowalk.arenas.climbing.CLIMB_WORDS`):
+    ``climbed`` (the trunk centre got onto it) and ``climbed_at_s`` (when, s; None: it did not); nothing elsewhere."""
+    if arena.exit_words != CLIMB_WORDS:
+        return {}
+    return {"climbed": exit_step is not None, "climbed_at_s": None if exit_step is None else exit_step / control_hz}
