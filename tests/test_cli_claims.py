@@ -24,7 +24,14 @@ def test_table2_says_its_rows_and_the_papers_counts_with_verdicts():
     assert len(judged) == len(claims) >= 2
     for line, c in zip(judged, claims, strict=True):
         assert line.startswith(f"  {c['what']}: paper ") and line.endswith(f" -> {c['verdict']}")
-    assert f"neurowalk {rows['plastic-paper']['success']}/50 -> " in judged[0]
+    assert f"neurowalk {rows['plastic-paper']['success']}/50 environments -> " in judged[0]
+
+
+def test_the_terminal_shows_a_claim_as_written_not_as_a_table_cell(capsys, tmp_path):
+    summary = json.loads((RESULTS / "table1" / "table1.json").read_text())
+    lines = claim_lines(FIGURES["table1"], summary, quick=False)
+    speed = next(line for line in lines if "walking speed" in line)
+    assert "paper speed rises with |O|," in speed and "\\|" not in speed and " cm/s" in speed
 
 
 def test_a_figure_prints_its_claims_after_its_files_and_not_with_other_settings(tmp_path, capsys):

@@ -391,7 +391,6 @@ SWEEP_CASES = [
     sweep("--out", "--steps", "10", "--out"),
     sweep("summary.json", "--body", "surrogate", "--steps", "10", "--out", f"{GOOD}/summary.json"),
     sweep("summary.json", "--body", "surrogate", "--steps", "10", "--out", f"{GOOD}/summary.json/sweep"),
-    case("--out", "sweep", "--steps", "10"),
     sweep("--out", "--steps", "10", "--out", ""),
     case("--out", "sweep", "--steps", "10", "--out=\t"),
 ]

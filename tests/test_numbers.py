@@ -18,7 +18,7 @@ IMAGE = re.compile(r"!\[[^\]]*\]\(([^)\s]+)\)")
 
 #: Pages made by code from a source the tests hold them equal to: the parser (tests/test_cli_reference.py) and the
 #: committed reproduction's records (tests/experiments/reproduce/test_committed.py).
-GENERATED = ("docs/cli.md", "docs/gallery.md")
+GENERATED = ("docs/cli.md", "docs/gallery.md", "docs/api.md")
 
 
 def _pages() -> list[str]:

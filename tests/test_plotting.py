@@ -74,3 +74,11 @@ def test_a_run_that_does_not_climb_says_so_and_other_arenas_say_nothing_of_climb
     flat = run_episode(EpisodeConfig(arena="box", steps=20))
     assert "climbed" not in flat.summary
     assert panel_letters(plot_run(flat.trajectory, flat.arena, flat.summary)) == ["A", "B", "C", "D"]
+
+
+def test_a_run_is_drawn_from_its_episode_as_from_its_parts(surrogate_run):
+    ep = surrogate_run
+    whole, parts = plot_run(ep), plot_run(ep.trajectory, ep.arena, ep.summary)
+    assert whole.get_suptitle() == parts.get_suptitle() and len(whole.axes) == len(parts.axes)
+    with pytest.raises(TypeError, match="an Episode"):
+        plot_run(ep.trajectory)

@@ -6,7 +6,7 @@ The public API, in one place::
 
     ep = run_episode(EpisodeConfig(arena="corner", steps=3000, seed=0))   # the paper's robot, the CPU loop
     print(ep.summary["escaped"], ep.summary["final_weights"])
-    plot_run(ep.trajectory, ep.arena, ep.summary).savefig("run.png")
+    plot_run(ep).savefig("run.png")
 
 Engines and bodies by name: :data:`ENGINES` (``mujoco``: the CPU loop; ``warp``: MuJoCo Warp), :data:`BODIES`
 (``amosii``, ``surrogate``, ``wheeled``, ...), :class:`EngineOptions` (device, threads) and :class:`Streaming`

@@ -38,7 +38,7 @@ TIMEOUT_S = 300  # a block that takes longer belongs to `test: parse`
 RUN = ("bash", "python")
 KINDS = ("run", "slow", "parse", "skip", "file", "output")
 #: Pages made by code (the CLI reference, the gallery): their blocks are output, not code to copy.
-GENERATED = ("docs/cli.md", "docs/gallery.md")
+GENERATED = ("docs/cli.md", "docs/gallery.md", "docs/api.md")
 _FENCE = re.compile(r"^```(\w*)[^\n]*\n(.*?)^```\s*$", re.S | re.M)
 _DIRECTIVE = re.compile(r"<!--\s*test:\s*(\w+)(?::\s*(.*?))?\s*-->\s*$")
 

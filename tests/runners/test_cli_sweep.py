@@ -112,7 +112,36 @@ def test_failed_runs_exit_1_with_one_line_each(tmp_path, capsys, monkeypatch):
     assert err[0].startswith("neurowalk: run failed: " + spec_key({"seed": 3, "steps": 30})[:12])
     info = json.loads((tmp_path / "sweep.json").read_text())
     assert info["counts"]["ok"] == 4 and info["counts"]["error"] == 1 and info["failures"][0]["spec"]["seed"] == 3
-    assert "1 failed" in cap.out
+    last = cap.out.strip().splitlines()[-1]
+    assert "1 failed" in last and last.endswith("; run the same command again to run the 1 failed again")
+    monkeypatch.undo()  # the same command again: the failed run runs again (and now passes), the others are kept
+    assert main(["sweep", "--seeds", "5", "--steps", "30", "--out", str(tmp_path), "--quiet"]) == 0
+    last = capsys.readouterr().out.strip().splitlines()[-1]
+    assert "4 already done, 1 ok, 0 failed" in last and "run the same command again" not in last
+
+
+def test_a_sweep_retries_a_job_whose_worker_died_by_default():
+    from neurowalk.cli import parse
+
+    assert parse(["sweep"]).retries == 3 and parse(["sweep", "--retries", "0"]).retries == 0
+
+
+def test_rays_own_log_stays_out_of_the_terminal_unless_asked_for(monkeypatch):
+    import logging
+    import types
+
+    from neurowalk.runners import ray_backend
+
+    calls = []
+    fake = types.SimpleNamespace(is_initialized=lambda: False, init=lambda **kw: calls.append(kw))
+    monkeypatch.setattr(ray_backend, "import_ray", lambda: fake)
+    monkeypatch.delenv(ray_backend.LOG_ENV, raising=False)
+    ray_backend.start(workers=2)
+    ray_backend.start(address="10.0.0.1:6379")
+    assert all(c["log_to_driver"] is False and c["logging_level"] == logging.ERROR for c in calls)
+    monkeypatch.setenv(ray_backend.LOG_ENV, "1")
+    ray_backend.start(address="10.0.0.1:6379")
+    assert calls[-1]["log_to_driver"] is True and calls[-1]["logging_level"] == logging.INFO
 
 
 @pytest.mark.parametrize(

@@ -57,9 +57,10 @@ def add_sweep_parser(sub: argparse._SubParsersAction) -> None:
     s.add_argument(
         "--retries",
         type=int,
-        default=0,
+        default=3,
         metavar="N",
-        help="run a job whose worker died up to N more times (default 0: store it as failed)",
+        help="run a job whose worker died (its process killed, its Ray node lost) up to N more times, as Ray's own "
+        "tasks do (default 3; 0: store it as failed at once)",
     )
     s.add_argument("--gait", default=None, metavar="NAME[,NAME...]", help="gaits: {gaits} (default wave)")
     s.add_argument(
@@ -308,9 +309,10 @@ def _wrap_up(args: argparse.Namespace, store: ResultStore, r: SweepReport, info:
             f"neurowalk: ... and {len(r.failures) - 50} more failed runs (all in {out / 'sweep.json'})", file=sys.stderr
         )
     if r.unique:
+        again = f"; run the same command again to run the {r.error} failed again" if r.error else ""
         print(
             f"sweep: {r.unique} runs: {r.skipped} already done, {r.ok} ok, {r.error} failed, in "
-            f"{r.wall_time_s:.1f} s; wrote {', '.join(str(p) for p in written)}"
+            f"{r.wall_time_s:.1f} s; wrote {', '.join(str(p) for p in written)}{again}"
         )
 
 

@@ -164,7 +164,8 @@ def claim_lines(study: Study, summary: dict[str, Any], quick: bool) -> list[str]
     ):
         lines.append("  successes: " + ", ".join(f"{k} {r['success']}/{r['environments']}" for k, r in rows.items()))
     for c in claims:
-        lines.append(f"  {c.what}: paper {cell(c.paper, c.unit)}, neurowalk {cell(c.measured, c.unit)} -> {c.verdict}")
+        paper, measured = (cell(v, c.unit, markdown=False) for v in (c.paper, c.measured))
+        lines.append(f"  {c.what}: paper {paper}, neurowalk {measured} -> {c.verdict}")
     lines.append(f"  (the rules and the full runs' verdicts: docs/results/details.md#{name})")
     return lines
 

@@ -23,6 +23,7 @@ from neurowalk.plotting.style import (
     time_colorbar,
     weight_style,
 )
+from neurowalk.sim.config import Episode
 from neurowalk.sim.trajectory import Trajectory
 
 if TYPE_CHECKING:
@@ -143,11 +144,16 @@ def run_title(summary: dict[str, Any]) -> str:
     return f"{summary['arena']}, {body}, {ctrl}, {variant}, {steps}, seed {summary['seed']}"
 
 
-def plot_run(tr: Trajectory, arena: ArenaSpec, summary: dict[str, Any]) -> Figure:
-    """A: top view of the run, the path coloured by time (colour bar in s); B-D: its inputs, steering and weights
-    (or, without a sensory network, the ultrasonic readings) over time (s); E, on an arena with steps to climb (a
-    physics body): the trunk's rise over its start height and the steps' heights (m), the climb marked. The title names
-    the run."""
+def plot_run(tr: Trajectory | Episode, arena: ArenaSpec | None = None, summary: dict[str, Any] | None = None) -> Figure:
+    """The picture of a run (run.png): ``plot_run(ep)`` of an :class:`~neurowalk.sim.config.Episode`, or of its
+    trajectory, arena and summary. A: top view of the run, the path coloured by time (colour bar in s); B-D: its
+    inputs, steering and weights (or, without a sensory network, the ultrasonic readings) over time (s); E, on an
+    arena with steps to climb (a physics body): the trunk's rise over its start height and the steps' heights (m),
+    the climb marked. The title names the run."""
+    if isinstance(tr, Episode):
+        tr, arena, summary = tr.trajectory, tr.arena, tr.summary
+    if arena is None or summary is None:
+        raise TypeError("plot_run takes an Episode, or a trajectory with its arena and summary")
     plt = pyplot()
     physics = tr.qpos.ndim == 2 and tr.qpos.shape[1] > 2 and bool(np.isfinite(tr.qpos[:, 2]).all())
     climbs = _step_heights(arena) if physics else []  # a trunk height to draw, and steps to climb

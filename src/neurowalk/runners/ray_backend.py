@@ -3,16 +3,22 @@
 ``ray`` is imported only here, only when this backend is chosen (it is the optional extra ``neurowalk[ray]``).
 Each job is a Ray task of one CPU; the driver collects results with ``ray.wait`` as they finish, so the sweep
 stores them as they arrive. A job that raises comes back as an error; a task whose worker died (crash,
-``os._exit``, lost node) is reported as :class:`~neurowalk.runners.jobs.WorkerDiedError` and not retried.
+``os._exit``, lost node) runs again up to ``retries`` more times (Ray's ``max_retries``), then is reported as
+:class:`~neurowalk.runners.jobs.WorkerDiedError`. Ray's own log (its workers' output, the raylet's messages) stays
+out of the terminal unless ``NEUROWALK_RAY_LOG=1`` asks for it.
 """
 
 from __future__ import annotations
 
+import logging
+import os
 from collections.abc import Callable, Generator, Sequence
 from typing import Any
 
 from neurowalk.runners.jobs import JobResult, WorkerDiedError, call_timed
 
+#: The environment variable that shows Ray's own log in the terminal ("1"); unset, only Ray's errors are shown.
+LOG_ENV = "NEUROWALK_RAY_LOG"
 INSTALL_HINT = "the ray backend needs `pip install -e '.[ray]'` in neurowalk's folder"
 
 
@@ -47,11 +53,13 @@ def start(*, workers: int = 2, address: str | None = None) -> bool:
     ray = import_ray()
     if ray.is_initialized():
         return False
+    shown = os.environ.get(LOG_ENV, "").strip() == "1"  # Ray's own log in the terminal only where asked for
+    quiet = {"log_to_driver": shown, "logging_level": logging.INFO if shown else logging.ERROR}
     try:
         if address:
-            ray.init(address=address)
+            ray.init(address=address, **quiet)
         else:
-            ray.init(num_cpus=workers, include_dashboard=False, log_to_driver=False)
+            ray.init(num_cpus=workers, include_dashboard=False, **quiet)
     except (ConnectionError, ValueError, RuntimeError, TimeoutError) as e:
         where = f"join the Ray cluster at {address!r}" if address else "start a local Ray instance"
         raise RayStartError(f"cannot {where}: {str(e).strip().splitlines()[0] if str(e).strip() else e!r}") from None

@@ -298,6 +298,7 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
                 pk >= sk,
                 f"plastic {pk}/{n}, static {sk}/{n}",
                 f"escaped runs over the dead ends {', '.join(p['dead_ends'])}, {p['dead_end_runs']} seeds each",
+                unit="runs escaped",
             )
         )
         claims.append(
@@ -308,6 +309,7 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
                 f"plastic {p['table2_success']}/{p['table2_environments']}, static "
                 f"{st['table2_success']}/{st['table2_environments']}",
                 "Table 2 successes (not stuck at the end) of each network on the body",
+                unit="environments not stuck",
             )
         )
     return claims

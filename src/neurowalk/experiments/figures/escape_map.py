@@ -129,6 +129,7 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
                 p >= st >= br,
                 f"plastic {p}/{n}, static {st}/{n}, Braitenberg {br}/{n}",
                 f"escaped runs over the sizes {s['sweeps'][label]['sizes']}, {s['seeds']} seeds each",
+                unit="runs escaped",
             )
         )
     return claims

@@ -287,6 +287,7 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
             all(r["width"] < 1e-6 for r in small),
             max(r["width"] for r in small),
             f"largest hysteresis width for b < 1 (input units): {max(r['width'] for r in small):.2g}",
+            unit="(largest hysteresis width, input units)",
         ),
         holds(
             "single neuron, b > 1: a hysteresis (Fig. 2C) whose width grows with b",
@@ -294,6 +295,7 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
             len(widths) > 1 and all(w > 0 for w in widths) and bool(np.all(np.diff(widths) > 0)),
             [round(w, 3) for w in widths],
             f"widths at b = {[r['b'] for r in larger]}",
+            unit="(hysteresis widths, input units, b rising)",
         ),
         holds(
             f"static network b = {static['b']}, c = {static['c']}: a hysteresis, not latched",
@@ -301,6 +303,7 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
             static["width"] is not None and static["width"] > 0 and not static["latched"],
             static["width"],
             f"width {static['width']:.3g} of the input range [-1, 1]",
+            unit="(hysteresis width, input units)",
         ),
         holds(
             f"strong weights b = {strong['b']}, c = {strong['c']}: two states, the active one kept (Fig. 2D)",

@@ -252,5 +252,6 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
             b["growth_to_decay_ratio"] > 1,
             round(b["growth_to_decay_ratio"], 1),
             f"mean rise per step with the reflex on over mean decay per step with it off, over {b['steps']} steps",
+            unit="(mean rise over mean decay, per step)",
         ),
     ]

@@ -203,5 +203,6 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
             classes["passed a confined space"] > 0 and classes["escaped a trap"] > 0,
             classes,
             s["class_rule"],
+            unit="environments",
         ),
     ]

@@ -164,7 +164,7 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
                 f"{name}: legs swing one by one from hind to front (Fig. 7)",
                 "wave gait, hind to front",
                 sides == HIND_TO_FRONT and one_by_one,
-                " ".join(order),
+                "swing order " + " ".join(order),
                 f"swing order {' '.join(order)}; two or more legs in swing {c['time_two_or_more_in_swing']:.0%} of "
                 "the time (one by one: at most 10%)",
             )
@@ -180,6 +180,7 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
                 ok,
                 d,
                 "sign of each leg's TC stroke (+1: the leg pushes the body forward)",
+                unit="(stroke sign: +1 pushes forward)",
             )
         )
     return claims

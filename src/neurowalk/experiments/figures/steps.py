@@ -147,5 +147,6 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
             (full or 0.0) >= best and (full or 0.0) > (none or 0.0),
             {name: x["highest_reliable_m"] for name, x in v.items()},
             f"highest step (m) climbed reliably ({s['rule']})",
+            unit="m",
         )
     ]

@@ -161,5 +161,6 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
             a["fraction"] is not None and a["fraction"] >= 0.8,
             f"{a['same_outcome']}/{a['runs']}",
             s["rule"],
+            unit="runs with the same outcome",
         )
     ]

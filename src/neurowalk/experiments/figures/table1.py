@@ -202,6 +202,7 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
             [round(100 * v, 2) for v in speeds],
             f"forward speed (cm/s) at amplitudes {[r['amplitude'] for r in s['amplitude']]}: "
             + ("rises at every step" if rising else "does not rise at every step"),
+            unit="cm/s, at |O| rising",
         )
     )
     return claims

@@ -36,7 +36,8 @@ class Claim:
         verdict: ``reproduced``, ``partly`` or ``not``.
         rule: how the verdict was reached, in words, with the numbers compared.
         interval: 95% interval of ``measured`` where it is a rate, else None.
-        unit: unit of ``paper`` and ``measured`` ("s", "%", "" for none).
+        unit: unit of ``paper`` and ``measured``, or what a count counts ("s", "%", "m", "runs", "environments";
+            "" where the value says it itself, as a word or with its own unit).
     """
 
     what: str
@@ -59,18 +60,18 @@ class Claim:
 
 
 def outcome(what: str, paper: str, k: int, n: int) -> Claim:
-    """The paper's single run ended in ``paper``; ``k`` of neurowalk's ``n`` seeds end the same way."""
+    """The paper's single run ended in ``paper``; ``k`` of neurowalk's ``n`` seeds (runs) end the same way."""
     lo, hi = wilson(k, n)
     verdict = "reproduced" if 3 * k >= 2 * n > 0 else "partly" if k > 0 else "not"
     rule = (
         f"{k} of {n} runs end as the paper's one run did ({paper}; 95% interval {lo:.0%}-{hi:.0%}): reproduced "
         "where two thirds or more do, partly where some do, not where none does"
     )
-    return Claim(what, paper, f"{k}/{n}", verdict, rule, (lo, hi))
+    return Claim(what, paper, f"{k}/{n}", verdict, rule, (lo, hi), unit="runs")
 
 
-def rate(what: str, paper_k: int, paper_n: int, k: int, n: int) -> Claim:
-    """The paper counts ``paper_k`` of ``paper_n``; neurowalk ``k`` of ``n``."""
+def rate(what: str, paper_k: int, paper_n: int, k: int, n: int, of: str = "environments") -> Claim:
+    """The paper counts ``paper_k`` of ``paper_n``; neurowalk ``k`` of ``n`` (``of``: what both count)."""
     lo, hi = wilson(k, n)
     p0, p = paper_k / paper_n, (k / n if n else 0.0)
     verdict = "reproduced" if lo <= p0 <= hi else "partly" if abs(p - p0) <= 0.10 else "not"
@@ -78,7 +79,7 @@ def rate(what: str, paper_k: int, paper_n: int, k: int, n: int) -> Claim:
         f"paper {p0:.0%} against {p:.0%} (95% interval {lo:.0%}-{hi:.0%}): reproduced where the paper's rate is "
         "inside the interval, partly within 10 points"
     )
-    return Claim(what, f"{paper_k}/{paper_n}", f"{k}/{n}", verdict, rule, (lo, hi))
+    return Claim(what, f"{paper_k}/{paper_n}", f"{k}/{n}", verdict, rule, (lo, hi), unit=of)
 
 
 def timing(what: str, paper_s: float, measured_s: float | None, context: str = "") -> Claim:
@@ -104,9 +105,10 @@ def value(what: str, paper: float, measured: float, tol: float, unit: str = "", 
     return Claim(what, paper, round(float(measured), 6), verdict, rule, unit=unit)
 
 
-def holds(what: str, paper: str, ok: bool, measured: Any, why: str) -> Claim:
-    """A property the paper states in words: reproduced where it holds in the run, not where not."""
-    return Claim(what, paper, measured, "reproduced" if ok else "not", why)
+def holds(what: str, paper: str, ok: bool, measured: Any, why: str, unit: str = "") -> Claim:
+    """A property the paper states in words: reproduced where it holds in the run, not where not; ``unit``: of the
+    measured value, or what its counts count."""
+    return Claim(what, paper, measured, "reproduced" if ok else "not", why, unit=unit)
 
 
 def overall(claims: list[Claim]) -> tuple[str, str]:

@@ -72,7 +72,7 @@ def _plastic_explores(c: Claim, s: dict[str, Any]) -> Claim:
         c.what,
         c.paper,
         not p["trapped"] and p["coverage"] > st["coverage"],
-        f"coverage {p['coverage']:.1%} (static {st['coverage']:.1%})",
+        f"coverage {p['coverage']:.1%} (static {st['coverage']:.1%}), {'stuck' if p['trapped'] else 'not stuck'}",
         f"one run of {p['steps']} control steps: not stuck at the end and more of the free area visited than the "
         "static network's run in the same arena",
     )
@@ -85,7 +85,7 @@ def _plastic_coverage(c: Claim, s: dict[str, Any]) -> Claim:
         c.what,
         c.paper,
         p["coverage"] >= need,
-        f"coverage {p['coverage']:.1%}",
+        f"coverage {p['coverage']:.1%} (the rule asks {need:.1%})",
         f"Table 2's coverage rule: at least {COVERAGE_PER_1000S:.1%} of the free cells per 1000 s simulated, "
         f"{need:.1%} in this run's {p['seconds']:.0f} s",
     )
@@ -134,7 +134,7 @@ RULES: dict[str, dict[str, Rule]] = {
     "fig5": {
         "plastic network escapes the simple dead end": _dead_end("simple-deadlock", "plastic", "escaped"),
         "plastic network escapes the narrow passage": _dead_end("narrow-passage", "plastic", "escaped"),
-        "plastic network explores the difficult arena, not trapped": _plastic_explores,
+        "plastic network explores the difficult arena: not stuck at the end": _plastic_explores,
         "plastic network explores the difficult arena by Table 2's coverage rule": _plastic_coverage,
         "no held period over 300 s": _plastic_not_held,
     },

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from pathlib import Path
 from typing import Any
 
@@ -29,18 +30,21 @@ def read_records(out: Path, quick: bool) -> dict[str, dict[str, Any]]:
     return records
 
 
-def cell(v: Any, unit: str = "") -> str:
-    """A value for a table cell: numbers rounded, lists and dicts shortened, pipes escaped."""
+def cell(v: Any, unit: str = "", markdown: bool = True) -> str:
+    """A value with its unit: numbers rounded, lists and dicts shortened; the unit after a number, a list, a dict or
+    a text that holds a count (``10/10 runs``, ``plastic 24/30, static 10/30 runs``), not after a word (``escaped``).
+    ``markdown``: for a table cell (pipes escaped), else for the terminal."""
     if isinstance(v, float):
         text = f"{v:.3g}"
     elif isinstance(v, dict):
-        text = ", ".join(f"{k} {cell(x)}" for k, x in v.items())
+        text = ", ".join(f"{k} {cell(x, markdown=False)}" for k, x in v.items())
     elif isinstance(v, list):
-        text = ", ".join(cell(x) for x in v)
+        text = ", ".join(cell(x, markdown=False) for x in v)
     else:
         text = "-" if v is None else str(v)
-    text = text + (f" {unit}" if unit and v is not None and not isinstance(v, str) else "")
-    return text.replace("|", "\\|")
+    counted = not isinstance(v, str) or re.search(r"\d+/\d+", v) is not None
+    text = text + (f" {unit}" if unit and v is not None and counted else "")
+    return text.replace("|", "\\|") if markdown else text
 
 
 def _took(rec: dict[str, Any]) -> str:
@@ -66,7 +70,7 @@ def _authors_claim(rec: dict[str, Any], what: str) -> str:
     """The authors' value and verdict of the claim ``what`` ("-" where their runs do not answer it)."""
     theirs = {c["what"]: c for c in (rec.get("authors") or {}).get("claims", [])}
     c = theirs.get(what)
-    return "-" if c is None else f"{cell(c['measured'])} ({MARK[c['verdict']]})"
+    return "-" if c is None else f"{cell(c['measured'], c.get('unit', ''))} ({MARK[c['verdict']]})"
 
 
 def _side(v: Any, unit: str) -> str:
@@ -96,20 +100,24 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
     of every result, then a section per result with its picture and its claims (their rules: :func:`render_details`)."""
     records, failed = read_records(out, quick), failed or {}
     counts = {v: sum(r["verdict"] == v for r in records.values()) for v in MARK}
+    claims = claim_counts(records)
     lines = [
         "# The paper against neurowalk",
         "",
-        f"{'Quick' if quick else 'Full'} reproduction: {len(records)} of {len(PLAN)} results measured; "
+        f"{'Quick' if quick else 'Full'} reproduction: {len(records)} of {len(PLAN)} results measured: "
         f"{counts['reproduced']} reproduced, {counts['partly']} partly, {counts['not']} not"
         + (f"; {len(failed)} failed to run" if failed else "")
-        + f". {_made_on(records)} Each result's numbers are in its folder (`NAME/NAME.json`, the numbers behind "
+        + f". Their {claims['total']} claims: {claims['reproduced']} reproduced, {claims['partly']} partly, "
+        f"{claims['not']} not. A result is reproduced where all of its claims are, not where all are not, and partly "
+        "otherwise (a claim not reproduced among reproduced ones makes its result partly). "
+        + f"{_made_on(records)} Each result's numbers are in its folder (`NAME/NAME.json`, the numbers behind "
         "its picture) and in `NAME.json` (its claims); the same commands give them bit for bit on the same versions "
         'and CPU type (another CPU changes a few last bits, no verdict: `docs/usage.md`, "Same seed, same result").',
         "",
         "A claim is reproduced where the simulated robot does what the paper shows: in two thirds or more of the "
         "seeds for an outcome of one run, within the measured 95% interval for a count such as 49/50, within a "
-        "factor of 1.5 for a time of the real robot (partly: some seeds, within 10 points, within a factor of 3). A "
-        "result is reproduced where all its claims are. Each claim's own rule, with its numbers, is in "
+        "factor of 1.5 for a time of the real robot (partly: some seeds, within 10 points, within a factor of 3). Each "
+        "measured value says what it counts or its unit. Each claim's own rule, with its numbers, is in "
         "[the details](details.md). The column *authors' simulator* judges the same claims on runs of the authors' own "
         "simulator, where it has them (last section).",
         "",
@@ -222,6 +230,12 @@ def _provenance(out: Path) -> list[str]:
     ]
 
 
+def claim_counts(records: dict[str, dict[str, Any]]) -> dict[str, int]:
+    """The claims of the results ``records`` hold, in all and by verdict."""
+    every = [c for r in records.values() for c in r["claims"]]
+    return {"total": len(every), **{v: sum(c["verdict"] == v for c in every) for v in MARK}}
+
+
 def totals(out: Path, quick: bool) -> dict[str, Any]:
     """The whole reproduction in numbers (``DIR/reproduce.json``): how many results were measured and with which
     verdicts, and the wall time of its distinct figure commands (``DIR/*/command.json``; a command stopped and
@@ -233,6 +247,7 @@ def totals(out: Path, quick: bool) -> dict[str, Any]:
         "results": len(PLAN),
         "measured": len(records),
         "verdicts": {v: sum(r["verdict"] == v for r in records.values()) for v in MARK},
+        "claims": claim_counts(records),
         "commands": len(commands),
         "wall_time_s": round(sum(c["wall_time_s"] for c in commands), 1),
         "resumed_commands": sum(bool(c.get("resumed")) for c in commands),

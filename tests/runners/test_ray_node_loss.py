@@ -1,0 +1,91 @@
+"""A Ray sweep survives a lost node with its default flags: a cluster of two local nodes, one killed midway (its
+raylet gone, as when a machine drops out), and the sweep ends with every run done and exit status 0."""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import os
+import signal
+import socket
+import sqlite3
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("ray")
+pytestmark = [pytest.mark.slow, pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")]
+
+RAY = str(Path(sys.executable).parent / "ray")
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def _pids(word: str) -> dict[int, str]:
+    """The processes whose command line holds ``word``: pid -> command line."""
+    out = {}
+    for cmd in Path("/proc").glob("[0-9]*/cmdline"):
+        with contextlib.suppress(OSError):
+            line = cmd.read_bytes().replace(b"\0", b" ").decode(errors="replace")
+            if word in line:
+                out[int(cmd.parent.name)] = line
+    return out
+
+
+def _raylets(temp: Path) -> list[int]:
+    """The raylets (one per node) of the cluster whose session files are in ``temp``."""
+    return [p for p, line in _pids(str(temp)).items() if line.split(" ", 1)[0].endswith("/raylet")]
+
+
+def _done(store: Path) -> int:
+    if not store.is_file():
+        return 0
+    db = sqlite3.connect(f"file:{store}?mode=ro", uri=True)
+    try:
+        return int(db.execute("SELECT count(*) FROM runs WHERE status = 'ok'").fetchone()[0])
+    except sqlite3.Error:  # not written yet
+        return 0
+    finally:
+        db.close()
+
+
+def test_a_ray_sweep_survives_a_lost_node_with_default_flags(tmp_path: Path) -> None:
+    port = _free_port()
+    temp = Path("/tmp") / f"nwray{port}"  # short: Ray's socket paths must fit in 107 bytes
+    env = {**os.environ, "RAY_USAGE_STATS_ENABLED": "0"}
+    address = f"127.0.0.1:{port}"
+    start = [RAY, "start", "--num-cpus=1", "--disable-usage-stats"]
+    try:
+        subprocess.run([*start, "--head", f"--port={port}", "--include-dashboard=false", f"--temp-dir={temp}"],
+                       env=env, check=True, capture_output=True, timeout=120)  # fmt: skip
+        before = set(_raylets(temp))
+        subprocess.run([*start, f"--address={address}"], env=env, check=True, capture_output=True, timeout=120)
+        second = sorted(set(_raylets(temp)) - before)
+        assert len(second) == 1, f"the second node's raylet: {second}"
+        out = tmp_path / "sweep"
+        cmd = [sys.executable, "-m", "neurowalk", "sweep", "--arena", "box", "--seeds", "6", "--steps", "600",
+               "--backend", "ray", "--address", address, "--out", str(out), "--quiet"]  # fmt: skip
+        sweep = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        deadline = time.monotonic() + 300
+        while _done(out / "results.sqlite") < 1 and sweep.poll() is None and time.monotonic() < deadline:
+            time.sleep(0.2)
+        assert sweep.poll() is None, f"the sweep ended before a node was lost: {sweep.communicate()}"
+        for pid in second:  # the node drops out midway: its raylet and, with it, its workers
+            os.kill(pid, signal.SIGKILL)
+        last, stderr = sweep.communicate(timeout=600)
+        assert sweep.returncode == 0, stderr[-3000:]
+        info = json.loads((out / "sweep.json").read_text())
+        assert info["counts"]["ok"] + info["counts"]["skipped"] == 6 and info["counts"]["error"] == 0, info
+        assert _done(out / "results.sqlite") == 6 and "6 runs: 0 already done, 6 ok, 0 failed" in last
+        assert "raylet" not in stderr and len(stderr.strip().splitlines()) <= 2, stderr[-3000:]  # no Ray log
+    finally:
+        for pid in _pids(str(temp)):  # only this cluster's processes (another test's Ray may be running)
+            with contextlib.suppress(OSError):
+                os.kill(pid, signal.SIGKILL)
