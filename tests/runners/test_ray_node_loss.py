@@ -56,10 +56,13 @@ def _done(store: Path) -> int:
         db.close()
 
 
-def test_a_ray_sweep_survives_a_lost_node_with_default_flags(tmp_path: Path) -> None:
+@pytest.mark.parametrize("retries", [None, "0"], ids=["default flags", "--retries 0"])
+def test_a_ray_sweep_survives_a_lost_node_with_default_flags(retries: str | None, tmp_path: Path) -> None:
+    """With its default flags the sweep runs the lost node's jobs again on the other; with ``--retries 0`` the same
+    loss fails them (so the node was lost while it ran some), and the last line says how to run them again."""
     port = _free_port()
     temp = Path("/tmp") / f"nwray{port}"  # short: Ray's socket paths must fit in 107 bytes
-    env = {**os.environ, "RAY_USAGE_STATS_ENABLED": "0"}
+    env = {**os.environ, "RAY_USAGE_STATS_ENABLED": "0", "RAY_AUTH_MODE": "disabled"}  # a local test cluster
     address = f"127.0.0.1:{port}"
     start = [RAY, "start", "--num-cpus=1", "--disable-usage-stats"]
     try:
@@ -72,6 +75,7 @@ def test_a_ray_sweep_survives_a_lost_node_with_default_flags(tmp_path: Path) -> 
         out = tmp_path / "sweep"
         cmd = [sys.executable, "-m", "neurowalk", "sweep", "--arena", "box", "--seeds", "6", "--steps", "600",
                "--backend", "ray", "--address", address, "--out", str(out), "--quiet"]  # fmt: skip
+        cmd += ["--retries", retries] if retries is not None else []
         sweep = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         deadline = time.monotonic() + 300
         while _done(out / "results.sqlite") < 1 and sweep.poll() is None and time.monotonic() < deadline:
@@ -80,11 +84,19 @@ def test_a_ray_sweep_survives_a_lost_node_with_default_flags(tmp_path: Path) -> 
         for pid in second:  # the node drops out midway: its raylet and, with it, its workers
             os.kill(pid, signal.SIGKILL)
         last, stderr = sweep.communicate(timeout=600)
-        assert sweep.returncode == 0, stderr[-3000:]
         info = json.loads((out / "sweep.json").read_text())
-        assert info["counts"]["ok"] + info["counts"]["skipped"] == 6 and info["counts"]["error"] == 0, info
-        assert _done(out / "results.sqlite") == 6 and "6 runs: 0 already done, 6 ok, 0 failed" in last
-        assert "raylet" not in stderr and len(stderr.strip().splitlines()) <= 2, stderr[-3000:]  # no Ray log
+        said = [line for line in stderr.splitlines() if line.startswith("neurowalk: Ray: ")]  # the loss, a line each
+        assert "(raylet)" not in last + stderr and "state-dump" not in last + stderr, (last + stderr)[-3000:]
+        if retries is None:
+            assert sweep.returncode == 0, stderr[-3000:]
+            assert info["counts"]["ok"] == 6 and info["counts"]["error"] == 0, info
+            assert _done(out / "results.sqlite") == 6 and "6 runs: 0 already done, 6 ok, 0 failed" in last
+            assert stderr.strip().splitlines() == said and 1 <= len(said) <= 4, stderr[-3000:]
+            assert any("Raylet is terminated" in line for line in said) and len(set(said)) == len(said)
+            return
+        failed = info["counts"]["error"]
+        assert sweep.returncode == 1 and failed >= 1 and all("WorkerDiedError" in f["error"] for f in info["failures"])
+        assert last.strip().endswith(f"; run the same command again to run the {failed} failed again"), last
     finally:
         for pid in _pids(str(temp)):  # only this cluster's processes (another test's Ray may be running)
             with contextlib.suppress(OSError):

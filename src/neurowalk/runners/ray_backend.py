@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import logging
 import os
+import re
+import sys
 from collections.abc import Callable, Generator, Sequence
 from typing import Any
 
@@ -55,6 +57,8 @@ def start(*, workers: int = 2, address: str | None = None) -> bool:
         return False
     shown = os.environ.get(LOG_ENV, "").strip() == "1"  # Ray's own log in the terminal only where asked for
     quiet = {"log_to_driver": shown, "logging_level": logging.INFO if shown else logging.ERROR}
+    if not shown:
+        _one_line_errors()
     try:
         if address:
             ray.init(address=address, **quiet)
@@ -64,6 +68,34 @@ def start(*, workers: int = 2, address: str | None = None) -> bool:
         where = f"join the Ray cluster at {address!r}" if address else "start a local Ray instance"
         raise RayStartError(f"cannot {where}: {str(e).strip().splitlines()[0] if str(e).strip() else e!r}") from None
     return True
+
+
+def _one_line_errors() -> None:
+    """The errors Ray's cluster reports to the driver (a node's raylet gone: the last lines of its log, some 40) in
+    one line each, on stderr: ``neurowalk: Ray: Raylet is terminated. ...``. Ray's driver prints them whole on
+    stdout from a thread of its own, through ``ray._private.worker.print_to_stdstream`` (Ray 2.40 to 2.60; where a
+    Ray has none, its own printing stays)."""
+    import importlib
+
+    worker = importlib.import_module("ray._private.worker")
+    whole = getattr(worker, "print_to_stdstream", None)
+    if whole is None or getattr(whole, "one_line", False):
+        return
+
+    said: set[str] = set()
+
+    def one_line(data: dict[str, Any], ignore_prefix: bool) -> None:
+        if data.get("pid") != "raylet":  # a worker's own output (shown only with the log): as Ray prints it
+            whole(data, ignore_prefix)
+            return
+        first = next((t.strip() for line in data.get("lines", []) for t in str(line).splitlines() if t.strip()), "")
+        line = " ".join(re.split(r"(?<=\.) ", first)[:2])[:200]  # its first two sentences
+        if line not in said:  # each once (a node's death comes from more than one of Ray's parts)
+            said.add(line)
+            print(f"neurowalk: Ray: {line}", file=sys.stderr, flush=True)
+
+    one_line.one_line = True  # type: ignore[attr-defined]
+    worker.print_to_stdstream = one_line
 
 
 def stop() -> None:
