@@ -3,6 +3,8 @@
 import re
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -90,3 +92,43 @@ def test_each_readme_command_writes_to_its_own_folder():
         assert str(out) not in outs, f"{cmd!r} writes to {out}, as {outs[str(out)]!r} does"
         outs[str(out)] = cmd
     assert len(outs) >= 20
+
+
+#: README commands too long for a test run (minutes to the better part of an hour: the committed reproduction ran
+#: them), or that need a file or an extra the README only names: parsed, not run.
+PARSE_ONLY = ("neurowalk reproduce", "neurowalk figure fig5", "neurowalk figure fig9", "neurowalk figure fig10",
+              "neurowalk study", "neurowalk optimize", "neurowalk view", "neurowalk baseline")  # fmt: skip
+
+
+def _readme_in_order() -> list[str]:
+    """The README's `neurowalk` commands in the order a reader meets them: the first set-up command's, then every
+    inline one (a table's rows, the climbing line, ...)."""
+    text = (ROOT / "README.md").read_text()
+    first = _commands()[0].split("&&")[-1].strip().removeprefix(".venv/bin/")
+    return [first, *re.findall(r"`(neurowalk [^`]*)`", text)]
+
+
+@pytest.mark.slow
+def test_the_readmes_commands_run_in_order_in_a_fresh_folder(tmp_path):
+    """Copied and pasted in order into an empty folder, each command runs (the long ones parse): one command's
+    output folder never stops the next."""
+    import os
+    import shlex
+    import subprocess
+    import sys
+
+    from neurowalk.cli import parse
+
+    cmds = _readme_in_order()
+    assert cmds[0].startswith("neurowalk run") and any("--climb" in c for c in cmds) and len(cmds) >= 15
+    env = {**os.environ, "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}"}
+    ran = []
+    for cmd in dict.fromkeys(cmds):  # a command named twice (prose, then the table) runs once
+        argv = shlex.split(cmd)
+        if cmd.startswith(PARSE_ONLY):
+            parse(argv[1:])
+            continue
+        done = subprocess.run(argv, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=600)
+        assert done.returncode == 0, f"{cmd}:\n{done.stdout[-2000:]}\n{done.stderr[-2000:]}"
+        ran.append(cmd)
+    assert len(ran) >= 7 and (tmp_path / "out" / "climb" / "summary.json").is_file()
