@@ -9,6 +9,10 @@ A number in the pages links to the committed JSON file it comes from, with its k
 the top of the raw file and ignores the key. So the site gets one page per linked file, ``numbers/NAME.md``
 (:func:`numbers_page`), a table of every value of the file with an anchor per key, and :func:`to_numbers` points
 each link at its row, which the page highlights; the page links on to the raw file.
+
+A notebook (``notebooks/NAME.ipynb``) is shown as the page ``notebooks/NAME.md`` (:func:`notebook_page`): its
+text cells, its code cells as Python blocks, their stored outputs (printed lines, pictures) below them, and a link
+to the notebook file to download.
 """
 
 from __future__ import annotations
@@ -150,8 +154,34 @@ def to_numbers(markdown: str, page_uri: str, pages: set[str]) -> str:
     return _NUMBER_LINK.sub(point, markdown)
 
 
+def notebook_page(name: str, nb: dict[str, Any]) -> str:
+    """The Markdown page of notebook ``name`` (its file beside the page): its cells in order, each code cell with its
+    stored outputs (text as a text block, a picture inline)."""
+    out = []
+    for cell in nb["cells"]:
+        source = "".join(cell["source"])
+        if cell["cell_type"] == "markdown":
+            out.append(source + "\n")
+            if len(out) == 1:  # after the title and its introduction
+                out.append(f"[Download the notebook]({name}) and run it in Jupyter.\n")
+            continue
+        out.append(f"```python\n{source}\n```\n")
+        for o in cell.get("outputs", []):
+            if o["output_type"] == "stream":
+                out.append(f"```text\n{''.join(o['text']).rstrip()}\n```\n")
+            elif "image/png" in o.get("data", {}):
+                out.append(f"![a picture the cell drew](data:image/png;base64,{o['data']['image/png']})\n")
+            elif "text/plain" in o.get("data", {}):
+                out.append(f"```text\n{''.join(o['data']['text/plain']).rstrip()}\n```\n")
+    return "\n".join(out)
+
+
 def on_files(files: Files, config: Any, **kwargs: Any) -> Files:
-    """mkdocs' hook: add a numbers page for each JSON file that a page links into."""
+    """mkdocs' hook: add a numbers page for each JSON file that a page links into, and a page for each notebook."""
+    for f in list(files):
+        if f.src_uri.startswith("notebooks/") and f.src_uri.endswith(".ipynb"):
+            page = notebook_page(posixpath.basename(f.src_uri), json.loads(f.content_string))
+            files.append(File.generated(config, f.src_uri.removesuffix(".ipynb") + ".md", content=page))
     linked = _linked(files)
     for uri, keys in sorted(linked.items()):
         data = json.loads(files.get_file_from_path(uri).content_string)

@@ -36,7 +36,8 @@ def _site_pages() -> list[str]:
 def test_every_page_of_the_navigation_is_there_and_every_page_is_in_it():
     nav = _site_pages()
     assert "index.md" in nav and "cli.md" in nav and "api.md" in nav and "gallery.md" in nav
-    missing = [p for p in nav if not (ROOT / "docs" / p).is_file()]
+    made = {p for p in nav if (ROOT / "docs" / p).with_suffix(".ipynb").is_file()}  # a notebook's page (the hooks)
+    missing = [p for p in nav if not (ROOT / "docs" / p).is_file() and p not in made]
     assert missing == []
     written = {p.removeprefix("docs/") for p in pages() if p.startswith("docs/")} | {"cli.md", "gallery.md"}
     assert sorted(written - set(nav)) == []  # a page outside the navigation is a page nobody finds
