@@ -6,6 +6,7 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import re
 import signal
 import socket
 import sqlite3
@@ -39,6 +40,18 @@ def _pids(word: str) -> dict[int, str]:
     return out
 
 
+def _agents(raylets: set[int]) -> list[int]:
+    """The processes a raylet of ``raylets`` started (its agents rename themselves ``ray::...``; their environment
+    names their raylet)."""
+    out = []
+    for env in Path("/proc").glob("[0-9]*/environ"):
+        with contextlib.suppress(OSError):
+            found = re.search(rb"RAY_RAYLET_PID=(\d+)", env.read_bytes())
+            if found and int(found.group(1)) in raylets:
+                out.append(int(env.parent.name))
+    return out
+
+
 def _raylets(temp: Path) -> list[int]:
     """The raylets (one per node) of the cluster whose session files are in ``temp``."""
     return [p for p, line in _pids(str(temp)).items() if line.split(" ", 1)[0].endswith("/raylet")]
@@ -65,12 +78,14 @@ def test_a_ray_sweep_survives_a_lost_node_with_default_flags(retries: str | None
     env = {**os.environ, "RAY_USAGE_STATS_ENABLED": "0", "RAY_AUTH_MODE": "disabled"}  # a local test cluster
     address = f"127.0.0.1:{port}"
     start = [RAY, "start", "--num-cpus=1", "--disable-usage-stats"]
+    raylets: set[int] = set()
     try:
         subprocess.run([*start, "--head", f"--port={port}", "--include-dashboard=false", f"--temp-dir={temp}"],
                        env=env, check=True, capture_output=True, timeout=120)  # fmt: skip
         before = set(_raylets(temp))
         subprocess.run([*start, f"--address={address}"], env=env, check=True, capture_output=True, timeout=120)
-        second = sorted(set(_raylets(temp)) - before)
+        raylets = set(_raylets(temp))
+        second = sorted(raylets - before)
         assert len(second) == 1, f"the second node's raylet: {second}"
         out = tmp_path / "sweep"
         cmd = [sys.executable, "-m", "neurowalk", "sweep", "--arena", "box", "--seeds", "6", "--steps", "600",
@@ -97,7 +112,7 @@ def test_a_ray_sweep_survives_a_lost_node_with_default_flags(retries: str | None
         failed = info["counts"]["error"]
         assert sweep.returncode == 1 and failed >= 1 and all("WorkerDiedError" in f["error"] for f in info["failures"])
         assert last.strip().endswith(f"; run the same command again to run the {failed} failed again"), last
-    finally:
-        for pid in _pids(str(temp)):  # only this cluster's processes (another test's Ray may be running)
+    finally:  # only this cluster's processes (another test's Ray may be running), its raylets' agents too
+        for pid in [*_pids(str(temp)), *_agents(raylets)]:
             with contextlib.suppress(OSError):
                 os.kill(pid, signal.SIGKILL)
