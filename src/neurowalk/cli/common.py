@@ -76,14 +76,6 @@ def registry_names(name: str) -> tuple[str, ...]:
     return tuple(sorted(names)) if name == "arenas" else names
 
 
-def known(what: str, name: str, registry: str) -> str:
-    """``name`` if registry ``registry`` holds it, else UsageError: "unknown WHAT 'NAME'; expected one of ..."."""
-    names = registry_names(registry)
-    if name not in names:
-        raise UsageError(f"unknown {what} {name!r}; expected one of {', '.join(names)}")
-    return name
-
-
 @contextlib.contextmanager
 def usage_errors(*errors: type[Exception]) -> Iterator[None]:
     """Inside the block an error of ``errors`` (default ValueError: a library's own check of a value) is bad input:
