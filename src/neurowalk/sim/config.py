@@ -87,7 +87,7 @@ class EpisodeConfig:
     until: str | None = None  # "escaped": stop once the trunk is in the exit region (outcome decided); None: all steps
 
     def __post_init__(self) -> None:
-        self._check()
+        body_opts, params = self._check()
         canonical = {
             "arena_opts": FrozenDict(typed_arena_opts(self.arena, self.arena_opts)),
             # the body's options and the parameters as given (checked): a run's summary shows them as they came
@@ -107,13 +107,14 @@ class EpisodeConfig:
         # the body's options as numbers or names, the parameters checked
         parts = {
             "arena_opts": json.dumps(to_jsonable({**arena_options(self.arena), **self.arena_opts})),
-            "body_opts": check_body_opts(self.body, dict(self.body_opts)),
-            "params": check_overrides(self.params) if self.params else None,
+            "body_opts": body_opts,
+            "params": params if self.params else None,
         }
         object.__setattr__(self, "_spec_parts", parts)
 
-    def _check(self) -> None:
-        """Every field's value, each against the others (ValueError naming the field, the value, what is allowed)."""
+    def _check(self) -> tuple[dict[str, Any], dict[str, Any] | None]:
+        """Every field's value, each against the others (ValueError naming the field, the value, what is allowed);
+        the body's options and the parameters as they check out (numbers, a named option as its name)."""
         for name in ("arena", "controller", "body", "variant", "gait", "engine"):
             if not isinstance(getattr(self, name), str):
                 raise ValueError(f"{name} must be a name, got {getattr(self, name)!r}")
@@ -126,9 +127,8 @@ class EpisodeConfig:
         if self.controller not in CONTROLLERS:
             raise ValueError(f"unknown controller {self.controller!r}; expected one of {', '.join(CONTROLLERS)}")
         info = body_info(self.body)  # raises on an unknown body
-        check_body_opts(self.body, dict(self.body_opts))
-        if self.params is not None:
-            check_overrides(self.params)
+        body_opts = check_body_opts(self.body, dict(self.body_opts))
+        params = check_overrides(self.params) if self.params is not None else None
         if not _whole(self.steps) or not 1 <= self.steps <= MAX_STEPS:
             raise ValueError(f"steps must be a whole number from 1 to {MAX_STEPS:,}, got {self.steps!r}")
         if not _whole(self.seed) or not 0 <= self.seed < 2**63:
@@ -164,6 +164,7 @@ class EpisodeConfig:
         if not info.physics and self.control_hz != (hz := load_calibration(body=self.body).control_hz):
             raise ValueError(f"body {self.body!r} is calibrated at {hz} Hz, got control_hz {self.control_hz!r}")
         info.check_gait(self.gait)
+        return body_opts, params
 
     @property
     def climbing(self) -> bool:
