@@ -183,7 +183,7 @@ def _run_and_save(
     """:func:`_run_into` with the page (or None) made."""
     from neurowalk.fileio import write_error
     from neurowalk.runners.stopping import interrupted as interrupted_by_signal
-    from neurowalk.runners.stopping import stop_status
+    from neurowalk.runners.stopping import stop_requested, stop_status
     from neurowalk.sim.episode import RunInterruptedError, Streaming, run_episode
 
     interrupted, resumable = False, _checkpointed(cfg)
@@ -198,6 +198,7 @@ def _run_and_save(
                     keep_rows=False,
                     resume=resume,
                     checkpoint=parts.write_checkpoint if resumable else None,
+                    stop=stop_requested,  # a stop whose KeyboardInterrupt a library swallowed (e.g. amid an import)
                 ),
             )
         except RunInterruptedError as stop:

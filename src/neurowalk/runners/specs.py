@@ -13,11 +13,13 @@ from __future__ import annotations
 
 import itertools
 import json
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 from neurowalk.arenas import ARENAS, arena_options, make_arena
 from neurowalk.fileio import to_jsonable
+from neurowalk.runners.stopping import stop_requested
 from neurowalk.sim.config import DEFAULTS, FIELDS, LATER
 from neurowalk.sim.episode import Episode, EpisodeConfig, RunInterruptedError, Streaming, run_episode
 
@@ -37,7 +39,11 @@ def spec_key(spec: Spec) -> str:
 
 def episode_of(spec: Spec, stream: Streaming | None = None) -> Episode:
     """Run one spec to the end (``stream``: streamed, as :func:`~neurowalk.sim.episode.run_episode`); a stop
-    (Ctrl-C) raises KeyboardInterrupt, for a half run is not a result."""
+    (Ctrl-C) raises KeyboardInterrupt, for a half run is not a result. The run asks :func:`stop_requested` as it
+    goes unless ``stream`` asks something else (a stop whose KeyboardInterrupt a library swallowed)."""
+    stream = stream or Streaming()
+    if stream.stop is None:
+        stream = replace(stream, stop=stop_requested)
     try:
         return run_episode(EpisodeConfig.from_spec(spec), stream=stream)
     except RunInterruptedError:

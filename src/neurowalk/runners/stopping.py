@@ -9,16 +9,22 @@
   reports it: 130 for SIGINT, 143 for SIGTERM.
 * :func:`deferred` guards a step that a signal must not cut in two (starting a pool's workers, storing a finished
   run, the files written at the end): SIGINT and SIGTERM that come during it are held and delivered when it ends.
-* :func:`stop_requested`: a stop signal came. A KeyboardInterrupt can be lost where a library swallows it (e.g.
-  one raised inside a ctypes callback is printed and dropped); loops that wait for work look here as well, and
-  :func:`interrupted` tells a command that an error it meets is such an interrupt in disguise.
+* :func:`stop_requested`: a stop signal came. A KeyboardInterrupt can be lost where a library swallows it; loops
+  that wait for work look here as well, and :func:`interrupted` tells a command that an error it meets is such an
+  interrupt in disguise. One raised inside a ctypes callback (numba compiles its runtime through llvmlite's, in
+  every process, a moment after a command's start) is handed to ``sys.unraisablehook``, printed and dropped: inside
+  a block that hook raises it again, unprinted, once the callback has returned (the work went on, all 18 s of
+  it, and exited 0, when such a Ctrl-C was dropped).
 """
 
 from __future__ import annotations
 
+import _thread
 import contextlib
 import signal
+import sys
 import threading
+import time
 from collections.abc import Iterator
 from typing import Any
 
@@ -27,6 +33,8 @@ STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 _requested: list[int] = []  # the stop signals the open blocks of :func:`stop_on_signals` got (empty: none)
 _first: list[int] = []  # the first of them, kept after the blocks end (the exit status), until the next block
 _depth = 0  # blocks of :func:`stop_on_signals` open (nested: the command's own inside the entry point's)
+_dropped: list[bool] = []  # the KeyboardInterrupt of the first stop signal was swallowed: raise it again
+_hooked: list[bool] = []  # the unraisable-exception hook of :func:`_raise_again` is running
 
 
 def stop_requested() -> bool:
@@ -73,14 +81,21 @@ def stop_on_signals(then: Any = None) -> Iterator[None]:
         return
 
     def stop(signum: int, frame: Any) -> None:
+        if _dropped:  # the interrupt raised again (:func:`_raise_again`), not a new signal
+            if not _hooked:  # (not while that hook runs: it is inside the callback)
+                _dropped.clear()
+                raise KeyboardInterrupt
+            return
         first = not _requested
         _requested.append(signum)
         if first:
             _first.append(signum)
             raise KeyboardInterrupt
 
-    if not _depth:
+    outermost = not _depth
+    if outermost:
         _first.clear()
+        hook, sys.unraisablehook = sys.unraisablehook, _raise_again(sys.unraisablehook)
     old = {}
     _depth += 1
     try:
@@ -91,8 +106,10 @@ def stop_on_signals(then: Any = None) -> Iterator[None]:
         for sig, handler in old.items():
             signal.signal(sig, handler if then is None else then)
         _depth -= 1
-        if not _depth:
+        if outermost:
             _requested.clear()
+            _dropped.clear()
+            sys.unraisablehook = hook
 
 
 @contextlib.contextmanager
@@ -123,3 +140,37 @@ def deferred() -> Iterator[None]:
             signal.signal(sig, handler)
         for sig in dict.fromkeys(held):
             signal.raise_signal(sig)
+
+
+def _raise_again(hook: Any) -> Any:
+    """An unraisable-exception hook that, for the KeyboardInterrupt of a stop signal that a callback swallowed, asks
+    for it again; anything else goes to ``hook``.
+
+    The hook itself runs inside the callback, where a KeyboardInterrupt is swallowed again: a thread asks
+    (``_thread.interrupt_main``, every millisecond) until the handler has raised it in Python code of the main thread
+    that was not itself a callback's (a raise swallowed again comes back here and asks anew).
+    """
+
+    def unraisable(u: Any) -> None:
+        if _requested and issubclass(u.exc_type, KeyboardInterrupt) and _in_main_thread():
+            _hooked.append(True)
+            try:
+                _dropped.append(True)
+                if not any(t.name == _ASKER and t.is_alive() for t in threading.enumerate()):
+                    threading.Thread(target=_ask_again, args=(_first[0],), name=_ASKER, daemon=True).start()
+            finally:
+                _hooked.clear()
+            return
+        hook(u)
+
+    return unraisable
+
+
+_ASKER = "neurowalk-stop-again"
+
+
+def _ask_again(signum: int) -> None:
+    """Simulate ``signum`` in the main thread every millisecond while a swallowed interrupt waits to be raised."""
+    while _dropped:
+        _thread.interrupt_main(signum)
+        time.sleep(0.001)

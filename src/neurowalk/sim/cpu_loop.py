@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import contextlib
 import time
+from collections.abc import Callable
 from typing import Any
 
 from neurowalk import profiling
@@ -61,7 +62,7 @@ class CpuLoop(OneWorldPerCall):
         stop_region = arena.exit_region if cfg.until == "escaped" else None
         stopped = False
         try:
-            done = _loop(cfg, body, ctrl, rec, bar, start, stream.checkpoint, stop_region)
+            done = _loop(cfg, body, ctrl, rec, bar, start, stream.checkpoint, stop_region, stream.stop)
             stopped = done < cfg.steps
         except KeyboardInterrupt:
             done = rec.done()
@@ -93,9 +94,11 @@ def _loop(
     start: int,
     checkpoint: Any,
     stop_region: tuple[float, float, float, float] | None = None,
+    stop: Callable[[], bool] | None = None,
 ) -> int:
     """The control loop proper, from step ``start``; returns the number of completed steps (fewer than
-    ``cfg.steps`` where the trunk centre, ``qpos[0:2]``, entered ``stop_region`` (x0, x1, y0, y1; m))."""
+    ``cfg.steps`` where the trunk centre, ``qpos[0:2]``, entered ``stop_region`` (x0, x1, y0, y1; m)).
+    ``stop()`` True (asked every 100 steps) ends it as a KeyboardInterrupt would (:class:`Streaming`)."""
     d = body.data
     has_weights = hasattr(ctrl, "b")
     buf, base = rec.buf, rec.base
@@ -127,8 +130,11 @@ def _loop(
             buf.qpos[i] = d.qpos
             buf.t[i] = d.time  # last: a row with a time is complete
             done = k + 1
-            if bar is not None and k % 100 == 99:
-                bar.update(100)
+            if k % 100 == 99:
+                if bar is not None:
+                    bar.update(100)
+                if stop is not None and stop():
+                    raise KeyboardInterrupt
             if stop_region is not None and _inside(d.qpos, stop_region):
                 return done
             if (k + 1) % rec.chunk == 0:

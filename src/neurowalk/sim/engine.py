@@ -86,6 +86,10 @@ class Streaming:
             :class:`~neurowalk.sim.checkpoint.Checkpoint` of the whole body and controller.
         resume: resumable engines: go on from such a checkpoint, bit for bit the run that was not stopped.
         picture_rows: with ``keep_rows=False``, the most rows ``Episode.trajectory`` keeps (for a picture).
+        stop: if given, the one-world engines ask it as the run goes (the physics loop every 100 steps, the planar
+            one every chunk): True stops the run there as a KeyboardInterrupt would. A command gives its
+            ``stop_requested``: a stop signal came whose KeyboardInterrupt a library swallowed (one silently
+            dropped amid numpy's imports let a 3,000,000-step run go on to its end).
     """
 
     sink: Callable[[Trajectory, int], Any] | None = None
@@ -94,6 +98,7 @@ class Streaming:
     checkpoint: Callable[[Checkpoint], Any] | None = None
     resume: Resume | None = None
     picture_rows: int = PICTURE_ROWS
+    stop: Callable[[], bool] | None = None
 
     def __post_init__(self) -> None:
         if self.chunk < 1:

@@ -8,6 +8,7 @@ contacts, qpos) are NaN or empty; ``up_z`` is 1.
 from __future__ import annotations
 
 import time
+from collections.abc import Callable
 from typing import Any
 
 import numpy as np
@@ -53,6 +54,7 @@ def run_surrogate_episode(
     chunk: int = 10_000,
     keep_rows: bool = True,
     picture_rows: int = PICTURE_ROWS,
+    stop: Callable[[], bool] | None = None,
 ) -> Episode:
     """:func:`neurowalk.sim.episode.run_episode` for the planar bodies (same arguments and errors).
 
@@ -74,18 +76,20 @@ def run_surrogate_episode(
     bar = progress_bar(cfg.steps, progress)
     last = [0]
 
-    def on_chunk(stop: int) -> None:
+    def on_chunk(end: int) -> None:
+        if stop is not None and stop():  # before its rows are handed on: this chunk does not count
+            raise KeyboardInterrupt
         start = last[0]
         if keeper is not None:
-            rows = trajectory_of(run, cfg.control_hz, fixed, start).head(stop - start)
+            rows = trajectory_of(run, cfg.control_hz, fixed, start).head(end - start)
             if sink is not None:
                 sink(rows, start)
-            keeper.keep(rows, start, stop)
+            keeper.keep(rows, start, end)
         elif sink is not None:  # (no views are made when nobody takes them)
-            sink(trajectory_of(run, cfg.control_hz, fixed).rows(start, stop), start)
-        last[0] = stop
+            sink(trajectory_of(run, cfg.control_hz, fixed).rows(start, end), start)
+        last[0] = end
         if bar is not None:
-            bar.update(stop - start)
+            bar.update(end - start)
 
     t0 = time.perf_counter()
     body.run(
@@ -132,4 +136,5 @@ class SurrogateLoop(OneWorldPerCall):
             chunk=stream.chunk,
             keep_rows=stream.keep_rows,
             picture_rows=stream.picture_rows,
+            stop=stream.stop,
         )
