@@ -40,12 +40,14 @@ run also compiles the simulation's kernels, once: some seconds).""",
     ),
     (
         "code",
-        """from neurowalk import EpisodeConfig, run_episode, plot_run
+        """from neurowalk import EpisodeConfig, plot_run, run_episode
 
 ep = run_episode(EpisodeConfig(arena="box", controller="plastic", steps=1500))
 s = ep.summary
-print(f"{s['steps']} steps, {s['steps'] / s['control_hz']:.0f} s simulated: ended {s['net_displacement_m']:.2f} m "
-      f"from its start, turned {s['heading_change_deg']:+.0f} deg")""",
+print(
+    f"{s['steps']} steps, {s['steps'] / s['control_hz']:.0f} s simulated: ended {s['net_displacement_m']:.2f} m "
+    f"from its start, turned {s['heading_change_deg']:+.0f} deg"
+)""",
     ),
     (
         "markdown",
@@ -86,8 +88,7 @@ result store of its folder, so that running the cell again takes them from there
 def runs(s):
     for controller in ("static", "plastic"):
         for seed in s.seed_range(full=4):
-            cfg = EpisodeConfig(arena="narrow-passage", controller=controller, body="surrogate", steps=10000,
-                                seed=seed)
+            cfg = EpisodeConfig(arena="narrow-passage", controller=controller, body="surrogate", steps=10000, seed=seed)
             yield Plan(controller, cfg)
 
 
