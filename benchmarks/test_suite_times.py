@@ -49,6 +49,9 @@ def main() -> None:
             "tests": outcomes(last),
         }
         print(f"{name}: {wall:.0f} s, {last}", flush=True)
+        for line in done.stdout.splitlines():  # what failed, by name (pytest's -ra summary)
+            if line.startswith(("FAILED", "ERROR")):
+                print(f"  {line}", flush=True)
     write_json(args.out, out)
     print(f"wrote {args.out}")
 
