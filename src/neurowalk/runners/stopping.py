@@ -9,12 +9,13 @@
   reports it: 130 for SIGINT, 143 for SIGTERM.
 * :func:`deferred` guards a step that a signal must not cut in two (starting a pool's workers, storing a finished
   run, the files written at the end): SIGINT and SIGTERM that come during it are held and delivered when it ends.
-* :func:`stop_requested`: a stop signal came. A KeyboardInterrupt can be lost where a library swallows it; loops
-  that wait for work look here as well, and :func:`interrupted` tells a command that an error it meets is such an
-  interrupt in disguise. One raised inside a ctypes callback (numba compiles its runtime through llvmlite's, in
-  every process, a moment after a command's start) is handed to ``sys.unraisablehook``, printed and dropped: inside
-  a block that hook raises it again, unprinted, once the callback has returned (the work went on, all 18 s of
-  it, and exited 0, when such a Ctrl-C was dropped).
+* :func:`stop_requested`: a stop signal came. A KeyboardInterrupt can be lost where a library swallows it: amid
+  numpy.random's import it is cleared silently (a run then went on to its end and exited 0); loops that wait for
+  work and the runs themselves (``Streaming.stop``) look here as well, and :func:`interrupted` tells a command that
+  an error it meets is such an interrupt in disguise. One raised inside a ctypes callback (numba compiles its
+  runtime through llvmlite's, in every process, a moment after a command's start) is handed to
+  ``sys.unraisablehook``, printed and dropped: inside a block that hook raises it again, unprinted, once the
+  callback has returned.
 """
 
 from __future__ import annotations
