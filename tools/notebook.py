@@ -1,29 +1,20 @@
 """Make docs/notebooks/first_run.ipynb: a first run in Jupyter (a run, its picture, the weights, a small study),
-its cells run here in order as Jupyter runs them, their printed lines and pictures stored as the cells' outputs.
+its cells run in order by a real Jupyter kernel (nbclient), their printed lines and inline pictures stored as the
+cells' outputs.
 
-``tests/docs/test_notebook.py`` runs the committed notebook's cells again in an empty folder and holds their printed
-lines to the stored ones; the site shows it as a page (``mkdocs_hooks.py``).
+``tests/docs/test_notebook.py`` runs the committed notebook again in a Jupyter kernel in an empty folder and holds its
+printed lines and pictures to the stored ones; the site shows it as a page (``mkdocs_hooks.py``).
 
 Run: ``python tools/notebook.py`` (writes docs/notebooks/first_run.ipynb; a minute).
 """
 
 from __future__ import annotations
 
-import ast
-import base64
-import contextlib
-import io
 import json
-import os
 import sys
 import tempfile
 from pathlib import Path
 from typing import Any
-
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt
 
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOK = ROOT / "docs" / "notebooks" / "first_run.ipynb"
@@ -112,60 +103,34 @@ plot(result);""",
 ]
 
 
-def run_cells(cells: list[tuple[str, str]], folder: Path) -> list[list[dict[str, Any]]]:
-    """Run the code cells in order in one namespace, in ``folder``, as Jupyter does with its inline pictures; each
-    cell's outputs: its printed text, then the figures it left open (drawn at the cell's end), then its last
-    expression's value (none where the cell ends in ``;``, as in Jupyter)."""
-    from matplotlib.figure import Figure
+def execute(nb: dict[str, Any], folder: Path, timeout_s: int = 600) -> dict[str, Any]:
+    """``nb`` (nbformat 4, as a dict) with every code cell run in order by a real Jupyter kernel (nbclient,
+    ``python3``), in ``folder``: each cell's outputs as Jupyter makes them (printed text, inline pictures as
+    ``image/png``, a last value's ``execute_result``, none where the cell ends in ``;``)."""
+    import nbformat
+    from nbclient import NotebookClient
 
-    namespace: dict[str, Any] = {}
-    outputs = []
-    here = Path.cwd()
-    os.chdir(folder)
-    try:
-        for kind, source in cells:
-            if kind != "code":
-                outputs.append([])
-                continue
-            tree = ast.parse(source)
-            last = tree.body.pop() if tree.body and isinstance(tree.body[-1], ast.Expr) else None
-            printed = io.StringIO()
-            with contextlib.redirect_stdout(printed):
-                exec(compile(tree, "<cell>", "exec"), namespace)
-                value = eval(compile(ast.Expression(last.value), "<cell>", "eval"), namespace) if last else None
-            if source.rstrip().endswith(";"):
-                value = None
-            out: list[dict[str, Any]] = []
-            if printed.getvalue():
-                out.append({"output_type": "stream", "name": "stdout", "text": printed.getvalue().splitlines(True)})
-            figures = [plt.figure(n) for n in plt.get_fignums()]
-            if isinstance(value, Figure) and value not in figures:
-                figures.append(value)
-            for fig in figures:
-                png = io.BytesIO()
-                fig.savefig(png, format="png", dpi=80)
-                data = {"image/png": base64.b64encode(png.getvalue()).decode(), "text/plain": [repr(fig)]}
-                out.append({"output_type": "display_data", "data": data, "metadata": {}})
-            if value is not None and not isinstance(value, Figure):
-                out.append({"output_type": "execute_result", "data": {"text/plain": [repr(value)]}, "metadata": {},
-                            "execution_count": None})  # fmt: skip
-            outputs.append(out)
-            plt.close("all")
-    finally:
-        os.chdir(here)
-    return outputs
+    book = nbformat.from_dict(nb)
+    NotebookClient(
+        book, timeout=timeout_s, kernel_name="python3", resources={"metadata": {"path": str(folder)}}
+    ).execute()
+    return json.loads(nbformat.writes(book))
 
 
-def notebook(cells: list[tuple[str, str]], outputs: list[list[dict[str, Any]]]) -> dict[str, Any]:
-    """The notebook (nbformat 4) of ``cells`` with their ``outputs``."""
+def pictures(nb: dict[str, Any]) -> list[int]:
+    """How many ``image/png`` outputs each code cell of ``nb`` has."""
+    return [
+        sum("image/png" in o.get("data", {}) for o in c["outputs"]) for c in nb["cells"] if c["cell_type"] == "code"
+    ]
+
+
+def notebook(cells: list[tuple[str, str]]) -> dict[str, Any]:
+    """The notebook (nbformat 4) of ``cells``, not yet run."""
     out = []
-    count = 0
-    for (kind, source), produced in zip(cells, outputs, strict=True):
-        cell: dict[str, Any] = {"cell_type": kind, "metadata": {}, "source": source.splitlines(True)}
+    for kind, source in cells:
+        cell: dict[str, Any] = {"cell_type": kind, "metadata": {}, "source": source}
         if kind == "code":
-            count += 1
-            cell.update(execution_count=count, outputs=[{**o, "execution_count": count} if o["output_type"] ==
-                                                        "execute_result" else o for o in produced])  # fmt: skip
+            cell.update(execution_count=None, outputs=[])
         out.append(cell)
     meta = {"kernelspec": {"display_name": "Python 3", "language": "python", "name": "python3"},
             "language_info": {"name": "python"}}  # fmt: skip
@@ -174,9 +139,14 @@ def notebook(cells: list[tuple[str, str]], outputs: list[list[dict[str, Any]]]) 
 
 def main() -> int:
     with tempfile.TemporaryDirectory() as tmp:
-        outputs = run_cells(CELLS, Path(tmp))
+        nb = execute(notebook(CELLS), Path(tmp))
+    for cell in nb["cells"]:  # the kernel's timings, ids and progress bars (stderr) say nothing of the notebook
+        cell.pop("id", None)
+        cell["metadata"] = {}
+        if cell["cell_type"] == "code":
+            cell["outputs"] = [o for o in cell["outputs"] if o.get("name") != "stderr"]
     NOTEBOOK.parent.mkdir(parents=True, exist_ok=True)
-    NOTEBOOK.write_text(json.dumps(notebook(CELLS, outputs), indent=1) + "\n", encoding="utf-8")
+    NOTEBOOK.write_text(json.dumps(nb, indent=1) + "\n", encoding="utf-8")
     print(f"wrote {NOTEBOOK}")
     return 0
 

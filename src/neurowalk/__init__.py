@@ -54,6 +54,8 @@ _LAZY = {
     "Kept": "neurowalk.experiments.stores",
     "RunSummary": "neurowalk.sim.run_summary",
     "make_arena": "neurowalk.arenas",
+    "table2_environments": "neurowalk.sim.table2",
+    "table2_config": "neurowalk.sim.table2",
     "ARENAS": "neurowalk.arenas",
     "make_body": "neurowalk.body.registry",
     "BODIES": "neurowalk.body.registry",
@@ -94,6 +96,8 @@ __all__ = [  # noqa: RUF022 (grouped by what they are)
     "RunSummary",
     # worlds, robots, engines
     "make_arena",
+    "table2_environments",
+    "table2_config",
     "ARENAS",
     "make_body",
     "BODIES",

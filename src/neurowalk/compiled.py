@@ -1,12 +1,13 @@
-"""Compiled step functions: numba with an on-disk cache keyed on the whole package's source.
+"""Compiled step functions: numba with an on-disk cache keyed on the code that computes runs.
 
 numba's own cache (``cache=True``) keys a compiled function on its own file only: a function that calls
 a function of another file keeps running the old callee after that file is edited, silently. So every
 compiled function of neurowalk is made by :func:`jit`, which puts numba's cache in a directory named
-after the package version and a hash of all of the package's source files: any edit anywhere gives a
-fresh directory, so nothing stale is ever loaded. The directory is under ``NUMBA_CACHE_DIR`` when that
-is set, else under ``$XDG_CACHE_HOME/neurowalk/numba`` (``~/.cache/neurowalk/numba``); numba's setting
-for other libraries is left as it was.
+after the package version and the code's fingerprint (:func:`neurowalk.fingerprint.code`, the same code a result
+store keys its runs by; a user's file that compiles its own function with :func:`jit` is part of that function's
+key): any edit of that code gives a fresh directory, so nothing stale is ever loaded. The directory is under
+``NUMBA_CACHE_DIR`` when that is set, else under ``$XDG_CACHE_HOME/neurowalk/numba`` (``~/.cache/neurowalk/numba``);
+numba's setting for other libraries is left as it was.
 
 Parallel kernels (:func:`jit_parallel`) run on numba's ``workqueue`` threading layer unless
 ``NUMBA_THREADING_LAYER`` says otherwise. numba's default on PyPI's wheels is OpenMP, whose threads spin while they
@@ -23,7 +24,6 @@ found: never on a warm cache.
 
 from __future__ import annotations
 
-import hashlib
 import os
 from collections.abc import Callable
 from functools import cache
@@ -34,37 +34,34 @@ from typing import Any, TypeVar
 from numba import config, njit
 from numba.core import event
 
-from neurowalk import progress
+from neurowalk import fingerprint, progress
 
 F = TypeVar("F", bound=Callable[..., Any])
 #: numba's threading layer for neurowalk's parallel kernels where ``NUMBA_THREADING_LAYER`` does not choose one.
 THREADING_LAYER = "workqueue"
 if "NUMBA_THREADING_LAYER" not in os.environ:
     config.THREADING_LAYER = THREADING_LAYER
-PACKAGE = Path(__file__).resolve().parent
 
 
 @cache
-def source_key() -> str:
-    """``VERSION-HASH``: the installed version and the SHA-256 (16 hex digits) of every ``.py`` file of the package."""
-    h = hashlib.sha256()
-    for path in sorted(PACKAGE.rglob("*.py")):
-        h.update(path.relative_to(PACKAGE).as_posix().encode())
-        h.update(path.read_bytes())
+def source_key(files: tuple[Path, ...] = ()) -> str:
+    """``VERSION-CODE``: the installed version and :func:`neurowalk.fingerprint.code` of the package with the user's
+    ``files``."""
     try:
         version = metadata.version("neurowalk")
     except metadata.PackageNotFoundError:
         version = "unknown"
-    return f"{version}-{h.hexdigest()[:16]}"
+    return f"{version}-{fingerprint.code(files)}"
 
 
 @cache
-def cache_dir() -> Path:
-    """Where neurowalk's compiled functions are cached (see the module doc)."""
+def cache_dir(files: tuple[Path, ...] = ()) -> Path:
+    """Where neurowalk's compiled functions are cached (see the module doc); ``files``: the user's files of a
+    function compiled outside the package."""
     base = os.environ.get("NUMBA_CACHE_DIR") or os.path.join(
         os.environ.get("XDG_CACHE_HOME") or os.path.join(Path.home(), ".cache"), "neurowalk", "numba"
     )
-    return Path(base) / source_key()
+    return Path(base) / source_key(files)
 
 
 def jit(fn: F) -> F:
@@ -96,7 +93,7 @@ event.register("numba:compile", _CompileNote())
 
 def _compiled(fn: F, parallel: bool) -> F:
     old = config.CACHE_DIR
-    config.CACHE_DIR = str(cache_dir())
+    config.CACHE_DIR = str(cache_dir(tuple(fingerprint.user_files(fn))))
     try:
         return njit(cache=True, parallel=parallel)(fn)
     finally:

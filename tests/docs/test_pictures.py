@@ -26,7 +26,7 @@ assert _spec is not None and _spec.loader is not None
 pictures = sys.modules["pictures"] = importlib.util.module_from_spec(_spec)  # its dataclass looks itself up there
 _spec.loader.exec_module(pictures)
 #: Keys of a run's summary that say where and how fast it ran, not what the robot did.
-MACHINE = {"wall_time_s", "real_time_factor", "neurowalk_version"}
+MACHINE = {"wall_time_s", "real_time_factor", "neurowalk_version", "code"}
 
 
 @pytest.fixture(scope="module")

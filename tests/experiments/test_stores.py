@@ -31,9 +31,9 @@ END = Term("test end", keep_end, arrays={"end": "float64"})
 CONFIGS = [EpisodeConfig(arena="open", body="surrogate", steps=20, seed=s) for s in range(3)]
 
 
-def finished(path: Path) -> dict[str, str]:
-    """Each stored run's key and when it finished."""
-    with ResultStore(path) as store:
+def finished(path: Path, code: str | None = None) -> dict[str, str]:
+    """Each stored run's key and when it finished (of ``code``: a study's, whose file is part of it)."""
+    with ResultStore(path, code) as store:
         return {r["key"]: r["finished_at"] for r in store.rows()}
 
 
@@ -85,9 +85,10 @@ def test_a_run_one_study_made_is_taken_by_another_with_shared_runs(tmp_path: Pat
 
     shared = tmp_path / "runs"
     a = compute(study("first", CONFIGS), Settings(out=tmp_path / "a", shared_runs=shared, workers=1))
-    before = finished(shared / "results.sqlite")
+    before = finished(shared / "results.sqlite", a.code)
     b = compute(study("second", [*CONFIGS[:2], other]), Settings(out=tmp_path / "b", shared_runs=shared))
-    after = finished(shared / "results.sqlite")
+    after = finished(shared / "results.sqlite", b.code)
+    assert a.code == b.code  # the same file's studies
     assert {k: after[k] for k in before} == before and len(after) == 4  # two taken, one made
     assert b.summary["paths"][:2] == a.summary["paths"][:2]
     assert not (tmp_path / "a" / "results.sqlite").exists() and not (tmp_path / "b" / "results.sqlite").exists()

@@ -97,12 +97,13 @@ def test_run_study_writes_its_files_and_resumes_from_its_store(tmp_path: Path):
     assert set(paths) == {"png", "json"} and all(p.is_file() for p in paths.values())
     assert list(result.summary) == ["static", "plastic"]  # what its measure returned, nothing added
     assert all(len(result.summary[k]) == 2 for k in ("static", "plastic"))
-    assert json.loads(paths["json"].read_text()) == result.summary
-    with ResultStore(tmp_path / "results.sqlite") as store:
+    code = result.code  # of the package and this file (the study's)
+    assert json.loads(paths["json"].read_text()) == {**result.summary, "quick": True, "code": code} and len(code) == 16
+    with ResultStore(tmp_path / "results.sqlite", code) as store:
         first = {row["key"]: row["finished_at"] for row in store.rows()}
     assert len(first) == 4
     again = compute(TINY, s.replace(seeds=3))  # one more seed: only its two runs run
-    with ResultStore(tmp_path / "results.sqlite") as store:
+    with ResultStore(tmp_path / "results.sqlite", code) as store:
         rows = {row["key"]: row["finished_at"] for row in store.rows()}
     assert len(rows) == 6 and all(rows[k] == t for k, t in first.items())
     assert [again.summary[k][:2] for k in ("static", "plastic")] == [result.summary[k] for k in ("static", "plastic")]
@@ -267,7 +268,7 @@ def test_a_run_stored_with_another_physics_runs_again(tmp_path: Path):
     study = Study("older", "physics", plot=_plot, runs=runs, measure=lambda s, r: {"x": [k.final_pose for k in r["a"]]})
     s = Settings(out=tmp_path, workers=1)
     first = compute(study, s)
-    with ResultStore(tmp_path / "results.sqlite") as store:
+    with ResultStore(tmp_path / "results.sqlite", first.code) as store:
         rows = {r["key"]: r for r in store.rows()}
         older = walk.replace(seed=0).key()
         former = {
@@ -277,7 +278,7 @@ def test_a_run_stored_with_another_physics_runs_again(tmp_path: Path):
         store.put(older, rows[older]["spec"], result=former)
         before = {k: store.rows(keys=[k])[0]["finished_at"] for k in rows}
     again = compute(study, s)
-    with ResultStore(tmp_path / "results.sqlite") as store:
+    with ResultStore(tmp_path / "results.sqlite", first.code) as store:
         after = {k: store.rows(keys=[k])[0]["finished_at"] for k in rows}
         assert store.results(keys=[older])[older]["physics"]["integrator"] == "discrete"
     assert after[older] != before[older] and all(after[k] == before[k] for k in rows if k != older)

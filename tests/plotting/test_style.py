@@ -3,6 +3,9 @@ network, real tables; every check on a drawn figure (window extents in pixels)."
 
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import matplotlib
 import numpy as np
 import pytest
@@ -12,7 +15,8 @@ from neurowalk.plotting import style
 
 @pytest.fixture
 def plt():
-    return style.pyplot()
+    with style.look():
+        yield style.pyplot()
 
 
 def _extent(fig, artist):
@@ -20,10 +24,47 @@ def _extent(fig, artist):
     return artist.get_window_extent(fig.canvas.get_renderer())
 
 
-def test_pyplot_sets_the_talk_sizes(plt):
-    assert matplotlib.rcParams["font.size"] == style.RC["font.size"] >= 11
-    assert matplotlib.rcParams["axes.labelsize"] == style.RC["axes.labelsize"]
-    assert matplotlib.get_backend().lower() == "agg"
+def test_a_styled_figure_has_the_talk_sizes_and_the_process_keeps_its_own():
+    plt = style.pyplot()
+    assert matplotlib.get_backend().lower() == "agg"  # not a user's shell: the non-interactive backend
+    before = dict(matplotlib.rcParams)
+
+    @style.styled
+    def draw():
+        fig, ax = plt.subplots()
+        ax.set(title="t", xlabel="x")
+        ax.plot([0, 1], [0, 1])
+        return fig, ax
+
+    fig, ax = draw()
+    fig.canvas.draw()
+    assert ax.title.get_fontsize() == style.RC["axes.titlesize"] >= 11
+    assert ax.xaxis.label.get_fontsize() == style.RC["axes.labelsize"]
+    assert ax.xaxis.get_major_ticks()[0].label1.get_fontsize() == style.RC["xtick.labelsize"]
+    assert ax.lines[0].get_linewidth() == style.RC["lines.linewidth"]
+    assert dict(matplotlib.rcParams) == before  # nothing of the style stays behind
+    plt.close(fig)
+
+
+SHELL = """
+import matplotlib
+from IPython.core.interactiveshell import InteractiveShell
+InteractiveShell.instance()  # a running IPython shell (get_ipython() finds it), as in a notebook's kernel
+matplotlib.use("svg")  # the user's backend (Jupyter's inline one, in a notebook)
+matplotlib.rcParams["font.size"] = 7.0  # the user's own default
+from neurowalk import EpisodeConfig, plot_run, run_episode
+fig = plot_run(run_episode(EpisodeConfig(arena="open", body="surrogate", steps=30)))
+sizes = sorted({t.get_fontsize() for ax in fig.axes for t in (ax.title, ax.xaxis.label) if t.get_text()})
+print(matplotlib.get_backend(), matplotlib.rcParams["font.size"], sizes)
+"""
+
+
+def test_in_a_users_shell_the_backend_and_defaults_stay_theirs():
+    pytest.importorskip("IPython")  # the test extra's (Jupyter's)
+    done = subprocess.run([sys.executable, "-c", SHELL], capture_output=True, text=True, check=True)
+    out = done.stdout.split(maxsplit=2)
+    assert out[0] == "svg" and float(out[1]) == 7.0  # their backend, their default
+    assert str(float(style.RC["axes.titlesize"])) in out[2]  # neurowalk's figure has neurowalk's sizes
 
 
 def test_letters_sit_bold_at_the_top_left_corner_outside_each_panel(plt):

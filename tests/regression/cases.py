@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 
 #: Fields of a summary that measure the machine, not the run.
-VOLATILE = {"wall_time_s", "real_time_factor", "neurowalk_version", "resumed_at_step"}
+VOLATILE = {"wall_time_s", "real_time_factor", "neurowalk_version", "code", "resumed_at_step"}
 #: Rows of each floating-point array compared on any CPU (the first 5 s of a run at 10 Hz).
 HEAD = 50
 #: A run's outcome-level values: what a figure counts.
@@ -142,7 +142,7 @@ def _figure(name: str, *args: str) -> Callable[[Path], Result]:
         _cli(["figure", name, "--quick", *args, "--out", str(tmp / name)])
         dig = Digest()
         data = json.loads((tmp / name / f"{name}.json").read_text())
-        data = {k: v for k, v in data.items() if "wall" not in k and k != "store"}
+        data = {k: v for k, v in data.items() if "wall" not in k and k not in ("store", "code", "quick")}
         dig.value("json", data)
         floats: dict[str, list[float]] = {}
         shape = _numbers(data, "", floats)  # every bool, int, string and the json's shape: exact anywhere

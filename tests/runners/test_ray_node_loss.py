@@ -1,5 +1,5 @@
-"""A Ray sweep survives a lost node with its default flags: a cluster of two local nodes, one killed midway (its
-raylet gone, as when a machine drops out), and the sweep ends with every run done and exit status 0."""
+"""A Ray sweep survives a lost node with its default flags: a cluster of two local nodes, one killed midway while it
+runs a job (its raylet gone, as when a machine drops out), and the sweep ends with every run done and exit status 0."""
 
 from __future__ import annotations
 
@@ -52,6 +52,16 @@ def _agents(raylets: set[int]) -> list[int]:
     return out
 
 
+def _running(raylet: int) -> bool:
+    """A worker of ``raylet``'s node runs a sweep's job now (Ray names a worker by its task: ``ray::call_timed``;
+    an idle one is ``ray::IDLE``)."""
+    for pid in _agents({raylet}):
+        with contextlib.suppress(OSError):
+            if Path(f"/proc/{pid}/cmdline").read_bytes().startswith(b"ray::call_timed"):
+                return True
+    return False
+
+
 def _raylets(temp: Path) -> list[int]:
     """The raylets (one per node) of the cluster whose session files are in ``temp``."""
     return [p for p, line in _pids(str(temp)).items() if line.split(" ", 1)[0].endswith("/raylet")]
@@ -92,9 +102,10 @@ def test_a_ray_sweep_survives_a_lost_node_with_default_flags(retries: str | None
                "--backend", "ray", "--address", address, "--out", str(out), "--quiet"]  # fmt: skip
         cmd += ["--retries", retries] if retries is not None else []
         sweep = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-        deadline = time.monotonic() + 300
-        while _done(out / "results.sqlite") < 1 and sweep.poll() is None and time.monotonic() < deadline:
-            time.sleep(0.2)
+        deadline = time.monotonic() + 300  # the loss comes once a run is done, while the node runs a job of its own
+        while (_done(out / "results.sqlite") < 1 or not _running(second[0])) and sweep.poll() is None:
+            assert time.monotonic() < deadline, "no job ran on the second node"
+            time.sleep(0.05)
         assert sweep.poll() is None, f"the sweep ended before a node was lost: {sweep.communicate()}"
         for pid in second:  # the node drops out midway: its raylet and, with it, its workers
             os.kill(pid, signal.SIGKILL)

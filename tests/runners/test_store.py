@@ -25,12 +25,12 @@ def test_put_rows_and_replace_error_by_ok(tmp_path):
         assert len(st) == 2 and st.counts() == {"ok": 2, "error": 0}
         assert st.results() == {spec_key(a): {"x": 1.5, "pose": [1, 2, 3]}, spec_key(b): {"x": 2.0}}
         row = st.rows()[0]
-        assert set(row) == {"key", "spec", "status", "result", "error", "wall_time_s", "finished_at"}
+        assert set(row) == {"key", "code", "spec", "status", "result", "error", "wall_time_s", "finished_at"}
         assert row["spec"] in (a, b)
         with pytest.raises(ValueError):
             st.put("k", a)
     with ResultStore(tmp_path / "r.sqlite") as st:  # reopens
-        assert len(st) == 2 and st.meta()["schema_version"] == "1"
+        assert len(st) == 2 and st.meta()["schema_version"] == "2"
 
 
 def test_garbage_file_raises_store_error_naming_the_path(tmp_path):

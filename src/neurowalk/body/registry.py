@@ -23,6 +23,7 @@ import json
 import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import mujoco
@@ -261,6 +262,13 @@ def body_info(name: str) -> BodyInfo:
     if name not in BODIES:
         raise ValueError(f"unknown body {name!r}; expected one of {', '.join(BODIES)}, or mjcf:FILE.xml")
     return BODIES[name]
+
+
+def body_files(name: str) -> tuple[Path, ...]:
+    """The user's files a body of this name reads (``mjcf:FILE``: the file; a built-in body: none): their contents
+    are part of its runs' fingerprint (:func:`neurowalk.fingerprint.code`)."""
+    info = body_info(name)
+    return (Path(name[len(info.prefix) :]),) if info.prefix is not None else ()
 
 
 def bodies_where(test: Any) -> tuple[str, ...]:

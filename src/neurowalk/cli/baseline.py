@@ -52,10 +52,11 @@ def cmd_baseline(args: argparse.Namespace) -> int:
 def kept_line(out: Path) -> str:
     """The line of an interrupted baseline: its training checkpoints in ``out`` (the files) and its held-out scores
     (the policies scored, in its result store)."""
+    from neurowalk.fingerprint import code
     from neurowalk.runners.store import count_finished
 
     files = [str(p.relative_to(out)) for p in sorted(out.glob("training/*/*")) if not p.name.startswith(".")]
-    scored = count_finished(out / "results.sqlite")
+    scored = count_finished(out / "results.sqlite", code=code())
     if scored:
         files.append(f"results.sqlite ({scored} policies scored)")
     if not files:

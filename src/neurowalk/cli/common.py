@@ -317,13 +317,15 @@ def variant_args(p: argparse.ArgumentParser, many: bool = False, only: str | Non
             type=Path,
             default=None,
             metavar="FILE.json",
-            help="SensoryParams fields on top of the variant, e.g. an `optimize` best.json",
+            help="SensoryParams fields on top of the variant, e.g. an `optimize` best.json; a file that names its "
+            "variant is set over it (a --variant that says otherwise is refused), one that names none over --variant",
         )
 
 
 def parse_variant(args: argparse.Namespace) -> tuple[str, dict | None]:
-    """(variant, params overrides) of --variant/--params; a params file names its own base variant."""
-    from neurowalk.neural.variants import get_variant, read_params_file
+    """(variant, params overrides) of --variant/--params: a params file that names its base variant keeps it (a
+    --variant that says otherwise is refused); one that names none is set over --variant (default paper)."""
+    from neurowalk.neural.variants import get_variant, params_variant, read_params_file
 
     params = None
     variant = args.variant
@@ -333,7 +335,7 @@ def parse_variant(args: argparse.Namespace) -> tuple[str, dict | None]:
         if args.params is not None:
             data = read_params_file(args.params)
             params = data["params"]
-            variant = variant or data["variant"]
+            variant = params_variant(args.params, data, variant)
         variant = variant or "paper"
         get_variant(variant, params)
     return variant, params

@@ -68,9 +68,10 @@ def _optimize_kept(out: Path) -> str:
     """The line of an interrupted search: the finished runs in its store and whether its state is saved (read from
     the files)."""
     from neurowalk.experiments.optimize.settings import STATE_FILE
+    from neurowalk.fingerprint import code
     from neurowalk.runners.store import count_finished
 
-    runs, state = count_finished(out / "results.sqlite"), out / STATE_FILE
+    runs, state = count_finished(out / "results.sqlite", code=code()), out / STATE_FILE
     if not runs and not state.is_file():
         return "neurowalk: optimize interrupted before any run finished; nothing is kept"
     kept = f"{runs} finished runs are kept in {out / 'results.sqlite'}"

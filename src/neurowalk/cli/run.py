@@ -273,13 +273,14 @@ def _kept(parts: Any) -> str:
 def _save(out: Path, parts: Any, ep: Any, interrupted: bool) -> None:
     """Write the run's files, all of the same steps: trajectory.npz, run.png, then summary.json (last)."""
     from neurowalk.fileio import atomic_write
-    from neurowalk.plotting import plot_run  # after the run: matplotlib's memory is not held through it
+    from neurowalk.plotting import look, plot_run  # after the run: matplotlib's memory is not held through it
 
     done = ep.summary["steps"]
     if done:
         parts.join(out / "trajectory.npz", done)
         fig = plot_run(ep.trajectory, ep.arena, ep.summary)
-        atomic_write(out / "run.png", lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
+        with look():  # saved in neurowalk's look: tick labels are laid out as it is drawn
+            atomic_write(out / "run.png", lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
     write_json(out / "summary.json", ep.summary)
     if not interrupted:
         parts.remove()  # the run is whole in trajectory.npz

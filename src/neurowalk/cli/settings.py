@@ -82,11 +82,13 @@ def add_settings_args(p: Parser, takes: tuple[str, ...] | None) -> None:
     (where given) are accepted but hidden from the help, and refused by :func:`settings_of`."""
     from neurowalk.experiments.study import OPTIONAL
 
-    p.add_argument("--out", type=Path, default=None, help="output folder (default: out/NAME)")
+    out_help = "output folder (default: out/NAME; out/NAME-quick with --quick)"
+    p.add_argument("--out", type=Path, default=None, help=out_help)
     p.add_argument(
         "--quick",
         action="store_true",
-        help="a first look: the study's quick version (fewer seeds or environments, shorter runs, as it defines)",
+        help="a first look: the study's quick version (fewer seeds or environments, shorter runs, as it defines), "
+        "into a folder of its own (a folder holding the full result is refused)",
     )
     p.add_argument("--seed", type=int, default=0, help="seed of every random draw (default 0)")
     for name in OPTIONAL:
@@ -127,9 +129,10 @@ def settings_of(args: argparse.Namespace, study: Study, what: str, **fields: Any
 
 
 def figure_settings(args: argparse.Namespace, study: Study) -> Settings:
-    """The settings of ``neurowalk figure NAME``: its flags' (out: ``out/NAME``, ``-climb`` and the rate's suffix
-    added where they are given), or every one from ``--settings FILE`` (:func:`settings_file`)."""
-    default = Path("out") / (args.name + ("-climb" if args.climbing else "") + _rate_suffix(args.control_hz))
+    """The settings of ``neurowalk figure NAME``: its flags' (out: ``out/NAME``, ``-climb``, the rate's suffix and
+    ``-quick`` added where they are given), or every one from ``--settings FILE`` (:func:`settings_file`)."""
+    default = Path("out") / (args.name + ("-climb" if args.climbing else "") + _rate_suffix(args.control_hz)
+                             + ("-quick" if args.quick else ""))  # fmt: skip
     if args.settings_file is not None:
         return settings_file(args, study)
     return settings_of(args, study, f"figure {args.name!r}", out=args.out or default, shared_runs=args.shared_runs)

@@ -58,7 +58,8 @@ def cmd_study(args: argparse.Namespace) -> int:
         if not interrupted(e):
             raise
         return stop_line(f"neurowalk: study {args.file} interrupted before it began; nothing was run")
-    settings = settings.replace(out=args.out or Path("out") / study.name)  # type: ignore[attr-defined]
+    default = Path("out") / (study.name + ("-quick" if args.quick else ""))  # type: ignore[attr-defined]
+    settings = settings.replace(out=args.out or default)
     try:
         try:
             check_study(study, settings)  # before anything runs: what is wrong with the file, in one line

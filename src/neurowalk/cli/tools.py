@@ -72,12 +72,13 @@ def cmd_calibrate(args: argparse.Namespace) -> int:
 
 def _calibrate_stopped(args: argparse.Namespace) -> str:
     """The line of a calibration stopped while it measured: whether drives are kept in its store to go on from."""
+    from neurowalk.fingerprint import code
     from neurowalk.runners.store import count_finished
 
     if args.out is None:
         return "neurowalk: calibrate interrupted before it began; nothing was run"
     store = args.out.parent / "results.sqlite"
-    if not store.is_file() or not count_finished(store):
+    if not store.is_file() or not count_finished(store, code=code()):
         return "neurowalk: calibrate interrupted before any of its drives finished; nothing is kept"
     return (
         f"neurowalk: calibrate interrupted before its measurement ended; the drives it finished are kept in {store}: "
@@ -92,6 +93,7 @@ def _calibrate(args: argparse.Namespace) -> int:
         from neurowalk.body.surrogate import CALIBRATION_FILES
         from neurowalk.experiments.calibration.calibrate import calibrate, plot_calibration
         from neurowalk.experiments.calibration.subjects import subject
+        from neurowalk.plotting import look
     from neurowalk.fileio import atomic_write, write_json
 
     with usage_errors():
@@ -109,7 +111,8 @@ def _calibrate(args: argparse.Namespace) -> int:
             written.append(args.out)
         fig = plot_calibration(cal)
         with deferred():
-            atomic_write(png, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
+            with look():
+                atomic_write(png, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
             written.append(png)
     except KeyboardInterrupt:
         missing = "" if png in written else ", without its plot"

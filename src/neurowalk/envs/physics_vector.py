@@ -39,6 +39,7 @@ from neurowalk.envs.task import BOXES, CELL, EXTENT, SIZE, STUCK_RADIUS, STUCK_W
 from neurowalk.envs.vector import copy_seeds
 from neurowalk.envs.vector_kernel import count_cells, first_bad_row, near_obstacles, physics_sense
 from neurowalk.sim.batch_control import BatchControllers
+from neurowalk.sim.table2 import table2_arena, table2_option, table2_seed
 
 DRAW_BLOCK = 256  # control steps of sensor noise drawn per Generator call (the same numbers as step by step)
 
@@ -128,9 +129,13 @@ class ExplorePhysicsVectorEnv(VectorEnv):
     def reset(
         self, *, seed: int | list[int] | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
-        """Every copy anew: copy i from seed ``seed + i`` (or ``seed[i]``); None draws fresh seeds."""
+        """Every copy anew: copy i from seed ``seed + i`` (or ``seed[i]``); None draws fresh seeds.
+        ``options={"table2": i}``: copy k in Table 2's environment i + k (``[i0, i1, ...]``: one each), as
+        :meth:`ExplorePhysicsEnv.reset <neurowalk.envs.physics.ExplorePhysicsEnv.reset>` takes it."""
         seeds = copy_seeds(self, seed)
-        self._start(np.arange(self.num_envs), seeds)
+        table = table2_option(options, self.num_envs)
+        arenas = None if table is None else [table2_arena(t, table2_seed(options or {})) for t in table]
+        self._start(np.arange(self.num_envs), seeds, arenas)
         self.done[:] = False
         return self.obs.copy(), self._info()
 
@@ -203,11 +208,12 @@ class ExplorePhysicsVectorEnv(VectorEnv):
         n = int(rng.integers(BOXES[0], BOXES[1] + 1)) if n_boxes is None else n_boxes
         return make_arena("random", rng=rng, n_boxes=n, extent=EXTENT, size=SIZE)
 
-    def _start(self, ids: np.ndarray, seeds: list[int]) -> None:
-        """Copies ``ids`` at the start of new episodes drawn from ``seeds``; their first observations into ``obs``."""
-        for i, seed in zip(ids, seeds, strict=True):
+    def _start(self, ids: np.ndarray, seeds: list[int], arenas: list[ArenaSpec] | None = None) -> None:
+        """Copies ``ids`` at the start of new episodes drawn from ``seeds`` (in ``arenas`` where given, one per copy);
+        their first observations into ``obs``."""
+        for k, (i, seed) in enumerate(zip(ids, seeds, strict=True)):
             rng = np.random.default_rng(seed)  # = gymnasium.utils.seeding.np_random(seed), as the single env's
-            arena = self._arena(rng)
+            arena = self._arena(rng) if arenas is None else arenas[k]
             if len(arena.boxes) > self.slots:
                 raise ValueError(f"arena {arena.name!r} has {len(arena.boxes)} boxes; the models hold {self.slots}")
             model = AmosII(arena, noise=self.noise, pad_boxes=self.slots, control_hz=self.control_hz).model

@@ -16,11 +16,11 @@ import numpy as np
 
 from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.compiled import jit
-from neurowalk.plotting import draw_arena, pyplot
+from neurowalk.plotting import draw_arena, pyplot, styled
+from neurowalk.sim.table2 import BOXES, EXTENT, SIZE, table2_arena, table2_option, table2_seed
 
 CELL = 0.25  # m, side of a coverage cell
 STUCK_WINDOW, STUCK_RADIUS = 3000, 0.5  # Table 2's rule: steps, m
-BOXES, EXTENT, SIZE = (2, 20), 9.0, 1.0  # Table 2's environments (neurowalk.experiments.suites.random_envs)
 US_RANGE = 0.4  # m, the ultrasonic range: what "no echo" is reported as
 
 
@@ -70,10 +70,15 @@ class ExploreTask(gym.Env[np.ndarray, np.ndarray], abc.ABC):
     def reset(
         self, *, seed: int | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
-        """A new episode: a new environment (unless fixed) and the robot at its start, drawn from ``seed``."""
+        """A new episode: a new environment (unless fixed) and the robot at its start, drawn from ``seed``;
+        ``options={"table2": i}`` (``"table2_seed": s``, default 0): Table 2's environment i instead, its arena and
+        start pose as the figure runs it (:func:`neurowalk.sim.table2.table2_arena`)."""
         super().reset(seed=seed)
         rng = self.np_random
-        if self.arena_name is None:
+        table = table2_option(options)
+        if table is not None:
+            self.arena = table2_arena(table[0], table2_seed(options or {}))
+        elif self.arena_name is None:
             n_boxes = int(rng.integers(BOXES[0], BOXES[1] + 1))
             self.arena = make_arena("random", rng=rng, n_boxes=n_boxes, extent=EXTENT, size=SIZE)
         else:
@@ -112,6 +117,7 @@ class ExploreTask(gym.Env[np.ndarray, np.ndarray], abc.ABC):
             self.render()
         return self._observation(seen), reward, False, self.k >= self.max_steps, self._info()
 
+    @styled
     def render(self) -> np.ndarray | None:
         """``rgb_array``: (height, width, 3) uint8 overhead picture of the arena and path; ``human``: in a window."""
         if self.render_mode is None or self.arena is None:

@@ -26,6 +26,7 @@ from neurowalk.body import surrogate_kernel as kern
 from neurowalk.body.surrogate import NOISE_TAU, box_rows, load_calibration
 from neurowalk.envs.explore import BOXES, CELL, EXTENT, SIZE, ExploreEnv
 from neurowalk.envs.vector_kernel import free_mask, uniform, vector_step
+from neurowalk.sim.table2 import table2_arena, table2_option, table2_seed
 
 MAX_BOXES = 64  # obstacle rows per copy (Table 2: at most 20 boxes and 4 walls)
 
@@ -103,10 +104,13 @@ class ExploreVectorEnv(VectorEnv):
     def reset(
         self, *, seed: int | list[int] | None = None, options: dict[str, Any] | None = None
     ) -> tuple[np.ndarray, dict[str, Any]]:
-        """Every copy anew: copy i from seed ``seed + i`` (or ``seed[i]``); None draws fresh seeds."""
+        """Every copy anew: copy i from seed ``seed + i`` (or ``seed[i]``); None draws fresh seeds.
+        ``options={"table2": i}``: copy k in Table 2's environment i + k (``[i0, i1, ...]``: one each), as
+        :meth:`ExploreEnv.reset <neurowalk.envs.explore.ExploreEnv.reset>` takes it."""
         seeds = copy_seeds(self, seed)
+        table = table2_option(options, self.num_envs)
         for i, s in enumerate(seeds):
-            self._start(i, s)
+            self._start(i, s, None if table is None else table2_arena(table[i], table2_seed(options or {})))
         self.done[:] = False
         return self.obs.copy(), self._info()
 
@@ -160,10 +164,13 @@ class ExploreVectorEnv(VectorEnv):
         self.done = truncated.copy()
         return self.obs.copy(), reward, np.zeros(self.num_envs, dtype=bool), truncated, self._info()
 
-    def _start(self, i: int, seed: int) -> None:
-        """Copy i at the start of a new episode drawn from ``seed``; its first observation into ``obs[i]``."""
+    def _start(self, i: int, seed: int, table: ArenaSpec | None = None) -> None:
+        """Copy i at the start of a new episode drawn from ``seed`` (in arena ``table`` where given); its first
+        observation into ``obs[i]``."""
         rng = np.random.default_rng(seed)
-        if self.arena_name is None:
+        if table is not None:
+            arena = table
+        elif self.arena_name is None:
             arena = make_arena(
                 "random", rng=rng, n_boxes=int(rng.integers(BOXES[0], BOXES[1] + 1)), extent=EXTENT, size=SIZE
             )

@@ -14,6 +14,7 @@ stop (SIGINT, SIGTERM) ends it with one line saying what is kept, and the stop's
 
 from __future__ import annotations
 
+import json
 import sys
 import time
 from pathlib import Path
@@ -62,6 +63,10 @@ def _run(study: Study, settings: Settings, out: Path, what: str, replot: bool, d
     """:func:`run_command`'s work into folder ``out``; ``done`` says how far it got (its stage, its settings
     resolved, the files written)."""
     t0 = time.perf_counter()
+    if settings.quick and not replot and _holds_full(study, out):
+        name = study.name
+        raise CommandError(f"--out {str(out)!r} holds {name}'s full result ({name}.json); a --quick run writes a "
+                           f"folder of its own (by default out/{name}-quick), or name another --out")  # fmt: skip
     settings = done["settings"] = checked(study, settings, out)
     done["stage"], paths = "run", done.setdefault("paths", {})
     if not replot:
@@ -82,6 +87,14 @@ def _run(study: Study, settings: Settings, out: Path, what: str, replot: bool, d
     if not replot and not settings.given():  # the command the reproduction judges: its claims, where it has any
         print("\n".join(claim_lines(study, result.summary, settings.quick)))
     return 0
+
+
+def _holds_full(study: Study, out: Path) -> bool:
+    """``out`` holds the study's full (not quick) result: NAME.json says ``"quick": false``."""
+    try:
+        return json.loads((out / f"{study.name}.json").read_text(encoding="utf-8")).get("quick") is False
+    except (OSError, ValueError, AttributeError):
+        return False
 
 
 def checked(study: Study, s: Settings, out: Path) -> Settings:

@@ -19,6 +19,7 @@ import numpy as np
 from neurowalk import profiling
 from neurowalk.experiments import Result
 from neurowalk.fileio import atomic_write, write_json
+from neurowalk.plotting.style import look
 from neurowalk.runners.stopping import deferred
 
 if TYPE_CHECKING:
@@ -41,7 +42,7 @@ def write(study: Drawn, result: Result, out: Path, written: dict[str, Path] | No
     paths = written if written is not None else {}
     with deferred():
         paths.update(save_data(result, out))
-    with profiling.part("drawing"):
+    with profiling.part("drawing"), look():  # a user's study draws with the look of the figures too
         picture = study.plot(result)
         with deferred():
             paths["png"] = save_figure(result, picture, out)
@@ -49,14 +50,16 @@ def write(study: Drawn, result: Result, out: Path, written: dict[str, Path] | No
 
 
 def save_data(result: Result, out_dir: str | Path) -> dict[str, Path]:
-    """Write NAME.json and NAME.npz (if there are arrays) into ``out_dir``: all a redraw needs."""
+    """Write NAME.json (the summary, whether it is quick and the code's fingerprint) and NAME.npz (if there are
+    arrays) into ``out_dir``: all a redraw needs."""
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     paths = {"json": out / f"{result.name}.json"}
     if result.arrays:
         paths["npz"] = out / f"{result.name}.npz"
         atomic_write(paths["npz"], lambda tmp: np.savez_compressed(Path(tmp), **result.arrays))
-    write_json(paths["json"], result.summary)
+    stamp = {k: v for k, v in (("quick", result.quick), ("code", result.code)) if v is not None}
+    write_json(paths["json"], {**result.summary, **stamp})
     return paths
 
 
@@ -107,7 +110,9 @@ def load(name: str, out_dir: str | Path) -> Result:
             zlib.error,
         ) as e:  # a damaged array header is parsed as a Python literal: its errors too
             raise DataError(f"cannot read {npz} as figure data ({_one_line(e)})") from None
-    return Result(name=name, summary=summary, arrays=arrays)
+    code, quick = summary.pop("code", None), summary.get("quick")  # some figures' numbers hold quick themselves
+    code = code if isinstance(code, str) else None
+    return Result(name, summary, arrays, code, quick if isinstance(quick, bool) else None)
 
 
 def _one_line(why: object) -> str:

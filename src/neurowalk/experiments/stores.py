@@ -28,9 +28,10 @@ from typing import Any
 
 import numpy as np
 
+from neurowalk import fingerprint
 from neurowalk.body.registry import physics_settings
 from neurowalk.experiments.plan import Plan
-from neurowalk.runners.specs import episode_of, result_of
+from neurowalk.runners.specs import code_of, episode_of, result_of
 from neurowalk.runners.stopping import deferred
 from neurowalk.runners.store import ResultStore
 from neurowalk.runners.sweep import Kind, run_sweep
@@ -146,9 +147,14 @@ def run_store(
     address: str | None = None,
     desc: str = "runs",
     progress: bool = True,
+    files: Sequence[Path] = (),
 ) -> list[dict[str, Any]]:
     """Run each (config, terms) through the store of ``folder`` (:func:`store_path`); each run's stored result, in
     order, its kept arrays as numpy arrays.
+
+    The store takes a run as done only where the same code made it (:func:`~neurowalk.runners.specs.code_of`: the
+    package, its libraries, the user's ``files``, e.g. a study's, and a user's body file); runs it holds of other
+    code run again, and a line says how many.
 
     A config asked for twice runs once, keeping every term asked for; a stored run lacking a term now asked for runs
     again (keeping its old terms too), and so does one stored with another physics than its config steps today
@@ -170,11 +176,13 @@ def run_store(
         configs.setdefault(key, cfg)
     path.parent.mkdir(parents=True, exist_ok=True)
     with deferred():  # opened whole (its lock, its tables), or not at all
-        store = ResultStore(path)
+        store = ResultStore(path, code_of(configs.values(), files))
     with store:
         held = store.results(keys=wanted)
         if held and progress:
             print(f"{desc}: going on from the {len(held)} finished runs kept in {path.parent} ({len(held)} in {STORE})")
+        if progress and (line := store.other_code_line(wanted, desc)):
+            print(line)
 
         def stale(key: str) -> bool:
             """A stored run of another physics than its config's today (an older neurowalk's): it runs again."""
@@ -279,24 +287,28 @@ def run_jobs(
     workers: int = 2,
     progress: bool = True,
     desc: str = "jobs",
+    files: Sequence[Path] = (),
 ) -> list[dict[str, Any]]:
     """``[fn(spec) for spec in specs]`` for jobs that are not episodes (``kind``: a
     :func:`~neurowalk.runners.sweep.job_kind`), through the one runner: the process pool (``workers``; 1 runs them
     here) and the result store of ``folder`` (of a temporary folder where None), each result kept as it finishes. A
     stopped call (KeyboardInterrupt, raised once the store is closed) keeps its finished jobs, and the same call again
-    runs only the others, saying so. ``fn``: a module-level function returning a JSON-able dict (floats come back bit
-    for bit). :class:`RunsFailedError` naming the first failure.
+    runs only the others, saying so; jobs kept by other code (:func:`neurowalk.fingerprint.code` of the package and
+    the user's ``files``) run again, and a line says how many. ``fn``: a module-level function returning a JSON-able
+    dict (floats come back bit for bit). :class:`RunsFailedError` naming the first failure.
     """
     with store_folder(folder) as where:
         path = store_path(where)
         path.parent.mkdir(parents=True, exist_ok=True)
         with deferred():
-            store = ResultStore(path)
+            store = ResultStore(path, fingerprint.code(files))
         with store:
             keys = [kind.key(kind.canonical(s)) for s in specs]
             held = store.results(keys=keys)
             if held and progress:
                 print(f"{desc}: going on from the {len(held)} finished jobs kept in {where} ({len(held)} in {STORE})")
+            if progress and (line := store.other_code_line(keys, desc)):
+                print(line)
             report = run_sweep(specs, store, workers=workers, progress=progress, desc=desc, fn=fn, kind=kind)
             results = store.results(keys=keys)
             missing = [k for k in keys if k not in results]

@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from neurowalk import profiling
+from neurowalk import fingerprint, profiling
 from neurowalk.experiments.plan import Label, Plan
 from neurowalk.sim.config_values import FrozenDict
 
@@ -158,11 +158,15 @@ class Settings:
 
 @dataclass
 class Result:
-    """Numbers behind a figure: ``summary`` goes to NAME.json, ``arrays`` to NAME.npz."""
+    """Numbers behind a figure: ``summary`` goes to NAME.json, ``arrays`` to NAME.npz; ``code``: the fingerprint of
+    the code that computed them (:func:`neurowalk.fingerprint.code`, with a study's own file), NAME.json's ``code``;
+    ``quick``: a quick result (``--quick``), NAME.json's ``quick``."""
 
     name: str
     summary: dict[str, Any]
     arrays: dict[str, np.ndarray] = field(default_factory=dict)
+    code: str | None = None
+    quick: bool | None = None
 
 
 _DEFAULTS = {f.name: f.default for f in dataclasses.fields(Settings)}
@@ -237,12 +241,14 @@ def compute(study: Study, settings: Settings) -> Result:
     runs it keeps (a stop before its runs began: a plain KeyboardInterrupt).
     """
     from neurowalk.experiments.stores import Kept, RunsStopped, run_store, store_folder, store_path
+    from neurowalk.runners.specs import code_of
     from neurowalk.sim.engine import EngineOptions
 
     study.check(settings)
     plans = planned(study, settings)
     grouped: dict[Label, list[Kept]] = {}
     kept: dict[Path, int] | None = None  # what a stop after the runs keeps (None: the study runs no episode)
+    files = study_files(study, plans)
     if plans:
         with store_folder(settings.shared_runs or settings.out) as folder:
             results = run_store(
@@ -253,6 +259,7 @@ def compute(study: Study, settings: Settings) -> Result:
                 backend=settings.backend,
                 address=settings.address,
                 desc=study.name,
+                files=files,
             )
             store = store_path(folder)
         for plan, r in zip(plans, results, strict=True):
@@ -262,6 +269,7 @@ def compute(study: Study, settings: Settings) -> Result:
         result = _measured(study, settings, grouped)
     except KeyboardInterrupt as e:
         raise RunsStopped(kept) from e
+    result.code, result.quick = code_of([p.config for p in plans], files), settings.quick
     if study.records_physics and plans:
         result.summary["physics_settings"] = physics_of([k.summary for runs in grouped.values() for k in runs])
         if settings.shared_runs is not None:  # the runs are elsewhere: the json names their store
@@ -328,7 +336,7 @@ def resolve(study: Study, s: Settings) -> Settings:
     fields, and its base variant where ``s`` names none). ValueError where the body it names is none of the
     registry's, or cannot; or where the params file cannot be read."""
     from neurowalk.body.registry import BODIES
-    from neurowalk.neural.variants import read_params_file
+    from neurowalk.neural.variants import params_variant, read_params_file
     from neurowalk.sim.config import EpisodeConfig
 
     body = s.body
@@ -352,26 +360,38 @@ def resolve(study: Study, s: Settings) -> Settings:
                 raise ValueError(f"--control-hz {s.control_hz:g}: {e} (add --body amosii)") from None
     if isinstance(s.params, Path):
         data = read_params_file(s.params)
-        return s.replace(body=body, variant=s.variant or data["variant"], params=data["params"])
+        return s.replace(body=body, variant=params_variant(s.params, data, s.variant), params=data["params"])
     return s.replace(body=body) if body != s.body else s
+
+
+def study_files(study: Study, plans: Iterable[Plan] = ()) -> list[Path]:
+    """The user's files a study's runs come from: the source files of its functions and of its plans' terms that lie
+    outside the package (a study file; none for the package's figures). Their contents are part of the code its
+    runs are kept under (:func:`neurowalk.fingerprint.code`)."""
+    fns: list[Any] = [study.runs, study.measure, study.plot, study.render, study.videos, study.claims]
+    for plan in plans:
+        fns += [f for t in plan.terms for f in (t.keep, t.stream)]
+    return fingerprint.user_files(*fns)
 
 
 def kept_runs(study: Study, settings: Settings) -> dict[Path, int] | None:
     """The finished runs of the study's own runs with these settings that its command would go on from, by store
     file (none: empty; None: the study plans no run, the network alone)."""
     from neurowalk.experiments.stores import store_path
+    from neurowalk.runners.specs import code_of
     from neurowalk.runners.store import count_finished
 
     if settings.out is None:
         return {}
     try:
-        keys = {p.config.key() for p in planned(study, resolve(study, settings))}
+        plans = planned(study, resolve(study, settings))
     except ValueError:  # settings the study refuses: it runs nothing, and says why
         return {}
+    keys = {p.config.key() for p in plans}
     if not keys:
         return None
     path = store_path(settings.shared_runs or settings.out)
-    n = count_finished(path, keys)
+    n = count_finished(path, keys, code_of([p.config for p in plans], study_files(study, plans)))
     return {path: n} if n else {}
 
 

@@ -115,7 +115,8 @@ def get_variant(name: str = "paper", overrides: Mapping[str, Any] | None = None)
 
 
 def read_params_file(path: Path | str) -> dict[str, Any]:
-    """A params file: ``{"params": {field: value, ...}, "variant": base (optional), ...}`` (other keys kept).
+    """A params file: ``{"params": {field: value, ...}, "variant": base (optional: ``paper`` or ``original``), ...}``
+    (other keys kept); its base variant as :func:`params_variant` reads it.
 
     Raises:
         ValueError: unreadable file, not JSON, no ``params`` object, an unknown field or a bad value (named).
@@ -133,11 +134,22 @@ def read_params_file(path: Path | str) -> dict[str, Any]:
     if not isinstance(data, dict) or not isinstance(data.get("params"), dict):
         raise ValueError(f"params file {str(path)!r} needs an object 'params' of SensoryParams fields")
     data["params"] = check_overrides(data["params"], f"params file {str(path)!r}")
-    base = data.setdefault("variant", "original")
-    if base not in ("paper", "original"):
+    base = data.get("variant")
+    if base is not None and base not in ("paper", "original"):
         raise ValueError(f"params file {str(path)!r}: variant must be 'paper' or 'original', got {base!r}")
     try:
-        get_variant(base, data["params"])  # the parameters' own range checks
+        get_variant(base or "paper", data["params"])  # the parameters' own range checks
     except ValueError as e:
         raise ValueError(f"params file {str(path)!r}: {e}") from None
     return data
+
+
+def params_variant(path: Path | str, data: dict[str, Any], variant: str | None) -> str | None:
+    """The variant a params file's fields are set over: the file's own (an ``optimize`` best.json names the one it
+    was tuned on), else ``variant`` (``--variant``; None: the default, ``paper``). ValueError where ``variant``
+    contradicts the file's."""
+    named = data.get("variant")
+    if named is not None and variant is not None and variant != named:
+        raise ValueError(f"--variant {variant} contradicts params file {str(path)!r}, which names variant {named!r}; "
+                         "leave out --variant or edit the file")  # fmt: skip
+    return named or variant

@@ -20,6 +20,7 @@ from neurowalk.plotting.style import (
     legend_outside,
     letter_panels,
     pyplot,
+    styled,
     time_colorbar,
     weight_style,
 )
@@ -144,6 +145,7 @@ def run_title(summary: dict[str, Any]) -> str:
     return f"{summary['arena']}, {body}, {ctrl}, {variant}, {steps}, seed {summary['seed']}"
 
 
+@styled
 def plot_run(tr: Trajectory | Episode, arena: ArenaSpec | None = None, summary: dict[str, Any] | None = None) -> Figure:
     """The picture of a run (run.png): ``plot_run(ep)`` of an :class:`~neurowalk.sim.config.Episode`, or of its
     trajectory, arena and summary. A: top view of the run, the path coloured by time (colour bar in s); B-D: its

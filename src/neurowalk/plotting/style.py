@@ -1,7 +1,10 @@
 """The one look of every picture neurowalk draws: sizes, colours, panel letters, legends and colour bars.
 
-Every figure gets its matplotlib through :func:`pyplot`, which sets :data:`RC` (font sizes in points, line widths in
-points) for the process; the helpers below do the rest the same way everywhere:
+Every figure gets its matplotlib through :func:`pyplot` and is drawn by a function marked :func:`styled`, which draws
+it under :data:`RC` (font sizes in points, line widths in points) and leaves matplotlib's own settings as they were:
+in a notebook or an IPython shell, the user's backend (Jupyter's inline pictures) and ``rcParams`` stay theirs; the
+command line, scripts and pool workers draw on the non-interactive Agg backend. The helpers below do the rest the
+same way everywhere:
 
 * :func:`network_colour`: one colour per network (plastic, static, braitenberg and the variants), the same in every
   figure; :data:`SIDE_COLOURS` for the left and right neuron or sensor (O1, I1, b1 left; O2, I2, b2 right);
@@ -15,12 +18,16 @@ points) for the process; the helpers below do the rest the same way everywhere:
 
 from __future__ import annotations
 
+import contextlib
+import functools
+import sys
 import textwrap
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import matplotlib
+import matplotlib.figure
 import numpy as np
 from matplotlib.font_manager import FontProperties
 
@@ -89,13 +96,53 @@ COUNT_BOX = {"boxstyle": "round,pad=0.15", "fc": "white", "ec": "none"}
 LETTER_GID = "panel-letter"
 
 
-def pyplot() -> Any:
-    """matplotlib.pyplot on the non-interactive Agg backend, with :data:`RC` set."""
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt  # here, not at the top: after Agg is chosen, and only when neurowalk draws
+F = TypeVar("F", bound=Callable[..., Any])
 
-    plt.rcParams.update(RC)
+
+def in_users_shell() -> bool:
+    """This process is a user's IPython shell or Jupyter kernel (their backend is theirs to choose)."""
+    ipython = sys.modules.get("IPython")
+    return ipython is not None and getattr(ipython, "get_ipython", lambda: None)() is not None
+
+
+def pyplot() -> Any:
+    """matplotlib.pyplot: on the non-interactive Agg backend, but in a user's IPython shell or notebook
+    (:func:`in_users_shell`), whose backend is left as it is. Its figures get :data:`RC` where drawn under
+    :func:`styled`; the process's ``rcParams`` are not changed."""
+    if not in_users_shell():
+        matplotlib.use("Agg")
+    import matplotlib.pyplot as plt  # here, not at the top: after the backend is chosen, and only when neurowalk draws
+
     return plt
+
+
+@contextlib.contextmanager
+def look() -> Iterator[None]:
+    """Within the block, matplotlib draws with :data:`RC` over the process's settings; afterwards those settings are
+    as before. Only :data:`RC`'s keys are set and put back: what else changes inside the block stays (the first
+    figure of a notebook loads Jupyter's inline backend, which turns on interactive mode for the next cells)."""
+    before = {k: matplotlib.rcParams[k] for k in RC}
+    matplotlib.rcParams.update(RC)
+    try:
+        yield
+    finally:
+        matplotlib.rcParams.update(before)
+
+
+def styled(fn: F) -> F:
+    """``fn`` (a function that draws a figure) runs under :func:`look`; a figure it returns is laid out there too
+    (its ticks are made as it is drawn), so it looks the same saved, shown in a notebook or drawn later."""
+
+    @functools.wraps(fn)
+    def drawn(*args: Any, **kwargs: Any) -> Any:
+        with look():
+            out = fn(*args, **kwargs)
+            figure = out if isinstance(out, matplotlib.figure.Figure) else None
+            if figure is not None:  # ticks and their labels are made as a figure is drawn: here, in the look
+                figure.draw_without_rendering()
+            return out
+
+    return drawn  # type: ignore[return-value]
 
 
 def network_colour(name: str) -> str:

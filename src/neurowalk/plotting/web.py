@@ -29,6 +29,7 @@ from matplotlib.ticker import MaxNLocator
 from neurowalk.fileio import atomic_write
 from neurowalk.plotting.replay import Part, Replay
 from neurowalk.plotting.runs import draw_traces
+from neurowalk.plotting.style import look
 
 try:  # the optional extra, behind this one guarded import
     import viser
@@ -322,7 +323,8 @@ def traces_png(replay: Replay) -> bytes:
     signals = [(replay.inputs, "I", "input I"), (replay.outputs, "O", "steering O")]
     draw_traces(fig, fig.add_gridspec(1, 1)[0], replay.t, signals, replay.b, replay.q, "", plastic=plastic)
     buf = io.BytesIO()
-    fig.savefig(buf, format="png")
+    with look():
+        fig.savefig(buf, format="png")
     return buf.getvalue()
 
 

@@ -13,18 +13,21 @@ from __future__ import annotations
 
 import itertools
 import json
+from collections.abc import Iterable
 from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+from neurowalk import fingerprint
 from neurowalk.arenas import ARENAS, arena_options, make_arena
+from neurowalk.body.registry import body_files
 from neurowalk.fileio import to_jsonable
 from neurowalk.runners.stopping import stop_requested
 from neurowalk.sim.config import DEFAULTS, FIELDS, LATER
 from neurowalk.sim.episode import Episode, EpisodeConfig, RunInterruptedError, Streaming, run_episode
 
-__all__ = ["DEFAULTS", "FIELDS", "LATER", "MACHINE_KEYS", "Spec", "check_specs", "describe", "episode_of", "grid",
-           "read_jsonl", "result_of", "run_spec", "spec_key"]  # fmt: skip
+__all__ = ["DEFAULTS", "FIELDS", "LATER", "MACHINE_KEYS", "Spec", "check_specs", "code_of", "describe", "episode_of",
+           "grid", "read_jsonl", "result_of", "run_spec", "spec_key"]  # fmt: skip
 
 Spec = dict[str, Any]
 
@@ -35,6 +38,19 @@ MACHINE_KEYS: tuple[str, ...] = ("wall_time_s", "real_time_factor")
 def spec_key(spec: Spec) -> str:
     """Key of a run: :meth:`EpisodeConfig.key` of the spec's config (SHA-256 of its canonical spec)."""
     return EpisodeConfig.from_spec(spec).key()
+
+
+def code_of(runs: Iterable[Spec | EpisodeConfig], files: Iterable[Path | str] = ()) -> str:
+    """The fingerprint (:func:`neurowalk.fingerprint.code`) a store keeps these runs under: the package, its
+    libraries, the user's ``files`` (a study's) and the files the runs' bodies read (a user's MJCF robot)."""
+    found = [Path(f) for f in files]
+    for run in runs:
+        body = run.body if isinstance(run, EpisodeConfig) else run.get("body", DEFAULTS["body"])
+        try:
+            found += body_files(str(body))
+        except ValueError:  # an unknown body: its run fails on its own
+            continue
+    return fingerprint.code(found)
 
 
 def episode_of(spec: Spec, stream: Streaming | None = None) -> Episode:

@@ -2,14 +2,21 @@
 
 .. code-block:: text
 
-    runs(key TEXT PRIMARY KEY,   -- spec_key(spec): SHA-256 of the canonical spec
+    runs(key TEXT,               -- spec_key(spec): SHA-256 of the canonical spec
+         code TEXT,              -- the fingerprint of the code that made the run (neurowalk.fingerprint.code)
          spec TEXT,              -- the normalised spec, JSON
          status TEXT,            -- 'ok' | 'error'
          result TEXT,            -- the run's summary, JSON (NULL on error)
          error TEXT,             -- one line (NULL when ok)
          wall_time_s REAL,       -- seconds the run took on its worker (machine-dependent, so not in `result`)
-         finished_at TEXT)       -- ISO 8601, UTC
+         finished_at TEXT,       -- ISO 8601, UTC
+         PRIMARY KEY (key, code))
     meta(name TEXT PRIMARY KEY, value TEXT)   -- schema_version, created_at, neurowalk_version
+
+A store is opened for one ``code`` (:func:`neurowalk.fingerprint.code` by default): it reads and writes the rows of
+that code only, so a run made by other code (an edited learning rule, metric or keep term; another library version)
+is never taken as done, and two checkouts sharing one store keep their runs side by side. A store of schema 1
+(before fingerprints) is brought to schema 2 as it opens, its rows under the code ``""``: none is taken as done.
 
 Only the driver process writes; each finished run is its own transaction, so a sweep killed at any moment
 (even ``kill -9``) leaves every finished run in a readable store (write-ahead log, replayed on the next open).
@@ -26,25 +33,29 @@ from pathlib import Path
 from typing import IO, Any
 
 import neurowalk
-from neurowalk import profiling
+from neurowalk import fingerprint, profiling
 from neurowalk.fileio import atomic_write, exclusive_lock, to_jsonable
 from neurowalk.runners.specs import DEFAULTS, FIELDS
 
-SCHEMA_VERSION = 1
-RUN_COLUMNS = ("key", "spec", "status", "result", "error", "wall_time_s", "finished_at")
+SCHEMA_VERSION = 2
+RUN_COLUMNS = ("key", "code", "spec", "status", "result", "error", "wall_time_s", "finished_at")
 #: Columns of an export before the spec fields and the summary keys.
-EXPORT_META = ("key", "status", "error", "wall_time_s", "finished_at")
+EXPORT_META = ("key", "code", "status", "error", "wall_time_s", "finished_at")
+#: The code of the rows a schema-1 store held (made before fingerprints: never taken as done).
+NO_CODE = ""
 
 _SCHEMA = """
 CREATE TABLE IF NOT EXISTS meta (name TEXT PRIMARY KEY, value TEXT);
 CREATE TABLE IF NOT EXISTS runs (
-    key TEXT PRIMARY KEY,
+    key TEXT NOT NULL,
+    code TEXT NOT NULL,
     spec TEXT NOT NULL,
     status TEXT NOT NULL CHECK (status IN ('ok', 'error')),
     result TEXT,
     error TEXT,
     wall_time_s REAL,
-    finished_at TEXT NOT NULL
+    finished_at TEXT NOT NULL,
+    PRIMARY KEY (key, code)
 );
 """
 
@@ -54,10 +65,13 @@ class StoreError(Exception):
 
 
 class ResultStore:
-    """SQLite result store at ``path`` (created if missing). Use as a context manager, or call :meth:`close`."""
+    """SQLite result store at ``path`` (created if missing), read and written for the runs of ``code`` (default
+    :func:`neurowalk.fingerprint.code`: the package and its libraries). Use as a context manager, or call
+    :meth:`close`."""
 
-    def __init__(self, path: Path | str) -> None:
+    def __init__(self, path: Path | str, code: str | None = None) -> None:
         self.path = Path(path)
+        self.code = fingerprint.code() if code is None else code
         self._lock = _lock(self.path)
         try:
             self._db = sqlite3.connect(self.path, timeout=30.0, isolation_level=None)  # autocommit; explicit txns
@@ -92,6 +106,9 @@ class ResultStore:
                         db.execute(statement)
                 db.executemany("INSERT INTO meta VALUES (?, ?)", meta.items())
         row = db.execute("SELECT value FROM meta WHERE name = 'schema_version'").fetchone()
+        if row is not None and row[0] == "1":
+            self._upgrade()
+            row = ("2",)
         if row is None or row[0] != str(SCHEMA_VERSION):
             found = "none" if row is None else row[0]
             raise StoreError(f"result store {str(self.path)!r} has schema version {found}, expected {SCHEMA_VERSION}")
@@ -99,6 +116,19 @@ class ResultStore:
         if cols != RUN_COLUMNS:
             raise StoreError(f"result store {str(self.path)!r}: table runs has columns {cols}, expected {RUN_COLUMNS}")
         db.execute("SELECT count(*) FROM runs").fetchone()
+
+    def _upgrade(self) -> None:
+        """Schema 1 to 2: every row kept, under the code :data:`NO_CODE` (made before fingerprints)."""
+        db = self._db
+        with self._txn():
+            db.execute("ALTER TABLE runs RENAME TO runs_1")
+            db.execute(_SCHEMA.split(";")[1])
+            db.execute(
+                "INSERT INTO runs SELECT key, ?, spec, status, result, error, wall_time_s, finished_at FROM runs_1",
+                (NO_CODE,),
+            )
+            db.execute("DROP TABLE runs_1")
+            db.execute("UPDATE meta SET value = ? WHERE name = 'schema_version'", (str(SCHEMA_VERSION),))
 
     def _txn(self) -> _Txn:
         return _Txn(self._db)
@@ -137,37 +167,58 @@ class ResultStore:
         finished = _now()
         with self._txn():
             self._db.execute(
-                "INSERT OR REPLACE INTO runs VALUES (?, ?, ?, ?, ?, ?, ?)",
-                (key, _dumps(spec), status, res, error, wall_time_s, finished),
+                "INSERT OR REPLACE INTO runs VALUES (?, ?, ?, ?, ?, ?, ?, ?)",
+                (key, self.code, _dumps(spec), status, res, error, wall_time_s, finished),
             )
         return finished
 
     # -- reading ----------------------------------------------------------------------------------------------
     def done_keys(self) -> set[str]:
-        """Keys of the runs that finished without error (a sweep skips them)."""
-        return {r[0] for r in self._db.execute("SELECT key FROM runs WHERE status = 'ok'")}
+        """Keys of the runs of this code that finished without error (a sweep skips them)."""
+        sql = "SELECT key FROM runs WHERE status = 'ok' AND code = ?"
+        return {r[0] for r in self._db.execute(sql, (self.code,))}
+
+    def other_code(self, keys: Collection[str]) -> int:
+        """How many of ``keys`` the store holds finished only by other code (or before fingerprints): runs that
+        run again."""
+        sql = "SELECT DISTINCT key FROM runs WHERE status = 'ok' AND code != ?"
+        wanted = set(keys)
+        return len(({r[0] for r in self._db.execute(sql, (self.code,))} & wanted) - self.done_keys())
+
+    def other_code_line(self, keys: Collection[str], desc: str) -> str | None:
+        """The line a command prints where runs of ``keys`` were kept by other code (None: none were)."""
+        n = self.other_code(keys)
+        if not n:
+            return None
+        runs = "run" if n == 1 else "runs"
+        return (
+            f"{desc}: {n:,} stored {runs} in {self.path} made by other code (another fingerprint than this code's "
+            f"{self.code}, or none: an older neurowalk) run again"
+        )
 
     def counts(self) -> dict[str, int]:
-        """Rows per status, e.g. ``{"ok": 10, "error": 1}``."""
+        """Rows of this code per status, e.g. ``{"ok": 10, "error": 1}``."""
         out = {"ok": 0, "error": 0}
-        out.update(dict(self._db.execute("SELECT status, count(*) FROM runs GROUP BY status").fetchall()))
+        sql = "SELECT status, count(*) FROM runs WHERE code = ? GROUP BY status"
+        out.update(dict(self._db.execute(sql, (self.code,)).fetchall()))
         return out
 
     def __len__(self) -> int:
-        return int(self._db.execute("SELECT count(*) FROM runs").fetchone()[0])
+        return int(self._db.execute("SELECT count(*) FROM runs WHERE code = ?", (self.code,)).fetchone()[0])
 
     def rows(self, status: str | None = None, keys: Collection[str] | None = None) -> list[dict[str, Any]]:
-        """Every row (or those of one status, or those of ``keys``) ordered by key, with ``spec`` and ``result``
-        parsed from JSON."""
-        where = " WHERE status = ?" if status else ""
+        """Every row of this code (or those of one status, or those of ``keys``) ordered by key, with ``spec`` and
+        ``result`` parsed from JSON."""
+        where = " WHERE code = ?" + (" AND status = ?" if status else "")
+        args: tuple[str, ...] = (self.code, status) if status else (self.code,)
         if keys is None:
-            found = list(self._db.execute(f"SELECT * FROM runs{where} ORDER BY key", (status,) if status else ()))
+            found = list(self._db.execute(f"SELECT * FROM runs{where} ORDER BY key", args))
         else:
             found, wanted = [], sorted(set(keys))
             for i in range(0, len(wanted), 500):  # SQLite's limit on a statement's parameters
                 chunk = wanted[i : i + 500]
-                sql = f"SELECT * FROM runs{where}{' AND' if where else ' WHERE'} key IN ({','.join('?' * len(chunk))})"
-                found += self._db.execute(sql, ((status,) if status else ()) + tuple(chunk)).fetchall()
+                sql = f"SELECT * FROM runs{where} AND key IN ({','.join('?' * len(chunk))})"
+                found += self._db.execute(sql, args + tuple(chunk)).fetchall()
             found.sort(key=lambda r: r[0])
         out = []
         for r in found:
@@ -188,7 +239,7 @@ class ResultStore:
 
     # -- export -----------------------------------------------------------------------------------------------
     def table(self) -> tuple[list[str], list[list[Any]]]:
-        """Flat table of every row: meta columns, one column per spec field, one per summary key.
+        """Flat table of every row of this code: meta columns, one column per spec field, one per summary key.
 
         Summary keys that repeat a spec field are left out (the spec column holds the value); a spec field the
         stored spec leaves out (a later switch at its default: variant, gait, engine, reflexes, ...) shows its
@@ -247,20 +298,24 @@ class ResultStore:
         self.close()
 
 
-def count_finished(path: Path | str, keys: Collection[str] | None = None) -> int:
-    """Runs stored without error in the store at ``path`` (only those whose key is in ``keys``, where given), read
-    without taking its lock (0 if there is no readable store there): what an interrupted command reports as kept.
-    Opened for reading and writing but only read, so that its close leaves no write-ahead-log files behind (a
-    read-only connection cannot remove them)."""
+def count_finished(path: Path | str, keys: Collection[str] | None = None, code: str | None = None) -> int:
+    """Runs of ``code`` (None: of any code, each key once) stored without error in the store at ``path``
+    (only those whose key is in ``keys``, where given), read without taking its lock (0 if there is no readable store
+    there): what an interrupted command reports as kept. Opened for reading and writing but only read, so that its
+    close leaves no write-ahead-log files behind (a read-only connection cannot remove them)."""
     try:
         db = sqlite3.connect(f"file:{Path(path)}?mode=rw", uri=True)
     except sqlite3.Error:
         return 0
     try:
+        if code is None:
+            found = [k for (k,) in db.execute("SELECT DISTINCT key FROM runs WHERE status = 'ok'")]
+        else:
+            found = [k for (k,) in db.execute("SELECT key FROM runs WHERE status = 'ok' AND code = ?", (code,))]
         if keys is None:
-            return int(db.execute("SELECT count(*) FROM runs WHERE status = 'ok'").fetchone()[0])
+            return len(found)
         wanted = set(keys)
-        return sum(1 for (k,) in db.execute("SELECT key FROM runs WHERE status = 'ok'") if k in wanted)
+        return sum(1 for k in found if k in wanted)
     except sqlite3.Error:
         return 0
     finally:

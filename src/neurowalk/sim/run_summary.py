@@ -72,6 +72,7 @@ class RunSummary:
         wall_time_s: the run's wall time, s (not kept in a result store).
         real_time_factor: simulated over wall time (not kept in a result store).
         neurowalk_version: the version that ran it.
+        code: the fingerprint of the code that computed it (:func:`neurowalk.fingerprint.code`; None: an older run).
         others: keys this class does not name (e.g. an engine's ``device``), kept as they came.
     """
 
@@ -124,6 +125,7 @@ class RunSummary:
     wall_time_s: float | None = None
     real_time_factor: float | None = None
     neurowalk_version: str | None = None
+    code: str | None = None
     others: Mapping[str, Any] = field(default_factory=FrozenDict)
 
     @classmethod

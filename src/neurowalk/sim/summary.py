@@ -10,10 +10,10 @@ from typing import Any
 import numpy as np
 
 import neurowalk
-from neurowalk import metrics
+from neurowalk import fingerprint, metrics
 from neurowalk.arenas import ArenaSpec
 from neurowalk.arenas.climbing import CLIMB_WORDS
-from neurowalk.body.registry import body_settings, physics_settings, replay_contacts
+from neurowalk.body.registry import body_files, body_settings, physics_settings, replay_contacts
 from neurowalk.neural.variants import get_variant
 from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.trajectory import Trajectory
@@ -215,6 +215,7 @@ def summarize(
         "wall_time_s": wall_time_s,
         "real_time_factor": sim_time / wall_time_s if wall_time_s > 0 else None,
         "neurowalk_version": neurowalk.__version__,
+        "code": fingerprint.code(body_files(cfg.body)),
     }
 
 

@@ -35,7 +35,7 @@ from neurowalk.experiments.cma_record import import_cma
 from neurowalk.experiments.stores import run_jobs
 from neurowalk.experiments.suites.random_envs import wilson
 from neurowalk.fileio import atomic_write, write_json
-from neurowalk.plotting import pyplot
+from neurowalk.plotting import pyplot, styled
 from neurowalk.runners.stopping import deferred
 from neurowalk.runners.sweep import job_kind
 
@@ -240,6 +240,7 @@ def markdown(result: dict[str, Any]) -> str:
     return "\n".join(lines) + "\n"
 
 
+@styled
 def plot(result: dict[str, Any], path: Path) -> None:
     """Success rates with their intervals, coverage per environment, and the training curves; to ``path``."""
     plt = pyplot()

@@ -41,7 +41,7 @@ from neurowalk.experiments.calibration.subjects import (
     WINDOW,
     subject,
 )
-from neurowalk.plotting import pyplot
+from neurowalk.plotting import pyplot, styled
 
 
 def surrogate_velocity(cal: Calibration, pairs: Sequence[tuple[float, float]]) -> np.ndarray:
@@ -140,6 +140,7 @@ def calibrate(
     return cal
 
 
+@styled
 def plot_calibration(cal: Calibration) -> Any:
     """Figure: forward speed and yaw rate over the steering grid, and surrogate vs physics on held-out pairs."""
     plt = pyplot()

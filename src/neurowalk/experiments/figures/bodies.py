@@ -59,6 +59,7 @@ from neurowalk.plotting.style import (
     network_line,
     place_bar_counts,
     pyplot,
+    styled,
 )
 from neurowalk.sim.config import UNTIL, EpisodeConfig
 
@@ -212,6 +213,7 @@ def _bar_counts(ax: Axes, x: np.ndarray, heights: list[float], texts: list[str])
         ax.text(xi, h + 0.02, t, ha="center", va="bottom", fontsize=FONT["small"], rotation=90)
 
 
+@styled
 def plot(res: Result) -> Figure:
     """A-C: paths in the narrow passage per body (each network its colour and dash); D: dead-end escapes per body
     and network; E: Table 2 success with intervals. One row per subfigure."""

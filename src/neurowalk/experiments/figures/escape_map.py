@@ -19,7 +19,7 @@ from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.study import grid
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
-from neurowalk.plotting.style import legend_outside, letter_panels, network_line, pyplot
+from neurowalk.plotting.style import legend_outside, letter_panels, network_line, pyplot, styled
 from neurowalk.sim.config import UNTIL
 from neurowalk.sim.episode import EpisodeConfig
 
@@ -86,6 +86,7 @@ def measure(s: Settings, runs: Mapping[tuple, list]) -> Result:
 MARKERS = {"plastic": ("o", 11, "none"), "static": ("s", 7, None), "braitenberg": ("^", 5, None)}
 
 
+@styled
 def plot(res: Result) -> Figure:
     """One panel per sweep (A, B, C): escape rate against size, one line per network (its colour and dash; equal
     rates drawn one over another, told apart by their markers); one legend for all."""

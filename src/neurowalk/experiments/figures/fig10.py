@@ -39,7 +39,16 @@ from neurowalk.experiments.suites.climbing import (
 from neurowalk.experiments.suites.real_robot import real_robot_claims
 from neurowalk.experiments.suites.timing import SIM_HZ, quick_note, quick_seconds, real_robot_entry, run_steps
 from neurowalk.plotting import draw_arena
-from neurowalk.plotting.style import FONT, LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, time_colorbar
+from neurowalk.plotting.style import (
+    FONT,
+    LINE,
+    SIDE_COLOURS,
+    legend_outside,
+    letter_panels,
+    pyplot,
+    styled,
+    time_colorbar,
+)
 from neurowalk.render import render_frames
 from neurowalk.sim.config import EpisodeConfig
 
@@ -267,6 +276,7 @@ def _moment_lines(ax: Axes, t: np.ndarray, moments: dict[str, int | None]) -> No
         )
 
 
+@styled
 def plot(res: Result) -> Figure:
     """A: top view; B: side view; C: backbone angle; D: foot contacts; E: steering; F: the four key moments'
     snapshots, numbered as the dashed lines on C-E. One row per subfigure."""

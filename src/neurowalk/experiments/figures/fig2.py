@@ -39,6 +39,7 @@ from neurowalk.plotting.style import (
     letter_panels,
     network_colour,
     pyplot,
+    styled,
 )
 
 if TYPE_CHECKING:
@@ -196,6 +197,7 @@ def draw_network(ax: Axes, a: float = 4.7) -> None:
     ax.set_title("two-neuron network")
 
 
+@styled
 def plot(res: Result) -> Figure:
     """Panels A-G as described in the module docstring (A-D as the paper letters its Fig. 2; E-G added)."""
     plt = pyplot()

@@ -27,7 +27,16 @@ from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.neural.plasticity import fixed_point
 from neurowalk.neural.sensory import SensoryParams, simulate
 from neurowalk.neural.variants import get_variant
-from neurowalk.plotting.style import FONT, LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, weight_style
+from neurowalk.plotting.style import (
+    FONT,
+    LINE,
+    SIDE_COLOURS,
+    legend_outside,
+    letter_panels,
+    pyplot,
+    styled,
+    weight_style,
+)
 from neurowalk.sim.episode import Episode, EpisodeConfig
 
 if TYPE_CHECKING:
@@ -170,6 +179,7 @@ def _panel_b(p: SensoryParams, s: Settings, run: Kept) -> tuple[dict[str, Any], 
     return summary, arrays
 
 
+@styled
 def plot(res: Result) -> Figure:
     """Panel A (weights for constant inputs, several starts) and panel B (changing inputs: inputs, outputs and
     weights over time, one axes each)."""

@@ -37,7 +37,7 @@ from neurowalk.experiments.suites.random_envs import (
 )
 from neurowalk.experiments.suites.timing import steps_for
 from neurowalk.plotting import draw_arena
-from neurowalk.plotting.style import FONT, OUTCOME_COLOURS, pyplot, time_colorbar
+from neurowalk.plotting.style import FONT, OUTCOME_COLOURS, pyplot, styled, time_colorbar
 from neurowalk.sim.config import EpisodeConfig
 
 if TYPE_CHECKING:
@@ -134,6 +134,7 @@ def measure(s: Settings, runs: Mapping[int, Sequence[Kept]]) -> Result:
     return Result("fig6", summary, arrays)
 
 
+@styled
 def plot(res: Result) -> Figure:
     """4 x 4 panels: arena, path coloured by time (one colour bar, s), start (red) and end (green) dots; framed by
     outcome: failed red, a confined space passed green, a trap escaped blue (the point it left marked by a ring of

@@ -26,7 +26,7 @@ from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.neural.cpg import period
-from neurowalk.plotting.style import FONT, LINE, letter_panels, pyplot
+from neurowalk.plotting.style import FONT, LINE, letter_panels, pyplot, styled
 from neurowalk.sim.episode import Episode, EpisodeConfig
 
 if TYPE_CHECKING:
@@ -113,6 +113,7 @@ JOINT_COLOURS = {"T": "C0", "C": "C1", "F": "C2"}
 JOINT_NAMES = {"T": "TC joint (+ forward)", "C": "CTr joint (+ up)", "F": "FTi joint (+ extended)"}
 
 
+@styled
 def plot(res: Result) -> Figure:
     """Four columns (A-D), 18 stacked joint traces each, each scaled to its range (its range in degrees written at
     its right) over time (s), swing phases shaded grey; a legend of the joint kinds below."""

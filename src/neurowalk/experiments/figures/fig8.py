@@ -45,7 +45,7 @@ from neurowalk.experiments.suites.real_robot import (
     write_videos,
 )
 from neurowalk.experiments.suites.timing import real_robot_entry, run_steps
-from neurowalk.plotting.style import letter, pyplot
+from neurowalk.plotting.style import letter, pyplot, styled
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -141,6 +141,7 @@ def _counts(runs: list[dict[str, Any]], seed: int) -> dict[str, Any]:
     }
 
 
+@styled
 def plot(res: Result) -> Figure:
     """A-B: snapshot strips (one row per network); C-D: top views of every seed's path, the example's coloured by
     time; E-F: the examples' steering and weights over time. One row per subfigure."""

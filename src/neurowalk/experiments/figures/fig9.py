@@ -53,7 +53,7 @@ from neurowalk.experiments.suites.real_robot import (
     write_videos,
 )
 from neurowalk.experiments.suites.timing import SIM_HZ, real_robot_entry, run_steps
-from neurowalk.plotting.style import FONT, colorbar, letter, pyplot
+from neurowalk.plotting.style import FONT, colorbar, letter, pyplot, styled
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -310,6 +310,7 @@ def draw_map(ax: Axes, res: Result, net: str) -> None:
     )
 
 
+@styled
 def plot(res: Result) -> Figure:
     """A-B: snapshot strips (plastic, static); C-D: top views of every seed's path; E-F: outcome maps (where the
     geometry was swept; a single cell is the runs of C-D again and is left out); then the examples' steering and

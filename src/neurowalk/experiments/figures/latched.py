@@ -23,7 +23,7 @@ from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.suites.random_envs import LATCH, STEPS, STRIDE, environments, failure_class, spec
 from neurowalk.plotting import draw_arena
-from neurowalk.plotting.style import LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, time_colorbar
+from neurowalk.plotting.style import LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, styled, time_colorbar
 from neurowalk.sim.episode import EpisodeConfig, seeds
 
 if TYPE_CHECKING:
@@ -85,6 +85,7 @@ def _arena(env: dict[str, Any], variant: str) -> Any:
     return make_arena("random", rng=seeds(EpisodeConfig(seed=env["seed"]))[2], **opts)
 
 
+@styled
 def plot(res: Result) -> Figure:
     """Per environment (a row, lettered across): the path coloured by time (colour bar, s; black after the latch),
     steering over time, and b_on + mean q against 4.7 (the dashed red line: when the latch began)."""

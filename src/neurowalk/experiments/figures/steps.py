@@ -33,7 +33,7 @@ from neurowalk.experiments.suites.climbing import (
     step_spec,
 )
 from neurowalk.experiments.suites.timing import quick_note, quick_seconds, steps_for
-from neurowalk.plotting.style import LINE, legend_outside, pyplot
+from neurowalk.plotting.style import LINE, legend_outside, pyplot, styled
 from neurowalk.sim.config import EpisodeConfig
 
 if TYPE_CHECKING:
@@ -108,6 +108,7 @@ STYLES = (
 )
 
 
+@styled
 def plot(res: Result) -> Figure:
     """Climb rate against step height, one line per variant (equal rates drawn one over another, told apart by
     their markers), the reliability threshold dashed; the legend beside the axes."""

@@ -24,7 +24,7 @@ from neurowalk.experiments.plan import RUN_SETTINGS
 from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.deadends import NETWORKS, VARIANTS, table_counts, table_runs
-from neurowalk.plotting.style import FONT, LINE, legend_outside, letter_panels, network_colour, pyplot
+from neurowalk.plotting.style import FONT, LINE, legend_outside, letter_panels, network_colour, pyplot, styled
 from neurowalk.sim.config import EpisodeConfig
 
 if TYPE_CHECKING:
@@ -109,6 +109,7 @@ def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
     return Result(NAME, summary)
 
 
+@styled
 def plot(res: Result) -> Figure:
     """A: held-out calibration scatter (surrogate against physics, fractions of full scale); B: escapes per dead end
     and network, physics bars (network colours) with the surrogate's count marked on each."""

@@ -20,7 +20,7 @@ from matplotlib.lines import Line2D
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
 from neurowalk.experiments.stores import Kept, Term
-from neurowalk.plotting.style import FONT, LINE, letter_panels, pyplot
+from neurowalk.plotting.style import FONT, LINE, letter_panels, pyplot, styled
 from neurowalk.sim.episode import Episode, EpisodeConfig
 
 if TYPE_CHECKING:
@@ -132,6 +132,7 @@ DIRECTION_COLOURS = {
 SCALE = 3.0  # the paths are drawn 3x
 
 
+@styled
 def plot(res: Result) -> Figure:
     """A: the nine paths on a grid of the signs of O1 (rows) and O2 (columns), coloured by the measured direction,
     each named by it (and by the paper's, where the paper names one); B: speed against amplitude."""

@@ -3,7 +3,7 @@
 
 Rows: the plastic network as the paper's Eq. 1-6 read (``plastic-paper``) and as the authors' code runs it
 (``plastic-original``), beside the static network and, on the planar surrogate, the Braitenberg vehicle
-(:data:`SURROGATE_ONLY`; ``plastic-tuned`` too where the tuned variant is shipped, ``plastic-params`` for a
+(:data:`SURROGATE_ONLY`; ``plastic-tuned`` too where the tuned variant is shipped, ``plastic-params (VARIANT)`` for a
 ``--params`` file). Each row, under two success rules (the
 not-stuck rule, and the coverage rule closer to the paper's "explores the environment"): successes, failures,
 rate and Wilson 95% interval; coverage (median and quartiles); the paper's 49/50 with its own interval; each
@@ -64,7 +64,8 @@ def rows(variant: str | None = None, params: dict[str, float] | None = None) -> 
     if "tuned" in variant_names():
         out["plastic-tuned"] = {"controller": "plastic", "variant": "tuned", "params": None}
     if params:
-        out["plastic-params"] = {"controller": "plastic", "variant": variant or "original", "params": params}
+        base = variant or "paper"  # the settings' variant (a params file's own, or --variant), paper by default
+        out[f"plastic-params ({base})"] = {"controller": "plastic", "variant": base, "params": params}
     elif variant is not None and f"plastic-{variant}" not in out:
         raise ValueError(f"unknown variant {variant!r}; expected one of {', '.join(variant_names())}")
     return out

@@ -28,7 +28,7 @@ from neurowalk.experiments.optimize.space import FITNESS_RULE, Dim
 from neurowalk.experiments.suites import deadends
 from neurowalk.experiments.suites.random_envs import FAILURE_RULE, RULE, failure_class, wilson
 from neurowalk.fileio import atomic_write, write_json
-from neurowalk.plotting import pyplot
+from neurowalk.plotting import look, pyplot, styled
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -243,7 +243,8 @@ def write(search: Search, folder: Path) -> list[Path]:
     write_json(paths[1], search.heldout)
     write_json(paths[2], {"space": {d.name: d.describe() for d in search.space}, "generations": search.history})
     fig = plot(search)
-    atomic_write(paths[3], lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
+    with look():
+        atomic_write(paths[3], lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
     return paths
 
 
@@ -261,6 +262,7 @@ def final_line(search: Search, folder: Path) -> str:
     )
 
 
+@styled
 def plot(search: Search) -> Figure:
     """Left: best, mean and best-so-far fitness per generation (base on the training set dashed). Right: the
     distribution mean of every field per generation (lines) and each generation's best candidate (dots), in

@@ -54,6 +54,7 @@ from neurowalk.experiments.stores import run_store, store_path
 from neurowalk.experiments.suites import deadends, random_envs
 from neurowalk.fileio import make_writable_folder
 from neurowalk.runners import ray_backend
+from neurowalk.runners.specs import code_of
 from neurowalk.runners.stopping import deferred
 from neurowalk.runners.store import count_finished
 from neurowalk.sim.config import EpisodeConfig
@@ -107,7 +108,7 @@ class Runner:
         """The results of ``specs`` (summaries, in order), computing only those not in the store."""
         configs = [EpisodeConfig.from_spec(s) for s in specs]
         keys = {c.key() for c in configs}
-        before = count_finished(store_path(self.folder), keys)
+        before = count_finished(store_path(self.folder), keys, code_of(configs))
         results = run_store([(c, ()) for c in configs], self.folder, self.workers, backend=self.backend,
                             address=self.address, desc="optimize", progress=self.progress)  # fmt: skip
         self.skipped += before

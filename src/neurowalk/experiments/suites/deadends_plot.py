@@ -22,6 +22,7 @@ from neurowalk.plotting.style import (
     letter,
     network_line,
     pyplot,
+    styled,
     time_colorbar,
     weight_style,
 )
@@ -220,6 +221,7 @@ def _counts_table(ax: Axes, s: dict, hz: float) -> None:
     )
 
 
+@styled
 def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool = False) -> Figure:
     """Panels A-G for the figure's ``network`` and the escape counts as a table; one row of panels per subfigure.
 

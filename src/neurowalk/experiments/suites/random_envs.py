@@ -36,6 +36,8 @@ from neurowalk.metrics import turn_state
 from neurowalk.sim.config import EpisodeConfig, seeds
 from neurowalk.sim.episode import Episode
 from neurowalk.sim.summary import STUCK_S  # the stuck window of the not-stuck rule: 300 s at any control rate
+from neurowalk.sim.table2 import BOXES as BOXES  # the table's constants, public in sim.table2
+from neurowalk.sim.table2 import EXTENT, SIZE, table2_environments
 
 NETWORKS: tuple[str, ...] = ("plastic", "static", "braitenberg")
 #: The rows of Table 2: name -> (controller, variant). ``plastic-tuned`` joins where the tuned variant is shipped.
@@ -45,9 +47,6 @@ ROWS: dict[str, tuple[str, str]] = {
     "static": ("static", "paper"),
     "braitenberg": ("braitenberg", "paper"),
 }
-BOXES = (2, 20)  # inclusive range of the number of boxes (paper: 2 to 20)
-EXTENT = 9.0  # m, side of the walled field (the original's arena is 9 x 9 m)
-SIZE = 1.0  # m, side of each box (the authors' arenas use 1 x 1 m boxes)
 DURATION_S = 2000.0  # s of simulated time per run
 QUICK_DURATION_S = 500.0  # s, ``quick``
 STEPS = 20_000  # control steps per run at the default 10 Hz (2000 s)
@@ -120,12 +119,9 @@ def calibrated_rate(body: str) -> float | None:
 
 
 def environments(n: int, seed: int) -> list[dict[str, Any]]:
-    """The first ``n`` environments of table seed ``seed``: [{'seed': run seed, 'n_boxes': boxes}, ...]."""
-    out = []
-    for i in range(n):
-        rng = np.random.default_rng(np.random.SeedSequence([seed, i]))
-        out.append({"seed": seed + i, "n_boxes": int(rng.integers(BOXES[0], BOXES[1] + 1))})
-    return out
+    """The first ``n`` environments of table seed ``seed``: [{'seed': run seed, 'n_boxes': boxes}, ...]
+    (:func:`neurowalk.sim.table2.table2_environments`, the public function)."""
+    return table2_environments(n, seed)
 
 
 FAILURE_RULE = (

@@ -24,6 +24,7 @@ from neurowalk.plotting.style import (
     network_colour,
     place_bar_counts,
     pyplot,
+    styled,
 )
 
 if TYPE_CHECKING:
@@ -151,6 +152,7 @@ def _by_class(ax: Axes, s: dict[str, Any], names: list[str]) -> None:
     legend_outside(ax)
 
 
+@styled
 def plot(res: Result) -> Figure:
     """A: success rates under both rules with 95% intervals beside the paper's; B: coverage per network with the
     rule's threshold; C: failures by clutter; D: failures by class."""
