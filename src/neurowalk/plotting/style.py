@@ -27,7 +27,6 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, TypeVar
 
 import matplotlib
-import matplotlib.figure
 import numpy as np
 from matplotlib.font_manager import FontProperties
 
@@ -130,17 +129,13 @@ def look() -> Iterator[None]:
 
 
 def styled(fn: F) -> F:
-    """``fn`` (a function that draws a figure) runs under :func:`look`; a figure it returns is laid out there too
-    (its ticks are made as it is drawn), so it looks the same saved, shown in a notebook or drawn later."""
+    """``fn`` (a function that draws a figure) runs under :func:`look`. Save its figure under :func:`look` too:
+    matplotlib's tick locators read the tick label sizes from the settings as the figure is drawn."""
 
     @functools.wraps(fn)
     def drawn(*args: Any, **kwargs: Any) -> Any:
         with look():
-            out = fn(*args, **kwargs)
-            figure = out if isinstance(out, matplotlib.figure.Figure) else None
-            if figure is not None:  # ticks and their labels are made as a figure is drawn: here, in the look
-                figure.draw_without_rendering()
-            return out
+            return fn(*args, **kwargs)
 
     return drawn  # type: ignore[return-value]
 
