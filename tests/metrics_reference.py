@@ -147,7 +147,11 @@ def _fitting_windows(xy: np.ndarray, window: int, radius: float, stride: int) ->
     hi, lo = blocks.max(axis=1), blocks.min(axis=1)  # (nb + cover, 2) extremes of each block
     first, stop = -(-starts // stride), (starts + window) // stride  # whole blocks inside each stretch
     inner = int(np.min(stop - first))
-    wide = np.any((_running_max(hi, inner) + _running_max(-lo, inner))[first] > 2.0 * radius, axis=1)
+    if inner < 0:  # the last stretch lies inside one block: its blocks cannot bound it
+        raise ValueError(f"window ({window} rows) shorter than stride ({stride}): the blocks cannot bound it")
+    wide = np.zeros(len(starts), dtype=bool)  # a stretch with no whole block: no cheap bound says it is wide
+    if inner > 0:
+        wide = np.any((_running_max(hi, inner) + _running_max(-lo, inner))[first] > 2.0 * radius, axis=1)
     csum = np.vstack([np.zeros((1, 2)), np.cumsum(xy, axis=0)])
     mean = (csum[starts + window] - csum[starts]) / window  # (m, 2)
     at = starts // stride  # the blocks from here on cover the stretch

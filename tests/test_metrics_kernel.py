@@ -211,6 +211,21 @@ def test_an_undecided_stretch_is_left_to_numpy() -> None:
     assert found and undecided.size == 0
 
 
+def test_a_stretch_with_no_whole_block_is_not_called_wide() -> None:
+    # 732 rows, stretches of 11 every 10: the last, [721, 732), holds no whole block of 10 rows. The wide bound
+    # over zero blocks once compared a stretch's first block with the run's last one (0.73 m of drift away), so
+    # the early stretches, 1 cm long, were dropped as wide.
+    xy = _walk(0, 732, 0.0, 0.001)[:, :2]
+    want = [
+        s
+        for s in sorted({*range(0, 722, 10), 721})
+        if np.max(np.sum((xy[s : s + 11] - xy[s : s + 11].mean(axis=0)) ** 2, axis=1)) <= 0.3**2
+    ]
+    assert want[:3] == [0, 10, 20]  # the early stretches fit
+    assert metrics._fitting_starts(xy, 11, 0.3, 10).tolist() == want
+    assert np.array_equal(metrics._fitting_windows(xy, 11, 0.3, 10), ref_fitting_windows(xy, 11, 0.3, 10))
+
+
 def _walk(seed: int, n: int, step: float, drift: float) -> np.ndarray:
     """(n, 3) poses of a random walk (``step`` m per row, a ``drift`` m per row to +x)."""
     rng = np.random.default_rng(seed)

@@ -229,9 +229,10 @@ def fitting_starts(xy: np.ndarray, window: int, radius: float, stride: int) -> t
 
     Stretches start every ``stride`` rows and at ``T - window``. One is *wide* (does not fit) where the maxima
     over its first ``inner`` whole blocks of ``stride`` rows (``inner``: the fewest any stretch holds) span more
-    than ``2 radius`` in x or y; else *sure* (fits) where the bounding box of the ``window // stride + 2``
-    blocks from its first lies within ``radius`` of its mean (from the running sum); else it fits if
-    :func:`stretch_fits` says so. All of this is the numpy code's arithmetic, operation for operation.
+    than ``2 radius`` in x or y (none is wide where ``inner`` is 0: no block bounds the stretch); else *sure*
+    (fits) where the bounding box of the ``window // stride + 2`` blocks from its first lies within ``radius``
+    of its mean (from the running sum); else it fits if :func:`stretch_fits` says so. All of this is the numpy
+    code's arithmetic, operation for operation.
 
     Returns:
         (j,) int64 starts of the stretches that surely fit, ascending, and the (k,) int64 starts of undecided
@@ -266,9 +267,9 @@ def fitting_starts(xy: np.ndarray, window: int, radius: float, stride: int) -> t
     todo = []
     for s in starts:
         f = -(-s // stride)
-        if _range_max(hi_x, f, inner) + _range_max(nlo_x, f, inner) > two_r:
+        if inner > 0 and _range_max(hi_x, f, inner) + _range_max(nlo_x, f, inner) > two_r:
             continue
-        if _range_max(hi_y, f, inner) + _range_max(nlo_y, f, inner) > two_r:
+        if inner > 0 and _range_max(hi_y, f, inner) + _range_max(nlo_y, f, inner) > two_r:
             continue
         mx = (csum[s + window, 0] - csum[s, 0]) / window
         my = (csum[s + window, 1] - csum[s, 1]) / window
