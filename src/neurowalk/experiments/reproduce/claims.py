@@ -1,17 +1,23 @@
 """A reproduced result, paper against neurowalk: :class:`Claim`, and the rules that give it a verdict.
 
-Each rule is stated in the claim's ``rule`` so the report says how a verdict was reached:
+Each rule is a stated test, chosen before the run, and its text (the claim's ``rule``, in the report's details)
+says what uncertainty it accounts for and gives the numbers compared:
 
 * :func:`outcome`: the paper shows one run with an outcome (escaped, trapped, climbed); neurowalk runs several
   seeds. Reproduced where at least two thirds of them end that way, partly where some do, not where none does
-  (the Wilson 95% interval of the share is reported beside it).
-* :func:`rate`: the paper gives a count of a number (49 of 50). Reproduced where the paper's rate lies inside the
-  measured 95% interval, partly where the two rates are within 10 points, not otherwise.
+  (the Wilson 95% interval of the share is reported beside it). It accounts for the spread of neurowalk's seeds; the
+  paper's one run has no spread to account for: a typical outcome is what one run most likely shows.
+* :func:`rate`: the paper gives a count of a number (49 of 50). Boschloo's exact test of the two counts, two-sided
+  at alpha = 0.05 (:mod:`.exact`; it accounts for the sampling error of both samples): reproduced where p >= 0.05,
+  else partly where the two rates are within 10 points, not beyond. Beside it, the smallest difference from the
+  paper's rate the two samples would detect with 80% power.
 * :func:`timing`: the paper gives the time of an event on the real robot. Reproduced within a factor of 1.5,
-  partly within a factor of 3, not otherwise (the simulated robot's body and floor differ from the real ones).
-* :func:`value`: a number of the paper's (a fixed point, a threshold) against the measured one, with a tolerance.
+  partly within a factor of 3, not otherwise (it accounts for the body and floor: the simulated robot's differ from
+  the real ones; not for a spread, the paper's time being one run's).
+* :func:`value`: a number of the paper's (a fixed point, a threshold) against the measured one, with a tolerance
+  (the claim says what the tolerance stands for: the paper's printed precision, its figure's resolution).
 * :func:`holds`: a property the paper states in words (the weights settle; the robot turns left) and whether it
-  holds in the run.
+  holds in the run, by the measure its text names.
 """
 
 from __future__ import annotations
@@ -20,9 +26,19 @@ import math
 from dataclasses import asdict, dataclass
 from typing import Any
 
+from neurowalk.experiments.reproduce.exact import boschloo, detectable
 from neurowalk.experiments.suites.random_envs import wilson
 
 VERDICTS: tuple[str, ...] = ("reproduced", "partly", "not")
+
+ALPHA = 0.05
+"""Level of :func:`rate`'s test (two-sided)."""
+
+POWER = 0.8
+"""Power at which :func:`rate` states the smallest detectable difference."""
+
+PARTLY_POINTS = 0.10
+"""A count that differs significantly is still *partly* reproduced within this many rate points (0.10: 10)."""
 
 
 @dataclass(frozen=True)
@@ -38,6 +54,9 @@ class Claim:
         interval: 95% interval of ``measured`` where it is a rate, else None.
         unit: unit of ``paper`` and ``measured``, or what a count counts ("s", "%", "m", "runs", "environments";
             "" where the value says it itself, as a word or with its own unit).
+        test: the statistical test of a count (:func:`rate`): ``name``, ``p_value``, ``alpha``, ``power`` and
+            ``detectable`` (``below``, ``above``: the smallest differences from the paper's rate, 0-1, that the
+            two samples would show at that power, None where none would), else None.
     """
 
     what: str
@@ -47,6 +66,7 @@ class Claim:
     rule: str
     interval: tuple[float, float] | None = None
     unit: str = ""
+    test: dict[str, Any] | None = None
 
     def __post_init__(self) -> None:
         if self.verdict not in VERDICTS:
@@ -65,21 +85,46 @@ def outcome(what: str, paper: str, k: int, n: int) -> Claim:
     verdict = "reproduced" if 3 * k >= 2 * n > 0 else "partly" if k > 0 else "not"
     rule = (
         f"{k} of {n} runs end as the paper's one run did ({paper}; 95% interval {lo:.0%}-{hi:.0%}): reproduced "
-        "where two thirds or more do, partly where some do, not where none does"
+        "where two thirds or more do, partly where some do, not where none does (it accounts for the spread of "
+        "neurowalk's seeds and reads the paper's one run as its typical outcome)"
     )
     return Claim(what, paper, f"{k}/{n}", verdict, rule, (lo, hi), unit="runs")
 
 
 def rate(what: str, paper_k: int, paper_n: int, k: int, n: int, of: str = "environments") -> Claim:
-    """The paper counts ``paper_k`` of ``paper_n``; neurowalk ``k`` of ``n`` (``of``: what both count)."""
+    """The paper counts ``paper_k`` of ``paper_n``; neurowalk ``k`` of ``n`` (``of``: what both count).
+
+    Boschloo's exact test, two-sided at :data:`ALPHA`: reproduced where p >= ALPHA, else partly within
+    :data:`PARTLY_POINTS` of the paper's rate, not beyond; no runs (n = 0): not."""
+    p0 = paper_k / paper_n
+    if n == 0:
+        return Claim(what, f"{paper_k}/{paper_n}", "0/0", "not", "no run was measured", (0.0, 1.0), unit=of)
     lo, hi = wilson(k, n)
-    p0, p = paper_k / paper_n, (k / n if n else 0.0)
-    verdict = "reproduced" if lo <= p0 <= hi else "partly" if abs(p - p0) <= 0.10 else "not"
-    rule = (
-        f"paper {p0:.0%} against {p:.0%} (95% interval {lo:.0%}-{hi:.0%}): reproduced where the paper's rate is "
-        "inside the interval, partly within 10 points"
+    p = k / n
+    test = boschloo(k, n, paper_k, paper_n)
+    seen = detectable(p0, paper_n, n, ALPHA, POWER)
+    significant = test.p_value < ALPHA
+    verdict = "reproduced" if not significant else "partly" if abs(p - p0) <= PARTLY_POINTS + 1e-12 else "not"
+    below, above = (f"{100 * d:.1f} points" if d is not None else None for d in (seen["below"], seen["above"]))
+    sizes = (
+        " or ".join(x for x in (f"{below} below" if below else "", f"{above} above" if above else "") if x)
+        or "no difference"
     )
-    return Claim(what, f"{paper_k}/{paper_n}", f"{k}/{n}", verdict, rule, (lo, hi), unit=of)
+    rule = (
+        f"paper {paper_k}/{paper_n} ({p0:.1%}) against {k}/{n} ({p:.1%}; 95% interval {lo:.1%}-{hi:.1%}): "
+        f"Boschloo's exact test, two-sided, p = {test.p_value:.3g} (it accounts for the sampling error of both "
+        f"counts); reproduced where p >= {ALPHA:g}, else partly within {100 * PARTLY_POINTS:.0f} points of the "
+        f"paper's rate, not beyond. These two samples would show a rate {sizes} the paper's with "
+        f"{POWER:.0%} power"
+    )
+    stats = {
+        "name": "Boschloo's exact test, two-sided",
+        "p_value": test.p_value,
+        "alpha": ALPHA,
+        "power": POWER,
+        "detectable": seen,
+    }
+    return Claim(what, f"{paper_k}/{paper_n}", f"{k}/{n}", verdict, rule, (lo, hi), unit=of, test=stats)
 
 
 def timing(what: str, paper_s: float, measured_s: float | None, context: str = "") -> Claim:
@@ -90,7 +135,8 @@ def timing(what: str, paper_s: float, measured_s: float | None, context: str = "
     verdict = "reproduced" if factor <= 1.5 else "partly" if factor <= 3 else "not"
     rule = (
         f"{measured_s:.0f} s against the real robot's {paper_s:.0f} s, a factor of {factor:.1f}{context}: "
-        "reproduced within 1.5, partly within 3"
+        "reproduced within 1.5, partly within 3 (it accounts for the simulated body and floor against the real "
+        "ones; the paper's time is one run's)"
     )
     return Claim(what, paper_s, round(float(measured_s), 1), verdict, rule, unit="s")
 

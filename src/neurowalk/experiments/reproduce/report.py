@@ -115,9 +115,12 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
         'and CPU type (another CPU changes a few last bits, no verdict: `docs/usage.md`, "Same seed, same result").',
         "",
         "A claim is reproduced where the simulated robot does what the paper shows: in two thirds or more of the "
-        "seeds for an outcome of one run, within the measured 95% interval for a count such as 49/50, within a "
-        "factor of 1.5 for a time of the real robot (partly: some seeds, within 10 points, within a factor of 3). Each "
-        "measured value says what it counts or its unit. Each claim's own rule, with its numbers, is in "
+        "seeds for an outcome of one run; for a count such as 49/50, where Boschloo's exact test of the two counts "
+        "(two-sided, both samples' sampling error) finds no difference at the 5% level; within a factor of 1.5 for "
+        "a time of the real robot (partly: some seeds, a significant difference within 10 points, within a factor "
+        "of 3). Beside each count, its test's p and the smallest shortfall from the paper's rate the two samples "
+        "would show with 80% power: the paper's 50 environments bound it. Each measured value says what it counts "
+        "or its unit. Each claim's own rule, with its numbers, is in "
         "[the details](details.md). The column *authors' simulator* judges the same claims on runs of the authors' own "
         "simulator, where it has them (last section).",
         "",
@@ -148,7 +151,7 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
             "",
             f"![{item.name}]({rec['files']['png']})",
             "",
-            "| claim | paper | neurowalk | 95% interval | verdict | authors' simulator |",
+            "| claim | paper | neurowalk | 95% interval; test | verdict | authors' simulator |",
             "|---|---|---|---|---|---|",
         ]
         for c in rec["claims"]:
@@ -194,8 +197,17 @@ def _physics(out: Path, rec: dict[str, Any]) -> list[str]:
 
 
 def _interval(c: dict[str, Any]) -> str:
-    """A claim's 95% interval as percentages ("-" where it has none)."""
-    return "-" if c["interval"] is None else f"{c['interval'][0]:.0%}-{c['interval'][1]:.0%}"
+    """A claim's 95% interval as percentages ("-" where it has none) and, for a count, its test's p and the smallest
+    shortfall the two samples would show ("p 0.54, sees 11 points below")."""
+    if c["interval"] is None:
+        return "-"
+    words = f"{c['interval'][0]:.0%}-{c['interval'][1]:.0%}"
+    test = c.get("test")
+    if test:
+        below = test["detectable"]["below"]
+        sees = f"sees {100 * below:.0f} points below" if below is not None else "sees no shortfall"
+        words += f"; p {test['p_value']:.2g}, {sees}"
+    return words
 
 
 def _made_on(records: dict[str, dict[str, Any]]) -> str:
