@@ -46,6 +46,7 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     SIGTERM), with one line saying which results are on disk.
     """
     from neurowalk.experiments.reproduce import runner
+    from neurowalk.experiments.reproduce.pinned import versions_line
     from neurowalk.experiments.reproduce.plan import settings_words
     from neurowalk.experiments.reproduce.report import write_report
     from neurowalk.experiments.reproduce.timing import expected_seconds
@@ -61,6 +62,9 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
         return 0
     out_folder(out)
     lock = folder_lock(out, "reproduce")
+    off = versions_line()
+    if off:
+        print(off, file=sys.stderr)
     expected = {r.name: expected_seconds(r.figure, args.quick) for r in runs}
     failed: dict[str, str] = {}
     from tqdm import tqdm

@@ -212,11 +212,16 @@ def _interval(c: dict[str, Any]) -> str:
 
 def _made_on(records: dict[str, dict[str, Any]]) -> str:
     """The versions and machine of the records, said once where they share them."""
-    made = {(r["versions"]["neurowalk"], r["versions"]["mujoco"], r["versions"]["machine"]) for r in records.values()}
+    keys = ("neurowalk", "mujoco", "numpy", "numba", "matplotlib", "python", "machine")
+    made = {tuple(r["versions"].get(k, "?") for k in keys) for r in records.values()}
     if len(made) != 1:
         return "The versions and machine of each result are in its `NAME.json`."
-    nw, mj, machine = made.pop()
-    return f"Made with neurowalk {nw} and MuJoCo {mj} on {machine}."
+    nw, mj, np_, nb, mpl, py, machine = made.pop()
+    return (
+        f"Made with neurowalk {nw}, MuJoCo {mj}, numpy {np_}, numba {nb}, matplotlib {mpl} and Python {py} on "
+        f"{machine} (every package's exact version: `requirements.lock` at the repository's root; `neurowalk "
+        "reproduce` says when the installed ones differ)."
+    )
 
 
 def _docs_link(out: Path, page: str, words: str) -> str:
