@@ -161,6 +161,10 @@ def test_paper_variant_is_the_default_network():
         ("paper", {"mu_b": float("nan")}, "mu_b must be a finite number"),
         ("paper", {"gamma_q": -0.1}, "gamma_q must be >= 0"),
         ("original", {"mu_q": "fast"}, "mu_q must be a finite number"),
+        ("paper", {"input_delay": 1}, "input_delay must be true or false"),
+        ("paper", {"steer_delay": 3}, "steer_delay must be 0, 1 or 2"),
+        ("paper", {"steer_delay": True}, "steer_delay must be 0, 1 or 2"),
+        ("paper", {"pcpg_first_partial": "yes"}, "pcpg_first_partial must be true or false"),
     ],
 )
 def test_bad_variants_and_params_name_the_value(name, overrides, message):
@@ -181,3 +185,29 @@ def test_params_file_round_trip_and_errors(tmp_path):
     with pytest.raises(ValueError, match="is not JSON"):
         read_params_file(f)
     assert set(TUNABLE) <= set(SensoryParams.__dataclass_fields__)
+
+
+def test_each_code_option_switches_alone_and_all_of_them_make_the_code():
+    from neurowalk.neural.variants import CODE_OPTIONS, SWITCHES
+
+    paper, original = get_variant("paper"), get_variant("original")
+    assert len(CODE_OPTIONS) == 10 and set(SWITCHES) <= set(CODE_OPTIONS)
+    for option, (on_paper, on_code) in CODE_OPTIONS.items():
+        on = get_variant("paper", {option: on_code})
+        off = get_variant("original", {option: on_paper})
+        if option == "pcpg_first_partial":
+            assert on.pcpg_first_partial and not off.pcpg_first_partial and on.sensory == paper.sensory
+            continue
+        changed = {f for f in SensoryParams.__dataclass_fields__ if getattr(on.sensory, f) != getattr(paper.sensory, f)}
+        # b_start/q_start None read as 0 in a plastic network: 0 is the paper's value, set explicitly
+        assert changed == {option}, option
+        assert getattr(off.sensory, option) == on_paper and off.pcpg_first_partial
+    every = get_variant("paper", {o: code for o, (_, code) in CODE_OPTIONS.items()})
+    assert every.sensory == original.sensory and every.pcpg_first_partial
+
+
+def test_a_params_file_sets_a_switch(tmp_path):
+    f = tmp_path / "p.json"
+    f.write_text('{"params": {"steer_delay": 2, "input_delay": true}}')
+    v = get_variant("paper", read_params_file(f)["params"])
+    assert v.sensory.steer_delay == 2 and isinstance(v.sensory.steer_delay, int) and v.sensory.input_delay

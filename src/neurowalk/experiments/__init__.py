@@ -129,6 +129,12 @@ FIGURES: dict[str, Study] = {
         "latched",
         "variant params workers",
     ),
+    "ablation": _study(
+        "ablation",
+        "the authors' code's options one at a time, and success against run length, on Table 2's environments",
+        "ablation",
+        "seeds workers",
+    ),
     "steps": _study(
         "steps",
         "step-height sweep: highest step climbed, with and without backbone control and reflexes",

@@ -48,6 +48,28 @@ TUNABLE: tuple[str, ...] = (
 )
 
 
+#: The authors' code's switches a params file may set too, each alone (:mod:`neurowalk.experiments.figures.ablation`):
+#: the sensory network's (SensoryParams fields: booleans, and ``steer_delay`` 0, 1 or 2 control steps) and the PCPG's
+#: ``pcpg_first_partial`` (boolean). With the numbers of :data:`TUNABLE` they are the 10 options by which
+#: ``original`` differs from ``paper`` (:data:`CODE_OPTIONS`).
+SWITCHES: tuple[str, ...] = ("input_delay", "post_learning", "steer_delay", "prime_step", "pcpg_first_partial")
+
+#: The 10 options of the authors' code (``original``) that the paper's reading (``paper``) sets otherwise, with the
+#: value of each in the two: {option: (paper, original)}; ``b_start``/``q_start`` 0 are the paper's plastic start.
+CODE_OPTIONS: dict[str, tuple[float | bool | int, float | bool | int]] = {
+    "activity_cutoff": (0.0, 0.009),
+    "reflex_threshold": (-0.5, -0.6),
+    "us_near": (0.05, 0.0),
+    "input_delay": (False, True),
+    "post_learning": (False, True),
+    "steer_delay": (0, 2),
+    "prime_step": (False, True),
+    "b_start": (0.0, 2.0),
+    "q_start": (0.0, 3.0),
+    "pcpg_first_partial": (False, True),
+}
+
+
 def variant_names() -> tuple[str, ...]:
     """The variants available here: ``paper``, ``original``, and ``tuned`` where its data file is shipped."""
     return ("paper", "original", "tuned") if TUNED_FILE.is_file() else ("paper", "original")
@@ -67,7 +89,7 @@ class Variant:
     name: str
     sensory: SensoryParams
     pcpg_first_partial: bool = False
-    overrides: Mapping[str, float] = dataclasses.field(default_factory=dict)
+    overrides: Mapping[str, float | bool | int] = dataclasses.field(default_factory=dict)
 
     def locomotion(self, base: LocomotionParams | None = None) -> LocomotionParams:
         """Locomotion parameters (``base``'s, default the wave gait) with this variant's PCPG."""
@@ -75,17 +97,27 @@ class Variant:
         return dataclasses.replace(b, cpg=dataclasses.replace(b.cpg, pcpg_first_partial=self.pcpg_first_partial))
 
 
-def check_overrides(overrides: Mapping[str, Any], where: str = "params") -> dict[str, float]:
-    """``overrides`` as {field: float}; raises ValueError naming an unknown field or a non-finite value."""
+def check_overrides(overrides: Mapping[str, Any], where: str = "params") -> dict[str, float | bool | int]:
+    """``overrides`` as {field: value}: a :data:`TUNABLE` field a float, a :data:`SWITCHES` one a bool
+    (``steer_delay`` an int 0-2); raises ValueError naming an unknown field or a bad value."""
     if not isinstance(overrides, Mapping):
         raise ValueError(f"{where} must be an object of SensoryParams fields, got {overrides!r}")
-    out = {}
+    out: dict[str, float | bool | int] = {}
     for key, value in overrides.items():
-        if key not in TUNABLE:
-            raise ValueError(f"{where}: unknown field {key!r}; fields: {', '.join(TUNABLE)}")
-        if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        if key == "steer_delay":
+            if isinstance(value, bool) or not isinstance(value, int | float) or value not in (0, 1, 2):
+                raise ValueError(f"{where}: steer_delay must be 0, 1 or 2 control steps, got {value!r}")
+            out[key] = int(value)
+        elif key in SWITCHES:
+            if not isinstance(value, bool):
+                raise ValueError(f"{where}: {key} must be true or false, got {value!r}")
+            out[key] = value
+        elif key not in TUNABLE:
+            raise ValueError(f"{where}: unknown field {key!r}; fields: {', '.join((*TUNABLE, *SWITCHES))}")
+        elif isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
             raise ValueError(f"{where}: {key} must be a finite number, got {value!r}")
-        out[key] = float(value)
+        else:
+            out[key] = float(value)
     return dict(sorted(out.items()))
 
 
@@ -109,9 +141,9 @@ def get_variant(name: str = "paper", overrides: Mapping[str, Any] | None = None)
     if not overrides:
         return v
     extra = check_overrides(overrides)
-    return Variant(
-        f"{v.name}+params", dataclasses.replace(v.sensory, **extra), v.pcpg_first_partial, {**v.overrides, **extra}
-    )
+    sensory = {k: x for k, x in extra.items() if k != "pcpg_first_partial"}
+    pcpg = bool(extra.get("pcpg_first_partial", v.pcpg_first_partial))
+    return Variant(f"{v.name}+params", dataclasses.replace(v.sensory, **sensory), pcpg, {**v.overrides, **extra})
 
 
 def read_params_file(path: Path | str) -> dict[str, Any]:

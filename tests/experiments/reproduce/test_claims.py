@@ -73,3 +73,21 @@ def test_overall_and_bad_verdicts():
     with pytest.raises(ValueError, match="verdict"):
         Claim("a", 1, 1, "maybe", "rule")
     assert yes.to_json()["interval"] is None
+
+
+def test_a_claim_not_reproduced_gets_a_cause_and_an_unknown_one_is_unexplained(tmp_path):
+    from neurowalk.experiments.reproduce.causes import with_causes
+
+    yes, no = holds("a", "x", True, 1, "why"), holds("the one", "x", False, 0, "why")
+    out = with_causes("nothing-known", [yes, no], {}, tmp_path)
+    assert out[0].cause is None and out[1].cause == {"kind": "unexplained", "why": "no measurement names a cause yet"}
+    # fig9-27hz's static network: the run length, from the runs' own exit times
+    stuck = holds("static network gets stuck in the path (Fig. 9)", "stuck", False, "0/10", "why")
+    summary = {"control_hz": 27.0, "duration_s": 800.0, "counts": {"static": {"runs": [{"out_time_s": 264.0},
+               {"out_time_s": 339.0}]}}}  # fmt: skip
+    (got,) = with_causes("fig9-27hz", [stuck], summary, tmp_path)
+    assert got.cause["kind"] == "a neurowalk substitute" and "264-339 s" in got.cause["why"]
+    assert "7,128-9,153 control steps" in got.cause["why"]
+    # Table 2's shortfall without the ablation's record: unexplained, not invented
+    t2 = rate("plastic-paper: not stuck", 49, 50, 40, 50)
+    assert with_causes("table2", [t2], {}, tmp_path)[0].cause["kind"] == "unexplained"

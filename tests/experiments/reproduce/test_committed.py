@@ -86,3 +86,24 @@ def test_the_report_reads_as_a_page(folder: Path):
         assert not re.search(r"\d\.\d{7,}", text)  # no float printed raw
         assert not re.search(r"\b(?:figures|suites|metrics|experiments|neurowalk)\.[a-z_]+", text)  # no module path
         assert not re.search(r"\b[a-z]+_[a-z_]+\(", text)  # no function call
+
+
+@pytest.mark.parametrize("folder", [RESULTS, QUICK], ids=["full", "quick"])
+def test_every_claim_not_reproduced_carries_its_cause(folder: Path):
+    """Issue 59: each claim that is not reproduced says why (one of the causes' kinds, with its measurement), in its
+    record, in the report's table and details and in reproduce.json; a reproduced one carries none."""
+    from neurowalk.experiments.reproduce.causes import KINDS
+
+    summary = json.loads((folder / "reproduce.json").read_text())
+    listed = {(x["result"], x["what"]): x["cause"] for x in summary["not_reproduced"]}
+    details = (folder / "details.md").read_text()
+    for item in PLAN:
+        rec = json.loads((folder / f"{item.name}.json").read_text())
+        for c in rec["claims"]:
+            if c["verdict"] == "reproduced":
+                assert c["cause"] is None, (item.name, c["what"])
+                continue
+            assert c["cause"]["kind"] in KINDS and c["cause"]["why"], (item.name, c["what"])
+            assert listed[(item.name, c["what"])] == c["cause"]
+            assert f"Cause: *{c['cause']['kind']}*: {c['cause']['why']}." in details
+    assert len(listed) == summary["claims"]["total"] - summary["claims"]["reproduced"]

@@ -57,6 +57,8 @@ class Claim:
         test: the statistical test of a count (:func:`rate`): ``name``, ``p_value``, ``alpha``, ``power`` and
             ``detectable`` (``below``, ``above``: the smallest differences from the paper's rate, 0-1, that the
             two samples would show at that power, None where none would), else None.
+        cause: why a claim is not reproduced (:mod:`.causes`): ``kind`` (one of its ``KINDS``) and ``why`` (the
+            measurement that shows it); None for a reproduced claim.
     """
 
     what: str
@@ -67,6 +69,7 @@ class Claim:
     interval: tuple[float, float] | None = None
     unit: str = ""
     test: dict[str, Any] | None = None
+    cause: dict[str, str] | None = None
 
     def __post_init__(self) -> None:
         if self.verdict not in VERDICTS:

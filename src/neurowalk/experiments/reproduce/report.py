@@ -157,7 +157,7 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
         for c in rec["claims"]:
             lines.append(
                 f"| {cell(c['what'])} | {cell(c['paper'], c['unit'])} | {cell(c['measured'], c['unit'])} "
-                f"| {_interval(c)} | {MARK[c['verdict']]} | {_authors_claim(rec, c['what'])} |"
+                f"| {_interval(c)} | {MARK[c['verdict']]}{_cause_kind(c)} | {_authors_claim(rec, c['what'])} |"
             )
     return "\n".join([*lines, *_provenance(out)]) + "\n"
 
@@ -177,10 +177,22 @@ def render_details(out: Path, quick: bool) -> str:
         if rec is None:
             continue
         lines += ["", f"## {item.name}", "", f"{item.paper} ([in the report](report.md#{item.name})).", ""]
-        lines += [f"- **{c['what']}** ({c['verdict']}): {c['rule']}." for c in rec["claims"]]
+        lines += [f"- **{c['what']}** ({c['verdict']}): {c['rule']}.{_cause(c)}" for c in rec["claims"]]
         lines += _physics(out, rec)
         lines += _side_by_side(rec)
     return "\n".join(lines) + "\n"
+
+
+def _cause_kind(c: dict[str, Any]) -> str:
+    """`` (cause: KIND)`` for a claim not reproduced, else ""."""
+    cause = c.get("cause")
+    return "" if not cause else f" (cause: {cause['kind']})"
+
+
+def _cause(c: dict[str, Any]) -> str:
+    """`` Cause: KIND: WHY.`` for a claim not reproduced, else ""."""
+    cause = c.get("cause")
+    return "" if not cause else f" Cause: *{cause['kind']}*: {cause['why']}."
 
 
 def _physics(out: Path, rec: dict[str, Any]) -> list[str]:
@@ -217,10 +229,19 @@ def _made_on(records: dict[str, dict[str, Any]]) -> str:
     if len(made) != 1:
         return "The versions and machine of each result are in its `NAME.json`."
     nw, mj, np_, nb, mpl, py, machine = made.pop()
+    cpus: dict[str, list[str]] = {}
+    for name, r in records.items():
+        cpus.setdefault(r["versions"].get("cpu", "?").split(",")[0].removeprefix("numba_cpu "), []).append(name)
+    where = (
+        f"CPU {next(iter(cpus))}"
+        if len(cpus) == 1
+        else "CPUs " + "; ".join(f"{cpu} ({', '.join(names) if len(names) < 5 else f'{len(names)} results'})"
+                                 for cpu, names in sorted(cpus.items(), key=lambda kv: -len(kv[1])))
+    )  # fmt: skip
     return (
         f"Made with neurowalk {nw}, MuJoCo {mj}, numpy {np_}, numba {nb}, matplotlib {mpl} and Python {py} on "
-        f"{machine} (every package's exact version: `requirements.lock` at the repository's root; `neurowalk "
-        "reproduce` says when the installed ones differ)."
+        f"{machine}, {where} (every package's exact version: `requirements.lock` at the repository's root; "
+        "`neurowalk reproduce` says when the installed ones differ)."
     )
 
 
@@ -265,6 +286,12 @@ def totals(out: Path, quick: bool) -> dict[str, Any]:
         "measured": len(records),
         "verdicts": {v: sum(r["verdict"] == v for r in records.values()) for v in MARK},
         "claims": claim_counts(records),
+        "not_reproduced": [
+            {"result": name, "what": c["what"], "verdict": c["verdict"], "cause": c.get("cause")}
+            for name, r in records.items()
+            for c in r["claims"]
+            if c["verdict"] != "reproduced"
+        ],
         "commands": len(commands),
         "wall_time_s": round(sum(c["wall_time_s"] for c in commands), 1),
         "resumed_commands": sum(bool(c.get("resumed")) for c in commands),

@@ -36,6 +36,7 @@ from typing import Any
 
 from neurowalk import profiling
 from neurowalk.experiments import FIGURES, Settings
+from neurowalk.experiments.reproduce.causes import with_causes
 from neurowalk.experiments.reproduce.claims import Claim, overall
 from neurowalk.experiments.reproduce.judge_authors import compare
 from neurowalk.experiments.reproduce.plan import Item
@@ -197,7 +198,7 @@ def item_record(item: Item, run: Run, record: dict[str, Any], out: Path, quick: 
     """An item's result: its command, versions, seeds, wall time, claims and verdict, judged from the run's json, and
     where the authors' simulator has runs of it, ``authors``: their claims and numbers beside neurowalk's."""
     summary = json.loads((out / run.name / f"{run.figure}.json").read_text(encoding="utf-8"))
-    claims = item.judge(summary, quick)
+    claims = with_causes(item.name, item.judge(summary, quick), summary, out)
     verdict, reason = overall(claims)
     return {
         "name": item.name,
@@ -236,7 +237,7 @@ def rejudged(item: Item, record: dict[str, Any], out: Path) -> dict[str, Any]:
     current code from the run's numbers in ``out`` (the run itself is not repeated): what a changed judge says; its
     ``authors`` entry made again too."""
     summary = json.loads((out / record["files"]["json"]).read_text(encoding="utf-8"))
-    claims = item.judge(summary, record["quick"])
+    claims = with_causes(item.name, item.judge(summary, record["quick"]), summary, out)
     verdict, reason = overall(claims)
     rest = {k: v for k, v in record.items() if k != "authors"}
     judged = {"claims": [c.to_json() for c in claims], "verdict": verdict, "reason": reason}

@@ -1,0 +1,34 @@
+"""The ablation study of the authors' code's options (``experiments/figures/ablation.py``)."""
+
+from __future__ import annotations
+
+from neurowalk.experiments.figures import ablation
+from neurowalk.experiments.suites.random_envs import coverage_threshold, environments, spec
+from neurowalk.neural.variants import CODE_OPTIONS, get_variant
+from neurowalk.sim.config import EpisodeConfig
+from neurowalk.sim.episode import run_episode
+
+
+def test_every_arm_differs_from_its_reading_in_one_option():
+    arms = ablation.arms()
+    assert len(arms) == 2 * len(ablation.SWITCHED) + 1 and "pcpg_first_partial" not in ablation.SWITCHED
+    for name, (variant, params) in arms.items():
+        if name == "paper + all":
+            assert get_variant(variant, params).sensory == get_variant("original").sensory
+            continue
+        ((option, value),) = params.items()
+        assert value == CODE_OPTIONS[option][1 if variant == "paper" else 0]
+        assert name == f"{variant} {'+' if variant == 'paper' else '-'} {option}"
+
+
+def test_a_long_runs_prefix_is_the_shorter_run():
+    """The outcome kept at T s of a long run is that of a run of T s (same seed): one run gives every length."""
+    env = environments(3, 0)[2]
+    long = run_episode(EpisodeConfig.from_spec(spec(env, "plastic", 10_000, "surrogate")))
+    short = run_episode(EpisodeConfig.from_spec(spec(env, "plastic", 5_000, "surrogate")))
+    kept = ablation.keep_lengths(long)
+    assert kept["lengths_s"] == [500.0, 750.0, 1000.0]
+    r = short.summary
+    assert kept["success"][0] is (not r["trapped"])
+    assert kept["success_coverage"][0] is (r["coverage"] >= coverage_threshold(500.0))
+    assert kept["success"][2] is (not long.summary["trapped"])
