@@ -20,7 +20,13 @@ def test_fig6_draws_sixteen_environments_classes_them_and_replots(tmp_path: Path
     s = json.loads((tmp_path / "fig6.json").read_text())
     assert len(s["environments"]) == 16 and s["body"] == "surrogate" and s["control_hz"] == 10.0
     assert s["success"] == sum(e["success"] for e in s["environments"])
-    assert s["class_numbers"] == RULE_NUMBERS and "270 deg" in s["class_rule"] and "0.6 m" in s["class_rule"]
+    # the trap's angle is the paper's own trap's (the simple dead end, the same network and body), not a number of ours
+    ref = s["trap_reference"]
+    assert ref["arena"] == "simple-deadlock" and ref["trap_blocked_deg"] == min(ref["widest_blocked_deg"])
+    assert s["class_numbers"] == {**RULE_NUMBERS, "trap_blocked_deg": ref["trap_blocked_deg"]}
+    assert f">= {ref['trap_blocked_deg']:g} deg" in s["class_rule"] and "0.6 m" in s["class_rule"]
+    h = s["blocked_histogram"]
+    assert sum(h["counts"]) == h["environments"] == 100 and 0 <= h["at_least_trap"] <= 100
     assert s["coverage_threshold"] == pytest.approx(0.0125) and s["coverage_cell_m"] == 0.25
     assert sum(s["classes"].values()) == 16 and set(s["classes"]) == set(CLASSES)
     for e in s["environments"]:

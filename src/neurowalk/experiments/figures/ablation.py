@@ -198,6 +198,7 @@ def plot(res: Result) -> Figure:
     ax.axvline(-gap, color="tab:orange", ls="--", lw=LINE["trace"], label=f"its mirror: {-gap:+d}")
     ax.axvline(0, color="0.3", lw=LINE["thin"])
     ax.set_yticks(y, [r["option"] for r in rows])
+    ax.set_ylabel("option of the authors' code")
     ax.invert_yaxis()
     allin = a["paper + all"]["success"]
     ax.set(xlabel=f"change in environments not stuck at {s['duration_s']:g} s (of {n})",
@@ -233,28 +234,26 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
     fails = sum(f.values())
     return [
         holds(
-            "the code's options are the whole difference: all of them set in the paper's reading give the code's "
-            "outcomes in every environment",
-            "beyond the paper: neurowalk's ablation",
+            "all of the code's options set in the paper's reading give the code's outcomes",
+            "beyond the paper",
             same,
-            f"{a['paper + all']['success']} and {a['original']['success']} of {s['environments']} not stuck",
+            f"{a['paper + all']['success']}, {a['original']['success']} of {s['environments']} not stuck",
             f"the {len(s['switched'])} options the surrogate feels, all set as the code sets them, against the code's "
             f"reading: each environment's two outcomes (not stuck, coverage) compared at {s['duration_s']:g} s",
             unit="environments",
         ),
         holds(
-            "one option alone closes most of the gap between the paper's reading and the code's",
-            "beyond the paper: neurowalk's ablation",
+            "one of the code's options alone moves half the gap between the two readings or more",
+            "beyond the paper",
             gap > 0 and (top["on_paper"] >= gap / 2 or -top["off_original"] >= gap / 2),
-            f"{top['option']}: {top['on_paper']:+d} on the paper's reading, {top['off_original']:+d} off the code's "
-            f"(gap {gap:+d})",
+            f"{top['option']}: {top['on_paper']:+d} on, {top['off_original']:+d} off (gap {gap:+d})",
             f"the option that moves the not-stuck count most, switched alone both ways, against the gap between the "
             f"two readings at {s['duration_s']:g} s; holds where it moves at least half the gap either way",
             unit="environments",
         ),
         holds(
             "the paper's model as printed fails by latched spins",
-            "beyond the paper: neurowalk's diagnosis",
+            "beyond the paper",
             fails > 0 and f["latched spin"] > fails / 2,
             f"{f['latched spin']} of {fails} failures",
             f"failure classes of the paper's reading at the end of its {s['lengths_s'][-1]:g} s runs: {f}",

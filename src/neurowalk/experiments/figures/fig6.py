@@ -17,6 +17,7 @@ import numpy as np
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
+from neurowalk.body.registry import body_info
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds, rate
 from neurowalk.experiments.stores import Kept, Term
@@ -43,6 +44,7 @@ from neurowalk.sim.config import EpisodeConfig
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
+    from neurowalk.arenas.spec import ArenaSpec
     from neurowalk.sim.episode import Episode
 
 #: Frame colour of each class (the paper's red, green and blue squares; a plain success unframed).
@@ -66,6 +68,22 @@ def keep_pose(ep: Episode) -> dict[str, Any]:
 
 POSE = Term("pose", keep_pose, arrays={"pose": "float64"})
 
+TRAP_ARENA = "simple-deadlock"  # the paper's own trap: the U-shaped dead end of Fig. 3A and 5A
+TRAP_SEEDS = 5  # runs of the plastic network in it, on the figure's body
+TRAP_STEPS_S = 500.0  # s of simulated time of each (Fig. 3A / 5A's 5000 time steps)
+HISTOGRAM_ENVS, QUICK_HISTOGRAM_ENVS = 1000, 100  # Table 2 environments over which the measure is counted
+BIN_DEG = 10.0  # the histogram's bins
+
+
+def keep_blocked(ep: Episode) -> dict[str, Any]:
+    """The widest angle (degrees) of directions meeting a box within the trap's reach along the run's path (its pose
+    every second): :mod:`.confinement`'s measure, without keeping the path."""
+    pose = ep.trajectory.pose[:: pose_stride(ep.config.control_hz)]
+    return {"max_blocked_deg": float(confinement.situations(ep.arena, pose)["blocked_deg"].max())}
+
+
+BLOCKED = Term("blocked", keep_blocked)
+
 
 def specs(s: Settings) -> list[dict[str, Any]]:
     """The sixteen run specs (ValueError where the body cannot run at the control rate: a surrogate runs at 10 Hz)."""
@@ -82,6 +100,38 @@ def runs(s: Settings) -> Iterator[Plan]:
     rate."""
     for i, one in enumerate(specs(s)):
         yield Plan(i, EpisodeConfig.from_spec(one), (POSE,))
+    for k, one in enumerate(trap_specs(s)):
+        yield Plan(("trap", k), EpisodeConfig.from_spec(one), (POSE,))
+    for i, one in enumerate(histogram_specs(s)):
+        yield Plan(("histogram", i), EpisodeConfig.from_spec(one), (BLOCKED,))
+
+
+def trap_specs(s: Settings) -> list[dict[str, Any]]:
+    """The paper's own trap run by the figure's network and body: :data:`TRAP_SEEDS` runs in :data:`TRAP_ARENA`."""
+    body, hz = s.body or "surrogate", s.rate
+    steps = steps_for(TRAP_STEPS_S, hz)
+    base = {"arena": TRAP_ARENA, "controller": "plastic", "body": body, "steps": steps, "control_hz": hz}
+    extra = {"variant": s.variant} if s.variant and s.variant != "paper" else {}
+    return [{**base, **extra, "seed": k, **({"params": s.params} if s.params else {})} for k in range(TRAP_SEEDS)]
+
+
+def histogram_specs(s: Settings) -> list[dict[str, Any]]:
+    """Table 2's first 1000 environments (quick: 100), the figure's network, for the measure's histogram: on a
+    planar body only (none on a physics body: 1000 physics runs are a table of their own)."""
+    body, hz = s.body or "surrogate", s.rate
+    if body_info(body).physics:
+        return []
+    steps = steps_for(QUICK_DURATION_S if s.quick else DURATION_S, hz)
+    n = QUICK_HISTOGRAM_ENVS if s.quick else HISTOGRAM_ENVS
+    return [spec(e, "plastic", steps, body, variant=s.variant or "paper", size=s.size or SIZE, params=s.params,
+                 control_hz=hz) for e in environments(n, s.seed)]  # fmt: skip
+
+
+def trap_threshold(paths: list[np.ndarray], arena: ArenaSpec) -> tuple[float, list[float]]:
+    """The blocked angle (degrees) that makes a trap: the least, over the runs in the paper's own trap (their poses
+    ``paths``, each (P, 3)), of the widest angle each met in it; and those widest angles."""
+    widest = [float(confinement.situations(arena, p)["blocked_deg"].max()) for p in paths]
+    return min(widest), widest
 
 
 def measure(s: Settings, runs: Mapping[int, Sequence[Kept]]) -> Result:
@@ -92,11 +142,19 @@ def measure(s: Settings, runs: Mapping[int, Sequence[Kept]]) -> Result:
     stride = pose_stride(hz)
     arrays = {f"env{i}/pose": runs[i][0].kept["pose"]["pose"] for i in range(len(envs))}
     end_rows = round(STUCK_S * hz / stride)  # the kept poses of the last 300 s
+    trap_arena = arena_of(trap_specs(s)[0])
+    trap_deg, widest = trap_threshold([runs[("trap", k)][0].kept["pose"]["pose"] for k in range(TRAP_SEEDS)],
+                                      trap_arena)  # fmt: skip
+    blocked = np.array([runs[("histogram", i)][0].kept["blocked"]["max_blocked_deg"]
+                        for i in range(len(histogram_specs(s)))])  # fmt: skip
+    edges = np.arange(0.0, 360.0 + BIN_DEG, BIN_DEG)
+    counts, _ = np.histogram(blocked, bins=edges)
     rows = []
     for i, (e, one) in enumerate(zip(envs, run_specs, strict=True)):
         r = runs[i][0]
         success = not r.trapped
-        faced = confinement.classify(arena_of(one), arrays[f"env{i}/pose"], success, end_rows=end_rows)
+        faced = confinement.classify(arena_of(one), arrays[f"env{i}/pose"], success, end_rows=end_rows,
+                                     trap_deg=trap_deg)  # fmt: skip
         rows.append(
             {
                 **e,
@@ -119,8 +177,27 @@ def measure(s: Settings, runs: Mapping[int, Sequence[Kept]]) -> Result:
         "coverage_rule": coverage_rule(duration),
         "coverage_threshold": threshold,
         "coverage_cell_m": COVERAGE_CELL_M,
-        "class_rule": confinement.CLASS_RULE,
-        "class_numbers": dict(confinement.RULE_NUMBERS),
+        "class_rule": confinement.CLASS_RULE.replace(f">= {confinement.TRAP_BLOCKED_DEG:g} deg", f">= {trap_deg:g} deg")
+        + f" (the trap's angle: the least of the widest angles the network met in the paper's own trap, the "
+        f"{TRAP_ARENA} dead end of Fig. 3A / 5A, over {TRAP_SEEDS} runs on the same body)",
+        "class_numbers": {**confinement.RULE_NUMBERS, "trap_blocked_deg": trap_deg},
+        "trap_reference": {
+            "arena": TRAP_ARENA,
+            "seeds": TRAP_SEEDS,
+            "duration_s": TRAP_STEPS_S,
+            "widest_blocked_deg": widest,
+            "trap_blocked_deg": trap_deg,
+        },
+        "blocked_histogram": None
+        if not len(blocked)
+        else {
+            "environments": len(blocked),
+            "bin_deg": BIN_DEG,
+            "edges_deg": edges.tolist(),
+            "counts": counts.tolist(),
+            "at_least_trap": int(np.sum(blocked >= trap_deg)),
+            "median_deg": float(np.median(blocked)),
+        },
         "classes": {c: classes.get(c, 0) for c in confinement.CLASSES},
         "environments": rows,
         "variant": s.variant or "paper",
@@ -185,9 +262,25 @@ def plot(res: Result) -> Figure:
     fig.suptitle(
         f"Fig. 6: plastic network ({s.get('variant', 'paper')}) in 16 random environments ({s['body']}, "
         f"{s['steps'] / hz:g} s at {hz:g} Hz)\n{s['success']}/16 not stuck at the end"
+        + (
+            f"; a trap: {s['class_numbers']['trap_blocked_deg']:g} deg blocked, as in the paper's own dead end"
+            if "trap_reference" in s
+            else ""
+        )
         + (f", {s['success_coverage']}/16 by coverage" if "success_coverage" in s else "")
     )
     return fig
+
+
+def _histogram_words(s: dict[str, Any]) -> str:
+    """The measure over Table 2's environments, in words ("" for a summary without it)."""
+    h = s.get("blocked_histogram")
+    if not h:
+        return ""
+    return (
+        f"; over Table 2's first {h['environments']} environments the widest angle met has median "
+        f"{h['median_deg']:.0f} deg, and {h['at_least_trap']} reach the trap's"
+    )
 
 
 def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
@@ -203,7 +296,7 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
             "green and blue squares",
             classes["passed a confined space"] > 0 and classes["escaped a trap"] > 0,
             classes,
-            s["class_rule"],
+            s["class_rule"] + _histogram_words(s),
             unit="environments",
         ),
     ]

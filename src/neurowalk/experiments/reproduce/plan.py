@@ -140,6 +140,11 @@ PAPER: tuple[Item, ...] = (
         "Beyond the paper: the plastic network's failure case of Table 2",
     ),
     Item(
+        "ablation",
+        "ablation",
+        "Beyond the paper: the authors' code's options one at a time in Table 2",
+    ),
+    Item(
         "steps",
         "steps",
         "Beyond the paper: the highest step climbed with and without backbone control",

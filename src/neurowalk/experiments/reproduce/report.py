@@ -110,19 +110,15 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
         + f". Their {claims['total']} claims: {claims['reproduced']} reproduced, {claims['partly']} partly, "
         f"{claims['not']} not. A result is reproduced where all of its claims are, not where all are not, and partly "
         "otherwise (a claim not reproduced among reproduced ones makes its result partly). "
-        + f"{_made_on(records)} Each result's numbers are in its folder (`NAME/NAME.json`, the numbers behind "
-        "its picture) and in `NAME.json` (its claims); the same commands give them bit for bit on the same versions "
-        'and CPU type (another CPU changes a few last bits, no verdict: `docs/usage.md`, "Same seed, same result").',
+        + f"{_made_on(records)} Each result's numbers are in `NAME/NAME.json`, its claims in `NAME.json`; the same "
+        'commands give them bit for bit on the same versions and CPU type (`docs/usage.md`, "Same seed, same result").',
         "",
         "A claim is reproduced where the simulated robot does what the paper shows: in two thirds or more of the "
         "seeds for an outcome of one run; for a count such as 49/50, where Boschloo's exact test of the two counts "
-        "(two-sided, both samples' sampling error) finds no difference at the 5% level; within a factor of 1.5 for "
-        "a time of the real robot (partly: some seeds, a significant difference within 10 points, within a factor "
-        "of 3). Beside each count, its test's p and the smallest shortfall from the paper's rate the two samples "
-        "would show with 80% power: the paper's 50 environments bound it. Each measured value says what it counts "
-        "or its unit. Each claim's own rule, with its numbers, is in "
-        "[the details](details.md). The column *authors' simulator* judges the same claims on runs of the authors' own "
-        "simulator, where it has them (last section).",
+        "finds no difference at the 5% level (its p beside it); within a factor of 1.5 for a time of the real robot "
+        "(partly: some seeds, within 10 points, a factor of 3). A claim not reproduced names its cause. Each claim's "
+        "own rule, with its numbers, is in [the details](details.md). The column *authors' simulator* judges the "
+        "same claims on runs of the authors' own simulator, where it has them (last section).",
         "",
         "| result | the paper | neurowalk: claims reproduced | authors' simulator | verdict | time |",
         "|---|---|---|---|---|---|",
@@ -147,11 +143,11 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
             "",
             f"{item.paper}: **{rec['verdict']}**. `neurowalk figure {rec['figure']}`, "
             f"{settings_words(rec['settings'])} (`{rec['command']}`; {_took(rec)}; "
-            f"[its verdicts in detail](details.md#{item.name}), [its numbers]({rec['files']['json']})).",
+            f"[details](details.md#{item.name}), [numbers]({rec['files']['json']})).",
             "",
             f"![{item.name}]({rec['files']['png']})",
             "",
-            "| claim | paper | neurowalk | 95% interval; test | verdict | authors' simulator |",
+            "| claim | paper | neurowalk | 95% interval | verdict | authors' simulator |",
             "|---|---|---|---|---|---|",
         ]
         for c in rec["claims"]:
@@ -209,16 +205,14 @@ def _physics(out: Path, rec: dict[str, Any]) -> list[str]:
 
 
 def _interval(c: dict[str, Any]) -> str:
-    """A claim's 95% interval as percentages ("-" where it has none) and, for a count, its test's p and the smallest
-    shortfall the two samples would show ("p 0.54, sees 11 points below")."""
+    """A claim's 95% interval as percentages ("-" where it has none) and, for a count, its test's p ("; p 0.54"; the
+    shortfall the samples could show is in the details)."""
     if c["interval"] is None:
         return "-"
     words = f"{c['interval'][0]:.0%}-{c['interval'][1]:.0%}"
     test = c.get("test")
     if test:
-        below = test["detectable"]["below"]
-        sees = f"sees {100 * below:.0f} points below" if below is not None else "sees no shortfall"
-        words += f"; p {test['p_value']:.2g}, {sees}"
+        words += f"; p {test['p_value']:.2g}"
     return words
 
 
@@ -240,8 +234,7 @@ def _made_on(records: dict[str, dict[str, Any]]) -> str:
     )  # fmt: skip
     return (
         f"Made with neurowalk {nw}, MuJoCo {mj}, numpy {np_}, numba {nb}, matplotlib {mpl} and Python {py} on "
-        f"{machine}, {where} (every package's exact version: `requirements.lock` at the repository's root; "
-        "`neurowalk reproduce` says when the installed ones differ)."
+        f"{machine}, {where} (every version: `requirements.lock`; `reproduce` says when the installed ones differ)."
     )
 
 

@@ -91,15 +91,16 @@ def ray_distances(
     return best
 
 
-def situations(arena: ArenaSpec, pose: np.ndarray) -> dict[str, np.ndarray]:
+def situations(arena: ArenaSpec, pose: np.ndarray, trap_deg: float = TRAP_BLOCKED_DEG) -> dict[str, np.ndarray]:
     """Per row of ``pose`` (P, 3: x m, y m, yaw rad): ``blocked_deg`` (directions meeting a box within
-    :data:`TRAP_REACH_M`, degrees), ``trap`` and ``confined`` (bool, by :data:`CLASS_RULE`)."""
+    :data:`TRAP_REACH_M`, degrees), ``trap`` (at least ``trap_deg`` of them) and ``confined`` (bool, by
+    :data:`CLASS_RULE`)."""
     pose = np.asarray(pose, dtype=float).reshape(-1, 3)
     angles = np.arange(RAYS) * (2 * math.pi / RAYS)
     reach = max(TRAP_REACH_M, SIDE_REACH_M, FRONT_OPEN_M)
     d = ray_distances(arena.boxes, pose[:, :2], angles, reach)
     blocked_deg = np.count_nonzero(d <= TRAP_REACH_M, axis=1) * (360.0 / RAYS)
-    trap = blocked_deg >= TRAP_BLOCKED_DEG
+    trap = blocked_deg >= trap_deg
     rel = np.degrees(np.angle(np.exp(1j * (angles[None, :] - pose[:, 2:3]))))  # (P, D) in (-180, 180]
 
     def nearest(centre: float, half: float) -> np.ndarray:
@@ -128,16 +129,23 @@ def first_left(xy: np.ndarray, mask: np.ndarray, leave_m: float = LEAVE_M) -> in
     return None
 
 
-def classify(arena: ArenaSpec, pose: np.ndarray, success: bool, *, end_rows: int | None = None) -> dict[str, Any]:
+def classify(
+    arena: ArenaSpec,
+    pose: np.ndarray,
+    success: bool,
+    *,
+    end_rows: int | None = None,
+    trap_deg: float = TRAP_BLOCKED_DEG,
+) -> dict[str, Any]:
     """A run's Fig. 6 class from its ``arena``, its trunk ``pose`` (P, 3, any sampling) and whether it succeeded.
 
     Returns ``class`` (one of :data:`CLASSES`), ``faced_trap``, ``faced_confined`` (some such point on the path),
     ``left_trap``, ``left_confined`` (the first such point it left: [x, y] m, or None), the widest blocked angle
     met (``max_blocked_deg``), and ``end_situation`` ("trap", "confined space", "open") over the last
-    ``end_rows`` rows (default: all rows).
+    ``end_rows`` rows (default: all rows). ``trap_deg``: the blocked angle of a trap point (degrees).
     """
     pose = np.asarray(pose, dtype=float).reshape(-1, 3)
-    sit = situations(arena, pose)
+    sit = situations(arena, pose, trap_deg)
     xy = pose[:, :2]
     i_trap, i_conf = first_left(xy, sit["trap"]), first_left(xy, sit["confined"])
     if not success:
