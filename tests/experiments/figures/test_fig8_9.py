@@ -158,7 +158,20 @@ def test_fig9s_title_gives_the_reports_verdicts_of_the_same_runs():
     verdicts = [c.verdict for c in judge(s, False)]
     title = fig9.verdict_title(s)
     assert "plastic 7/10, static 0/10" in title and "NOT" not in title
-    assert f"plastic goes out, {verdicts[0]}; static gets stuck, {verdicts[1]}" in title
+    assert f"plastic goes out, {verdicts[0]}; static gets stuck over 5,400 control steps, {verdicts[1]}" in title
+
+
+def test_the_static_robot_is_judged_over_the_papers_window():
+    """Stuck: still in the path after the 5,400 control steps (3:20 at 27 Hz) the real plastic robot took to get
+    out, at any rate; the share by window is in the rule."""
+    runs = [{"out_time_s": t} for t in (264.0, 339.0, None)]  # 7,128 and 9,153 steps at 27 Hz, and never
+    s = {"counts": {"plastic": {"got_out": 3, "seeds": 3}, "static": {"got_out": 2, "seeds": 3, "runs": runs}},
+         "control_hz": 27.0, "duration_s": 800.0}  # fmt: skip
+    stuck = fig9.claims(s, False)[1]
+    assert stuck.measured == "3/3" and stuck.verdict == "reproduced"  # none out within 5,400 steps
+    assert "8,000 steps 2/3" in stuck.rule and "21,600 steps 1/3" in stuck.rule  # where it flips
+    s10 = {**s, "control_hz": 10.0}  # the same seconds at 10 Hz are fewer steps: 2,640 and 3,390, both within it
+    assert fig9.claims(s10, False)[1].measured == "1/3"
 
 
 def test_videos_are_written_on_request(monkeypatch, tmp_path):

@@ -368,8 +368,8 @@ def verdict_title(s: dict[str, Any]) -> str:
     p, st = s["counts"]["plastic"], s["counts"]["static"]
     return (
         f"Complex path (paper Fig. 9): got out of the path plastic {p['got_out']}/{p['seeds']}, static "
-        f"{st['got_out']}/{st['seeds']}\n(the report's verdicts: plastic goes out, {plastic.verdict}; "
-        f"static gets stuck, {static.verdict})"
+        f"{st['got_out']}/{st['seeds']} in {s.get('duration_s', 0):g} s\n(the report's verdicts: plastic goes out, "
+        f"{plastic.verdict}; static gets stuck over {STUCK_WINDOW_STEPS:,} control steps, {static.verdict})"
     )
 
 
@@ -395,8 +395,8 @@ def _claims(s: dict[str, Any], quick: bool) -> list[Claim]:
     """The plastic network goes out of the complex path; the static one gets stuck in it, over the paper's window
     (:data:`STUCK_WINDOW_STEPS`), with its share at every window of :data:`WINDOWS_STEPS` the runs cover."""
     p, st = s["counts"]["plastic"], s["counts"]["static"]
-    hz = s["control_hz"]
-    timed = {**st, "duration_s": s["duration_s"]}
+    hz = s.get("control_hz", SIM_HZ)
+    timed = {**st, "duration_s": s.get("duration_s", 0.0)}
     at = {w: still_in(timed, hz, w) for w in WINDOWS_STEPS}
     k = at[STUCK_WINDOW_STEPS]
     stuck = outcome_claim(
