@@ -32,3 +32,16 @@ def test_a_long_runs_prefix_is_the_shorter_run():
     assert kept["success"][0] is (not r["trapped"])
     assert kept["success_coverage"][0] is (r["coverage"] >= coverage_threshold(500.0))
     assert kept["success"][2] is (not long.summary["trapped"])
+
+
+def test_the_physics_arms_switch_the_start_weights_alone_on_amosii():
+    from neurowalk.experiments import Settings
+
+    arms = ablation.physics_arms()
+    assert set(arms) == {"paper", "original"} | {f"{v} {o}" for o in ablation.PHYSICS_OPTIONS
+                                                 for v in ("paper +", "original -")}  # fmt: skip
+    plans = list(ablation.runs(Settings(quick=True)))
+    physics = [p for p in plans if p.label[0] == "physics"]
+    assert len(physics) == len(arms) * ablation.QUICK_PHYSICS_ENVS
+    assert {p.config.body for p in physics} == {"amosii"} and {p.config.steps for p in physics} == {5000}
+    assert len(plans) - len(physics) == (len(ablation.arms()) + 2) * 100  # the surrogate's arms and long runs

@@ -15,6 +15,9 @@ surrogate, at the table's 2000 s (quick: 500 s):
 
 The planar surrogate has no CPG, so the PCPG's ``pcpg_first_partial`` (the tenth option) acts on physics only and is
 not switched here. Each arm's successes by both of Table 2's rules (not stuck; coverage) and its failures' classes.
+
+On physics AMOSII, on Table 2's 50 environments (quick: 5), both readings and the two options that moved the
+surrogate's count most (:data:`PHYSICS_OPTIONS`), each switched alone both ways, at 2000 s (quick: 500 s).
 """
 
 from __future__ import annotations
@@ -52,6 +55,19 @@ LENGTHS_S = (500.0, 1000.0, 2000.0, 3000.0, 4000.0)
 """Run lengths (s) at which the two readings' long runs are judged; the longest is their run's length."""
 QUICK_LENGTHS_S = (500.0, 750.0, 1000.0)
 SWITCHED = tuple(o for o in CODE_OPTIONS if o != "pcpg_first_partial")  # the options the surrogate can feel
+PHYSICS_OPTIONS = ("b_start", "q_start")
+"""The options also switched on physics AMOSII, on Table 2's 50 environments: the two that moved the surrogate's
+count most, both ways, in the committed surrogate ablation (the start weights: +40 and -120, -32 and -50)."""
+PHYSICS_ENVS, QUICK_PHYSICS_ENVS = 50, 5
+
+
+def physics_arms() -> dict[str, tuple[str, dict[str, Any] | None]]:
+    """The physics arms: both readings, and each of :data:`PHYSICS_OPTIONS` switched alone both ways."""
+    out: dict[str, tuple[str, dict[str, Any] | None]] = {"paper": ("paper", None), "original": ("original", None)}
+    for o in PHYSICS_OPTIONS:
+        out[f"paper + {o}"] = ("paper", {o: CODE_OPTIONS[o][1]})
+        out[f"original - {o}"] = ("original", {o: CODE_OPTIONS[o][0]})
+    return out
 
 
 def arms() -> dict[str, tuple[str, dict[str, Any] | None]]:
@@ -102,6 +118,10 @@ def runs(s: Settings) -> Iterator[Plan]:
         for i, e in enumerate(envs):
             one = spec(e, "plastic", round(lengths[-1] * HZ), "surrogate", variant=variant)
             yield Plan((f"{variant} (long)", i), EpisodeConfig.from_spec(one), (LENGTHS,), fixed)
+    for name, (variant, params) in physics_arms().items():
+        for i, e in enumerate(envs[: QUICK_PHYSICS_ENVS if s.quick else PHYSICS_ENVS]):
+            one = spec(e, "plastic", round(duration * HZ), "amosii", variant=variant, params=params)
+            yield Plan(("physics", name, i), EpisodeConfig.from_spec(one), (), fixed)
 
 
 def _counts(ok: list[bool], ok_cov: list[bool], classes: list[str | None] | None) -> dict[str, Any]:
@@ -150,6 +170,20 @@ def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
         table[variant] = {**at, "variant": variant, "params": None, "read_from": f"its {lengths[-1]:g} s runs",
                           "failure_classes_at_end": {c: [failure_class(r) for r in long_sums].count(c)
                                                      for c in FAILURE_CLASSES}}  # fmt: skip
+    n_phys = QUICK_PHYSICS_ENVS if s.quick else PHYSICS_ENVS
+    physics: dict[str, dict[str, Any]] = {}
+    for name, (variant, params) in physics_arms().items():
+        sums = [runs[("physics", name, i)][0].summary.to_dict() for i in range(n_phys)]
+        threshold = coverage_threshold(duration)
+        physics[name] = {
+            **_counts(
+                [not r["trapped"] for r in sums],
+                [r["coverage"] is not None and r["coverage"] >= threshold for r in sums],
+                [failure_class(r) for r in sums],
+            ),
+            "variant": variant,
+            "params": params,
+        }
     summary = {
         "environments": n,
         "seed": s.seed,
@@ -160,6 +194,7 @@ def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
         "not_switched": {"pcpg_first_partial": "the planar surrogate has no CPG: it acts on physics only"},
         "arms": table,
         "run_length": curve,
+        "physics": {"body": "amosii", "environments": n_phys, "options": list(PHYSICS_OPTIONS), "arms": physics},
     }
     return Result(NAME, summary, {})
 
@@ -186,7 +221,9 @@ def plot(res: Result) -> Figure:
     plt = pyplot()
     s = res.summary
     a, n = s["arms"], s["environments"]
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(15, 6.5), layout="constrained", gridspec_kw={"width_ratios": [1.3, 1]})
+    fig, (ax, cx, bx) = plt.subplots(
+        1, 3, figsize=(20, 6.5), layout="constrained", gridspec_kw={"width_ratios": [1.3, 0.8, 1]}
+    )
     rows = effects(s)
     y = np.arange(len(rows))
     gap = a["original"]["success"] - a["paper"]["success"]
@@ -218,9 +255,31 @@ def plot(res: Result) -> Figure:
     bx.set(xlabel="run length (s)", ylabel="success rate (Wilson 95% interval)", ylim=(0, 1.02),
            title="success against run length")  # fmt: skip
     legend_outside(bx, side="below", ncol=2)
-    letter_panels([ax, bx])
-    fig.suptitle(f"The authors' code's options, one at a time: {n} Table 2 environments on the planar surrogate")
+    _physics_panel(cx, s)
+    letter_panels([ax, cx, bx])
+    fig.suptitle(
+        f"The authors' code's options, one at a time: {n} Table 2 environments on the planar surrogate (A, C), "
+        f"{s['physics']['environments']} on physics AMOSII (B)"
+    )
     return fig
+
+
+def _physics_panel(ax: Any, s: dict[str, Any]) -> None:
+    """The physics arms' not-stuck counts, both readings and each start weight switched both ways."""
+    ph = s["physics"]
+    names = list(ph["arms"])
+    counts = [ph["arms"][k]["success"] for k in names]
+    colours = ["tab:blue" if k.startswith("paper") else "tab:orange" for k in names]
+    y = np.arange(len(names))
+    ax.barh(y, counts, color=colours, height=0.6)
+    for yi, c in zip(y, counts, strict=True):
+        ax.text(c, yi, f" {c}", va="center")
+    ax.set_yticks(y, names)
+    ax.invert_yaxis()
+    ax.axvline(49 / 50 * ph["environments"], color="0.3", ls="--", lw=LINE["trace"], label="paper's 49/50")
+    ax.set(xlim=(0, ph["environments"] * 1.12), xlabel=f"environments not stuck (of {ph['environments']})",
+           ylabel="arm", title=f"physics AMOSII, {s['duration_s']:g} s")  # fmt: skip
+    legend_outside(ax, side="below", ncol=1)
 
 
 def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
@@ -232,6 +291,9 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
     top = effects(s)[0]
     f = a["paper"]["failure_classes_at_end"]
     fails = sum(f.values())
+    ph = s["physics"]["arms"]
+    toward = [o for o in s["physics"]["options"] if ph[f"paper + {o}"]["success"] >= ph["paper"]["success"]
+              and ph[f"original - {o}"]["success"] <= ph["original"]["success"]]  # fmt: skip
     return [
         holds(
             "all of the code's options set in the paper's reading give the code's outcomes",
@@ -258,5 +320,19 @@ def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
             f"{f['latched spin']} of {fails} failures",
             f"failure classes of the paper's reading at the end of its {s['lengths_s'][-1]:g} s runs: {f}",
             unit="failures",
+        ),
+        holds(
+            "in physics too, the start weights move each reading toward the other",
+            "beyond the paper",
+            len(toward) == len(s["physics"]["options"]),
+            "; ".join(
+                f"{o} {ph[f'paper + {o}']['success'] - ph['paper']['success']:+d} on, "
+                f"{ph[f'original - {o}']['success'] - ph['original']['success']:+d} off"
+                for o in s["physics"]["options"]
+            ),
+            f"on physics AMOSII in Table 2's first {s['physics']['environments']} environments: each start weight set "
+            "as the code's does not lower the paper's reading's not-stuck count, and set as the paper's does not raise "
+            "the code's",
+            unit="environments not stuck",
         ),
     ]

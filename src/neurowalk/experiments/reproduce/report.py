@@ -110,15 +110,14 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
         + f". Their {claims['total']} claims: {claims['reproduced']} reproduced, {claims['partly']} partly, "
         f"{claims['not']} not. A result is reproduced where all of its claims are, not where all are not, and partly "
         "otherwise (a claim not reproduced among reproduced ones makes its result partly). "
-        + f"{_made_on(records)} Each result's numbers are in `NAME/NAME.json`, its claims in `NAME.json`; the same "
-        'commands give them bit for bit on the same versions and CPU type (`docs/usage.md`, "Same seed, same result").',
+        + f"{_made_on(records)} Each result's numbers: `NAME/NAME.json`, its claims: `NAME.json`, bit for bit on the "
+        'same versions and CPU type (`docs/usage.md`, "Same seed, same result").',
         "",
-        "A claim is reproduced where the simulated robot does what the paper shows: in two thirds or more of the "
-        "seeds for an outcome of one run; for a count such as 49/50, where Boschloo's exact test of the two counts "
-        "finds no difference at the 5% level (its p beside it); within a factor of 1.5 for a time of the real robot "
-        "(partly: some seeds, within 10 points, a factor of 3). A claim not reproduced names its cause. Each claim's "
-        "own rule, with its numbers, is in [the details](details.md). The column *authors' simulator* judges the "
-        "same claims on runs of the authors' own simulator, where it has them (last section).",
+        "Reproduced: two thirds or more of the seeds end as the paper's one run did; a count such as 49/50 passes "
+        "Boschloo's exact test of the two counts at the 5% level (its p beside it); a real-robot time is within a "
+        "factor of 1.5 (partly: some seeds, within 10 points, a factor of 3). A claim not reproduced names its cause; "
+        "every rule, with its numbers, is in [the details](details.md). *Authors' simulator*: the same claims judged "
+        "on runs of the authors' own simulator, where it has them (last section).",
         "",
         "| result | the paper | neurowalk: claims reproduced | authors' simulator | verdict | time |",
         "|---|---|---|---|---|---|",
@@ -234,7 +233,7 @@ def _made_on(records: dict[str, dict[str, Any]]) -> str:
     )  # fmt: skip
     return (
         f"Made with neurowalk {nw}, MuJoCo {mj}, numpy {np_}, numba {nb}, matplotlib {mpl} and Python {py} on "
-        f"{machine}, {where} (every version: `requirements.lock`; `reproduce` says when the installed ones differ)."
+        f"{machine}, {where} (every version: `requirements.lock`)."
     )
 
 
