@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 from matplotlib import image
-from site_check import CHROMIUM, FLAGS  # software WebGL: the viewer's scene draws on a machine without a GPU
+from site_check import CHROMIUM, FLAGS, end_group  # software WebGL: the viewer's scene draws on a machine without a GPU
 from websockets.sync.client import connect
 
 
@@ -34,7 +34,7 @@ class Browser:
         self._proc = subprocess.Popen(
             [CHROMIUM, *FLAGS, f"--window-size={width},{height}", "--remote-debugging-port=0",
              f"--user-data-dir={self._profile.name}", "--allow-file-access-from-files", "about:blank"],
-            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=env,
+            stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=env, start_new_session=True,
         )  # fmt: skip
         endpoint = self._endpoint()
         port = re.search(r":(\d+)/", endpoint).group(1)  # type: ignore[union-attr]
@@ -117,9 +117,12 @@ class Browser:
         image.imsave(path, picture)
 
     def close(self) -> None:
+        """Stop Chromium and every process it started (its group), then remove its profile: a renderer still writing
+        into the profile would keep it from being removed."""
         self._ws.close()
         self._proc.terminate()
         self._proc.wait(timeout=10)
+        end_group(self._proc.pid)
         self._profile.cleanup()
 
     def __enter__(self) -> Browser:

@@ -16,9 +16,11 @@ import http.server
 import os
 import re
 import shutil
+import signal
 import subprocess
 import tempfile
 import threading
+import time
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -79,12 +81,56 @@ def pages(site: Path) -> list[str]:
     return out
 
 
-def chromium(args: list[str], **kw: object) -> subprocess.CompletedProcess:
-    """Run headless Chromium with ``args`` in a profile and temporary folder of its own, removed when it ends (the
-    user's profile is not touched, and nothing of Chromium's stays in the temporary folder)."""
+def alive_in_group(pgid: int) -> list[int]:
+    """The processes of process group ``pgid`` that have not ended (zombies, which write nothing, left out), from
+    ``/proc``: Chromium's renderer, GPU and utility processes outlive its main process for a moment."""
+    out = []
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except OSError:  # ended while read
+            continue
+        if int(fields[2]) == pgid and fields[0] != "Z":  # fields: state, ppid, pgrp, ...
+            out.append(int(stat.parent.name))
+    return out
+
+
+def end_group(pgid: int, timeout_s: float = 20.0) -> None:
+    """End every process of Chromium's process group ``pgid`` (its main process started it with
+    ``start_new_session``) and wait until none is left: a profile removed while one of them still writes into it
+    is not removed ("Directory not empty"). SIGTERM first, SIGKILL after half of ``timeout_s``."""
+    deadline = time.monotonic() + timeout_s
+    for sig in (signal.SIGTERM, signal.SIGKILL):
+        try:
+            os.killpg(pgid, sig)
+        except ProcessLookupError:
+            return
+        until = deadline - timeout_s / 2 if sig == signal.SIGTERM else deadline
+        while time.monotonic() < until:
+            if not alive_in_group(pgid):
+                return
+            time.sleep(0.05)
+    raise RuntimeError(f"chromium's processes {alive_in_group(pgid)} did not end in {timeout_s:g} s")
+
+
+def chromium(args: list[str], timeout: float = 120.0, **kw: object) -> subprocess.CompletedProcess:
+    """Run headless Chromium with ``args`` in a profile and temporary folder of its own, removed when it and every
+    process it started have ended (the user's profile is not touched, and nothing of Chromium's stays in the
+    temporary folder). ``kw``: as :func:`subprocess.Popen`'s (``capture_output``, ``text``)."""
+    if kw.pop("capture_output", False):
+        kw["stdout"] = kw["stderr"] = subprocess.PIPE
     with tempfile.TemporaryDirectory(prefix="chromium-") as own:
         env = {**os.environ, "TMPDIR": own}
-        return subprocess.run([CHROMIUM, *FLAGS, f"--user-data-dir={own}", *args], env=env, **kw)  # type: ignore[call-overload]
+        cmd = [CHROMIUM, *FLAGS, f"--user-data-dir={own}", *args]
+        proc = subprocess.Popen(cmd, env=env, start_new_session=True, **kw)  # type: ignore[call-overload]
+        try:
+            out, err = proc.communicate(timeout=timeout)
+        finally:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
+            end_group(proc.pid)
+        return subprocess.CompletedProcess(cmd, proc.returncode, out, err)
 
 
 def load(url: str, budget_ms: int = 6000) -> tuple[str, list[str]]:
