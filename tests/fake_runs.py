@@ -51,7 +51,7 @@ def kept_of(cfg: EpisodeConfig, names: list[str]) -> dict[str, Any]:
         elif name == "traces":
             out[name] = traces
         elif name == "path":
-            out[name] = {"path": np.zeros((max(2, n // 10), 2))}
+            out[name] = {"path": np.zeros((max(2, n // 10), 2)), "seen_step": None}
         elif name == "example":
             out[name] = {"t": np.arange(n) / cfg.control_hz, "qpos": np.zeros((n, 26)), **traces}
         elif name == "latch":

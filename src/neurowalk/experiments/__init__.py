@@ -123,6 +123,12 @@ FIGURES: dict[str, Study] = {
         "escape_map",
         "seeds climbing variant gait workers control_hz",
     ),
+    "sensitivity": _study(
+        "sensitivity",
+        "the dead ends' and the climbing track's outcomes with their invented dimension at 0.8, 1.0, 1.2 x",
+        "sensitivity",
+        "seeds workers variant control_hz",
+    ),
     "latched-spin": _study(
         "latched-spin",
         "the plastic network's failure in Table 2: a latched spin in a pocket (surrogate)",

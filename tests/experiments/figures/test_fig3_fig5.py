@@ -8,11 +8,13 @@ run a few thousand control steps.
 import numpy as np
 import pytest
 
-from fake_runs import fake_measure
+from fake_runs import fake_measure, plan
 from neurowalk.experiments import Settings
 from neurowalk.experiments.figures import fig3, fig5
+from neurowalk.experiments.reproduce import authors
 from neurowalk.experiments.stores import run_kept
 from neurowalk.experiments.suites import deadends, long_runs
+from neurowalk.experiments.suites.long_runs import saturating_fit
 from neurowalk.plotting.style import LETTER_GID
 from neurowalk.runners.specs import result_of
 from neurowalk.sim.episode import EpisodeConfig
@@ -45,7 +47,8 @@ def test_every_run_gets_the_control_rate_and_the_long_runs_their_length(fig, qui
     assert faked and all(c.control_hz == 20.0 for c in faked)
     long_cfgs = [c for c in faked if c.arena in ("cluttered", "difficult")]
     dead_ends = [c for c in faked if c.arena not in ("cluttered", "difficult")]
-    assert len(long_cfgs) == len(fig.LONG) and all(c.steps == long_steps for c in long_cfgs)
+    seeds = fig.COVERAGE_SEEDS[quick] - 1 if fig is fig5 else 0  # Fig. 5F's further seeds of the plastic run
+    assert len(long_cfgs) == len(fig.LONG) + seeds and all(c.steps == long_steps for c in long_cfgs)
     assert dead_ends and all(c.steps == 5000 for c in dead_ends)  # control steps at any rate
     s = res.summary
     assert s["control_hz"] == 20.0 and s["table"]["control_hz"] == 20.0 and s["table"]["seconds"] == 250.0
@@ -224,3 +227,42 @@ def test_held_and_turning_periods_are_circled_apart_and_only_held_ones_labelled(
     assert [t.get_text() for t in ax.texts] == ["180 s"]  # the held one, with the time held
     entries = [line.get_label() for line in ax.get_lines()]
     assert entries == ["held (duration)", "turning in place 1x (wedged, not held)"]
+
+
+def test_the_saturating_fit_finds_where_a_curve_levels_off():
+    t = np.linspace(0.0, 10_000.0, 101)
+    fit = saturating_fit(t, 0.3 * (1.0 - np.exp(-t / 2500.0)))
+    assert fit["c_max"] == pytest.approx(0.3, rel=0.02) and fit["tau_s"] == pytest.approx(2500.0, rel=0.03)
+    assert fit["rms"] < 1e-3
+    straight = saturating_fit(t, 2.4e-5 * t)  # a curve still rising straight: it levels off beyond its end
+    assert straight["tau_s"] > 10_000.0 and straight["c_max"] > 0.24
+
+
+def test_the_authors_coverage_curve_ends_at_their_runs_coverage():
+    steps = np.arange(0, 100_000, 10_000)
+    curve = authors.coverage_curve("plastic", np.append(steps, 99_999))
+    assert np.all(np.diff(curve) >= 0) and curve[0] < 0.01
+    assert curve[-1] == pytest.approx(authors.long_runs()["plastic"]["coverage"])
+
+
+@pytest.mark.parametrize(
+    ("coverage", "verdict"),
+    [([0.24, 0.25, 0.26, 0.22], "reproduced"), ([0.18, 0.19, 0.19, 0.25], "partly"), ([0.10, 0.11, 0.12], "not")],
+)
+def test_fig5f_is_judged_against_the_authors_run_less_the_seeds_spread(coverage, verdict):
+    sd = float(np.std(coverage, ddof=1))
+    f = {"coverage": coverage, "median": float(np.median(coverage)), "sd": sd, "seconds": 10_000.0,
+         "fits": [{"c_max": 0.3, "tau_s": 5000.0, "rms": 0.0}] * len(coverage), "rule": "r",
+         "authors": {"coverage": 0.259, "fit": {"c_max": 25.2, "tau_s": 1e6, "rms": 0.0}}}  # fmt: skip
+    c = fig5.explored_claim(f)
+    assert c.verdict == verdict and "authors' 25.9%" in c.measured and "levels off at 30%, tau 5,000 s" in c.rule
+    assert "The authors' run: 25.9% (still rising at the end" in c.rule  # a straight curve: no level claimed
+
+
+def test_fig5_judges_its_exploration_over_seeds_beside_the_authors_run():
+    runs = plan("fig5", Settings(quick=True))
+    extra = [p for p in runs if p.label[0] == "coverage"]
+    assert [p.config.seed for p in extra] == [1] and all(p.config.controller == "plastic" for p in extra)
+    drawn = next(p for p in runs if p.label == ("long", "difficult (plastic)"))
+    assert all(p.config.steps == drawn.config.steps and p.config.arena == "difficult" for p in extra)
+    assert len([p for p in plan("fig5", Settings()) if p.label[0] == "coverage"]) == fig5.COVERAGE_SEEDS[0] - 1

@@ -22,7 +22,6 @@ from neurowalk.experiments.suites.real_robot import (
     snapshot_rows,
     video_every,
 )
-from neurowalk.experiments.suites.timing import steps_for
 from neurowalk.sim.run_summary import RunSummary
 
 
@@ -40,16 +39,12 @@ def test_the_runs_carry_the_network_variant_and_overrides():
     assert all(c.control_hz == 27 for c in at27)
 
 
-@pytest.mark.parametrize(
-    "fig,quick,seconds", [(fig8, True, fig8.QUICK_S), (fig8, False, fig8.RUN_S), (fig9, True, fig9.QUICK_S)]
-)
+@pytest.mark.parametrize(("fig", "quick", "steps"), [(fig8, True, 5000), (fig8, False, 5000), (fig9, True, 8000)])
 @pytest.mark.parametrize("hz", [10.0, 27.0])
-def test_runs_last_their_seconds_at_the_figures_control_rate(fig, quick, seconds, hz):
+def test_runs_last_as_many_control_steps_at_either_rate_and_stop_once_out(fig, quick, steps, hz):
     seen = [p.config for p in plan(fig.NAME, Settings(quick=quick, seeds=2, control_hz=hz))]
-    assert seen and all(c.control_hz == hz for c in seen)
-    assert {c.steps for c in seen} == {round(seconds * hz)}
-    if hz == 10.0:  # the runs of the 10 Hz figures, to the step (quick runs as long, with fewer seeds)
-        assert seen[0].steps == {fig8.RUN_S: 5000, fig9.PATH_S: 8000}[seconds]
+    assert seen and all(c.control_hz == hz and c.until == "escaped" for c in seen)
+    assert {c.steps for c in seen} == {steps}  # the networks' time: as many updates at 27 Hz as at 10 Hz
 
 
 def test_each_run_keeps_its_path_and_the_first_seed_of_each_network_its_example():
@@ -118,10 +113,15 @@ def test_fig8_quick_from_the_command_line_then_replot(tmp_path):
     with np.load(tmp_path / "fig8.npz") as z:
         a = {k: z[k] for k in z.files}
     _check_strip_and_paths(s, a, 1)
-    assert s["steps"] == steps_for(fig8.QUICK_S, 10.0) == 5000 and s["seeds"] == 1
-    assert s["control_hz"] == 10.0 and s["duration_s"] == fig8.QUICK_S
+    assert s["steps"] == fig8.STEPS == 5000 and s["seeds"] == 1
+    assert s["control_hz"] == 10.0 and s["duration_s"] == 500.0
     rr = s["real_robot"]
-    assert rr["events"]["escaped"]["paper_s"] == 50.0 and not rr["same_clock"] and rr["note"]
+    seen_to_out = rr["events"]["obstacle seen to escaped"]
+    assert seen_to_out["paper_s"] == 40.0 and not rr["same_clock"] and rr["note"]  # 0:10 to 0:50
+    run = s["counts"]["plastic"]["runs"][0]
+    if run["escaped"]:
+        assert 0 < run["seen_time_s"] < run["exit_time_s"]  # it met the funnel's walls after its start
+        assert seen_to_out["sim"]["times_s"] == [pytest.approx(run["exit_time_s"] - run["seen_time_s"])]
     for net in ("plastic", "static"):
         c = s["counts"][net]
         assert c["escaped"] == sum(r["escaped"] for r in c["runs"]) and s["escaped"][net] == f"{c['escaped']}/1"
@@ -139,8 +139,10 @@ def test_fig9_quick_from_the_command_line(tmp_path):
     with np.load(tmp_path / "fig9.npz") as z:
         a = {k: z[k] for k in z.files}
     _check_strip_and_paths(s, a, 1)
-    assert s["steps"] == steps_for(fig9.QUICK_S, 10.0) == 8000 and s["sweep_factors"] == [1.0] and len(s["map"]) == 1
-    assert s["real_robot"]["events"]["out of the path"]["paper_s"] == 200.0
+    assert s["steps"] == fig9.STEPS == 8000 and s["sweep_factors"] == [1.0] and len(s["map"]) == 1
+    events = s["real_robot"]["events"]
+    assert events["obstacle seen to the end approached"]["paper_s"] == 48.0  # 0:20 to 1:08
+    assert events["the end approached to out of the path"]["paper_s"] == 132.0  # 1:08 to 3:20
     for net in ("plastic", "static"):
         c = s["counts"][net]
         assert sum(c[lab] for lab in fig9.OUTCOMES) == 1
@@ -169,13 +171,13 @@ def test_the_static_robot_is_judged_over_the_papers_window():
          "control_hz": 27.0, "duration_s": 800.0}  # fmt: skip
     stuck = fig9.claims(s, False)[1]
     assert stuck.measured == "3/3" and stuck.verdict == "reproduced"  # none out within 5,400 steps
-    assert "8,000 steps 2/3" in stuck.rule and "21,600 steps 1/3" in stuck.rule  # where it flips
+    assert "7,000 steps 3/3" in stuck.rule and "8,000 steps 2/3" in stuck.rule  # where it flips
     s10 = {**s, "control_hz": 10.0}  # the same seconds at 10 Hz are fewer steps: 2,640 and 3,390, both within it
     assert fig9.claims(s10, False)[1].measured == "1/3"
 
 
 def test_videos_are_written_on_request(monkeypatch, tmp_path):
-    monkeypatch.setattr(fig8, "RUN_S", 4.0)  # 40 control steps
+    monkeypatch.setattr(fig8, "STEPS", 40)
     res = compute(FIGURES["fig8"], Settings(seeds=1, out=tmp_path, video=True))
     assert len(res.summary["videos"]) == 2
     for path in res.summary["videos"]:
@@ -189,7 +191,7 @@ def test_bad_seeds_are_refused(tmp_path):
 
 def test_a_27_hz_run_reports_times_on_the_27_hz_clock(monkeypatch, tmp_path):
     steps = 300
-    monkeypatch.setattr(fig9, "PATH_S", steps / 27.0)
+    monkeypatch.setattr(fig9, "STEPS", steps)
     res = compute(FIGURES["fig9"], Settings(seeds=1, out=tmp_path, control_hz=27.0))
     s, a = res.summary, res.arrays
     assert s["control_hz"] == 27.0 and s["duration_s"] == pytest.approx(steps / 27.0)
@@ -223,9 +225,8 @@ def test_fig9s_map_counts_each_cells_own_runs_and_its_default_cell_the_main_ones
     grouped: dict = {}
     for p in plan("fig9", s):
         (net, cell), cfg = p.label, p.config
-        kept = {**kept_of(cfg, [t.name for t in p.terms]), "path": {"path": edge if net == "plastic" else stuck}}
-        if net == "static" and cell == (1.0, 1.0):
-            kept["path"] = {"path": out}
+        path = out if net == "static" and cell == (1.0, 1.0) else edge if net == "plastic" else stuck
+        kept = {**kept_of(cfg, [t.name for t in p.terms]), "path": {"path": path, "seen_step": None}}
         grouped.setdefault((net, cell), []).append(Kept(RunSummary.from_dict(summary_of(cfg)), kept, p))
     res = fig9.measure(s, grouped)
     cells = res.summary["map"]

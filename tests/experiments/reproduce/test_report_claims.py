@@ -7,7 +7,7 @@ import json
 import re
 from pathlib import Path
 
-from neurowalk.experiments.reproduce.report import cell
+from neurowalk.experiments.reproduce.report import _hinges, cell
 
 RESULTS = Path(__file__).resolve().parents[3] / "docs" / "results"
 
@@ -55,3 +55,17 @@ def test_a_count_gets_its_meaning_and_a_word_stays_a_word():
     assert cell(0.35889, "(hysteresis width, input units)") == "0.359 (hysteresis width, input units)"
     assert cell("speed rises with |O|") == "speed rises with \\|O\\|"  # a table cell
     assert cell("speed rises with |O|", markdown=False) == "speed rises with |O|"  # the terminal
+
+
+def test_a_result_names_the_invented_dimensions_its_claims_hinge_on():
+    sens = {"claims": [
+        {"what": "narrow passage: gap: plastic escaped",
+         "paper": "escaped (Fig. 3B, 5B, 8)", "verdict": "partly"},
+        {"what": "simple dead end: depth: static escaped",
+         "paper": "escaped (Fig. 3A, 5A)", "verdict": "reproduced"},
+    ]}  # fmt: skip
+    records = {"sensitivity": sens}
+    (line,) = [x for x in _hinges(records, "fig8-27hz") if x]
+    assert "narrow passage: gap: plastic escaped hinges on it; 0 of 1 outcomes hold" in line and "depth" not in line
+    assert "gap: plastic escaped hinges on it; 1 of 2 outcomes hold" in _hinges(records, "fig3")[1]
+    assert _hinges(records, "fig10") == [] and _hinges(records, "table2") == [] and _hinges({}, "fig8") == []

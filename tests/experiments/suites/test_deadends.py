@@ -81,10 +81,11 @@ def _fake_fig5():
                                        wedged_causes={"body contact": 1, "both rays blind": 1})  # fmt: skip
     table = {"seeds": 1, "counts": {"narrow-passage": {"plastic": {"escaped": 1, "runs": 1}}}}
     summary = {"network": "plastic", "seed": 0, "climbing": False, "table": table, "runs": runs,
-               "wedged": wedged_counts({k: runs[k] for k in LONG})}  # fmt: skip
+               "wedged": wedged_counts({k: runs[k] for k in LONG}), "fig5f": {"seeds": [0]}}  # fmt: skip
     arrays = {f"{k}/{f}": v for k in runs for f, v in trace.items()}
     for k in LONG:
         arrays[f"{k}/step"], arrays[f"{k}/coverage"] = np.arange(n) * 10, np.linspace(0, 0.1, n)
+    arrays["coverage/authors"] = np.linspace(0, 0.12, n)  # the authors' run, drawn beside the long runs
     return Result("fig5", summary, arrays)
 
 

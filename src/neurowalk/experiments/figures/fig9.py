@@ -4,14 +4,16 @@ The ``complex-path`` arena (a wall on the right, small obstacles on the left, a 
 reasons for it are in :mod:`neurowalk.arenas.generated`). The paper's robot entered the path, turned right at
 an obstacle on its left, walked to the end, turned left away from the dead end and went out of the path at
 3:20 min (its controller ran at 27 Hz); with the static network it got stuck in the path. Each network (plastic
-from zero weights, and static) runs ``seeds`` seeds (default 10; 3 with ``quick``) for :data:`PATH_S` s of
-simulated time (:data:`QUICK_S` with ``quick``) at the control rate ``control_hz`` (10 Hz by default, the authors'
-simulator; 27 Hz is the real robot's); then width and obstacle spacing are swept by -20%, 0, +20% (a 3 x 3 map,
+from zero weights, and static) runs ``seeds`` seeds (default 10; 3 with ``quick``) for :data:`STEPS` control
+steps at the control rate ``control_hz`` (10 Hz by default, the authors' simulator; 27 Hz is the real robot's: as
+many steps, the networks' time), each stopped once out on the left; then width and obstacle spacing are swept by
+-20%, 0, +20% (a 3 x 3 map,
 ``seeds`` seeds per cell; no sweep with ``quick``, nor at a rate other than the simulator's: the map is a study of
 the simulated robot, the other rates are there for the real-robot comparison, which runs the default geometry).
 Every run goes through the resumable store in the output folder. The outcome rule is :func:`outcome` (written
-into the json). The json's ``real_robot`` entry puts the paper's times (end of the path reached, out of the path)
-beside the simulated ones (a fair comparison at 27 Hz only).
+into the json). The json's ``real_robot`` entry puts the paper's intervals between its photos (obstacle seen at
+0:20, end of the path approached at 1:08, out of the path at 3:20) beside the simulated ones (a fair comparison at
+27 Hz only).
 
 The figure: a strip of rendered snapshots of the example seed for each network (times written on them), the
 top view of every seed's path, the outcome map of each network, and the example runs' steering and weights.
@@ -53,7 +55,7 @@ from neurowalk.experiments.suites.real_robot import (
     with_path,
     write_videos,
 )
-from neurowalk.experiments.suites.timing import SIM_HZ, real_robot_entry, run_steps
+from neurowalk.experiments.suites.timing import SIM_HZ, interval_s, real_robot_entry
 from neurowalk.plotting.style import FONT, colorbar, letter, pyplot, styled
 
 if TYPE_CHECKING:
@@ -64,11 +66,12 @@ if TYPE_CHECKING:
 
 NAME = "fig9"
 ARENA = "complex-path"
-# 800 s: three times the 259 s the robot needs at 10 Hz to walk the 3 m path straight on open floor (1.16 cm/s),
-# after the paper's timeline (the end reached at 1:08 min, out of the path at 3:20 min: 2.9 times as long). At
-# 27 Hz the robot walks 2.7 times as fast, so the same seconds leave more room.
-PATH_S = 800.0
-QUICK_S = PATH_S  # s per run with ``quick``: as long (the way out comes late), fewer seeds and no sweep
+# 8000 control steps at every rate (800 s at 10 Hz): three times the 2,590 steps the robot needs to walk the 3 m path
+# straight on open floor (1.16 cm/s at 10 Hz), after the paper's timeline (the end reached at 1:08 min, out of the
+# path at 3:20 min: 2.9 times as long); they hold the static robot's window (STUCK_WINDOW_STEPS) with room to see
+# where its outcome flips.
+STEPS = 8000
+PAPER_SEEN_S = 20.0  # the real robot detected an obstacle on its left at 0:20 min (paper §3, Fig. 9)
 PAPER_END_S = 68.0  # the real robot approached the end of the path at 1:08 min (paper §3, Fig. 9)
 PAPER_OUT_S = 200.0  # and went out of the path at 3:20 min
 FACTORS: tuple[float, ...] = (0.8, 1.0, 1.2)  # width and spacing sweep: -20%, 0, +20%
@@ -124,8 +127,8 @@ def _cells(s: Settings) -> list[tuple[float, float]]:
 def runs(s: Settings) -> Iterator[Plan]:
     """Each network's ``s.seeds`` seeds (10; quick: 3) from ``s.seed`` in the default geometry, then in each cell of
     the outcome map (labelled ``(network, cell)``), each with its path, the first one (the example) in full;
-    :data:`PATH_S` s each at the control rate."""
-    steps = run_steps(None, QUICK_S if s.quick else PATH_S, s.rate)
+    :data:`STEPS` control steps each at most."""
+    steps = STEPS
     for c in dict.fromkeys([(1.0, 1.0), *_cells(s)]):  # first the default geometry, then the map's other cells
         for net in NETWORKS:
             for k in range(s.n(10, 3)):
@@ -192,8 +195,12 @@ def _seed_rows(runs: list[dict[str, Any]], seed: int, arena: ArenaSpec, every: i
     (s) it reached the end and got out (from its path, stored every ``every`` control steps), its final state."""
 
     def path_time_s(row: int | None, r: dict[str, Any]) -> float | None:
-        """Time (s) of a row of a stored path (every ``every``-th control step, and the last)."""
-        return None if row is None else min(row * every, r["steps"] - 1) / r["control_hz"]
+        """Time (s) of a row of a stored path (every ``every``-th control step, and the last: the step the run
+        stopped at, out on the left, or its last)."""
+        if row is None:
+            return None
+        last = r["exit_step"] if r["exit_step"] is not None else r["steps"] - 1
+        return min(row * every, last) / r["control_hz"]
 
     rows = []
     for k, r in enumerate(runs):
@@ -204,6 +211,7 @@ def _seed_rows(runs: list[dict[str, Any]], seed: int, arena: ArenaSpec, every: i
                 "seed": seed + k,
                 "outcome": label,
                 "got_out": label in (OUT_LEFT, OUT_END),
+                "seen_time_s": None if r["seen_step"] is None else r["seen_step"] / r["control_hz"],
                 "end_time_s": path_time_s(reached_end(xy, arena), r),
                 "out_time_s": path_time_s(i, r),
                 "final_pose": r["final_pose"],
@@ -245,18 +253,20 @@ def _example(ex: dict[str, Any], seed: int) -> dict[str, Any]:
 
 
 def _real_robot(counts: dict[str, Any], n: int, steps: int, control_hz: float) -> dict[str, Any]:
-    """The paper's times (end reached, out of the path) beside the plastic network's ``n`` seeds'."""
+    """The paper's intervals (obstacle seen to the end approached, to out of the path) beside the plastic network's
+    ``n`` seeds'."""
+    rs = counts["plastic"]["runs"]
     return real_robot_entry(
         {
-            "reached the end": (
-                PAPER_END_S,
-                "walked toward the end of the path (0:47 min) and approached it (1:08 min)",
-                [r["end_time_s"] for r in counts["plastic"]["runs"]],
+            "obstacle seen to the end approached": (
+                PAPER_END_S - PAPER_SEEN_S,
+                "detected an obstacle on the left (0:20 min), approached the end of the path (1:08 min)",
+                [interval_s(r["seen_time_s"], r["end_time_s"]) for r in rs],
             ),
-            "out of the path": (
-                PAPER_OUT_S,
-                "finally went out of the path (3:20 min)",
-                [r["out_time_s"] for r in counts["plastic"]["runs"]],
+            "the end approached to out of the path": (
+                PAPER_OUT_S - PAPER_END_S,
+                "approached the end of the path (1:08 min), finally went out of the path (3:20 min)",
+                [interval_s(r["end_time_s"], r["out_time_s"]) for r in rs],
             ),
         },
         control_hz,
@@ -378,7 +388,7 @@ def verdict_title(s: dict[str, Any]) -> str:
 #: the static one was watched. Stuck is judged over as many control steps as the real plastic robot needed to get
 #: out (the networks' time is counted in steps: the same window at 10 Hz and at 27 Hz).
 STUCK_WINDOW_STEPS = round(PAPER_OUT_S * 27.0)
-WINDOWS_STEPS = (2000, 4000, STUCK_WINDOW_STEPS, 8000, 12000, 16000, 21600)
+WINDOWS_STEPS = (1000, 2000, 3000, 4000, STUCK_WINDOW_STEPS, 6000, 7000, STEPS)
 """Windows (control steps) at which the static network's share still in the path is reported: where it flips."""
 
 

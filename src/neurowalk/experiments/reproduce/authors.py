@@ -9,7 +9,8 @@ own functions (:mod:`neurowalk.metrics`, :func:`neurowalk.neural.cpg.period`,
 * :func:`flat_ground`: Table 1's speed along the start heading and turning rate of the forced-steering runs;
 * :func:`cpg_period`: the CPG period of the forward run (control steps);
 * :func:`dead_ends`: the dead ends (escaped, exit time, trapped) for both networks and each seed;
-* :func:`long_runs`: the 10,000 s runs in the difficult arena (coverage, wedged periods, trapped at the end).
+* :func:`long_runs`: the 10,000 s runs in the difficult arena (coverage, wedged periods, trapped at the end);
+  :func:`coverage_curve`: their coverage over time.
 
 The logged pose is the rear trunk box's; :func:`trunk_pose` moves it :data:`REAR_BOX_M` forward along the heading
 to the trunk centre, the point neurowalk's metrics follow.
@@ -27,7 +28,7 @@ import numpy as np
 from neurowalk import metrics
 from neurowalk.arenas import make_arena
 from neurowalk.experiments.figures.table1 import PAPER, direction, pace
-from neurowalk.experiments.suites.long_runs import WEDGED_LONG_S
+from neurowalk.experiments.suites.long_runs import WEDGED_LONG_S, FirstVisits
 from neurowalk.neural.cpg import period
 from neurowalk.sim.summary import STUCK_S
 
@@ -185,3 +186,13 @@ def long_runs() -> dict[str, dict[str, Any]]:
             ],
         }
     return out
+
+
+def coverage_curve(network: str, steps: np.ndarray) -> np.ndarray:
+    """The share of the difficult arena's free 0.25 m cells that the authors' ``network`` had visited in its 10,000 s
+    run by each control step of ``steps`` (:class:`~neurowalk.experiments.suites.long_runs.FirstVisits`, the cells of
+    neurowalk's coverage; a step past the run's end reads its last)."""
+    pose = trunk_pose(load(f"difficult_arena/{network}.csv.gz"))
+    visits = FirstVisits(make_arena("difficult"))
+    visits.add(pose, 0)
+    return visits.curve(np.minimum(np.asarray(steps), len(pose) - 1))

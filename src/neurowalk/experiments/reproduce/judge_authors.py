@@ -23,7 +23,6 @@ from neurowalk import metrics
 from neurowalk.experiments.figures import table1
 from neurowalk.experiments.reproduce import authors
 from neurowalk.experiments.reproduce.claims import Claim, holds, outcome
-from neurowalk.experiments.suites.random_envs import COVERAGE_PER_1000S, coverage_threshold
 
 #: Where the runs come from, in a line (the package data's README.md says it in full).
 SOURCE = (
@@ -78,19 +77,6 @@ def _plastic_explores(c: Claim, s: dict[str, Any]) -> Claim:
     )
 
 
-def _plastic_coverage(c: Claim, s: dict[str, Any]) -> Claim:
-    p = _long("plastic")
-    need = coverage_threshold(p["seconds"])
-    return holds(
-        c.what,
-        c.paper,
-        p["coverage"] >= need,
-        f"coverage {p['coverage']:.1%} (the rule asks {need:.1%})",
-        f"Table 2's coverage rule: at least {COVERAGE_PER_1000S:.1%} of the free cells per 1000 s simulated, "
-        f"{need:.1%} in this run's {p['seconds']:.0f} s",
-    )
-
-
 def _plastic_not_held(c: Claim, s: dict[str, Any]) -> Claim:
     p = _long("plastic")
     return holds(
@@ -135,7 +121,6 @@ RULES: dict[str, dict[str, Rule]] = {
         "plastic network escapes the simple dead end": _dead_end("simple-deadlock", "plastic", "escaped"),
         "plastic network escapes the narrow passage": _dead_end("narrow-passage", "plastic", "escaped"),
         "plastic network explores the difficult arena: not stuck at the end": _plastic_explores,
-        "plastic network explores the difficult arena by Table 2's coverage rule": _plastic_coverage,
         "no held period over 300 s": _plastic_not_held,
     },
     "fig7": {},

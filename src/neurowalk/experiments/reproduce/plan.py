@@ -103,7 +103,7 @@ PAPER: tuple[Item, ...] = (
     Item(
         "fig8-27hz",
         "fig8",
-        "Fig. 8: the real robot (27 Hz) escaped the narrow passage at 0:50",
+        "Fig. 8: the real robot (27 Hz) saw the obstacle at 0:10 and escaped the narrow passage at 0:50",
         settings={"control_hz": REAL_ROBOT_HZ},
     ),
     Item(
@@ -115,7 +115,7 @@ PAPER: tuple[Item, ...] = (
     Item(
         "fig9-27hz",
         "fig9",
-        "Fig. 9: the real robot (27 Hz) went out of the complex path at 3:20",
+        "Fig. 9: the real robot (27 Hz) saw an obstacle at 0:20, approached the end at 1:08, went out at 3:20",
         settings={"control_hz": REAL_ROBOT_HZ},
     ),
     Item(
@@ -126,13 +126,18 @@ PAPER: tuple[Item, ...] = (
     Item(
         "fig10-27hz",
         "fig10",
-        "Fig. 10: the real robot (27 Hz) was on the first platform at 0:23, the second at 1:14",
+        "Fig. 10: the real robot (27 Hz) climbed onto the first platform at 0:17-0:23, the second at 1:14",
         settings={"control_hz": REAL_ROBOT_HZ},
     ),
     Item(
         "escape-map",
         "escape-map",
         "Beyond the paper: escape rate against trap size, three networks",
+    ),
+    Item(
+        "sensitivity",
+        "sensitivity",
+        "Beyond the paper: the outcomes with each invented arena dimension at 0.8-1.2 x",
     ),
     Item(
         "latched-spin",

@@ -140,20 +140,15 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
             "",
             f"## {item.name}",
             "",
-            f"{item.paper}: **{rec['verdict']}**. `neurowalk figure {rec['figure']}`, "
-            f"{settings_words(rec['settings'])} (`{rec['command']}`; {_took(rec)}; "
+            f"{item.paper}: **{rec['verdict']}**. {settings_words(rec['settings']).capitalize()} "
+            f"(`{rec['command']}`; {_took(rec)}; "
             f"[details](details.md#{item.name}), [numbers]({rec['files']['json']})).",
             "",
             f"![{item.name}]({rec['files']['png']})",
             "",
-            "| claim | paper | neurowalk | 95% interval | verdict | authors' simulator |",
-            "|---|---|---|---|---|---|",
         ]
-        for c in rec["claims"]:
-            lines.append(
-                f"| {cell(c['what'])} | {cell(c['paper'], c['unit'])} | {cell(c['measured'], c['unit'])} "
-                f"| {_interval(c)} | {MARK[c['verdict']]}{_cause_kind(c)} | {_authors_claim(rec, c['what'])} |"
-            )
+        lines += _claims_table(rec)
+        lines += _hinges(records, item.name)
     return "\n".join([*lines, *_provenance(out)]) + "\n"
 
 
@@ -176,6 +171,27 @@ def render_details(out: Path, quick: bool) -> str:
         lines += _physics(out, rec)
         lines += _side_by_side(rec)
     return "\n".join(lines) + "\n"
+
+
+#: What the sensitivity study's verdict says of a claim's invented dimension, in words.
+HINGE = {"reproduced": "holds", "partly": "hinges on it", "not": "fails at the default"}
+
+
+def _hinges(records: dict[str, dict[str, Any]], name: str) -> list[str]:
+    """A line under result ``name`` (a paper figure ``figN``) on the sensitivity study's claims on its arena (the
+    claim's ``paper`` names the figures): those that do not hold with the invented dimension at 0.8-1.2 x, and how
+    many do; none where the study has none or did not run."""
+    fig = re.match(r"fig(\d+)", name)
+    sens = records.get("sensitivity")
+    if fig is None or sens is None:
+        return []
+    mine = [c for c in sens["claims"] if fig.group(1) in re.findall(r"(\d+)[A-Z]?", c["paper"].rpartition("(")[2])]
+    if not mine:
+        return []
+    off = [f"{c['what']} {HINGE[c['verdict']]}" for c in mine if c["verdict"] != "reproduced"]
+    held = len(mine) - len(off)
+    words = "; ".join([*off, f"{held} of {len(mine)} outcomes hold"])
+    return ["", f"Invented geometry at 0.8-1.2 x ([sensitivity](#sensitivity)): {words}."]
 
 
 def _cause_kind(c: dict[str, Any]) -> str:
@@ -201,6 +217,23 @@ def _physics(out: Path, rec: dict[str, Any]) -> list[str]:
         f"`{p['tolerance']:g}` (at most `{p['iterations']}` iterations), the `{p['cone']}` friction cone."
         for p in physics
     ]
+
+
+def _claims_table(rec: dict[str, Any]) -> list[str]:
+    """A result's claims as a table: claim, paper, neurowalk, verdict, and the 95% interval and the authors'
+    simulator's columns only where some claim has one (an empty column is left out, not filled with dashes)."""
+    claims = rec["claims"]
+    intervals = any(c["interval"] is not None for c in claims)
+    theirs = any(_authors_claim(rec, c["what"]) != "-" for c in claims)
+    head = ["claim", "paper", "neurowalk", *(["95% interval"] if intervals else []), "verdict"]
+    head += ["authors' simulator"] if theirs else []
+    rows = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for c in claims:
+        row = [cell(c["what"]), cell(c["paper"], c["unit"]), cell(c["measured"], c["unit"])]
+        row += [_interval(c)] if intervals else []
+        row += [f"{MARK[c['verdict']]}{_cause_kind(c)}"] + ([_authors_claim(rec, c["what"])] if theirs else [])
+        rows.append("| " + " | ".join(row) + " |")
+    return rows
 
 
 def _interval(c: dict[str, Any]) -> str:

@@ -1,8 +1,8 @@
 """Climbing outcomes shared by ``fig10`` and ``steps``: run specs and success rules.
 
 * On ``climbing-track`` (plastic network, reflexes and backbone control on) a run succeeds when the
-  trunk centre reaches the second platform (0.3 m beyond its edge) within :data:`TRACK_S` s of simulated
-  time and the trunk never rose to the top of a wall on the way (``max_z`` below the wall tops, 2 x step +
+  trunk centre reaches the second platform (0.3 m beyond its edge) within :data:`TRACK_STEPS` control steps
+  and the trunk never rose to the top of a wall on the way (``max_z`` below the wall tops, 2 x step +
   0.20 m); the run stops there. The term :data:`FIRST_PLATFORM` also keeps when the trunk centre first got 0.3 m
   onto the first platform.
 * On ``steps`` (steering fixed straight ahead, so only the climbing modules decide) a run climbs when
@@ -12,8 +12,11 @@
 
 Every variant steps the same physics (AMOSII's defaults), the climbing modules on or off.
 
-Run lengths are in seconds of simulated time, turned into control steps at the run's control rate
-(:func:`~neurowalk.experiments.suites.timing.steps_for`; at 10 Hz, the default, 12,000 and 3000 steps).
+A track run lasts :data:`TRACK_STEPS` control steps at every control rate (the networks count time in steps: an
+arm at 27 Hz, the real robot's, gives them as many updates as one at 10 Hz); a single-step run lasts :data:`STEP_S`
+s of simulated time, turned into control steps at its rate (:func:`~neurowalk.experiments.suites.timing.steps_for`;
+3000 steps at 10 Hz, the default). :func:`climb_step` is when a run's backbone first leaned up (a climbable step
+detected) or down (the front over it, climbing).
 """
 
 from __future__ import annotations
@@ -28,7 +31,8 @@ from neurowalk.experiments.stores import Term
 from neurowalk.experiments.suites.timing import SIM_HZ, steps_for
 from neurowalk.sim.episode import Episode
 
-TRACK_S = 1200.0  # s of simulated time per climbing-track run (12,000 control steps at 10 Hz)
+TRACK_STEPS = 12_000  # control steps per climbing-track run at every rate (1,200 s at 10 Hz)
+LEAN = 0.26  # rad: a climb starts when the backbone command leans down below -LEAN (front legs on the step)
 TRACK_HEIGHTS = (0.06, 0.08, 0.10)  # m
 STEP_S = 300.0  # s per single-step run (3000 control steps at 10 Hz)
 ONTO = 0.3  # m: "on a platform" = the trunk centre this far past its edge
@@ -42,8 +46,8 @@ VARIANTS: dict[str, dict[str, bool]] = {
     "neither": {"reflexes": False, "backbone": False},
 }
 TRACK_RULE = (
-    f"success: the trunk centre reaches the second platform ({ONTO} m past its edge) within {TRACK_S:g} s of "
-    f"simulated time, and never rises to a wall's top (max trunk z < 2 x step + {WALL_HEIGHT} m)"
+    f"success: the trunk centre reaches the second platform ({ONTO} m past its edge) within {TRACK_STEPS:,} "
+    f"control steps (1,200 s at 10 Hz), and never rises to a wall's top (max trunk z < 2 x step + {WALL_HEIGHT} m)"
 )
 STEP_RULE = (
     f"climbed: the trunk centre gets {ONTO} m onto the platform within {STEP_S:g} s of simulated time (steering "
@@ -56,12 +60,12 @@ def track_spec(
     step: float, seed: int, steps: int | None = None, variant: str = "paper", control_hz: float = SIM_HZ
 ) -> dict[str, Any]:
     """Run spec of one climbing-track run (plastic network ``variant``, reflexes and backbone control) at
-    ``control_hz`` Hz, ``steps`` control steps long (default :data:`TRACK_S` s at that rate)."""
+    ``control_hz`` Hz, ``steps`` control steps long (default :data:`TRACK_STEPS`)."""
     out = {
         "arena": "climbing-track",
         "arena_opts": {"step": step},
         "controller": "plastic",
-        "steps": steps if steps is not None else steps_for(TRACK_S, control_hz),
+        "steps": steps if steps is not None else TRACK_STEPS,
         "seed": seed,
         "control_hz": float(control_hz),
         "reflexes": True,
@@ -98,10 +102,24 @@ def first_platform_step(pose: np.ndarray, step: float) -> int | None:
     return int(idx[0]) if len(idx) else None
 
 
+def climb_step(bj_command: np.ndarray, after: int = 0, up: bool = False) -> int | None:
+    """First control step at or after ``after`` at which the backbone command ``bj_command`` (T,) rad leans down
+    below -:data:`LEAN` (a climb starts: the front legs on the step, the rear segment lifted), or with ``up`` leans up
+    beyond +:data:`LEAN` (a climbable step detected ahead); None if never."""
+    bj = np.asarray(bj_command)[after:]
+    idx = np.flatnonzero(bj > LEAN if up else bj < -LEAN)
+    return int(idx[0]) + after if len(idx) else None
+
+
 def keep_first_platform(ep: Episode) -> dict[str, Any]:
     """``first_platform_step`` of a climbing-track run (:func:`first_platform_step`; the second platform is the
-    summary's ``exit_step``)."""
-    return {"first_platform_step": first_platform_step(ep.trajectory.pose, ep.config.arena_opts["step"])}
+    summary's ``exit_step``) and ``detected_step``, when the backbone first leaned up for a step ahead
+    (:func:`climb_step` with ``up``: the paper's "detected the platform as a climbable obstacle")."""
+    tr = ep.trajectory
+    return {
+        "first_platform_step": first_platform_step(tr.pose, ep.config.arena_opts["step"]),
+        "detected_step": climb_step(tr.targets[:, -1], up=True),
+    }
 
 
 FIRST_PLATFORM = Term("first_platform", keep_first_platform)

@@ -4,10 +4,12 @@ escape counts as a table (the wedged periods of the long runs are circled on the
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from collections.abc import Sequence
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.patches import Circle
+from matplotlib.ticker import PercentFormatter
 
 from neurowalk.arenas import make_arena
 from neurowalk.experiments import Result
@@ -152,12 +154,16 @@ def _weights(ax: Axes, a: dict, key: str, r: dict, hz: float) -> None:
     legend_outside(ax)
 
 
+#: A further coverage curve of panel H: its label, time (n,) s, coverage (n,) shares, and its line style.
+Curve = tuple[str, np.ndarray, np.ndarray, dict[str, Any]]
+
 #: Two coverage curves closer than this share of the panel's height everywhere are drawn as coinciding (H).
 COINCIDE = 0.02
 
 
-def _coverage(ax: Axes, a: dict, keys: list[str], hz: float) -> None:
-    """The share of the free area visited over time, one line per long run (not in the paper).
+def _coverage(ax: Axes, a: dict, keys: list[str], hz: float, more: Sequence[Curve] = ()) -> None:
+    """The share of the free area visited over time, one line per long run (not in the paper), and the ``more``
+    curves (label, time (s), coverage, line style) over them.
 
     Curves that coincide (closer than :data:`COINCIDE` of the panel's height at every kept step) stay all visible:
     the first one drawn wide, each later one narrower on top of it with markers, and its legend entry names the
@@ -186,9 +192,11 @@ def _coverage(ax: Axes, a: dict, keys: list[str], hz: float) -> None:
             other, gap = under[key][0]
             label += f": on {nets[other]}'s line\n(at most {gap:.1%} apart)"
         ax.plot(t, c, label=label, **style)
+    for label, t, c, style in more:
+        ax.plot(t, c, label=label, **{"zorder": 1, **style})
     ax.set(xlabel="time (s)", ylabel="coverage (share of free cells)", title="coverage (not in the paper)")
     ax.set_ylim(bottom=0)
-    ax.yaxis.set_major_formatter(lambda v, _: f"{v:.0%}")
+    ax.yaxis.set_major_formatter(PercentFormatter(1.0))  # its decimals as the ticks need them (2.5%, not 2%)
     legend_outside(ax, side="below", ncol=1 if any(under.values()) else 3)
 
 
@@ -222,13 +230,15 @@ def _counts_table(ax: Axes, s: dict, hz: float) -> None:
 
 
 @styled
-def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool = False) -> Figure:
+def plot(
+    res: Result, network: str, long_keys: list[str], *, weights_panel: bool = False, more_coverage: Sequence[Curve] = ()
+) -> Figure:
     """Panels A-G for the figure's ``network`` and the escape counts as a table; one row of panels per subfigure.
 
     Fig. 3 (``weights_panel`` False): F and G the paths of the first two long runs, red up to ``mark_step`` and gray
     after. Fig. 5 (``weights_panel``): F the path of the first long run coloured by time, beside it H, the coverage
-    over time of every long run (not in the paper), and G (a row of its own) the first long run's weights over the
-    whole run.
+    over time of every long run (not in the paper) with the ``more_coverage`` curves, and G (a row of its own) the
+    first long run's weights over the whole run.
     """
     plt = pyplot()
     s, a = res.summary, res.arrays
@@ -288,7 +298,7 @@ def plot(res: Result, network: str, long_keys: list[str], *, weights_panel: bool
         letter(ax, "FG"[j])
     if weights_panel:  # paper Fig. 5G: the weights of the long run over time; the coverage curves beside F
         ax = rows[1].add_subplot(middle[0, 3])
-        _coverage(ax, a, long_keys, hz)
+        _coverage(ax, a, long_keys, hz, more_coverage)
         ax.set_box_aspect(1)
         letter(ax, "H")
         ax = rows[2].add_subplot(1, 1, 1)

@@ -130,6 +130,23 @@ class FirstVisits:
         return np.searchsorted(visits, steps, side="right") / self.n_free
 
 
+def saturating_fit(t: np.ndarray, coverage: np.ndarray) -> dict[str, float]:
+    """Least-squares fit of ``coverage = c_max (1 - exp(-t / tau))`` to a coverage curve (``t`` (n,) s, ``coverage``
+    (n,) shares): ``c_max`` (the share it levels off at), ``tau_s`` (s; searched on a log grid from 10 s to 100 times
+    the curve's span, ``c_max`` solved exactly at each) and ``rms`` (the residual's root mean square). A curve still
+    rising straight at its end gives a ``tau_s`` beyond its span and a ``c_max`` beyond its last value."""
+    t, c = np.asarray(t, dtype=float), np.asarray(coverage, dtype=float)
+    span = max(float(t[-1]), 10.0)
+    best = (np.inf, 0.0, 0.0)
+    for tau in np.geomspace(10.0, 100.0 * span, 400):
+        g = 1.0 - np.exp(-t / tau)
+        c_max = float(g @ c / (g @ g)) if g @ g > 0 else 0.0
+        err = float(np.sqrt(np.mean((c - c_max * g) ** 2)))
+        if err < best[0]:
+            best = (err, c_max, float(tau))
+    return {"c_max": best[1], "tau_s": best[2], "rms": best[0]}
+
+
 def sample_steps(steps: int, stride: int) -> np.ndarray:
     """The steps a long run keeps: 0, stride, 2·stride, ... and the last (steps - 1)."""
     at = np.arange(0, steps, stride)

@@ -1,11 +1,13 @@
 """Shared by ``fig8`` and ``fig9``, the paper's real-robot experiments in simulation (physics body ``amosii``).
 
-* Durations: a run's length is set in seconds of simulated time and turned into control steps at the run's control
-  rate (:func:`~neurowalk.experiments.suites.timing.steps_for`), so that a run covers the same time at 10 Hz (the
-  authors' simulator) as at 27 Hz (the real robot's controller).
+* Durations: a run's length is a number of control steps, the same at 10 Hz (the authors' simulator) as at 27 Hz
+  (the real robot's controller): the networks count their time in steps (the CPG period, the weights' growth and
+  decay), so an arm at either rate gives its network as many updates. A run stops once its outcome is decided
+  (``until="escaped"``: the trunk in the arena's exit region).
 * Runs: one per network and seed (:func:`config`), each kept with its top-view path (the term :data:`PATH`),
   sampled every :data:`PATH_EVERY_S` s (:func:`path_every` control steps), so that a figure can draw every seed's
-  path without rerunning.
+  path without rerunning, and the control step it first saw an obstacle (:func:`seen_step`), where the paper's
+  photo series starts its intervals.
 * The example seed of each network is kept in full too (the term :data:`EXAMPLE`) for the snapshot strip, the
   neural traces and, on request, a video.
 * Snapshots: rendered offscreen from a fixed camera over the arena, as the paper's photos are taken, at
@@ -23,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from neurowalk.body.registry import body_model
-from neurowalk.experiments.reproduce.claims import Claim, timing
+from neurowalk.experiments.reproduce.claims import Claim, interval
 from neurowalk.experiments.stores import Kept, Term
 from neurowalk.experiments.suites.long_runs import sample_steps
 from neurowalk.experiments.suites.timing import steps_for
@@ -52,6 +54,7 @@ if TYPE_CHECKING:
     from neurowalk.sim.episode import Episode
 
 NETWORKS: tuple[str, ...] = ("plastic", "static")
+SEEN_M = 0.35  # m: "an obstacle seen": an echo nearer than this (activation 0.125; the noise's std is about 0.008)
 PATH_EVERY_S = 1.0  # s of simulated time between stored path points (10 control steps at 10 Hz)
 N_SNAPSHOTS = 6
 ROBOT_REACH = 0.35  # m, the robot's feet from its trunk centre (0.33 m) with a margin: framed at the start
@@ -70,15 +73,27 @@ def video_every(control_hz: float) -> int:
 
 
 def config(arena: str, opts: dict[str, float], network: str, seed: int, steps: int) -> EpisodeConfig:
-    """One run: the ``network`` (a controller name) in ``arena`` (its options ``opts``) for ``steps`` control
-    steps (the settings' variant, params and control rate are applied by the runner)."""
-    return EpisodeConfig(arena=arena, arena_opts=dict(opts), controller=network, steps=steps, seed=seed)
+    """One run: the ``network`` (a controller name) in ``arena`` (its options ``opts``) for at most ``steps`` control
+    steps, stopped once in the arena's exit region (the settings' variant, params and control rate are applied by
+    the runner)."""
+    return EpisodeConfig(
+        arena=arena, arena_opts=dict(opts), controller=network, steps=steps, seed=seed, until="escaped"
+    )
+
+
+def seen_step(us_distance: np.ndarray) -> int | None:
+    """First control step at which either ultrasonic sensor read an obstacle nearer than :data:`SEEN_M` (from the
+    readings ``us_distance`` (T, 2) m as the controller saw them, ``inf``: no echo); None if never."""
+    idx = np.flatnonzero((np.asarray(us_distance) < SEEN_M).any(axis=1))
+    return int(idx[0]) if len(idx) else None
 
 
 def keep_path(ep: Episode) -> dict[str, Any]:
     """``path``: (n, 2) x, y in m: every :func:`path_every`-th row (every :data:`PATH_EVERY_S` s at the run's
-    control rate) of the trunk's pose and the last row, rounded to 1 mm."""
-    return {"path": np.round(sampled(ep.trajectory.pose[:, :2], path_every(ep.config.control_hz)), 3)}
+    control rate) of the trunk's pose and the last row, rounded to 1 mm; ``seen_step``: :func:`seen_step`."""
+    tr = ep.trajectory
+    every = path_every(ep.config.control_hz)
+    return {"path": np.round(sampled(tr.pose[:, :2], every), 3), "seen_step": seen_step(tr.us_distance)}
 
 
 def sampled(xy: np.ndarray, every: int) -> np.ndarray:
@@ -98,8 +113,8 @@ EXAMPLE = Term("example", keep_example, arrays=dict.fromkeys(("t", "pose", "outp
 
 
 def with_path(runs: Sequence[Kept]) -> list[dict[str, Any]]:
-    """Each run's summary (a dict) with its ``path``."""
-    return [{**r.summary.to_dict(), "path": r.kept["path"]["path"]} for r in runs]
+    """Each run's summary (a dict) with its ``path`` and ``seen_step``."""
+    return [{**r.summary.to_dict(), **r.kept["path"]} for r in runs]
 
 
 def example_of(run: Kept) -> dict[str, Any]:
@@ -289,9 +304,9 @@ def draw_traces(
 
 
 def real_robot_claims(s: dict[str, Any]) -> list[Claim]:
-    """Each event of the figure's ``real_robot`` entry: the median simulated time over the runs where it happened
-    against the real robot's time (:func:`~neurowalk.experiments.reproduce.claims.timing`); none where the runs were
-    not on the real robot's controller clock (27 Hz), whose times do not compare."""
+    """Each interval of the figure's ``real_robot`` entry: the median simulated one over the runs where both its
+    events happened against the real robot's (:func:`~neurowalk.experiments.reproduce.claims.interval`); none where
+    the runs were not on the real robot's controller clock (27 Hz), whose times do not compare."""
     rr = s.get("real_robot", {})
     if not rr.get("same_clock"):
         return []
@@ -304,5 +319,6 @@ def real_robot_claims(s: dict[str, Any]) -> list[Claim]:
             if sim["happened"]
             else f" at {rr['control_hz']:g} Hz: in none of {sim['runs']} runs"
         )
-        claims.append(timing(f"{name} (real robot: {e['paper']})", e["paper_s"], sim["median_s"], context))
+        context += f"; the paper: {e['paper']}"
+        claims.append(interval(f"{name} (real robot's photos)", e["paper_s"], sim["median_s"], context))
     return claims

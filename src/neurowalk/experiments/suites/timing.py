@@ -6,8 +6,9 @@ at 27 Hz (the real AMOSII's controller, paper §2.2). The networks keep their st
 number of control steps), so at 27 Hz the robot walks and learns 2.7 times as fast in seconds.
 
 The paper's real-robot experiments (Fig. 8-10) give the times of key events as the time stamps of their photos,
-taken with the controller at :data:`REAL_ROBOT_HZ`; :func:`real_robot_entry` puts them beside the times of the same
-events in simulation.
+taken with the controller at :data:`REAL_ROBOT_HZ`; :func:`real_robot_entry` puts the intervals between two of them
+(:func:`interval_s`: from an event the robot meets in the arena, not from the start, which depends on where an
+invented arena puts it) beside the same intervals in simulation.
 """
 
 from __future__ import annotations
@@ -51,6 +52,11 @@ def quick_note(seconds: float, quick_s: float, control_hz: float) -> str | None:
         f"quick runs last {quick_s:g} s here instead of {seconds:g} s: at {control_hz:g} Hz a quick run keeps at "
         f"most the control steps of the {SIM_HZ:g} Hz quick run (the robot walks as far in them)"
     )
+
+
+def interval_s(start_s: float | None, end_s: float | None) -> float | None:
+    """The time (s) from one event to a later one of the same run; None where either did not happen."""
+    return None if start_s is None or end_s is None else float(end_s) - float(start_s)
 
 
 def time_stats(times: list[float | None]) -> dict[str, Any]:
