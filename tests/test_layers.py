@@ -9,7 +9,7 @@ import neurowalk
 
 # Lower index, lower layer: a module may import from its own layer or a lower one.
 LAYERS = (
-    ("anatomy", "compiled", "cpu", "fileio", "fingerprint", "gym_registration", "observation", "profiling", "progress"),
+    ("anatomy", "compiled", "cpu", "fileio", "fingerprint", "observation", "profiling", "progress"),
     ("neural",),
     ("controller", "gait"),
     ("body", "arenas", "metrics", "metrics_kernel"),

@@ -27,16 +27,34 @@ def _python(code: str) -> str:
     return done.stdout.strip()
 
 
-@pytest.mark.parametrize("order", ["import neurowalk, gymnasium", "import gymnasium, neurowalk"])
-def test_gymnasium_makes_the_environments_after_import_neurowalk_in_either_order(order):
+@pytest.mark.parametrize(
+    "how",
+    [
+        "import neurowalk.envs, gymnasium\nid = 'neurowalk/Explore-v0'",
+        "import gymnasium, neurowalk.envs\nid = 'neurowalk/Explore-v0'",
+        "import gymnasium\nid = 'neurowalk.envs:neurowalk/Explore-v0'",  # Gymnasium's module prefix imports it
+    ],
+)
+def test_gymnasium_makes_the_environments_by_either_of_its_two_ways(how):
     pytest.importorskip("gymnasium")
     out = _python(
-        f"{order}\n"
-        "env = gymnasium.make('neurowalk/Explore-v0')\n"
+        f"{how}\n"
+        "env = gymnasium.make(id)\n"
         "obs, _ = env.reset(seed=0)\n"
         "print(obs.shape, 'neurowalk/ExplorePhysics-v0' in gymnasium.registry)"
     )
     assert out == "(2,) True"
+
+
+def test_import_neurowalk_has_no_side_effect_on_the_import_system_or_numba():
+    """No import hook, no numba setting changed by importing neurowalk or a kernel module of plain kernels."""
+    code = (
+        "import sys, numba\n"
+        "hooks, layer = len(sys.meta_path), numba.config.THREADING_LAYER\n"
+        "import neurowalk, neurowalk.neural.sensory\n"
+        "print(len(sys.meta_path) == hooks, numba.config.THREADING_LAYER == layer)"
+    )
+    assert _python(code) == "True True"
 
 
 def test_import_neurowalk_does_not_import_gymnasium_or_the_simulation():

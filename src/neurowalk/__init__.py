@@ -13,15 +13,13 @@ Engines and bodies by name: :data:`ENGINES` (``mujoco``: the CPU loop; ``warp``:
 (where a long run's rows go). The names load on first use, so that the ``neurowalk`` command starts at once (and a
 Ctrl-C while it starts is answered in one line, by the command, not by a traceback from deep inside an import).
 
-Where Gymnasium is installed, ``import neurowalk`` registers the environments ``neurowalk/Explore-v0`` and
-``neurowalk/ExplorePhysics-v0`` with it (:mod:`neurowalk.gym_registration`).
+The Gymnasium environments ``neurowalk/Explore-v0`` and ``neurowalk/ExplorePhysics-v0`` are registered by
+``import neurowalk.envs`` (:mod:`neurowalk.envs`); ``import neurowalk`` has no side effect.
 """
 
 from __future__ import annotations
 
 import importlib
-
-from neurowalk.gym_registration import register_when_gymnasium_loads
 
 __version__ = "0.1.0"
 
@@ -73,8 +71,6 @@ def __getattr__(name: str) -> object:
 def __dir__() -> list[str]:
     return sorted({*globals(), *_LAZY})
 
-
-register_when_gymnasium_loads()
 
 __all__ = [  # noqa: RUF022 (grouped by what they are)
     "__version__",

@@ -10,11 +10,12 @@ key): any edit of that code gives a fresh directory, so nothing stale is ever lo
 numba's setting for other libraries is left as it was.
 
 Parallel kernels (:func:`jit_parallel`) run on numba's ``workqueue`` threading layer unless
-``NUMBA_THREADING_LAYER`` says otherwise. numba's default on PyPI's wheels is OpenMP, whose threads spin while they
-wait for each other: with another process holding one of two cores (an RL learner beside the environments), two
-OpenMP threads ran the vectorised environment at about 0.6 of one thread's rate, two ``workqueue`` threads at about
-one thread's; on an idle machine OpenMP is the faster (``benchmarks/bench_threading.py``,
-``docs/benchmarks/threading.json``).
+``NUMBA_THREADING_LAYER`` says otherwise; the layer is set when the first of them is made (importing this module
+changes no numba setting: a process that makes no parallel kernel of neurowalk's keeps numba's own choice).
+numba's default on PyPI's wheels is OpenMP, whose threads spin while they wait for each other: with another
+process holding one of two cores (an RL learner beside the environments), two OpenMP threads ran the vectorised
+environment at about 0.6 of one thread's rate, two ``workqueue`` threads at about one thread's; on an idle machine
+OpenMP is the faster (``benchmarks/bench_threading.py``, ``docs/benchmarks/threading.json``).
 
 numba compiles a kernel when it is first called with its argument types, or loads it from the cache: a command
 compiles only the kernels its work calls. The first compile of a process is announced in one line on stderr
@@ -39,8 +40,6 @@ from neurowalk import fingerprint, progress
 F = TypeVar("F", bound=Callable[..., Any])
 #: numba's threading layer for neurowalk's parallel kernels where ``NUMBA_THREADING_LAYER`` does not choose one.
 THREADING_LAYER = "workqueue"
-if "NUMBA_THREADING_LAYER" not in os.environ:
-    config.THREADING_LAYER = THREADING_LAYER
 
 
 @cache
@@ -70,7 +69,10 @@ def jit(fn: F) -> F:
 
 
 def jit_parallel(fn: F) -> F:
-    """:func:`jit` with ``parallel=True``: ``numba.prange`` loops run on numba's threads (all cores by default)."""
+    """:func:`jit` with ``parallel=True``: ``numba.prange`` loops run on numba's threads (all cores by default), on
+    :data:`THREADING_LAYER` unless ``NUMBA_THREADING_LAYER`` chooses one."""
+    if "NUMBA_THREADING_LAYER" not in os.environ:
+        config.THREADING_LAYER = THREADING_LAYER
     return _compiled(fn, parallel=True)
 
 
@@ -88,10 +90,14 @@ class _CompileNote(event.Listener):  # type: ignore[misc]
         pass
 
 
-event.register("numba:compile", _CompileNote())
+@cache
+def _listen() -> None:
+    """Listen to numba's compile events (once, when the first kernel of neurowalk's is made)."""
+    event.register("numba:compile", _CompileNote())
 
 
 def _compiled(fn: F, parallel: bool) -> F:
+    _listen()
     old = config.CACHE_DIR
     config.CACHE_DIR = str(cache_dir(tuple(fingerprint.user_files(fn))))
     try:

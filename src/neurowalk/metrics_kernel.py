@@ -194,20 +194,6 @@ def _range_max(t: np.ndarray, j: int, count: int) -> float:
 
 
 @jit
-def fitting_windows(xy: np.ndarray, window: int, radius: float, stride: int) -> tuple[np.ndarray, np.ndarray]:
-    """The marks of :func:`neurowalk.metrics.wedged_periods`' stretches, decided as its numpy code decides them.
-
-    The rows of the stretches :func:`fitting_starts` finds to fit, marked by :func:`mark_stretches`.
-
-    Returns:
-        (T,) bool marks (rows in a marked stretch), and the (k,) int64 starts of undecided stretches
-        (numpy checks them; their rows are not marked here).
-    """
-    fits, todo = fitting_starts(xy, window, radius, stride)
-    return mark_stretches(xy.shape[0], fits, window), todo
-
-
-@jit
 def mark_stretches(n: int, starts: np.ndarray, window: int) -> np.ndarray:
     """(n,) bool: the rows inside some stretch [s, s + ``window``) for s in ``starts`` (k,) int64 (rows past ``n``
     ignored), by a running count of the stretches open at each row."""

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import neurowalk
+import neurowalk.envs  # registers the ids
 from neurowalk.experiments import FIGURES, Settings
 from neurowalk.experiments.study import planned, resolve
 from neurowalk.experiments.suites.random_envs import arena_of

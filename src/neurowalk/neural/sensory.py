@@ -294,13 +294,6 @@ def _run(s: np.ndarray, inputs: np.ndarray, p: np.ndarray, out: np.ndarray) -> N
         out[t] = s
 
 
-@jit
-def sensory_step_batch(s: np.ndarray, inputs: np.ndarray, p: np.ndarray) -> None:
-    """Advance n networks one step in place: ``s`` (n, STATE_SIZE), ``inputs`` (n, 2)."""
-    for i in range(s.shape[0]):
-        sensory_step(s[i], inputs[i, 0], inputs[i, 1], p)
-
-
 @dataclass(frozen=True)
 class SensoryTrace:
     """Result of :func:`simulate`: row t holds the values after the t-th update from inputs[t].
