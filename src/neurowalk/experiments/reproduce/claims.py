@@ -124,12 +124,18 @@ def rate(what: str, paper_k: int, paper_n: int, k: int, n: int, of: str = "envir
     )
     stats = {
         "name": "Boschloo's exact test, two-sided",
-        "p_value": test.p_value,
+        "p_value": _digits(test.p_value),
         "alpha": ALPHA,
         "power": POWER,
-        "detectable": seen,
+        "detectable": {side: None if d is None else _digits(d) for side, d in seen.items()},
     }
     return Claim(what, f"{paper_k}/{paper_n}", f"{k}/{n}", verdict, rule, (lo, hi), unit=of, test=stats)
+
+
+def _digits(x: float) -> float:
+    """``x`` to 12 significant digits, as a record keeps it: numpy's vectorised logs differ in the last bits from
+    one CPU type to another (``znver3`` and ``znver4`` gave p-values 2e-17 apart), a record does not."""
+    return float(f"{x:.12g}")
 
 
 #: s: each photo time stamp of the paper is given to the second, so an interval between two is known to +-1 s.
