@@ -36,8 +36,9 @@ class Controller(Protocol):
     """What the control loop needs of a controller."""
 
     steering: np.ndarray  # (2,) last steering (O1, O2)
+    inputs: np.ndarray  # (2,) last sensory inputs (I1, I2)
 
-    def reset(self, rng: np.random.Generator) -> None:
+    def reset(self, rng: np.random.Generator | None = None) -> None:
         """Start a new episode."""
         ...
 

@@ -352,7 +352,7 @@ def _physics_of(name: str, options: str, control_hz: float) -> tuple[tuple[str, 
 def make_body(
     name: str,
     arena: ArenaSpec,
-    opts: dict[str, Any] | None = None,
+    opts: Mapping[str, Any] | None = None,
     *,
     control_hz: float = 10.0,
     noise: float = 0.02,
@@ -379,14 +379,14 @@ def body_model(name: str, arena: ArenaSpec, opts: dict[str, Any] | None = None) 
     return make_body(name, arena, opts, noise=0.0).model
 
 
-def replay_contacts(name: str, opts: dict[str, Any], arena: ArenaSpec, qpos: np.ndarray) -> np.ndarray:
+def replay_contacts(name: str, opts: Mapping[str, Any], arena: ArenaSpec, qpos: np.ndarray) -> np.ndarray:
     """Per-row obstacle contact (1.0 / 0.0) of recorded positions ``qpos`` (T, nq) of a physics body, replayed in a
     fresh model of its arena (collision depends on positions only): the robot touching any geom of the world but
     a plane."""
     info = body_info(name)
     if info.replay is not None:
-        return info.replay(name, opts, arena, qpos)
-    model = body_model(name, arena, opts)
+        return info.replay(name, dict(opts), arena, qpos)
+    model = body_model(name, arena, dict(opts))
     if qpos.ndim != 2 or qpos.shape[1] != model.nq:
         raise ValueError(f"qpos must have shape (T, {model.nq}), got {qpos.shape}")
     data = mujoco.MjData(model)

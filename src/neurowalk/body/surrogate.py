@@ -183,7 +183,8 @@ class SurrogateRun:
 
 def empty_run(steps: int) -> SurrogateRun:
     """NaN-filled arrays for ``steps`` rows."""
-    return SurrogateRun(*(np.full((steps, n), np.nan) for n in (3, 2, 2, 4, 2)))
+    pose, inputs, outputs, weights, us = (np.full((steps, n), np.nan) for n in (3, 2, 2, 4, 2))
+    return SurrogateRun(pose, inputs, outputs, weights, us)
 
 
 NOISE_TAU = 0.05  # the ultrasonic noise's colour: low-pass gain per control step (as the physics body)
@@ -252,6 +253,8 @@ class Surrogate:
         fixed = steer is not None
         if fixed:
             sens_state, sens_p = np.zeros(STATE_SIZE), np.zeros(PARAMS_SIZE)
+        elif sens_state is None or sens_p is None:
+            raise ValueError("a run of the sensory network needs its state and params arrays (or a steer pair)")
         state = np.zeros(kern.RUN_STATE)
         state[kern.X], state[kern.Y], state[kern.YAW] = self.arena.start
         motion = cal.motion()

@@ -188,7 +188,7 @@ class UserMjcf(Wheeled):
         noise: float = 0.02,
     ) -> None:
         options = {**_defaults(), **parse_opts(body, opts or {})}  # the file is checked by _Layout below
-        self.name, self.arena, self.params = body, arena, options
+        self.name, self.arena, self.options = body, arena, options
         self.model = _compile(body, arena)
         self.data = mujoco.MjData(self.model)
         self.control_hz = control_hz

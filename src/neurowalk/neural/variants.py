@@ -141,7 +141,7 @@ def get_variant(name: str = "paper", overrides: Mapping[str, Any] | None = None)
     if not overrides:
         return v
     extra = check_overrides(overrides)
-    sensory = {k: x for k, x in extra.items() if k != "pcpg_first_partial"}
+    sensory: dict[str, Any] = {k: x for k, x in extra.items() if k != "pcpg_first_partial"}
     pcpg = bool(extra.get("pcpg_first_partial", v.pcpg_first_partial))
     return Variant(f"{v.name}+params", dataclasses.replace(v.sensory, **sensory), pcpg, {**v.overrides, **extra})
 

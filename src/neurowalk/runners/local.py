@@ -122,7 +122,7 @@ class _Pool:
     def has_room(self) -> bool:
         return len(self.workers) < self.size or any(w.job is None for w in self.workers)
 
-    def submit(self, job: bytes, index: int) -> bool:
+    def submit(self, job: bytes | memoryview, index: int) -> bool:
         """Send a pickled job to an idle worker (started if need be); False if that worker had died."""
         w = next((w for w in self.workers if w.job is None), None)
         with deferred():  # a signal must not leave a started worker out of the list

@@ -95,7 +95,7 @@ def _one_line_errors() -> None:
             print(f"neurowalk: Ray: {line}", file=sys.stderr, flush=True)
 
     one_line.one_line = True  # type: ignore[attr-defined]
-    worker.print_to_stdstream = one_line
+    worker.print_to_stdstream = one_line  # type: ignore[attr-defined]
 
 
 def stop() -> None:

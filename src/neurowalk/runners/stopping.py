@@ -124,10 +124,10 @@ def deferred() -> Iterator[None]:
     if not _in_main_thread():
         yield
         return
-    held: list[int] = []
+    held: list[signal.Signals] = []
 
     def hold(signum: int, frame: Any) -> None:
-        held.append(signum)
+        held.append(signal.Signals(signum))
 
     old = {}
     for sig in STOP_SIGNALS:
@@ -173,5 +173,5 @@ _ASKER = "neurowalk-stop-again"
 def _ask_again(signum: int) -> None:
     """Simulate ``signum`` in the main thread every millisecond while a swallowed interrupt waits to be raised."""
     while _dropped:
-        _thread.interrupt_main(signum)
+        _thread.interrupt_main(signal.Signals(signum))
         time.sleep(0.001)

@@ -220,14 +220,13 @@ def _backend(
     """Results (:class:`JobResult`, any order) of ``fn`` on ``items``: runs of a many-worlds engine (MuJoCo Warp) as the
     worlds of shared calls, in this process (``keep`` of each episode; None: every run on the backend); the others
     on the backend."""
-    valid = [(i, cfg) for i, cfg in enumerate(_configs(items))] if keep is not None else []
-    valid = [(i, cfg) for i, cfg in valid if cfg is not None]
+    valid = [(i, cfg) for i, cfg in enumerate(_configs(items)) if cfg is not None] if keep is not None else []
     shared = [([valid[j][0] for j in group], engine) for group, engine in world_groups([c for _, c in valid], options)]
     done = {i for group, _ in shared for i in group}
     others = [i for i in range(len(items)) if i not in done]
 
     def chained() -> Iterator[JobResult]:
-        yield from world_runs(items, shared, options, keep)
+        yield from world_runs(items, shared, options, keep or result_of)
         if others:
             inner = _pool(backend, fn, [items[i] for i in others], workers, address, retries)
             try:

@@ -68,8 +68,14 @@ class MujocoBatchWorlds(LockstepWorlds):
         built: dict[tuple[ArenaSpec, bool], AmosII] = {}  # worlds of one arena share its model (a seed sweep: one)
         for cfg, arena in zip(configs, arenas, strict=True):
             if (arena, cfg.climbing) not in built:  # the body options and the rate are the call's (check above)
-                opts = {"control_hz": cfg.control_hz, "climbing": cfg.climbing, "pad_boxes": max_boxes}
-                built[arena, cfg.climbing] = make_body(cfg.body, arena, cfg.body_opts, **opts)
+                built[arena, cfg.climbing] = make_body(
+                    cfg.body,
+                    arena,
+                    cfg.body_opts,
+                    control_hz=cfg.control_hz,
+                    climbing=cfg.climbing,
+                    pad_boxes=max_boxes,
+                )
         bodies = [built[a, c.climbing] for a, c in zip(arenas, configs, strict=True)]
         self.models: list[mujoco.MjModel] = [b.model for b in bodies]
         super().__init__(

@@ -55,7 +55,8 @@ class Checkpoint:
         """Write ``checkpoint.npz`` atomically (no pickle)."""
         meta = {"format": FORMAT, "step": self.step, "values": self.values}
         blob = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
-        atomic_write(Path(path), lambda tmp: np.savez(tmp, __meta__=blob, **self.arrays))
+        arrays: dict[str, Any] = {"__meta__": blob, **self.arrays}
+        atomic_write(Path(path), lambda tmp: np.savez(tmp, **arrays))
 
     @classmethod
     def load(cls, path: str | Path) -> Checkpoint:
@@ -91,7 +92,7 @@ def advance_keeping_previous(body: Any) -> np.ndarray:
     return prev
 
 
-def capture(step: int, roots: dict[str, Any], previous: np.ndarray) -> Checkpoint:
+def capture(step: int, roots: dict[str, Any], previous: np.ndarray | None) -> Checkpoint:
     """The state of ``roots`` (e.g. ``{"body": body, "controller": ctrl}``) after ``step`` control steps.
 
     ``previous``: the integration state before the body's last physics step (:func:`advance_keeping_previous`).
@@ -107,6 +108,8 @@ def capture(step: int, roots: dict[str, Any], previous: np.ndarray) -> Checkpoin
             values[path] = {"generator": value.bit_generator.state}
         elif isinstance(value, _Mj):
             m, d = value.model, value.data
+            if previous is None:
+                raise ValueError(f"a checkpoint of {path} needs the integration state before its last physics step")
             now = np.empty(mujoco.mj_stateSize(m, _STATE))
             mujoco.mj_getState(m, d, now, _STATE)
             arrays[f"{path}#previous"], arrays[f"{path}#state"] = previous.copy(), now
@@ -158,13 +161,13 @@ def _restore_one(ckpt: Checkpoint, path: str, live: Any, put: Callable[[Any], No
         _restore_mujoco(ckpt, path, live)
         seen.update(f"{path}#{k}" for k in ("previous", "state", "warnings"))
     else:
-        saved = ckpt.values[path]
+        value: Any = ckpt.values[path]
         seen.add(path)
         if isinstance(live, tuple):
-            saved = tuple(saved)
-        if type(saved) is not type(live) and not (isinstance(live, float) and type(saved) is int):
-            raise ValueError(f"{type(saved).__name__}, expected {type(live).__name__}")
-        put(type(live)(saved) if live is not None else saved)
+            value = tuple(value)
+        if type(value) is not type(live) and not (isinstance(live, float) and type(value) is int):
+            raise ValueError(f"{type(value).__name__}, expected {type(live).__name__}")
+        put(type(live)(value) if live is not None else value)
 
 
 def _restore_mujoco(ckpt: Checkpoint, path: str, mj: _Mj) -> None:
@@ -218,9 +221,10 @@ def _walk(obj: Any, path: str, seen: set[int]) -> Iterator[tuple[str, Any, Calla
         if not all(isinstance(k, str) for k, _ in items):
             raise TypeError(f"cannot checkpoint {path or 'the state'}: a dict with keys that are not text")
         yield from _children(items, path, lambda k, v: obj.__setitem__(k, v), seen)
-    elif isinstance(obj, list | tuple):
-        settable = isinstance(obj, list)
-        yield from _children(list(enumerate(obj)), path, obj.__setitem__ if settable else None, seen)
+    elif isinstance(obj, list):
+        yield from _children(list(enumerate(obj)), path, obj.__setitem__, seen)
+    elif isinstance(obj, tuple):
+        yield from _children(list(enumerate(obj)), path, None, seen)
     else:
         state = vars(obj) if hasattr(obj, "__dict__") else {s: getattr(obj, s) for s in _slots(obj)}
         mj = state.get("data") if isinstance(state.get("model"), mujoco.MjModel) else None

@@ -262,7 +262,7 @@ ENGINES: tuple[str, ...] = ("mujoco", "warp")  # physics engines (neurowalk.sim.
 FIELDS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(EpisodeConfig))
 #: Every field's default.
 DEFAULTS: dict[str, Any] = {
-    f.name: f.default_factory() if f.default is dataclasses.MISSING else f.default  # type: ignore[misc]
+    f.name: f.default if f.default_factory is dataclasses.MISSING else f.default_factory()
     for f in dataclasses.fields(EpisodeConfig)
 }
 #: Fields kept out of the canonical spec at their defaults (they came after stores were written).
@@ -282,7 +282,7 @@ def _number(v: object) -> bool:
 
 def _whole(v: object) -> bool:
     """A finite whole number (not a bool)."""
-    return _number(v) and (isinstance(v, int) or float(v) == int(v))  # type: ignore[arg-type]
+    return isinstance(v, int | float) and _number(v) and (isinstance(v, int) or float(v) == int(v))
 
 
 @dataclass

@@ -60,7 +60,7 @@ def typed_arena_opts(arena: str, opts: Mapping[str, Any]) -> dict[str, Any]:
     """``opts`` of ``arena`` each as its option's type (a whole number, a finite number, ...), in any spelling;
     ValueError names an unknown arena or option, or a value of the wrong kind."""
     known = arena_options(arena)  # raises on an unknown arena
-    out = {}
+    out: dict[str, Any] = {}
     for key, value in opts.items():
         if key not in known:
             raise ValueError(f"arena {arena!r} has no option {key!r}; options: {', '.join(known) or 'none'}")

@@ -69,7 +69,7 @@ def run_surrogate_episode(
     ctrl.reset(ctrl_rng)
     fixed = not isinstance(ctrl, NeuralController)
     state = params = None
-    if not fixed:
+    if isinstance(ctrl, NeuralController):
         state, params = ctrl.sensory.state, ctrl.sensory.packed_params
     run = empty_run(chunk if not keep_rows else cfg.steps)
     keeper = None if keep_rows else RecordKeeper(cfg.steps, 0, picture_rows)
