@@ -1,8 +1,8 @@
 """mkdocs hooks of the documentation site (``hooks:`` in ``mkdocs.yml``).
 
-The package's docstrings cross-reference in Sphinx's roles (``:class:`~neurowalk.sim.engine.Streaming```), which
-the API pages' generator (mkdocstrings) leaves as text: ":class:" beside the name. :func:`plain_roles` shows such a
-reference as the name in code, the way Sphinx shows it (``~`` keeps the last part only), linked to its entry.
+The package's docstrings cross-reference in Sphinx's roles (``:class:`~neurowalk.sim.engine_interface.Streaming```),
+which the API pages' generator (mkdocstrings) leaves as text: ":class:" beside the name. :func:`plain_roles` shows such
+a reference as the name in code, the way Sphinx shows it (``~`` keeps the last part only), linked to its entry.
 
 A number in the pages links to the committed JSON file it comes from, with its key path after ``#``
 (``benchmarks/bench.json#surrogate/steps_per_s``, see tests/numbers_checker.py). A browser shows such a link as

@@ -31,7 +31,7 @@ import numpy as np
 
 from neurowalk.arenas import make_arena
 from neurowalk.arenas.spec import ArenaSpec
-from neurowalk.body.physics import AmosII
+from neurowalk.body.amosii import AmosII
 from neurowalk.body.wheeled_body import Wheeled
 from neurowalk.controller import FixedController, NeuralController
 

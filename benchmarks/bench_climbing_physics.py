@@ -35,7 +35,7 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from neurowalk.body.amosii import trunk_pose
+from neurowalk.body.amosii_mjcf import trunk_pose
 from neurowalk.fileio import write_json
 from neurowalk.metrics import exit_step
 from neurowalk.sim.config import build, seeds

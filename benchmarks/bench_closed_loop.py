@@ -3,7 +3,7 @@
 The baseline replays the closed loop's own recorded joint targets open-loop (so the robot makes
 the same motions and contacts) with nothing but ``data.ctrl[:] = ...; mj_step(nstep)`` per
 control step. The closed loop adds sensors, noise, the neural controller and recording.
-The measurement is :func:`neurowalk.bench.closed_loop_ratio` (also in ``neurowalk bench``'s bench.json).
+The measurement is :func:`neurowalk.experiments.bench.closed_loop_ratio` (also in ``neurowalk bench``'s bench.json).
 
 Run: ``python benchmarks/bench_closed_loop.py [--steps 3000] [--out out/bench]``; writes
 ``closed_loop.json``. Reported: median wall time of each over repeats (interleaved), their ratio
@@ -16,7 +16,7 @@ import argparse
 import json
 from pathlib import Path
 
-from neurowalk.bench import closed_loop_ratio
+from neurowalk.experiments.bench import closed_loop_ratio
 
 
 def main() -> None:

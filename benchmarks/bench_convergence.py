@@ -43,13 +43,13 @@ from typing import Any
 import mujoco
 import numpy as np
 
+from neurowalk.body.amosii import AmosII
 from neurowalk.body.amosii_params import BodyParams
-from neurowalk.body.physics import AmosII
 from neurowalk.body.registry import body_settings
 from neurowalk.experiments import FIGURES, Settings
 from neurowalk.experiments.figures import fig7, table1
-from neurowalk.experiments.stores import Term, run_all
 from neurowalk.experiments.study import compute
+from neurowalk.experiments.study_runs import Term, run_all
 from neurowalk.experiments.suites import random_envs
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.random_envs import wilson

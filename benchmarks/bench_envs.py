@@ -37,11 +37,11 @@ from pathlib import Path
 import numba
 import numpy as np
 
-from neurowalk.bench import busy_core
 from neurowalk.envs.explore import ExploreEnv
 from neurowalk.envs.physics import ExplorePhysicsEnv
 from neurowalk.envs.physics_vector import ExplorePhysicsVectorEnv
 from neurowalk.envs.vector import ExploreVectorEnv
+from neurowalk.experiments.bench import busy_core
 
 
 def single_rate(steps: int) -> float:

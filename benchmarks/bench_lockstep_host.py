@@ -3,7 +3,7 @@ controllers, recording) and the physics', in microseconds per world and control 
 
 The host's part is the code MuJoCo Warp's engine shares (sim/lockstep.py), so on a GPU it is what stays on the CPU.
 Worlds: the plastic network in one ``box`` arena, each world its own seed (one shared model: 16,384 worlds fit),
-on ``--threads`` threads; ``--steps`` timed control steps after one untimed run (:func:`neurowalk.bench.
+on ``--threads`` threads; ``--steps`` timed control steps after one untimed run (:func:`neurowalk.experiments.bench.
 lockstep_rates`).
 
 Run: ``python benchmarks/bench_lockstep_host.py [--worlds 64,256,1024,4096,16384] [--steps 10] [--threads 2]
@@ -17,7 +17,7 @@ import os
 import platform
 from pathlib import Path
 
-from neurowalk.bench import lockstep_rates
+from neurowalk.experiments.bench import lockstep_rates
 from neurowalk.fileio import write_json
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -35,8 +35,8 @@ from typing import Any
 from neurowalk.body.amosii_params import BodyParams
 from neurowalk.experiments import FIGURES, Settings
 from neurowalk.experiments.figures import fig7, table1
-from neurowalk.experiments.stores import Kept, run_all, run_kept
 from neurowalk.experiments.study import compute
+from neurowalk.experiments.study_runs import Kept, run_all, run_kept
 from neurowalk.experiments.suites import random_envs
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.random_envs import wilson

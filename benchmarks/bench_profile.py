@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from neurowalk.bench import _bare
+from neurowalk.experiments.bench import _bare
 from neurowalk.sim.episode import EpisodeConfig, build, run_episode, seeds
 from neurowalk.sim.trajectory import Trajectory
 

@@ -1,6 +1,6 @@
 """numba's threading layers under load: the vectorised environment on 1 and 2 fixed threads, each layer with 0, 1
-and 2 other processes spinning on the cores (``neurowalk.bench.busy_core``), every setting in a process of its own
-(the layer is chosen once per process).
+and 2 other processes spinning on the cores (``neurowalk.experiments.bench.busy_core``), every setting in a process
+of its own (the layer is chosen once per process).
 
 Why neurowalk runs its parallel kernels on ``workqueue`` (``neurowalk/compiled.py``): with the machine shared, two
 OpenMP threads (numba's default) are slower than one. Reported: steps/s (medians of ``--repeats`` alternating
@@ -26,8 +26,8 @@ def child(hogs: int, steps: int, repeats: int, copies: int) -> dict:
     """In this process (its layer set by NUMBA_THREADING_LAYER): steps/s on 1 and 2 threads with ``hogs`` hogs."""
     import numba
 
-    from neurowalk.bench import busy_core
     from neurowalk.envs.vector import ExploreVectorEnv
+    from neurowalk.experiments.bench import busy_core
 
     env = ExploreVectorEnv(copies, max_steps=10**7)
     env.reset(seed=0)

@@ -4,10 +4,10 @@ Sections, each written to ``--out`` (JSON) as soon as it is done; one that fails
 one runs; one that the time budget (``--budget-s``) leaves no room for is recorded as skipped:
 
 * ``env``: versions, the device, the CPU cores;
-* ``cpu_loop``: the CPU loop on this machine (one process, :func:`neurowalk.bench.physics_rates`);
+* ``cpu_loop``: the CPU loop on this machine (one process, :func:`neurowalk.experiments.bench.physics_rates`);
 * ``worlds``: the closed loop on MuJoCo Warp by number of worlds (random arenas, plastic network): control steps/s,
   the physics' share of the wall time, host and physics microseconds per world-step
-  (:func:`neurowalk.bench.lockstep_rates`);
+  (:func:`neurowalk.experiments.bench.lockstep_rates`);
 * ``determinism``: with MuJoCo Warp's deterministic execution on and off, the largest difference in a world's qpos
   between a rerun, the world beside one other and beside many, and the world run alone; the cost of the option
   (wall time of the same run, on against off);
@@ -108,7 +108,7 @@ def env(device: str) -> dict[str, Any]:
 def determinism(device: str, steps: int, beside: int, cost_worlds: int) -> dict[str, Any]:
     """Largest |qpos| difference of world 0 (a random arena) against its run alone: rerun, beside 1 other world,
     beside ``beside`` others; with the deterministic option on and off; and the option's cost in wall time."""
-    from neurowalk.bench import ARENA_OPTS
+    from neurowalk.experiments.bench import ARENA_OPTS
     from neurowalk.sim.episode import EpisodeConfig
     from neurowalk.sim.warp_engine import WarpWorlds
 
@@ -144,10 +144,10 @@ def table2(device: str, envs: int, cpu_envs: int, steps: int | None) -> dict[str
     on CPU MuJoCo on every core: runs/s, and the share of those runs whose outcomes agree (``steps``: shorter runs,
     for a smoke run)."""
     from neurowalk.experiments import FIGURES, Settings
-    from neurowalk.experiments.stores import run_all
     from neurowalk.experiments.study import planned
+    from neurowalk.experiments.study_runs import run_all
     from neurowalk.experiments.suites.random_envs import QUICK_DURATION_S, coverage_threshold, outcome
-    from neurowalk.sim.engine import EngineOptions
+    from neurowalk.sim.engine_interface import EngineOptions
 
     def configs(engine: str, n: int) -> list[Any]:
         s = Settings(quick=True, body="amosii", engine=engine, seeds=n, device=device if engine == "warp" else None)
@@ -197,7 +197,7 @@ def main() -> int:
     ap.add_argument("--budget-s", type=float, default=330.0, help="no section starts after this many seconds")
     args = ap.parse_args()
     p = TINY if args.tiny else FULL
-    from neurowalk.bench import lockstep_rates, physics_rates
+    from neurowalk.experiments.bench import lockstep_rates, physics_rates
 
     check = Check(args.out, args.budget_s)
     check.result.update(device=args.device, tiny=args.tiny)

@@ -9,8 +9,8 @@ from typing import Any
 import numpy as np
 
 from neurowalk.experiments import FIGURES, Plan, Result, Settings
-from neurowalk.experiments.stores import Kept
 from neurowalk.experiments.study import planned, resolve
+from neurowalk.experiments.study_runs import Kept
 from neurowalk.experiments.suites import long_runs
 from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.run_summary import RunSummary
@@ -75,7 +75,7 @@ def fake_measure(
 
 def dead_end_table(s: Settings, variants: dict[str, tuple[str, dict]]) -> dict[str, Any]:
     """The dead-end outcome table of ``variants`` with settings ``s``, its runs really run (in a temporary store)."""
-    from neurowalk.experiments.stores import run_all
+    from neurowalk.experiments.study_runs import run_all
     from neurowalk.experiments.suites.deadends import table_counts, table_runs
 
     plans = list(table_runs(s, variants))

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import neurowalk
 from neurowalk.body.registry import BODIES, BodyInfo
-from neurowalk.sim import engine as engine_module
+from neurowalk.sim import engine_interface as engine_module
 from neurowalk.sim.engines import BATCH, ENGINES, PLANAR
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "architecture.md"

@@ -51,7 +51,7 @@ def test_a_disk_full_while_writing_the_parts_keeps_those_written(tmp_path, monke
 
 
 def test_an_exception_in_the_loop_keeps_the_completed_steps(tmp_path, monkeypatch, capsys):
-    from neurowalk.body.physics import AmosII
+    from neurowalk.body.amosii import AmosII
 
     real, calls = AmosII.advance, []
 

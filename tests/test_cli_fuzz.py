@@ -789,9 +789,9 @@ def tripwires(places: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
     place would keep a wire for good (``from neurowalk.sim.episode import run_episode``), and later tests in the
     same process would run into it.
     """
-    import neurowalk.bench
     import neurowalk.body.registry
     import neurowalk.experiments.baselines.comparison
+    import neurowalk.experiments.bench
     import neurowalk.experiments.calibration.calibrate
     import neurowalk.experiments.optimize.search
     import neurowalk.experiments.study
@@ -820,7 +820,7 @@ def tripwires(places: dict[str, Path], monkeypatch: pytest.MonkeyPatch) -> None:
         (neurowalk.runners.sweep, "run_sweep"),
         (neurowalk.runners.store, "ResultStore"),
         (neurowalk.experiments.calibration.calibrate, "calibrate"),
-        (neurowalk.bench, "run_bench"),
+        (neurowalk.experiments.bench, "run_bench"),
         (neurowalk.body.registry, "body_xml"),
         (neurowalk.experiments.optimize.search, "new_state"),
         (neurowalk.experiments.optimize.search, "Runner"),

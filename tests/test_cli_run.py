@@ -178,7 +178,7 @@ def _stop_at_step(monkeypatch, step: int, sig: int) -> None:
     import functools
     import os
 
-    from neurowalk.body.physics import AmosII
+    from neurowalk.body.amosii import AmosII
     from neurowalk.sim import episode
 
     monkeypatch.setattr(episode, "Streaming", functools.partial(episode.Streaming, chunk=100))

@@ -23,7 +23,7 @@ from metrics_reference import wedged_periods as ref_wedged_periods
 from neurowalk import metrics, metrics_kernel
 from neurowalk.arenas import make_arena
 from neurowalk.sim.episode import EpisodeConfig, run_episode
-from neurowalk.sim.summary import blind_readings
+from neurowalk.sim.summarize import blind_readings
 
 RANDOM = {"extent": 9.0, "size": 1.0}
 

@@ -8,9 +8,9 @@ import pytest
 
 from neurowalk.arenas import arena_options, make_arena
 from neurowalk.arenas.generated import FOOT_REACH, MOUTH, OPENING, TURN_RADIUS, US_REACH
+from neurowalk.body.amosii import AmosII
 from neurowalk.body.amosii_params import BodyParams
 from neurowalk.body.amosii_sensors import read_us
-from neurowalk.body.physics import AmosII
 
 
 def _ray_hits(arena, x: float) -> np.ndarray:

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from neurowalk import anatomy
-from neurowalk.body.amosii import (
+from neurowalk.body.amosii_mjcf import (
     BodyParams,
     amosii_xml,
     export_model,
@@ -342,7 +342,7 @@ def test_a_control_step_with_sensors_in_its_last_physics_step_only_is_plain_step
     """AmosII.advance leaves the sensors off in all but the last physics step of a control step: the state, the
     sensor data (an echo, foot contacts) and the warnings after it are those of plain ``mj_step`` steps, exactly."""
     from neurowalk.arenas import make_arena
-    from neurowalk.body.physics import AmosII
+    from neurowalk.body.amosii import AmosII
     from neurowalk.controller import FixedController
 
     arena = make_arena("box")
@@ -370,7 +370,7 @@ def test_each_servo_follows_its_target_through_its_lag_from_the_standing_pose():
     the standing pose; after a step of the target its filtered target has moved 1 - exp(-t / tau) of the way; 0: the
     servos take their targets at once (no activation state)."""
     from neurowalk.arenas import make_arena
-    from neurowalk.body.physics import AmosII
+    from neurowalk.body.amosii import AmosII
 
     p = BodyParams(servo_timeconst=0.05)
     body = AmosII(make_arena("open"), p, control_hz=10.0, noise=0.0)

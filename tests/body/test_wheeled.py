@@ -13,7 +13,7 @@ import pytest
 from neurowalk import anatomy
 from neurowalk.arenas import make_arena
 from neurowalk.arenas.spec import ArenaSpec
-from neurowalk.body.amosii import BodyParams, amosii_xml, stand_height
+from neurowalk.body.amosii_mjcf import BodyParams, amosii_xml, stand_height
 from neurowalk.body.surrogate import load_calibration
 from neurowalk.body.wheeled import CHASSIS_BODY, WheeledParams, wheeled_xml
 from neurowalk.body.wheeled_body import Wheeled, chassis_pose, read_us

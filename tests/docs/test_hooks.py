@@ -21,16 +21,20 @@ plain_roles = hooks.plain_roles
 
 
 def test_roles_show_as_the_name_in_code_linked_where_documented():
-    html = "see :class:<code>~neurowalk.sim.engine.Streaming</code> and :mod:<code>neurowalk.sim.batch</code>, ok"
+    html = (
+        "see :class:<code>~neurowalk.sim.engine_interface.Streaming</code> and "
+        ":mod:<code>neurowalk.sim.batch</code>, ok"
+    )
     assert plain_roles(html) == (
-        'see <autoref identifier="neurowalk.sim.engine.Streaming" optional><code>Streaming</code></autoref> and '
+        'see <autoref identifier="neurowalk.sim.engine_interface.Streaming" optional><code>Streaming</code></autoref>'
+        " and "
         '<autoref identifier="neurowalk.sim.batch" optional><code>neurowalk.sim.batch</code></autoref>, ok'
     )
     assert plain_roles(":meth:<code>run</code>") == '<autoref identifier="run" optional><code>run</code></autoref>'
     assert plain_roles("<code>x</code> :note: plain") == "<code>x</code> :note: plain"
     # a short name is the entry of that name on the page, where there is one
-    page = '<h2 id="neurowalk.sim.engine.Streaming">Streaming</h2> see :class:<code>Streaming</code>'
-    assert '<autoref identifier="neurowalk.sim.engine.Streaming" optional>' in plain_roles(page)
+    page = '<h2 id="neurowalk.sim.engine_interface.Streaming">Streaming</h2> see :class:<code>Streaming</code>'
+    assert '<autoref identifier="neurowalk.sim.engine_interface.Streaming" optional>' in plain_roles(page)
 
 
 def test_the_built_api_page_links_its_cross_references():

@@ -67,4 +67,4 @@ def test_no_page_speaks_of_the_project_s_process(page):
 def test_the_checks_catch_what_they_look_for(tmp_path):
     assert PROCESS.search("fixed in issue 26") and PROCESS.search("as DESIGN.md §3 says")
     assert not PROCESS.search("the robot walks round the box")
-    assert PATH.match("body/amosii.py") and not PATH.match("neurowalk run") and WRITTEN.search("out/run/run.png")
+    assert PATH.match("body/amosii_mjcf.py") and not PATH.match("neurowalk run") and WRITTEN.search("out/run/run.png")

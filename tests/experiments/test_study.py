@@ -189,8 +189,8 @@ def test_a_resumed_study_counts_only_the_kept_runs_its_own_settings_need(tmp_pat
 def test_a_figure_inside_shared_stores_counts_the_runs_kept_there(tmp_path: Path):
     from neurowalk.experiments import FIGURES
     from neurowalk.experiments.command import interrupted_line
-    from neurowalk.experiments.stores import run_store
     from neurowalk.experiments.study import kept_runs, planned
+    from neurowalk.experiments.study_runs import run_store
 
     figure, s = FIGURES["table2"], Settings(quick=True, seeds=1, out=tmp_path / "table2")
     plan, *_ = planned(figure, s)

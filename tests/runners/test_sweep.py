@@ -95,7 +95,7 @@ def test_run_unordered_reports_exceptions_and_deaths():
 def test_a_batch_keeps_input_order_and_names_its_first_failure(tmp_path):
     """run_all, the one runner on a store: results in the configs' order; a failed run named in one line, the
     finished ones kept in the folder's store (none where the store was a temporary one)."""
-    from neurowalk.experiments.stores import RunsFailedError, run_all, store_path
+    from neurowalk.experiments.study_runs import RunsFailedError, run_all, store_path
 
     cfgs = [EpisodeConfig(steps=20, seed=s) for s in (2, 0, 1)]
     out = run_all(cfgs, workers=2, progress=False)

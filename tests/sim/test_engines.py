@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from neurowalk.metrics import exit_step, forward_displacement, heading_change
-from neurowalk.sim.engine import Engine, EngineOptions
+from neurowalk.sim.engine_interface import Engine, EngineOptions
 from neurowalk.sim.engines import BATCH, ENGINES, call_groups
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
@@ -130,7 +130,7 @@ def test_the_plastic_network_escapes_a_dead_end(simulator):
 def test_the_runner_groups_by_engine_and_keeps_the_order():
     """Mixed bodies and lengths through the one runner: each run is its config's, in the configs' order, as
     run_episode gives it."""
-    from neurowalk.experiments.stores import Term, run_all
+    from neurowalk.experiments.study_runs import Term, run_all
 
     pose = Term("pose", lambda ep: {"pose": ep.trajectory.pose}, arrays={"pose": "float64"})
 

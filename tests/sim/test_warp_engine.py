@@ -27,7 +27,7 @@ US_TOL = 1e-4  # m, rangefinder at the same state
 def test_slot_rows_are_the_compiled_obstacle_geoms():
     """Each world's obstacle rows (computed, not compiled) equal those MuJoCo compiles for that arena."""
     from neurowalk.arenas import make_arena
-    from neurowalk.body.amosii import amosii_xml
+    from neurowalk.body.amosii_mjcf import amosii_xml
     from neurowalk.body.amosii_params import BodyParams
 
     for arena in (make_arena("difficult"), make_arena("random", rng=np.random.default_rng(3)), make_arena("box")):
@@ -43,7 +43,7 @@ def test_a_slot_differs_from_an_obstacle_only_in_what_warp_batches_per_world():
     """World 0's model gives every world its slots' other fields: a parked slot must be an obstacle like the
     others (seen by rays, the same friction and contact settings), or another world's box in it is not."""
     from neurowalk.arenas import make_arena
-    from neurowalk.body.amosii import amosii_xml
+    from neurowalk.body.amosii_mjcf import amosii_xml
     from neurowalk.body.amosii_params import BodyParams
 
     m = mujoco.MjModel.from_xml_string(amosii_xml(BodyParams(), world=slot_world(make_arena("box"), 4)))
@@ -233,7 +233,7 @@ def test_a_sweep_runs_warp_specs_as_worlds_of_one_model(wp_device, tmp_path, mon
 def test_a_study_keeps_its_warp_runs_and_their_terms_in_its_store(wp_device, tmp_path, monkeypatch):
     """A study's runs on engine 'warp' are the worlds of shared calls and kept like the pool's, terms and all: its
     store holds them, and the same call again runs none (what fig3/fig5 with --engine warp resume and share)."""
-    from neurowalk.experiments.stores import run_store
+    from neurowalk.experiments.study_runs import run_store
     from neurowalk.experiments.suites.long_runs import LONG
     from neurowalk.experiments.suites.real_robot import PATH
     from neurowalk.runners.store import ResultStore
@@ -254,7 +254,7 @@ def test_a_study_keeps_its_warp_runs_and_their_terms_in_its_store(wp_device, tmp
 @warp
 def test_bench_measures_warp_beside_nothing_else_it_needs(wp_device):
     """`neurowalk bench --engine warp`'s measurement: one row per number of worlds, rates from the timed run."""
-    from neurowalk.bench import warp_rates
+    from neurowalk.experiments.bench import warp_rates
 
     r = warp_rates((1, 3), steps=1, device=wp_device, progress=False)
     assert r["device"] == wp_device and r["device_name"].startswith("cpu") == (wp_device == "cpu")
@@ -266,7 +266,7 @@ def test_bench_measures_warp_beside_nothing_else_it_needs(wp_device):
 
 @warp
 def test_the_runner_puts_warp_configs_into_one_model_and_keeps_the_order(wp_device, monkeypatch):
-    from neurowalk.experiments.stores import run_all
+    from neurowalk.experiments.study_runs import run_all
 
     cfgs = [EpisodeConfig(arena="box", steps=6, seed=s, engine=e) for s, e in ((0, "warp"), (1, "mujoco"), (2, "warp"))]
     got = run_all(cfgs, workers=1, progress=False, options=EngineOptions(device=wp_device))

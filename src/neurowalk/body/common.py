@@ -1,6 +1,6 @@
 """What every MuJoCo body and every engine shares: the start pose on the free joint, the noisy ultrasonic reading.
 
-Each is written once here; the single bodies (:class:`~neurowalk.body.physics.AmosII`, the wheeled robot), the
+Each is written once here; the single bodies (:class:`~neurowalk.body.amosii.AmosII`, the wheeled robot), the
 lock-step engines (:mod:`neurowalk.sim.batch`, :mod:`neurowalk.sim.warp_engine`) and the Gymnasium physics
 kernel (:mod:`neurowalk.envs.vector_kernel`) call these, so a change of the sensor model reaches them all.
 

@@ -30,9 +30,10 @@ import mujoco
 import numpy as np
 
 from neurowalk.arenas import ArenaSpec
-from neurowalk.body.amosii import amosii_xml
+from neurowalk.body.amosii import AmosII
+from neurowalk.body.amosii_mjcf import amosii_xml
 from neurowalk.body.amosii_params import CONES, INTEGRATORS, JACOBIANS, SOLVERS, BodyParams
-from neurowalk.body.physics import AmosII, n_substeps, obstacle_contacts
+from neurowalk.body.physics import n_substeps, obstacle_contacts
 from neurowalk.body.surrogate import Surrogate, load_calibration
 from neurowalk.body.user_mjcf import UserMjcf, check_opts
 from neurowalk.body.wheeled import WheeledParams, wheeled_xml

@@ -62,7 +62,7 @@ import math
 from dataclasses import dataclass, fields
 
 from neurowalk import anatomy
-from neurowalk.body.amosii import SCENE_HEAD
+from neurowalk.body.amosii_mjcf import SCENE_HEAD
 
 __all__ = [
     "CASTER_PREFIX",

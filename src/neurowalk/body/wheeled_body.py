@@ -1,6 +1,6 @@
 """The wheeled robot in MuJoCo as a body of the control loop: reset in an arena, observe, steer, advance.
 
-It mirrors :class:`~neurowalk.body.physics.AmosII`'s interface, but ``apply`` takes the steering pair (O1, O2)
+It mirrors :class:`~neurowalk.body.amosii.AmosII`'s interface, but ``apply`` takes the steering pair (O1, O2)
 (``action = "steering"``) and drives the wheels with it, Table 1's signs kept: the right wheel from O1, the left
 from O2, wheel angular velocity target -O·omega_max (after clipping O to [-1, 1]). So (-1, -1) drives forward,
 (1, 1) backward, (-1, 1) turns left, (1, -1) turns right and (0, 0) stops; the amplitude sets the speed.

@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
-    from neurowalk.sim.engine import EngineOptions
+    from neurowalk.sim.engine_interface import EngineOptions
 
 
 class UsageError(Exception):
@@ -283,7 +283,7 @@ def check_engine(args: argparse.Namespace, named: Sequence[str] = ()) -> EngineO
     """Check --engine/--device before any work (UsageError naming what to install or use); the engine options (the
     device resolved) that the command passes on to the runs. ``named``: engines the runs name themselves (a spec
     file's), checked as --engine is."""
-    from neurowalk.sim.engine import EngineOptions  # here: the simulation loads once the signals are handled
+    from neurowalk.sim.engine_interface import EngineOptions  # here: the simulation loads once the signals are handled
     from neurowalk.sim.engines import ENGINES
 
     names = list(dict.fromkeys([args.engine, *named]))

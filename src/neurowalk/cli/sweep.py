@@ -28,7 +28,7 @@ from neurowalk.cli.common import (
 if TYPE_CHECKING:
     from neurowalk.runners.store import ResultStore
     from neurowalk.runners.sweep import SweepReport
-    from neurowalk.sim.engine import EngineOptions
+    from neurowalk.sim.engine_interface import EngineOptions
 
 
 def add_sweep_parser(sub: argparse._SubParsersAction) -> None:

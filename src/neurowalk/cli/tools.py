@@ -136,7 +136,7 @@ def cmd_bench(args: argparse.Namespace) -> int:
     if not worlds or min(worlds) < 1:
         raise UsageError(f"--worlds expects numbers >= 1, got {args.worlds!r}")
     device = check_engine(args).device
-    from neurowalk.bench import run_bench
+    from neurowalk.experiments.bench import run_bench
     from neurowalk.fileio import write_json
 
     out_folder(args.out)

@@ -19,9 +19,9 @@ import numpy as np
 from gymnasium import spaces
 
 from neurowalk.arenas import ArenaSpec, make_arena
+from neurowalk.body.amosii import AmosII
 from neurowalk.body.amosii_params import TRUNK_BODY
 from neurowalk.body.amosii_sensors import obstacle_contact, trunk_pose
-from neurowalk.body.physics import AmosII
 from neurowalk.controller import FixedController
 from neurowalk.envs.task import ExploreTask
 from neurowalk.render import offscreen_gl

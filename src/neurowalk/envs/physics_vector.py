@@ -30,9 +30,9 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 
 from neurowalk.arenas import ArenaSpec, make_arena
+from neurowalk.body.amosii import AmosII
 from neurowalk.body.amosii_params import STAND_KEY
 from neurowalk.body.amosii_sensors import obstacle_contact, sensor_layout
-from neurowalk.body.physics import AmosII
 from neurowalk.controller import FixedController
 from neurowalk.envs.physics import ExplorePhysicsEnv
 from neurowalk.envs.task import BOXES, CELL, EXTENT, SIZE, STUCK_RADIUS, STUCK_WINDOW, US_RANGE

@@ -2,8 +2,8 @@
 
 * :mod:`.study`: :class:`Study` (an experiment: its runs, measure, picture and claims), :class:`Settings` and
   :func:`~neurowalk.experiments.study.run_study`, the one runner.
-* :mod:`.stores`: the one run function (:func:`~neurowalk.experiments.stores.run_kept`) and the one result store
-  a study's runs are kept in, with the :class:`~neurowalk.experiments.stores.Term` s a run keeps beside its summary.
+* :mod:`.stores`: the one run function (:func:`~neurowalk.experiments.study_runs.run_kept`) and the one result store
+  a study's runs are kept in, with the :class:`~neurowalk.experiments.study_runs.Term` s a run keeps beside its summary.
 * :mod:`.figures`: one module per paper figure or table, declared as a study: ``runs(settings)`` (each run a
   :class:`Plan`: its label, config and the terms it keeps), ``measure(settings, runs)`` (numbers only), ``plot(result)``
   and ``claims(summary, quick)`` (its results judged against the paper); ``fig2``, the network alone, plans no run.

@@ -21,8 +21,8 @@ from pathlib import Path
 from typing import Any
 
 from neurowalk.experiments import output
-from neurowalk.experiments.stores import RunsStopped
 from neurowalk.experiments.study import Result, Settings, Study, compute, resolve
+from neurowalk.experiments.study_runs import RunsStopped
 from neurowalk.fileio import make_writable_folder
 from neurowalk.runners.stopping import interrupted, stop_status
 from neurowalk.runners.store import StoreError
@@ -105,7 +105,7 @@ def checked(study: Study, s: Settings, out: Path) -> Settings:
     from neurowalk.arenas import make_arena
     from neurowalk.neural.cpg import GAITS
     from neurowalk.neural.variants import get_variant
-    from neurowalk.sim.engine import EngineOptions
+    from neurowalk.sim.engine_interface import EngineOptions
     from neurowalk.sim.engines import ENGINES
 
     try:
@@ -144,7 +144,7 @@ def checked(study: Study, s: Settings, out: Path) -> Settings:
 def stop_words(study: Study, what: str, replot: bool, done: dict[str, Any], stop: BaseException) -> str:
     """The line of a command that ``stop`` ended where ``done`` says (its stage: "start" while its settings were
     checked, "run"; the files it wrote): what it wrote, or the finished runs its result stores keep, as the runner
-    said (:class:`~neurowalk.experiments.stores.RunsStopped`; another stop came before its runs began)."""
+    said (:class:`~neurowalk.experiments.study_runs.RunsStopped`; another stop came before its runs began)."""
     name = study.name
     paths = done.get("paths", {})
     files = ", ".join(str(paths[k]) for k in ("png", "json", "npz") if k in paths)

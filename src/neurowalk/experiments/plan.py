@@ -21,12 +21,12 @@ RUN_SETTINGS = ("body", "climbing", "variant", "params", "gait", "engine", "cont
 @dataclass(frozen=True)
 class Plan:
     """One run a study asks for: what ``Study.runs`` yields, and (with the settings applied) what its ``measure``
-    gets back with each run's summary (:attr:`Kept.plan <neurowalk.experiments.stores.Kept.plan>`).
+    gets back with each run's summary (:attr:`Kept.plan <neurowalk.experiments.study_runs.Kept.plan>`).
 
     Attributes:
         label: its condition (a string or a tuple): the runs of one label are measured together, in order.
         config: the run.
-        terms: what the runner keeps of it beside its summary (:class:`~neurowalk.experiments.stores.Term`).
+        terms: what the runner keeps of it beside its summary (:class:`~neurowalk.experiments.study_runs.Term`).
         fixed: the run settings (:data:`RUN_SETTINGS`) it fixes itself: :meth:`Settings.apply` leaves them.
     """
 

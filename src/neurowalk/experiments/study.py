@@ -32,7 +32,7 @@ from neurowalk.sim.config_values import FrozenDict
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-    from neurowalk.experiments.stores import Term
+    from neurowalk.experiments.study_runs import Term
     from neurowalk.sim.config import EpisodeConfig
     from neurowalk.sim.run_summary import RunSummary
 
@@ -187,7 +187,7 @@ class Study:
             the network alone); :meth:`Settings.apply` is applied to each config.
         measure: ``measure(settings, {label: [Kept, ...]})`` -> :class:`Result` or a JSON-able dict (its summary):
             the numbers the picture shows, from the runs (in the order ``runs`` gave them; each
-            :class:`~neurowalk.experiments.stores.Kept` has its summary, what its terms kept and its :class:`Plan`).
+            :class:`~neurowalk.experiments.study_runs.Kept` has its summary, what its terms kept and its :class:`Plan`).
             It computes numbers only: it renders, writes and reads no file.
         render: ``render(result) -> {name: array}``: pictures made from the result's own arrays (MuJoCo snapshots
             of recorded poses), added to its arrays (NAME.npz) by the runner after ``measure``.
@@ -237,12 +237,12 @@ def compute(study: Study, settings: Settings) -> Result:
     resolved (:func:`resolve`: :func:`run_study` and the commands resolve them).
 
     Raises ValueError on a setting the study does not take or a bad value (before any run), RuntimeError where runs
-    failed; when stopped, :class:`~neurowalk.experiments.stores.RunsStopped` (a KeyboardInterrupt) with the finished
+    failed; when stopped, :class:`~neurowalk.experiments.study_runs.RunsStopped` (a KeyboardInterrupt) with the finished
     runs it keeps (a stop before its runs began: a plain KeyboardInterrupt).
     """
-    from neurowalk.experiments.stores import Kept, RunsStopped, run_store, store_folder, store_path
+    from neurowalk.experiments.study_runs import Kept, RunsStopped, run_store, store_folder, store_path
     from neurowalk.runners.specs import code_of
-    from neurowalk.sim.engine import EngineOptions
+    from neurowalk.sim.engine_interface import EngineOptions
 
     study.check(settings)
     plans = planned(study, settings)
@@ -377,7 +377,7 @@ def study_files(study: Study, plans: Iterable[Plan] = ()) -> list[Path]:
 def kept_runs(study: Study, settings: Settings) -> dict[Path, int] | None:
     """The finished runs of the study's own runs with these settings that its command would go on from, by store
     file (none: empty; None: the study plans no run, the network alone)."""
-    from neurowalk.experiments.stores import store_path
+    from neurowalk.experiments.study_runs import store_path
     from neurowalk.runners.specs import code_of
     from neurowalk.runners.store import count_finished
 

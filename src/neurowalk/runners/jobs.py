@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from neurowalk.sim.config import EpisodeConfig
-from neurowalk.sim.engine import Engine, EngineOptions
+from neurowalk.sim.engine_interface import Engine, EngineOptions
 from neurowalk.sim.engines import call_groups
 
 

@@ -30,7 +30,7 @@ from neurowalk.runners.specs import Spec, describe, result_of, run_spec, spec_ke
 from neurowalk.runners.stopping import deferred
 from neurowalk.runners.store import ResultStore
 from neurowalk.sim.config import EpisodeConfig
-from neurowalk.sim.engine import Engine, EngineOptions
+from neurowalk.sim.engine_interface import Engine, EngineOptions
 from neurowalk.sim.episode import Episode
 
 BACKENDS = ("local", "ray")

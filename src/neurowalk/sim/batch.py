@@ -24,11 +24,11 @@ import mujoco.batch
 import numpy as np
 
 from neurowalk.arenas import ArenaSpec, make_arena
+from neurowalk.body.amosii import AmosII
 from neurowalk.body.common import place_at_start
-from neurowalk.body.physics import AmosII
 from neurowalk.body.registry import make_body
 from neurowalk.sim.config import Episode, EpisodeConfig, seeds
-from neurowalk.sim.engine import EngineOptions
+from neurowalk.sim.engine_interface import EngineOptions
 from neurowalk.sim.lockstep import LockstepEngine, LockstepWorlds
 
 __all__ = ["MujocoBatch", "MujocoBatchWorlds", "run_batch"]

@@ -26,7 +26,7 @@ from neurowalk import profiling
 from neurowalk.controller import Controller
 from neurowalk.sim.checkpoint import advance_keeping_previous, capture, restore
 from neurowalk.sim.config import Episode, EpisodeConfig, RunInterruptedError, build, progress_bar, seeds
-from neurowalk.sim.engine import EngineOptions, OneWorldPerCall, Streaming
+from neurowalk.sim.engine_interface import EngineOptions, OneWorldPerCall, Streaming
 from neurowalk.sim.recorder import Recorder
 
 __all__ = ["CpuLoop"]

@@ -20,7 +20,7 @@ from neurowalk.sim.batch import MujocoBatch
 from neurowalk.sim.config import ENGINES as ENGINE_NAMES
 from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.cpu_loop import CpuLoop
-from neurowalk.sim.engine import Engine, EngineOptions
+from neurowalk.sim.engine_interface import Engine, EngineOptions
 from neurowalk.sim.surrogate_episode import SurrogateLoop
 from neurowalk.sim.warp_engine import Warp
 

@@ -13,9 +13,9 @@ The config was checked when it was made (:class:`~neurowalk.sim.config.EpisodeCo
 from __future__ import annotations
 
 from neurowalk.sim.config import BODIES, MAX_STEPS, Episode, EpisodeConfig, RunInterruptedError, build, seeds
-from neurowalk.sim.engine import EngineOptions, Resume, Streaming
+from neurowalk.sim.engine_interface import EngineOptions, Resume, Streaming
 from neurowalk.sim.engines import engine_for
-from neurowalk.sim.summary import PICTURE_ROWS, summarize
+from neurowalk.sim.summarize import PICTURE_ROWS, summarize
 
 __all__ = [
     "BODIES",

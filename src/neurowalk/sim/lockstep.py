@@ -35,7 +35,7 @@ from neurowalk.body.registry import BODIES
 from neurowalk.observation import Observation
 from neurowalk.sim.batch_control import BatchControllers
 from neurowalk.sim.config import Episode, EpisodeConfig, build_controller, progress_bar, seeds
-from neurowalk.sim.engine import Engine, EngineOptions
+from neurowalk.sim.engine_interface import Engine, EngineOptions
 from neurowalk.sim.recorder import derive_columns, finish_episode
 from neurowalk.sim.trajectory import Trajectory
 

@@ -1,7 +1,7 @@
 """The one recorder of a run's rows and the one episode finisher, for every engine.
 
 :class:`Recorder` is where the CPU loop writes its rows: the whole run in memory, or one chunk at a time handed to
-a sink, keeping only the summary's columns (:class:`~neurowalk.sim.summary.RecordKeeper`). :func:`finish_episode`
+a sink, keeping only the summary's columns (:class:`~neurowalk.sim.summarize.RecordKeeper`). :func:`finish_episode`
 turns the rows of any engine's run (the CPU loop, the surrogate, lock-step worlds) into its :class:`Episode`.
 """
 
@@ -16,8 +16,8 @@ import numpy as np
 from neurowalk import profiling
 from neurowalk.arenas import ArenaSpec
 from neurowalk.sim.config import Episode, EpisodeConfig
-from neurowalk.sim.engine import Streaming
-from neurowalk.sim.summary import Record, RecordKeeper, summarize
+from neurowalk.sim.engine_interface import Streaming
+from neurowalk.sim.summarize import Record, RecordKeeper, summarize
 from neurowalk.sim.trajectory import Trajectory, poses_from_qpos, up_z_from_qpos
 
 __all__ = ["Recorder", "derive_columns", "finish_episode"]
@@ -117,10 +117,10 @@ def finish_episode(
     stopped: bool = False,
 ) -> Episode:
     """The episode of a run's first ``done`` steps, for every engine: its summary (of ``rows``: the whole
-    trajectory, or a streamed run's :class:`~neurowalk.sim.summary.Record`), ``completed`` and ``steps_requested``.
+    trajectory, or a streamed run's :class:`~neurowalk.sim.summarize.Record`), ``completed`` and ``steps_requested``.
 
     ``picture``: the rows the episode keeps when they are not ``rows`` (a streamed run's every ``stride``-th row).
-    ``qpos_rows``: replays a streamed run's wedged periods (:func:`~neurowalk.sim.summary.summarize`).
+    ``qpos_rows``: replays a streamed run's wedged periods (:func:`~neurowalk.sim.summarize.summarize`).
     ``stopped``: the run ended after ``done`` steps by its ``until`` rule (``EpisodeConfig.until``): it is complete,
     and ``stopped_by`` names the rule.
     """

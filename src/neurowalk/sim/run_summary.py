@@ -1,6 +1,6 @@
 """What a run gives, typed: :class:`RunSummary`, read by attribute, from a run's ``summary.json`` dict and back.
 
-The files on disk keep their format (a JSON object, ``sim/summary.py``); :meth:`RunSummary.from_dict` reads it,
+The files on disk keep their format (a JSON object, ``sim/summarize.py``); :meth:`RunSummary.from_dict` reads it,
 today's and older ones (a key added later is None where an older run lacks it), and keeps any key it does not know
 in :attr:`RunSummary.others`, so that :meth:`RunSummary.to_dict` gives the dict back.
 """

@@ -16,9 +16,9 @@ import numpy as np
 from neurowalk.body.surrogate import Surrogate, SurrogateRun, empty_run
 from neurowalk.controller import NeuralController
 from neurowalk.sim.config import Episode, EpisodeConfig, RunInterruptedError, build, progress_bar, seeds
-from neurowalk.sim.engine import EngineOptions, OneWorldPerCall, Streaming
+from neurowalk.sim.engine_interface import EngineOptions, OneWorldPerCall, Streaming
 from neurowalk.sim.recorder import finish_episode
-from neurowalk.sim.summary import PICTURE_ROWS, RecordKeeper
+from neurowalk.sim.summarize import PICTURE_ROWS, RecordKeeper
 from neurowalk.sim.trajectory import Trajectory
 
 
@@ -59,7 +59,7 @@ def run_surrogate_episode(
     """:func:`neurowalk.sim.episode.run_episode` for the planar bodies (same arguments and errors).
 
     ``keep_rows=False`` (with a ``sink``): the run goes in chunks of ``chunk`` rows through one chunk's arrays,
-    keeping the summary's columns and a picture's rows (:class:`~neurowalk.sim.summary.RecordKeeper`), so memory
+    keeping the summary's columns and a picture's rows (:class:`~neurowalk.sim.summarize.RecordKeeper`), so memory
     does not grow with the run's rows; ``Episode.trajectory`` holds every ``row_stride``-th row (at most
     ``picture_rows``).
     """

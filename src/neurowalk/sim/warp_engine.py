@@ -38,13 +38,13 @@ import mujoco
 import numpy as np
 
 from neurowalk.arenas import make_arena
-from neurowalk.body.amosii import amosii_xml
+from neurowalk.body.amosii_mjcf import amosii_xml
 from neurowalk.body.common import place_at_start
 from neurowalk.body.obstacle_slots import slot_rows, slot_world
 from neurowalk.body.physics import set_control_rate
 from neurowalk.body.registry import amosii_params
 from neurowalk.sim.config import Episode, EpisodeConfig, seeds
-from neurowalk.sim.engine import EngineOptions
+from neurowalk.sim.engine_interface import EngineOptions
 from neurowalk.sim.lockstep import LockstepEngine, LockstepWorlds
 
 __all__ = ["Warp", "WarpWorlds", "import_warp", "resolve_device", "run_warp"]

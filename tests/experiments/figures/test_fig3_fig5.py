@@ -12,7 +12,7 @@ from fake_runs import fake_measure, plan
 from neurowalk.experiments import Settings
 from neurowalk.experiments.figures import fig3, fig5
 from neurowalk.experiments.reproduce import authors
-from neurowalk.experiments.stores import run_kept
+from neurowalk.experiments.study_runs import run_kept
 from neurowalk.experiments.suites import deadends, long_runs
 from neurowalk.experiments.suites.long_runs import saturating_fit
 from neurowalk.plotting.style import LETTER_GID

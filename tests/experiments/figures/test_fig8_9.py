@@ -11,8 +11,8 @@ from neurowalk.arenas.generated import MOUTH, OPENING
 from neurowalk.cli import main
 from neurowalk.experiments import FIGURES, Settings
 from neurowalk.experiments.figures import fig8, fig9
-from neurowalk.experiments.stores import Kept, run_store
 from neurowalk.experiments.study import compute
+from neurowalk.experiments.study_runs import Kept, run_store
 from neurowalk.experiments.suites.real_robot import (
     PATH,
     camera_view,

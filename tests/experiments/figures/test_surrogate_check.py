@@ -10,7 +10,7 @@ from neurowalk.experiments.calibration.fit import body_velocity
 from neurowalk.experiments.calibration.physics import drive
 from neurowalk.experiments.calibration.subjects import WARMUP, WINDOW
 from neurowalk.experiments.figures import surrogate_check
-from neurowalk.experiments.stores import run_all
+from neurowalk.experiments.study_runs import run_all
 
 
 def test_the_held_out_drives_are_plans_and_move_as_the_calibrations_drives():

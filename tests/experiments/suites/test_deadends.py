@@ -35,7 +35,7 @@ def test_plastic_escapes_the_narrow_passage_static_does_not_both_escape_simple_d
 )
 def test_long_runs_static_explores_cluttered_trapped_in_difficult_plastic_explores_difficult(climbing):
     from neurowalk.arenas.spec import WALL_HEIGHT
-    from neurowalk.experiments.stores import run_all
+    from neurowalk.experiments.study_runs import run_all
     from neurowalk.sim.episode import EpisodeConfig
 
     # With climbing on, the original 0.10 m boxes would be steps: they are raised to wall height.

@@ -23,7 +23,7 @@ from neurowalk.experiments.suites.random_envs import (
 )
 from neurowalk.runners.store import ResultStore
 from neurowalk.sim.config import EpisodeConfig
-from neurowalk.sim.summary import Record, summarize
+from neurowalk.sim.summarize import Record, summarize
 
 TABLE2 = FIGURES["table2"]
 

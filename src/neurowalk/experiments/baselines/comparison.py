@@ -32,7 +32,7 @@ from neurowalk.experiments.baselines import evolved_rnn, ppo
 from neurowalk.experiments.baselines.evolved_rnn import RecurrentPolicy
 from neurowalk.experiments.baselines.ppo import MODEL, Sb3Policy, import_rl
 from neurowalk.experiments.cma_record import import_cma
-from neurowalk.experiments.stores import run_jobs
+from neurowalk.experiments.study_runs import run_jobs
 from neurowalk.experiments.suites.random_envs import wilson
 from neurowalk.fileio import atomic_write, write_json
 from neurowalk.plotting import pyplot, styled

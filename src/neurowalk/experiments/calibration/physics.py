@@ -50,7 +50,7 @@ from neurowalk.experiments.calibration.subjects import (
     WINDOW,
     subject,
 )
-from neurowalk.experiments.stores import run_jobs
+from neurowalk.experiments.study_runs import run_jobs
 from neurowalk.neural.motor import LocomotionNetwork
 from neurowalk.runners.sweep import job_kind
 

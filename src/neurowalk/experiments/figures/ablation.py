@@ -29,7 +29,7 @@ import numpy as np
 
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
-from neurowalk.experiments.stores import Kept, Term
+from neurowalk.experiments.study_runs import Kept, Term
 from neurowalk.experiments.suites.random_envs import (
     FAILURE_CLASSES,
     coverage_threshold,
@@ -43,7 +43,7 @@ from neurowalk.neural.variants import CODE_OPTIONS
 from neurowalk.plotting.style import LINE, legend_outside, letter_panels, pyplot, styled
 from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.episode import Episode
-from neurowalk.sim.summary import STUCK_S
+from neurowalk.sim.summarize import STUCK_S
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -30,7 +30,7 @@ from matplotlib.ticker import PercentFormatter
 from neurowalk.arenas import make_arena
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
-from neurowalk.experiments.stores import Kept
+from neurowalk.experiments.study_runs import Kept
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.random_envs import (
     COVERAGE_CELL_M,

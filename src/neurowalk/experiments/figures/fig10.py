@@ -27,7 +27,7 @@ from neurowalk.arenas import make_arena
 from neurowalk.body.registry import body_model
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, outcome
-from neurowalk.experiments.stores import Kept, Term
+from neurowalk.experiments.study_runs import Kept, Term
 from neurowalk.experiments.suites.climbing import (
     FIRST_PLATFORM,
     TRACK_HEIGHTS,

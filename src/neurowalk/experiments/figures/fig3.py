@@ -22,7 +22,7 @@ from typing import TYPE_CHECKING, Any
 
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
-from neurowalk.experiments.stores import Kept
+from neurowalk.experiments.study_runs import Kept
 from neurowalk.experiments.suites import deadends
 from neurowalk.experiments.suites.deadends import dead_end_claim
 from neurowalk.experiments.suites.deadends_plot import plot as draw

@@ -22,7 +22,7 @@ import numpy as np
 
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
-from neurowalk.experiments.stores import Kept, Term
+from neurowalk.experiments.study_runs import Kept, Term
 from neurowalk.experiments.suites.timing import SIM_HZ
 from neurowalk.neural.plasticity import fixed_point
 from neurowalk.neural.sensory import SensoryParams, simulate

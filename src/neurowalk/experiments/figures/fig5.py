@@ -36,7 +36,7 @@ from neurowalk.arenas.spec import WALL_HEIGHT
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce import authors
 from neurowalk.experiments.reproduce.claims import Claim, holds
-from neurowalk.experiments.stores import Kept
+from neurowalk.experiments.study_runs import Kept
 from neurowalk.experiments.suites import deadends
 from neurowalk.experiments.suites.deadends import QUICK_LONG_STEPS, dead_end_claim
 from neurowalk.experiments.suites.deadends_plot import Curve

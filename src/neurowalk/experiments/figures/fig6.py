@@ -20,7 +20,7 @@ from matplotlib.patches import Patch
 from neurowalk.body.registry import body_info
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds, rate
-from neurowalk.experiments.stores import Kept, Term
+from neurowalk.experiments.study_runs import Kept, Term
 from neurowalk.experiments.suites import confinement
 from neurowalk.experiments.suites.random_envs import (
     COVERAGE_CELL_M,

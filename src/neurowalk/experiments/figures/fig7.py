@@ -24,7 +24,7 @@ from matplotlib.patches import Patch
 from neurowalk import anatomy, gait
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
-from neurowalk.experiments.stores import Kept, Term
+from neurowalk.experiments.study_runs import Kept, Term
 from neurowalk.neural.cpg import period
 from neurowalk.plotting.style import FONT, LINE, letter_panels, pyplot, styled
 from neurowalk.sim.episode import Episode, EpisodeConfig

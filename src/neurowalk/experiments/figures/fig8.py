@@ -25,7 +25,7 @@ import numpy as np
 from neurowalk.arenas import make_arena
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, outcome
-from neurowalk.experiments.stores import Kept
+from neurowalk.experiments.study_runs import Kept
 from neurowalk.experiments.suites.real_robot import (
     EXAMPLE,
     N_SNAPSHOTS,

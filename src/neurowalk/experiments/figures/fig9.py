@@ -34,7 +34,7 @@ from neurowalk.arenas.generated import MOUTH, OPENING
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim
 from neurowalk.experiments.reproduce.claims import outcome as outcome_claim
-from neurowalk.experiments.stores import Kept
+from neurowalk.experiments.study_runs import Kept
 from neurowalk.experiments.suites.real_robot import (
     EXAMPLE,
     N_SNAPSHOTS,

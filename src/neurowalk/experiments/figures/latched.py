@@ -20,7 +20,7 @@ import numpy as np
 from neurowalk.arenas import make_arena
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
-from neurowalk.experiments.stores import Kept
+from neurowalk.experiments.study_runs import Kept
 from neurowalk.experiments.suites.random_envs import LATCH, STEPS, STRIDE, environments, failure_class, spec
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting.style import LINE, SIDE_COLOURS, legend_outside, letter_panels, pyplot, styled, time_colorbar

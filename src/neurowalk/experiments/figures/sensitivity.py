@@ -34,7 +34,7 @@ from neurowalk.arenas.climbing import FIRST_EDGE
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.figures.escape_map import MARKERS
 from neurowalk.experiments.reproduce.claims import Claim
-from neurowalk.experiments.stores import Kept
+from neurowalk.experiments.study_runs import Kept
 from neurowalk.experiments.suites.climbing import TRACK_HEIGHTS, TRACK_STEPS, track_spec, track_success
 from neurowalk.experiments.suites.deadends import TRAP_STEPS
 from neurowalk.experiments.suites.random_envs import wilson

@@ -20,7 +20,7 @@ from matplotlib.ticker import PercentFormatter
 
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
-from neurowalk.experiments.stores import Kept
+from neurowalk.experiments.study_runs import Kept
 from neurowalk.experiments.suites.climbing import (
     QUICK_SWEEP_HEIGHTS,
     RELIABLE,

@@ -22,7 +22,7 @@ from neurowalk.experiments.calibration.fit import body_velocity
 from neurowalk.experiments.calibration.subjects import CONTROL_HZ, HELD_OUT, WARMUP, WINDOW
 from neurowalk.experiments.plan import RUN_SETTINGS
 from neurowalk.experiments.reproduce.claims import Claim, holds
-from neurowalk.experiments.stores import Kept, Term
+from neurowalk.experiments.study_runs import Kept, Term
 from neurowalk.experiments.suites.deadends import NETWORKS, VARIANTS, table_counts, table_runs
 from neurowalk.plotting.style import FONT, LINE, legend_outside, letter_panels, network_colour, pyplot, styled
 from neurowalk.sim.config import EpisodeConfig

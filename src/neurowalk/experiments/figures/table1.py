@@ -19,7 +19,7 @@ from matplotlib.lines import Line2D
 
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, holds
-from neurowalk.experiments.stores import Kept, Term
+from neurowalk.experiments.study_runs import Kept, Term
 from neurowalk.plotting.style import FONT, LINE, letter_panels, pyplot, styled
 from neurowalk.sim.episode import Episode, EpisodeConfig
 

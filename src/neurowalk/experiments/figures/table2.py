@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING, Any
 from neurowalk.body.registry import body_info
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, rate
-from neurowalk.experiments.stores import Kept
+from neurowalk.experiments.study_runs import Kept
 from neurowalk.experiments.suites.random_envs import (
     BOXES,
     COVERAGE_CELL_M,

@@ -50,7 +50,7 @@ from neurowalk.experiments.optimize.settings import (
     check_sizes,
 )
 from neurowalk.experiments.optimize.space import Dim, decode, fitness, make_space, start_point
-from neurowalk.experiments.stores import run_store, store_path
+from neurowalk.experiments.study_runs import run_store, store_path
 from neurowalk.experiments.suites import deadends, random_envs
 from neurowalk.fileio import make_writable_folder
 from neurowalk.runners import ray_backend
@@ -91,7 +91,7 @@ def train_specs(
 
 
 class Runner:
-    """Runs specs through the one runner (:func:`~neurowalk.experiments.stores.run_store`) on the resumable store
+    """Runs specs through the one runner (:func:`~neurowalk.experiments.study_runs.run_store`) on the resumable store
     ``folder/results.sqlite``, on a backend; counts what it computed and what it took from the store."""
 
     def __init__(self, folder: Path, backend: str, workers: int, address: str | None, progress: bool) -> None:

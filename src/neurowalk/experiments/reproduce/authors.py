@@ -30,7 +30,7 @@ from neurowalk.arenas import make_arena
 from neurowalk.experiments.figures.table1 import PAPER, direction, pace
 from neurowalk.experiments.suites.long_runs import WEDGED_LONG_S, FirstVisits
 from neurowalk.neural.cpg import period
-from neurowalk.sim.summary import STUCK_S
+from neurowalk.sim.summarize import STUCK_S
 
 #: The data's folder (package data: pyproject.toml's ``[tool.setuptools.package-data]`` ships it).
 DATA = Path(__file__).with_name("authors_simulator")

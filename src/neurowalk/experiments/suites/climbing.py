@@ -27,7 +27,7 @@ import numpy as np
 
 from neurowalk.arenas.climbing import track_regions
 from neurowalk.arenas.spec import WALL_HEIGHT
-from neurowalk.experiments.stores import Term
+from neurowalk.experiments.study_runs import Term
 from neurowalk.experiments.suites.timing import SIM_HZ, steps_for
 from neurowalk.sim.episode import Episode
 

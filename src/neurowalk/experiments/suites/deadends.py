@@ -20,7 +20,7 @@ from neurowalk.arenas import arena_options
 from neurowalk.arenas.spec import WALL_HEIGHT
 from neurowalk.experiments import Plan, Result, Settings
 from neurowalk.experiments.reproduce.claims import Claim, outcome
-from neurowalk.experiments.stores import Kept, Term
+from neurowalk.experiments.study_runs import Kept, Term
 from neurowalk.experiments.suites.long_runs import (
     LONG,
     LONG_STRIDE,

@@ -46,7 +46,7 @@ import numpy as np
 
 from neurowalk import metrics
 from neurowalk.arenas import ArenaSpec, make_arena
-from neurowalk.experiments.stores import Term
+from neurowalk.experiments.study_runs import Term
 from neurowalk.sim.episode import Episode, EpisodeConfig, Streaming
 from neurowalk.sim.trajectory import Trajectory
 
@@ -154,7 +154,7 @@ def sample_steps(steps: int, stride: int) -> np.ndarray:
 
 
 class LongRunKeeper:
-    """The sink of a streamed long run (:class:`~neurowalk.sim.engine.Streaming`): what a figure keeps of it.
+    """The sink of a streamed long run (:class:`~neurowalk.sim.engine_interface.Streaming`): what a figure keeps of it.
 
     Keeps every ``stride``-th row (and the last) of the path, inputs, outputs and weights, the first visit of every
     free cell (:class:`FirstVisits`), and the positions (qpos) of every step, from which the summary replays the

@@ -31,11 +31,11 @@ import numpy as np
 from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.body.registry import body_info
 from neurowalk.body.surrogate import load_calibration
-from neurowalk.experiments.stores import Term
+from neurowalk.experiments.study_runs import Term
 from neurowalk.metrics import turn_state
 from neurowalk.sim.config import EpisodeConfig, seeds
 from neurowalk.sim.episode import Episode
-from neurowalk.sim.summary import STUCK_S  # the stuck window of the not-stuck rule: 300 s at any control rate
+from neurowalk.sim.summarize import STUCK_S  # the stuck window of the not-stuck rule: 300 s at any control rate
 from neurowalk.sim.table2 import BOXES as BOXES  # the table's constants, public in sim.table2
 from neurowalk.sim.table2 import EXTENT, SIZE, table2_environments
 

@@ -26,7 +26,7 @@ import numpy as np
 
 from neurowalk.body.registry import body_model
 from neurowalk.experiments.reproduce.claims import Claim, interval
-from neurowalk.experiments.stores import Kept, Term
+from neurowalk.experiments.study_runs import Kept, Term
 from neurowalk.experiments.suites.long_runs import sample_steps
 from neurowalk.experiments.suites.timing import steps_for
 from neurowalk.neural.sensory import STATIC_B, STATIC_Q, initial_weights

@@ -36,7 +36,7 @@ from neurowalk.runners.stopping import deferred
 from neurowalk.runners.store import ResultStore
 from neurowalk.runners.sweep import Kind, run_sweep
 from neurowalk.sim.config import EpisodeConfig
-from neurowalk.sim.engine import EngineOptions, Streaming
+from neurowalk.sim.engine_interface import EngineOptions, Streaming
 from neurowalk.sim.episode import Episode
 from neurowalk.sim.run_summary import RunSummary
 

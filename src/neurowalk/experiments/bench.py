@@ -37,8 +37,8 @@ import neurowalk
 from neurowalk import profiling
 from neurowalk.body.noise import BLOCK
 from neurowalk.experiments import FIGURES, Settings
-from neurowalk.experiments.stores import run_all
 from neurowalk.experiments.study import compute
+from neurowalk.experiments.study_runs import run_all
 from neurowalk.sim.config import DEFAULT_ENGINE
 from neurowalk.sim.engines import ENGINES
 from neurowalk.sim.episode import EpisodeConfig, build, run_episode

@@ -28,7 +28,7 @@ from typing import Any, ClassVar
 
 from neurowalk.sim.checkpoint import Checkpoint
 from neurowalk.sim.config import Episode, EpisodeConfig, RunInterruptedError
-from neurowalk.sim.summary import PICTURE_ROWS
+from neurowalk.sim.summarize import PICTURE_ROWS
 from neurowalk.sim.trajectory import Trajectory
 
 __all__ = ["Engine", "EngineOptions", "OneWorldPerCall", "Resume", "Streaming"]

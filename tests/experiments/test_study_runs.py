@@ -1,4 +1,4 @@
-"""The one run function and the one store of a study's runs (:mod:`neurowalk.experiments.stores`): terms kept with a
+"""The one run function and the one store of a study's runs (:mod:`neurowalk.experiments.study_runs`): terms kept with a
 run, a run asked for twice made once, a run lacking a term made again keeping both, stores shared by figures
 (``figure --shared-runs``)."""
 
@@ -10,7 +10,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from neurowalk.experiments.stores import Term, run_kept, run_store, store_path
+from neurowalk.experiments.study_runs import Term, run_kept, run_store, store_path
 from neurowalk.runners.store import ResultStore
 from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.episode import Episode
@@ -100,7 +100,7 @@ def test_a_run_is_the_same_kept_in_memory_or_streamed_alone(tmp_path: Path) -> N
 
     spec = EpisodeConfig(arena="cluttered", body="surrogate", steps=300, seed=1).spec()
     streamed = run_kept((LONG,), spec)["kept"]["long"]
-    from neurowalk.experiments.stores import kept_of
+    from neurowalk.experiments.study_runs import kept_of
     from neurowalk.runners.specs import episode_of
 
     held = kept_of((LONG,), episode_of(spec))["kept"]["long"]

@@ -45,7 +45,7 @@ def test_busy_core_holds_a_core_while_the_block_runs() -> None:
     import os
     import time
 
-    from neurowalk.bench import busy_core
+    from neurowalk.experiments.bench import busy_core
 
     # The child spins while the block runs: its CPU time is there once it is reaped. On a loaded machine (the
     # suite's other worker) it gets a share of a core only, so the blocks repeat until 0.3 s of CPU is seen.
@@ -88,11 +88,11 @@ def test_surrogate_has_no_video_and_calibrate_needs_a_worker(capsys: pytest.Capt
     assert len(err) == 2 and "--video needs a MuJoCo body" in err[0] and "--workers" in err[1]
 
 
-@pytest.mark.parametrize("script", sorted(p.name for p in (Path(__file__).parents[1] / "benchmarks").glob("*.py")))
+@pytest.mark.parametrize("script", sorted(p.name for p in (Path(__file__).parents[2] / "benchmarks").glob("*.py")))
 def test_benchmark_scripts_import(script: str) -> None:
     """Every script in benchmarks/ imports against today's package (a renamed or removed name breaks it here,
     not months later when someone measures)."""
-    path = Path(__file__).parents[1] / "benchmarks" / script
+    path = Path(__file__).parents[2] / "benchmarks" / script
     spec = importlib.util.spec_from_file_location(f"bench_{path.stem}", path)
     assert spec is not None and spec.loader is not None
     spec.loader.exec_module(importlib.util.module_from_spec(spec))
@@ -101,7 +101,7 @@ def test_benchmark_scripts_import(script: str) -> None:
 def test_lockstep_rates_split_a_world_step_into_host_and_physics():
     """The lock-step benchmark's rows (mujoco.batch, one shared arena): rates from the timed run, and the host's
     microseconds per world-step the sum of its parts."""
-    from neurowalk.bench import lockstep_rates
+    from neurowalk.experiments.bench import lockstep_rates
 
     r = lockstep_rates((1, 3), steps=2, engine="mujoco.batch", arena="box", progress=False)
     assert r["engine"] == "mujoco.batch" and r["device_name"].startswith("cpu")
@@ -121,7 +121,7 @@ def test_the_convergence_benchmark_judges_its_committed_result_as_committed() ->
     share of either lies inside the other's 95% interval (20/20 against 19/20 does; 20/20 against 12/20 does not)."""
     from neurowalk.body.registry import body_settings
 
-    path = Path(__file__).parents[1] / "benchmarks" / "bench_convergence.py"
+    path = Path(__file__).parents[2] / "benchmarks" / "bench_convergence.py"
     spec = importlib.util.spec_from_file_location("bench_convergence", path)
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)  # type: ignore[union-attr]
