@@ -126,7 +126,7 @@ def test_an_interrupted_fig3_keeps_its_runs_and_the_rerun_gives_the_uninterrupte
 ])  # fmt: skip
 def test_the_line_of_an_interrupted_figure_is_what_its_folder_holds(name, store_rows, says, tmp_path, monkeypatch,
                                                                     capsys):  # fmt: skip
-    from neurowalk.experiments import FIGURES, Settings, stores
+    from neurowalk.experiments import FIGURES, Settings, study_runs
     from neurowalk.experiments.study import planned
     from neurowalk.runners.store import ResultStore
 
@@ -141,7 +141,7 @@ def test_the_line_of_an_interrupted_figure_is_what_its_folder_holds(name, store_
     def stopped(*args, **kwargs):  # stopped at once, as the runs begin
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(stores, "run_sweep", stopped)
+    monkeypatch.setattr(study_runs, "run_sweep", stopped)
     assert main(["figure", name, "--quick", "--out", str(tmp_path)]) == 130
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and says in err[0], err
