@@ -8,7 +8,7 @@ from pathlib import Path
 import neurowalk
 from neurowalk.body.registry import BODIES, BodyInfo
 from neurowalk.sim import engine_interface as engine_module
-from neurowalk.sim.engines import BATCH, ENGINES, PLANAR
+from neurowalk.sim.engines import ENGINES, PLANAR
 
 DOC = Path(__file__).resolve().parents[1] / "docs" / "architecture.md"
 SRC = Path(neurowalk.__file__).resolve().parent
@@ -40,7 +40,7 @@ def test_the_interfaces_have_what_the_page_says():
     outline = text.split("class Engine(ABC):", 1)[1].split("```", 1)[0]
     attrs = re.findall(r"^    ([a-z_]+): ", outline, re.M)  # the interface's attributes, as the page outlines it
     assert set(attrs) == set(engine_module.Engine.__annotations__)
-    for engine in (*ENGINES.values(), PLANAR, BATCH):  # and every engine has them
+    for engine in (*ENGINES.values(), PLANAR):  # and every engine has them
         assert all(hasattr(engine, attr) for attr in attrs), engine
     for name in ENGINES:
         assert f"`{name}`" in text

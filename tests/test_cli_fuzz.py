@@ -1039,7 +1039,8 @@ def test_an_option_given_as_dashes_or_an_empty_engine_is_one_line(capsys, tmp_pa
     cases = {
         ("figure", "fig3", "--variant=--"): "neurowalk: error: --variant expects a value, got '--'",
         ("figure", "fig3", "--seeds=--"): "neurowalk: error: --seeds expects a value, got '--'",
-        ("figure", "table2", "--engine", ""): "neurowalk: error: unknown engine ''; expected one of mujoco, warp",
+        ("figure", "table2", "--engine", ""): "neurowalk: error: unknown engine ''; expected one of mujoco, "
+        "mujoco.batch, warp",
     }
     for argv, line in cases.items():
         assert main([*argv, "--out", str(tmp_path / "o")]) == 2

@@ -14,8 +14,9 @@ import numpy as np
 import pytest
 
 from neurowalk.metrics import exit_step, forward_displacement, heading_change
+from neurowalk.sim.config import engine_names
 from neurowalk.sim.engine_interface import Engine, EngineOptions
-from neurowalk.sim.engines import BATCH, ENGINES, call_groups
+from neurowalk.sim.engines import ENGINES, call_groups
 from neurowalk.sim.episode import EpisodeConfig, run_episode
 
 WALK = EpisodeConfig(arena="open", controller="fixed", steer=(-1.0, -1.0), steps=150, noise=0.0)
@@ -64,7 +65,7 @@ def simulator(request) -> Simulator:
     if request.param == "cpu":
         return Simulator(ENGINES["mujoco"], EngineOptions(), "mujoco", 0.0)
     if request.param == "batch":
-        return Simulator(BATCH, EngineOptions(threads=2), "mujoco", 0.0)
+        return Simulator(ENGINES["mujoco.batch"], EngineOptions(threads=2), "mujoco", 0.0)
     return _warp()
 
 
@@ -142,3 +143,9 @@ def test_the_runner_groups_by_engine_and_keeps_the_order():
     for cfg, run in zip(cfgs, run_all(cfgs, (pose,), workers=1, progress=False), strict=True):
         assert run.config == cfg
         np.testing.assert_array_equal(run.kept["pose"]["pose"], run_episode(cfg).trajectory.pose)
+
+
+def test_one_table_names_every_engine_a_config_may_name():
+    """The engines a config may name (what the bodies run on) are the table's, and each engine's name is its key."""
+    assert set(engine_names()) == set(ENGINES) and list(ENGINES) == ["mujoco", "mujoco.batch", "warp"]
+    assert all(engine.name == name for name, engine in ENGINES.items())

@@ -176,7 +176,7 @@ BODIES: dict[str, BodyInfo] = {
         True,
         True,
         surrogate="surrogate",
-        engines=("mujoco", "warp"),
+        engines=("mujoco", "mujoco.batch", "warp"),
         gait_refusal=None,
         lockstep=True,
         viewer=True,

@@ -269,12 +269,13 @@ def control_hz_arg(p: argparse.ArgumentParser, default: float | None = 10.0, met
 
 
 def engine_args(p: argparse.ArgumentParser) -> None:
-    """--engine and --device (physics on CPU MuJoCo, or on MuJoCo Warp)."""
+    """--engine and --device (physics on CPU MuJoCo, as lock-step worlds on mujoco.batch threads, or on MuJoCo
+    Warp)."""
     p.add_argument(
         "--engine",
         default="mujoco",
-        help="physics engine: {engines} (default mujoco, on the CPU; warp: "
-        "MuJoCo Warp, many worlds on a GPU; needs the warp extra)",
+        help="physics engine: {engines} (default mujoco, on the CPU; mujoco.batch: the same runs, bit for bit, as "
+        "lock-step worlds on CPU threads; warp: MuJoCo Warp, many worlds on a GPU; needs the warp extra)",
     )
     p.add_argument("--device", default=None, help="engine warp: cuda (default where a GPU is present) | cpu (slow)")
 

@@ -154,8 +154,8 @@ class EpisodeConfig:
         get_variant(self.variant, self.params)  # raises on an unknown variant or a bad parameter
         if self.gait not in GAITS:
             raise ValueError(f"unknown gait {self.gait!r}; expected one of {', '.join(GAITS)}")
-        if self.engine not in ENGINES:
-            raise ValueError(f"unknown engine {self.engine!r}; expected one of {', '.join(ENGINES)}")
+        if self.engine not in (names := engine_names()):
+            raise ValueError(f"unknown engine {self.engine!r}; expected one of {', '.join(names)}")
         if self.until is not None and (not isinstance(self.until, str) or self.until not in UNTIL):
             raise ValueError(f"until must be one of {', '.join(UNTIL)} or none, got {self.until!r}")
         climbing = self.reflexes or self.backbone
@@ -257,7 +257,12 @@ def engine_refusal(engine: str, body: str, climbing: bool) -> str:
     )
 
 
-ENGINES: tuple[str, ...] = ("mujoco", "warp")  # physics engines (neurowalk.sim.warp_engine for warp)
+def engine_names() -> tuple[str, ...]:
+    """The engines a config may name: those the bodies run on (their ``BodyInfo.engines``), in the registry's order.
+    The engines themselves are the one table :data:`neurowalk.sim.engines.ENGINES` (the suite holds the two equal)."""
+    return tuple(dict.fromkeys(name for info in REGISTRY.values() for name in info.engines))
+
+
 #: The config's fields, in order.
 FIELDS: tuple[str, ...] = tuple(f.name for f in dataclasses.fields(EpisodeConfig))
 #: Every field's default.

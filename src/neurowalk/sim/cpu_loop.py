@@ -27,7 +27,7 @@ from neurowalk.controller import Controller
 from neurowalk.sim.checkpoint import advance_keeping_previous, capture, restore
 from neurowalk.sim.config import Episode, EpisodeConfig, RunInterruptedError, build, progress_bar, seeds
 from neurowalk.sim.engine_interface import EngineOptions, OneWorldPerCall, Streaming
-from neurowalk.sim.recorder import Recorder
+from neurowalk.sim.recorder import Recorder, in_region
 
 __all__ = ["CpuLoop"]
 
@@ -135,7 +135,7 @@ def _loop(
                     bar.update(100)
                 if stop is not None and stop():
                     raise KeyboardInterrupt
-            if stop_region is not None and _inside(d.qpos, stop_region):
+            if stop_region is not None and in_region(d.qpos[0], d.qpos[1], stop_region):
                 return done
             if (k + 1) % rec.chunk == 0:
                 rec.flush(k + 1)
@@ -146,10 +146,3 @@ def _loop(
     finally:  # the profile's physics (its steps) and control parts, also of a run stopped part-way
         profiling.add("physics", physics, (done - start) * getattr(body, "n_substeps", 1))
         profiling.add("control", clock() - t_start - physics)
-
-
-def _inside(qpos: Any, region: tuple[float, float, float, float]) -> bool:
-    """The trunk centre (``qpos[0:2]``, the pose :func:`~neurowalk.sim.trajectory.poses_from_qpos` reads) is in
-    ``region`` (x0, x1, y0, y1; m, edges included, as :func:`neurowalk.metrics.escaped` decides)."""
-    x0, x1, y0, y1 = region
-    return bool(x0 <= qpos[0] <= x1 and y0 <= qpos[1] <= y1)

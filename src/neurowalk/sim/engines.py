@@ -2,13 +2,15 @@
 
 .. code-block:: text
 
-    engine_for(cfg)      ENGINES[cfg.engine]  (mujoco: the CPU loop; warp: MuJoCo Warp)
+    engine_for(cfg)      ENGINES[cfg.engine]  (mujoco: the CPU loop; mujoco.batch: its runs as lock-step worlds on
+                         threads; warp: MuJoCo Warp)
                          a planar body: the surrogate's compiled loop, whatever physics engine is named
     call_groups(cfgs)    groups the configs by (engine, engine.group_key(cfg)), as many as a call takes
 
-No other module compares an engine's name: what an engine can do, it says itself (:class:`~.engine.Engine`).
-``mujoco.batch`` (:class:`~neurowalk.sim.batch.MujocoBatch`) runs the same configs as the CPU loop, bit for bit, as
-lock-step worlds on threads; it is an engine object, not a config value.
+No other module compares an engine's name: what an engine can do, it says itself
+(:class:`~neurowalk.sim.engine_interface.Engine`). ``mujoco.batch`` (:class:`~neurowalk.sim.batch.MujocoBatch`)
+gives the CPU loop's runs bit for bit, as lock-step worlds on threads; a config names it as it names the others (its
+runs are stored under their own keys: the store keys what was asked).
 """
 
 from __future__ import annotations
@@ -17,22 +19,19 @@ from collections.abc import Callable, Hashable, Iterator, Sequence
 
 from neurowalk.body.registry import body_info
 from neurowalk.sim.batch import MujocoBatch
-from neurowalk.sim.config import ENGINES as ENGINE_NAMES
 from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.cpu_loop import CpuLoop
 from neurowalk.sim.engine_interface import Engine, EngineOptions
 from neurowalk.sim.surrogate_episode import SurrogateLoop
 from neurowalk.sim.warp_engine import Warp
 
-__all__ = ["BATCH", "ENGINES", "PLANAR", "call_groups", "engine_for"]
+__all__ = ["ENGINES", "PLANAR", "call_groups", "engine_for"]
 
-ENGINES: dict[str, Engine] = {engine.name: engine for engine in (CpuLoop(), Warp())}
-"""The physics engines a config may name (``EpisodeConfig.engine``, ``--engine``)."""
+ENGINES: dict[str, Engine] = {engine.name: engine for engine in (CpuLoop(), MujocoBatch(), Warp())}
+"""The physics engines a config may name (``EpisodeConfig.engine``, ``--engine``): the CPU loop, its runs as
+lock-step worlds on ``mujoco.batch`` threads (bit for bit the same), MuJoCo Warp."""
 PLANAR: Engine = SurrogateLoop()
 """The engine of the planar (calibrated) bodies."""
-BATCH: Engine = MujocoBatch()
-"""The CPU loop's runs as lock-step worlds on ``mujoco.batch`` threads."""
-assert tuple(ENGINES) == ENGINE_NAMES, "sim.config.ENGINES names the engines of this table, in its order"
 
 
 def engine_for(cfg: EpisodeConfig) -> Engine:

@@ -36,7 +36,7 @@ from neurowalk.observation import Observation
 from neurowalk.sim.batch_control import BatchControllers
 from neurowalk.sim.config import Episode, EpisodeConfig, build_controller, progress_bar, seeds
 from neurowalk.sim.engine_interface import Engine, EngineOptions
-from neurowalk.sim.recorder import derive_columns, finish_episode
+from neurowalk.sim.recorder import derive_columns, finish_episode, in_region
 from neurowalk.sim.trajectory import Trajectory
 
 __all__ = ["LockstepEngine", "LockstepWorlds"]
@@ -159,20 +159,26 @@ class LockstepWorlds(ABC):
         t0 = time.perf_counter()
         self.reset()
         try:
-            self._loop(steps, rec, bar)
+            done = self._loop(steps, rec, bar)
         except KeyboardInterrupt:
             done = int(np.count_nonzero(~np.isnan(rec["t"][:, 0])))  # rows with a time are complete
             if not done:
                 raise
+        if done < steps:
             rec = {name: a[:done] for name, a in rec.items()}
         if bar is not None:
             bar.close()
         wall = (time.perf_counter() - t0) / n
         return [self._episode(i, rec, wall) for i in range(n)]
 
-    def _loop(self, steps: int, rec: dict[str, np.ndarray], bar: Any) -> None:
-        """The control steps, recording into ``rec``."""
+    def _loop(self, steps: int, rec: dict[str, np.ndarray], bar: Any) -> int:
+        """The control steps, recording into ``rec``; returns the steps run: fewer than ``steps`` where every world
+        stops by its config's ``until`` rule before (each world's episode ends where its own rule says)."""
         ctl, n, timing = self.controllers, self.n, self.timing
+        pairs = zip(self.configs, self.arenas, strict=True)
+        regions = [a.exit_region for c, a in pairs if c.until == "escaped" and a.exit_region is not None]
+        stopping = len(regions) == n  # every world stops by its rule: the call ends when the last has stopped
+        stopped = np.zeros(n, dtype=bool)
         for k in range(steps):
             t0 = time.perf_counter()
             dist, foot = self.sense()
@@ -193,14 +199,27 @@ class LockstepWorlds(ABC):
             timing["record"] += t4 - t3
             if bar is not None and k % 10 == 9:
                 bar.update(10 * n)
+            if stopping:
+                stopped |= [in_region(self.qpos[i, 0], self.qpos[i, 1], r) for i, r in enumerate(regions)]
+                if stopped.all():
+                    return k + 1
+        return steps
 
     def _episode(self, i: int, rec: dict[str, np.ndarray], wall: float) -> Episode:
-        done = len(rec["t"])
+        """World i's episode; with ``until="escaped"`` it ends at the first step whose trunk centre is in the exit
+        region, as the CPU loop's run of its config does."""
+        cfg, arena = self.configs[i], self.arenas[i]
+        done, stopped = len(rec["t"]), False
+        region = arena.exit_region if cfg.until == "escaped" else None
+        if region is not None:
+            inside = np.flatnonzero(in_region(rec["qpos"][:done, i, 0], rec["qpos"][:done, i, 1], region))
+            if len(inside):
+                done, stopped = int(inside[0]) + 1, True
         tr = Trajectory.empty(done, self.model.nq)
         for name, a in rec.items():
-            getattr(tr, name)[:] = a[:, i]
+            getattr(tr, name)[:] = a[:done, i]
         derive_columns(tr, self.qidx - 7, 0, done)  # pose, joint angles and up_z, as the CPU loop's recorder does
-        return finish_episode(self.configs[i], self.arenas[i], tr, done, wall, self.warnings(i))
+        return finish_episode(cfg, arena, tr, done, wall, self.warnings(i), stopped=stopped)
 
 
 class LockstepEngine(Engine):
