@@ -224,7 +224,7 @@ def _open(args: argparse.Namespace) -> tuple[list[dict], Path, dict, ResultStore
     import importlib.util
 
     from neurowalk.runners import ray_backend
-    from neurowalk.runners.specs import check_specs, code_of, spec_key
+    from neurowalk.runners.specs import DEFAULTS, check_specs, code_of, spec_key
     from neurowalk.runners.store import ResultStore, StoreError
 
     if args.retries < 0:
@@ -248,7 +248,7 @@ def _open(args: argparse.Namespace) -> tuple[list[dict], Path, dict, ResultStore
     settings = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items() if k != "command"}
     info: dict = {"command": "sweep", "settings": settings, "finished": False}
     with usage_errors(StoreError):
-        store = ResultStore(out / "results.sqlite", code_of(specs))
+        store = ResultStore(out / "results.sqlite", code_of(str(sp.get("body", DEFAULTS["body"])) for sp in specs))
     if not args.quiet and (line := store.other_code_line({spec_key(sp) for sp in specs}, "sweep")):
         print(line)
     return specs, out, info, store, options

@@ -176,7 +176,7 @@ def run_store(
         configs.setdefault(key, cfg)
     path.parent.mkdir(parents=True, exist_ok=True)
     with deferred():  # opened whole (its lock, its tables), or not at all
-        store = ResultStore(path, code_of(configs.values(), files))
+        store = ResultStore(path, code_of((c.body for c in configs.values()), files))
     with store:
         held = store.results(keys=wanted)
         if held and progress:
@@ -205,7 +205,7 @@ def run_store(
             redo = [k for k in group if k in held and (set(names) - set(held[k].get("kept", {})) or stale(k))]
             ran.extend([k for k in group if k not in held] + redo)
             report = run_sweep(
-                [specs[k] for k in group],
+                [configs[k] for k in group],
                 store,
                 workers=workers,
                 options=options,

@@ -1,5 +1,5 @@
-"""What every job runner shares: a finished job's result, the error of a worker that died, the timed call a worker
-makes, and the grouping of runs into the worlds of one call of a many-worlds engine (MuJoCo Warp).
+"""What every job runner shares: a finished job's result, the error of a worker that died, and the timed call a
+worker makes.
 
 The local process pool (:mod:`.local`), Ray (:mod:`.ray_backend`) and the sweep (:mod:`.sweep`) all import it; it
 imports none of them.
@@ -8,13 +8,9 @@ imports none of them.
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
-
-from neurowalk.sim.config import EpisodeConfig
-from neurowalk.sim.engine_interface import Engine, EngineOptions
-from neurowalk.sim.engines import call_groups
 
 
 class WorkerDiedError(RuntimeError):
@@ -39,13 +35,3 @@ def call_timed(fn: Callable[[Any], Any], item: Any) -> tuple[Any, BaseException 
     except Exception as e:
         value, error = None, e
     return value, error, time.perf_counter() - t0
-
-
-def world_groups(
-    configs: Sequence[EpisodeConfig], options: EngineOptions, worlds: int | None = None
-) -> Iterator[tuple[list[int], Engine]]:
-    """The :func:`~neurowalk.sim.engines.call_groups` of many-worlds engines (MuJoCo Warp): runs that share one call.
-    Configs of an engine that runs one world at a time are left out (they go to a pool)."""
-    for group, engine in call_groups(configs, options, worlds=worlds):
-        if engine.many_worlds:
-            yield group, engine

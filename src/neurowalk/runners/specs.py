@@ -40,12 +40,11 @@ def spec_key(spec: Spec) -> str:
     return EpisodeConfig.from_spec(spec).key()
 
 
-def code_of(runs: Iterable[Spec | EpisodeConfig], files: Iterable[Path | str] = ()) -> str:
-    """The fingerprint (:func:`neurowalk.fingerprint.code`) a store keeps these runs under: the package, its
-    libraries, the user's ``files`` (a study's) and the files the runs' bodies read (a user's MJCF robot)."""
+def code_of(bodies: Iterable[str], files: Iterable[Path | str] = ()) -> str:
+    """The fingerprint (:func:`neurowalk.fingerprint.code`) a store keeps runs of these ``bodies`` under: the
+    package, its libraries, the user's ``files`` (a study's) and the files the bodies read (a user's MJCF robot)."""
     found = [Path(f) for f in files]
-    for run in runs:
-        body = run.body if isinstance(run, EpisodeConfig) else run.get("body", DEFAULTS["body"])
+    for body in dict.fromkeys(bodies):
         try:
             found += body_files(str(body))
         except ValueError:  # an unknown body: its run fails on its own

@@ -18,19 +18,20 @@ import hashlib
 import json
 import sys
 import time
-from collections.abc import Callable, Collection, Iterable, Iterator
+from collections.abc import Callable, Collection, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
 from neurowalk.progress import Progress
 from neurowalk.runners import ray_backend
-from neurowalk.runners.jobs import JobResult, world_groups
+from neurowalk.runners.jobs import JobResult
 from neurowalk.runners.local import run_unordered
 from neurowalk.runners.specs import Spec, describe, result_of, run_spec, spec_key
 from neurowalk.runners.stopping import deferred
 from neurowalk.runners.store import ResultStore
 from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.engine_interface import Engine, EngineOptions
+from neurowalk.sim.engines import call_groups, engine_for
 from neurowalk.sim.episode import Episode
 
 BACKENDS = ("local", "ray")
@@ -104,23 +105,36 @@ class SweepReport:
         return {k: getattr(self, k) for k in keys}
 
 
-def prepare(specs: Iterable[Spec], kind: Kind = EPISODES) -> tuple[list[tuple[str, Spec]], int]:
+def prepare(
+    specs: Iterable[Spec | EpisodeConfig], kind: Kind = EPISODES
+) -> tuple[list[tuple[str, Spec]], int, dict[str, EpisodeConfig]]:
     """Normalise and key the specs (of ``kind``), dropping repeats (first one kept): ([(key, spec)], number of specs
-    given).
+    given, {key: config} of the episodes).
 
-    Raises ValueError (naming the value) on a bad spec, before any run.
+    An episode is given as a spec (checked here, where it enters: one config made of it) or as an
+    :class:`EpisodeConfig` (checked when it was made: taken as it is). Raises ValueError (naming the value) on a bad
+    spec, before any run.
     """
     seen: dict[str, Spec] = {}
+    configs: dict[str, EpisodeConfig] = {}
     n = 0
     for spec in specs:
         n += 1
-        s = kind.canonical(spec)
-        seen.setdefault(kind.key(s), s)
-    return list(seen.items()), n
+        if kind is EPISODES:
+            cfg = spec if isinstance(spec, EpisodeConfig) else EpisodeConfig.from_spec(spec)
+            key, s = cfg.key(), cfg.spec()
+            configs.setdefault(key, cfg)
+        elif isinstance(spec, EpisodeConfig):
+            raise ValueError(f"a {kind.name} job's spec must be a JSON object, got an EpisodeConfig")
+        else:
+            s = kind.canonical(spec)
+            key = kind.key(s)
+        seen.setdefault(key, s)
+    return list(seen.items()), n, configs
 
 
 def run_sweep(
-    specs: Iterable[Spec],
+    specs: Iterable[Spec | EpisodeConfig],
     store: ResultStore,
     *,
     backend: str = "local",
@@ -139,7 +153,7 @@ def run_sweep(
     """Run every spec not yet done into ``store``; return the counts.
 
     Args:
-        specs: run specs (dicts of EpisodeConfig fields; see :mod:`neurowalk.runners.specs`).
+        specs: run specs (dicts of EpisodeConfig fields; see :mod:`neurowalk.runners.specs`), or the configs.
         store: where each result is written as soon as it arrives (this process writes, workers only compute).
         backend: 'local' (process pool; workers=1 runs here) or 'ray'.
         workers: processes (local) or CPUs of the local Ray instance.
@@ -172,7 +186,7 @@ def run_sweep(
     t0 = time.perf_counter()
     if kind is not EPISODES and (fn is run_spec or world_fn is not None):
         raise ValueError(f"{kind.name} jobs are not episodes: give their fn, and no world_fn")
-    keyed, total = prepare(specs, kind)
+    keyed, total, configs = prepare(specs, kind)
     done = store.done_keys()
     redo = set(redo)
     todo = [(k, s) for k, s in keyed if k not in done or k in redo]
@@ -182,7 +196,8 @@ def run_sweep(
         if todo:
             keep = world_fn if world_fn is not None else (result_of if fn is run_spec else None)
             items = [s for _, s in todo]
-            results = _backend(backend, fn, keep, items, workers, address, retries, options or EngineOptions())
+            cfgs = [configs[k] for k, _ in todo] if keep is not None else []
+            results = _backend(backend, fn, keep, items, cfgs, workers, address, retries, options or EngineOptions())
             bar = Progress(
                 total=len(todo), unit="run", desc=desc, disable=not progress, mininterval=0.5, file=sys.stderr
             )
@@ -212,6 +227,7 @@ def _backend(
     fn: Callable[[Spec], Any],
     keep: Callable[[Episode], dict[str, Any]] | None,
     items: list[Spec],
+    configs: list[EpisodeConfig],
     workers: int,
     address: str | None,
     retries: int,
@@ -219,14 +235,14 @@ def _backend(
 ) -> Any:
     """Results (:class:`JobResult`, any order) of ``fn`` on ``items``: runs of a many-worlds engine (MuJoCo Warp) as the
     worlds of shared calls, in this process (``keep`` of each episode; None: every run on the backend); the others
-    on the backend."""
-    valid = [(i, cfg) for i, cfg in enumerate(_configs(items)) if cfg is not None] if keep is not None else []
-    shared = [([valid[j][0] for j in group], engine) for group, engine in world_groups([c for _, c in valid], options)]
+    on the backend. ``configs``: the items' configs (none where ``keep`` is None)."""
+    shared = list(world_groups(configs, options)) if keep is not None else []
     done = {i for group, _ in shared for i in group}
     others = [i for i in range(len(items)) if i not in done]
 
     def chained() -> Iterator[JobResult]:
-        yield from world_runs(items, shared, options, keep or result_of)
+        if shared:
+            yield from world_runs(configs, shared, options, keep or result_of)
         if others:
             inner = _pool(backend, fn, [items[i] for i in others], workers, address, retries)
             try:
@@ -238,30 +254,30 @@ def _backend(
     return chained()  # the shared calls' runs (none without a many-worlds engine), then the others on the backend
 
 
-def _configs(items: list[Spec]) -> list[EpisodeConfig | None]:
-    """Each spec's config; None where it has none (its run reports the error)."""
-    out: list[EpisodeConfig | None] = []
-    for spec in items:
-        try:
-            out.append(EpisodeConfig.from_spec(spec))
-        except ValueError:
-            out.append(None)
-    return out
+def world_groups(
+    configs: Sequence[EpisodeConfig], options: EngineOptions, worlds: int | None = None
+) -> Iterator[tuple[list[int], Engine]]:
+    """The :func:`~neurowalk.sim.engines.call_groups` of many-worlds engines (``mujoco.batch``, MuJoCo Warp): runs
+    that share one call. Configs of an engine that runs one world at a time are left out (they go to a pool)."""
+    many = [i for i, cfg in enumerate(configs) if engine_for(cfg).many_worlds]
+    if many:
+        for group, engine in call_groups([configs[i] for i in many], options, worlds=worlds):
+            yield [many[j] for j in group], engine
 
 
 def world_runs(
-    items: list[Spec],
+    configs: list[EpisodeConfig],
     groups: list[tuple[list[int], Engine]],
     options: EngineOptions,
     keep: Callable[[Episode], dict[str, Any]] = result_of,
 ) -> Iterator[JobResult]:
-    """Run the specs of each group (:func:`~neurowalk.runners.jobs.world_groups`) as the worlds of one call of its
+    """Run the configs of each group (:func:`world_groups`) as the worlds of one call of its
     engine; one :class:`JobResult` per run (``keep`` of its episode), its wall time the call's divided by its worlds.
     A call that raises gives each of its runs that error."""
     for runs, engine in groups:
         t0 = time.perf_counter()
         try:
-            eps = engine.run([EpisodeConfig.from_spec(items[i]) for i in runs], replace(options, progress=False))
+            eps = engine.run([configs[i] for i in runs], replace(options, progress=False))
         except Exception as e:
             for i in runs:
                 yield JobResult(i, error=e)

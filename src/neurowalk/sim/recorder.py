@@ -8,7 +8,7 @@ turns the rows of any engine's run (the CPU loop, the surrogate, lock-step world
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import fields, replace
+from dataclasses import fields
 from typing import Any
 
 import numpy as np
@@ -124,9 +124,8 @@ def finish_episode(
     ``stopped``: the run ended after ``done`` steps by its ``until`` rule (``EpisodeConfig.until``): it is complete,
     and ``stopped_by`` names the rule.
     """
-    run_cfg = cfg if done == cfg.steps else replace(cfg, steps=max(done, 1))  # the summary of the steps done
-    with profiling.part("summary"):
-        summary = summarize(run_cfg, arena, rows, wall, warnings, qpos_rows=qpos_rows) if done else {}
+    with profiling.part("summary"):  # the summary of the steps done
+        summary = summarize(cfg, arena, rows, wall, warnings, qpos_rows=qpos_rows, steps=done) if done else {}
     summary = summary or {"steps": 0}
     summary["completed"] = done == cfg.steps or stopped
     summary["steps_requested"] = cfg.steps

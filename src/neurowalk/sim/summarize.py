@@ -136,11 +136,13 @@ def summarize(
     warnings: dict[str, int],
     *,
     qpos_rows: Callable[[np.ndarray], np.ndarray] | None = None,
+    steps: int | None = None,
 ) -> dict[str, Any]:
     """summary.json of DESIGN §5, plus steering-run figures.
 
     Args:
         tr: the run's trajectory, or the :class:`Record` of it.
+        steps: the control steps the run made (default ``cfg.steps``: fewer for a run that stopped part-way).
         qpos_rows: physics runs given as a Record: ``qpos_rows(rows)`` returns those rows' (len(rows), nq)
             positions (to replay the obstacle contacts of wedged periods, :data:`REPLAY_BLOCK` rows at a time);
             with a Trajectory, its own qpos.
@@ -152,7 +154,8 @@ def summarize(
     else:
         rec = tr
     pose = rec.pose
-    sim_time = cfg.steps / cfg.control_hz
+    steps = cfg.steps if steps is None else steps
+    sim_time = steps / cfg.control_hz
     stuck = round(STUCK_S * cfg.control_hz)  # the stuck window in control steps
     weights = None
     if not np.isnan(rec.final_b).any():
@@ -171,7 +174,7 @@ def summarize(
         "controller": cfg.controller,
         "steer": list(cfg.steer) if cfg.steer is not None else None,
         "body": cfg.body,
-        "steps": cfg.steps,
+        "steps": steps,
         "seed": cfg.seed,
         "control_hz": cfg.control_hz,
         "noise": cfg.noise,
