@@ -11,7 +11,7 @@ import neurowalk
 def test_the_public_names_load_from_the_package():
     from neurowalk import BODIES, ENGINES, EpisodeConfig, make_arena, make_body, plot_run, run_all, run_episode
 
-    assert set(ENGINES) == {"mujoco", "warp"} and "amosii" in BODIES and "surrogate" in BODIES
+    assert set(ENGINES) == {"mujoco", "mujoco.batch", "warp"} and "amosii" in BODIES and "surrogate" in BODIES
     assert callable(run_all) and callable(plot_run)
     ep = run_episode(EpisodeConfig(body="surrogate", arena="corner", steps=50))
     assert ep.summary["steps"] == 50 and ep.trajectory.pose.shape == (50, 3)

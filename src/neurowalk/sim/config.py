@@ -359,7 +359,7 @@ class RunInterruptedError(Exception):
         self.episode = episode
 
 
-def progress_bar(total: int, on: bool, desc: str = "episode", initial: int = 0) -> Any:
+def progress_bar(total: int, on: bool, desc: str = "episode", initial: int = 0) -> Progress | None:
     """A bar over ``total`` control steps, ``initial`` of them done before (a resumed run), or None when ``on`` is
     false. Its rate and time left count from its first update on (:class:`~neurowalk.progress.Progress`): the first
     steps carry the kernels' compile on a cold cache."""

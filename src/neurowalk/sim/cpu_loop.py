@@ -24,7 +24,8 @@ from typing import Any
 
 from neurowalk import profiling
 from neurowalk.controller import Controller
-from neurowalk.sim.checkpoint import advance_keeping_previous, capture, restore
+from neurowalk.progress import Progress
+from neurowalk.sim.checkpoint import Checkpoint, advance_keeping_previous, capture, restore
 from neurowalk.sim.config import Episode, EpisodeConfig, RunInterruptedError, build, progress_bar, seeds
 from neurowalk.sim.engine_interface import EngineOptions, OneWorldPerCall, Streaming
 from neurowalk.sim.recorder import Recorder, in_region
@@ -90,9 +91,9 @@ def _loop(
     body: Any,
     ctrl: Controller,
     rec: Recorder,
-    bar: Any,
+    bar: Progress | None,
     start: int,
-    checkpoint: Any,
+    checkpoint: Callable[[Checkpoint], object] | None,
     stop_region: tuple[float, float, float, float] | None = None,
     stop: Callable[[], bool] | None = None,
 ) -> int:

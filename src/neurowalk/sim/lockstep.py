@@ -33,6 +33,7 @@ from neurowalk.body.amosii_sensors import joint_qpos_indices, sensed, sensor_lay
 from neurowalk.body.noise import ColoredNoise, ColoredNoiseBatch
 from neurowalk.body.registry import BODIES
 from neurowalk.observation import Observation
+from neurowalk.progress import Progress
 from neurowalk.sim.batch_control import BatchControllers
 from neurowalk.sim.config import Episode, EpisodeConfig, build_controller, progress_bar, seeds
 from neurowalk.sim.engine_interface import Engine, EngineOptions
@@ -171,7 +172,7 @@ class LockstepWorlds(ABC):
         wall = (time.perf_counter() - t0) / n
         return [self._episode(i, rec, wall) for i in range(n)]
 
-    def _loop(self, steps: int, rec: dict[str, np.ndarray], bar: Any) -> int:
+    def _loop(self, steps: int, rec: dict[str, np.ndarray], bar: Progress | None) -> int:
         """The control steps, recording into ``rec``; returns the steps run: fewer than ``steps`` where every world
         stops by its config's ``until`` rule before (each world's episode ends where its own rule says)."""
         ctl, n, timing = self.controllers, self.n, self.timing

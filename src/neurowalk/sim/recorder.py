@@ -7,7 +7,7 @@ turns the rows of any engine's run (the CPU loop, the surrogate, lock-step world
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from dataclasses import fields
 from typing import Any
 
@@ -111,7 +111,7 @@ def finish_episode(
     wall: float,
     warnings: dict[str, int],
     *,
-    qpos_rows: Any = None,
+    qpos_rows: Callable[[np.ndarray], np.ndarray] | None = None,
     picture: Trajectory | None = None,
     stride: int = 1,
     stopped: bool = False,

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from typing import Any
 
 import numpy as np
 
@@ -50,7 +49,7 @@ def run_surrogate_episode(
     cfg: EpisodeConfig,
     *,
     progress: bool = False,
-    sink: Any = None,
+    sink: Callable[[Trajectory, int], object] | None = None,
     chunk: int = 10_000,
     keep_rows: bool = True,
     picture_rows: int = PICTURE_ROWS,
