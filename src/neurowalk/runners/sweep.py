@@ -260,9 +260,8 @@ def world_groups(
     """The :func:`~neurowalk.sim.engines.call_groups` of many-worlds engines (``mujoco.batch``, MuJoCo Warp): runs
     that share one call. Configs of an engine that runs one world at a time are left out (they go to a pool)."""
     many = [i for i, cfg in enumerate(configs) if engine_for(cfg).many_worlds]
-    if many:
-        for group, engine in call_groups([configs[i] for i in many], options, worlds=worlds):
-            yield [many[j] for j in group], engine
+    for group, engine in call_groups([configs[i] for i in many], options, worlds=worlds):
+        yield [many[j] for j in group], engine
 
 
 def world_runs(

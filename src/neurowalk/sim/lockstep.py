@@ -179,6 +179,7 @@ class LockstepWorlds(ABC):
         pairs = zip(self.configs, self.arenas, strict=True)
         regions = [a.exit_region for c, a in pairs if c.until == "escaped" and a.exit_region is not None]
         stopping = len(regions) == n  # every world stops by its rule: the call ends when the last has stopped
+        bounds = tuple(np.array(regions).T) if stopping else ()  # (x0, x1, y0, y1), each (n,)
         stopped = np.zeros(n, dtype=bool)
         for k in range(steps):
             t0 = time.perf_counter()
@@ -201,7 +202,7 @@ class LockstepWorlds(ABC):
             if bar is not None and k % 10 == 9:
                 bar.update(10 * n)
             if stopping:
-                stopped |= [in_region(self.qpos[i, 0], self.qpos[i, 1], r) for i, r in enumerate(regions)]
+                stopped |= in_region(self.qpos[:, 0], self.qpos[:, 1], bounds)  # every world in one array step
                 if stopped.all():
                     return k + 1
         return steps

@@ -136,10 +136,11 @@ def finish_episode(
     return Episode(cfg, arena, kept, summary, row_stride=stride)
 
 
-def in_region(x: Any, y: Any, region: tuple[float, float, float, float]) -> Any:
+def in_region(x: Any, y: Any, region: tuple[Any, ...]) -> Any:
     """The trunk centre (x, y; m: ``qpos[0:2]``, the pose :func:`~neurowalk.sim.trajectory.poses_from_qpos` reads) is
     in ``region`` (x0, x1, y0, y1; m, edges included, as :func:`neurowalk.metrics.escaped` decides): a bool for
-    numbers, a bool array for arrays of them (element by element). Where a run with ``until="escaped"`` stops."""
+    numbers, a bool array for arrays of them (element by element; the bounds may be arrays too, one region each).
+    Where a run with ``until="escaped"`` stops."""
     x0, x1, y0, y1 = region
     return (x0 <= x) & (x <= x1) & (y0 <= y) & (y <= y1)
 
