@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 import pytest
 
@@ -86,15 +88,15 @@ def test_restarting_one_copy_leaves_the_others_alone():
     obs, info = vec.reset(seed=30)
     out = [(obs, np.zeros(3), np.zeros(3, dtype=bool), info)]
     for k, a in enumerate(acts):
-        if k == 7:
-            vec._start(np.array([1]), [99])  # copy 1 anew, mid-episode of the others
-            restarted = (vec.obs.copy(), vec._info())
+        if k == 7:  # copy 1's episode ends here: the next step starts its new one (autoreset), mid-episode of the others
+            vec.done[1] = True
+            seed = int(copy.deepcopy(vec.np_random).integers(2**62))  # the seed the environment draws for it
         obs, r, _, trunc, info = vec.step(a)
         out.append((obs, r, trunc, info))
     for i in (0, 2):
         _assert_copy_is_single(out, i, ExplorePhysicsEnv(max_steps=steps), 30 + i, acts[:, i])
-    out1 = [(restarted[0], np.zeros(3), np.zeros(3, dtype=bool), restarted[1]), *out[8:]]
-    _assert_copy_is_single(out1, 1, ExplorePhysicsEnv(max_steps=steps), 99, acts[7:, 1])
+    assert out[8][1][1] == 0.0  # the step that restarts it: its first observation, reward 0 (its action unused)
+    _assert_copy_is_single(out[8:], 1, ExplorePhysicsEnv(max_steps=steps), seed, acts[8:, 1])
 
 
 def test_make_vec_gives_the_vector_env_with_batched_spaces_and_is_deterministic():

@@ -161,11 +161,11 @@ def test_a_stopped_batch_keeps_the_completed_steps(monkeypatch):
     runs = MujocoBatchWorlds(configs)
     advance, calls = runs.advance, []
 
-    def stop_at_the_eighth(targets):
+    def stop_at_the_eighth():
         calls.append(1)
         if len(calls) == 8:
             raise KeyboardInterrupt
-        advance(targets)
+        advance()
 
     monkeypatch.setattr(runs, "advance", stop_at_the_eighth)
     eps = runs.run()

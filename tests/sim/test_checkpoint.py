@@ -81,7 +81,7 @@ def test_a_damaged_checkpoint_is_named_in_one_line(content, tmp_path, capsys):
 
 
 def _state(cfg: EpisodeConfig, steps: int) -> tuple[object, object, Checkpoint]:
-    from neurowalk.sim.checkpoint import advance_keeping_previous
+    from neurowalk.body.world import OneWorld
 
     _, body, ctrl = build(cfg)
     body_rng, ctrl_rng, _ = seeds(cfg)
@@ -90,7 +90,7 @@ def _state(cfg: EpisodeConfig, steps: int) -> tuple[object, object, Checkpoint]:
     prev = None
     for _ in range(steps):
         body.apply(ctrl.act(body.observe()))
-        prev = advance_keeping_previous(body)
+        prev = OneWorld(body).advance_keeping_previous()
     return body, ctrl, capture(steps, {"body": body, "controller": ctrl}, prev)
 
 

@@ -143,7 +143,7 @@ def test_sensors_equal_at_the_same_states(wp_device):
     ref = run_episode(cfg)
     rows = [20, 60, 80, 99]  # walking, nearing the box (rays on it), touching it (first contact at 71)
     runs = WarpWorlds([replace(cfg, engine="warp")], device=wp_device)
-    runs.reset()
+    runs.reset_physics()
     _, body, _ = build(cfg)
     lay = sensor_layout(body.model)
     for k in rows:
@@ -185,7 +185,7 @@ def test_a_world_sees_its_boxes_in_slots_another_world_leaves_empty(wp_device):
     assert np.all((us_cpu >= 0) & (us_cpu < 0.4))  # both rays see the box from the start pose
     runs = WarpWorlds([replace(near, arena="open", arena_opts={}, engine="warp"), replace(near, engine="warp")],
                         device=wp_device)  # fmt: skip
-    runs.reset()
+    runs.reset_physics()
     with wp.ScopedDevice(wp_device):
         mjw.forward(runs.wmodel, runs.wdata)
     sd = runs.wdata.sensordata.numpy()
@@ -309,11 +309,11 @@ def test_a_stopped_warp_run_keeps_its_steps(wp_device, monkeypatch):
 
     advance, calls = WarpWorlds.advance, []
 
-    def stop_at_the_fourth(self, targets):
+    def stop_at_the_fourth(self):
         calls.append(1)
         if len(calls) == 4:
             raise KeyboardInterrupt
-        advance(self, targets)
+        advance(self)
 
     monkeypatch.setattr(WarpWorlds, "advance", stop_at_the_fourth)
     rows = []

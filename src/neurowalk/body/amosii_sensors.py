@@ -41,6 +41,7 @@ from neurowalk.body.amosii_params import (
     foot_name,
 )
 from neurowalk.body.common import noisy_distances
+from neurowalk.compiled import jit
 
 __all__ = [
     "foot_contacts",
@@ -172,6 +173,15 @@ def obstacle_contact(model: mujoco.MjModel, data: mujoco.MjData) -> bool:
 def up_z(model: mujoco.MjModel, data: mujoco.MjData) -> float:
     """World z component of the trunk's up axis (1 upright, 0 on its side, -1 upside down)."""
     return float(data.sensordata[sensor_layout(model).up])
+
+
+@jit
+def trunk_poses(xpos: np.ndarray, xmat: np.ndarray, trunk: int, out: np.ndarray) -> None:
+    """:func:`trunk_pose` of many worlds into ``out`` (n, 3), from their ``xpos`` (n, nbody, 3) and ``xmat`` (n,
+    nbody, 9): the same arithmetic (``atan2`` of the heading), bit for bit."""
+    for i in range(out.shape[0]):
+        out[i, 0], out[i, 1] = xpos[i, trunk, 0], xpos[i, trunk, 1]
+        out[i, 2] = math.atan2(xmat[i, trunk, 3], xmat[i, trunk, 0])
 
 
 def trunk_pose(model: mujoco.MjModel, data: mujoco.MjData) -> np.ndarray:

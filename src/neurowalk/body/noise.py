@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -79,30 +80,54 @@ class ColoredNoiseBatch:
         self._tau = np.array([[s.tau] for s in sources]) if sources else np.zeros((0, 1))
         self.value = np.zeros((len(sources), self.channels))
         self._block = np.zeros((len(sources), BLOCK, self.channels))
-        self._next = BLOCK
+        self._next = np.full(len(sources), BLOCK)  # each world's next row of its block (BLOCK: draw a new one)
+        self._worlds = np.arange(len(sources))
+        self._together = True
         self.draw_s, self.blocks = 0.0, 0
 
-    def reset(self, rngs: list[np.random.Generator]) -> None:
-        """Every world's source reset with its Generator (:meth:`ColoredNoise.reset`); zero state."""
-        for source, rng in zip(self.sources, rngs, strict=True):
-            source.reset(rng)
-        self.value[:] = 0.0
-        self._next = BLOCK
+    def reset(self, rngs: Sequence[np.random.Generator], ids: Sequence[int] | np.ndarray | None = None) -> None:
+        """Every world's source (or those of worlds ``ids``) reset with its Generator (:meth:`ColoredNoise.reset`);
+        zero state. A world reset on its own (a Gymnasium copy's new episode) draws its blocks from then on, as its
+        source would: bit for bit its own run's noise whatever the other worlds do."""
+        which = range(len(self.sources)) if ids is None else [int(i) for i in ids]
+        for i, rng in zip(which, rngs, strict=True):
+            self.sources[i].reset(rng)
+            self.value[i] = 0.0
+            self._next[i] = BLOCK
+        self._together = ids is None or bool((self._next == self._next[0]).all())
 
     def step(self) -> np.ndarray:
         """Advance every world one control step; returns :attr:`value`."""
-        if self._next == BLOCK:
-            t = time.perf_counter()
-            for i in np.flatnonzero(self.on):
-                self._block[i] = self.sources[i]._rng.uniform(-1.0, 1.0, (BLOCK, self.channels))
-            self._next = 0
-            self.draw_s += time.perf_counter() - t
-            self.blocks += 1
-        u, v = self._block[:, self._next], self.value
+        nxt = self._next
+        if self._together:  # every world at the same row of its block: one slice
+            k = int(nxt[0])
+            if k == BLOCK:
+                self._draw(np.flatnonzero(self.on))
+                k = 0
+            u = self._block[:, k]
+        else:
+            due = np.flatnonzero((nxt == BLOCK) & self.on)
+            if due.size:
+                self._draw(due)
+            nxt[nxt == BLOCK] = 0
+            u = self._block[self._worlds, nxt]
+        v = self.value
         if self._all_on:
             v += self._gain * u - self._tau * v
         else:
             on = self.on
             v[on] += self._gain[on] * u[on] - self._tau[on] * v[on]
-        self._next += 1
+        if self._together:
+            nxt[:] = k + 1
+        else:
+            nxt += 1
         return v
+
+    def _draw(self, worlds: np.ndarray) -> None:
+        """The next block of uniform numbers of each of ``worlds`` from its source's Generator."""
+        t = time.perf_counter()
+        for i in worlds:
+            self._block[i] = self.sources[i]._rng.uniform(-1.0, 1.0, (BLOCK, self.channels))
+        self._next[worlds] = 0
+        self.draw_s += time.perf_counter() - t
+        self.blocks += 1

@@ -18,6 +18,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import cache
 from pathlib import Path
@@ -166,41 +167,48 @@ def box_rows(arena: ArenaSpec) -> np.ndarray:
 
 @dataclass
 class SurrogateRun:
-    """Arrays of one surrogate run, row k after control step k (see :class:`~neurowalk.sim.trajectory.Trajectory`).
+    """Arrays of one surrogate run (:meth:`Surrogate.run`), row k after control step k.
 
-    pose (T, 3), inputs (T, 2), outputs (T, 2), weights (T, 4) b1 b2 q1 q2, us (T, 2) m, ``contacts`` the
-    number of collision overlaps resolved.
+    pose (T, 3), inputs (T, 2), outputs (T, 2), b (T, 2), q (T, 2) the network's weights (NaN with constant
+    steering), us (T, 2) m, ``contacts`` the number of collision overlaps resolved.
     """
 
     pose: np.ndarray
     inputs: np.ndarray
     outputs: np.ndarray
-    weights: np.ndarray
+    b: np.ndarray
+    q: np.ndarray
     us: np.ndarray
     contacts: int = 0
-    done: int = 0
-
-
-def empty_run(steps: int) -> SurrogateRun:
-    """NaN-filled arrays for ``steps`` rows."""
-    pose, inputs, outputs, weights, us = (np.full((steps, n), np.nan) for n in (3, 2, 2, 4, 2))
-    return SurrogateRun(pose, inputs, outputs, weights, us)
 
 
 NOISE_TAU = 0.05  # the ultrasonic noise's colour: low-pass gain per control step (as the physics body)
 
+#: The columns of a run's rows a planar body fills (:class:`~neurowalk.body.world.CompiledWorld`).
+PLANAR_COLUMNS: tuple[str, ...] = ("t", "pose", "inputs", "outputs", "b", "q", "us_distance")
+
 
 class Surrogate:
-    """One surrogate robot in an arena, stepped in compiled chunks.
+    """One surrogate robot in an arena: a world (n = 1) stepped in compiled chunks of control steps
+    (:class:`~neurowalk.body.world.CompiledWorld`).
 
     Args:
         arena: where it walks (boxes are walls; heights are ignored).
         calibration: the measured motion model (default: the file shipped for ``name``).
         noise: strength of the coloured ultrasonic noise (as the physics body).
         name: the registry name: ``surrogate`` (AMOSII's) or ``surrogate-wheeled``.
+
+    Attributes:
+        contacts: collision overlaps resolved since the last :meth:`reset`.
     """
 
     name = "surrogate"
+    n = 1
+    action = "steering"
+    nq = 0
+    qidx: None = None
+    n_substeps = 1
+    columns: tuple[str, ...] = PLANAR_COLUMNS
 
     def __init__(
         self,
@@ -215,10 +223,86 @@ class Surrogate:
             raise ValueError(f"noise needs strength >= 0 and 0 < tau <= 1, got {noise}, {noise_tau}")
         self.arena = arena
         self.name = name
-        self.cal = calibration or load_calibration(body=name)
-        self.control_hz = self.cal.control_hz
+        self.cal = cal = calibration or load_calibration(body=name)
+        self.control_hz = cal.control_hz
         self.noise, self.noise_tau = noise, noise_tau
         self._boxes = box_rows(arena)
+        self._motion = cal.motion()
+        self._gain = math.sqrt(noise_tau) * noise
+        self._rng: np.random.Generator | None = None
+        self._state = np.zeros(kern.RUN_STATE)
+        self._ring = np.zeros((cal.delay_steps + 1, self._motion.shape[2]))
+        self.contacts = 0
+
+    def reset(self, rngs: Sequence[np.random.Generator]) -> None:
+        """At the arena's start pose, at rest (the command delay line empty); the ultrasonic noise from ``rngs[0]``
+        (drawn a chunk at a time: the same numbers in the same order as one draw for the whole run)."""
+        self._rng = rngs[0]
+        self._state[:] = 0.0
+        self._state[kern.X], self._state[kern.Y], self._state[kern.YAW] = self.arena.start
+        self._ring[:] = 0.0
+        self.contacts = 0
+
+    def rollout(
+        self,
+        k0: int,
+        k1: int,
+        cols: dict[str, np.ndarray],
+        base: int,
+        network: tuple[np.ndarray, np.ndarray] | None,
+        steer: np.ndarray | None,
+    ) -> None:
+        """Control steps ``k0 .. k1 - 1`` in one compiled call, after :meth:`reset` and the steps before ``k0``.
+
+        Args:
+            cols: the run's rows by column, each (1, rows, ...): row ``k - base`` of ``pose``, ``inputs``,
+                ``outputs``, ``b``, ``q`` (not with constant steering) and ``us_distance`` is written after step k.
+            network: the sensory network's (STATE_SIZE,) state (advanced in place) and packed params; or None with
+            steer: a constant steering pair (O1, O2).
+        """
+        cal, rng = self.cal, self._rng
+        assert rng is not None, "reset() first"
+        if steer is not None:
+            sens, p, fixed, steer = _NO_STATE, _NO_PARAMS, True, np.asarray(steer, dtype=float)
+        elif network is not None:
+            (sens, p), fixed, steer = network, False, _NO_STEER
+        else:
+            raise ValueError("a run of the surrogate needs its sensory network's arrays or a steering pair")
+        self.contacts += kern.rollout(
+            k0,
+            k1,
+            self._state,
+            self._ring,
+            sens,
+            p,
+            fixed,
+            steer,
+            self._boxes,
+            cal.circles,
+            cal.rays,
+            cal.us_range,
+            cal.grid,
+            self._motion,
+            cal.alpha(),
+            cal.startup_steps,
+            1.0 / cal.control_hz,
+            cal.sway_period_steps,
+            cal.sway_phase,
+            rng.uniform(-1.0, 1.0, size=(k1 - k0, 2)),
+            self._gain,
+            self.noise_tau,
+            cols["pose"][0],
+            cols["inputs"][0],
+            cols["outputs"][0],
+            cols["b"][0],
+            cols["q"][0],
+            cols["us_distance"][0],
+            base,
+        )
+
+    def warnings(self, i: int) -> dict[str, int]:
+        """None: the planar body has no physics to warn."""
+        return {}
 
     def run(
         self,
@@ -227,82 +311,23 @@ class Surrogate:
         sens_state: np.ndarray | None,
         sens_p: np.ndarray | None,
         steer: tuple[float, float] | None = None,
-        chunk: int | None = None,
-        on_chunk: Any = None,
-        out: SurrogateRun | None = None,
-        stream: bool = False,
     ) -> SurrogateRun:
-        """Run ``steps`` control steps from the arena's start pose.
-
-        Args:
-            steps: control steps.
-            rng: the body's Generator (ultrasonic noise, drawn a chunk at a time: the same numbers in the same
-                order as one draw for the whole run).
-            sens_state, sens_p: the sensory network's (STATE_SIZE,) state (advanced in place) and params array;
-                ``None`` with ``steer`` for constant steering.
-            steer: constant (O1, O2) instead of the network.
-            chunk, on_chunk: if given, ``on_chunk(stop)`` is called after every ``chunk`` steps.
-            out: arrays to write into (default: new ones, see :func:`empty_run`).
-            stream: ``out`` holds one chunk (``chunk`` rows): the rows of steps [stop - n, stop) are its first n
-                rows when ``on_chunk(stop)`` is called; memory does not grow with ``steps``.
-
-        A KeyboardInterrupt stops the run between chunks; ``done`` tells how many rows are complete and were
-        handed to ``on_chunk`` (a chunk whose ``on_chunk`` was interrupted does not count).
-        """
-        cal = self.cal
-        fixed = steer is not None
-        if fixed:
-            sens_state, sens_p = np.zeros(STATE_SIZE), np.zeros(PARAMS_SIZE)
-        elif sens_state is None or sens_p is None:
+        """``steps`` control steps from the arena's start pose in one compiled call (:meth:`rollout`), the noise
+        from ``rng``, steered by the sensory network's ``sens_state`` (advanced in place) and ``sens_p``, or by the
+        constant pair ``steer``. A run with a controller and its recording is the loop's
+        (:func:`neurowalk.sim.loop.run_worlds`)."""
+        if steer is None and (sens_state is None or sens_p is None):
             raise ValueError("a run of the sensory network needs its state and params arrays (or a steer pair)")
-        state = np.zeros(kern.RUN_STATE)
-        state[kern.X], state[kern.Y], state[kern.YAW] = self.arena.start
-        motion = cal.motion()
-        gain = math.sqrt(self.noise_tau) * self.noise
-        ring = np.zeros((cal.delay_steps + 1, motion.shape[2]))
-        size = chunk or steps
-        out = out if out is not None else empty_run(size if stream else steps)
-        st = np.asarray(steer if fixed else (0.0, 0.0), dtype=float)
-        try:
-            for k0 in range(0, steps, size):
-                k1 = min(steps, k0 + size)
-                noise_u = rng.uniform(-1.0, 1.0, size=(k1 - k0, 2))
-                out.contacts += kern.rollout(
-                    k0,
-                    k1,
-                    state,
-                    ring,
-                    sens_state,
-                    sens_p,
-                    fixed,
-                    st,
-                    self._boxes,
-                    cal.circles,
-                    cal.rays,
-                    cal.us_range,
-                    cal.grid,
-                    motion,
-                    cal.alpha(),
-                    cal.startup_steps,
-                    1.0 / cal.control_hz,
-                    cal.sway_period_steps,
-                    cal.sway_phase,
-                    noise_u,
-                    gain,
-                    self.noise_tau,
-                    out.pose,
-                    out.inputs,
-                    out.outputs,
-                    out.weights,
-                    out.us,
-                    k0 if stream else 0,
-                )
-                if on_chunk is not None:
-                    on_chunk(k1)
-                out.done = k1
-        except KeyboardInterrupt:
-            pass
-        return out
+        network = (sens_state, sens_p) if sens_state is not None and sens_p is not None else None
+        cols = {k: np.full((1, steps, d), np.nan) for k, d in
+                (("pose", 3), ("inputs", 2), ("outputs", 2), ("b", 2), ("q", 2), ("us_distance", 2))}  # fmt: skip
+        self.reset([rng])
+        self.rollout(0, steps, cols, 0, network, None if steer is None else np.asarray(steer, dtype=float))
+        pose, inputs, outputs, b, q, us = (cols[k][0] for k in ("pose", "inputs", "outputs", "b", "q", "us_distance"))
+        return SurrogateRun(pose, inputs, outputs, b, q, us, self.contacts)
+
+
+_NO_STATE, _NO_PARAMS, _NO_STEER = np.zeros(STATE_SIZE), np.zeros(PARAMS_SIZE), np.zeros(2)
 
 
 def steered_poses(cal: Calibration, arena: ArenaSpec, steps: int, steer: tuple[float, float]) -> np.ndarray:

@@ -227,7 +227,8 @@ def rollout(
     out_pose: np.ndarray,
     out_in: np.ndarray,
     out_out: np.ndarray,
-    out_w: np.ndarray,
+    out_b: np.ndarray,
+    out_q: np.ndarray,
     out_us: np.ndarray,
     base: int = 0,
 ) -> int:
@@ -240,8 +241,9 @@ def rollout(
             (left, right); grid (g,), table (g, g, 4): calibrated vx, vy, w, sway; alpha: lag gain per step;
             startup: steps before the legs move; dt: control period (s); sway_period (steps), sway_phase (rad).
         noise_u: (k1 - k0, 2) uniform(-1, 1) draws of the coloured ultrasonic noise, row k - k0 for step k.
-        out_pose (n, 3), out_in (n, 2), out_out (n, 2), out_w (n, 4) b1 b2 q1 q2, out_us (n, 2) distances as
-            the network saw them (m, inf = no echo); n >= k1 - base.
+        out_pose (n, 3), out_in (n, 2), out_out (n, 2), out_b (n, 2), out_q (n, 2) the network's weights (left
+            as they are with constant steering), out_us (n, 2) distances as the network saw them (m, inf = no
+            echo); n >= k1 - base.
         base: the step of the outputs' row 0 (0: the whole run's arrays; k0: one chunk's).
 
     Returns:
@@ -272,6 +274,6 @@ def rollout(
         out_pose[i, 0], out_pose[i, 1], out_pose[i, 2] = state[X], state[Y], yaw
         out_in[i, 0], out_in[i, 1] = inp[0], inp[1]
         out_out[i, 0], out_out[i, 1] = o1, o2
-        for m in range(4):
-            out_w[i, m] = sens[4 + m]
+        if not fixed:
+            out_b[i, 0], out_b[i, 1], out_q[i, 0], out_q[i, 1] = sens[4], sens[5], sens[6], sens[7]
     return hits

@@ -31,17 +31,26 @@ from gymnasium.vector.utils import batch_space
 
 from neurowalk.arenas import ArenaSpec, make_arena
 from neurowalk.body.amosii import AmosII
-from neurowalk.body.amosii_params import STAND_KEY
-from neurowalk.body.amosii_sensors import obstacle_contact, sensor_layout
+from neurowalk.body.amosii_sensors import obstacle_contact, sensor_layout, trunk_poses
+from neurowalk.body.amosii_worlds import AmosIIWorlds
 from neurowalk.controller import FixedController
 from neurowalk.envs.physics import ExplorePhysicsEnv
 from neurowalk.envs.task import BOXES, CELL, EXTENT, SIZE, STUCK_RADIUS, STUCK_WINDOW, US_RANGE
 from neurowalk.envs.vector import copy_seeds
-from neurowalk.envs.vector_kernel import count_cells, first_bad_row, near_obstacles, physics_sense
+from neurowalk.envs.vector_kernel import count_cells, first_bad_row, near_obstacles
+from neurowalk.sim.batch import BatchPhysics
 from neurowalk.sim.batch_control import BatchControllers
 from neurowalk.sim.table2 import table2_arena, table2_option, table2_seed
 
-DRAW_BLOCK = 256  # control steps of sensor noise drawn per Generator call (the same numbers as step by step)
+
+class _Copies(BatchPhysics, AmosIIWorlds):
+    """The copies as AMOSII's worlds over the environment's persistent batch: AMOSII's own sensing and sensor noise
+    (:class:`~neurowalk.body.amosii_worlds.AmosIIWorlds`), the batch's physics
+    (:class:`~neurowalk.sim.batch.BatchPhysics`); the environment resets a copy when its episode ends."""
+
+    def __init__(self, batch: mujoco.batch.Batch, proto: AmosII, n: int, noise: float) -> None:
+        super().__init__([proto.arena] * n, [noise] * n, proto.model, proto.params, proto.n_substeps)
+        self.bind_batch(batch, poses=True)
 
 
 class ExplorePhysicsVectorEnv(VectorEnv):
@@ -94,18 +103,12 @@ class ExplorePhysicsVectorEnv(VectorEnv):
         self.models: list[mujoco.MjModel] = [proto.model] * n
         self.arenas: list[ArenaSpec | None] = [None] * n
         self.batch = mujoco.batch.Batch(proto.model, n, int(nthread), True)  # persistent: contacts via get_data
-        self.n_substeps, self._key = proto.n_substeps, proto.model.key(STAND_KEY).id
+        self.copies = _Copies(self.batch, proto, n, self.noise)  # AMOSII senses itself in every copy
+        self.n_substeps = proto.n_substeps
         self.physics_s = 0.0
-        lay = sensor_layout(proto.model)
-        self._us_adr, self._us_max, self._us_range, self._trunk = lay.us, lay.us_range, proto.params.us_range, lay.trunk
-        source = proto.noise  # the body's own noise source: its channels, tau and strength (as MujocoBatchWorlds)
-        self._n_noise, self._tau, self._gain = source.n, source.tau, math.sqrt(source.tau) * source.strength
-        self._noisy = source.strength > 0
-        self._rngs: list[np.random.Generator] = [np.random.default_rng(0)] * n
-        self._draws, self._drawn = np.zeros((n, DRAW_BLOCK, 2)), np.zeros(n, dtype=np.int64)
-        self._noise_v = np.zeros((n, 2))
-        self._qpos, self._ctrl, self._sensordata = (self.batch.bind(f) for f in ("qpos", "ctrl", "sensordata"))
-        self._xpos, self._xmat, self._geom_xpos = (self.batch.bind(f) for f in ("xpos", "xmat", "geom_xpos"))
+        lay, self._trunk = self.copies.layout, self.copies.trunk
+        self._qpos, self._ctrl = self.copies.qpos, self.copies.ctrl
+        self._xpos, self._xmat, self._geom_xpos = self.copies.xpos, self.copies.xmat, self.batch.bind("geom_xpos")
         self._data = mujoco.MjData(proto.model)  # one copy's MjData, read when it may touch an obstacle
         self.controllers = BatchControllers([FixedController((-1.0, -1.0)) for _ in range(n)])
         self.controllers.reset([None] * n)
@@ -136,6 +139,7 @@ class ExplorePhysicsVectorEnv(VectorEnv):
         table = table2_option(options, self.num_envs)
         arenas = None if table is None else [table2_arena(t, table2_seed(options or {})) for t in table]
         self._start(np.arange(self.num_envs), seeds, arenas)
+        self._sense()
         self.done[:] = False
         return self.obs.copy(), self._info()
 
@@ -161,7 +165,9 @@ class ExplorePhysicsVectorEnv(VectorEnv):
         self.batch.step(nstep=self.n_substeps)  # every copy: those restarting are reset below
         self.physics_s += time.perf_counter() - t0
         restart, live = (np.flatnonzero(self.done), np.flatnonzero(~self.done)) if self.done.any() else self._all
-        self._sense(live)
+        if restart.size:  # next-step autoreset: this step starts their new episode
+            self._start(restart, [int(self.np_random.integers(2**62)) for _ in restart])
+        self._sense()
         count_cells(
             live,
             self.pose,
@@ -192,11 +198,9 @@ class ExplorePhysicsVectorEnv(VectorEnv):
             self.contacts[i] += obstacle_contact(self.models[i], self.batch.get_data(int(i), self._data))
         for i in live[self._outside[live]]:  # off the coverage grid (an unbounded arena): a set, as the single env
             self._visit(int(i))
-        truncated = self.ks >= self.max_steps
+        truncated = self.ks >= self.max_steps  # (0 steps taken by the copies just started)
         reward = self.reward.copy()
-        if restart.size:  # next-step autoreset: this step starts their new episode
-            self._start(restart, [int(self.np_random.integers(2**62)) for _ in restart])
-            reward[restart], truncated[restart] = 0.0, False
+        reward[restart] = 0.0
         self.done = truncated.copy()
         return self.obs.copy(), reward, np.zeros(self.num_envs, dtype=bool), truncated, self._info()
 
@@ -209,15 +213,18 @@ class ExplorePhysicsVectorEnv(VectorEnv):
         return make_arena("random", rng=rng, n_boxes=n, extent=EXTENT, size=SIZE)
 
     def _start(self, ids: np.ndarray, seeds: list[int], arenas: list[ArenaSpec] | None = None) -> None:
-        """Copies ``ids`` at the start of new episodes drawn from ``seeds`` (in ``arenas`` where given, one per copy);
-        their first observations into ``obs``."""
+        """Copies ``ids`` at the start of new episodes drawn from ``seeds`` (in ``arenas`` where given, one per copy):
+        their physics at the start pose, their sensor noise from the episode's Generator, their poses; the next
+        :meth:`_sense` gives their first observations."""
+        rngs = []
         for k, (i, seed) in enumerate(zip(ids, seeds, strict=True)):
             rng = np.random.default_rng(seed)  # = gymnasium.utils.seeding.np_random(seed), as the single env's
             arena = self._arena(rng) if arenas is None else arenas[k]
             if len(arena.boxes) > self.slots:
                 raise ValueError(f"arena {arena.name!r} has {len(arena.boxes)} boxes; the models hold {self.slots}")
             model = AmosII(arena, noise=self.noise, pad_boxes=self.slots, control_hz=self.control_hz).model
-            self.models[i], self.arenas[i], self._rngs[i] = model, arena, rng  # rng: the body's noise from now on
+            self.models[i], self.arenas[i] = model, arena
+            rngs.append(rng)  # the body's noise from now on
             lay = sensor_layout(model)
             robot, obst = np.flatnonzero(lay.robot_geom), np.flatnonzero(lay.obstacle_geom)
             self._robot[i], self._obst[i] = robot, obst
@@ -227,49 +234,25 @@ class ExplorePhysicsVectorEnv(VectorEnv):
             self._box_g[i] = model.geom_margin[obst] + np.where(box, 0.0, model.geom_rbound[obst])
             self._grid(int(i), arena)
             self.controllers.reset_copy(int(i))
+            self.copies.arenas[i] = arena
         self.batch.set_models(self.models)
-        self.batch.reset(ids=ids, keyframe=self._key, stage=mujoco.mjtStage.mjSTAGE_NONE)
-        for i in ids:  # AmosII.reset's pose
-            x, y, yaw = self.arenas[i].start  # type: ignore[union-attr]
-            self._qpos[i, 0], self._qpos[i, 1] = x, y
-            self._qpos[i, 3:7] = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
-        self.batch.forward(ids=ids)
+        self.copies.reset_physics(ids)
         for i in ids:  # the obstacles' places (static)
             data = self.batch.get_data(int(i), self._data)
             self._box_c[i], self._box_r[i] = data.geom_xpos[self._obst[i]], data.geom_xmat[self._obst[i]]
-        self._noise_v[ids], self._drawn[ids] = 0.0, DRAW_BLOCK
-        self._sense(ids)
+        self.copies.noise.reset(rngs, ids)
+        trunk_poses(self._xpos, self._xmat, self._trunk, self.pose)
         self.ks[ids], self.contacts[ids], self.covered[ids], self.stuck[ids] = 0, 0, 0, False
         for i in ids:
             self._visit(int(i))
             if self._ring.shape[1]:
                 self._ring[i, 0] = self.pose[i, :2]
 
-    def _sense(self, ids: np.ndarray) -> None:
-        """Noise, observation and pose of copies ``ids`` (noise drawn ahead in blocks: the same numbers)."""
-        if self._noisy:
-            for i in ids[self._drawn[ids] >= DRAW_BLOCK]:
-                self._draws[i] = self._rngs[i].uniform(-1.0, 1.0, (DRAW_BLOCK, self._n_noise))[:, :2]
-                self._drawn[i] = 0
-        physics_sense(
-            ids,
-            self._sensordata,
-            self._us_adr,
-            self._us_max,
-            self._us_range,
-            self._draws,
-            self._drawn,
-            self._noise_v,
-            self._noisy,
-            self._gain,
-            self._tau,
-            US_RANGE,
-            self._xpos,
-            self._xmat,
-            self._trunk,
-            self.obs,
-            self.pose,
-        )
+    def _sense(self) -> None:
+        """Every copy's observation (AMOSII's own noisy distances, no echo reported as the range) and pose."""
+        dist, _ = self.copies.sense()
+        np.minimum(np.where(np.isfinite(dist), dist, US_RANGE), US_RANGE, out=self.obs)
+        trunk_poses(self._xpos, self._xmat, self._trunk, self.pose)
 
     def _grid(self, i: int, arena: ArenaSpec) -> None:
         """Copy i's coverage grid: origin, free cells (those of the single env's set), nothing visited.

@@ -5,9 +5,10 @@
 of copy i at step k comes from a counter-based generator keyed on (copy seed, k) (splitmix64), so a copy's episode
 depends on its seed alone, not on the others.
 
-``neurowalk/ExplorePhysics-v0`` (:func:`physics_sense`, :func:`count_cells`, :func:`near_obstacles`): the
-bookkeeping after a ``mujoco.batch`` step, the same arithmetic, in the same order, as the single environment's
-NumPy code (``AmosII.observe``, ``ExploreTask.step``), so that each copy's numbers are the single run's bit for bit.
+``neurowalk/ExplorePhysics-v0`` (:func:`count_cells`, :func:`near_obstacles`): the bookkeeping after a
+``mujoco.batch`` step, the same arithmetic, in the same order, as the single environment's NumPy code
+(``ExploreTask.step``), so that each copy's numbers are the single run's bit for bit; the copies sense as AMOSII
+does (:class:`~neurowalk.body.amosii_worlds.AmosIIWorlds`).
 """
 
 from __future__ import annotations
@@ -17,7 +18,6 @@ import math
 import numba
 import numpy as np
 
-from neurowalk.body.common import noisy_distance
 from neurowalk.body.surrogate_kernel import X, Y, act, sense
 from neurowalk.compiled import jit, jit_parallel
 
@@ -139,50 +139,6 @@ def free_mask(
                     free = False
                     break
             out[i, j] = free
-
-
-@jit
-def physics_sense(
-    ids: np.ndarray,
-    sensordata: np.ndarray,
-    us_adr: np.ndarray,
-    us_max: float,
-    us_range: float,
-    draws: np.ndarray,
-    drawn: np.ndarray,
-    noise: np.ndarray,
-    noisy: bool,
-    gain: float,
-    tau: float,
-    obs_range: float,
-    xpos: np.ndarray,
-    xmat: np.ndarray,
-    trunk: int,
-    obs: np.ndarray,
-    pose: np.ndarray,
-) -> None:
-    """Observation and trunk pose of copies ``ids`` after a physics step (``AmosII.observe``, ``trunk_pose``).
-
-    Per copy: one step of the ultrasonic channels of its coloured noise (``noise`` (N, 2) += gain * u - tau *
-    noise, u the next row of ``draws`` (N, B, 2), the first two of each step's draws; ``drawn`` (N,) rows used),
-    the noisy distances from ``sensordata`` (N, nsensordata) at ``us_adr`` (2,) (beyond ``us_max`` m or negative:
-    no echo; ``us_range`` m the sensor's scale), into ``obs`` (N, 2) as the environment reports them (no echo:
-    ``obs_range`` m, else at most that); ``pose`` (N, 3): the trunk's (x m, y m, yaw rad) from ``xpos`` (N, nbody,
-    3) and ``xmat`` (N, nbody, 9).
-    """
-    for i in ids:
-        if noisy:
-            row = drawn[i]
-            drawn[i] = row + 1
-            for r in range(2):
-                noise[i, r] += gain * draws[i, row, r] - tau * noise[i, r]
-        for r in range(2):
-            d = sensordata[i, us_adr[r]]
-            raw = math.inf if (d < 0.0 or d > us_max) else d
-            dist = noisy_distance(raw, us_range, noise[i, r])
-            obs[i, r] = min(dist, obs_range) if math.isfinite(dist) else obs_range
-        pose[i, 0], pose[i, 1] = xpos[i, trunk, 0], xpos[i, trunk, 1]
-        pose[i, 2] = math.atan2(xmat[i, trunk, 3], xmat[i, trunk, 0])
 
 
 @jit

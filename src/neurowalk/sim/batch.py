@@ -31,10 +31,59 @@ from neurowalk.sim.config import Episode, EpisodeConfig, seeds
 from neurowalk.sim.engine_interface import EngineOptions
 from neurowalk.sim.lockstep import LockstepEngine, LockstepWorlds
 
-__all__ = ["MujocoBatch", "MujocoBatchWorlds", "run_batch"]
+__all__ = ["BatchPhysics", "MujocoBatch", "MujocoBatchWorlds", "run_batch"]
 
 
-class MujocoBatchWorlds(LockstepWorlds):
+class BatchPhysics:
+    """The physics of AMOSII's many worlds on one ``mujoco.batch.Batch``: the part of an
+    :class:`~neurowalk.body.amosii_worlds.AmosIIWorlds` that a batch plugs in (its reset, apply, advance and warnings),
+    mixed in before it (:class:`MujocoBatchWorlds`, the Gymnasium physics vector environment's copies)."""
+
+    batch: mujoco.batch.Batch
+    arenas: list[ArenaSpec]
+    n: int
+    n_substeps: int
+    stand_key: int
+    qpos: np.ndarray
+    ctrl: np.ndarray
+    sensordata: np.ndarray
+    sim_time: np.ndarray
+    xpos: np.ndarray | None
+    xmat: np.ndarray | None
+
+    def bind_batch(self, batch: mujoco.batch.Batch, *, poses: bool) -> None:
+        """Step ``batch``: its positions, controls, sensor data and times are the worlds' (``poses``: the bodies'
+        places too, for controllers that read whole observations)."""
+        self.batch = batch
+        self.qpos, self.ctrl = batch.bind("qpos"), batch.bind("ctrl")
+        self.sensordata, self.sim_time = batch.bind("sensordata"), batch.bind("time")
+        if poses:  # bound now: a batch's outputs fill only after a call
+            self.xpos, self.xmat = batch.bind("xpos"), batch.bind("xmat")
+
+    def reset_physics(self, ids: np.ndarray | None = None) -> None:
+        """Every world (or worlds ``ids``: a Gymnasium copy's new episode): the stand keyframe at its arena's start
+        pose, forward-computed, as AmosII.reset."""
+        which = {} if ids is None else {"ids": ids}
+        self.batch.reset(keyframe=self.stand_key, stage=mujoco.mjtStage.mjSTAGE_NONE, **which)
+        for i in range(self.n) if ids is None else ids:
+            place_at_start(self.qpos[i], self.arenas[i].start)
+        self.batch.forward(**which)
+
+    def apply(self, actions: np.ndarray) -> None:
+        """Every world's joint targets (n, nu), rad."""
+        self.ctrl[:] = actions
+
+    def advance(self) -> None:
+        """One control step of physics in every world (on the batch's threads)."""
+        self.batch.step(nstep=self.n_substeps)
+
+    def warnings(self, i: int) -> dict[str, int]:
+        """MuJoCo warnings of world i so far, by name (empty when none)."""
+        counts = self.batch.warning[i, :, 1]
+        return {mujoco.mjtWarning(w).name: int(c) for w, c in enumerate(counts) if c}
+
+
+class MujocoBatchWorlds(BatchPhysics, LockstepWorlds):
     """n runs of AMOSII (one per config) in one ``mujoco.batch.Batch``.
 
     Args:
@@ -86,29 +135,9 @@ class MujocoBatchWorlds(LockstepWorlds):
             bodies[0].n_substeps,
             compiled,
         )
-        self.batch = mujoco.batch.Batch(self.models[0], self.n, nthread, persistent)
-        self.batch.set_models(self.models)
-        self.qpos, self.ctrl = self.batch.bind("qpos"), self.batch.bind("ctrl")
-        self.sensordata, self.sim_time = self.batch.bind("sensordata"), self.batch.bind("time")
-        if not self.controllers.compiled:  # act() needs the pose; bound now, as outputs fill only after a call
-            self.xpos, self.xmat = self.batch.bind("xpos"), self.batch.bind("xmat")
-
-    def reset_physics(self) -> None:
-        """Every copy's MuJoCo state: the stand keyframe at its arena's start pose, forward-computed."""
-        self.batch.reset(keyframe=self.stand_key, stage=mujoco.mjtStage.mjSTAGE_NONE)
-        for i, arena in enumerate(self.arenas):
-            place_at_start(self.qpos[i], arena.start)
-        self.batch.forward()
-
-    def advance(self, targets: np.ndarray) -> None:
-        """Set every copy's joint targets (n, nu) and step the physics one control step."""
-        self.ctrl[:] = targets
-        self.batch.step(nstep=self.n_substeps)
-
-    def warnings(self, i: int) -> dict[str, int]:
-        """MuJoCo warnings of copy i so far, by name (empty when none)."""
-        counts = self.batch.warning[i, :, 1]
-        return {mujoco.mjtWarning(w).name: int(c) for w, c in enumerate(counts) if c}
+        batch = mujoco.batch.Batch(self.models[0], self.n, nthread, persistent)
+        batch.set_models(self.models)
+        self.bind_batch(batch, poses=not self.controllers.compiled)  # act() needs the pose
 
 
 class MujocoBatch(LockstepEngine):

@@ -74,6 +74,8 @@ class BatchControllers:
         lengths = {c.locomotion.params.buffer_length for c in self.controllers} if known else set()  # type: ignore[attr-defined]
         self.compiled = compiled and known and len(lengths) == 1
         self.has_weights = np.array([hasattr(c, "b") for c in self.controllers])
+        self._weights = self.has_weights.tolist()  # (as Python bools: read every step)
+        self._has_inputs = [hasattr(c, "inputs") for c in self.controllers]
         self.inputs = np.zeros((n, 2))
         self.outputs = np.zeros((n, 2))
         self.b = np.full((n, 2), np.nan)
@@ -122,6 +124,17 @@ class BatchControllers:
         net = c.locomotion  # type: ignore[attr-defined]
         self._loc[i], self._buf[i], self._loc_p[i] = net.state, net.buffer, net.params.as_array()
 
+    def compiled_parts(self, i: int) -> tuple[tuple[np.ndarray, np.ndarray] | None, np.ndarray | None]:
+        """Copy i's controller as a body compiled with it steps it (the planar surrogate): its sensory network's
+        state (advanced in place) and packed params, or its constant steering pair (O1, O2); (None, None) for a
+        controller stepped by ``act``."""
+        c = self.controllers[i]
+        if isinstance(c, NeuralController):
+            return (c.sensory.state, c.sensory.packed_params), None
+        if isinstance(c, FixedController):
+            return None, np.asarray(c.steering, dtype=float)
+        return None, None
+
     def step(self, dist: np.ndarray, observe: Callable[[int], Observation] | None = None) -> np.ndarray:
         """One control step of every copy; returns the (n, 19) targets (the internal buffer).
 
@@ -151,9 +164,9 @@ class BatchControllers:
             raise ValueError("controllers stepped by act() need the full observations")
         for i, c in enumerate(self.controllers):
             self.targets[i] = c.act(observe(i))
-            self.inputs[i] = getattr(c, "inputs", np.full(2, np.nan))
+            self.inputs[i] = c.inputs if self._has_inputs[i] else np.nan
             self.outputs[i] = c.steering
-            if self.has_weights[i]:
+            if self._weights[i]:
                 self.b[i] = c.b  # type: ignore[attr-defined]
                 self.q[i] = c.q  # type: ignore[attr-defined]
         return self.targets

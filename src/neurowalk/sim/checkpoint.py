@@ -9,9 +9,10 @@ of the same config the same way and puts the values back.
 
 MuJoCo's derived quantities (positions of bodies, contacts, sensor readings) after ``mj_step`` are those of the
 state *before* its last physics step, and the next observation reads them. A checkpoint therefore keeps the
-integration state one physics step before the control step's end (:func:`advance_keeping_previous`), and
-:func:`restore` sets that state and takes the last physics step again, which gives every derived quantity bit for
-bit; the state after it is checked against the one saved.
+integration state one physics step before the control step's end
+(:meth:`~neurowalk.body.world.OneWorld.advance_keeping_previous`), and :func:`restore` sets that state and takes
+the last physics step again, which gives every derived quantity bit for bit; the state after it is checked against
+the one saved.
 
 File: ``checkpoint.npz`` (``np.savez``, read with ``allow_pickle=False``): the arrays by path, plus ``__meta__``,
 the JSON of the step, the format version and the scalar values.
@@ -81,21 +82,11 @@ def _why(e: BaseException) -> str:
     return f"{type(e).__name__}: {text}"[:120] if text else type(e).__name__
 
 
-def advance_keeping_previous(body: Any) -> np.ndarray:
-    """``body.advance()`` for a MuJoCo body, returning the integration state before its last physics step."""
-    m, d = body.model, body.data
-    if body.n_substeps > 1:
-        mujoco.mj_step(m, d, nstep=body.n_substeps - 1)
-    prev = np.empty(mujoco.mj_stateSize(m, _STATE))
-    mujoco.mj_getState(m, d, prev, _STATE)
-    mujoco.mj_step(m, d)
-    return prev
-
-
 def capture(step: int, roots: dict[str, Any], previous: np.ndarray | None) -> Checkpoint:
     """The state of ``roots`` (e.g. ``{"body": body, "controller": ctrl}``) after ``step`` control steps.
 
-    ``previous``: the integration state before the body's last physics step (:func:`advance_keeping_previous`).
+    ``previous``: the integration state before the body's last physics step
+    (:meth:`~neurowalk.body.world.OneWorld.advance_keeping_previous`).
     """
     arrays: dict[str, np.ndarray] = {}
     values: dict[str, Any] = {}

@@ -10,10 +10,10 @@
 
 An engine says what it can do: ``many_worlds`` (one call steps many configs in lock step), ``resumable`` (goes on
 from a checkpoint). Which bodies an engine runs is the body table's to say (``BodyInfo.engines``), and a config is
-checked against it where it is made (:class:`~neurowalk.sim.config.EpisodeConfig`). The engines: the CPU loop
-(:mod:`neurowalk.sim.cpu_loop`), the planar surrogate's compiled loop (:mod:`neurowalk.sim.surrogate_episode`), and
-lock-step worlds (:mod:`neurowalk.sim.lockstep`) with the physics plugged in: ``mujoco.batch``
-(:mod:`neurowalk.sim.batch`) and MuJoCo Warp (:mod:`neurowalk.sim.warp_engine`).
+checked against it where it is made (:class:`~neurowalk.sim.config.EpisodeConfig`). The engines: the CPU loop and
+the planar surrogate's compiled chunks (:mod:`neurowalk.sim.cpu_loop`), and lock-step worlds
+(:mod:`neurowalk.sim.lockstep`) with the physics plugged in: ``mujoco.batch`` (:mod:`neurowalk.sim.batch`) and
+MuJoCo Warp (:mod:`neurowalk.sim.warp_engine`); every one runs the one loop (:mod:`neurowalk.sim.loop`).
 
 Options travel as objects: :class:`EngineOptions` (device, threads, progress) and :class:`Streaming` (sink, part
 size, checkpoints, resume).

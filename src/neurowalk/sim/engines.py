@@ -20,9 +20,8 @@ from collections.abc import Callable, Hashable, Iterator, Sequence
 from neurowalk.body.registry import body_info
 from neurowalk.sim.batch import MujocoBatch
 from neurowalk.sim.config import EpisodeConfig
-from neurowalk.sim.cpu_loop import CpuLoop
+from neurowalk.sim.cpu_loop import CpuLoop, SurrogateLoop
 from neurowalk.sim.engine_interface import Engine, EngineOptions
-from neurowalk.sim.surrogate_episode import SurrogateLoop
 from neurowalk.sim.warp_engine import Warp
 
 __all__ = ["ENGINES", "PLANAR", "call_groups", "engine_for"]

@@ -1,8 +1,9 @@
 """The one recorder of a run's rows and the one episode finisher, for every engine.
 
-:class:`Recorder` is where the CPU loop writes its rows: the whole run in memory, or one chunk at a time handed to
-a sink, keeping only the summary's columns (:class:`~neurowalk.sim.summarize.RecordKeeper`). :func:`finish_episode`
-turns the rows of any engine's run (the CPU loop, the surrogate, lock-step worlds) into its :class:`Episode`.
+:class:`Recorder` is where the loop (:mod:`neurowalk.sim.loop`) writes the rows of its worlds: the whole run in
+memory, or one chunk at a time handed to a sink, keeping only the summary's columns
+(:class:`~neurowalk.sim.summarize.RecordKeeper`). :func:`finish_episode` turns the rows of any engine's run (the
+loop's worlds, the surrogate) into its :class:`Episode`.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ import numpy as np
 
 from neurowalk import profiling
 from neurowalk.arenas import ArenaSpec
+from neurowalk.body.world import CompiledWorld, World
 from neurowalk.sim.config import Episode, EpisodeConfig
 from neurowalk.sim.engine_interface import Streaming
 from neurowalk.sim.summarize import Record, RecordKeeper, summarize
@@ -24,21 +26,35 @@ __all__ = ["Recorder", "derive_columns", "finish_episode"]
 
 
 class Recorder:
-    """Where the loop writes its rows: the whole run in memory, or one chunk at a time (``keep_rows=False``).
+    """Where the loop writes the rows of n worlds: the whole run in memory, or (one world) one chunk at a time
+    (``keep_rows=False``).
 
-    ``buf`` holds the steps from ``base`` on; :meth:`flush` completes the rows written since the last flush
-    (derived columns), hands them to the sink, copies the summary's columns and the picture's rows out of a
-    chunk buffer and starts the buffer again.
+    ``cols`` holds each column as an (n, rows, ...) array, world-major, so that world w's rows (``worlds[w]``, a
+    :class:`Trajectory` of views) are contiguous; the rows are the steps from ``base`` on. A column the world does
+    not fill (``world.columns``: a planar body has no joints) is a read-only NaN view taking no memory (``up_z``:
+    1). :meth:`flush` completes the rows written since the last flush (derived columns), hands world 0's to the
+    sink, copies the summary's columns and the picture's rows out of a chunk buffer and starts the buffer again.
+    Many worlds keep every row (no sink, no chunks).
     """
 
-    def __init__(self, steps: int, body: Any, stream: Streaming, start: int) -> None:
-        qidx = body.qidx - 7 if body.action == "targets" else None  # the 19 joints in qpos[7:] (legged body)
+    def __init__(self, steps: int, world: World | CompiledWorld, stream: Streaming, start: int) -> None:
         sink, keep_rows = stream.sink, stream.keep_rows
-        self.sink, self.keep_rows, self.qidx = sink, keep_rows, qidx
+        if world.n > 1 and (sink is not None or not keep_rows):
+            raise ValueError("the rows of many worlds are kept in memory: no sink, keep_rows=True")
+        self.sink, self.keep_rows, self.qidx = sink, keep_rows, world.qidx
         self.chunk = stream.chunk if sink is not None or not keep_rows else steps
         self.flushed = start
-        nq = body.model.nq
-        self.buf = Trajectory.empty(steps if keep_rows else self.chunk, nq)
+        nq = world.nq
+        rows = steps if keep_rows else self.chunk
+        self.derived = nq > 0  # pose, joint angles and up_z from qpos (else the world's own pose; upright)
+        self.cols = {
+            k: np.full((world.n, rows, *s), np.nan)
+            if k in world.columns
+            else np.broadcast_to(1.0 if k == "up_z" else np.nan, (world.n, rows, *s))  # read-only: no memory
+            for k, s in Trajectory.shapes(nq).items()
+        }
+        self.worlds = [Trajectory(**{k: a[w] for k, a in self.cols.items()}) for w in range(world.n)]
+        self.buf = self.worlds[0]
         self.base = 0 if keep_rows else start
         self.keeper = None if keep_rows else RecordKeeper(steps, nq, stream.picture_rows)
         self.stride = 1 if self.keeper is None else self.keeper.stride
@@ -66,7 +82,9 @@ class Recorder:
         if stop <= start:
             return
         a, b = start - self.base, stop - self.base
-        derive_columns(self.buf, self.qidx, a, b)
+        if self.derived:
+            for tr in self.worlds:
+                derive_columns(tr, self.qidx, a, b)
         rows = self.buf.rows(a, b)
         if self.sink is not None:
             self.sink(rows, start)
@@ -80,12 +98,21 @@ class Recorder:
         self.keeper.keep(rows, start, stop)  # type: ignore[union-attr]
 
     def episode(
-        self, cfg: EpisodeConfig, arena: ArenaSpec, body: Any, done: int, wall: float, *, stopped: bool = False
+        self,
+        w: int,
+        cfg: EpisodeConfig,
+        arena: ArenaSpec,
+        done: int,
+        wall: float,
+        warnings: dict[str, int],
+        *,
+        stopped: bool = False,
     ) -> Episode:
-        """The episode of the first ``done`` steps (``stopped``: the run ended there by its ``until`` rule)."""
+        """World w's episode of its first ``done`` steps (``stopped``: it ended there by its ``until`` rule)."""
         if self.keep_rows:
-            return finish_episode(cfg, arena, self.buf.head(done), done, wall, body.warnings(), stopped=stopped)
-        self.buf = Trajectory.empty(0, self.buf.qpos.shape[1])  # the chunk buffer is done with
+            return finish_episode(cfg, arena, self.worlds[w].head(done), done, wall, warnings, stopped=stopped)
+        self.buf = self.worlds[0] = Trajectory.empty(0, self.buf.qpos.shape[1])  # the chunk buffer is done with
+        self.cols = {}
         keeper = self.keeper
         assert keeper is not None
         qpos_rows = getattr(self.sink, "qpos_rows", None)  # replays wedged periods' contacts (PartWriter)
@@ -95,7 +122,7 @@ class Recorder:
             keeper.record(done),
             done,
             wall,
-            body.warnings(),
+            warnings,
             qpos_rows=qpos_rows,
             picture=keeper.picture(done),
             stride=self.stride,

@@ -211,11 +211,15 @@ class WarpWorlds(LockstepWorlds):
         self._t0, self._k = float(key.time[0]), 0
         self._pull()
 
-    def advance(self, targets: np.ndarray) -> None:
-        """Set every world's joint targets (n, nu) and take ``n_substeps`` Warp steps (one CUDA graph on a GPU)."""
+    def apply(self, actions: np.ndarray) -> None:
+        """Every world's joint targets (n, nu), rad (float32 on the device)."""
+        with self.wp.ScopedDevice(self.device):
+            self.wdata.ctrl.assign(np.asarray(actions, dtype=np.float32))
+
+    def advance(self) -> None:
+        """``n_substeps`` Warp steps of every world (one CUDA graph on a GPU)."""
         wp, mjw = self.wp, self.mjw
         with wp.ScopedDevice(self.device):
-            self.wdata.ctrl.assign(np.asarray(targets, dtype=np.float32))
             if self.device == "cuda":
                 if self._graph is None:
                     with wp.ScopedCapture() as capture:
