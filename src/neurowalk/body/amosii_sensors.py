@@ -40,7 +40,7 @@ from neurowalk.body.amosii_params import (
     UP_SENSOR,
     foot_name,
 )
-from neurowalk.body.common import noisy_distances
+from neurowalk.body.common import noisy_distance
 from neurowalk.compiled import jit
 
 __all__ = [
@@ -155,9 +155,40 @@ def sensed(lay: _Layout, sensordata: np.ndarray, us_range: float, noise: np.ndar
     model): the noisy ultrasonic distances (..., 2) in m (``inf``: no echo) and the noisy foot contacts (..., 6) in
     [0, 1], from MuJoCo's sensor data (..., nsensordata) and the step's sensor noise (..., 2 + 19 + 6: ultrasonic,
     joints, feet; :class:`~neurowalk.body.noise.ColoredNoise`); ``us_range``: the network's ultrasonic range, m."""
-    dist = noisy_distances(us_distances(lay, sensordata), us_range, noise[..., 0:2])
-    foot = np.clip(contacts(lay, sensordata) + noise[..., noise.shape[-1] - 6 :], 0.0, 1.0)
+    if sensordata.ndim == 2:  # many worlds (the lock-step worlds' every step: no reshaping)
+        dist, foot = np.empty((len(sensordata), 2)), np.empty((len(sensordata), 6))
+        _sensed(lay.us, lay.touch, lay.us_range, lay.force_full, sensordata, us_range, noise, dist, foot)
+        return dist, foot
+    lead = sensordata.shape[:-1]
+    dist, foot = np.empty((*lead, 2)), np.empty((*lead, 6))
+    sd, nz = sensordata.reshape(-1, sensordata.shape[-1]), noise.reshape(-1, noise.shape[-1])
+    _sensed(lay.us, lay.touch, lay.us_range, lay.force_full, sd, us_range, nz, dist.reshape(-1, 2), foot.reshape(-1, 6))
     return dist, foot
+
+
+@jit
+def _sensed(
+    us: np.ndarray,
+    touch: np.ndarray,
+    us_max: float,
+    force_full: float,
+    sensordata: np.ndarray,
+    us_range: float,
+    noise: np.ndarray,
+    dist: np.ndarray,
+    foot: np.ndarray,
+) -> None:
+    """:func:`sensed` of m worlds (sensordata (m, nsensordata), noise (m, channels)) into dist (m, 2), foot (m, 6):
+    the arithmetic of :func:`us_distances`, :func:`contacts` and the noise, element by element, in one call."""
+    feet = noise.shape[1] - 6
+    for i in range(sensordata.shape[0]):
+        for r in range(2):
+            d = sensordata[i, us[r]]
+            raw = math.inf if (d < 0.0 or d > us_max) else d
+            dist[i, r] = noisy_distance(raw, us_range, noise[i, r])
+        for g in range(6):
+            c = min(sensordata[i, touch[g]] / force_full, 1.0) + noise[i, feet + g]
+            foot[i, g] = min(max(c, 0.0), 1.0)
 
 
 def obstacle_contact(model: mujoco.MjModel, data: mujoco.MjData) -> bool:

@@ -17,6 +17,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from neurowalk.compiled import jit
+
 BLOCK = 256  # control steps of uniform numbers drawn at once
 
 
@@ -57,8 +59,9 @@ class ColoredNoiseBatch:
     step for all of them, the same numbers, bit for bit, as each source's own :meth:`~ColoredNoise.step`.
 
     Each world draws its uniform numbers from its own source's Generator, :data:`BLOCK` steps at a time, as the
-    source does (a Python loop over the worlds once every :data:`BLOCK` steps); the filter step is the source's
-    arithmetic on (n, channels) arrays. A world of strength 0 stays at 0 and draws nothing, as its source does.
+    source does (a Python loop over the due worlds once every :data:`BLOCK` of their steps); the filter step is the
+    source's arithmetic, element by element, in one compiled call. A world of strength 0 stays at 0 and draws nothing,
+    as its source does. A world reset on its own goes on from its own block's first row.
 
     Args:
         sources: one per world, all with the same number of channels.
@@ -75,14 +78,12 @@ class ColoredNoiseBatch:
         self.sources = sources
         self.channels = channels.pop() if channels else 0
         self.on = np.array([s.strength > 0 for s in sources], dtype=bool)
-        self._all_on = bool(self.on.all())
         self._gain = np.array([[s._gain] for s in sources]) if sources else np.zeros((0, 1))
         self._tau = np.array([[s.tau] for s in sources]) if sources else np.zeros((0, 1))
         self.value = np.zeros((len(sources), self.channels))
         self._block = np.zeros((len(sources), BLOCK, self.channels))
         self._next = np.full(len(sources), BLOCK)  # each world's next row of its block (BLOCK: draw a new one)
-        self._worlds = np.arange(len(sources))
-        self._together = True
+        self._due = True  # a world needs a new block before its next step
         self.draw_s, self.blocks = 0.0, 0
 
     def reset(self, rngs: Sequence[np.random.Generator], ids: Sequence[int] | np.ndarray | None = None) -> None:
@@ -94,40 +95,38 @@ class ColoredNoiseBatch:
             self.sources[i].reset(rng)
             self.value[i] = 0.0
             self._next[i] = BLOCK
-        self._together = ids is None or bool((self._next == self._next[0]).all())
+        self._due = True
 
     def step(self) -> np.ndarray:
         """Advance every world one control step; returns :attr:`value`."""
-        nxt = self._next
-        if self._together:  # every world at the same row of its block: one slice
-            k = int(nxt[0])
-            if k == BLOCK:
-                self._draw(np.flatnonzero(self.on))
-                k = 0
-            u = self._block[:, k]
-        else:
-            due = np.flatnonzero((nxt == BLOCK) & self.on)
-            if due.size:
-                self._draw(due)
+        if self._due:  # a world has used its block: its next one from its Generator
+            nxt = self._next
+            t = time.perf_counter()
+            for i in np.flatnonzero((nxt == BLOCK) & self.on):
+                self._block[i] = self.sources[i]._rng.uniform(-1.0, 1.0, (BLOCK, self.channels))
             nxt[nxt == BLOCK] = 0
-            u = self._block[self._worlds, nxt]
-        v = self.value
-        if self._all_on:
-            v += self._gain * u - self._tau * v
-        else:
-            on = self.on
-            v[on] += self._gain[on] * u[on] - self._tau[on] * v[on]
-        if self._together:
-            nxt[:] = k + 1
-        else:
-            nxt += 1
-        return v
+            self.draw_s += time.perf_counter() - t
+            self.blocks += 1
+        self._due = _filter_step(self._block, self._next, self._gain, self._tau, self.on, self.value)
+        return self.value
 
-    def _draw(self, worlds: np.ndarray) -> None:
-        """The next block of uniform numbers of each of ``worlds`` from its source's Generator."""
-        t = time.perf_counter()
-        for i in worlds:
-            self._block[i] = self.sources[i]._rng.uniform(-1.0, 1.0, (BLOCK, self.channels))
-        self._next[worlds] = 0
-        self.draw_s += time.perf_counter() - t
-        self.blocks += 1
+
+@jit
+def _filter_step(
+    block: np.ndarray, nxt: np.ndarray, gain: np.ndarray, tau: np.ndarray, on: np.ndarray, value: np.ndarray
+) -> bool:
+    """One step of every world's filter (``value`` (n, channels) += gain * u - tau * value, u the next row of its
+    ``block`` (n, BLOCK, channels); :class:`ColoredNoise`'s arithmetic, element by element); returns whether a world
+    has used the last row of its block."""
+    due = False
+    for i in range(value.shape[0]):
+        row = nxt[i]
+        if on[i]:
+            g, t = gain[i, 0], tau[i, 0]
+            for c in range(value.shape[1]):
+                v = value[i, c]
+                value[i, c] = v + (g * block[i, row, c] - t * v)
+        nxt[i] = row + 1
+        if row + 1 == BLOCK:
+            due = True
+    return due

@@ -23,14 +23,14 @@ controller that needs it), so that compiled controllers of many worlds pay for n
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any, Protocol, runtime_checkable
+from typing import Any, Protocol, TypeGuard, runtime_checkable
 
 import mujoco
 import numpy as np
 
 from neurowalk.observation import Observation
 
-__all__ = ["ALL_COLUMNS", "CompiledWorld", "OneWorld", "World"]
+__all__ = ["ALL_COLUMNS", "CompiledWorld", "OneWorld", "World", "is_compiled"]
 
 #: Every column of a run's rows (:class:`~neurowalk.sim.trajectory.Trajectory`): what a physics world fills.
 ALL_COLUMNS: tuple[str, ...] = ("t", "pose", "inputs", "outputs", "b", "q", "targets", "joint_angles",
@@ -127,6 +127,12 @@ class CompiledWorld(Protocol):
     def warnings(self, i: int) -> dict[str, int]:
         """World i's warnings so far."""
         ...
+
+
+def is_compiled(world: object) -> TypeGuard[CompiledWorld]:
+    """Whether ``world`` steps in compiled chunks (:class:`CompiledWorld`: it has ``rollout``), asked as a run starts
+    (an attribute lookup: a protocol's ``isinstance`` costs tens of µs, a planar run's whole budget is a few ms)."""
+    return hasattr(world, "rollout")
 
 
 class OneWorld:

@@ -37,7 +37,7 @@ from neurowalk.controller import FixedController
 from neurowalk.envs.physics import ExplorePhysicsEnv
 from neurowalk.envs.task import BOXES, CELL, EXTENT, SIZE, STUCK_RADIUS, STUCK_WINDOW, US_RANGE
 from neurowalk.envs.vector import copy_seeds
-from neurowalk.envs.vector_kernel import count_cells, first_bad_row, near_obstacles
+from neurowalk.envs.vector_kernel import count_cells, first_bad_row, near_obstacles, reported
 from neurowalk.sim.batch import BatchPhysics
 from neurowalk.sim.batch_control import BatchControllers
 from neurowalk.sim.table2 import table2_arena, table2_option, table2_seed
@@ -251,7 +251,7 @@ class ExplorePhysicsVectorEnv(VectorEnv):
     def _sense(self) -> None:
         """Every copy's observation (AMOSII's own noisy distances, no echo reported as the range) and pose."""
         dist, _ = self.copies.sense()
-        np.minimum(np.where(np.isfinite(dist), dist, US_RANGE), US_RANGE, out=self.obs)
+        reported(dist, US_RANGE, self.obs)
         trunk_poses(self._xpos, self._xmat, self._trunk, self.pose)
 
     def _grid(self, i: int, arena: ArenaSpec) -> None:

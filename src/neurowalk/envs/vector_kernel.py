@@ -142,6 +142,16 @@ def free_mask(
 
 
 @jit
+def reported(dist: np.ndarray, obs_range: float, obs: np.ndarray) -> None:
+    """The observations (N, 2) the environment reports of the copies' distances ``dist`` (N, 2) (m, inf: no echo):
+    no echo as ``obs_range`` m, anything farther at most that."""
+    for i in range(dist.shape[0]):
+        for r in range(2):
+            d = dist[i, r]
+            obs[i, r] = min(d, obs_range) if math.isfinite(d) else obs_range
+
+
+@jit
 def count_cells(
     ids: np.ndarray,
     pose: np.ndarray,

@@ -8,7 +8,7 @@ checkpoints from which a stopped run goes on bit for bit.
 
 from __future__ import annotations
 
-from neurowalk.body.world import CompiledWorld, OneWorld
+from neurowalk.body.world import CompiledWorld, OneWorld, is_compiled
 from neurowalk.sim.batch_control import BatchControllers
 from neurowalk.sim.config import Episode, EpisodeConfig, RunInterruptedError, build
 from neurowalk.sim.engine_interface import EngineOptions, OneWorldPerCall, Streaming
@@ -31,7 +31,7 @@ class CpuLoop(OneWorldPerCall):
                 received all of them).
         """
         arena, body, ctrl = build(cfg, pad_boxes=options.pad_boxes)
-        compiled = isinstance(body, CompiledWorld)
+        compiled = is_compiled(body)
         world: CompiledWorld | OneWorld = body if compiled else OneWorld(body)
         run = run_worlds([cfg], [arena], world, BatchControllers([ctrl], compiled=False), stream,
                          progress=options.progress)  # fmt: skip

@@ -24,12 +24,13 @@ import contextlib
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
 from neurowalk import profiling
 from neurowalk.arenas import ArenaSpec
-from neurowalk.body.world import CompiledWorld, OneWorld, World
+from neurowalk.body.world import CompiledWorld, OneWorld, World, is_compiled
 from neurowalk.progress import Progress
 from neurowalk.sim.batch_control import BatchControllers
 from neurowalk.sim.checkpoint import capture, restore
@@ -92,10 +93,11 @@ def run_worlds(
     t0 = time.perf_counter()
     done, interrupted = start, False
     try:
-        if isinstance(worlds, CompiledWorld):
+        if is_compiled(worlds):
             done = _chunks(worlds, controllers, rec, start, steps, bar, stream, configs[0].control_hz)
         else:
-            done = _steps(worlds, controllers, rec, start, steps, regions, stopped_at, bar, stream, roots, timing)
+            done = _steps(cast(World, worlds), controllers, rec, start, steps, regions, stopped_at, bar, stream, roots,
+                          timing)  # fmt: skip
     except KeyboardInterrupt:
         done, interrupted = rec.done(), True
     except OSError:

@@ -8,6 +8,8 @@ loop's worlds, the surrogate) into its :class:`Episode`.
 
 from __future__ import annotations
 
+import functools
+import math
 from collections.abc import Callable, Iterable
 from dataclasses import fields
 from typing import Any
@@ -50,7 +52,7 @@ class Recorder:
         self.cols = {
             k: np.full((world.n, rows, *s), np.nan)
             if k in world.columns
-            else np.broadcast_to(1.0 if k == "up_z" else np.nan, (world.n, rows, *s))  # read-only: no memory
+            else _constant(1.0 if k == "up_z" else math.nan, (world.n, rows, *s))  # read-only: no memory
             for k, s in Trajectory.shapes(nq).items()
         }
         self.worlds = [Trajectory(**{k: a[w] for k, a in self.cols.items()}) for w in range(world.n)]
@@ -128,6 +130,12 @@ class Recorder:
             stride=self.stride,
             stopped=stopped,
         )
+
+
+@functools.lru_cache(maxsize=64)
+def _constant(value: float, shape: tuple[int, ...]) -> np.ndarray:
+    """A read-only array of ``shape`` holding ``value`` everywhere, in no memory (shared: nobody writes it)."""
+    return np.broadcast_to(value, shape)
 
 
 def finish_episode(
