@@ -57,6 +57,8 @@ _LAZY = {
     "ARENAS": "neurowalk.arenas",
     "make_body": "neurowalk.body.registry",
     "BODIES": "neurowalk.body.registry",
+    "check_body": "neurowalk.body.check",
+    "check_engine": "neurowalk.sim.check",
 }
 
 
@@ -97,11 +99,13 @@ __all__ = [  # noqa: RUF022 (grouped by what they are)
     "ARENAS",
     "make_body",
     "BODIES",
+    "check_body",
     "ENGINES",
     "Engine",
     "EngineOptions",
     "Streaming",
     "engine_for",
+    "check_engine",
     # the networks
     "Controller",
     "FixedController",

@@ -88,7 +88,9 @@ def test_restarting_one_copy_leaves_the_others_alone():
     obs, info = vec.reset(seed=30)
     out = [(obs, np.zeros(3), np.zeros(3, dtype=bool), info)]
     for k, a in enumerate(acts):
-        if k == 7:  # copy 1's episode ends here: the next step starts its new one (autoreset), mid-episode of the others
+        if (
+            k == 7
+        ):  # copy 1's episode ends here: the next step starts its new one (autoreset), mid-episode of the others
             vec.done[1] = True
             seed = int(copy.deepcopy(vec.np_random).integers(2**62))  # the seed the environment draws for it
         obs, r, _, trunc, info = vec.step(a)

@@ -325,3 +325,11 @@ def test_a_stopped_warp_run_keeps_its_steps(wp_device, monkeypatch):
         )
     assert stop.value.episode.summary["steps"] == 3 and stop.value.episode.summary["completed"] is False
     assert sum(rows) == 3  # the sink got every completed row
+
+
+@warp
+def test_warp_keeps_the_engine_contract(wp_device):
+    from neurowalk.sim.check import check_engine
+    from neurowalk.sim.engines import ENGINES
+
+    check_engine(ENGINES["warp"], options=EngineOptions(device=wp_device), steps=6)

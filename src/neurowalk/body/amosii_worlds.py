@@ -119,7 +119,9 @@ class AmosIIWorlds(ABC):
 
     def observation(self, i: int) -> Observation:
         """World i's full observation of this step (after :meth:`sense`; needs :attr:`xpos`, :attr:`xmat`)."""
-        assert self._sensed is not None and self.xpos is not None and self.xmat is not None
+        if self.xpos is None or self.xmat is None:
+            raise ValueError(f"{type(self).__name__} reads no whole observations: its controllers step compiled")
+        assert self._sensed is not None, "sense() first"
         nj = len(self.joints)
         dist, foot = self._sensed
         xpos, xmat = self.xpos[i, self.trunk], self.xmat[i, self.trunk]

@@ -50,7 +50,7 @@ class _Copies(BatchPhysics, AmosIIWorlds):
 
     def __init__(self, batch: mujoco.batch.Batch, proto: AmosII, n: int, noise: float) -> None:
         super().__init__([proto.arena] * n, [noise] * n, proto.model, proto.params, proto.n_substeps)
-        self.bind_batch(batch, poses=True)
+        self.bind_batch(batch)
 
 
 class ExplorePhysicsVectorEnv(VectorEnv):

@@ -51,14 +51,13 @@ class BatchPhysics:
     xpos: np.ndarray | None
     xmat: np.ndarray | None
 
-    def bind_batch(self, batch: mujoco.batch.Batch, *, poses: bool) -> None:
-        """Step ``batch``: its positions, controls, sensor data and times are the worlds' (``poses``: the bodies'
-        places too, for controllers that read whole observations)."""
+    def bind_batch(self, batch: mujoco.batch.Batch) -> None:
+        """Step ``batch``: its positions, controls, sensor data, times and the bodies' places (a whole observation's
+        pose) are the worlds'. Bound before the first call: a batch's outputs fill only after one."""
         self.batch = batch
         self.qpos, self.ctrl = batch.bind("qpos"), batch.bind("ctrl")
         self.sensordata, self.sim_time = batch.bind("sensordata"), batch.bind("time")
-        if poses:  # bound now: a batch's outputs fill only after a call
-            self.xpos, self.xmat = batch.bind("xpos"), batch.bind("xmat")
+        self.xpos, self.xmat = batch.bind("xpos"), batch.bind("xmat")
 
     def reset_physics(self, ids: np.ndarray | None = None) -> None:
         """Every world (or worlds ``ids``: a Gymnasium copy's new episode): the stand keyframe at its arena's start
@@ -137,7 +136,7 @@ class MujocoBatchWorlds(BatchPhysics, LockstepWorlds):
         )
         batch = mujoco.batch.Batch(self.models[0], self.n, nthread, persistent)
         batch.set_models(self.models)
-        self.bind_batch(batch, poses=not self.controllers.compiled)  # act() needs the pose
+        self.bind_batch(batch)
 
 
 class MujocoBatch(LockstepEngine):
