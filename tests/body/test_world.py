@@ -39,7 +39,7 @@ def test_many_amosii_worlds_are_a_world_of_n():
 
 def test_the_surrogate_is_a_compiled_world():
     body = make_body("surrogate", make_arena("box"))
-    assert isinstance(body, CompiledWorld) and not isinstance(body, World) and body.nq == 0
+    assert isinstance(body, CompiledWorld) and isinstance(body, World) and body.nq == 0  # chunks, or a step at a time
     assert {"pose", "us_distance", "b", "q"} <= set(body.columns) and "qpos" not in body.columns
 
 
@@ -71,3 +71,36 @@ def test_a_world_reset_on_its_own_draws_its_own_sources_noise():
         v = batch.step()
         for i, src in enumerate(alone):
             np.testing.assert_array_equal(v[i], src.step(), err_msg=f"world {i}, step {k}")
+
+
+class _Stepped:
+    """A controller the loop cannot compile (it steps it by act()): the given one behind another type."""
+
+    def __init__(self, inner):
+        self.inner = inner
+
+    def __getattr__(self, name):
+        return getattr(self.inner, name)
+
+    def reset(self, rng=None):
+        self.inner.reset(rng)
+
+    def act(self, obs):
+        return self.inner.act(obs)
+
+
+@pytest.mark.parametrize("controller", ["plastic", "static"])
+def test_a_controller_stepped_by_act_on_the_surrogate_is_its_compiled_run(controller):
+    """The loop steps the surrogate one step at a time for a controller it cannot compile: the same run, bit for bit."""
+    from neurowalk.sim.batch_control import BatchControllers
+    from neurowalk.sim.config import build
+    from neurowalk.sim.loop import run_worlds
+
+    cfg = EpisodeConfig(arena="random", arena_opts={"n_boxes": 10}, body="surrogate", steps=1500, seed=5,
+                        controller=controller)  # fmt: skip
+    compiled = run_episode(cfg).trajectory
+    arena, body, ctrl = build(cfg)
+    stepped = run_worlds([cfg], [arena], body, BatchControllers([_Stepped(ctrl)], compiled=False)).episodes[0]
+    assert stepped.summary["steps"] == 1500
+    for name in ("pose", "inputs", "outputs", "b", "q", "us_distance", "t"):
+        np.testing.assert_array_equal(getattr(stepped.trajectory, name), getattr(compiled, name), err_msg=name)

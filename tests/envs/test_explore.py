@@ -10,7 +10,7 @@ gym = pytest.importorskip("gymnasium")
 from gymnasium.utils.env_checker import check_env  # noqa: E402
 
 from neurowalk.arenas import make_arena  # noqa: E402
-from neurowalk.body.surrogate import Surrogate, Walker  # noqa: E402
+from neurowalk.body.surrogate import Surrogate  # noqa: E402
 from neurowalk.envs import IDS, register_envs  # noqa: E402
 from neurowalk.envs.explore import CELL, ExploreEnv  # noqa: E402
 
@@ -80,18 +80,25 @@ def test_steering_moves_the_body_as_the_networks_outputs_do():
     assert turn["right"] < -0.5 < 0.5 < turn["left"]  # O1 turns right (clockwise), O2 left
 
 
-def test_walker_steered_constantly_is_the_surrogate_run_bit_for_bit():
+def _step(body: Surrogate, o1: float, o2: float) -> np.ndarray:
+    """One control step of the surrogate stepped from Python, as the environment steps it; the pose after it."""
+    body.apply(np.array([[o1, o2]]))
+    body.advance()
+    return body.pose[0].copy()
+
+
+def test_the_surrogate_one_step_at_a_time_is_its_compiled_run_bit_for_bit():
     arena = make_arena("random", rng=np.random.default_rng(3), n_boxes=12, extent=9.0, size=1.0)
     body = Surrogate(arena)
     run = body.run(400, np.random.default_rng(7), None, None, steer=(-0.3, -1.0))
-    walker = Walker(body, np.random.default_rng(7))
+    body.reset([np.random.default_rng(7)])
     us, poses = [], []
     for _ in range(400):
-        us.append(walker.sense())
-        poses.append(walker.act(-0.3, -1.0))
+        us.append(body.sense()[0][0])
+        poses.append(_step(body, -0.3, -1.0))
     np.testing.assert_array_equal(np.array(us), run.us)
     np.testing.assert_array_equal(np.array(poses), run.pose)
-    assert walker.contacts == run.contacts
+    assert body.contacts == run.contacts
 
 
 @pytest.mark.parametrize(
@@ -121,7 +128,7 @@ def test_step_before_reset_says_so():
         ExploreEnv().step(np.zeros(2))
 
 
-def test_a_network_policy_on_the_walker_is_the_networks_own_run_bit_for_bit():
+def test_a_network_policy_stepping_the_surrogate_is_the_networks_own_run_bit_for_bit():
     from neurowalk.envs.policy import NetworkPolicy
     from neurowalk.neural.sensory import SensoryNetwork
     from neurowalk.neural.variants import get_variant
@@ -131,15 +138,16 @@ def test_a_network_policy_on_the_walker_is_the_networks_own_run_bit_for_bit():
     for variant in ("paper", "original"):
         net = SensoryNetwork("plastic", params=get_variant(variant).sensory)
         run = body.run(800, np.random.default_rng(2), net.state, net.packed_params)
-        policy, walker = NetworkPolicy("plastic", variant=variant), Walker(body, np.random.default_rng(2))
+        policy = NetworkPolicy("plastic", variant=variant)
+        body.reset([np.random.default_rng(2)])
         steer = []
         for _ in range(800):
-            seen = walker.sense()
+            seen = body.sense()[0][0]
             obs = np.where(np.isfinite(seen), seen, body.cal.us_range)  # as the environment reports it
             steer.append(policy(obs))
-            walker.act(*steer[-1])
+            _step(body, *steer[-1])
         np.testing.assert_array_equal(np.array(steer), run.outputs, err_msg=variant)
-        np.testing.assert_array_equal(walker.pose, run.pose[-1], err_msg=variant)
+        np.testing.assert_array_equal(body.pose[0], run.pose[-1], err_msg=variant)
         assert np.abs(run.outputs).max() > 0.5  # the network did steer
 
 

@@ -44,7 +44,7 @@ def test_without_noise_each_copy_is_the_single_environment_bit_for_bit():
         out = [obs]
         for a in acts[:, i]:
             out.append(single.step(a)[0])
-            pose = single._walker.pose
+            pose = single._body.pose[0]
         np.testing.assert_array_equal(np.array(out), out_v[:, i], err_msg=f"copy {i}")
         np.testing.assert_array_equal(pose, vec.pose[i])
 

@@ -38,7 +38,8 @@ def check_body(body: Any, *, steps: int = 5, seed: int = 0) -> None:
     try:
         if is_compiled(body):
             _check_compiled(body, steps, seed)
-            return
+            if not isinstance(body, World):
+                return
         world = body if isinstance(body, World) else OneWorld(_per_step(body))
         _check_attributes(world)
         first = _run(world, steps, seed)

@@ -29,6 +29,7 @@ import numpy as np
 from neurowalk.arenas.spec import ArenaSpec
 from neurowalk.body import surrogate_kernel as kern
 from neurowalk.neural.sensory import PARAMS_SIZE, STATE_SIZE
+from neurowalk.observation import Observation
 
 CALIBRATION_FILE = Path(__file__).with_name("data") / "calibration.json"
 CALIBRATION_FILES: dict[str, Path] = {
@@ -189,8 +190,8 @@ PLANAR_COLUMNS: tuple[str, ...] = ("t", "pose", "inputs", "outputs", "b", "q", "
 
 
 class Surrogate:
-    """One surrogate robot in an arena: a world (n = 1) stepped in compiled chunks of control steps
-    (:class:`~neurowalk.body.world.CompiledWorld`).
+    """One surrogate robot in an arena: a world (n = 1) stepped in compiled chunks of control steps with its network
+    (:class:`~neurowalk.body.world.CompiledWorld`), or one step at a time (:class:`~neurowalk.body.world.World`).
 
     Args:
         arena: where it walks (boxes are walls; heights are ignored).
@@ -232,6 +233,11 @@ class Surrogate:
         self._rng: np.random.Generator | None = None
         self._state = np.zeros(kern.RUN_STATE)
         self._ring = np.zeros((cal.delay_steps + 1, self._motion.shape[2]))
+        self._cmd = np.zeros(self._motion.shape[2])  # (one step at a time:) the command after the delay line
+        self._omega, self._reach = 2.0 * math.pi / cal.sway_period_steps, kern.reach_of(cal.circles)
+        self._seen, self._steer = np.zeros(2), np.zeros(2)
+        self._pose = np.asarray(arena.start, dtype=float)
+        self._k = 0
         self.contacts = 0
 
     def reset(self, rngs: Sequence[np.random.Generator]) -> None:
@@ -241,6 +247,9 @@ class Surrogate:
         self._state[:] = 0.0
         self._state[kern.X], self._state[kern.Y], self._state[kern.YAW] = self.arena.start
         self._ring[:] = 0.0
+        self._cmd[:] = 0.0
+        self._k = 0
+        self._pose[:] = self.arena.start
         self.contacts = 0
 
     def rollout(
@@ -304,6 +313,52 @@ class Surrogate:
         """None: the planar body has no physics to warn."""
         return {}
 
+    # -- one control step at a time (a :class:`~neurowalk.body.world.World` of one world), for a controller stepped
+    # by its act() and for a Gymnasium agent: the kernels of rollout, the noise drawn a step at a time (the same
+    # numbers in the same order), so that it gives rollout's run bit for bit --------------------------------------
+
+    @property
+    def qpos(self) -> np.ndarray:
+        """(1, 0): the planar body has no positions beyond its pose."""
+        return _NO_QPOS
+
+    @property
+    def time(self) -> np.ndarray:
+        """(1,) the simulated time (s): control steps taken since the reset over the control rate."""
+        return np.array([self._k / self.control_hz])
+
+    @property
+    def pose(self) -> np.ndarray:
+        """(1, 3) the pose now (x m, y m, yaw rad; the gait's sway included)."""
+        return self._pose[None]
+
+    def sense(self) -> tuple[np.ndarray, np.ndarray]:
+        """This step's noisy ultrasonic distances (1, 2) (m, inf: no echo) and foot contacts (1, 6) (none: 0)."""
+        assert self._rng is not None, "reset() first"
+        cal = self.cal
+        noise = self._rng.uniform(-1.0, 1.0, size=2)
+        kern.sense(self._k, self._state, self._boxes, cal.rays, cal.us_range, self._omega, cal.sway_phase, noise,
+                   self._gain, self.noise_tau, self._seen)  # fmt: skip
+        return self._seen[None].copy(), np.zeros((1, 6))
+
+    def observation(self, i: int) -> Observation:
+        """This step's reading (after :meth:`sense`): distances, pose and time."""
+        return Observation(us_distance=self._seen.copy(), pose=self._pose.copy(), time=self._k / self.control_hz)
+
+    def apply(self, actions: np.ndarray) -> None:
+        """The steering pair (O1, O2) of the next step: row 0 of ``actions`` (1, 2)."""
+        self._steer[:] = actions[0]
+
+    def advance(self) -> None:
+        """One control step of the calibrated motion with the steering applied."""
+        cal = self.cal
+        hits, yaw = kern.act(self._k, self._state, self._ring, float(self._steer[0]), float(self._steer[1]),
+                             self._cmd, cal.grid, self._motion, cal.alpha(), cal.startup_steps, 1.0 / cal.control_hz,
+                             self._omega, cal.sway_phase, cal.circles, self._boxes, self._reach)  # fmt: skip
+        self._k += 1
+        self.contacts += hits
+        self._pose[:] = (self._state[kern.X], self._state[kern.Y], yaw)
+
     def run(
         self,
         steps: int,
@@ -328,82 +383,10 @@ class Surrogate:
 
 
 _NO_STATE, _NO_PARAMS, _NO_STEER = np.zeros(STATE_SIZE), np.zeros(PARAMS_SIZE), np.zeros(2)
+_NO_QPOS = np.empty((1, 0))
 
 
 def steered_poses(cal: Calibration, arena: ArenaSpec, steps: int, steer: tuple[float, float]) -> np.ndarray:
     """Poses (steps, 3) (x m, y m, yaw rad) of a noiseless surrogate of calibration ``cal`` in ``arena``, steered
     with the fixed pair ``steer`` (O1, O2) from the arena's start pose: how calibration checks a fitted motion."""
     return Surrogate(arena, cal, noise=0.0).run(steps, np.random.default_rng(0), None, None, steer=steer).pose
-
-
-class Walker:
-    """The surrogate stepped one control step at a time from Python, steered from outside (e.g. a Gymnasium agent).
-
-    :meth:`sense` gives the readings at the current step (drawing the sensor noise from ``rng``), :meth:`act`
-    takes the step with a steering pair. Sensing, then acting with the steering that :meth:`Surrogate.run` would
-    hold constant, gives that run's trajectory bit for bit (the same kernel, the same noise draws in order).
-
-    Args:
-        body: the surrogate in its arena.
-        rng: the body's Generator (ultrasonic noise).
-    """
-
-    def __init__(self, body: Surrogate, rng: np.random.Generator) -> None:
-        cal = body.cal
-        self.body, self.rng, self.cal = body, rng, cal
-        self.state = np.zeros(kern.RUN_STATE)
-        self.state[kern.X], self.state[kern.Y], self.state[kern.YAW] = body.arena.start
-        self.motion = cal.motion()
-        self.ring = np.zeros((cal.delay_steps + 1, self.motion.shape[2]))
-        self.cmd = np.zeros(self.motion.shape[2])
-        self.seen = np.zeros(2)
-        self.gain = math.sqrt(body.noise_tau) * body.noise
-        self.omega = 2.0 * math.pi / cal.sway_period_steps
-        self.reach = kern.reach_of(cal.circles)
-        self.alpha, self.dt = cal.alpha(), 1.0 / cal.control_hz
-        self.k = 0  # control steps taken
-        self.contacts = 0  # collision overlaps resolved so far
-        self.pose = np.asarray(body.arena.start, dtype=float)  # (3,) x m, y m, yaw rad (sway included)
-
-    def sense(self) -> np.ndarray:
-        """(2,) ultrasonic distances (left, right) at the current step, m, ``inf`` = no echo; call once a step."""
-        noise = self.rng.uniform(-1.0, 1.0, size=2)
-        kern.sense(
-            self.k,
-            self.state,
-            self.body._boxes,
-            self.cal.rays,
-            self.cal.us_range,
-            self.omega,
-            self.cal.sway_phase,
-            noise,
-            self.gain,
-            self.body.noise_tau,
-            self.seen,
-        )
-        return self.seen.copy()
-
-    def act(self, o1: float, o2: float) -> np.ndarray:
-        """Take one control step with steering (o1, o2) in [-1, 1]; return the pose after it (3,)."""
-        n, yaw = kern.act(
-            self.k,
-            self.state,
-            self.ring,
-            float(o1),
-            float(o2),
-            self.cmd,
-            self.cal.grid,
-            self.motion,
-            self.alpha,
-            self.cal.startup_steps,
-            self.dt,
-            self.omega,
-            self.cal.sway_phase,
-            self.cal.circles,
-            self.body._boxes,
-            self.reach,
-        )
-        self.k += 1
-        self.contacts += n
-        self.pose = np.array([self.state[kern.X], self.state[kern.Y], yaw])
-        return self.pose.copy()

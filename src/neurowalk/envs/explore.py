@@ -27,7 +27,7 @@ import numpy as np
 from gymnasium import spaces
 
 from neurowalk.arenas import ArenaSpec
-from neurowalk.body.surrogate import Surrogate, Walker
+from neurowalk.body.surrogate import Surrogate
 from neurowalk.envs.task import BOXES, CELL, EXTENT, SIZE, ExploreTask
 
 __all__ = ["BOXES", "CELL", "EXTENT", "SIZE", "ExploreEnv"]
@@ -54,15 +54,17 @@ class ExploreEnv(ExploreTask):
     ) -> None:
         super().__init__(arena, arena_opts, max_steps, noise, render_mode)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float64)
-        self._walker: Walker | None = None
+        self._body: Surrogate | None = None
 
     def _start(self, arena: ArenaSpec, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray]:
-        self._walker = Walker(Surrogate(arena, noise=self.noise), rng)
-        return self._walker.sense(), self._walker.pose.copy()
+        body = self._body = Surrogate(arena, noise=self.noise)
+        body.reset([rng])
+        return body.sense()[0][0], body.pose[0].copy()
 
     def _advance(self, action: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        w = self._walker
-        assert w is not None
-        pose = w.act(action[0], action[1])
-        self.contacts = w.contacts
-        return w.sense(), pose
+        body = self._body
+        assert body is not None
+        body.apply(np.asarray(action, dtype=float)[None])
+        body.advance()
+        self.contacts = body.contacts
+        return body.sense()[0][0], body.pose[0].copy()

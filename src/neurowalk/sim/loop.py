@@ -93,7 +93,7 @@ def run_worlds(
     t0 = time.perf_counter()
     done, interrupted = start, False
     try:
-        if is_compiled(worlds):
+        if is_compiled(worlds) and any(part is not None for part in controllers.compiled_parts(0)):
             done = _chunks(worlds, controllers, rec, start, steps, bar, stream, configs[0].control_hz)
         else:
             done = _steps(cast(World, worlds), controllers, rec, start, steps, regions, stopped_at, bar, stream, roots,
@@ -175,10 +175,12 @@ def _steps(
     """The control steps from ``start``; returns the steps completed: fewer than ``steps`` where every world
     stopped by its ``until`` rule (world i's trunk centre, ``qpos[i, 0:2]``, entered its exit region: step
     ``stopped_at[i]``) or ``stream.stop()`` (asked every 100 steps) asked to stop (as a KeyboardInterrupt)."""
-    n, cols = worlds.n, rec.cols
+    n, cols, nq = worlds.n, rec.cols, worlds.nq
     inputs, outputs, b, q, targets_c, us, foot_c, qpos_c, t_c = (cols[k] for k in rec.buf.RECORDED)
+    joints = "targets" in worlds.columns  # (a planar world: no joints, no feet, no positions but its pose)
+    pose_c = None if nq else cols["pose"]  # a world without positions gives its pose (else derived from them)
     steering = worlds.action == "steering"  # the body takes the steering pair (e.g. wheels), not joint targets
-    stopping = any(r is not None for r in regions)
+    stopping = nq > 0 and any(r is not None for r in regions)
     bounds = tuple(np.array([r if r is not None else (np.nan,) * 4 for r in regions]).T)  # NaN: never stops
     every = rec.chunk if stream.checkpoint is not None else 0
     keep = worlds.advance_keeping_previous if every and isinstance(worlds, OneWorld) else None
@@ -200,10 +202,14 @@ def _steps(
                 worlds.advance()
             t3 = clock()
             i = k - base
-            inputs[:, i], outputs[:, i], b[:, i], q[:, i] = ctl.inputs, ctl.outputs, ctl.b, ctl.q
-            targets_c[:, i], us[:, i], foot_c[:, i] = targets, dist, foot
+            inputs[:, i], outputs[:, i], b[:, i], q[:, i], us[:, i] = ctl.inputs, ctl.outputs, ctl.b, ctl.q, dist
+            if joints:
+                targets_c[:, i], foot_c[:, i] = targets, foot
             qpos = worlds.qpos
-            qpos_c[:, i] = qpos
+            if pose_c is None:
+                qpos_c[:, i] = qpos
+            else:
+                pose_c[:, i] = worlds.pose  # type: ignore[attr-defined]
             t_c[:, i] = worlds.time  # last: a row with a time is complete
             done = k + 1
             t4 = clock()
