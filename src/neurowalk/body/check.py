@@ -17,11 +17,9 @@ giving the same readings and positions, bit for bit.
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
-from neurowalk.body.world import ALL_COLUMNS, OneWorld, World, is_compiled
+from neurowalk.body.world import ALL_COLUMNS, CompiledWorld, OneWorld, World, is_compiled
 from neurowalk.observation import Observation
 
 __all__ = ["BodyContractError", "check_body"]
@@ -31,7 +29,7 @@ class BodyContractError(ValueError):
     """A body breaks the contract the loop relies on; the message is one line naming what."""
 
 
-def check_body(body: Any, *, steps: int = 5, seed: int = 0) -> None:
+def check_body(body: object, *, steps: int = 5, seed: int = 0) -> None:
     """Test ``body`` against the body contract over ``steps`` control steps from ``seed``; raise
     :class:`BodyContractError` (one line naming the body and what is wrong) where it breaks it."""
     name = str(getattr(body, "name", type(body).__name__))
@@ -52,7 +50,7 @@ def check_body(body: Any, *, steps: int = 5, seed: int = 0) -> None:
         raise BodyContractError(f"body {name!r}: {e}") from None
 
 
-def _per_step(body: Any) -> Any:
+def _per_step(body: object) -> object:
     missing = [m for m in ("reset", "observe", "apply", "advance", "warnings", "model", "data", "action", "n_substeps")
                if not hasattr(body, m)]  # fmt: skip
     if missing:
@@ -60,7 +58,7 @@ def _per_step(body: Any) -> Any:
     return body
 
 
-def _check_attributes(world: Any) -> None:
+def _check_attributes(world: World | CompiledWorld) -> None:
     n = getattr(world, "n", None)
     if not isinstance(n, int) or n < 1:
         raise BodyContractError(f"n must be a whole number of worlds >= 1, got {n!r}")
@@ -73,7 +71,7 @@ def _check_attributes(world: Any) -> None:
         raise BodyContractError(f"columns {unknown} are not a trajectory's ({', '.join(ALL_COLUMNS)})")
 
 
-def _run(world: Any, steps: int, seed: int) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+def _run(world: World, steps: int, seed: int) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
     """Reset from ``seed`` and step with a still action; every step's readings and positions, checked."""
     n = world.n
     rngs = [np.random.default_rng(np.random.SeedSequence([seed, i])) for i in range(n)]
@@ -103,7 +101,7 @@ def _run(world: Any, steps: int, seed: int) -> list[tuple[np.ndarray, np.ndarray
     return rows
 
 
-def _check_start(world: Any) -> None:
+def _check_start(world: World) -> None:
     qpos = np.asarray(world.qpos)
     if qpos.shape != (world.n, world.nq):
         raise BodyContractError(f"qpos must have shape ({world.n}, {world.nq}), got {qpos.shape}")
@@ -125,7 +123,7 @@ def _check_reading(dist: np.ndarray, foot: np.ndarray, n: int, k: int) -> None:
         raise BodyContractError(f"foot contacts must be in [0, 1], got {foot.tolist()} at step {k}")
 
 
-def _check_compiled(world: Any, steps: int, seed: int) -> None:
+def _check_compiled(world: CompiledWorld, steps: int, seed: int) -> None:
     """A compiled world: its chunks of steps with a constant steering, twice from one seed."""
     if world.n != 1 or world.action != "steering" or world.nq != 0:
         raise BodyContractError("a compiled world is one world (n = 1) taking the steering pair, without qpos")

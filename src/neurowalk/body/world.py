@@ -91,6 +91,12 @@ class World(Protocol):
         ...
 
 
+class PlanarWorld(World, Protocol):
+    """A world without positions (``nq`` 0, the planar surrogate stepped a step at a time): it gives its pose."""
+
+    pose: np.ndarray  # (n, 3) x m, y m, yaw rad after the last step
+
+
 @runtime_checkable
 class CompiledWorld(Protocol):
     """One world whose body and controller step together in compiled chunks of control steps (the planar

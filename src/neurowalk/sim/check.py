@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from neurowalk.body.registry import BODIES
+from neurowalk.sim.checkpoint import Checkpoint
 from neurowalk.sim.config import DEFAULT_ENGINE, EpisodeConfig
 from neurowalk.sim.engine_interface import Engine, EngineOptions, Resume, Streaming
 from neurowalk.sim.trajectory import Trajectory
@@ -65,7 +66,7 @@ def _check(engine: Engine, options: EngineOptions, steps: int) -> None:
         if (name := _differ(a.trajectory, b.trajectory)) is not None:
             raise EngineContractError(f"the same config gave another {name} (run {i}): not deterministic")
     pieces: list[tuple[int, Trajectory]] = []
-    checkpoints: dict[int, object] = {}
+    checkpoints: dict[int, Checkpoint] = {}
     chunk = max(1, steps // 3)
     stream = Streaming(sink=lambda rows, start: pieces.append((start, _copy(rows))), chunk=chunk)
     if engine.resumable:
@@ -81,7 +82,7 @@ def _check(engine: Engine, options: EngineOptions, steps: int) -> None:
             raise EngineContractError("a resumable engine must write a checkpoint after each chunk")
         step = min(checkpoints)
         head = [(s, p) for s, p in pieces if s < step]
-        resumed = engine.run_one(configs[0], options, Streaming(chunk=chunk, resume=Resume(checkpoints[step], head)))  # type: ignore[arg-type]
+        resumed = engine.run_one(configs[0], options, Streaming(chunk=chunk, resume=Resume(checkpoints[step], head)))
         if (name := _differ(resumed.trajectory, first[0].trajectory)) is not None:
             raise EngineContractError(f"a run resumed from step {step} gave another {name} than the whole run")
 

@@ -30,7 +30,7 @@ import numpy as np
 
 from neurowalk import profiling
 from neurowalk.arenas import ArenaSpec
-from neurowalk.body.world import CompiledWorld, OneWorld, World, is_compiled
+from neurowalk.body.world import CompiledWorld, OneWorld, PlanarWorld, World, is_compiled
 from neurowalk.progress import Progress
 from neurowalk.sim.batch_control import BatchControllers
 from neurowalk.sim.checkpoint import capture, restore
@@ -83,7 +83,8 @@ def run_worlds(
     start = 0
     if stream.resume is not None:
         start = stream.resume.checkpoint.step
-        restore(stream.resume.checkpoint, roots)  # type: ignore[arg-type]
+        assert roots is not None
+        restore(stream.resume.checkpoint, roots)
     rec = Recorder(steps, worlds, stream, start)
     if stream.resume is not None:
         rec.restore(stream.resume.head)
@@ -178,7 +179,7 @@ def _steps(
     n, cols, nq = worlds.n, rec.cols, worlds.nq
     inputs, outputs, b, q, targets_c, us, foot_c, qpos_c, t_c = (cols[k] for k in rec.buf.RECORDED)
     joints = "targets" in worlds.columns  # (a planar world: no joints, no feet, no positions but its pose)
-    pose_c = None if nq else cols["pose"]  # a world without positions gives its pose (else derived from them)
+    planar = None if nq else cast(PlanarWorld, worlds)  # a world without positions gives its pose
     steering = worlds.action == "steering"  # the body takes the steering pair (e.g. wheels), not joint targets
     stopping = nq > 0 and any(r is not None for r in regions)
     bounds = tuple(np.array([r if r is not None else (np.nan,) * 4 for r in regions]).T)  # NaN: never stops
@@ -206,10 +207,10 @@ def _steps(
             if joints:
                 targets_c[:, i], foot_c[:, i] = targets, foot
             qpos = worlds.qpos
-            if pose_c is None:
+            if planar is None:
                 qpos_c[:, i] = qpos
             else:
-                pose_c[:, i] = worlds.pose  # type: ignore[attr-defined]
+                cols["pose"][:, i] = planar.pose
             t_c[:, i] = worlds.time  # last: a row with a time is complete
             done = k + 1
             t4 = clock()
@@ -232,7 +233,7 @@ def _steps(
                 rec.flush(done)
                 base = rec.base
                 if stream.checkpoint is not None and done < steps:
-                    stream.checkpoint(capture(done, roots, previous))  # type: ignore[arg-type]
+                    stream.checkpoint(capture(done, cast(dict[str, object], roots), previous))
         return steps
     finally:  # the profile's physics (its steps) and control parts, also of a run stopped part-way
         parts["control"] = parts["sense"] + parts["controllers"] + parts["record"]
