@@ -59,6 +59,7 @@ _LAZY = {
     "BODIES": "neurowalk.body.registry",
     "check_body": "neurowalk.body.check",
     "check_engine": "neurowalk.sim.check",
+    "check_controller": "neurowalk.controller",
 }
 
 
@@ -110,6 +111,7 @@ __all__ = [  # noqa: RUF022 (grouped by what they are)
     "Controller",
     "FixedController",
     "NeuralController",
+    "check_controller",
     "Observation",
     "SensoryParams",
     "simulate",

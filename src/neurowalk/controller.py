@@ -17,23 +17,31 @@ Without them the backbone target stays 0.
 
 from __future__ import annotations
 
+import functools
+from collections.abc import Callable, Mapping
+from pathlib import Path
 from typing import Protocol, runtime_checkable
 
 import numpy as np
 
 from neurowalk import anatomy
+from neurowalk.fileio import load_python_file
 from neurowalk.neural.backbone import BackboneControl, BackboneParams
 from neurowalk.neural.leg_control import LegControl, LegControlParams
 from neurowalk.neural.motor import LocomotionNetwork, LocomotionParams, motor_map
 from neurowalk.neural.sensory import Mode, SensoryNetwork, SensoryParams
 from neurowalk.observation import Observation
 
-CONTROLLERS: tuple[str, ...] = ("plastic", "static", "braitenberg", "fixed")
-
 
 @runtime_checkable
 class Controller(Protocol):
-    """What the control loop needs of a controller."""
+    """What the control loop needs of a controller.
+
+    A controller may declare state to record: ``recorded``, a mapping of its attributes' names to the shape of one
+    row (``()`` a number, ``(3,)`` three), read after each ``act`` and kept in ``trajectory.npz`` as
+    ``state.NAME`` (e.g. ``recorded = {"alarm": (2,)}``). The sensory network's weights b and q are the
+    trajectory's own columns.
+    """
 
     steering: np.ndarray  # (2,) last steering (O1, O2)
     inputs: np.ndarray  # (2,) last sensory inputs (I1, I2)
@@ -180,12 +188,139 @@ class FixedController:
         return self.locomotion.step(o1, o2).copy()
 
 
+def _fixed(*, steer: tuple[float, float] | None = None, **kwargs: object) -> Controller:
+    if steer is None:
+        raise ValueError("controller 'fixed' needs a steering pair (O1, O2)")
+    return FixedController(steer, **kwargs)  # type: ignore[arg-type]
+
+
+#: The built-in controllers: name -> the function that builds one from its settings (``steer``, ``sensory``,
+#: ``locomotion``, ``b0``, ``q0``, ``reflexes``, ``backbone``). A user's controller is a file: ``FILE.py:NAME``.
+BUILT_IN: dict[str, Callable[..., Controller]] = {
+    "plastic": functools.partial(NeuralController, "plastic"),
+    "static": functools.partial(NeuralController, "static"),
+    "braitenberg": functools.partial(NeuralController, "braitenberg"),
+    "fixed": _fixed,
+}
+CONTROLLERS: tuple[str, ...] = tuple(BUILT_IN)
+
+
 def make_controller(name: str, *, steer: tuple[float, float] | None = None, **kwargs: object) -> Controller:
-    """Build a controller by name: ``plastic``, ``static``, ``braitenberg`` or ``fixed``."""
-    if name == "fixed":
-        if steer is None:
-            raise ValueError("controller 'fixed' needs a steering pair (O1, O2)")
-        return FixedController(steer, **kwargs)  # type: ignore[arg-type]
-    if name not in CONTROLLERS:
-        raise ValueError(f"unknown controller {name!r}; expected one of {CONTROLLERS}")
-    return NeuralController(name, **kwargs)  # type: ignore[arg-type]
+    """Build a controller by name: one of :data:`CONTROLLERS` with its settings, or a user's ``FILE.py:NAME``
+    (:func:`load_controller`: NAME called with no arguments)."""
+    if is_user_controller(name):
+        return load_controller(name)()
+    if name not in BUILT_IN:
+        raise ValueError(f"unknown controller {name!r}; expected one of {', '.join(CONTROLLERS)}, or FILE.py:NAME")
+    if name != "fixed" and steer is not None:
+        raise ValueError(f"controller {name!r} takes no steering pair")
+    return BUILT_IN[name](**({"steer": steer} if name == "fixed" else {}), **kwargs)
+
+
+class ControllerFileError(ValueError):
+    """What is wrong with a user's controller reference ``FILE.py:NAME`` or its file, in one line."""
+
+
+def is_user_controller(name: str) -> bool:
+    """Whether ``name`` names a user's controller, ``FILE.py:NAME`` (a built-in's name has no ``.py:``)."""
+    return name.rpartition(":")[0].endswith(".py")
+
+
+def controller_file(name: str) -> Path | None:
+    """The file of a user's controller ``FILE.py:NAME`` (None for a built-in): its bytes are part of its runs'
+    fingerprint (:func:`neurowalk.fingerprint.code`)."""
+    return Path(name.rpartition(":")[0]) if is_user_controller(name) else None
+
+
+def load_controller(name: str) -> Callable[[], Controller]:
+    """What builds the user's controller ``FILE.py:NAME``: the file's ``NAME`` (a class or a function called with no
+    arguments for each run). The file runs as a module once per process (again where its bytes change);
+    :class:`ControllerFileError` in one line naming the file where it cannot be read or fails, or has no such
+    callable."""
+    path, _, attr = name.rpartition(":")
+    if not attr.isidentifier():
+        raise ControllerFileError(f"controller {name!r}: {attr!r} after the colon is not a Python name")
+    module = load_python_file(Path(path), "neurowalk_controller_", ControllerFileError)
+    factory = getattr(module, attr, None)
+    if factory is None:
+        raise ControllerFileError(f"{path} defines no {attr!r} (controller {name!r})")
+    if not callable(factory):
+        raise ControllerFileError(f"{path}: {attr} is a {type(factory).__name__}, not a class or function")
+    return factory  # type: ignore[no-any-return]
+
+
+def recorded_state(controller: object) -> dict[str, tuple[int, ...]]:
+    """A controller's declared state (``recorded``: name -> one row's shape), checked: names of attributes,
+    shapes of whole numbers >= 1 (a number: the shape ``(n,)``); ValueError names what is wrong."""
+    declared = getattr(controller, "recorded", None) or {}
+    what = type(controller).__name__
+    if not isinstance(declared, Mapping):
+        raise ValueError(f"controller {what}: recorded must map names to row shapes, got {declared!r}")
+    out = {}
+    for key, shape in declared.items():
+        if not isinstance(key, str) or not key.isidentifier():
+            raise ValueError(f"controller {what}: recorded name {key!r} is not an attribute's name")
+        dims = (shape,) if isinstance(shape, int) else tuple(shape)
+        if not all(isinstance(d, int) and not isinstance(d, bool) and d >= 1 for d in dims):
+            raise ValueError(f"controller {what}: recorded {key!r} has shape {shape!r}, not whole numbers >= 1")
+        out[key] = dims
+    return out
+
+
+class ControllerContractError(ValueError):
+    """A controller breaks the contract the loop relies on; the message is one line naming what."""
+
+
+def check_controller(controller: Controller | str, *, steps: int = 20, seed: int = 0) -> None:
+    """Test a controller (or a name: a built-in's, a user's ``FILE.py:NAME``) against the contract the loop relies
+    on, as :func:`~neurowalk.body.check.check_body` tests a body: ``reset(rng)``, ``act(observation)`` giving (19,)
+    finite joint targets in rad, ``steering`` two numbers in [-1, 1], its declared state (``recorded``) there in
+    its shapes, and the same Generator giving the same steps bit for bit, over ``steps`` steps of readings that
+    sweep an obstacle from out of range (no echo) to 0.1 m on either side. :class:`ControllerContractError` in
+    one line naming the controller and what is wrong."""
+    ctrl = make_controller(controller) if isinstance(controller, str) else controller
+    name = controller if isinstance(controller, str) else type(controller).__name__
+    try:
+        missing = [a for a in ("reset", "act", "steering") if not hasattr(ctrl, a)]
+        if missing:
+            raise ControllerContractError(f"it needs {', '.join(missing)}")
+        try:
+            recorded = recorded_state(ctrl)
+        except ValueError as e:
+            raise ControllerContractError(str(e).partition(": ")[2]) from None
+        far = np.linspace(2.0, 0.1, steps)
+        readings = [np.array([d, np.inf]) if k % 2 == 0 else np.array([np.inf, d]) for k, d in enumerate(far)]
+        runs = [_steps(ctrl, readings, recorded, seed) for _ in range(2)]
+        for k, (a, b) in enumerate(zip(*runs, strict=True)):
+            if not all(np.array_equal(x, y, equal_nan=True) for x, y in zip(a, b, strict=True)):
+                raise ControllerContractError(f"the same Generator gave another step {k}: not deterministic")
+    except ControllerContractError as e:
+        raise ControllerContractError(f"controller {name!r}: {e}") from None
+
+
+def _steps(
+    ctrl: Controller, readings: list[np.ndarray], recorded: dict[str, tuple[int, ...]], seed: int
+) -> list[list[np.ndarray]]:
+    """Each step's targets, steering and declared state, each checked, from a reset with ``seed``."""
+    ctrl.reset(np.random.default_rng(seed))
+    rows = []
+    for k, dist in enumerate(readings):
+        targets = np.asarray(ctrl.act(Observation(us_distance=dist)), dtype=float)
+        if targets.shape != (anatomy.N_ACTUATORS,) or not np.isfinite(targets).all():
+            n = anatomy.N_ACTUATORS
+            raise ControllerContractError(
+                f"act() must give {n} finite joint targets (rad), got {targets.shape} at step {k}"
+            )
+        steering = np.asarray(ctrl.steering, dtype=float)
+        if steering.shape != (2,) or not (np.abs(steering) <= 1.0).all():
+            raise ControllerContractError(
+                f"steering must be two numbers in [-1, 1], got {steering.tolist()} at step {k}"
+            )
+        row = [targets, steering.copy()]
+        for key, shape in recorded.items():
+            value = np.asarray(getattr(ctrl, key, None), dtype=float)
+            if value.shape != shape:
+                raise ControllerContractError(f"recorded {key!r} has shape {value.shape}, declared {shape}")
+            row.append(value.copy())
+        rows.append(row)
+    return rows

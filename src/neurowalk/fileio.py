@@ -1,14 +1,20 @@
-"""Writing files all or nothing: a temp file beside the target, then an atomic rename."""
+"""Files: written all or nothing (a temp file beside the target, then an atomic rename), and a user's Python file
+read as a module (:func:`load_python_file`: a study, a controller)."""
 
 from __future__ import annotations
 
 import errno
 import fcntl
+import hashlib
+import importlib.util
 import json
 import math
 import os
+import sys
 import tempfile
+import traceback
 from pathlib import Path
+from types import ModuleType
 from typing import IO, Any
 
 import numpy as np
@@ -150,3 +156,52 @@ def stale_temp_files(folder: Path) -> list[Path]:
     """Temp files that :func:`atomic_write` leaves only when its process is killed (``.NAME.XXXX.SUFFIX``)."""
     names = ("summary.json", "trajectory.npz", "run.png", "video.mp4")
     return [p for n in names for p in Path(folder).glob(f".{n}.*") if p.is_file()]
+
+
+def load_python_file(path: Path, prefix: str, error: type[ValueError]) -> ModuleType:
+    """A user's Python file run as a module named ``prefix`` + its stem (in ``sys.modules``: the module's dataclasses
+    and a process pool's workers find it); ``error`` (a ValueError) in one line naming the file, and its line where
+    it failed, where it cannot be read, does not compile or fails as it runs. A file read before with the same bytes
+    is the module made then (a run of many configs runs it once)."""
+    if not path.is_file():
+        raise error(f"no such file {str(path)!r}")
+    try:
+        data = path.read_bytes()
+        code = compile(data.decode("utf-8"), str(path), "exec")
+    except SyntaxError as e:
+        raise error(f"{path}, line {e.lineno}: SyntaxError: {e.msg}{_quoted(e.text)}") from None
+    except (UnicodeDecodeError, OSError) as e:
+        raise error(f"{path}: cannot be read as Python source ({type(e).__name__}: {e})") from None
+    key = (str(path.resolve()), hashlib.sha256(data).hexdigest())
+    if key in _LOADED:
+        return _LOADED[key]
+    name = f"{prefix}{path.stem.replace('-', '_')}"
+    spec = importlib.util.spec_from_file_location(name, path)
+    if spec is None:
+        raise error(f"{path}: not a Python file")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    try:
+        exec(code, module.__dict__)
+    except Exception as e:
+        del sys.modules[name]
+        raise error(f"{_where(path, e)}: {type(e).__name__}: {e}") from None
+    _LOADED[key] = module
+    return module
+
+
+_LOADED: dict[tuple[str, str], ModuleType] = {}  # (resolved path, SHA-256 of the bytes) -> the module
+
+
+def _where(path: Path, e: BaseException) -> str:
+    """``FILE, line N`` of the deepest frame of ``e`` in the user's file (``FILE`` where none is)."""
+    own = [f for f in traceback.extract_tb(e.__traceback__) if Path(f.filename).resolve() == path.resolve()]
+    if not own:
+        return str(path)
+    return f"{path}, line {own[-1].lineno}{_quoted(own[-1].line)}"
+
+
+def _quoted(line: str | None) -> str:
+    """`` (`the line`)`` of the user's file, or nothing."""
+    text = (line or "").strip()
+    return f" (`{text[:80]}`)" if text else ""

@@ -183,7 +183,11 @@ def episode_args(p: argparse.ArgumentParser) -> None:
     """The flags of one closed-loop run (`run`, `view`)."""
     p.add_argument("--arena", default="open", help="{arenas} (default open; options: `neurowalk arenas`)")
     option_args(p, "--arena-opt", "KEY=VALUE", "arena option, repeatable")
-    p.add_argument("--controller", default="plastic", help="{controllers} (default plastic)")
+    p.add_argument(
+        "--controller",
+        default="plastic",
+        help="{controllers}, or FILE.py:NAME: a controller of your own (default plastic)",
+    )
     p.add_argument("--steer", default=None, metavar="O1,O2", help="steering of controller 'fixed', e.g. -1,-1")
     p.add_argument(
         "--body",

@@ -224,7 +224,7 @@ def _open(args: argparse.Namespace) -> tuple[list[dict], Path, dict, ResultStore
     import importlib.util
 
     from neurowalk.runners import ray_backend
-    from neurowalk.runners.specs import DEFAULTS, check_specs, code_of, spec_key
+    from neurowalk.runners.specs import check_specs, code_of, spec_key
     from neurowalk.runners.store import ResultStore, StoreError
 
     if args.retries < 0:
@@ -243,12 +243,13 @@ def _open(args: argparse.Namespace) -> tuple[list[dict], Path, dict, ResultStore
     if args.export == "parquet" and importlib.util.find_spec("pyarrow") is None:
         raise UsageError("--export parquet needs `pip install -e '.[parquet]'` in neurowalk's folder")
     import neurowalk.runners.sweep  # noqa: F401  (here, with the signals held: it loads the simulation's modules)
+    from neurowalk.sim.config import EpisodeConfig
 
     out = out_folder(args.out)
     settings = {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items() if k != "command"}
     info: dict = {"command": "sweep", "settings": settings, "finished": False}
     with usage_errors(StoreError):
-        store = ResultStore(out / "results.sqlite", code_of(str(sp.get("body", DEFAULTS["body"])) for sp in specs))
+        store = ResultStore(out / "results.sqlite", code_of(EpisodeConfig.from_spec(sp) for sp in specs))
     if not args.quiet and (line := store.other_code_line({spec_key(sp) for sp in specs}, "sweep")):
         print(line)
     return specs, out, info, store, options

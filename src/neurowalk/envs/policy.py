@@ -8,6 +8,7 @@ surrogate`` bit for bit. :func:`evaluate` scores any policy (a callable observat
 neurons are compared on equal terms; :func:`evaluate_batch` does the same for a batched policy ((n, 2) -> (n, 2)) on
 the vectorised environment, all environments in one compiled step (what ``neurowalk baseline`` scores with).
 A :class:`NetworkPolicy` serves both: called with (n, 2) readings it steps n copies of its network at once.
+:class:`ControllerPolicy` makes any controller (a user's file too) a policy.
 """
 
 from __future__ import annotations
@@ -18,11 +19,13 @@ from typing import Any
 import numpy as np
 
 from neurowalk.compiled import jit
+from neurowalk.controller import Controller, make_controller
 from neurowalk.envs.explore import ExploreEnv
 from neurowalk.envs.task import STUCK_RADIUS, STUCK_WINDOW, within_disc
 from neurowalk.envs.vector import ExploreVectorEnv
 from neurowalk.neural.sensory import STEER, SensoryNetwork, sensory_input, sensory_step
 from neurowalk.neural.variants import get_variant
+from neurowalk.observation import Observation
 from neurowalk.progress import Progress
 
 NETWORKS: tuple[str, ...] = ("plastic", "static", "braitenberg")
@@ -82,6 +85,30 @@ class NetworkPolicy:
     def weights(self) -> dict[str, list[float]]:
         """The network's current weights: b (2,), q (2,)."""
         return {"b": self.net.b.tolist(), "q": self.net.q.tolist()}
+
+
+class ControllerPolicy:
+    """A controller (a built-in's name, a user's ``FILE.py:NAME`` or a :class:`~neurowalk.controller.Controller`) as
+    a policy of the environments: (2,) distances in m -> its steering (O1, O2) (``action="steering"``: the action of
+    ``Explore-v0`` and ``ExplorePhysics-v0``) or its (19,) joint targets in rad (``action="joints"``).
+
+    The controller sees what the environment observes: an :class:`~neurowalk.observation.Observation` of the two
+    distances (its other readings at their defaults). Call :meth:`reset` at the start of every episode.
+    """
+
+    def __init__(self, controller: Controller | str, *, action: str = "steering", seed: int = 0) -> None:
+        if action not in ("steering", "joints"):
+            raise ValueError(f"unknown action {action!r}; expected steering or joints")
+        self.controller = make_controller(controller) if isinstance(controller, str) else controller
+        self.action, self._seed = action, seed
+
+    def reset(self) -> None:
+        """The controller's start state (its Generator from ``seed``)."""
+        self.controller.reset(np.random.default_rng(self._seed))
+
+    def __call__(self, observation: np.ndarray) -> np.ndarray:
+        targets = self.controller.act(Observation(us_distance=np.array(observation, dtype=float)))
+        return np.array(self.controller.steering, dtype=float) if self.action == "steering" else targets
 
 
 def evaluate(

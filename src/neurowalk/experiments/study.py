@@ -269,7 +269,7 @@ def compute(study: Study, settings: Settings) -> Result:
         result = _measured(study, settings, grouped)
     except KeyboardInterrupt as e:
         raise RunsStopped(kept) from e
-    result.code, result.quick = code_of([p.config.body for p in plans], files), settings.quick
+    result.code, result.quick = code_of([p.config for p in plans], files), settings.quick
     if study.records_physics and plans:
         result.summary["physics_settings"] = physics_of([k.summary for runs in grouped.values() for k in runs])
         if settings.shared_runs is not None:  # the runs are elsewhere: the json names their store
@@ -391,7 +391,7 @@ def kept_runs(study: Study, settings: Settings) -> dict[Path, int] | None:
     if not keys:
         return None
     path = store_path(settings.shared_runs or settings.out)
-    n = count_finished(path, keys, code_of([p.config.body for p in plans], study_files(study, plans)))
+    n = count_finished(path, keys, code_of([p.config for p in plans], study_files(study, plans)))
     return {path: n} if n else {}
 
 

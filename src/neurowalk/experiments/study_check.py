@@ -9,15 +9,13 @@ part that is not a function of the right arguments, ``runs`` yielding anything b
 
 from __future__ import annotations
 
-import importlib.util
 import inspect
-import sys
-import traceback
 from collections.abc import Hashable
 from pathlib import Path
 from typing import Any
 
 from neurowalk.experiments.study import Plan, Settings, Study, resolve
+from neurowalk.fileio import load_python_file
 from neurowalk.sim.config import EpisodeConfig
 
 #: Each part of a study, with the arguments it is called with.
@@ -35,24 +33,7 @@ def load_study(path: Path | str) -> Study:
     path = Path(path)
     if not path.is_file():
         raise StudyFileError(f"no study file {str(path)!r}")
-    try:
-        source = path.read_text(encoding="utf-8")
-        code = compile(source, str(path), "exec")
-    except SyntaxError as e:
-        raise StudyFileError(f"{path}, line {e.lineno}: SyntaxError: {e.msg}{_quoted(e.text)}") from None
-    except (UnicodeDecodeError, OSError) as e:
-        raise StudyFileError(f"{path}: cannot be read as Python source ({type(e).__name__}: {e})") from None
-    name = f"neurowalk_study_{path.stem.replace('-', '_')}"
-    spec = importlib.util.spec_from_file_location(name, path)
-    if spec is None:
-        raise StudyFileError(f"{path}: not a Python file")
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module  # the module's dataclasses and pickles find it
-    try:
-        exec(code, module.__dict__)
-    except Exception as e:
-        del sys.modules[name]
-        raise StudyFileError(f"{_where(path, e)}: {type(e).__name__}: {e}") from None
+    module = load_python_file(path, "neurowalk_study_", StudyFileError)
     found = [v for v in vars(module).values() if isinstance(v, Study)]
     chosen = getattr(module, "study", None)
     if isinstance(chosen, Study):
@@ -98,17 +79,3 @@ def _takes(fn: Any, n: int) -> bool:
     except ValueError:  # a builtin without a signature
         return True
     return True
-
-
-def _where(path: Path, e: BaseException) -> str:
-    """``FILE, line N`` of the deepest frame of ``e`` in the study file (``FILE`` where none is)."""
-    own = [f for f in traceback.extract_tb(e.__traceback__) if Path(f.filename).resolve() == path.resolve()]
-    if not own:
-        return str(path)
-    return f"{path}, line {own[-1].lineno}{_quoted(own[-1].line)}"
-
-
-def _quoted(line: str | None) -> str:
-    """`` (`the line`)`` of the study file, or nothing."""
-    text = (line or "").strip()
-    return f" (`{text[:80]}`)" if text else ""

@@ -176,7 +176,7 @@ def run_store(
         configs.setdefault(key, cfg)
     path.parent.mkdir(parents=True, exist_ok=True)
     with deferred():  # opened whole (its lock, its tables), or not at all
-        store = ResultStore(path, code_of((c.body for c in configs.values()), files))
+        store = ResultStore(path, code_of(configs.values(), files))
     with store:
         held = store.results(keys=wanted)
         if held and progress:

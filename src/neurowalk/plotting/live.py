@@ -64,7 +64,7 @@ class LiveRun:
         first, last = math.ceil(start / self.stride), math.ceil(stop / self.stride)  # frames in [start, stop)
         if last > first:
             picked = r.frames[first:last] - start
-            chunk = Trajectory(**{k: v[picked] for k, v in vars(rows).items()})
+            chunk = rows.map(lambda v: v[picked])
             r.pos[first:last], r.quat[first:last], r.ray_from[first:last], r.ray_to[first:last] = self.scenery.poses(
                 chunk
             )

@@ -117,7 +117,7 @@ def read_run(folder: Path) -> tuple[dict[str, Any], Trajectory]:
     except (OSError, ValueError, KeyError, zipfile.BadZipFile, EOFError) as e:
         raise RunFolderError(f"{traj_path}: damaged or incomplete arrays ({type(e).__name__}: {e})") from None
     n = len(tr.t)
-    bad = [k for k, v in vars(tr).items() if len(v) != n]
+    bad = [k for k, v in tr.arrays().items() if len(v) != n]
     if n == 0 or bad:
         raise RunFolderError(f"{traj_path}: damaged arrays (no steps, or columns of other lengths: {bad})")
     return summary, tr
@@ -153,7 +153,7 @@ def load_replay(folder: str | Path, max_frames: int = MAX_FRAMES) -> Replay:
 
 def _every(tr: Trajectory, rows: np.ndarray) -> Trajectory:
     """The rows ``rows`` of ``tr`` (copies)."""
-    return Trajectory(**{k: v[rows] for k, v in vars(tr).items()})
+    return tr.map(lambda v: v[rows])
 
 
 class Scenery:

@@ -20,7 +20,6 @@ from typing import Any
 
 from neurowalk import fingerprint
 from neurowalk.arenas import ARENAS, arena_options, make_arena
-from neurowalk.body.registry import body_files
 from neurowalk.fileio import to_jsonable
 from neurowalk.runners.stopping import stop_requested
 from neurowalk.sim.config import DEFAULTS, FIELDS, LATER
@@ -40,15 +39,13 @@ def spec_key(spec: Spec) -> str:
     return EpisodeConfig.from_spec(spec).key()
 
 
-def code_of(bodies: Iterable[str], files: Iterable[Path | str] = ()) -> str:
-    """The fingerprint (:func:`neurowalk.fingerprint.code`) a store keeps runs of these ``bodies`` under: the
-    package, its libraries, the user's ``files`` (a study's) and the files the bodies read (a user's MJCF robot)."""
+def code_of(configs: Iterable[EpisodeConfig], files: Iterable[Path | str] = ()) -> str:
+    """The fingerprint (:func:`neurowalk.fingerprint.code`) a store keeps the runs of ``configs`` under: the package,
+    its libraries, the user's ``files`` (a study's) and the files the runs read (a user's MJCF robot, a user's
+    controller: :meth:`EpisodeConfig.files`)."""
     found = [Path(f) for f in files]
-    for body in dict.fromkeys(bodies):
-        try:
-            found += body_files(str(body))
-        except ValueError:  # an unknown body: its run fails on its own
-            continue
+    for cfg in configs:
+        found += cfg.files()
     return fingerprint.code(found)
 
 

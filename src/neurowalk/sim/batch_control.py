@@ -16,7 +16,7 @@ import numpy as np
 
 from neurowalk import anatomy
 from neurowalk.compiled import jit
-from neurowalk.controller import Controller, FixedController, NeuralController
+from neurowalk.controller import Controller, FixedController, NeuralController, recorded_state
 from neurowalk.neural.motor import locomotion_step
 from neurowalk.neural.sensory import STEER, sensory_input, sensory_step
 from neurowalk.observation import Observation
@@ -64,6 +64,8 @@ class BatchControllers:
         outputs: (n, 2) last steering (O1, O2).
         b, q: (n, 2) sensory weights after the last step (NaN for a fixed controller).
         targets: (n, 19) last joint targets (rad, actuator order).
+        recorded: the controllers' declared state (``Controller.recorded``: name -> a row's shape; the same for
+            every copy). state: name -> (n, ...) its values after the last step.
         compiled: whether the compiled step serves every copy (else each controller's ``act``).
     """
 
@@ -81,6 +83,11 @@ class BatchControllers:
         self.b = np.full((n, 2), np.nan)
         self.q = np.full((n, 2), np.nan)
         self.targets = np.zeros((n, anatomy.N_ACTUATORS))
+        declared = [recorded_state(c) for c in self.controllers]
+        if any(d != declared[0] for d in declared):
+            raise ValueError("the controllers of one batch declare different recorded state")
+        self.recorded = declared[0] if declared else {}
+        self.state = {k: np.full((n, *shape), np.nan) for k, shape in self.recorded.items()}
 
     def reset(self, rngs: Sequence[np.random.Generator | None]) -> None:
         """Reset every controller with its run's Generator, then pack the start states."""
@@ -169,4 +176,6 @@ class BatchControllers:
             if self._weights[i]:
                 self.b[i] = c.b  # type: ignore[attr-defined]
                 self.q[i] = c.q  # type: ignore[attr-defined]
+            for k, a in self.state.items():
+                a[i] = getattr(c, k)
         return self.targets

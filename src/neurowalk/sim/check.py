@@ -25,28 +25,30 @@ from neurowalk.sim.trajectory import Trajectory
 
 __all__ = ["EngineContractError", "check_engine"]
 
-_ROWS = ("t", "pose", "inputs", "outputs", "us_distance", "qpos")
-
 
 class EngineContractError(ValueError):
     """An engine breaks the contract the runners rely on; the message is one line naming what."""
 
 
-def check_engine(engine: Engine, *, options: EngineOptions | None = None, steps: int = 12) -> None:
-    """Test ``engine`` against the engine contract with ``steps``-step runs (``options``: its device, threads);
-    raise :class:`EngineContractError` (one line naming the engine and what is wrong) where it breaks it."""
+def check_engine(
+    engine: Engine, *, options: EngineOptions | None = None, steps: int = 12, controller: str = "plastic"
+) -> None:
+    """Test ``engine`` against the engine contract with ``steps``-step runs of ``controller`` (a user's
+    ``FILE.py:NAME`` too) (``options``: its device, threads); raise :class:`EngineContractError` (one line naming the
+    engine and what is wrong) where it breaks it."""
     try:
-        _check(engine, engine.resolve(options or EngineOptions()), steps)
+        _check(engine, engine.resolve(options or EngineOptions()), steps, controller)
     except EngineContractError as e:
         raise EngineContractError(f"engine {engine.name!r}: {e}") from None
 
 
-def _check(engine: Engine, options: EngineOptions, steps: int) -> None:
+def _check(engine: Engine, options: EngineOptions, steps: int, controller: str) -> None:
     body = next((name for name, info in BODIES.items() if engine.name in info.engines), None)
     planar = body is None
     body = body or next(name for name, info in BODIES.items() if not info.physics)
     kind = DEFAULT_ENGINE if planar else engine.name
-    configs = [EpisodeConfig(arena="box", steps=steps, seed=s, body=body, engine=kind) for s in (1, 2)]
+    configs = [EpisodeConfig(arena="box", steps=steps, seed=s, body=body, engine=kind, controller=controller)
+               for s in (1, 2)]  # fmt: skip
     engine.check(configs, options)
     if engine.many_worlds and engine.group_key(configs[0]) != engine.group_key(configs[1]):
         raise EngineContractError("two runs of one length and rate must share a call (group_key)")
@@ -72,7 +74,8 @@ def _check(engine: Engine, options: EngineOptions, steps: int) -> None:
     if engine.resumable:
         stream = Streaming(sink=stream.sink, chunk=chunk, checkpoint=lambda c: checkpoints.setdefault(c.step, c))
     one = engine.run_one(configs[0], options, stream)
-    streamed = Trajectory(**{k: np.concatenate([getattr(p, k) for _, p in pieces]) for k in vars(pieces[0][1])})
+    cols = [p.arrays() for _, p in pieces]
+    streamed = Trajectory.from_arrays({k: np.concatenate([c[k] for c in cols]) for k in cols[0]})
     if [s for s, _ in pieces] != list(range(0, steps, chunk)) or _differ(streamed, first[0].trajectory) is not None:
         raise EngineContractError("run_one() must stream run()'s rows to its sink, a chunk at a time, in order")
     if _differ(one.trajectory, first[0].trajectory) is not None:
@@ -89,11 +92,13 @@ def _check(engine: Engine, options: EngineOptions, steps: int) -> None:
 
 def _differ(a: Trajectory, b: Trajectory) -> str | None:
     """The first of a run's columns in which ``a`` and ``b`` differ (NaN equal to NaN), or None."""
-    for name in _ROWS:
-        if not np.array_equal(getattr(a, name), getattr(b, name), equal_nan=True):
+    if a.arrays().keys() != b.arrays().keys():
+        return "columns"
+    for name, col in a.arrays().items():
+        if not np.array_equal(col, b.arrays()[name], equal_nan=True):
             return name
     return None
 
 
 def _copy(rows: Trajectory) -> Trajectory:
-    return Trajectory(**{k: np.array(v) for k, v in vars(rows).items()})
+    return rows.map(np.array)

@@ -12,15 +12,23 @@ import json
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from neurowalk.arenas import ArenaSpec, arena_options, make_arena
 from neurowalk.body.registry import BODIES as REGISTRY
-from neurowalk.body.registry import body_info, check_body_opts, make_body
+from neurowalk.body.registry import body_files, body_info, check_body_opts, make_body
 from neurowalk.body.surrogate import load_calibration
-from neurowalk.controller import CONTROLLERS, Controller, make_controller
+from neurowalk.controller import (
+    CONTROLLERS,
+    Controller,
+    controller_file,
+    is_user_controller,
+    load_controller,
+    make_controller,
+)
 from neurowalk.fileio import to_jsonable
 from neurowalk.neural.cpg import GAITS, CpgParams
 from neurowalk.neural.motor import LocomotionParams
@@ -45,7 +53,8 @@ class EpisodeConfig:
     Attributes:
         arena: the arena's name (``neurowalk arenas``).
         arena_opts: the arena's options (name -> value; ``neurowalk arenas`` lists them with their defaults).
-        controller: plastic | static | braitenberg | fixed.
+        controller: plastic | static | braitenberg | fixed, or a user's ``FILE.py:NAME``
+            (:func:`~neurowalk.controller.load_controller`).
         steer: (O1, O2) in [-1, 1], the constant steering of controller ``fixed`` (None for the others).
         body: the robot (``neurowalk bodies``).
         steps: control steps of the run.
@@ -124,8 +133,14 @@ class EpisodeConfig:
         for name in ("arena_opts", "body_opts"):
             if not isinstance(getattr(self, name), Mapping):
                 raise ValueError(f"{name} must be an object of option values, got {getattr(self, name)!r}")
-        if self.controller not in CONTROLLERS:
-            raise ValueError(f"unknown controller {self.controller!r}; expected one of {', '.join(CONTROLLERS)}")
+        if is_user_controller(self.controller):
+            load_controller(self.controller)  # the file runs once here: an error names the file and its line
+            if self.reflexes or self.backbone:
+                raise ValueError("reflexes and backbone control go with the built-in controllers")
+        elif self.controller not in CONTROLLERS:
+            raise ValueError(
+                f"unknown controller {self.controller!r}; expected one of {', '.join(CONTROLLERS)}, or FILE.py:NAME"
+            )
         info = body_info(self.body)  # raises on an unknown body
         body_opts = check_body_opts(self.body, dict(self.body_opts))
         params = check_overrides(self.params) if self.params is not None else None
@@ -211,6 +226,12 @@ class EpisodeConfig:
             if value and value != DEFAULTS[name]:
                 out[name] = to_jsonable(value)
         return out
+
+    def files(self) -> tuple[Path, ...]:
+        """The user's files the run reads (a user's MJCF body, a user's controller): their bytes are part of its
+        fingerprint (:func:`neurowalk.fingerprint.code`)."""
+        found = controller_file(self.controller)
+        return (*body_files(self.body), *((found,) if found is not None else ()))
 
     def key(self) -> str:
         """The run's name: SHA-256 (64 hex digits) of its canonical spec's JSON (equal runs, equal keys, in any
@@ -346,6 +367,8 @@ def build_controller(cfg: EpisodeConfig) -> Controller:
     v = get_variant(cfg.variant, cfg.params)
     gait = LocomotionParams(cpg=CpgParams.for_gait(cfg.gait))
     kwargs: dict[str, Any] = {**weights, **climbing, "locomotion": v.locomotion(gait)}
+    if is_user_controller(cfg.controller):
+        return make_controller(cfg.controller)
     if cfg.controller != "fixed":
         kwargs["sensory"] = v.sensory
     return make_controller(cfg.controller, steer=cfg.steer, **kwargs)

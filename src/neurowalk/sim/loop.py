@@ -37,6 +37,7 @@ from neurowalk.sim.checkpoint import capture, restore
 from neurowalk.sim.config import Episode, EpisodeConfig, progress_bar, seeds
 from neurowalk.sim.engine_interface import Streaming
 from neurowalk.sim.recorder import Recorder, in_region
+from neurowalk.sim.trajectory import STATE
 
 __all__ = ["TIMING", "Run", "run_worlds"]
 
@@ -85,7 +86,7 @@ def run_worlds(
         start = stream.resume.checkpoint.step
         assert roots is not None
         restore(stream.resume.checkpoint, roots)
-    rec = Recorder(steps, worlds, stream, start)
+    rec = Recorder(steps, worlds, stream, start, controllers.recorded)
     if stream.resume is not None:
         rec.restore(stream.resume.head)
     bar = progress_bar(steps * n, progress, label, initial=start * n)
@@ -179,6 +180,7 @@ def _steps(
     n, cols, nq = worlds.n, rec.cols, worlds.nq
     inputs, outputs, b, q, targets_c, us, foot_c, qpos_c, t_c = (cols[k] for k in rec.buf.RECORDED)
     joints = "targets" in worlds.columns  # (a planar world: no joints, no feet, no positions but its pose)
+    state = [(rec.state[STATE + k], a) for k, a in ctl.state.items()]  # the controllers' declared state
     planar = None if nq else cast(PlanarWorld, worlds)  # a world without positions gives its pose
     steering = worlds.action == "steering"  # the body takes the steering pair (e.g. wheels), not joint targets
     stopping = nq > 0 and any(r is not None for r in regions)
@@ -206,6 +208,8 @@ def _steps(
             inputs[:, i], outputs[:, i], b[:, i], q[:, i], us[:, i] = ctl.inputs, ctl.outputs, ctl.b, ctl.q, dist
             if joints:
                 targets_c[:, i], foot_c[:, i] = targets, foot
+            for col, values in state:
+                col[:, i] = values
             qpos = worlds.qpos
             if planar is None:
                 qpos_c[:, i] = qpos

@@ -10,8 +10,7 @@ from __future__ import annotations
 
 import functools
 import math
-from collections.abc import Callable, Iterable
-from dataclasses import fields
+from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
 import numpy as np
@@ -22,7 +21,7 @@ from neurowalk.body.world import CompiledWorld, World
 from neurowalk.sim.config import Episode, EpisodeConfig
 from neurowalk.sim.engine_interface import Streaming
 from neurowalk.sim.summarize import Record, RecordKeeper, summarize
-from neurowalk.sim.trajectory import Trajectory, poses_from_qpos, up_z_from_qpos
+from neurowalk.sim.trajectory import STATE, Trajectory, poses_from_qpos, up_z_from_qpos
 
 __all__ = ["Recorder", "derive_columns", "finish_episode"]
 
@@ -39,7 +38,14 @@ class Recorder:
     Many worlds keep every row (no sink, no chunks).
     """
 
-    def __init__(self, steps: int, world: World | CompiledWorld, stream: Streaming, start: int) -> None:
+    def __init__(
+        self,
+        steps: int,
+        world: World | CompiledWorld,
+        stream: Streaming,
+        start: int,
+        state: Mapping[str, tuple[int, ...]] | None = None,
+    ) -> None:
         sink, keep_rows = stream.sink, stream.keep_rows
         if world.n > 1 and (sink is not None or not keep_rows):
             raise ValueError("the rows of many worlds are kept in memory: no sink, keep_rows=True")
@@ -55,10 +61,12 @@ class Recorder:
             else _constant(1.0 if k == "up_z" else math.nan, (world.n, rows, *s))  # read-only: no memory
             for k, s in Trajectory.shapes(nq).items()
         }
-        self.worlds = [Trajectory(**{k: a[w] for k, a in self.cols.items()}) for w in range(world.n)]
+        self.state = {STATE + k: np.full((world.n, rows, *s), np.nan) for k, s in (state or {}).items()}
+        self.cols.update(self.state)
+        self.worlds = [Trajectory.from_arrays({k: a[w] for k, a in self.cols.items()}) for w in range(world.n)]
         self.buf = self.worlds[0]
         self.base = 0 if keep_rows else start
-        self.keeper = None if keep_rows else RecordKeeper(steps, nq, stream.picture_rows)
+        self.keeper = None if keep_rows else RecordKeeper(steps, nq, stream.picture_rows, state)
         self.stride = 1 if self.keeper is None else self.keeper.stride
 
     def done(self) -> int:
@@ -73,8 +81,9 @@ class Recorder:
             if stop <= start:
                 continue
             if self.keep_rows:
-                for f in fields(Trajectory):
-                    getattr(self.buf, f.name)[start:stop] = getattr(rows, f.name)[: stop - start]
+                mine = self.buf.arrays()
+                for k, v in rows.arrays().items():
+                    mine[k][start:stop] = v[: stop - start]
             else:
                 self._keep(rows, start, stop)
 

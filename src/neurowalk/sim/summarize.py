@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
-from dataclasses import dataclass, fields
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -13,7 +13,7 @@ import neurowalk
 from neurowalk import fingerprint, metrics
 from neurowalk.arenas import ArenaSpec
 from neurowalk.arenas.climbing import CLIMB_WORDS
-from neurowalk.body.registry import body_files, body_settings, physics_settings, replay_contacts
+from neurowalk.body.registry import body_settings, physics_settings, replay_contacts
 from neurowalk.neural.variants import get_variant
 from neurowalk.sim.config import EpisodeConfig
 from neurowalk.sim.trajectory import Trajectory
@@ -70,7 +70,9 @@ class RecordKeeper:
     first ``done`` steps. Memory: 41 bytes a step, plus at most ``picture_rows`` rows (every ``stride``-th).
     """
 
-    def __init__(self, steps: int, nq: int, picture_rows: int) -> None:
+    def __init__(
+        self, steps: int, nq: int, picture_rows: int, state: Mapping[str, tuple[int, ...]] | None = None
+    ) -> None:
         self.stride = max(1, math.ceil(steps / picture_rows))
         self.rec = Record(
             np.full((steps, 3), np.nan),
@@ -82,7 +84,7 @@ class RecordKeeper:
             np.full(2, np.nan),
             np.full(2, np.nan),
         )
-        self.pic = Trajectory.empty(math.ceil(steps / self.stride), nq)
+        self.pic = Trajectory.empty(math.ceil(steps / self.stride), nq, state)
 
     def keep(self, rows: Trajectory, start: int, stop: int) -> None:
         """Copy the columns and picture rows of steps [start, stop) (``rows`` from ``start``)."""
@@ -96,10 +98,10 @@ class RecordKeeper:
         r.final_b, r.final_q = rows.b[n - 1].copy(), rows.q[n - 1].copy()
         first = -(-start // self.stride) * self.stride  # the first picture row at or after start
         take = np.arange(first, stop, self.stride)
-        for f in fields(Trajectory):
-            src = getattr(rows, f.name)
-            if src.shape[1:] == getattr(self.pic, f.name).shape[1:]:
-                getattr(self.pic, f.name)[take // self.stride] = src[take - start]
+        pic = self.pic.arrays()
+        for k, src in rows.arrays().items():
+            if src.shape[1:] == pic[k].shape[1:]:
+                pic[k][take // self.stride] = src[take - start]
 
     def record(self, done: int) -> Record:
         """The record of the first ``done`` steps."""
@@ -218,7 +220,7 @@ def summarize(
         "wall_time_s": wall_time_s,
         "real_time_factor": sim_time / wall_time_s if wall_time_s > 0 else None,
         "neurowalk_version": neurowalk.__version__,
-        "code": fingerprint.code(body_files(cfg.body)),
+        "code": fingerprint.code(cfg.files()),
     }
 
 

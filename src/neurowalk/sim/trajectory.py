@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import shutil
 import zipfile
-from collections.abc import Iterator
-from dataclasses import dataclass, fields
+from collections.abc import Callable, Iterator, Mapping
+from dataclasses import dataclass, field, fields
 from pathlib import Path
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 from numpy.lib import format as npformat
@@ -17,6 +17,7 @@ from neurowalk.fileio import atomic_write
 from neurowalk.sim.checkpoint import Checkpoint, CheckpointError
 
 CHECKPOINT = "checkpoint.npz"  # a streamed physics run's last checkpoint, in its parts folder
+STATE = "state."  # the prefix of a controller's declared state's columns in trajectory.npz
 
 
 @dataclass
@@ -29,7 +30,8 @@ class Trajectory:
         targets: (T, 19) commanded joint angles, rad, actuator order. joint_angles: (T, 19) measured
         (noise-free) joint angles. us_distance: (T, 2) ultrasonic readings as the controller saw
         them (m, inf = no echo). foot_contact: (T, 6). up_z: (T,) trunk up-vector z. qpos: (T, nq)
-        full physics state positions (for replay and video).
+        full physics state positions (for replay and video). state: the controller's declared state
+        (``Controller.recorded``), by name, each (T, ...); in ``trajectory.npz`` as ``state.NAME``.
     """
 
     t: np.ndarray
@@ -44,11 +46,29 @@ class Trajectory:
     foot_contact: np.ndarray
     up_z: np.ndarray
     qpos: np.ndarray
+    state: dict[str, np.ndarray] = field(default_factory=dict)
 
     @classmethod
-    def empty(cls, steps: int, nq: int) -> Trajectory:
-        """Preallocated arrays for ``steps`` rows."""
-        return cls(**{k: np.full((steps, *s), np.nan) for k, s in cls.shapes(nq).items()})
+    def empty(cls, steps: int, nq: int, state: Mapping[str, tuple[int, ...]] | None = None) -> Trajectory:
+        """Preallocated arrays for ``steps`` rows (``state``: the controller's declared state's row shapes)."""
+        shapes = {**cls.shapes(nq), **{STATE + k: s for k, s in (state or {}).items()}}
+        return cls.from_arrays({k: np.full((steps, *s), np.nan) for k, s in shapes.items()})
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Every column by its name in ``trajectory.npz`` (the controller's state as ``state.NAME``)."""
+        out = {f.name: getattr(self, f.name) for f in fields(self) if f.name != "state"}
+        out.update({STATE + k: v for k, v in self.state.items()})
+        return out
+
+    @classmethod
+    def from_arrays(cls, arrays: Mapping[str, np.ndarray]) -> Trajectory:
+        """The trajectory of columns named as :meth:`arrays` names them."""
+        state = {k[len(STATE) :]: v for k, v in arrays.items() if k.startswith(STATE)}
+        return cls(**{k: v for k, v in arrays.items() if not k.startswith(STATE)}, state=state)
+
+    def map(self, fn: Callable[[np.ndarray], np.ndarray]) -> Trajectory:
+        """The trajectory of ``fn`` of each column (e.g. ``tr.map(np.copy)``, rows picked by ``lambda v: v[rows]``)."""
+        return Trajectory.from_arrays({k: fn(v) for k, v in self.arrays().items()})
 
     @staticmethod
     def shapes(nq: int) -> dict[str, tuple[int, ...]]:
@@ -84,18 +104,19 @@ class Trajectory:
 
     def rows(self, start: int, stop: int) -> Trajectory:
         """Rows [start, stop) (views)."""
-        return Trajectory(**{f.name: getattr(self, f.name)[start:stop] for f in fields(self)})
+        return self.map(lambda v: v[start:stop])
 
     def save(self, path: str | Path) -> None:
         """Write ``trajectory.npz`` (compressed) atomically."""
-        arrays = {f.name: getattr(self, f.name) for f in fields(self)}
+        arrays: dict[str, Any] = self.arrays()  # (numpy's stub reads a name as its allow_pickle)
         atomic_write(Path(path), lambda tmp: np.savez_compressed(Path(tmp), **arrays))
 
     @classmethod
     def load(cls, path: str | Path) -> Trajectory:
         """Read a ``trajectory.npz``."""
         with np.load(path, allow_pickle=False) as z:
-            return cls(**{f.name: z[f.name] for f in fields(cls)})
+            names = [f.name for f in fields(cls) if f.name != "state"]
+            return cls.from_arrays({k: z[k] for k in [*names, *(k for k in z.files if k.startswith(STATE))]})
 
 
 class PartWriter:
@@ -156,7 +177,8 @@ class PartWriter:
         parts = [rows for _, rows in self.pieces()]
         if not parts:
             raise ValueError(f"no trajectory parts in {str(self.folder)!r}")
-        return Trajectory(**{f.name: np.concatenate([getattr(p, f.name) for p in parts]) for f in fields(Trajectory)})
+        cols = [p.arrays() for p in parts]
+        return Trajectory.from_arrays({k: np.concatenate([c[k] for c in cols]) for k in cols[0]})
 
     def qpos_rows(self, rows: np.ndarray) -> np.ndarray:
         """The recorded positions of the given steps, (len(rows), nq), read from the parts that hold them only."""
@@ -190,23 +212,25 @@ class PartWriter:
         total = self.count() if steps is None else min(steps, self.count())
 
         def write(tmp: str) -> None:
+            with np.load(paths[0], allow_pickle=False) as z:
+                names = list(z.files)  # the columns of the parts (each part has the same)
             with zipfile.ZipFile(tmp, "w", compression=zipfile.ZIP_DEFLATED, allowZip64=True) as zf:
-                for f in fields(Trajectory):
+                for name in names:
                     with np.load(paths[0], allow_pickle=False) as z:
-                        first = z[f.name]
+                        first = z[name]
                     header = {
                         "descr": npformat.dtype_to_descr(first.dtype),
                         "fortran_order": False,
                         "shape": (total, *first.shape[1:]),
                     }
-                    with zf.open(f"{f.name}.npy", "w", force_zip64=True) as out:
+                    with zf.open(f"{name}.npy", "w", force_zip64=True) as out:
                         npformat.write_array_header_2_0(out, header)
                         left = total
                         for p in paths:
                             if left <= 0:
                                 break
                             with np.load(p, allow_pickle=False) as z:
-                                col = np.ascontiguousarray(z[f.name][:left])
+                                col = np.ascontiguousarray(z[name][:left])
                             out.write(col.tobytes())
                             left -= len(col)
 

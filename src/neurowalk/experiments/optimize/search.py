@@ -108,7 +108,7 @@ class Runner:
         """The results of ``specs`` (summaries, in order), computing only those not in the store."""
         configs = [EpisodeConfig.from_spec(s) for s in specs]
         keys = {c.key() for c in configs}
-        before = count_finished(store_path(self.folder), keys, code_of(c.body for c in configs))
+        before = count_finished(store_path(self.folder), keys, code_of(configs))
         results = run_store([(c, ()) for c in configs], self.folder, self.workers, backend=self.backend,
                             address=self.address, desc="optimize", progress=self.progress)  # fmt: skip
         self.skipped += before

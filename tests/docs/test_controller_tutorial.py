@@ -1,0 +1,158 @@
+"""The tutorial "Your own controller": its file, outside the package, runs unchanged on AMOSII (the CPU loop and
+mujoco.batch, bit for bit), the wheeled robot, the surrogate, the command line and as a Gymnasium policy, with its
+declared state recorded row for row; its bytes are part of its runs' code; a broken one is named in one line."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import ClassVar
+
+import numpy as np
+import pytest
+from doc_blocks import blocks
+
+from neurowalk import EpisodeConfig, run_episode
+from neurowalk.cli import main
+from neurowalk.controller import ControllerContractError, check_controller
+from neurowalk.envs.explore import ExploreEnv
+from neurowalk.envs.policy import ControllerPolicy, NetworkPolicy
+from neurowalk.sim.check import check_engine
+from neurowalk.sim.engines import ENGINES, PLANAR
+from neurowalk.sim.trajectory import Trajectory
+
+PAGE = "docs/tutorials/controller.md"
+
+
+@pytest.fixture
+def wary(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> str:
+    """The page's controller file, saved as the reader saves it, in the folder the test runs in."""
+    (block,) = [b for b in blocks(PAGE) if b.kind == "file"]
+    assert block.why == "wary.py"
+    (tmp_path / "wary.py").write_text(block.code)
+    monkeypatch.chdir(tmp_path)
+    return "wary.py:Wary"
+
+
+def _leaky(tr: Trajectory, leak: float = 0.9) -> np.ndarray:
+    """The alarm the recorded inputs give through the file's filter (alarm_k = leak alarm_k-1 + (1 - leak) in_k)."""
+    alarm, out = np.zeros(2), []
+    for row in tr.inputs:
+        alarm = leak * alarm + (1.0 - leak) * row
+        out.append(alarm)
+    return np.array(out)
+
+
+@pytest.mark.parametrize("body", ["amosii", "wheeled", "surrogate"])
+def test_the_file_runs_on_every_body_with_its_state_recorded_row_for_row(wary: str, body: str) -> None:
+    ep = run_episode(EpisodeConfig(arena="corner", controller=wary, body=body, steps=400, seed=2))
+    tr = ep.trajectory
+    assert set(tr.state) == {"alarm"} and tr.state["alarm"].shape == (400, 2)
+    np.testing.assert_allclose(tr.state["alarm"], _leaky(tr), rtol=0, atol=1e-12)  # the same step's row
+    left, right = tr.state["alarm"].T
+    alarmed = np.maximum(left, right) > 0.2
+    assert alarmed.any()  # the corner comes within reach
+    rule = np.where(alarmed[:, None], np.where((left >= right)[:, None], [1.0, -1.0], [-1.0, 1.0]), -1.0)
+    np.testing.assert_array_equal(tr.outputs, rule)  # the steering recorded is the file's, of the same step
+
+
+def test_mujoco_batch_steps_it_as_the_cpu_loop_does(wary: str) -> None:
+    cfg = EpisodeConfig(arena="cluttered", controller=wary, steps=300, seed=1)
+    cpu, threads = run_episode(cfg), run_episode(cfg.replace(engine="mujoco.batch"))
+    for name, col in cpu.trajectory.arrays().items():
+        np.testing.assert_array_equal(col, threads.trajectory.arrays()[name], err_msg=name)
+
+
+def test_the_command_line_runs_it_and_keeps_its_state(wary: str, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    assert main(["run", "--arena", "corner", "--controller", wary, "--steps", "300", "--out", str(out), "--quiet"]) == 0
+    tr = Trajectory.load(out / "trajectory.npz")
+    assert tr.state["alarm"].shape == (300, 2)
+    np.testing.assert_allclose(tr.state["alarm"], _leaky(tr), rtol=0, atol=1e-12)
+    assert json.loads((out / "summary.json").read_text())["controller"] == wary
+
+
+def test_its_bytes_are_part_of_the_runs_code(wary: str, tmp_path: Path) -> None:
+    """An edit of the file gives its runs another code (a store runs them again); the built-ins' code stays."""
+    cfg = EpisodeConfig(arena="open", controller=wary, steps=20)
+    before = run_episode(cfg).summary["code"]
+    plain = run_episode(cfg.replace(controller="static")).summary["code"]
+    path = tmp_path / "wary.py"
+    path.write_text(path.read_text().replace("leak=0.9", "leak=0.8"))
+    after = run_episode(cfg).summary["code"]
+    assert before != after and run_episode(cfg.replace(controller="static")).summary["code"] == plain
+    assert plain not in (before, after)
+
+
+def test_as_a_policy_it_steers_as_the_network_policy_does() -> None:
+    """ControllerPolicy of the built-in plastic controller steers Explore-v0 bit for bit as NetworkPolicy does: the
+    policy shows the controller the environment's observation and acts with its steering."""
+    actions = []
+    for policy in (ControllerPolicy("plastic"), NetworkPolicy("plastic")):
+        env = ExploreEnv(max_steps=2000)
+        obs, _ = env.reset(seed=3)
+        policy.reset()
+        taken = []
+        for _ in range(2000):
+            a = policy(obs)
+            taken.append(a)
+            obs, *_ = env.step(a)
+        actions.append(np.array(taken))
+    np.testing.assert_array_equal(actions[0], actions[1])
+    assert np.ptp(actions[0]) > 0.1  # it met something and steered
+
+
+def test_the_user_file_runs_as_a_policy(wary: str) -> None:
+    env = ExploreEnv(max_steps=200)
+    obs, _ = env.reset(seed=0)
+    policy = ControllerPolicy(wary)
+    policy.reset()
+    for _ in range(200):
+        a = policy(obs)
+        assert a.shape == (2,) and np.all(np.abs(a) <= 1)
+        obs, *_ = env.step(a)
+
+
+class _Broken:
+    recorded: ClassVar[dict[str, tuple[int, ...]]] = {"gain": (3,)}
+
+    def __init__(self) -> None:
+        self.steering, self.gain = np.zeros(2), np.zeros(2)
+
+    def reset(self, rng: np.random.Generator | None = None) -> None:
+        pass
+
+    def act(self, obs: object) -> np.ndarray:
+        return np.zeros(19)
+
+
+def test_check_controller_names_what_breaks_the_contract(wary: str) -> None:
+    for name in ("plastic", "static", "braitenberg", wary):
+        check_controller(name)
+    with pytest.raises(ControllerContractError, match=r"^controller '_Broken': recorded 'gain' has shape \(2,\)"):
+        check_controller(_Broken())
+
+
+@pytest.mark.parametrize(
+    "ref,text,line",
+    [
+        ("nowhere.py:Wary", None, "no such file 'nowhere.py'"),
+        ("wary.py:Nope", None, "wary.py defines no 'Nope'"),
+        ("bad.py:Wary", "class Wary:\n    def act(self\n", "bad.py, line 2: SyntaxError"),
+        ("boom.py:Wary", "import numpy\nraise RuntimeError('no robot here')\n", "boom.py, line 2"),
+    ],
+)
+def test_a_bad_controller_file_is_one_line_and_exit_2(wary: str, tmp_path: Path, capsys, ref, text, line) -> None:
+    if text is not None:
+        (tmp_path / ref.split(":")[0]).write_text(text)
+    assert main(["run", "--controller", ref, "--steps", "10", "--out", str(tmp_path / "out"), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and line in err, err
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("engine", ["mujoco", "mujoco.batch", "planar"])
+def test_every_cpu_engine_keeps_its_contract_with_the_file(wary: str, engine: str) -> None:
+    """Deterministic, streamed as run, and (the CPU loop) resumed from a checkpoint of the user's controller's
+    state to the same run bit for bit, its declared state included."""
+    check_engine(PLANAR if engine == "planar" else ENGINES[engine], controller=wary)
