@@ -22,6 +22,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import ValuesView
 from pathlib import Path
 from types import CodeType, FrameType
 from typing import Any
@@ -59,8 +60,8 @@ def trip(figure: str, out: Path) -> list[tuple[str, str]]:
         folder or a file in it (the result store)."""
         if isinstance(value, Settings | argparse.Namespace | EpisodeConfig):
             return True
-        if isinstance(value, list | tuple) and value:
-            return carries(value[0])
+        if isinstance(value, list | tuple | ValuesView) and value:  # a dict's values too (the store's configs)
+            return carries(next(iter(value)))
         return isinstance(value, Path) and (value == out or out in value.parents)
 
     def profile(frame: FrameType, event: str, arg: Any) -> None:

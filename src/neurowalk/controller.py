@@ -25,7 +25,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from neurowalk import anatomy
-from neurowalk.fileio import load_python_file
+from neurowalk.fileio import load_ref, user_ref
 from neurowalk.neural.backbone import BackboneControl, BackboneParams
 from neurowalk.neural.leg_control import LegControl, LegControlParams
 from neurowalk.neural.motor import LocomotionNetwork, LocomotionParams, motor_map
@@ -101,6 +101,8 @@ class NeuralController:
         reflexes: local leg control (True for the defaults, or its parameters); off by default.
         backbone: backbone joint control for climbing (True or its parameters); off by default. It
             needs a body that reads the obstacle-height sensor.
+        rule: the sensory network's step (a user's learning rule, :mod:`neurowalk.neural.variants`); None: the
+            paper's, compiled.
     """
 
     def __init__(
@@ -113,9 +115,10 @@ class NeuralController:
         q0: object = None,
         reflexes: LegControlParams | bool | None = None,
         backbone: BackboneParams | bool | None = None,
+        rule: Callable[[np.ndarray, float, float, np.ndarray], None] | None = None,
     ) -> None:
         self.mode = mode
-        self.sensory = SensoryNetwork(mode, params=sensory, b0=b0, q0=q0)
+        self.sensory = SensoryNetwork(mode, params=sensory, b0=b0, q0=q0, rule=rule)
         self.locomotion = LocomotionNetwork(locomotion)
         self.climbing = _Climbing(reflexes, backbone)
         self.inputs = np.zeros(2)
@@ -223,13 +226,14 @@ class ControllerFileError(ValueError):
 
 def is_user_controller(name: str) -> bool:
     """Whether ``name`` names a user's controller, ``FILE.py:NAME`` (a built-in's name has no ``.py:``)."""
-    return name.rpartition(":")[0].endswith(".py")
+    return user_ref(name) is not None
 
 
 def controller_file(name: str) -> Path | None:
     """The file of a user's controller ``FILE.py:NAME`` (None for a built-in): its bytes are part of its runs'
     fingerprint (:func:`neurowalk.fingerprint.code`)."""
-    return Path(name.rpartition(":")[0]) if is_user_controller(name) else None
+    ref = user_ref(name)
+    return ref[0] if ref is not None else None
 
 
 def load_controller(name: str) -> Callable[[], Controller]:
@@ -237,15 +241,9 @@ def load_controller(name: str) -> Callable[[], Controller]:
     arguments for each run). The file runs as a module once per process (again where its bytes change);
     :class:`ControllerFileError` in one line naming the file where it cannot be read or fails, or has no such
     callable."""
-    path, _, attr = name.rpartition(":")
-    if not attr.isidentifier():
-        raise ControllerFileError(f"controller {name!r}: {attr!r} after the colon is not a Python name")
-    module = load_python_file(Path(path), "neurowalk_controller_", ControllerFileError)
-    factory = getattr(module, attr, None)
-    if factory is None:
-        raise ControllerFileError(f"{path} defines no {attr!r} (controller {name!r})")
+    _, factory = load_ref(name, "neurowalk_controller_", ControllerFileError)
     if not callable(factory):
-        raise ControllerFileError(f"{path}: {attr} is a {type(factory).__name__}, not a class or function")
+        raise ControllerFileError(f"{name!r} is a {type(factory).__name__}, not a class or function")
     return factory  # type: ignore[no-any-return]
 
 

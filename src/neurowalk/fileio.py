@@ -158,6 +158,28 @@ def stale_temp_files(folder: Path) -> list[Path]:
     return [p for n in names for p in Path(folder).glob(f".{n}.*") if p.is_file()]
 
 
+def user_ref(name: str) -> tuple[Path, str] | None:
+    """The (file, name in it) of a reference to a user's Python file, ``FILE.py:NAME`` (a controller, a learning
+    rule), or None for a built-in's name (which has no ``.py:``)."""
+    path, _, attr = name.rpartition(":")
+    return (Path(path), attr) if path.endswith(".py") else None
+
+
+def load_ref(name: str, prefix: str, error: type[ValueError]) -> tuple[ModuleType, object]:
+    """The module of the user's ``FILE.py:NAME`` (:func:`load_python_file`) and its ``NAME``; ``error`` in one line
+    where NAME is no Python name or the file defines none."""
+    ref = user_ref(name)
+    if ref is None:
+        raise error(f"{name!r} is not FILE.py:NAME")
+    path, attr = ref
+    if not attr.isidentifier():
+        raise error(f"{name!r}: {attr!r} after the colon is not a Python name")
+    module = load_python_file(path, prefix, error)
+    if not hasattr(module, attr):
+        raise error(f"{path} defines no {attr!r} ({name!r})")
+    return module, getattr(module, attr)
+
+
 def load_python_file(path: Path, prefix: str, error: type[ValueError]) -> ModuleType:
     """A user's Python file run as a module named ``prefix`` + its stem (in ``sys.modules``: the module's dataclasses
     and a process pool's workers find it); ``error`` (a ValueError) in one line naming the file, and its line where

@@ -27,8 +27,7 @@ PAGE = "docs/tutorials/controller.md"
 @pytest.fixture
 def wary(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> str:
     """The page's controller file, saved as the reader saves it, in the folder the test runs in."""
-    (block,) = [b for b in blocks(PAGE) if b.kind == "file"]
-    assert block.why == "wary.py"
+    (block,) = [b for b in blocks(PAGE) if b.kind == "file" and b.why == "wary.py"]
     (tmp_path / "wary.py").write_text(block.code)
     monkeypatch.chdir(tmp_path)
     return "wary.py:Wary"
@@ -156,3 +155,76 @@ def test_every_cpu_engine_keeps_its_contract_with_the_file(wary: str, engine: st
     """Deterministic, streamed as run, and (the CPU loop) resumed from a checkpoint of the user's controller's
     state to the same run bit for bit, its declared state included."""
     check_engine(PLANAR if engine == "planar" else ENGINES[engine], controller=wary)
+
+
+@pytest.fixture
+def hebbian(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> str:
+    """The page's learning rule, saved as the reader saves it, in the folder the test runs in."""
+    (block,) = [b for b in blocks(PAGE) if b.kind == "file" and b.why == "hebbian.py"]
+    (tmp_path / "hebbian.py").write_text(block.code)
+    monkeypatch.chdir(tmp_path)
+    return "hebbian.py:hebbian"
+
+
+def _eta(path: Path, eta: str) -> None:
+    """Edit the rule's Hebbian rate, as a reader edits the file."""
+    text = path.read_text()
+    assert "ETA = 0.002" in text
+    path.write_text(text.replace("ETA = 0.002", f"ETA = {eta}"))
+
+
+@pytest.mark.parametrize("body,steps", [("surrogate", 3000), ("amosii", 300)])
+def test_a_rule_that_adds_nothing_is_the_papers_network_and_an_edit_reaches_it(
+    hebbian: str, tmp_path: Path, body: str, steps: int
+) -> None:
+    """With its Hebbian rate 0 the file's rule is the paper's step: the run (stepped a step at a time through the
+    file's function) is the compiled paper network's, every column bit for bit; with its rate > 0 the weights b rise
+    above the paper's where they first part. The file is edited in this process: the edit reaches the compiled rule."""
+    cfg = EpisodeConfig(arena="corner", body=body, steps=steps, seed=4)
+    paper = run_episode(cfg).trajectory
+    hebb = run_episode(cfg.replace(variant=hebbian)).trajectory
+    first = np.flatnonzero(np.any(hebb.b != paper.b, axis=1))[0]  # the first step the two differ at: the same inputs
+    assert np.all(hebb.b[first] >= paper.b[first]) and np.any(hebb.b[first] > paper.b[first])  # the term adds to b
+    _eta(tmp_path / "hebbian.py", "0.0")
+    same = run_episode(cfg.replace(variant=hebbian)).trajectory
+    for name, col in paper.arrays().items():
+        np.testing.assert_array_equal(col, same.arrays()[name], err_msg=name)
+
+
+def test_mujoco_batch_steps_the_rule_as_the_cpu_loop_does(hebbian: str) -> None:
+    cfg = EpisodeConfig(arena="cluttered", variant=hebbian, steps=200, seed=1)
+    cpu, threads = run_episode(cfg), run_episode(cfg.replace(engine="mujoco.batch"))
+    for name, col in cpu.trajectory.arrays().items():
+        np.testing.assert_array_equal(col, threads.trajectory.arrays()[name], err_msg=name)
+
+
+def test_table2_has_the_rules_row_and_its_store_reruns_it_on_an_edit(hebbian: str, tmp_path: Path, capsys) -> None:
+    """The rule's row beside the paper's; the command again takes its runs from the store, and after an edit of the
+    file runs them again (the store's code holds the file's bytes)."""
+    out = tmp_path / "table2"
+    args = ["figure", "table2", "--variant", hebbian, "--quick", "--seeds", "2", "--out", str(out)]
+    assert main(args) == 0 and main(args) == 0
+    assert "going on from the 10 finished runs" in capsys.readouterr().out
+    _eta(tmp_path / "hebbian.py", "0.001")
+    assert main(args) == 0
+    assert "made by other code" in capsys.readouterr().out
+    counts = json.loads((out / "table2.json").read_text())["counts"]
+    assert f"plastic ({hebbian})" in counts and "plastic-paper" in counts
+    assert counts[f"plastic ({hebbian})"]["success"] + counts[f"plastic ({hebbian})"]["failure"] == 2
+    assert EpisodeConfig(variant=hebbian).files() == (Path("hebbian.py"),)
+
+
+@pytest.mark.parametrize(
+    "text,line",
+    [
+        ("BASE = 'nope'\ndef rule(s, i1, i2, p):\n    pass\n", "BASE must be 'paper' or 'original'"),
+        ("rule = 3\n", "is a int, not a function"),
+    ],
+)
+def test_a_bad_rule_file_is_one_line_and_exit_2(tmp_path: Path, monkeypatch, capsys, text: str, line: str) -> None:
+    (tmp_path / "bad.py").write_text(text)
+    monkeypatch.chdir(tmp_path)
+    assert main(["run", "--variant", "bad.py:rule", "--steps", "10", "--out", str(tmp_path / "out"), "--quiet"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and line in err, err
+    assert not (tmp_path / "out").exists()

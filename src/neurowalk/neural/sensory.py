@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import math
 import reprlib
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Literal
 
@@ -401,7 +402,11 @@ def simulate(
 
 
 class SensoryNetwork:
-    """Stateful holder of one sensory network, for closed-loop use (one step per control step)."""
+    """Stateful holder of one sensory network, for closed-loop use (one step per control step).
+
+    ``rule``: the step, ``rule(state, i1, i2, packed params)`` in place as :func:`sensory_step` (a user's learning
+    rule); None: :func:`sensory_step` itself, which compiled loops then call directly.
+    """
 
     def __init__(
         self,
@@ -410,8 +415,11 @@ class SensoryNetwork:
         params: SensoryParams | None = None,
         b0: object = None,
         q0: object = None,
+        rule: Callable[[np.ndarray, float, float, np.ndarray], None] | None = None,
     ) -> None:
         self.mode = mode
+        self.rule = rule
+        self._step = sensory_step if rule is None else rule
         self.params = checked_params(params)
         self._b0, self._q0 = initial_weights(mode, self.params, b0, q0)
         self._p = self.params.as_array(mode == "plastic")
@@ -426,7 +434,7 @@ class SensoryNetwork:
 
         The steering is the new outputs, or older ones where the params have a steering delay.
         """
-        sensory_step(self.state, i1, i2, self._p)
+        self._step(self.state, i1, i2, self._p)
         return self.state[STEER], self.state[STEER + 1]
 
     def input(self, distance_m: float) -> float:

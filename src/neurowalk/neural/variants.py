@@ -16,6 +16,11 @@ Where the paper's Eq. 1-6 read literally and the authors' C++ code differ, neuro
 
 A variant can carry overrides of named :class:`~neurowalk.neural.sensory.SensoryParams` fields
 (:data:`TUNABLE`), e.g. from a ``--params FILE``.
+
+A learning rule of the user's own is a variant too, named ``FILE.py:NAME``: the file's function ``NAME(state, i1,
+i2, params)`` takes the place of :func:`~neurowalk.neural.sensory.sensory_step` (the same (14,) state and packed
+params, updated in place; compiled where the file compiles it, e.g. with :func:`neurowalk.compiled.jit`), over the
+parameters of the file's ``BASE`` variant (``paper`` where it names none).
 """
 
 from __future__ import annotations
@@ -23,11 +28,12 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from neurowalk.fileio import load_ref, user_ref
 from neurowalk.neural.motor import LocomotionParams
 from neurowalk.neural.sensory import SensoryParams
 
@@ -84,12 +90,15 @@ class Variant:
         sensory: the sensory network's parameters.
         pcpg_first_partial: the PCPG stores its first, partial phase (the authors' code).
         overrides: the SensoryParams fields set on top of the named variant.
+        rule: the sensory network's step, a user's learning rule (``FILE.py:NAME``); None: the built-in one,
+            :func:`~neurowalk.neural.sensory.sensory_step`.
     """
 
     name: str
     sensory: SensoryParams
     pcpg_first_partial: bool = False
     overrides: Mapping[str, float | bool | int] = dataclasses.field(default_factory=dict)
+    rule: Callable[..., None] | None = None
 
     def locomotion(self, base: LocomotionParams | None = None) -> LocomotionParams:
         """Locomotion parameters (``base``'s, default the wave gait) with this variant's PCPG."""
@@ -128,8 +137,17 @@ def get_variant(name: str = "paper", overrides: Mapping[str, Any] | None = None)
         ValueError: unknown variant, unknown field, or a value the parameters refuse (e.g. a negative rate).
     """
     names = variant_names()
+    if user_ref(name) is not None:
+        module, rule = load_ref(name, "neurowalk_rule_", ValueError)
+        if not callable(rule):
+            raise ValueError(f"learning rule {name!r} is a {type(rule).__name__}, not a function")
+        base = getattr(module, "BASE", "paper")
+        if base not in ("paper", "original"):
+            raise ValueError(f"learning rule {name!r}: BASE must be 'paper' or 'original', got {base!r}")
+        v = dataclasses.replace(get_variant(base, overrides), name=name, rule=rule)
+        return v
     if name not in names:
-        raise ValueError(f"unknown variant {name!r}; expected one of {', '.join(names)}")
+        raise ValueError(f"unknown variant {name!r}; expected one of {', '.join(names)}, or FILE.py:NAME")
     if name == "tuned":
         data = read_params_file(TUNED_FILE)
         base = get_variant(data.get("variant", "original"), data["params"])
@@ -185,3 +203,10 @@ def params_variant(path: Path | str, data: dict[str, Any], variant: str | None) 
         raise ValueError(f"--variant {variant} contradicts params file {str(path)!r}, which names variant {named!r}; "
                          "leave out --variant or edit the file")  # fmt: skip
     return named or variant
+
+
+def variant_file(name: str) -> Path | None:
+    """The file of a user's learning rule ``FILE.py:NAME`` (None for a named variant): its bytes are part of its
+    runs' fingerprint."""
+    ref = user_ref(name)
+    return ref[0] if ref is not None else None

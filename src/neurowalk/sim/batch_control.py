@@ -4,8 +4,8 @@
 :class:`~neurowalk.controller.FixedController` into ``(n, ...)`` arrays and steps them all in one numba loop
 that calls the single loop's own kernels (:func:`~neurowalk.neural.sensory.sensory_step`,
 :func:`~neurowalk.neural.motor.locomotion_step`), so copy i computes exactly what its controller's ``act``
-would, bit for bit. Any other controller (or copies whose delay lines differ in length) goes through its
-own ``act``.
+would, bit for bit. Any other controller (a user's, a network with a user's learning rule, or copies whose delay
+lines differ in length) goes through its own ``act``.
 """
 
 from __future__ import annotations
@@ -72,7 +72,7 @@ class BatchControllers:
     def __init__(self, controllers: Sequence[Controller], *, compiled: bool = True) -> None:
         self.controllers = list(controllers)
         n = len(self.controllers)
-        known = all(isinstance(c, NeuralController | FixedController) for c in self.controllers)
+        known = all(_built_in(c) for c in self.controllers)
         lengths = {c.locomotion.params.buffer_length for c in self.controllers} if known else set()  # type: ignore[attr-defined]
         self.compiled = compiled and known and len(lengths) == 1
         self.has_weights = np.array([hasattr(c, "b") for c in self.controllers])
@@ -136,6 +136,8 @@ class BatchControllers:
         state (advanced in place) and packed params, or its constant steering pair (O1, O2); (None, None) for a
         controller stepped by ``act``."""
         c = self.controllers[i]
+        if not _built_in(c):
+            return None, None
         if isinstance(c, NeuralController):
             return (c.sensory.state, c.sensory.packed_params), None
         if isinstance(c, FixedController):
@@ -179,3 +181,8 @@ class BatchControllers:
             for k, a in self.state.items():
                 a[i] = getattr(c, k)
         return self.targets
+
+
+def _built_in(c: Controller) -> bool:
+    """A built-in controller with the built-in network step: the compiled kernels step it."""
+    return isinstance(c, FixedController) or (isinstance(c, NeuralController) and c.sensory.rule is None)

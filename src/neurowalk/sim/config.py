@@ -32,7 +32,7 @@ from neurowalk.controller import (
 from neurowalk.fileio import to_jsonable
 from neurowalk.neural.cpg import GAITS, CpgParams
 from neurowalk.neural.motor import LocomotionParams
-from neurowalk.neural.variants import check_overrides, get_variant
+from neurowalk.neural.variants import check_overrides, get_variant, variant_file
 from neurowalk.progress import Progress
 from neurowalk.sim.config_values import FrozenDict, real, typed_arena_opts, whole
 from neurowalk.sim.run_summary import RunSummary
@@ -228,10 +228,10 @@ class EpisodeConfig:
         return out
 
     def files(self) -> tuple[Path, ...]:
-        """The user's files the run reads (a user's MJCF body, a user's controller): their bytes are part of its
+        """The user's files the run reads (a user's MJCF body, controller or learning rule): their bytes are part of its
         fingerprint (:func:`neurowalk.fingerprint.code`)."""
-        found = controller_file(self.controller)
-        return (*body_files(self.body), *((found,) if found is not None else ()))
+        found = (controller_file(self.controller), variant_file(self.variant))
+        return (*body_files(self.body), *(f for f in found if f is not None))
 
     def key(self) -> str:
         """The run's name: SHA-256 (64 hex digits) of its canonical spec's JSON (equal runs, equal keys, in any
@@ -371,6 +371,8 @@ def build_controller(cfg: EpisodeConfig) -> Controller:
         return make_controller(cfg.controller)
     if cfg.controller != "fixed":
         kwargs["sensory"] = v.sensory
+        if v.rule is not None:
+            kwargs["rule"] = v.rule
     return make_controller(cfg.controller, steer=cfg.steer, **kwargs)
 
 

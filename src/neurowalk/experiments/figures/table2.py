@@ -4,10 +4,11 @@
 Rows: the plastic network as the paper's Eq. 1-6 read (``plastic-paper``) and as the authors' code runs it
 (``plastic-original``), beside the static network and, on the planar surrogate, the Braitenberg vehicle
 (:data:`SURROGATE_ONLY`; ``plastic-tuned`` too where the tuned variant is shipped, ``plastic-params (VARIANT)`` for a
-``--params`` file). Each row, under two success rules (the
-not-stuck rule, and the coverage rule closer to the paper's "explores the environment"): successes, failures,
-rate and Wilson 95% interval; coverage (median and quartiles); the paper's 49/50 with its own interval; each
-failure's class; the runs held up for 300 s or more that still count as a success under the not-stuck rule.
+``--params`` file, ``plastic (FILE.py:NAME)`` for a user's learning rule, ``--variant FILE.py:NAME``). Each row,
+under two success rules (the not-stuck rule, and the coverage rule closer to the paper's "explores the
+environment"): successes, failures, rate and Wilson 95% interval; coverage (median and quartiles); the paper's
+49/50 with its own interval; each failure's class; the runs held up for 300 s or more that still count as a
+success under the not-stuck rule.
 Every environment row holds each network's coverage and both outcomes.
 """
 
@@ -45,6 +46,7 @@ from neurowalk.experiments.suites.random_envs import (
 from neurowalk.experiments.suites.random_envs_plot import PAPER
 from neurowalk.experiments.suites.random_envs_plot import plot as draw
 from neurowalk.experiments.suites.timing import steps_for
+from neurowalk.fileio import user_ref
 from neurowalk.neural.variants import variant_names
 from neurowalk.sim.config import EpisodeConfig
 
@@ -63,7 +65,9 @@ def rows(variant: str | None = None, params: dict[str, float] | None = None) -> 
     out = {name: {"controller": c, "variant": v, "params": None} for name, (c, v) in ROWS.items()}
     if "tuned" in variant_names():
         out["plastic-tuned"] = {"controller": "plastic", "variant": "tuned", "params": None}
-    if params:
+    if variant is not None and user_ref(variant) is not None:  # a user's learning rule: its plastic row
+        out[f"plastic ({variant})"] = {"controller": "plastic", "variant": variant, "params": params or None}
+    elif params:
         base = variant or "paper"  # the settings' variant (a params file's own, or --variant), paper by default
         out[f"plastic-params ({base})"] = {"controller": "plastic", "variant": base, "params": params}
     elif variant is not None and f"plastic-{variant}" not in out:
