@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from neurowalk.cli import main
+from neurowalk.sim.config import EpisodeConfig
 
 
 def test_run_fixed_writes_summary_trajectory_and_picture(tmp_path, capsys):
@@ -228,6 +229,9 @@ def test_a_run_stopped_before_its_first_checkpoint_keeps_its_rows_once(tmp_path,
     assert m.group(2) == str(out) and m.group(3) == str(out / "trajectory.parts" / "run.json")
     assert len(_rows(out / "trajectory.npz")["t"]) == int(m.group(1)) > 0
     assert [p.name for p in (out / "trajectory.parts").iterdir()] == ["run.json"]  # no second copy of the rows
+    spec = json.loads((out / "trajectory.parts" / "run.json").read_text())
+    assert spec.pop("resumable") is True  # the CPU loop keeps checkpoints
+    assert spec == EpisodeConfig(arena="box", steps=300).spec()  # the run's spec, as a store keeps it
     monkeypatch.undo()
     assert main([*RUN300, "--out", str(out)]) == 2  # a folder with an unfinished run: --resume or --overwrite
     assert "--resume" in capsys.readouterr().err

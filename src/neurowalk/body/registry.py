@@ -272,7 +272,7 @@ def body_files(name: str) -> tuple[Path, ...]:
     return (Path(name[len(info.prefix) :]),) if info.prefix is not None else ()
 
 
-def bodies_where(test: Any) -> tuple[str, ...]:
+def bodies_where(test: Callable[[BodyInfo], bool]) -> tuple[str, ...]:
     """The names of the registry's bodies whose :class:`BodyInfo` passes ``test`` (e.g. ``lambda b: b.climbs``)."""
     return tuple(name for name, info in BODIES.items() if test(info))
 

@@ -7,9 +7,10 @@ import contextlib
 import sys
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NoReturn
 
 if TYPE_CHECKING:
+    from neurowalk.sim.config import EpisodeConfig
     from neurowalk.sim.engine_interface import EngineOptions
 
 
@@ -28,7 +29,7 @@ class Parser(argparse.ArgumentParser):
     help_tail: Callable[[], str] | None = None  # more help, computed only when help is asked for
     hidden = False  # the options added now are hidden from the help (e.g. the settings a study does not take)
 
-    def error(self, message: str) -> None:  # one clear line instead of usage + message
+    def error(self, message: str) -> NoReturn:  # one clear line instead of usage + message
         raise UsageError(message)
 
     def add_argument(self, *args: Any, **kwargs: Any) -> argparse.Action:
@@ -370,7 +371,7 @@ def parse_steer(text: str | None) -> tuple[float, float] | None:
     return (o1, o2)
 
 
-def episode_config(args: argparse.Namespace) -> object:
+def episode_config(args: argparse.Namespace) -> EpisodeConfig:
     """The EpisodeConfig of the episode flags, its arena options checked; UsageError naming a bad value."""
     from neurowalk.arenas import make_arena
     from neurowalk.sim.episode import EpisodeConfig

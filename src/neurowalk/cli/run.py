@@ -6,7 +6,7 @@ import argparse
 import contextlib
 import dataclasses
 import sys
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -24,7 +24,11 @@ from neurowalk.cli.view import check_web, keep_serving, live_page, web_args
 from neurowalk.fileio import write_json
 
 if TYPE_CHECKING:
-    from neurowalk.sim.episode import Episode
+    from neurowalk.body.registry import BodyInfo
+    from neurowalk.plotting.live import LivePage
+    from neurowalk.sim.engine_interface import EngineOptions, Resume
+    from neurowalk.sim.episode import Episode, EpisodeConfig
+    from neurowalk.sim.trajectory import PartWriter
 
 
 def add_run_parsers(sub: argparse._SubParsersAction) -> None:
@@ -84,6 +88,7 @@ def cmd_run(args: argparse.Namespace) -> int:
     if args.web:
         check_web(args)
     from neurowalk.fileio import FolderBusyError, folder_lock
+    from neurowalk.sim.engines import engine_for
     from neurowalk.sim.trajectory import PartWriter
 
     out = out_folder(args.out)
@@ -93,9 +98,10 @@ def cmd_run(args: argparse.Namespace) -> int:
         why = f"--out {e}" if isinstance(e, FolderBusyError) else f"--out {str(out)!r}: {e.strerror}"
         raise UsageError(why) from None
     with lock:
+        resumable = engine_for(cfg).resumable  # its runs leave a checkpoint every part (the CPU loop's)
         parts = PartWriter(out / "trajectory.parts")
-        cfg, resume = _start(args, cfg, out, parts)
-        return _run_into(args, cfg, out, parts, resume, options)
+        cfg, resume, resumable = _start(args, cfg, out, parts, resumable)
+        return _run_into(args, cfg, out, parts, resume, options, resumable)
 
 
 #: Memory a streamed run holds per control step (the summary's columns), and what it needs besides (Python, MuJoCo,
@@ -113,29 +119,28 @@ def _check_memory(steps: int) -> None:
         )
 
 
-def _is_physics(body: str, body_info: Any) -> bool:
+def _is_physics(body: str, body_info: Callable[[str], BodyInfo]) -> bool:
     try:
         return bool(body_info(body).physics)
     except ValueError:
         return True  # an unknown body is named by the config's own check
 
 
-def _checkpointed(cfg: Any) -> bool:
-    """Runs that leave a checkpoint every part: those of a resumable engine (the CPU loop)."""
-    from neurowalk.sim.engines import engine_for
-
-    return engine_for(cfg).resumable
-
-
-def _start(args: argparse.Namespace, cfg: Any, out: Path, parts: Any) -> tuple[Any, Any]:
-    """(config, Resume or None) of the run to make in ``out``: refuses to replace a run without ``--overwrite``."""
+def _start(
+    args: argparse.Namespace, cfg: EpisodeConfig, out: Path, parts: PartWriter, resumable: bool
+) -> tuple[EpisodeConfig, Resume | None, bool]:
+    """(config, Resume or None, resumable: its runs leave checkpoints) of the run to make in ``out`` (``cfg`` and
+    ``resumable``: the arguments' run; with ``--resume``, the folder's own); refuses to replace a run without
+    ``--overwrite``."""
     unfinished = parts.folder.is_dir() and any(parts.folder.iterdir())
     finished = not unfinished and (out / "summary.json").is_file()
     if args.resume and unfinished:
-        got = _resume_point(parts)
-        if got[1] is not None:
-            return got
-        cfg = got[0]
+        from neurowalk.sim.engines import engine_for
+
+        cfg, resume = _resume_point(parts)
+        resumable = engine_for(cfg).resumable
+        if resume is not None:
+            return cfg, resume, resumable
     elif args.resume and finished:
         raise UsageError(f"--resume: {str(out)!r} holds a finished run (summary.json); --overwrite runs it again")
     elif args.resume:
@@ -151,11 +156,11 @@ def _start(args: argparse.Namespace, cfg: Any, out: Path, parts: Any) -> tuple[A
         )
     _clear(out, parts)
     parts.folder.mkdir()
-    write_json(parts.folder / "run.json", {**dataclasses.asdict(cfg), "resumable": _checkpointed(cfg)})
-    return cfg, None
+    write_json(parts.folder / "run.json", {**cfg.spec(), "resumable": resumable})
+    return cfg, None, resumable
 
 
-def _clear(out: Path, parts: Any) -> None:
+def _clear(out: Path, parts: PartWriter) -> None:
     """Remove an earlier run's files from ``out`` (the new run writes its own), temp files of a killed one too."""
     from neurowalk.fileio import stale_temp_files
 
@@ -166,19 +171,34 @@ def _clear(out: Path, parts: Any) -> None:
         stale.unlink(missing_ok=True)
 
 
-def _run_into(args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume: Any, options: Any) -> int:
-    """Run ``cfg`` with its rows streamed into ``parts`` (and to a page, with ``--web``), then write DIR's files;
-    the exit status."""
+def _run_into(
+    args: argparse.Namespace,
+    cfg: EpisodeConfig,
+    out: Path,
+    parts: PartWriter,
+    resume: Resume | None,
+    options: EngineOptions,
+    resumable: bool,
+) -> int:
+    """Run ``cfg`` with its rows streamed into ``parts`` (and to a page, with ``--web``; a checkpoint with every part
+    where ``resumable``), then write DIR's files; the exit status."""
     page = live_page(cfg, parts, args) if args.web else None
     try:
-        return _run_and_save(args, cfg, out, parts, resume, options, page)
+        return _run_and_save(args, cfg, out, parts, resume, options, page, resumable)
     finally:
         if page is not None:
             page.close()
 
 
 def _run_and_save(
-    args: argparse.Namespace, cfg: Any, out: Path, parts: Any, resume: Any, options: Any, page: Any
+    args: argparse.Namespace,
+    cfg: EpisodeConfig,
+    out: Path,
+    parts: PartWriter,
+    resume: Resume | None,
+    options: EngineOptions,
+    page: LivePage | None,
+    resumable: bool,
 ) -> int:
     """:func:`_run_into` with the page (or None) made."""
     from neurowalk.fileio import write_error
@@ -186,7 +206,7 @@ def _run_and_save(
     from neurowalk.runners.stopping import stop_requested, stop_status
     from neurowalk.sim.episode import RunInterruptedError, Streaming, run_episode
 
-    interrupted, resumable = False, _checkpointed(cfg)
+    interrupted = False
     try:
         try:
             ep = run_episode(
@@ -264,13 +284,13 @@ def outcome_words(ep: Episode) -> str:
     return f"{missed}{' (trapped)' if s['trapped'] else ''}; "
 
 
-def _kept(parts: Any) -> str:
+def _kept(parts: PartWriter) -> str:
     """The steps on disk in ``parts``, in words."""
     held = parts.count() if parts.folder.is_dir() else 0
     return f"steps 0-{held - 1:,} kept in {parts.folder}" if held else "no steps kept"
 
 
-def _save(out: Path, parts: Any, ep: Any, interrupted: bool) -> None:
+def _save(out: Path, parts: PartWriter, ep: Episode, interrupted: bool) -> None:
     """Write the run's files, all of the same steps: trajectory.npz, run.png, then summary.json (last)."""
     from neurowalk.fileio import atomic_write
     from neurowalk.plotting import look, plot_run  # after the run: matplotlib's memory is not held through it
@@ -286,7 +306,7 @@ def _save(out: Path, parts: Any, ep: Any, interrupted: bool) -> None:
         parts.remove()  # the run is whole in trajectory.npz
 
 
-def _keep_for_resume(parts: Any, resumable: bool) -> str:
+def _keep_for_resume(parts: PartWriter, resumable: bool) -> str:
     """Keep in ``parts`` only what `--resume` needs of a stopped run whose rows are in trajectory.npz now (the rows
     are not kept twice); what a rerun goes on from, in words.
 
@@ -315,7 +335,7 @@ def _keep_for_resume(parts: Any, resumable: bool) -> str:
     return f"no checkpoint{yet}: `--resume` starts it again from step 0 (its settings kept in {settings})"
 
 
-def _video(cfg: Any, out: Path, quiet: bool) -> bool:
+def _video(cfg: EpisodeConfig, out: Path, quiet: bool) -> bool:
     """Render DIR/video.mp4 from DIR/trajectory.npz; False if interrupted (the run is kept without it)."""
     import numpy as np
 
@@ -333,7 +353,7 @@ def _video(cfg: Any, out: Path, quiet: bool) -> bool:
     return True
 
 
-def _resume_point(parts: Any) -> tuple[Any, Any]:
+def _resume_point(parts: PartWriter) -> tuple[EpisodeConfig, Resume | None]:
     """(config, Resume) of the unfinished run in ``parts``; (config, None) where it has no checkpoint yet."""
     import json
 
@@ -344,9 +364,7 @@ def _resume_point(parts: Any) -> tuple[Any, Any]:
     try:
         spec = json.loads(spec_path.read_text())
         spec.pop("resumable", None)
-        if spec.get("steer") is not None:
-            spec["steer"] = tuple(spec["steer"])
-        cfg = EpisodeConfig(**spec)
+        cfg = EpisodeConfig.from_spec(spec)
     except FileNotFoundError:
         raise UsageError(
             f"--resume: {where!r} holds parts but no run.json (not a run neurowalk can go on "

@@ -8,8 +8,14 @@ import signal
 import sys
 import threading
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from neurowalk.cli.common import UsageError, episode_args, episode_config
+
+if TYPE_CHECKING:
+    from neurowalk.plotting.live import LivePage
+    from neurowalk.sim.config import EpisodeConfig
+    from neurowalk.sim.trajectory import PartWriter
 
 LOCAL = "127.0.0.1"
 
@@ -68,18 +74,18 @@ def _serving(what: str, args: argparse.Namespace) -> str:
     )
 
 
-def live_page(cfg: object, parts: object, args: argparse.Namespace) -> object:
+def live_page(cfg: EpisodeConfig, parts: PartWriter, args: argparse.Namespace) -> LivePage:
     """`run --web`'s page: a live view of the run (the rows go on to ``parts``), served from now on."""
     from neurowalk.plotting.live import LivePage, LiveRun
 
-    page = LivePage(LiveRun(cfg, then=parts), host=args.host, port=args.port)  # type: ignore[arg-type]
+    page = LivePage(LiveRun(cfg, then=parts), host=args.host, port=args.port)
     print(f"neurowalk: {_serving('the run live', args)}", file=sys.stderr, flush=True)
     return page
 
 
-def keep_serving(page: object, args: argparse.Namespace) -> None:
+def keep_serving(page: LivePage, args: argparse.Namespace) -> None:
     """After `run --web`'s run: the page shows the whole run until Ctrl-C."""
-    page.finished()  # type: ignore[attr-defined]
+    page.finished()
     _wait_for_stop(f"neurowalk: the run is done; its replay stays on http://{args.host}:{args.port}: Ctrl-C stops")
 
 
@@ -154,8 +160,8 @@ def _native(args: argparse.Namespace) -> int:
         return 1
     from neurowalk.sim.episode import build, seeds
 
-    _, body, ctrl = build(cfg)  # type: ignore[arg-type]
-    body_rng, ctrl_rng, _ = seeds(cfg)  # type: ignore[arg-type]
+    _, body, ctrl = build(cfg)
+    body_rng, ctrl_rng, _ = seeds(cfg)
     body.reset(body_rng)
     ctrl.reset(ctrl_rng)
 

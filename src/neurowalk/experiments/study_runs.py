@@ -31,7 +31,7 @@ import numpy as np
 from neurowalk import fingerprint
 from neurowalk.body.registry import physics_settings
 from neurowalk.experiments.plan import Plan
-from neurowalk.runners.specs import code_of, episode_of, result_of
+from neurowalk.runners.specs import code_of, config_of, episode_of, result_of
 from neurowalk.runners.stopping import deferred
 from neurowalk.runners.store import ResultStore
 from neurowalk.runners.sweep import Kind, run_sweep
@@ -91,7 +91,7 @@ class Kept:
         plan: the :class:`~neurowalk.experiments.plan.Plan` it ran (its config with the settings applied).
     """
 
-    summary: Any
+    summary: RunSummary
     kept: Mapping[str, dict[str, Any]]
     plan: Plan
 
@@ -112,14 +112,14 @@ class Kept:
         return getattr(self.summary, name)
 
 
-def run_kept(terms: Sequence[Term], spec: dict[str, Any]) -> dict[str, Any]:
+def run_kept(terms: Sequence[Term], spec: dict[str, Any] | EpisodeConfig) -> dict[str, Any]:
     """The one run function: run ``spec`` to its end; its summary (JSON-safe, without the machine's keys) and, with
     ``terms``, ``kept``: what each term keeps. A term that streams (:attr:`Term.stream`) runs alone."""
     streamed = [t for t in terms if t.stream is not None]
     if streamed:
         if len(terms) > 1:
             raise ValueError(f"term {streamed[0].name!r} streams its run: it is kept alone")
-        stream, finish = streamed[0].stream(EpisodeConfig.from_spec(spec))  # type: ignore[misc]
+        stream, finish = streamed[0].stream(config_of(spec))  # type: ignore[misc]
         ep = episode_of(spec, stream)
         return {**result_of(ep), "kept": {streamed[0].name: finish(ep)}}
     return kept_of(terms, episode_of(spec))
@@ -214,6 +214,7 @@ def run_store(
                 desc=desc,
                 progress=progress,
                 fn=functools.partial(run_kept, terms_),
+                carry=True,  # run_kept takes the configs themselves
                 world_fn=functools.partial(kept_of, terms_),
                 redo=redo,
                 amend=amend,

@@ -10,7 +10,10 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import TypeVar
+
+T = TypeVar("T")
+R = TypeVar("R")
 
 
 class WorkerDiedError(RuntimeError):
@@ -22,16 +25,17 @@ class JobResult:
     """One finished job: ``value`` or ``error`` (the exception it raised, or a WorkerDiedError)."""
 
     index: int  # position of the job in the input
-    value: Any = None
+    value: object = None
     error: BaseException | None = None
     wall_time_s: float | None = None  # time the job took on its worker, s (None if the worker died)
 
 
-def call_timed(fn: Callable[[Any], Any], item: Any) -> tuple[Any, BaseException | None, float]:
+def call_timed(fn: Callable[[T], R], item: T) -> tuple[R | None, BaseException | None, float]:
     """``fn(item)`` with the exception it raises caught: (value, error, wall time in s). Runs on the worker."""
     t0 = time.perf_counter()
     try:
-        value, error = fn(item), None
+        value: R | None = fn(item)
+        error: Exception | None = None
     except Exception as e:
         value, error = None, e
     return value, error, time.perf_counter() - t0

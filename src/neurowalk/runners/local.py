@@ -25,12 +25,12 @@ from collections.abc import Callable, Generator, Sequence
 from dataclasses import dataclass
 from multiprocessing.connection import Connection
 from multiprocessing.connection import wait as mp_wait
+from multiprocessing.process import BaseProcess
 from multiprocessing.reduction import ForkingPickler
-from typing import Any
 
 from neurowalk.compiled import cache_dir
 from neurowalk.progress import compiling, forward_notes
-from neurowalk.runners.jobs import JobResult, WorkerDiedError, call_timed
+from neurowalk.runners.jobs import JobResult, T, WorkerDiedError, call_timed
 from neurowalk.runners.stopping import deferred, stop_requested
 
 #: What a worker sends down its pipe as it starts compiling the kernels (a job's result is a pickle: never this).
@@ -38,7 +38,7 @@ COMPILING = b"compiling"
 
 
 def run_unordered(
-    fn: Callable[[Any], Any], items: Sequence[Any], *, workers: int = 2, retries: int = 0
+    fn: Callable[[T], object], items: Sequence[T], *, workers: int = 2, retries: int = 0
 ) -> Generator[JobResult, None, None]:
     """Yield a :class:`JobResult` for every ``fn(item)`` as it finishes (in finishing order).
 
@@ -103,7 +103,7 @@ def _died(times: int) -> str:
 
 @dataclass
 class _Worker:
-    proc: Any  # multiprocessing.Process
+    proc: BaseProcess
     conn: Connection  # the driver's end of the worker's pipe
     job: int | None = None  # the job it runs (None: idle)
 

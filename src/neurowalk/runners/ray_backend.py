@@ -17,7 +17,7 @@ import sys
 from collections.abc import Callable, Generator, Sequence
 from typing import Any
 
-from neurowalk.runners.jobs import JobResult, WorkerDiedError, call_timed
+from neurowalk.runners.jobs import JobResult, T, WorkerDiedError, call_timed
 
 #: The environment variable that shows Ray's own log in the terminal ("1"); unset, only Ray's errors are shown.
 LOG_ENV = "NEUROWALK_RAY_LOG"
@@ -104,7 +104,7 @@ def stop() -> None:
 
 
 def run_unordered(
-    fn: Callable[[Any], Any], items: Sequence[Any], *, workers: int = 2, address: str | None = None, retries: int = 0
+    fn: Callable[[T], object], items: Sequence[T], *, workers: int = 2, address: str | None = None, retries: int = 0
 ) -> Generator[JobResult, None, None]:
     """Yield a :class:`JobResult` for every ``fn(item)`` as it finishes, computed as Ray tasks.
 

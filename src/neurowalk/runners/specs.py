@@ -25,8 +25,8 @@ from neurowalk.runners.stopping import stop_requested
 from neurowalk.sim.config import DEFAULTS, FIELDS, LATER
 from neurowalk.sim.episode import Episode, EpisodeConfig, RunInterruptedError, Streaming, run_episode
 
-__all__ = ["DEFAULTS", "FIELDS", "LATER", "MACHINE_KEYS", "Spec", "check_specs", "code_of", "describe", "episode_of",
-           "grid", "read_jsonl", "result_of", "run_spec", "spec_key"]  # fmt: skip
+__all__ = ["DEFAULTS", "FIELDS", "LATER", "MACHINE_KEYS", "Spec", "check_specs", "code_of", "config_of", "describe",
+           "episode_of", "grid", "read_jsonl", "result_of", "run_spec", "spec_key"]  # fmt: skip
 
 Spec = dict[str, Any]
 
@@ -49,21 +49,27 @@ def code_of(configs: Iterable[EpisodeConfig], files: Iterable[Path | str] = ()) 
     return fingerprint.code(found)
 
 
-def episode_of(spec: Spec, stream: Streaming | None = None) -> Episode:
-    """Run one spec to the end (``stream``: streamed, as :func:`~neurowalk.sim.episode.run_episode`); a stop
+def config_of(spec: Spec | EpisodeConfig) -> EpisodeConfig:
+    """The config of a run: a spec's, made and checked here (it crossed a process or store boundary as JSON), or a
+    config carried as it is (a run in the process that made it)."""
+    return spec if isinstance(spec, EpisodeConfig) else EpisodeConfig.from_spec(spec)
+
+
+def episode_of(spec: Spec | EpisodeConfig, stream: Streaming | None = None) -> Episode:
+    """Run one spec (or config) to the end (``stream``: streamed, as :func:`~neurowalk.sim.episode.run_episode`); a stop
     (Ctrl-C) raises KeyboardInterrupt, for a half run is not a result. The run asks :func:`stop_requested` as it
     goes unless ``stream`` asks something else (a stop whose KeyboardInterrupt a library swallowed)."""
     stream = stream or Streaming()
     if stream.stop is None:
         stream = replace(stream, stop=stop_requested)
     try:
-        return run_episode(EpisodeConfig.from_spec(spec), stream=stream)
+        return run_episode(config_of(spec), stream=stream)
     except RunInterruptedError:
         raise KeyboardInterrupt from None
 
 
-def run_spec(spec: Spec) -> dict[str, Any]:
-    """Run one spec to the end and return its summary (JSON-safe, without :data:`MACHINE_KEYS`).
+def run_spec(spec: Spec | EpisodeConfig) -> dict[str, Any]:
+    """Run one spec (or config) to the end and return its summary (JSON-safe, without :data:`MACHINE_KEYS`).
 
     The result depends only on the spec (every random draw comes from its seed), so it is the same on every
     backend and worker count; the sweep measures the wall time itself and stores it beside the result.

@@ -26,8 +26,12 @@ import signal
 import sys
 import threading
 import time
-from collections.abc import Iterator
-from typing import Any
+from collections.abc import Callable, Iterator
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from sys import UnraisableHookArgs
+    from types import FrameType
 
 STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
 
@@ -67,7 +71,7 @@ def _in_main_thread() -> bool:
 
 
 @contextlib.contextmanager
-def stop_on_signals(then: Any = None) -> Iterator[None]:
+def stop_on_signals(then: signal.Handlers | None = None) -> Iterator[None]:
     """Inside the block the first SIGINT or SIGTERM raises KeyboardInterrupt, later ones are ignored.
 
     Blocks nest: an inner one keeps the outer one's record (a signal the outer block answered is not answered
@@ -81,7 +85,7 @@ def stop_on_signals(then: Any = None) -> Iterator[None]:
         yield
         return
 
-    def stop(signum: int, frame: Any) -> None:
+    def stop(signum: int, frame: FrameType | None) -> None:
         if _dropped:  # the interrupt raised again (:func:`_raise_again`), not a new signal
             if not _hooked:  # (not while that hook runs: it is inside the callback)
                 _dropped.clear()
@@ -126,7 +130,7 @@ def deferred() -> Iterator[None]:
         return
     held: list[signal.Signals] = []
 
-    def hold(signum: int, frame: Any) -> None:
+    def hold(signum: int, frame: FrameType | None) -> None:
         held.append(signal.Signals(signum))
 
     old = {}
@@ -143,7 +147,7 @@ def deferred() -> Iterator[None]:
             signal.raise_signal(sig)
 
 
-def _raise_again(hook: Any) -> Any:
+def _raise_again(hook: Callable[[UnraisableHookArgs], object]) -> Callable[[UnraisableHookArgs], None]:
     """An unraisable-exception hook that, for the KeyboardInterrupt of a stop signal that a callback swallowed, asks
     for it again; anything else goes to ``hook``.
 
@@ -152,7 +156,7 @@ def _raise_again(hook: Any) -> Any:
     that was not itself a callback's (a raise swallowed again comes back here and asks anew).
     """
 
-    def unraisable(u: Any) -> None:
+    def unraisable(u: UnraisableHookArgs) -> None:
         if _requested and issubclass(u.exc_type, KeyboardInterrupt) and _in_main_thread():
             _hooked.append(True)
             try:

@@ -238,7 +238,7 @@ class ResultStore:
         return dict(self._db.execute("SELECT name, value FROM meta").fetchall())
 
     # -- export -----------------------------------------------------------------------------------------------
-    def table(self) -> tuple[list[str], list[list[Any]]]:
+    def table(self) -> tuple[list[str], list[list[object]]]:
         """Flat table of every row of this code: meta columns, one column per spec field, one per summary key.
 
         Summary keys that repeat a spec field are left out (the spec column holds the value); a spec field the
@@ -352,7 +352,7 @@ class _Txn:
         self.db.execute("ROLLBACK" if exc_type else "COMMIT")
 
 
-def _dumps(x: Any) -> str:
+def _dumps(x: object) -> str:
     return json.dumps(to_jsonable(x), separators=(",", ":"))  # key order kept: export columns follow it
 
 
@@ -360,7 +360,7 @@ def _now() -> str:
     return datetime.datetime.now(datetime.UTC).isoformat(timespec="microseconds")
 
 
-def _flat(v: Any) -> Any:
+def _flat(v: object) -> object:
     """A table cell: scalars as they are, nested values as JSON text."""
     return json.dumps(v, sort_keys=True) if isinstance(v, dict | list) else v
 

@@ -18,7 +18,7 @@ import hashlib
 import json
 import sys
 import time
-from collections.abc import Callable, Collection, Iterable, Iterator, Sequence
+from collections.abc import Callable, Collection, Generator, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -141,7 +141,7 @@ def run_sweep(
     workers: int = 2,
     address: str | None = None,
     progress: bool = True,
-    fn: Callable[[Spec], Any] = run_spec,
+    fn: Callable[..., object] = run_spec,
     retries: int = 0,
     options: EngineOptions | None = None,
     desc: str = "sweep",
@@ -149,6 +149,7 @@ def run_sweep(
     redo: Collection[str] = (),
     amend: Callable[[str, dict[str, Any]], dict[str, Any]] | None = None,
     kind: Kind = EPISODES,
+    carry: bool = False,
 ) -> SweepReport:
     """Run every spec not yet done into ``store``; return the counts.
 
@@ -160,6 +161,8 @@ def run_sweep(
         address: Ray cluster to join (backend 'ray' only).
         progress: show a progress bar (unit "run", with rate and time left) on stderr.
         fn: computes one run's result (a JSON-able dict) from its normalised spec; a module-level function.
+        carry: ``fn`` takes a run's EpisodeConfig as well as its spec (:func:`run_spec` does): where the runs cross no
+            process boundary (backend 'local', workers 1) it gets each config as it is, made once, not its spec.
         retries: how many more times a run whose worker process died is run before it is stored as failed
             (default 0: stored at once as ``WorkerDiedError``).
         options: how the engines run (e.g. MuJoCo Warp's device).
@@ -195,7 +198,8 @@ def run_sweep(
     try:
         if todo:
             keep = world_fn if world_fn is not None else (result_of if fn is run_spec else None)
-            items = [s for _, s in todo]
+            here = kind is EPISODES and backend == "local" and workers == 1 and (carry or fn is run_spec)
+            items = [configs[k] if here else s for k, s in todo]
             cfgs = [configs[k] for k, _ in todo] if keep is not None else []
             results = _backend(backend, fn, keep, items, cfgs, workers, address, retries, options or EngineOptions())
             bar = Progress(
@@ -224,15 +228,15 @@ def run_sweep(
 
 def _backend(
     backend: str,
-    fn: Callable[[Spec], Any],
+    fn: Callable[..., object],
     keep: Callable[[Episode], dict[str, Any]] | None,
-    items: list[Spec],
+    items: list[Spec | EpisodeConfig],
     configs: list[EpisodeConfig],
     workers: int,
     address: str | None,
     retries: int,
     options: EngineOptions,
-) -> Any:
+) -> Generator[JobResult, None, None]:
     """Results (:class:`JobResult`, any order) of ``fn`` on ``items``: runs of a many-worlds engine (MuJoCo Warp) as the
     worlds of shared calls, in this process (``keep`` of each episode; None: every run on the backend); the others
     on the backend. ``configs``: the items' configs (none where ``keep`` is None)."""
@@ -240,7 +244,7 @@ def _backend(
     done = {i for group, _ in shared for i in group}
     others = [i for i in range(len(items)) if i not in done]
 
-    def chained() -> Iterator[JobResult]:
+    def chained() -> Generator[JobResult, None, None]:
         if shared:
             yield from world_runs(configs, shared, options, keep or result_of)
         if others:
@@ -287,8 +291,13 @@ def world_runs(
 
 
 def _pool(
-    backend: str, fn: Callable[[Spec], Any], items: list[Spec], workers: int, address: str | None, retries: int
-) -> Any:
+    backend: str,
+    fn: Callable[..., object],
+    items: list[Spec | EpisodeConfig],
+    workers: int,
+    address: str | None,
+    retries: int,
+) -> Generator[JobResult, None, None]:
     if backend == "ray":
         ray_backend.import_ray()  # the install hint now, not at the first result
         return ray_backend.run_unordered(fn, items, workers=workers, address=address, retries=retries)
@@ -297,13 +306,12 @@ def _pool(
 
 def _store(store: ResultStore, key: str, spec: Spec, d: JobResult, report: SweepReport, kind: Kind) -> None:
     """Write one finished run and count it."""
-    if d.error is None and not isinstance(d.value, dict):
-        d = JobResult(d.index, error=TypeError(f"a run's result must be a dict, got {type(d.value).__name__}"))
-    if d.error is None:
+    if d.error is None and isinstance(d.value, dict):
         store.put(key, spec, result=d.value, wall_time_s=d.wall_time_s)
         report.ok += 1
         return
-    message = one_line(d.error)
+    error = d.error or TypeError(f"a run's result must be a dict, got {type(d.value).__name__}")
+    message = one_line(error)
     store.put(key, spec, error=message, wall_time_s=d.wall_time_s)
     report.error += 1
     report.failures.append(Failure(key, spec, message, kind.describe(spec)))

@@ -50,13 +50,13 @@ class Checkpoint:
 
     step: int
     arrays: dict[str, np.ndarray]
-    values: dict[str, Any]
+    values: dict[str, Any]  # JSON values
 
     def save(self, path: str | Path) -> None:
         """Write ``checkpoint.npz`` atomically (no pickle)."""
         meta = {"format": FORMAT, "step": self.step, "values": self.values}
         blob = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
-        arrays: dict[str, Any] = {"__meta__": blob, **self.arrays}
+        arrays: dict[str, Any] = {"__meta__": blob, **self.arrays}  # (np.savez types its keywords)
         atomic_write(Path(path), lambda tmp: np.savez(tmp, **arrays))
 
     @classmethod
@@ -82,14 +82,14 @@ def _why(e: BaseException) -> str:
     return f"{type(e).__name__}: {text}"[:120] if text else type(e).__name__
 
 
-def capture(step: int, roots: dict[str, Any], previous: np.ndarray | None) -> Checkpoint:
+def capture(step: int, roots: dict[str, object], previous: np.ndarray | None) -> Checkpoint:
     """The state of ``roots`` (e.g. ``{"body": body, "controller": ctrl}``) after ``step`` control steps.
 
     ``previous``: the integration state before the body's last physics step
     (:meth:`~neurowalk.body.world.OneWorld.advance_keeping_previous`).
     """
     arrays: dict[str, np.ndarray] = {}
-    values: dict[str, Any] = {}
+    values: dict[str, object] = {}
     for path, value, _set in _leaves(roots):
         if isinstance(value, np.ndarray):
             arrays[path] = value.copy()
@@ -110,7 +110,7 @@ def capture(step: int, roots: dict[str, Any], previous: np.ndarray | None) -> Ch
     return Checkpoint(step, arrays, values)
 
 
-def restore(ckpt: Checkpoint, roots: dict[str, Any]) -> None:
+def restore(ckpt: Checkpoint, roots: dict[str, object]) -> None:
     """Put ``ckpt``'s state into ``roots``, freshly built (and reset) from the same config as the captured ones.
 
     Raises:
@@ -129,7 +129,7 @@ def restore(ckpt: Checkpoint, roots: dict[str, Any]) -> None:
         raise CheckpointError(f"the checkpoint holds state this run does not have: {sorted(extra)[0]!r}")
 
 
-def _restore_one(ckpt: Checkpoint, path: str, live: Any, put: Callable[[Any], None], seen: set[str]) -> None:
+def _restore_one(ckpt: Checkpoint, path: str, live: Any, put: Callable[[object], None], seen: set[str]) -> None:
     if isinstance(live, np.ndarray):
         saved = ckpt.arrays[path]
         seen.add(path)
@@ -152,7 +152,7 @@ def _restore_one(ckpt: Checkpoint, path: str, live: Any, put: Callable[[Any], No
         _restore_mujoco(ckpt, path, live)
         seen.update(f"{path}#{k}" for k in ("previous", "state", "warnings"))
     else:
-        value: Any = ckpt.values[path]
+        value = ckpt.values[path]
         seen.add(path)
         if isinstance(live, tuple):
             value = tuple(value)
@@ -187,7 +187,7 @@ class _Mj:
     data: mujoco.MjData
 
 
-def _skipped(value: Any) -> bool:
+def _skipped(value: object) -> bool:
     """Values that are not state: code, types, MuJoCo models, immutable configs (frozen dataclasses), enums."""
     if isinstance(value, types.FunctionType | types.BuiltinFunctionType | types.MethodType | type | types.ModuleType):
         return True
@@ -197,13 +197,13 @@ def _skipped(value: Any) -> bool:
     return dataclasses.is_dataclass(value) and params is not None and params.frozen
 
 
-def _leaves(roots: dict[str, Any]) -> Iterator[tuple[str, Any, Callable[[Any], None]]]:
+def _leaves(roots: dict[str, object]) -> Iterator[tuple[str, object, Callable[[object], None]]]:
     """(path, value, setter) of every piece of state under ``roots``, in a fixed order."""
     seen: set[int] = set()
     yield from _walk(roots, "", seen)
 
 
-def _walk(obj: Any, path: str, seen: set[int]) -> Iterator[tuple[str, Any, Callable[[Any], None]]]:
+def _walk(obj: object, path: str, seen: set[int]) -> Iterator[tuple[str, object, Callable[[object], None]]]:
     if id(obj) in seen:
         return
     seen.add(id(obj))
@@ -220,12 +220,12 @@ def _walk(obj: Any, path: str, seen: set[int]) -> Iterator[tuple[str, Any, Calla
         state = vars(obj) if hasattr(obj, "__dict__") else {s: getattr(obj, s) for s in _slots(obj)}
         mj = state.get("data") if isinstance(state.get("model"), mujoco.MjModel) else None
         items = [(k, _Mj(state["model"], v) if v is mj and mj is not None else v) for k, v in state.items()]
-        yield from _children(items, path, lambda k, v: setattr(obj, k, v), seen)
+        yield from _children(items, path, lambda k, v: setattr(obj, str(k), v), seen)
 
 
 def _children(
-    items: list[tuple[Any, Any]], path: str, setter: Callable[[Any, Any], None] | None, seen: set[int]
-) -> Iterator[tuple[str, Any, Callable[[Any], None]]]:
+    items: list[tuple[object, object]], path: str, setter: Callable[[Any, Any], None] | None, seen: set[int]
+) -> Iterator[tuple[str, object, Callable[[object], None]]]:
     for key, value in items:
         where = f"{path}/{key}" if path else str(key)
         if not isinstance(value, _Mj) and _skipped(value):
@@ -239,7 +239,7 @@ def _children(
             raise TypeError(f"cannot checkpoint {where}: MuJoCo data without its model beside it")
         if leaf:
 
-            def put(v: Any, k: Any = key, where: str = where) -> None:
+            def put(v: object, k: object = key, where: str = where) -> None:
                 if setter is None:
                     raise TypeError(f"{where} sits in a tuple and cannot be replaced")
                 setter(k, v)
@@ -251,5 +251,5 @@ def _children(
             raise TypeError(f"cannot checkpoint {where}: a {type(value).__name__}")
 
 
-def _slots(obj: Any) -> list[str]:
+def _slots(obj: object) -> list[str]:
     return [s for c in type(obj).__mro__ for s in getattr(c, "__slots__", ()) if hasattr(obj, s)]

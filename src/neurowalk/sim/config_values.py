@@ -27,7 +27,7 @@ class FrozenDict(dict):
         for k, v in dict.items(self):
             dict.__setitem__(self, k, freeze(v))
 
-    def _refuse(self, *args: Any, **kwargs: Any) -> None:
+    def _refuse(self, *args: object, **kwargs: object) -> None:
         raise TypeError("a config's options cannot change once it is made; make another with EpisodeConfig.replace")
 
     __setitem__ = __delitem__ = clear = pop = popitem = setdefault = update = __ior__ = _refuse  # type: ignore[assignment]
@@ -41,7 +41,7 @@ class FrozenDict(dict):
     def __copy__(self) -> FrozenDict:
         return self
 
-    def __deepcopy__(self, memo: dict[int, Any]) -> FrozenDict:
+    def __deepcopy__(self, memo: dict[int, object]) -> FrozenDict:
         return self
 
 

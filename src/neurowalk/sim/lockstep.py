@@ -11,7 +11,6 @@ share one call.
 from __future__ import annotations
 
 from collections.abc import Hashable, Mapping, Sequence
-from typing import Any
 
 import mujoco
 
@@ -103,6 +102,6 @@ class LockstepEngine(Engine):
         return (cfg.steps, cfg.control_hz, _hashable(cfg.body_opts))
 
 
-def _hashable(v: Any) -> Any:
+def _hashable(v: object) -> object:
     """``v`` with its mappings as sorted tuples of items (a group key's part)."""
     return tuple(sorted(v.items())) if isinstance(v, Mapping) else v
