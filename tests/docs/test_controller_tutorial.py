@@ -228,3 +228,42 @@ def test_a_bad_rule_file_is_one_line_and_exit_2(tmp_path: Path, monkeypatch, cap
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and line in err, err
     assert not (tmp_path / "out").exists()
+
+
+def test_a_sweep_runs_it_on_a_pool_and_runs_it_again_after_an_edit(wary: str, tmp_path: Path) -> None:
+    """A grid over the user's controller and a built-in, on a pool of two workers (each loads the file); the same
+    sweep again runs nothing, and after an edit of the file its store runs them all again."""
+    out = tmp_path / "sweep"
+    argv = ["sweep", "--arena", "corner", "--body", "surrogate", "--controller", f"{wary},plastic", "--seeds", "2",
+            "--steps", "200", "--workers", "2", "--out", str(out), "--quiet"]  # fmt: skip
+    counts = []
+    for edit in (None, None, "leak=0.8"):
+        if edit is not None:
+            path = tmp_path / "wary.py"
+            path.write_text(path.read_text().replace("leak=0.9", edit))
+        assert main(argv) == 0
+        info = json.loads((out / "sweep.json").read_text())
+        counts.append((info["counts"]["ok"], info["counts"]["skipped"]))
+    assert counts == [(4, 0), (0, 4), (4, 0)]
+
+
+def test_a_study_file_runs_it_beside_a_built_in(wary: str, tmp_path: Path) -> None:
+    (tmp_path / "duel.py").write_text(
+        "import matplotlib.pyplot as plt\n"
+        "from neurowalk import EpisodeConfig, Plan, Study\n\n"
+        "def runs(s):\n"
+        f"    for c in ({wary!r}, 'plastic'):\n"
+        "        cfg = EpisodeConfig(arena='corner', body='surrogate', controller=c, steps=300, seed=s.seed)\n"
+        "        yield Plan(c, cfg)\n\n"
+        "def measure(s, results):\n"
+        "    return {c: results[c][0].path_length_m for c in results}\n\n"
+        "def plot(result):\n"
+        "    fig, ax = plt.subplots()\n"
+        "    ax.bar(list(result.summary), list(result.summary.values()))\n"
+        "    return fig\n\n"
+        "study = Study('duel', 'a user controller beside the plastic network', plot=plot, runs=runs, measure=measure)\n"
+    )
+    out = tmp_path / "duel"
+    assert main(["study", "duel.py", "--out", str(out)]) == 0
+    summary = json.loads((out / "duel.json").read_text())
+    assert set(summary) >= {wary, "plastic"} and all(summary[c] > 0 for c in (wary, "plastic"))
