@@ -17,9 +17,11 @@ giving the same readings and positions, bit for bit.
 
 from __future__ import annotations
 
+from typing import cast
+
 import numpy as np
 
-from neurowalk.body.world import ALL_COLUMNS, CompiledWorld, OneWorld, World, is_compiled
+from neurowalk.body.world import ALL_COLUMNS, Body, CompiledWorld, OneWorld, World, is_compiled
 from neurowalk.observation import Observation
 
 __all__ = ["BodyContractError", "check_body"]
@@ -50,12 +52,12 @@ def check_body(body: object, *, steps: int = 5, seed: int = 0) -> None:
         raise BodyContractError(f"body {name!r}: {e}") from None
 
 
-def _per_step(body: object) -> object:
+def _per_step(body: object) -> Body:
     missing = [m for m in ("reset", "observe", "apply", "advance", "warnings", "model", "data", "action", "n_substeps")
                if not hasattr(body, m)]  # fmt: skip
     if missing:
         raise BodyContractError(f"a per-step body needs {', '.join(missing)}")
-    return body
+    return cast("Body", body)
 
 
 def _check_attributes(world: World | CompiledWorld) -> None:

@@ -1,6 +1,8 @@
 """The one registry of bodies: what ``--body NAME`` can name, what each needs and offers, and how it is built.
 
-Every body follows one small protocol, so the one control loop (:mod:`neurowalk.sim.episode`) serves them all:
+Every per-step body follows one small protocol (:class:`~neurowalk.body.world.Body`, typed), which
+:class:`~neurowalk.body.world.OneWorld` makes the one world the loop (:mod:`neurowalk.sim.loop`) steps; the planar
+surrogate is a compiled world of its own (:class:`~neurowalk.body.surrogate.Surrogate`):
 
 .. code-block:: text
 
@@ -24,7 +26,7 @@ import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import mujoco
 import numpy as np
@@ -38,6 +40,7 @@ from neurowalk.body.surrogate import Surrogate, load_calibration
 from neurowalk.body.user_mjcf import UserMjcf, check_opts
 from neurowalk.body.wheeled import WheeledParams, wheeled_xml
 from neurowalk.body.wheeled_body import Wheeled
+from neurowalk.body.world import Body
 
 
 @dataclass(frozen=True)
@@ -84,7 +87,7 @@ class BodyInfo:
     lockstep: bool = False
     viewer: bool = False
     gait_refusal: str | None = "takes the steering pair (no legs), no gait;"
-    build: Callable[..., Any] = field(kw_only=True, compare=False, repr=False)
+    build: Callable[..., Body | Surrogate] = field(kw_only=True, compare=False, repr=False)
     check_opts: Callable[[str, dict[str, Any]], dict[str, Any]] | None = field(default=None, compare=False, repr=False)
     xml: Callable[[dict[str, Any], str], str] | None = field(default=None, compare=False, repr=False)
     model: Callable[[str, dict[str, Any]], mujoco.MjModel] | None = field(default=None, compare=False, repr=False)
@@ -359,7 +362,7 @@ def make_body(
     noise: float = 0.02,
     climbing: bool = False,
     pad_boxes: int | None = None,
-) -> Any:
+) -> Body | Surrogate:
     """Build body ``name`` in ``arena`` with its options (its registry entry's :attr:`BodyInfo.build`).
 
     ``climbing``: the controller climbs (a climbing body reads its obstacle-height scanner every step).
@@ -377,7 +380,7 @@ def body_model(name: str, arena: ArenaSpec, opts: dict[str, Any] | None = None) 
     ValueError for a planar body."""
     if body_info(name).model is None:
         raise ValueError(f"body {name!r} is planar: it has no MuJoCo model")
-    return make_body(name, arena, opts, noise=0.0).model
+    return cast("Body", make_body(name, arena, opts, noise=0.0)).model
 
 
 def replay_contacts(name: str, opts: Mapping[str, Any], arena: ArenaSpec, qpos: np.ndarray) -> np.ndarray:

@@ -9,9 +9,9 @@
     worlds.advance()                    # one control step of physics in every world
     worlds.qpos, worlds.time            # (n, nq) positions (qpos[:, 0:7]: the trunk's free joint), (n,) s
 
-One world is the case n = 1: :class:`OneWorld` makes any per-step body (AMOSII, the wheeled robot, a user's MJCF
-robot: ``reset(rng)``, ``observe()``, ``apply(action)``, ``advance()``, ``model``, ``data``) such a world. Many AMOSII
-worlds with their physics plugged in are :class:`~neurowalk.body.amosii_worlds.AmosIIWorlds`. The loop
+One world is the case n = 1: :class:`OneWorld` makes any per-step :class:`Body` (AMOSII, the wheeled robot, a user's
+MJCF robot: ``reset(rng)``, ``observe()``, ``apply(action)``, ``advance()``, ``model``, ``data``) such a world.
+Many AMOSII worlds with their physics plugged in are :class:`~neurowalk.body.amosii_worlds.AmosIIWorlds`. The loop
 (:mod:`neurowalk.sim.loop`) steps every kind the same way.
 
 Departure from DESIGN.md §4, which names the reading ``observe() -> Observation``: the loop's reading is split in
@@ -23,20 +23,58 @@ controller that needs it), so that compiled controllers of many worlds pay for n
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any, Protocol, TypeGuard, runtime_checkable
+from typing import Protocol, TypeGuard, cast, runtime_checkable
 
 import mujoco
 import numpy as np
 
 from neurowalk.observation import Observation
 
-__all__ = ["ALL_COLUMNS", "CompiledWorld", "OneWorld", "World", "is_compiled"]
+__all__ = ["ALL_COLUMNS", "Body", "CompiledWorld", "OneWorld", "World", "is_compiled"]
 
 #: Every column of a run's rows (:class:`~neurowalk.sim.trajectory.Trajectory`): what a physics world fills.
 ALL_COLUMNS: tuple[str, ...] = ("t", "pose", "inputs", "outputs", "b", "q", "targets", "joint_angles",
                                 "us_distance", "foot_contact", "up_z", "qpos")  # fmt: skip
 
 _STATE = mujoco.mjtState.mjSTATE_INTEGRATION
+
+
+class Body(Protocol):
+    """A per-step body of the registry, one world (AMOSII, the wheeled robot, a user's MJCF robot): what
+    :class:`OneWorld` steps.
+
+    Attributes:
+        action: what :meth:`apply` takes, ``"targets"`` (19 joint targets, rad) or ``"steering"`` (O1, O2).
+        n_substeps: physics steps per control step. model, data: its MuJoCo model and data.
+    """
+
+    action: str
+    n_substeps: int
+    model: mujoco.MjModel
+    data: mujoco.MjData
+
+    def reset(self, rng: np.random.Generator) -> None:
+        """At its start pose, at rest; its sensor noise drawn from ``rng`` from now on."""
+
+    def observe(self) -> Observation:
+        """This control step's reading (advances the sensor noise by one step)."""
+        ...
+
+    def apply(self, action: np.ndarray) -> None:
+        """Its action for the next control step."""
+
+    def advance(self) -> None:
+        """One control step of physics."""
+
+    def warnings(self) -> dict[str, int]:
+        """Its physics warnings so far, by name."""
+        ...
+
+
+class LeggedBody(Body, Protocol):
+    """A per-step body with the 19 joints (``action == "targets"``)."""
+
+    qidx: np.ndarray  # (19,) the joints' places in qpos
 
 
 @runtime_checkable
@@ -152,14 +190,15 @@ class OneWorld:
     n = 1
     columns = ALL_COLUMNS
 
-    def __init__(self, body: Any) -> None:
+    def __init__(self, body: Body) -> None:
         self.body = body
         self.action: str = body.action
         self.nq: int = body.model.nq
         self.n_substeps: int = body.n_substeps
         self._data = body.data
         self._obs: Observation | None = None
-        self._qidx: np.ndarray | None = body.qidx - 7 if body.action == "targets" else None
+        legged = body.action == "targets"
+        self._qidx: np.ndarray | None = cast("LeggedBody", body).qidx - 7 if legged else None
 
     @property
     def qidx(self) -> np.ndarray | None:

@@ -116,7 +116,7 @@ class MujocoBatchWorlds(BatchPhysics, LockstepWorlds):
         built: dict[tuple[ArenaSpec, bool], AmosII] = {}  # worlds of one arena share its model (a seed sweep: one)
         for cfg, arena in zip(configs, arenas, strict=True):
             if (arena, cfg.climbing) not in built:  # the body options and the rate are the call's (check above)
-                built[arena, cfg.climbing] = make_body(
+                body = make_body(
                     cfg.body,
                     arena,
                     cfg.body_opts,
@@ -124,6 +124,8 @@ class MujocoBatchWorlds(BatchPhysics, LockstepWorlds):
                     climbing=cfg.climbing,
                     pad_boxes=max_boxes,
                 )
+                assert isinstance(body, AmosII)  # the engine runs AMOSII only (its check above)
+                built[arena, cfg.climbing] = body
         bodies = [built[a, c.climbing] for a, c in zip(arenas, configs, strict=True)]
         self.models: list[mujoco.MjModel] = [b.model for b in bodies]
         super().__init__(

@@ -20,7 +20,8 @@ import numpy as np
 from neurowalk.arenas import ArenaSpec, arena_options, make_arena
 from neurowalk.body.registry import BODIES as REGISTRY
 from neurowalk.body.registry import body_files, body_info, check_body_opts, make_body
-from neurowalk.body.surrogate import load_calibration
+from neurowalk.body.surrogate import Surrogate, load_calibration
+from neurowalk.body.world import Body
 from neurowalk.controller import (
     CONTROLLERS,
     Controller,
@@ -341,7 +342,7 @@ def seeds(cfg: EpisodeConfig) -> tuple[np.random.Generator, np.random.Generator,
     return body, ctrl, arena
 
 
-def build(cfg: EpisodeConfig, *, pad_boxes: int | None = None) -> tuple[ArenaSpec, Any, Controller]:
+def build(cfg: EpisodeConfig, *, pad_boxes: int | None = None) -> tuple[ArenaSpec, Body | Surrogate, Controller]:
     """Arena, body (see :mod:`neurowalk.body.registry`) and controller of a config (raises ValueError on bad input).
 
     ``pad_boxes``: build AMOSII's model with that many obstacle slots (``AmosII(pad_boxes=...)``), the model

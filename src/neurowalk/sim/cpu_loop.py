@@ -8,7 +8,8 @@ checkpoints from which a stopped run goes on bit for bit.
 
 from __future__ import annotations
 
-from neurowalk.body.world import CompiledWorld, OneWorld, is_compiled
+from neurowalk.body.surrogate import Surrogate
+from neurowalk.body.world import CompiledWorld, OneWorld
 from neurowalk.sim.batch_control import BatchControllers
 from neurowalk.sim.config import Episode, EpisodeConfig, RunInterruptedError, build
 from neurowalk.sim.engine_interface import EngineOptions, OneWorldPerCall, Streaming
@@ -31,12 +32,12 @@ class CpuLoop(OneWorldPerCall):
                 received all of them).
         """
         arena, body, ctrl = build(cfg, pad_boxes=options.pad_boxes)
-        compiled = is_compiled(body)
-        world: CompiledWorld | OneWorld = body if compiled else OneWorld(body)
+        # the planar surrogate is a compiled world (chunks of steps) of its own; a per-step body, one world
+        world: CompiledWorld | OneWorld = body if isinstance(body, Surrogate) else OneWorld(body)
         run = run_worlds([cfg], [arena], world, BatchControllers([ctrl], compiled=False), stream,
                          progress=options.progress)  # fmt: skip
         ep = run.episodes[0]
-        if compiled:
+        if isinstance(body, Surrogate):
             ep.summary["surrogate_contacts"] = body.contacts
         if run.interrupted:
             raise RunInterruptedError(ep)
