@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Callable, Mapping
-from pathlib import Path
 from typing import Protocol, runtime_checkable
 
 import numpy as np
@@ -227,13 +226,6 @@ class ControllerFileError(ValueError):
 def is_user_controller(name: str) -> bool:
     """Whether ``name`` names a user's controller, ``FILE.py:NAME`` (a built-in's name has no ``.py:``)."""
     return user_ref(name) is not None
-
-
-def controller_file(name: str) -> Path | None:
-    """The file of a user's controller ``FILE.py:NAME`` (None for a built-in): its bytes are part of its runs'
-    fingerprint (:func:`neurowalk.fingerprint.code`)."""
-    ref = user_ref(name)
-    return ref[0] if ref is not None else None
 
 
 def load_controller(name: str) -> Callable[[], Controller]:

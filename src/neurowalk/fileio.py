@@ -165,6 +165,13 @@ def user_ref(name: str) -> tuple[Path, str] | None:
     return (Path(path), attr) if path.endswith(".py") else None
 
 
+def user_file(name: str) -> Path | None:
+    """The file of a user's ``FILE.py:NAME`` (a controller, a learning rule), None for a built-in's name: its bytes are
+    part of its runs' fingerprint (:func:`neurowalk.fingerprint.code`)."""
+    ref = user_ref(name)
+    return ref[0] if ref is not None else None
+
+
 def load_ref(name: str, prefix: str, error: type[ValueError]) -> tuple[ModuleType, object]:
     """The module of the user's ``FILE.py:NAME`` (:func:`load_python_file`) and its ``NAME``; ``error`` in one line
     where NAME is no Python name or the file defines none."""

@@ -101,7 +101,12 @@ def cmd_run(args: argparse.Namespace) -> int:
         resumable = engine_for(cfg).resumable  # its runs leave a checkpoint every part (the CPU loop's)
         parts = PartWriter(out / "trajectory.parts")
         cfg, resume, resumable = _start(args, cfg, out, parts, resumable)
-        return _run_into(args, cfg, out, parts, resume, options, resumable)
+        page = live_page(cfg, parts, args) if args.web else None  # --web: the rows go to the page, then the parts
+        try:
+            return _run_and_save(args, cfg, out, parts, resume, options, page, resumable)
+        finally:
+            if page is not None:
+                page.close()
 
 
 #: Memory a streamed run holds per control step (the summary's columns), and what it needs besides (Python, MuJoCo,
@@ -171,25 +176,6 @@ def _clear(out: Path, parts: PartWriter) -> None:
         stale.unlink(missing_ok=True)
 
 
-def _run_into(
-    args: argparse.Namespace,
-    cfg: EpisodeConfig,
-    out: Path,
-    parts: PartWriter,
-    resume: Resume | None,
-    options: EngineOptions,
-    resumable: bool,
-) -> int:
-    """Run ``cfg`` with its rows streamed into ``parts`` (and to a page, with ``--web``; a checkpoint with every part
-    where ``resumable``), then write DIR's files; the exit status."""
-    page = live_page(cfg, parts, args) if args.web else None
-    try:
-        return _run_and_save(args, cfg, out, parts, resume, options, page, resumable)
-    finally:
-        if page is not None:
-            page.close()
-
-
 def _run_and_save(
     args: argparse.Namespace,
     cfg: EpisodeConfig,
@@ -200,7 +186,8 @@ def _run_and_save(
     page: LivePage | None,
     resumable: bool,
 ) -> int:
-    """:func:`_run_into` with the page (or None) made."""
+    """Run ``cfg`` with its rows streamed into ``parts`` (or to ``page``, with ``--web``, which passes them on; a
+    checkpoint with every part where ``resumable``), then write DIR's files; the exit status."""
     from neurowalk.fileio import write_error
     from neurowalk.runners.stopping import interrupted as interrupted_by_signal
     from neurowalk.runners.stopping import stop_requested, stop_status

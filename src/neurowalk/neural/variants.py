@@ -144,8 +144,7 @@ def get_variant(name: str = "paper", overrides: Mapping[str, Any] | None = None)
         base = getattr(module, "BASE", "paper")
         if base not in ("paper", "original"):
             raise ValueError(f"learning rule {name!r}: BASE must be 'paper' or 'original', got {base!r}")
-        v = dataclasses.replace(get_variant(base, overrides), name=name, rule=rule)
-        return v
+        return dataclasses.replace(get_variant(base, overrides), name=name, rule=rule)
     if name not in names:
         raise ValueError(f"unknown variant {name!r}; expected one of {', '.join(names)}, or FILE.py:NAME")
     if name == "tuned":
@@ -203,10 +202,3 @@ def params_variant(path: Path | str, data: dict[str, Any], variant: str | None) 
         raise ValueError(f"--variant {variant} contradicts params file {str(path)!r}, which names variant {named!r}; "
                          "leave out --variant or edit the file")  # fmt: skip
     return named or variant
-
-
-def variant_file(name: str) -> Path | None:
-    """The file of a user's learning rule ``FILE.py:NAME`` (None for a named variant): its bytes are part of its
-    runs' fingerprint."""
-    ref = user_ref(name)
-    return ref[0] if ref is not None else None

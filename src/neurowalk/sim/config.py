@@ -25,15 +25,14 @@ from neurowalk.body.world import Body
 from neurowalk.controller import (
     CONTROLLERS,
     Controller,
-    controller_file,
     is_user_controller,
     load_controller,
     make_controller,
 )
-from neurowalk.fileio import to_jsonable
+from neurowalk.fileio import to_jsonable, user_file
 from neurowalk.neural.cpg import GAITS, CpgParams
 from neurowalk.neural.motor import LocomotionParams
-from neurowalk.neural.variants import check_overrides, get_variant, variant_file
+from neurowalk.neural.variants import check_overrides, get_variant
 from neurowalk.progress import Progress
 from neurowalk.sim.config_values import FrozenDict, real, typed_arena_opts, whole
 from neurowalk.sim.run_summary import RunSummary
@@ -231,7 +230,7 @@ class EpisodeConfig:
     def files(self) -> tuple[Path, ...]:
         """The user's files the run reads (a user's MJCF body, controller or learning rule): their bytes are part of its
         fingerprint (:func:`neurowalk.fingerprint.code`)."""
-        found = (controller_file(self.controller), variant_file(self.variant))
+        found = (user_file(self.controller), user_file(self.variant))
         return (*body_files(self.body), *(f for f in found if f is not None))
 
     def key(self) -> str:
