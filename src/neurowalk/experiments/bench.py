@@ -26,7 +26,7 @@ import subprocess
 import sys
 import tempfile
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -48,6 +48,25 @@ from neurowalk.sim.warp_engine import WarpWorlds, device_name, resolve_device
 ARENA_OPTS = {"n_boxes": 10, "extent": 9.0, "size": 0.6}
 
 
+def _timed(fn: Callable[..., Any], *args: Any, **kwargs: Any) -> tuple[Any, float]:
+    """``fn(*args, **kwargs)`` and its wall time (s)."""
+    t0 = time.perf_counter()
+    out = fn(*args, **kwargs)
+    return out, time.perf_counter() - t0
+
+
+def _batch(quick: bool, workers: int, baseline: bool = True) -> tuple[dict[str, Any], float]:
+    """``mujoco.batch`` on 1 and ``workers`` threads (16 random arenas; 2 with ``quick``), by ``nthread_T``, and the
+    aggregate rate on ``workers`` threads over that on 1."""
+    n, steps = (2, 50) if quick else (16, 300)
+    batch = {
+        f"nthread_{t}": measure_throughput(n_copies=n, steps=steps, nthread=t, baseline=baseline)
+        for t in sorted({1, workers})
+    }
+    rate = {k: b["batch_physics_steps_per_s"] for k, b in batch.items()}
+    return batch, rate[f"nthread_{workers}"] / rate["nthread_1"]
+
+
 @contextlib.contextmanager
 def busy_core() -> Iterator[None]:
     """Another process spins on one core for the length of the block (it is killed at the end)."""
@@ -64,18 +83,11 @@ def busy_parallel(quick: bool, workers: int) -> dict[str, Any]:
     """The parallel figures with one core busy: ``mujoco.batch`` on 1 and ``workers`` threads (16 random arenas),
     and the surrogate's ``run_all`` on ``workers`` processes against one; ``*_over_1``: the parallel rate over
     the serial one (at least 1: parallel work must not be slower than serial on a busy machine)."""
-    n, steps = (2, 50) if quick else (16, 300)
     with busy_core():
-        batch = {
-            t: measure_throughput(n_copies=n, steps=steps, nthread=t, baseline=False) for t in sorted({1, workers})
-        }
+        batch, ratio = _batch(quick, workers, baseline=False)
         pool = surrogate_pool(2000 if quick else 20000, 4 if quick else 100, workers, 1 if quick else 3)
-    rate = {t: b["batch_physics_steps_per_s"] for t, b in batch.items()}
     return {
-        "batch_physics": {
-            **{f"nthread_{t}": b for t, b in batch.items()},
-            f"nthread_{workers}_over_1": rate[workers] / rate[1],
-        },
+        "batch_physics": {**batch, f"nthread_{workers}_over_1": ratio},
         "surrogate_pool": pool,
         "how": "another process spins on one core (busy_core) during these measurements",
     }
@@ -91,9 +103,7 @@ def physics_rates(steps: int, seeds: int) -> dict[str, float]:
     m, d = body.model, body.data  # type: ignore[union-attr]
     body.reset(np.random.default_rng(0))  # type: ignore[arg-type]
     n = steps * body.n_substeps  # type: ignore[union-attr]
-    t0 = time.perf_counter()
-    mujoco.mj_step(m, d, nstep=n)
-    bare = n / (time.perf_counter() - t0)
+    bare = n / _timed(mujoco.mj_step, m, d, nstep=n)[1]
     return {
         "control_steps_per_s": steps * seeds / wall,
         "bare_mj_step_per_s": bare,
@@ -103,8 +113,7 @@ def physics_rates(steps: int, seeds: int) -> dict[str, float]:
 
 def _surrogate_run(seed: int, steps: int) -> float:
 
-    cfg = EpisodeConfig(arena="random", arena_opts=ARENA_OPTS, body="surrogate", steps=steps, seed=seed)
-    return run_episode(cfg).summary["wall_time_s"]
+    return run_episode(_surrogate_configs(seed, 1, steps)[0]).summary["wall_time_s"]
 
 
 def surrogate_rates(steps: int, envs: int, workers: int) -> dict[str, float]:
@@ -113,9 +122,7 @@ def surrogate_rates(steps: int, envs: int, workers: int) -> dict[str, float]:
 
     _surrogate_run(0, 100)  # compile / load the numba cache
     loop = sum(_surrogate_run(s, steps) for s in range(envs))
-    t0 = time.perf_counter()
-    run_all(_surrogate_configs(envs, envs * workers * 2, steps), workers=workers, progress=False)
-    pool_wall = time.perf_counter() - t0
+    _, pool_wall = _timed(run_all, _surrogate_configs(envs, envs * workers * 2, steps), workers=workers, progress=False)
     return {
         "env_steps_per_s_one_process": steps * envs / loop,
         "env_steps_per_s_pool": steps * envs * workers * 2 / pool_wall,
@@ -138,12 +145,11 @@ def surrogate_end_to_end(steps: int, envs: int) -> dict[str, float]:
     time is the whole ``run_episode`` call around it, so the two rates share the machine's state.
     """
 
-    run_episode(_surrogate_configs(0, 1, 100)[0])  # compile / load the numba cache
+    _surrogate_run(0, 100)  # compile / load the numba cache
     loop = total = 0.0
     for cfg in _surrogate_configs(0, envs, steps):
-        t0 = time.perf_counter()
-        ep = run_episode(cfg)
-        total += time.perf_counter() - t0
+        ep, wall = _timed(run_episode, cfg)
+        total += wall
         loop += ep.summary["wall_time_s"]
     return {
         "steps_per_run": steps,
@@ -169,9 +175,7 @@ def surrogate_pool(steps: int, runs: int, workers: int, repeats: int) -> dict[st
     one, pool = [], []
     for _ in range(repeats):
         for n, into in ((1, one), (workers, pool)):
-            t0 = time.perf_counter()
-            run_all(cfgs, workers=n, progress=False)
-            into.append(time.perf_counter() - t0)
+            into.append(_timed(run_all, cfgs, workers=n, progress=False)[1])
     a, b = float(np.median(one)), float(np.median(pool))
     return {
         "steps_per_run": steps,
@@ -189,9 +193,7 @@ def table2_time(workers: int, environments: int = 50) -> dict[str, float]:
     """Wall time of Table 2 on the surrogate over ``environments`` environments (fresh store, full length runs): what
     ``neurowalk figure table2 --seeds N`` costs to compute (the picture aside)."""
     with tempfile.TemporaryDirectory() as tmp:
-        t0 = time.perf_counter()
-        res = compute(FIGURES["table2"], Settings(out=Path(tmp), workers=workers, seeds=environments))
-        wall = time.perf_counter() - t0
+        res, wall = _timed(compute, FIGURES["table2"], Settings(out=Path(tmp), workers=workers, seeds=environments))
     counts = res.summary["counts"]
     return {
         "wall_s": wall,
@@ -329,9 +331,7 @@ def lockstep_rates(
         runs.run()  # untimed: compile, capture
         runs.timing = dict.fromkeys(runs.timing, 0.0)
         runs.noise.draw_s, runs.noise.blocks = 0.0, 0
-        t0 = time.perf_counter()
-        runs.run()
-        wall = time.perf_counter() - t0
+        _, wall = _timed(runs.run)
         per = {k: 1e6 * v / (n * steps) for k, v in runs.timing.items()}
         # the noise is drawn BLOCK steps ahead: a run of whole blocks pays a block's draw once per BLOCK steps
         draw_us = 1e6 * runs.noise.draw_s / (n * BLOCK * max(runs.noise.blocks, 1))
@@ -389,10 +389,7 @@ def run_bench(
     phys = physics_rates(steps, seeds)
     loop = closed_loop_ratio(300 if quick else 3000, 1 if quick else 5)
     settings = physics_settings(300 if quick else 3000, 1 if quick else 5)
-    batch: dict[str, Any] = {}
-    for nthread in sorted({1, workers}):
-        b = measure_throughput(n_copies=2 if quick else 16, steps=50 if quick else 300, nthread=nthread)
-        batch[f"nthread_{nthread}"] = b
+    batch, ratio = _batch(quick, workers)
     out: dict[str, Any] = {
         "machine": {
             "cores": cores,
@@ -407,8 +404,7 @@ def run_bench(
         "batch_physics": {
             **batch,
             "speedup_vs_single_loop": {k: v.get("speedup") for k, v in batch.items()},
-            f"nthread_{workers}_over_1": batch[f"nthread_{workers}"]["batch_physics_steps_per_s"]
-            / batch["nthread_1"]["batch_physics_steps_per_s"],
+            f"nthread_{workers}_over_1": ratio,
             "aim": f"close to the number of cores ({cores})",
         },
         "quick": quick,
@@ -437,8 +433,6 @@ def run_bench(
     }
     out["busy_core"] = busy_parallel(quick, workers)
     if not quick:
-        out["table2_surrogate"] = table2_time(workers)
-        out["table2_surrogate"]["aim_s"] = 60
-        out["table2_surrogate_1000"] = table2_time(workers, 1000)
-        out["table2_surrogate_1000"]["aim_s"] = 60
+        for key, environments in (("table2_surrogate", 50), ("table2_surrogate_1000", 1000)):
+            out[key] = {**table2_time(workers, environments), "aim_s": 60}
     return out
