@@ -48,13 +48,8 @@ def _dead_end(arena: str, network: str, want: str) -> Rule:
     return rule
 
 
-def _long(network: str) -> dict[str, Any]:
-    """The authors' 10,000 s run of ``network`` in the difficult arena (:func:`authors.long_runs`)."""
-    return authors.long_runs()[network]
-
-
 def _static_trapped(c: Claim, s: dict[str, Any]) -> Claim:
-    r = _long("static")
+    r = authors.long_runs()["static"]
     return holds(
         c.what,
         c.paper,
@@ -66,7 +61,7 @@ def _static_trapped(c: Claim, s: dict[str, Any]) -> Claim:
 
 
 def _plastic_explores(c: Claim, s: dict[str, Any]) -> Claim:
-    p, st = _long("plastic"), _long("static")
+    p, st = authors.long_runs()["plastic"], authors.long_runs()["static"]
     return holds(
         c.what,
         c.paper,
@@ -78,7 +73,7 @@ def _plastic_explores(c: Claim, s: dict[str, Any]) -> Claim:
 
 
 def _plastic_not_held(c: Claim, s: dict[str, Any]) -> Claim:
-    p = _long("plastic")
+    p = authors.long_runs()["plastic"]
     return holds(
         c.what,
         c.paper,
@@ -157,32 +152,23 @@ def _fig7_rows(s: dict[str, Any]) -> list[dict[str, Any]]:
 
 def _long_rows(s: dict[str, Any], network: str) -> list[dict[str, Any]]:
     """The long run of ``network`` in the difficult arena: length, coverage, wedged periods, stuck at the end."""
-    r, ours, w = _long(network), s["runs"][f"difficult ({network})"], s["wedged"][f"difficult ({network})"]
+    r = authors.long_runs()[network]
+    ours, w = s["runs"][f"difficult ({network})"], s["wedged"][f"difficult ({network})"]
     over = next(v for k, v in w.items() if k.startswith("over_"))
     held = w["held"]
     held_over = next(v["periods"] for k, v in held.items() if k.startswith("over_"))
-    return [
-        _row(f"difficult arena, {network}: run length", "s", ours["steps"] / s["control_hz"], r["seconds"], 1),
-        _row(f"difficult arena, {network}: coverage", "share", ours["coverage"], r["coverage"]),
-        _row(f"difficult arena, {network}: wedged periods", "", w["periods"], r["wedged_periods"]),
-        _row(f"difficult arena, {network}: longest wedged period", "s", w["longest_s"], r["longest_wedged_s"], 1),
-        _row(f"difficult arena, {network}: wedged periods over 300 s", "", over["periods"], r["over_300s"]),
-        _row(f"difficult arena, {network}: held periods over 300 s", "", held_over, r["held_over_300s"]),
-        _row(
-            f"difficult arena, {network}: longest held period",
-            "s",
-            held["longest_s"],
-            r["longest_held_s"],
-            1,
-        ),
-        _row(
-            f"difficult arena, {network}: turning periods (wedged, never held)",
-            "",
-            held["turning_periods"],
-            r["turning_periods"],
-        ),
-        _row(f"difficult arena, {network}: stuck at the end", "", bool(ours["trapped"]), r["trapped"]),
+    rows = [  # (what, unit, neurowalk's, the authors', digits)
+        ("run length", "s", ours["steps"] / s["control_hz"], r["seconds"], 1),
+        ("coverage", "share", ours["coverage"], r["coverage"], 4),
+        ("wedged periods", "", w["periods"], r["wedged_periods"], 4),
+        ("longest wedged period", "s", w["longest_s"], r["longest_wedged_s"], 1),
+        ("wedged periods over 300 s", "", over["periods"], r["over_300s"], 4),
+        ("held periods over 300 s", "", held_over, r["held_over_300s"], 4),
+        ("longest held period", "s", held["longest_s"], r["longest_held_s"], 1),
+        ("turning periods (wedged, never held)", "", held["turning_periods"], r["turning_periods"], 4),
+        ("stuck at the end", "", bool(ours["trapped"]), r["trapped"], 4),
     ]
+    return [_row(f"difficult arena, {network}: {what}", *rest) for what, *rest in rows]
 
 
 def _static_simple_rows(s: dict[str, Any]) -> list[dict[str, Any]]:

@@ -37,7 +37,7 @@ from typing import Any
 from neurowalk import profiling
 from neurowalk.experiments import FIGURES, Settings
 from neurowalk.experiments.reproduce.causes import with_causes
-from neurowalk.experiments.reproduce.claims import Claim, overall
+from neurowalk.experiments.reproduce.claims import overall
 from neurowalk.experiments.reproduce.judge_authors import compare
 from neurowalk.experiments.reproduce.plan import Item
 from neurowalk.fileio import write_json
@@ -133,12 +133,6 @@ def done(run: Run, out: Path) -> dict[str, Any] | None:
     return rec if ok and (out / run.name / f"{run.figure}.json").is_file() else None
 
 
-def _stored(run: Run, out: Path) -> bool:
-    """An earlier command of ``run`` started and did not finish (its log is there): the figure goes on from the runs
-    it stored, and its wall time is what was left to run."""
-    return (out / run.name / "log.txt").is_file()
-
-
 class RunFailedError(RuntimeError):
     """A figure command exited with an error; names the command, its status and its log."""
 
@@ -152,7 +146,9 @@ def execute(run: Run, out: Path, tick: Any = None) -> dict[str, Any]:
     folder = out / run.name
     folder.mkdir(parents=True, exist_ok=True)
     write_json(folder / SETTINGS_FILE, run.settings_file(out))
-    resumed = _stored(run, out)  # the figure goes on from runs an earlier, stopped command stored
+    # an earlier command started and did not finish (its log is there): the figure goes on from the runs it stored,
+    # and its wall time is what was left to run
+    resumed = (folder / "log.txt").is_file()
     words = run.command(out)
     profile = folder / PROFILE
     shutil.rmtree(profile, ignore_errors=True)  # this command's processes alone
@@ -198,8 +194,6 @@ def item_record(item: Item, run: Run, record: dict[str, Any], out: Path, quick: 
     """An item's result: its command, versions, seeds, wall time, claims and verdict, judged from the run's json, and
     where the authors' simulator has runs of it, ``authors``: their claims and numbers beside neurowalk's."""
     summary = json.loads((out / run.name / f"{run.figure}.json").read_text(encoding="utf-8"))
-    claims = with_causes(item.name, item.judge(summary, quick), summary, out)
-    verdict, reason = overall(claims)
     return {
         "name": item.name,
         "paper": item.paper,
@@ -218,18 +212,18 @@ def item_record(item: Item, run: Run, record: dict[str, Any], out: Path, quick: 
             "png": f"{run.name}/{run.figure}.png",
             "json": f"{run.name}/{run.figure}.json",
         },
-        "claims": [c.to_json() for c in claims],
-        "verdict": verdict,
-        "reason": reason,
-        **_authors(item, summary, claims),
+        **_judged(item, summary, quick, out),
     }
 
 
-def _authors(item: Item, summary: dict[str, Any], claims: list[Claim]) -> dict[str, Any]:
-    """``{"authors": entry}``: the authors' simulator beside neurowalk (:func:`.judge_authors.compare`), or ``{}``
-    where its runs answer nothing of the item."""
+def _judged(item: Item, summary: dict[str, Any], quick: bool, out: Path) -> dict[str, Any]:
+    """``item``'s claims (with their causes), verdict and reason from the figure's ``summary``, and ``authors``: the
+    authors' simulator beside neurowalk (:func:`.judge_authors.compare`), where its runs answer some of the item."""
+    claims = with_causes(item.name, item.judge(summary, quick), summary, out)
+    verdict, reason = overall(claims)
     entry = compare(item.name, summary, claims)
-    return {} if entry is None else {"authors": entry}
+    judged = {"claims": [c.to_json() for c in claims], "verdict": verdict, "reason": reason}
+    return judged if entry is None else {**judged, "authors": entry}
 
 
 def rejudged(item: Item, record: dict[str, Any], out: Path) -> dict[str, Any]:
@@ -237,11 +231,8 @@ def rejudged(item: Item, record: dict[str, Any], out: Path) -> dict[str, Any]:
     current code from the run's numbers in ``out`` (the run itself is not repeated): what a changed judge says; its
     ``authors`` entry made again too."""
     summary = json.loads((out / record["files"]["json"]).read_text(encoding="utf-8"))
-    claims = with_causes(item.name, item.judge(summary, record["quick"]), summary, out)
-    verdict, reason = overall(claims)
     rest = {k: v for k, v in record.items() if k != "authors"}
-    judged = {"claims": [c.to_json() for c in claims], "verdict": verdict, "reason": reason}
-    return {**rest, **judged, **_authors(item, summary, claims)}
+    return {**rest, **_judged(item, summary, record["quick"], out)}
 
 
 def write_item(item: Item, run: Run, record: dict[str, Any], out: Path, quick: bool) -> Path:
