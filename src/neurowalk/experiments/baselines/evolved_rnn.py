@@ -161,18 +161,14 @@ def train(
     Path(out).mkdir(parents=True, exist_ok=True)
     path = Path(out) / "state.json"
     state = _state(cma, path, settings)
-    bar = None
-    if progress and len(state["curve"]) < generations:
-        bar = Progress(
-            total=generations, initial=len(state["curve"]), unit="gen", desc="neuroevolution", mininterval=0.5
-        )
+    done = len(state["curve"])
+    quiet = not progress or done >= generations
+    bar = Progress(total=generations, initial=done, unit="gen", desc="neuroevolution", mininterval=0.5, disable=quiet)
     while len(state["curve"]) < generations:
         returns = _generation(state, path)
-        if bar is not None:
-            bar.update(1)
-            bar.set_postfix(best=f"{returns.max():.2f} m2")
-    if bar is not None:
-        bar.close()
+        bar.update(1)
+        bar.set_postfix(best=f"{returns.max():.2f} m2")
+    bar.close()
     log(f"neuroevolution: {generations} generations, {state['env_steps']:,} env steps, {state['wall_s']:.0f} s")
     return {
         "theta": [float(v) for v in state["es"].mean],

@@ -208,27 +208,23 @@ def _callback(rl: Rl, record: dict[str, Any], n_envs: int, total: int, progress:
 
         def __init__(self) -> None:
             super().__init__()
-            self.bar = None
             self.returns = np.zeros(n_envs)
-            if progress:
-                self.bar = ProgressBar(
-                    total=total, initial=record["env_steps"], unit="step", desc="training", mininterval=0.5
-                )
+            start = record["env_steps"]
+            self.bar = ProgressBar(
+                total=total, initial=start, unit="step", desc="training", mininterval=0.5, disable=not progress
+            )
 
         def _on_step(self) -> bool:
             self.returns += self.locals["rewards"]
             if self.locals["dones"].all():
                 record["curve"].append(float(self.returns.mean()))
                 self.returns[:] = 0.0
-                if self.bar is not None:
-                    self.bar.set_postfix(ret=f"{record['curve'][-1]:.2f} m2")
-            if self.bar is not None:
-                self.bar.update(n_envs)
+                self.bar.set_postfix(ret=f"{record['curve'][-1]:.2f} m2")
+            self.bar.update(n_envs)
             return True
 
         def close(self) -> None:
-            if self.bar is not None:
-                self.bar.close()
+            self.bar.close()
 
     return Progress()
 
