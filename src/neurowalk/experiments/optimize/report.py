@@ -107,11 +107,11 @@ def heldout_table(
 ) -> dict[str, Any]:
     """The held-out table: per network successes, rate and Wilson 95% interval; paired counts against ``best``."""
     n = len(envs)
+    ok = {name: [not r["trapped"] for r in runs[name]] for name in rows}
     table: dict[str, Any] = {}
     for name, (variant, params) in rows.items():
-        ok = [not r["trapped"] for r in runs[name]]
         classes = [failure_class(dict(r)) for r in runs[name]]
-        k = int(sum(ok))
+        k = int(sum(ok[name]))
         table[name] = {
             "variant": variant,
             "params": params,
@@ -123,16 +123,15 @@ def heldout_table(
             "failure_classes": {c: classes.count(c) for c in ("latched spin", "wedged", "other")},
             "median_coverage": float(np.median([r["coverage"] for r in runs[name]])),
         }
-    best_ok = [not r["trapped"] for r in runs["best"]]
-    paired = {}
-    for name in rows:
-        if name != "best":
-            other = [not r["trapped"] for r in runs[name]]
-            paired[name] = {
-                "best_only": sum(a and not b for a, b in zip(best_ok, other, strict=True)),
-                f"{name}_only": sum(b and not a for a, b in zip(best_ok, other, strict=True)),
-            }
-    per_env = [{**e, **{name: not runs[name][i]["trapped"] for name in rows}} for i, e in enumerate(envs)]
+    paired = {
+        name: {
+            "best_only": sum(a and not b for a, b in zip(ok["best"], ok[name], strict=True)),
+            f"{name}_only": sum(b and not a for a, b in zip(ok["best"], ok[name], strict=True)),
+        }
+        for name in rows
+        if name != "best"
+    }
+    per_env = [{**e, **{name: ok[name][i] for name in rows}} for i, e in enumerate(envs)]
     return {
         "environments": n,
         "table_seed": table_seed,

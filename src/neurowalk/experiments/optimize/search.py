@@ -24,7 +24,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
-from dataclasses import asdict, replace
+from dataclasses import asdict, dataclass, replace
 from functools import partial
 from pathlib import Path
 from typing import Any
@@ -90,19 +90,18 @@ def train_specs(
     ]
 
 
+@dataclass
 class Runner:
     """Runs specs through the one runner (:func:`~neurowalk.experiments.study_runs.run_store`) on the resumable store
     ``folder/results.sqlite``, on a backend; counts what it computed and what it took from the store."""
 
-    def __init__(self, folder: Path, backend: str, workers: int, address: str | None, progress: bool) -> None:
-        self.folder, self.backend, self.workers, self.address, self.progress = (
-            folder,
-            backend,
-            workers,
-            address,
-            progress,
-        )
-        self.computed = self.skipped = 0
+    folder: Path
+    backend: str
+    workers: int
+    address: str | None
+    progress: bool
+    computed: int = 0
+    skipped: int = 0
 
     def __call__(self, specs: list[dict[str, Any]]) -> list[dict[str, Any]]:
         """The results of ``specs`` (summaries, in order), computing only those not in the store."""
