@@ -53,12 +53,14 @@ class FunctionAt:
         return self.load()(*args, **kwargs)
 
 
-def _study(name: str, title: str, module: str, takes: str = "", body: str | None = None, outputs: str = "") -> Study:
-    """Study ``name`` declared by :mod:`neurowalk.experiments.figures`.``module``'s ``runs``, ``measure`` and
-    ``plot`` (as a user's study file declares them), run by :func:`~neurowalk.experiments.study.run_study`, and
-    judged by its ``claims``; ``takes``: the optional settings it honours, ``outputs``: its ``render`` and ``videos``
-    where it has them (space-separated lists)."""
-    path = f"{__name__}.figures.{module}"
+def _study(
+    name: str, title: str, takes: str = "", body: str | None = None, outputs: str = "", module: str | None = None
+) -> Study:
+    """Study ``name`` declared by :mod:`neurowalk.experiments.figures`.``module``'s (default: ``name``'s) ``runs``,
+    ``measure`` and ``plot`` (as a user's study file declares them), run by
+    :func:`~neurowalk.experiments.study.run_study`, and judged by its ``claims``; ``takes``: the optional settings it
+    honours, ``outputs``: its ``render`` and ``videos`` where it has them (space-separated lists)."""
+    path = f"{__name__}.figures.{module or name}"
     at = {part: FunctionAt(path, part) for part in ("runs", "measure", "plot", "claims", *outputs.split())}
     return Study(name, title, takes=takes.split(), body=body, records_physics=True, **at)  # type: ignore[arg-type]
 
@@ -69,94 +71,83 @@ FIGURES: dict[str, Study] = {
     "table1": _study(
         "table1",
         "walking direction for each sign of the outputs O1, O2, and speed (paper Table 1)",
-        "table1",
         "control_hz",
     ),
-    "fig2": _study("fig2", "fixed points and hysteresis of the sensory network", "fig2"),
-    "fig3": _study("fig3", "static network: dead ends, hysteresis, cluttered and difficult arenas", "fig3", PHYSICS),
-    "fig4": _study("fig4", "weight changes for constant and changing inputs", "fig4", "variant params control_hz"),
-    "fig5": _study("fig5", "plastic network: dead ends, weight dynamics, the difficult arena", "fig5", PHYSICS),
+    "fig2": _study("fig2", "fixed points and hysteresis of the sensory network"),
+    "fig3": _study("fig3", "static network: dead ends, hysteresis, cluttered and difficult arenas", PHYSICS),
+    "fig4": _study("fig4", "weight changes for constant and changing inputs", "variant params control_hz"),
+    "fig5": _study("fig5", "plastic network: dead ends, weight dynamics, the difficult arena", PHYSICS),
     "fig6": _study(
         "fig6",
         "sixteen random environments: trajectories, start and end, failures marked (paper Fig. 6)",
-        "fig6",
         "body workers size variant params control_hz",
         body="surrogate",
     ),
     "fig7": _study(
         "fig7",
         "joint angles of all legs: forward, backward, turn right, turn left (physics)",
-        "fig7",
         "control_hz",
     ),
     "fig8": _study(
         "fig8",
         "narrow passage: snapshots, paths and escapes of the plastic and static networks (paper Fig. 8)",
-        "fig8",
         "seeds workers video variant params control_hz",
         outputs="render videos",
     ),
     "fig9": _study(
         "fig9",
         "complex path: snapshots, paths and outcome map of the plastic and static networks (paper Fig. 9)",
-        "fig9",
         "seeds workers video variant params control_hz",
         outputs="render videos",
     ),
     "fig10": _study(
         "fig10",
         "climbing track: climb a step, avoid a wall, climb a second step (paper Fig. 10)",
-        "fig10",
         "seeds workers variant control_hz",
         outputs="render",
     ),
     "table2": _study(
         "table2",
         "random environments: success and failure counts per network (paper Table 2)",
-        "table2",
         "seeds body workers climbing size variant params engine control_hz",
         body="surrogate",
     ),
     "escape-map": _study(
         "escape-map",
         "escape rate against trap size for all three networks",
-        "escape_map",
         "seeds climbing variant gait workers control_hz",
+        module="escape_map",
     ),
     "sensitivity": _study(
         "sensitivity",
         "the dead ends' and the climbing track's outcomes with their invented dimension at 0.8, 1.0, 1.2 x",
-        "sensitivity",
         "seeds workers variant control_hz",
     ),
     "latched-spin": _study(
         "latched-spin",
         "the plastic network's failure in Table 2: a latched spin in a pocket (surrogate)",
-        "latched",
         "variant params workers",
+        module="latched",
     ),
     "ablation": _study(
         "ablation",
         "the authors' code's options one at a time, and success against run length, on Table 2's environments",
-        "ablation",
         "seeds workers",
     ),
     "steps": _study(
         "steps",
         "step-height sweep: highest step climbed, with and without backbone control and reflexes",
-        "steps",
         "seeds workers control_hz",
     ),
     "bodies": _study(
         "bodies",
         "the networks on other robots: dead ends and Table 2 on AMOSII and a wheeled robot at two sizes",
-        "bodies",
         "seeds workers control_hz",
     ),
     "surrogate": _study(
         "surrogate",
         "planar surrogate vs physics: held-out calibration and dead-end outcomes",
-        "surrogate_check",
         "seeds",
+        module="surrogate_check",
     ),
 }
