@@ -14,9 +14,11 @@ stop (SIGINT, SIGTERM) ends it with one line saying what is kept, and the stop's
 
 from __future__ import annotations
 
+import contextlib
 import json
 import sys
 import time
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -108,37 +110,36 @@ def checked(study: Study, s: Settings, out: Path) -> Settings:
     from neurowalk.sim.engine_interface import EngineOptions
     from neurowalk.sim.engines import ENGINES
 
-    try:
+    with _refused(f"--out {str(out)!r}: "):
         make_writable_folder(out)  # first: a folder that cannot be written is named before anything else
-    except ValueError as e:
-        raise CommandError(f"--out {str(out)!r}: {e}") from None
-    try:
+    with _refused():
         s = resolve(study, s.replace(out=out))  # also reads a params file
-    except ValueError as e:
-        raise CommandError(str(e)) from None
     if s.engine not in ENGINES:
         raise CommandError(f"unknown engine {s.engine!r}; expected one of {', '.join(ENGINES)}")
     engine = ENGINES[s.engine]
     if s.device is not None and not engine.devices:
         with_device = " or ".join(f"--engine {name}" for name, e in ENGINES.items() if e.devices)
         raise CommandError(f"--device goes with {with_device} (engine {s.engine!r} has no device), got {s.device!r}")
-    try:
+    with _refused():
         device = engine.resolve(EngineOptions(device=s.device)).device if engine.devices else s.device
-    except ValueError as e:
-        raise CommandError(str(e)) from None
     if s.gait is not None and s.gait not in GAITS:
         raise CommandError(f"unknown gait {s.gait!r}; expected one of {', '.join(GAITS)}")
-    try:
+    with _refused():
         if s.variant is not None or s.params is not None:
             get_variant(s.variant or "paper", s.params)
-    except ValueError as e:
-        raise CommandError(str(e)) from None
-    try:
-        if s.size is not None:
+    if s.size is not None:
+        with _refused(f"--arena-opt size={s.size:g}: "):
             make_arena("random", size=s.size, n_boxes=0)  # the arena's own range check
-    except ValueError as e:
-        raise CommandError(f"--arena-opt size={s.size:g}: {e}") from None
     return s if device == s.device else s.replace(device=device)
+
+
+@contextlib.contextmanager
+def _refused(prefix: str = "") -> Iterator[None]:
+    """A ValueError in the block as a CommandError: ``prefix`` and its message."""
+    try:
+        yield
+    except ValueError as e:
+        raise CommandError(f"{prefix}{e}") from None
 
 
 def stop_words(study: Study, what: str, replot: bool, done: dict[str, Any], stop: BaseException) -> str:
