@@ -184,9 +184,21 @@ def run(
         CmaMissingError: the ``cma`` package is not installed.
         KeyboardInterrupt: interrupted; the finished runs and generations are kept and a rerun resumes.
     """
-    sz, space = _checked(
-        quick, sizes, (seed, train_seed, heldout_seed), sigma0, variant, fields, bounds, backend, workers
-    )
+    base_sizes = QUICK if quick else FULL  # checked before any work
+    unknown = sorted(set(sizes or {}) - set(asdict(base_sizes)))
+    if unknown:
+        raise ValueError(f"unknown size {unknown[0]!r}; sizes: {', '.join(asdict(base_sizes))}")
+    sz = replace(base_sizes, **(sizes or {}))
+    check_sizes(sz)
+    check_seeds(seed, train_seed, heldout_seed, sz)
+    if not (isinstance(sigma0, int | float) and 0 < sigma0 <= 1):
+        raise ValueError(f"sigma0 must be in (0, 1] (the normalised space), got {sigma0!r}")
+    space = make_space(variant, fields, bounds)
+    import_cma(CMA_MISSING)  # CmaMissingError before any work
+    if backend not in ("local", "ray"):
+        raise ValueError(f"unknown backend {backend!r}; expected local or ray")
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
     folder = Path(out)
     make_writable_folder(folder)  # ValueError naming what is wrong
     say = log or (lambda line: None)
@@ -213,37 +225,6 @@ def run(
         report.write(search, folder)
     say(report.final_line(search, folder))
     return search
-
-
-def _checked(
-    quick: bool,
-    sizes: Mapping[str, int] | None,
-    seeds: tuple[int, int, int],
-    sigma0: float,
-    variant: str,
-    fields: Sequence[str] | None,
-    bounds: Mapping[str, tuple[float, float] | None] | None,
-    backend: str,
-    workers: int,
-) -> tuple[Sizes, tuple[Dim, ...]]:
-    """:func:`run`'s arguments checked before any work (``seeds``: the CMA-ES, training and held-out seeds): the
-    sizes and the searched space; ValueError (or CmaMissingError) as :func:`run` says."""
-    base_sizes = QUICK if quick else FULL
-    unknown = sorted(set(sizes or {}) - set(asdict(base_sizes)))
-    if unknown:
-        raise ValueError(f"unknown size {unknown[0]!r}; sizes: {', '.join(asdict(base_sizes))}")
-    sz = replace(base_sizes, **(sizes or {}))
-    check_sizes(sz)
-    check_seeds(*seeds, sz)
-    if not (isinstance(sigma0, int | float) and 0 < sigma0 <= 1):
-        raise ValueError(f"sigma0 must be in (0, 1] (the normalised space), got {sigma0!r}")
-    space = make_space(variant, fields, bounds)
-    import_cma(CMA_MISSING)  # CmaMissingError before any work
-    if backend not in ("local", "ray"):
-        raise ValueError(f"unknown backend {backend!r}; expected local or ray")
-    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise ValueError(f"workers must be a whole number >= 1, got {workers!r}")
-    return sz, space
 
 
 @contextmanager
