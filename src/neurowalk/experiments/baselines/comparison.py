@@ -87,26 +87,11 @@ def train_method(
     method: str, folder: Path, sizes: dict[str, int], seed: int, progress: bool, log: Callable[[str], None]
 ) -> dict[str, Any]:
     """Train (or resume) one learned method; its record (budget, curve, weights or model path)."""
+    common: dict[str, Any] = {"steps": sizes["episode_steps"], "seed": seed, "progress": progress, "log": log}
     if method == "neuroevo":
-        return evolved_rnn.train(
-            folder,
-            generations=sizes["generations"],
-            population=sizes["population"],
-            envs=sizes["envs"],
-            steps=sizes["episode_steps"],
-            seed=seed,
-            progress=progress,
-            log=log,
-        )
-    return ppo.train(
-        method,
-        folder,
-        total_steps=sizes[f"{method}_steps"],
-        steps=sizes["episode_steps"],
-        seed=seed,
-        progress=progress,
-        log=log,
-    )
+        sized = {k: sizes[k] for k in ("generations", "population", "envs")}
+        return evolved_rnn.train(folder, **sized, **common)
+    return ppo.train(method, folder, total_steps=sizes[f"{method}_steps"], **common)
 
 
 def score(folder: str, progress: bool, spec: dict[str, Any]) -> dict[str, Any]:
