@@ -146,11 +146,7 @@ def with_causes(item: str, claims: list[Claim], summary: dict[str, Any], out: Pa
         if c.verdict == "reproduced":
             done.append(replace(c, cause=None))
             continue
-        found = None
-        for name, words, why in RULES:
-            if name == item and words in c.what:
-                found = why(summary, out)
-                break
-        kind, text = found or ("unexplained", "no measurement names a cause yet")
+        rule = next((why for name, words, why in RULES if name == item and words in c.what), None)  # the first
+        kind, text = (rule and rule(summary, out)) or ("unexplained", "no measurement names a cause yet")
         done.append(replace(c, cause={"kind": kind, "why": text}))
     return done

@@ -132,10 +132,7 @@ def render(out: Path, quick: bool, failed: dict[str, str] | None = None) -> str:
             f"| [{item.name}](#{item.name}) | {cell(item.paper)} | {_count(rec['claims'])} | {_authors_summary(rec)} "
             f"| {MARK[rec['verdict']]} | {_took(rec)} |"
         )
-    for item in PLAN:
-        rec = records.get(item.name)
-        if rec is None:
-            continue
+    for item, rec in _measured(records):
         lines += [
             "",
             f"## {item.name}",
@@ -162,15 +159,17 @@ def render_details(out: Path, quick: bool) -> str:
         "Each claim of [the report](report.md) with the rule that gave its verdict and the numbers it compared; "
         "where the authors' simulator has runs of a result, the numbers measured in both simulators.",
     ]
-    for item in PLAN:
-        rec = records.get(item.name)
-        if rec is None:
-            continue
+    for item, rec in _measured(records):
         lines += ["", f"## {item.name}", "", f"{item.paper} ([in the report](report.md#{item.name})).", ""]
         lines += [f"- **{c['what']}** ({c['verdict']}): {c['rule']}.{_cause(c)}" for c in rec["claims"]]
         lines += _physics(out, rec)
         lines += _side_by_side(rec)
     return "\n".join(lines) + "\n"
+
+
+def _measured(records: dict[str, dict[str, Any]]) -> list[tuple[Any, dict[str, Any]]]:
+    """The items of the plan that ``records`` holds, in its order, each with its record."""
+    return [(item, records[item.name]) for item in PLAN if item.name in records]
 
 
 #: What the sensitivity study's verdict says of a claim's invented dimension, in words.
@@ -194,16 +193,11 @@ def _hinges(records: dict[str, dict[str, Any]], name: str) -> list[str]:
     return ["", f"Invented geometry at 0.8-1.2 x ([sensitivity](#sensitivity)): {words}."]
 
 
-def _cause_kind(c: dict[str, Any]) -> str:
-    """`` (cause: KIND)`` for a claim not reproduced, else ""."""
+def _cause(c: dict[str, Any], words: str = " Cause: *{kind}*: {why}.") -> str:
+    """``words`` with a claim's cause (its ``kind`` and ``why``) for a claim not reproduced, else ""; the table's:
+    `` (cause: KIND)``."""
     cause = c.get("cause")
-    return "" if not cause else f" (cause: {cause['kind']})"
-
-
-def _cause(c: dict[str, Any]) -> str:
-    """`` Cause: KIND: WHY.`` for a claim not reproduced, else ""."""
-    cause = c.get("cause")
-    return "" if not cause else f" Cause: *{cause['kind']}*: {cause['why']}."
+    return "" if not cause else words.format(kind=cause["kind"], why=cause["why"])
 
 
 def _physics(out: Path, rec: dict[str, Any]) -> list[str]:
@@ -231,7 +225,9 @@ def _claims_table(rec: dict[str, Any]) -> list[str]:
     for c in claims:
         row = [cell(c["what"]), cell(c["paper"], c["unit"]), cell(c["measured"], c["unit"])]
         row += [_interval(c)] if intervals else []
-        row += [f"{MARK[c['verdict']]}{_cause_kind(c)}"] + ([_authors_claim(rec, c["what"])] if theirs else [])
+        row += [f"{MARK[c['verdict']]}{_cause(c, ' (cause: {kind})')}"] + (
+            [_authors_claim(rec, c["what"])] if theirs else []
+        )
         rows.append("| " + " | ".join(row) + " |")
     return rows
 
@@ -350,11 +346,12 @@ def profile_totals(out: Path) -> dict[str, Any]:
 def write_report(out: Path, quick: bool, failed: dict[str, str] | None = None) -> Path:
     """Write ``DIR/report.md``, ``DIR/details.md`` (:func:`render_details`) and ``DIR/reproduce.json`` (:func:`totals`),
     each atomically, from the records in ``out``; the report's path."""
-    path = out / "report.md"
-    text = render(out, quick, failed)
+    _write_text(out / "report.md", render(out, quick, failed))
+    _write_text(out / "details.md", render_details(out, quick))
+    _write_text(out / "reproduce.json", json.dumps(totals(out, quick), indent=2) + "\n")
+    return out / "report.md"
+
+
+def _write_text(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` (UTF-8), whole or not at all."""
     atomic_write(path, lambda tmp: Path(tmp).write_text(text, encoding="utf-8"))
-    details = render_details(out, quick)
-    atomic_write(out / "details.md", lambda tmp: Path(tmp).write_text(details, encoding="utf-8"))
-    summary = json.dumps(totals(out, quick), indent=2) + "\n"
-    atomic_write(out / "reproduce.json", lambda tmp: Path(tmp).write_text(summary, encoding="utf-8"))
-    return path
