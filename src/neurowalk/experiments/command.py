@@ -191,10 +191,7 @@ def interrupted_line(name: str, kept: dict[Path, int] | None) -> str:
         return f"neurowalk: {name} interrupted; it runs no episode (the network alone), so none is kept: run it again"
     if not kept:
         return f"neurowalk: {name} interrupted before any of its runs finished; nothing is kept"
-    return (
-        f"neurowalk: {name} interrupted: {sum(kept.values())} finished runs are kept in {_where(kept)}; run "
-        "the same command again to go on from them"
-    )
+    return f"neurowalk: {name} interrupted: {_kept_in(kept)}; run the same command again to go on from them"
 
 
 def kept_words(kept: dict[Path, int] | None) -> str:
@@ -204,16 +201,15 @@ def kept_words(kept: dict[Path, int] | None) -> str:
         return "it runs no episode: nothing is kept"
     if not kept:
         return "none of its runs had finished: nothing is kept"
-    return (
-        f"{sum(kept.values())} finished runs are kept in {_where(kept)}: fix it and run the same command to go on "
-        "from them"
-    )
+    return f"{_kept_in(kept)}: fix it and run the same command to go on from them"
 
 
-def _where(kept: dict[Path, int]) -> str:
-    """The stores of ``kept`` in words: ``out/fig3 (61 in results.sqlite, 4 in track.sqlite)``."""
+def _kept_in(kept: dict[Path, int]) -> str:
+    """The finished runs of ``kept`` and their stores in words: ``65 finished runs are kept in out/fig3 (61 in
+    results.sqlite, 4 in track.sqlite)``."""
     folders = sorted({str(p.parent) for p in kept})
-    return f"{', '.join(folders)} ({', '.join(f'{n} in {p.name}' for p, n in kept.items())})"
+    where = f"{', '.join(folders)} ({', '.join(f'{n} in {p.name}' for p, n in kept.items())})"
+    return f"{sum(kept.values())} finished runs are kept in {where}"
 
 
 __all__ = ["CommandError", "Result", "checked", "claim_lines", "run_command"]
