@@ -225,9 +225,8 @@ def _claims_table(rec: dict[str, Any]) -> list[str]:
     for c in claims:
         row = [cell(c["what"]), cell(c["paper"], c["unit"]), cell(c["measured"], c["unit"])]
         row += [_interval(c)] if intervals else []
-        row += [f"{MARK[c['verdict']]}{_cause(c, ' (cause: {kind})')}"] + (
-            [_authors_claim(rec, c["what"])] if theirs else []
-        )
+        row += [f"{MARK[c['verdict']]}{_cause(c, ' (cause: {kind})')}"]
+        row += [_authors_claim(rec, c["what"])] if theirs else []
         rows.append("| " + " | ".join(row) + " |")
     return rows
 

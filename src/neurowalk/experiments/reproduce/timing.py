@@ -41,8 +41,7 @@ def measured_times(full: Path, quick: Path) -> dict[str, Any]:
     for key, folder in (("full_s", full), ("quick_s", quick)):
         for path in sorted(Path(folder).glob("*/command.json")):
             rec = json.loads(path.read_text(encoding="utf-8"))
-            words = rec["command"].split()
-            figure = words[2]
+            figure = rec["command"].split()[2]
             if path.parent.name != figure or rec.get("resumed"):  # other flags; or the time of a part only
                 continue
             figures.setdefault(figure, {"quick_s": None, "full_s": None})[key] = rec["wall_time_s"]
