@@ -100,54 +100,27 @@ def render_video(
         samples: multisampling (anti-aliasing) samples per pixel; 2 by default (MuJoCo's default 4 costs a
             fifth more time with software GL).
     """
+    path, rows = Path(path), qpos[::every]
+    frames = iter_frames(
+        model, rows, width=width, height=height, distance=distance, elevation=-30.0, shadows=shadows, samples=samples
+    )  # drawn one by one as the encoder takes them
     with profiling.part("video"):
-        return _render_video(model, qpos, Path(path), fps, (width, height), every, distance, shadows, samples, progress)
+        bar = tqdm(total=len(rows), unit="frame", desc="video", mininterval=0.5, disable=not progress)
 
-
-def _render_video(
-    model: object,
-    qpos: np.ndarray,
-    path: Path,
-    fps: float,
-    size: tuple[int, int],
-    every: int,
-    distance: float,
-    shadows: bool,
-    samples: int,
-    progress: bool,
-) -> Path:
-    """:func:`render_video`, untimed (``size``: width, height in pixels)."""
-    width, height = size
-    rows = range(0, len(qpos), every)
-    bar = None
-    if progress:
-        bar = tqdm(total=len(rows), unit="frame", desc="video", mininterval=0.5)
-
-    def write(tmp: str) -> None:
-        writer = imageio_ffmpeg.write_frames(
-            tmp, (width, height), fps=fps, quality=7, macro_block_size=8, output_params=["-preset", "veryfast"]
-        )  # as small, 2x faster
-        writer.send(None)
-        try:
-            for frame in iter_frames(
-                model,
-                qpos[::every],
-                width=width,
-                height=height,
-                distance=distance,
-                elevation=-30.0,
-                shadows=shadows,
-                samples=samples,
-            ):
-                writer.send(frame)
-                if bar is not None:
+        def write(tmp: str) -> None:
+            writer = imageio_ffmpeg.write_frames(
+                tmp, (width, height), fps=fps, quality=7, macro_block_size=8, output_params=["-preset", "veryfast"]
+            )  # as small, 2x faster
+            writer.send(None)
+            try:
+                for frame in frames:
+                    writer.send(frame)
                     bar.update(1)
-        finally:
-            writer.close()
-            if bar is not None:
+            finally:
+                writer.close()
                 bar.close()
 
-    atomic_write(path, write)
+        atomic_write(path, write)
     return path
 
 
@@ -179,17 +152,13 @@ def iter_frames(
     data = mujoco.MjData(model)
     cam = mujoco.MjvCamera()
     trunk = model.body(TRUNK_BODY).id  # type: ignore[attr-defined]
-    if view is None and not centred:
-        cam.type = mujoco.mjtCamera.mjCAMERA_TRACKING
-        cam.trackbodyid = trunk
-        cam.distance, cam.elevation, cam.azimuth = distance, elevation, azimuth
-    elif view is None:
-        cam.type = mujoco.mjtCamera.mjCAMERA_FREE
-        cam.distance, cam.elevation, cam.azimuth = distance, elevation, azimuth
-    else:
-        cam.type = mujoco.mjtCamera.mjCAMERA_FREE
+    free = view is not None or centred  # else MuJoCo's camera tracking the trunk
+    cam.type = mujoco.mjtCamera.mjCAMERA_FREE if free else mujoco.mjtCamera.mjCAMERA_TRACKING
+    cam.trackbodyid = -1 if free else trunk  # -1: MuJoCo's default, no body tracked
+    if view is not None:
         cam.lookat[:] = view["lookat"]
-        cam.distance, cam.azimuth, cam.elevation = view["distance"], view["azimuth"], view["elevation"]
+        distance, azimuth, elevation = view["distance"], view["azimuth"], view["elevation"]
+    cam.distance, cam.elevation, cam.azimuth = distance, elevation, azimuth
     quality = model.vis.quality  # type: ignore[attr-defined]
     own = quality.offsamples
     if samples is not None:
