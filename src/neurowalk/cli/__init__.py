@@ -15,7 +15,7 @@ from collections.abc import Sequence
 
 from neurowalk import __version__
 from neurowalk.cli.baseline import add_baseline_parser, cmd_baseline
-from neurowalk.cli.common import Parser, UsageError, out_file, out_folder
+from neurowalk.cli.common import Parser, UsageError, failed, out_file, out_folder
 from neurowalk.cli.figure import add_figure_parser, cmd_figure, figure_listing
 from neurowalk.cli.optimize import add_optimize_parser, cmd_optimize
 from neurowalk.cli.reproduce import add_reproduce_parser, cmd_reproduce
@@ -145,8 +145,6 @@ def _main(argv: Sequence[str] | None) -> int:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())  # no second error when Python flushes
         return 0
     except OSError as e:  # a write that failed part-way (disk full, quota, a folder removed or made read-only)
-        print(f"neurowalk: {write_error(e)}; {_kept(args)}", file=sys.stderr)
-        return 1
+        return failed(f"neurowalk: {write_error(e)}; {_kept(args)}")
     except sqlite3.OperationalError as e:  # the result store could not be written (e.g. "database or disk is full")
-        print(f"neurowalk: the result store could not be written ({e}); {_kept(args)}", file=sys.stderr)
-        return 1
+        return failed(f"neurowalk: the result store could not be written ({e}); {_kept(args)}")

@@ -252,6 +252,12 @@ def stopped(work: Callable[[], int], line: Callable[[], str]) -> int:
         return stop_line(line())
 
 
+def failed(line: str) -> int:
+    """Print ``line`` on stderr, saying why a command failed (and what it keeps); its exit status, 1."""
+    print(line, file=sys.stderr)
+    return 1
+
+
 def stop_line(line: str) -> int:
     """Print ``line`` on stderr, saying what a command a stop signal ended keeps; its exit status: 130 (SIGINT) or
     143 (SIGTERM)."""

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import sys
 import time
 from pathlib import Path
 
@@ -13,6 +12,7 @@ from neurowalk.cli.common import (
     check_address,
     count_args,
     counts_given,
+    failed,
     option_args,
     stopped,
 )
@@ -117,7 +117,6 @@ def _optimize(args: argparse.Namespace) -> int:
     except (ValueError, ray_backend.RayMissingError, ray_backend.RayStartError, CmaMissingError) as e:
         raise UsageError(str(e)) from None
     except RuntimeError as e:
-        print(f"neurowalk: optimize: {e}", file=sys.stderr)
-        return 1
+        return failed(f"neurowalk: optimize: {e}")
     print(f"optimize: done in {time.perf_counter() - t0:.1f} s")
     return 0

@@ -16,6 +16,7 @@ from neurowalk.cli.common import (
     engine_args,
     episode_args,
     episode_config,
+    failed,
     machine_memory,
     out_folder,
     stop_line,
@@ -214,21 +215,17 @@ def _run_and_save(
             _save(out, parts, ep, interrupted)
             then = _keep_for_resume(parts, resumable) if interrupted else ""
     except OSError as e:
-        print(
-            f"neurowalk: {write_error(e)}: {_kept(parts)}; free space (or fix the folder) and run again with --resume",
-            file=sys.stderr,
+        return failed(
+            f"neurowalk: {write_error(e)}: {_kept(parts)}; free space (or fix the folder) and run again with --resume"
         )
-        return 1
     except Exception as e:  # a failure inside the loop: what it finished is in the parts, and the line says so
         if interrupted_by_signal(e):  # e.g. an ImportError out of a C extension's import that a stop cut short
             raise KeyboardInterrupt from None
         why = str(e).splitlines()[0] if str(e) else ""
-        print(
+        return failed(
             f"neurowalk: the run failed ({type(e).__name__}: {why}): {_kept(parts)}; `--resume` runs it again "
-            "from its last checkpoint",
-            file=sys.stderr,
+            "from its last checkpoint"
         )
-        return 1
     done = ep.summary["steps"]
     if interrupted:
         files = "summary.json, trajectory.npz, run.png" if done else "summary.json"

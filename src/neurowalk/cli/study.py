@@ -8,7 +8,7 @@ import traceback
 from pathlib import Path
 from typing import Any
 
-from neurowalk.cli.common import UsageError, stop_line, usage_errors
+from neurowalk.cli.common import UsageError, failed, stop_line, usage_errors
 from neurowalk.cli.settings import add_settings_args, settings_of
 
 
@@ -85,5 +85,4 @@ def _own_failure(study: Any, settings: Any, file: Path, own: list[traceback.Fram
     print("Traceback (the study file's own frames):", file=sys.stderr)
     print("".join(traceback.format_list(own)) + "".join(traceback.format_exception_only(e)).rstrip(), file=sys.stderr)
     kept = kept_words(kept_runs(study, settings))
-    print(f"neurowalk: study {study.name} failed in {file} ({type(e).__name__}); {kept}", file=sys.stderr)
-    return 1
+    return failed(f"neurowalk: study {study.name} failed in {file} ({type(e).__name__}); {kept}")

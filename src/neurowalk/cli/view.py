@@ -10,7 +10,7 @@ import threading
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from neurowalk.cli.common import UsageError, episode_args, episode_config
+from neurowalk.cli.common import UsageError, episode_args, episode_config, failed
 
 if TYPE_CHECKING:
     from neurowalk.plotting.live import LivePage
@@ -50,15 +50,17 @@ def web_args(p: argparse.ArgumentParser) -> None:
     )
 
 
-def check_web(args: argparse.Namespace) -> None:
-    """UsageError, before any work, where the page cannot be served: no viser, a bad or taken port or host."""
-    if not 0 < args.port < 65536:
+def check_web(args: argparse.Namespace, serve: bool = True) -> None:
+    """UsageError, before any work, where the page cannot be served (``serve``; else only written, as `view
+    --export` does): no viser, a bad or taken port or host."""
+    if serve and not 0 < args.port < 65536:
         raise UsageError(f"--port must be 1-65535, got {args.port}")
     from neurowalk.plotting.web import PortError, check_port, require_viser
 
     try:
         require_viser()
-        check_port(args.host, args.port)
+        if serve:
+            check_port(args.host, args.port)
     except ImportError as e:
         raise UsageError(str(e)) from None
     except PortError as e:
@@ -101,15 +103,7 @@ def cmd_view(args: argparse.Namespace) -> int:
         raise UsageError(f"--export writes an HTML file: name it FILE.html, got {str(args.export)!r}")
     if args.export is not None and not args.export.resolve().parent.is_dir():
         raise UsageError(f"--export {str(args.export)!r}: its folder does not exist")
-    if args.export is None:
-        check_web(args)
-    else:
-        from neurowalk.plotting.web import require_viser
-
-        try:
-            require_viser()
-        except ImportError as e:
-            raise UsageError(str(e)) from None
+    check_web(args, serve=args.export is None)
     from neurowalk.plotting.replay import RunFolderError, load_replay
     from neurowalk.plotting.web import ReplayPage, export_html
 
@@ -153,11 +147,9 @@ def _native(args: argparse.Namespace) -> int:
     if args.body not in viewable:
         raise UsageError(f"view needs --body {' or '.join(viewable)}, got {args.body!r}")
     if not has_display():
-        print(
-            "neurowalk view: no display here (DISPLAY is not set); use `neurowalk run --video` for a headless video",
-            file=sys.stderr,
+        return failed(
+            "neurowalk view: no display here (DISPLAY is not set); use `neurowalk run --video` for a headless video"
         )
-        return 1
     from neurowalk.sim.episode import build, seeds
 
     _, body, ctrl = build(cfg)
