@@ -7,6 +7,7 @@ import time
 from pathlib import Path
 
 from neurowalk.cli.common import count_args, counts_given, out_folder, stopped, usage_errors
+from neurowalk.runners.stopping import deferred
 
 _SIZES = (
     ("generations", "CMA-ES generations of the evolved network (full 150, quick 3)"),
@@ -66,8 +67,6 @@ def kept_line(out: Path) -> str:
 
 
 def _baseline(args: argparse.Namespace) -> int:
-    from neurowalk.runners.stopping import deferred
-
     with deferred():  # the simulation's modules (numba's) load whole: a signal waits for their end
         import neurowalk.envs.vector  # noqa: F401
     from neurowalk.experiments.baselines import comparison as baseline

@@ -9,6 +9,9 @@ from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn
 
+from neurowalk.fileio import make_writable_folder
+from neurowalk.runners.stopping import interrupted, stop_status
+
 if TYPE_CHECKING:
     from neurowalk.sim.config import EpisodeConfig
     from neurowalk.sim.engine_interface import EngineOptions
@@ -158,8 +161,6 @@ def out_folder(path: Path, flag: str = "--out", given: Path | None = None) -> Pa
 
     ``given``: the path the user gave, named in the message (default ``path``; e.g. a file inside the folder).
     """
-    from neurowalk.fileio import make_writable_folder
-
     _check_length(flag, given if given is not None else path, path)
     try:
         make_writable_folder(path)
@@ -242,8 +243,6 @@ def stopped(work: Callable[[], int], line: Callable[[], str]) -> int:
     """The exit status of ``work``; where a stop signal ends it (SIGINT or SIGTERM, under the block of
     :func:`neurowalk.runners.stopping.stop_on_signals` that :func:`neurowalk.cli.main` holds around every command),
     ``line()`` on stderr, saying what is kept, and 130 (143 for SIGTERM)."""
-    from neurowalk.runners.stopping import interrupted
-
     try:
         return work()
     except (KeyboardInterrupt, Exception) as e:
@@ -261,8 +260,6 @@ def failed(line: str) -> int:
 def stop_line(line: str) -> int:
     """Print ``line`` on stderr, saying what a command a stop signal ended keeps; its exit status: 130 (SIGINT) or
     143 (SIGTERM)."""
-    from neurowalk.runners.stopping import stop_status
-
     print(line, file=sys.stderr)
     return stop_status()
 

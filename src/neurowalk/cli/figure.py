@@ -7,6 +7,7 @@ from pathlib import Path
 
 from neurowalk.cli.common import UsageError, stop_line, usage_errors
 from neurowalk.cli.settings import add_settings_args, figure_settings
+from neurowalk.runners.stopping import deferred
 
 
 def figure_listing(times: bool = False) -> str:
@@ -70,8 +71,6 @@ def cmd_figure(args: argparse.Namespace) -> int:
     The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM) with one line saying what its result stores
     hold: a figure of many runs keeps each finished one there, and the same command again goes on from them.
     """
-    from neurowalk.runners.stopping import deferred
-
     try:
         with deferred():  # every figure's modules (numba's, MuJoCo's) load whole: a signal now stops it right after
             from neurowalk.experiments import FIGURES

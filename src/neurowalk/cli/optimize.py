@@ -16,6 +16,7 @@ from neurowalk.cli.common import (
     option_args,
     stopped,
 )
+from neurowalk.runners.stopping import deferred
 
 _SIZES = (
     ("population", "candidates per generation (full 8, quick 6)"),
@@ -81,8 +82,6 @@ def _optimize_kept(out: Path) -> str:
 
 
 def _optimize(args: argparse.Namespace) -> int:
-    from neurowalk.runners.stopping import deferred
-
     with deferred():  # the simulation's modules (numba's, MuJoCo's) load whole: a signal waits for their end
         import neurowalk.runners.sweep  # noqa: F401
     from neurowalk.experiments.cma_record import CmaMissingError

@@ -11,6 +11,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from neurowalk.cli.common import UsageError, out_folder, stop_line
+from neurowalk.fileio import folder_lock
 
 if TYPE_CHECKING:
     from neurowalk.experiments.reproduce.plan import Item
@@ -50,7 +51,6 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
     from neurowalk.experiments.reproduce.plan import settings_words
     from neurowalk.experiments.reproduce.report import write_report
     from neurowalk.experiments.reproduce.timing import expected_seconds
-    from neurowalk.fileio import folder_lock
 
     items = _items(args.only)
     out = args.out or Path("out") / ("reproduce-quick" if args.quick else "reproduce")

@@ -6,7 +6,7 @@ import argparse
 import contextlib
 import dataclasses
 import sys
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -22,10 +22,11 @@ from neurowalk.cli.common import (
     stop_line,
 )
 from neurowalk.cli.view import check_web, keep_serving, live_page, web_args
-from neurowalk.fileio import write_json
+from neurowalk.fileio import FolderBusyError, atomic_write, folder_lock, stale_temp_files, write_error, write_json
+from neurowalk.runners.stopping import interrupted as interrupted_by_signal
+from neurowalk.runners.stopping import stop_requested, stop_status
 
 if TYPE_CHECKING:
-    from neurowalk.body.registry import BodyInfo
     from neurowalk.plotting.live import LivePage
     from neurowalk.sim.engine_interface import EngineOptions, Resume
     from neurowalk.sim.episode import Episode, EpisodeConfig
@@ -71,24 +72,22 @@ def cmd_run(args: argparse.Namespace) -> int:
         from neurowalk.render import use_headless_gl
 
         use_headless_gl()  # before MuJoCo is imported (the body registry imports it)
-    from neurowalk.body.registry import body_info
+    from neurowalk.body.registry import bodies_where
 
-    if args.video and not _is_physics(args.body, body_info):
+    if args.video and args.body in bodies_where(lambda b: not b.physics):  # an unknown body: the config's check
         raise UsageError(f"--video needs a MuJoCo body; {args.body!r} is planar (no 3-D model to render)")
     if args.resume and args.overwrite:
         raise UsageError("--resume and --overwrite exclude each other: go on with the run in DIR, or start afresh")
     if args.video:
         from neurowalk.render import check_gl
 
-        problem = check_gl()  # before the run, not after it
-        if problem:
+        if problem := check_gl():  # before the run, not after it
             raise UsageError(f"--video: {problem}")
     cfg = episode_config(args)
     options = check_engine(args)  # after the config's own checks: a bad body is named before a device is looked for
     _check_memory(cfg.steps)
     if args.web:
         check_web(args)
-    from neurowalk.fileio import FolderBusyError, folder_lock
     from neurowalk.sim.engines import engine_for
     from neurowalk.sim.trajectory import PartWriter
 
@@ -123,13 +122,6 @@ def _check_memory(steps: int) -> None:
             f"--steps {steps:,}: a run keeps {RUN_BYTES_PER_STEP} bytes a step in memory, "
             f"{need / 1e9:,.1f} GB in all, more than this machine's {have / 1e9:,.1f} GB"
         )
-
-
-def _is_physics(body: str, body_info: Callable[[str], BodyInfo]) -> bool:
-    try:
-        return bool(body_info(body).physics)
-    except ValueError:
-        return True  # an unknown body is named by the config's own check
 
 
 def _start(
@@ -168,8 +160,6 @@ def _start(
 
 def _clear(out: Path, parts: PartWriter) -> None:
     """Remove an earlier run's files from ``out`` (the new run writes its own), temp files of a killed one too."""
-    from neurowalk.fileio import stale_temp_files
-
     parts.remove()
     for name in ("summary.json", "trajectory.npz", "run.png", "video.mp4"):
         (out / name).unlink(missing_ok=True)
@@ -189,9 +179,6 @@ def _run_and_save(
 ) -> int:
     """Run ``cfg`` with its rows streamed into ``parts`` (or to ``page``, with ``--web``, which passes them on; a
     checkpoint with every part where ``resumable``), then write DIR's files; the exit status."""
-    from neurowalk.fileio import write_error
-    from neurowalk.runners.stopping import interrupted as interrupted_by_signal
-    from neurowalk.runners.stopping import stop_requested, stop_status
     from neurowalk.sim.episode import RunInterruptedError, Streaming, run_episode
 
     interrupted = False
@@ -276,7 +263,6 @@ def _kept(parts: PartWriter) -> str:
 
 def _save(out: Path, parts: PartWriter, ep: Episode, interrupted: bool) -> None:
     """Write the run's files, all of the same steps: trajectory.npz, run.png, then summary.json (last)."""
-    from neurowalk.fileio import atomic_write
     from neurowalk.plotting import look, plot_run  # after the run: matplotlib's memory is not held through it
 
     done = ep.summary["steps"]

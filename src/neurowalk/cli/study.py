@@ -10,6 +10,7 @@ from typing import Any
 
 from neurowalk.cli.common import UsageError, failed, stop_line, usage_errors
 from neurowalk.cli.settings import add_settings_args, settings_of
+from neurowalk.runners.stopping import interrupted
 
 
 def study_of(path: Path) -> object:
@@ -47,7 +48,6 @@ def cmd_study(args: argparse.Namespace) -> int:
     stopped, keeping the finished runs)."""
     from neurowalk.experiments.command import CommandError, run_command
     from neurowalk.experiments.study_check import check_study
-    from neurowalk.runners.stopping import interrupted
 
     try:
         loaded = getattr(args, "study", None)

@@ -24,6 +24,8 @@ from neurowalk.cli.common import (
     usage_errors,
     variant_args,
 )
+from neurowalk.fileio import write_json
+from neurowalk.runners.stopping import deferred, interrupted, stop_requested
 
 if TYPE_CHECKING:
     from neurowalk.runners.store import ResultStore
@@ -147,10 +149,9 @@ def _sweep_specs(args: argparse.Namespace) -> list[dict]:
     axes: dict[str, list] = {}
     for flag, default in (("arena", "open"), ("controller", "plastic"), ("body", "amosii")):
         axes[flag] = _names(flag, default if getattr(args, flag) is None else getattr(args, flag))
-    for key, values in parse_arena_opts(args.arena_opt).items():
-        axes[f"arena_opts.{key}"] = values.split(",")
-    for key, values in parse_arena_opts(args.body_opt, "--body-opt").items():
-        axes[f"body_opts.{key}"] = values.split(",")
+    for what, items in (("arena", args.arena_opt), ("body", args.body_opt)):
+        for key, values in parse_arena_opts(items, f"--{what}-opt").items():
+            axes[f"{what}_opts.{key}"] = values.split(",")
     base: dict = {} if args.steps is None else {"steps": args.steps}
     base["engine"] = args.engine  # the canonical spec leaves the default out
     variants = _names("variant", args.variant) if args.variant is not None else []
@@ -201,8 +202,6 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     The first SIGINT or SIGTERM stops it (exit 130, or 143 for SIGTERM) with one line saying how many of its runs are
     in the store.
     """
-    from neurowalk.runners.stopping import deferred, interrupted, stop_requested
-
     opened = None
     try:
         # Loading the modules (numba's, MuJoCo's: a KeyboardInterrupt inside a C extension's import can come out as
@@ -258,9 +257,7 @@ def _open(args: argparse.Namespace) -> tuple[list[dict], Path, dict, ResultStore
 def _sweep(
     args: argparse.Namespace, specs: list[dict], out: Path, info: dict, store: ResultStore, options: EngineOptions
 ) -> int:
-    from neurowalk.fileio import write_json
     from neurowalk.runners import ray_backend
-    from neurowalk.runners.stopping import deferred
     from neurowalk.runners.sweep import SweepReport, run_sweep
 
     with store:
@@ -297,8 +294,6 @@ def _sweep(
 
 def _wrap_up(args: argparse.Namespace, store: ResultStore, r: SweepReport, info: dict, out: Path) -> None:
     """Write the export and DIR/sweep.json; print the failures and the summary."""
-    from neurowalk.fileio import write_json
-
     written = [out / "results.sqlite", out / "sweep.json"]
     if args.export and not r.interrupted:
         written.append(store.export(out / f"results.{args.export}", args.export))

@@ -18,6 +18,8 @@ from neurowalk.cli.common import (
     stopped,
     usage_errors,
 )
+from neurowalk.fileio import atomic_write, write_json
+from neurowalk.runners.stopping import deferred
 
 
 def add_tool_parsers(sub: argparse._SubParsersAction) -> None:
@@ -87,14 +89,11 @@ def _calibrate_stopped(args: argparse.Namespace) -> str:
 
 
 def _calibrate(args: argparse.Namespace) -> int:
-    from neurowalk.runners.stopping import deferred
-
     with deferred():  # the simulation's modules (numba's, MuJoCo's) load whole: a signal waits for their end
         from neurowalk.body.surrogate import CALIBRATION_FILES
         from neurowalk.experiments.calibration.calibrate import calibrate, plot_calibration
         from neurowalk.experiments.calibration.subjects import subject
         from neurowalk.plotting import look
-    from neurowalk.fileio import atomic_write, write_json
 
     with usage_errors():
         sub = subject(args.body)
@@ -137,7 +136,6 @@ def cmd_bench(args: argparse.Namespace) -> int:
         raise UsageError(f"--worlds expects numbers >= 1, got {args.worlds!r}")
     device = check_engine(args).device
     from neurowalk.experiments.bench import run_bench
-    from neurowalk.fileio import write_json
 
     out_folder(args.out)
     r = run_bench(quick=args.quick, workers=args.workers, engine=args.engine, device=device, worlds=worlds)
@@ -195,7 +193,6 @@ def cmd_export(args: argparse.Namespace) -> int:
 
     from neurowalk.arenas import make_arena
     from neurowalk.body import registry
-    from neurowalk.fileio import atomic_write
 
     with usage_errors():
         arena = make_arena(args.arena, **parse_arena_opts(args.arena_opt))
