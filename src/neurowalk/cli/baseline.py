@@ -57,8 +57,7 @@ def kept_line(out: Path) -> str:
     from neurowalk.runners.store import count_finished
 
     files = [str(p.relative_to(out)) for p in sorted(out.glob("training/*/*")) if not p.name.startswith(".")]
-    scored = count_finished(out / "results.sqlite", code=code())
-    if scored:
+    if scored := count_finished(out / "results.sqlite", code=code()):
         files.append(f"results.sqlite ({scored} policies scored)")
     if not files:
         return "neurowalk: baseline interrupted before its first checkpoint; nothing is kept"

@@ -96,8 +96,7 @@ def path_value(text: str) -> Path:
     (argparse names the option)."""
     if not text.strip():
         raise argparse.ArgumentTypeError(f"expects a file or folder name, got {text!r}")
-    too_long = path_too_long(Path(text))
-    if too_long:
+    if too_long := path_too_long(Path(text)):
         raise argparse.ArgumentTypeError(too_long)
     return Path(text)
 
@@ -151,8 +150,7 @@ def machine_memory() -> int | None:
 
 def _check_length(flag: str, *paths: Path) -> None:
     """UsageError naming ``flag`` and the first of ``paths`` too long for the system (:func:`path_too_long`)."""
-    too_long = next(filter(None, map(path_too_long, paths)), None)
-    if too_long:
+    if too_long := next(filter(None, map(path_too_long, paths)), None):
         raise UsageError(f"{flag} {too_long}")
 
 
@@ -381,15 +379,13 @@ def episode_config(args: argparse.Namespace) -> EpisodeConfig:
 
     variant, params = parse_variant(args)
     with usage_errors():
-        opts = parse_arena_opts(args.arena_opt)
-        body_opts = parse_arena_opts(args.body_opt, "--body-opt")
         cfg = EpisodeConfig(
             arena=args.arena,
-            arena_opts=opts,
+            arena_opts=parse_arena_opts(args.arena_opt),
+            body_opts=parse_arena_opts(args.body_opt, "--body-opt"),  # before --steer, as the messages are ordered
             controller=args.controller,
             steer=parse_steer(args.steer),
             body=args.body,
-            body_opts=body_opts,
             steps=args.steps,
             seed=args.seed,
             control_hz=args.control_hz,

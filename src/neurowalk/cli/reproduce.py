@@ -62,8 +62,7 @@ def cmd_reproduce(args: argparse.Namespace) -> int:
         return 0
     out_folder(out)
     lock = folder_lock(out, "reproduce")
-    off = versions_line()
-    if off:
+    if off := versions_line():
         print(off, file=sys.stderr)
     expected = {r.name: expected_seconds(r.figure, args.quick) for r in runs}
     failed: dict[str, str] = {}

@@ -37,7 +37,6 @@ from neurowalk.sim.trajectory import Trajectory
 MAX_FRAMES = 20_000
 #: MuJoCo's viewer shows geom groups 0, 1 and 2 by default; the others are collision or helper geoms.
 VISIBLE_GROUPS = 3
-FLOOR_RGB = (200, 200, 200)
 
 
 class RunFolderError(ValueError):

@@ -57,8 +57,7 @@ def draw_arena(
         ax.add_patch(Polygon(b.corners(), closed=True, color=BOX_COLOUR))
     if arena.exit_region is not None:
         x0, x1, y0, y1 = arena.exit_region
-        exit_patch = Rectangle((x0, y0), x1 - x0, y1 - y0, color=EXIT_COLOUR, alpha=0.12, lw=0, label="exit region")
-        ax.add_patch(exit_patch)
+        ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, color=EXIT_COLOUR, alpha=0.12, lw=0, label="exit region"))
     pts = [b.corners() for b in arena.boxes]
     lc = None
     if pose is not None:

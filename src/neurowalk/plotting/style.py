@@ -146,8 +146,7 @@ def network_colour(name: str) -> str:
     ``plastic, start``'s); a name with none gets one of :data:`EXTRA_COLOURS`, the same for the same name."""
     if name in NETWORK_COLOURS:
         return NETWORK_COLOURS[name]
-    inside = [k for k in NETWORK_COLOURS if k in name]
-    if inside:
+    if inside := [k for k in NETWORK_COLOURS if k in name]:
         return NETWORK_COLOURS[max(inside, key=len)]
     return EXTRA_COLOURS[sum(name.encode()) % len(EXTRA_COLOURS)]
 
@@ -298,9 +297,7 @@ def draw_table(
     ``rows`` labels, under the ``columns`` labels, headers in bold. ``shares`` (0-1 per cell, None for none) tint each
     cell from light red (0) to light green (1), so that a table of outcomes reads at a glance."""
     ax.axis("off")
-    tints = None
-    if shares is not None:
-        tints = [[_tint(v) for v in row] for row in shares]
+    tints = None if shares is None else [[_tint(v) for v in row] for row in shares]
     width = 1.0 / (len(columns) + 1.4)  # the row labels' column 1.4 wide
     tab = ax.table(
         cellText=[list(r) for r in cells],
