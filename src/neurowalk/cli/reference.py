@@ -63,13 +63,11 @@ def markdown(parser: argparse.ArgumentParser | None = None) -> str:
         lines.append(f"## {name}\n")
         lines.append(f"{help_}\n")
         lines.append(f"```text\n{usage.removeprefix('usage: ')}\n```\n")
-        rows = _option_rows(sub)
-        if rows:
+        if rows := _option_rows(sub):
             lines.append("| argument | meaning |\n|---|---|")
             lines += rows
             lines.append("")
-        more = (tail or sub.epilog or "").strip()
-        if more:
+        if more := (tail or sub.epilog or "").strip():
             lines.append(f"```text\n{more}\n```\n")
     return "\n".join(lines).rstrip() + "\n"
 

@@ -109,9 +109,8 @@ def _calibrate(args: argparse.Namespace) -> int:
             write_json(args.out, cal.to_json())
             written.append(args.out)
         fig = plot_calibration(cal)
-        with deferred():
-            with look():
-                atomic_write(png, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
+        with deferred(), look():
+            atomic_write(png, lambda tmp: fig.savefig(tmp, dpi=110, format="png"))
             written.append(png)
     except KeyboardInterrupt:
         missing = "" if png in written else ", without its plot"

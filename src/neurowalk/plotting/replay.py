@@ -141,18 +141,13 @@ def load_replay(folder: str | Path, max_frames: int = MAX_FRAMES) -> Replay:
     frames = np.arange(0, len(tr.t), stride)
     if not scenery.fits(tr):
         raise RunFolderError(f"{folder / 'trajectory.npz'}: its qpos does not fit the {cfg.body} model")
-    pos, quat, ray_from, ray_to = scenery.poses(tr.rows(0, len(tr.t)) if stride == 1 else _every(tr, frames))
+    pos, quat, ray_from, ray_to = scenery.poses(tr.rows(0, len(tr.t)) if stride == 1 else tr.map(lambda v: v[frames]))
     wedged = [(int(w["start"]), int(w["end"])) for w in summary.get("wedged") or []]
     title = f"{cfg.arena}, {cfg.body}, {summary.get('controller', '?')}, {len(tr.t)} steps"
     return Replay(
         title, float(cfg.control_hz), tr.t, frames, scenery.fixed, scenery.parts, pos, quat, scenery.path(tr),
         ray_from, ray_to, tr.inputs, tr.outputs, tr.b, tr.q, summary, wedged,
     )  # fmt: skip
-
-
-def _every(tr: Trajectory, rows: np.ndarray) -> Trajectory:
-    """The rows ``rows`` of ``tr`` (copies)."""
-    return tr.map(lambda v: v[rows])
 
 
 class Scenery:
