@@ -18,10 +18,8 @@ def study_of(path: Path) -> object:
     checks; UsageError in one line naming the file, and its line, where it has none or cannot run)."""
     from neurowalk.experiments.study_check import load_study
 
-    try:
+    with usage_errors():
         return load_study(path)
-    except ValueError as e:
-        raise UsageError(str(e)) from None
 
 
 def add_study_parser(sub: argparse._SubParsersAction, path: str | None = None) -> None:
@@ -61,10 +59,8 @@ def cmd_study(args: argparse.Namespace) -> int:
     default = Path("out") / (study.name + ("-quick" if args.quick else ""))  # type: ignore[attr-defined]
     settings = settings.replace(out=args.out or default)
     try:
-        try:
+        with usage_errors():
             check_study(study, settings)  # before anything runs: what is wrong with the file, in one line
-        except ValueError as e:
-            raise UsageError(str(e)) from None
         with usage_errors(CommandError):
             return run_command(study, settings, f"study {study.name}")  # type: ignore[arg-type, attr-defined]
     except UsageError:

@@ -230,13 +230,11 @@ def _open(args: argparse.Namespace) -> tuple[list[dict], Path, dict, ResultStore
         raise UsageError(f"--retries must be >= 0, got {args.retries}")
     check_address(args)
     specs = _sweep_specs(args)
-    try:
+    with usage_errors(ValueError, ray_backend.RayMissingError):
         check_specs(specs)  # every bad name or value exits here, before any work
         _check_memory(specs, args.workers if args.address is None else 1)
         if args.backend == "ray":
             ray_backend.import_ray()  # a missing ray is bad input; a broken ray install raises as it is
-    except (ValueError, ray_backend.RayMissingError) as e:
-        raise UsageError(str(e)) from None
     named = [sp["engine"] for sp in specs if isinstance(sp, dict) and isinstance(sp.get("engine"), str)]
     options = check_engine(args, named)  # a --specs file's own engines
     if args.export == "parquet" and importlib.util.find_spec("pyarrow") is None:

@@ -10,7 +10,7 @@ import threading
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from neurowalk.cli.common import UsageError, episode_args, episode_config, failed
+from neurowalk.cli.common import UsageError, episode_args, episode_config, failed, usage_errors
 
 if TYPE_CHECKING:
     from neurowalk.plotting.live import LivePage
@@ -107,10 +107,8 @@ def cmd_view(args: argparse.Namespace) -> int:
     from neurowalk.plotting.replay import RunFolderError, load_replay
     from neurowalk.plotting.web import ReplayPage, export_html
 
-    try:
+    with usage_errors(RunFolderError):
         replay = load_replay(args.run_dir)
-    except RunFolderError as e:
-        raise UsageError(str(e)) from None
     if args.export is not None:
         size = export_html(replay, args.export)
         print(f"wrote {args.export} ({size / 1e6:.1f} MB): the replay of {args.run_dir}, plays with no server")
