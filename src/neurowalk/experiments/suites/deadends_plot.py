@@ -64,12 +64,9 @@ def draw_wedged(ax: Axes, periods: list[dict], most: int = WEDGED_LABELS) -> Non
     if turning:
         label = f"turning in place {len(turning)}x (wedged, not held)"
         ax.plot([], [], "o", mfc="none", mec="0.55", ms=11, ls="none", label=label)
-    for p in held:
-        (x, y), r = p["centre"], max(p.get("extent_m", 0.3), 0.3)
-        ax.add_patch(Circle((x, y), r, fill=False, ec="k", lw=1.2, ls="--", zorder=6))
-    for p in turning:
-        (x, y), r = p["centre"], max(p.get("extent_m", 0.3), 0.3)
-        ax.add_patch(Circle((x, y), r, fill=False, ec="0.55", lw=1.0, ls=":", zorder=6))
+    for group, style in ((held, {"ec": "k", "lw": 1.2, "ls": "--"}), (turning, {"ec": "0.55", "lw": 1.0, "ls": ":"})):
+        for p in group:
+            ax.add_patch(Circle(tuple(p["centre"]), max(p.get("extent_m", 0.3), 0.3), fill=False, zorder=6, **style))
     for p in longest:
         (x, y), r = p["centre"], max(p.get("extent_m", 0.3), 0.3)
         spots = [
@@ -135,10 +132,9 @@ def _weights(ax: Axes, a: dict, key: str, r: dict, hz: float) -> None:
     """Paper Fig. 5G: the four weights of the long run ``key`` over time, its wedged periods shaded."""
     tl = a[f"{key}/step"] / hz
     b, q = a[f"{key}/b"], a[f"{key}/q"]
-    ax.plot(tl, b[:, 0], label="b1 (left)", **{**weight_style("b", "left"), "lw": LINE["thin"]})
-    ax.plot(tl, b[:, 1], label="b2 (right)", **{**weight_style("b", "right"), "lw": LINE["thin"]})
-    ax.plot(tl, 0.0 - q[:, 0], label="c1 (left)", **{**weight_style("c", "left"), "lw": LINE["thin"]})
-    ax.plot(tl, 0.0 - q[:, 1], label="c2 (right)", **{**weight_style("c", "right"), "lw": LINE["thin"]})
+    for kind, w in (("b", b), ("c", 0.0 - q)):
+        for k, side in enumerate(("left", "right")):
+            ax.plot(tl, w[:, k], label=f"{kind}{k + 1} ({side})", **{**weight_style(kind, side), "lw": LINE["thin"]})
     for i, p in enumerate(r["wedged"]):
         ax.axvspan(p["start"] / hz, (p["end"] + 1) / hz, color="0.88", zorder=0, label="wedged" if i == 0 else None)
     for i, (a0, a1) in enumerate(h for p in r["wedged"] for h in p["held"]):

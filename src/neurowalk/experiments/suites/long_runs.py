@@ -39,6 +39,7 @@ steps / ``control_hz``. ``time_step_reading`` in the figures' json says all this
 
 from __future__ import annotations
 
+from collections import Counter
 from collections.abc import Callable
 from typing import Any
 
@@ -231,24 +232,18 @@ def wedged_counts(summaries: dict[str, dict[str, Any]], control_hz: float = 10.0
     out = {}
     for k, s in summaries.items():
         long = [p for p in s["wedged"] if p["duration_s"] > WEDGED_LONG_S]
-        causes: dict[str, int] = {}
-        for p in long:
-            causes[p["cause"]] = causes.get(p["cause"], 0) + 1
         held = metrics.held_periods(s["wedged"], control_hz)
         held_rule = (
             f"wedged, and the heading's range (max minus min of the unwrapped yaw) within "
             f"{metrics.HELD_HEADING_DEG:g} degrees over each stretch of more than {metrics.WEDGE_MIN_S:g} s"
         )
         held_long = [h for h in held if h["duration_s"] > WEDGED_LONG_S]
-        held_causes: dict[str, int] = {}
-        for h in held_long:
-            held_causes[h["cause"]] = held_causes.get(h["cause"], 0) + 1
         out[k] = {
             "periods": s["wedged_periods"],
             "longest_s": s["longest_wedged_s"],
             "causes": s["wedged_causes"],
             "total_s": float(sum(p["duration_s"] for p in s["wedged"])),
-            f"over_{WEDGED_LONG_S:g}s": {"periods": len(long), "causes": causes},
+            f"over_{WEDGED_LONG_S:g}s": {"periods": len(long), "causes": dict(Counter(p["cause"] for p in long))},
             "list": [
                 {
                     "start_step": int(p["start"]),
@@ -264,7 +259,10 @@ def wedged_counts(summaries: dict[str, dict[str, Any]], control_hz: float = 10.0
             "held": {
                 "periods": len(held),
                 "longest_s": max((h["duration_s"] for h in held), default=0.0),
-                f"over_{WEDGED_LONG_S:g}s": {"periods": len(held_long), "causes": held_causes},
+                f"over_{WEDGED_LONG_S:g}s": {
+                    "periods": len(held_long),
+                    "causes": dict(Counter(h["cause"] for h in held_long)),
+                },
                 "turning_periods": sum(1 for p in s["wedged"] if not p["held"]),
                 "rule": held_rule,
             },

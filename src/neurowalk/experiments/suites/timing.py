@@ -27,15 +27,6 @@ def steps_for(seconds: float, control_hz: float) -> int:
     return max(1, round(seconds * control_hz))
 
 
-def run_steps(steps: int | None, seconds: float, control_hz: float) -> int:
-    """Control steps per run: ``steps``, else ``seconds`` s at ``control_hz`` Hz (:func:`steps_for`); ValueError
-    where below 1."""
-    steps = steps if steps is not None else steps_for(seconds, control_hz)
-    if steps < 1:
-        raise ValueError(f"steps must be >= 1, got {steps}")
-    return steps
-
-
 def quick_seconds(seconds: float, max_steps: int, control_hz: float) -> float:
     """Length (s) of a ``quick`` run: ``seconds``, or ``max_steps / control_hz`` where that is shorter.
 
