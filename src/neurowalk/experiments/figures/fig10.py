@@ -110,15 +110,10 @@ def keep_example(ep: Episode) -> dict[str, Any]:
 EXAMPLE = Term("fig10 example", keep_example, arrays={k: "float64" for k in (*ARRAYS, "moment_qpos")})
 
 
-def _heights(s: Settings) -> tuple[float, ...]:
-    """The step heights of the table: the first only away from the simulator's rate (the real-robot comparison)."""
-    return TRACK_HEIGHTS if s.rate == SIM_HZ else TRACK_HEIGHTS[:1]
-
-
 def runs(s: Settings) -> Iterator[Plan]:
     """The outcome table's runs over the seeds per step height (``(height)``), the first of step 0.06 m (seed
     ``seed``) the example, kept in full."""
-    for h in _heights(s):
+    for h in TRACK_HEIGHTS if s.rate == SIM_HZ else TRACK_HEIGHTS[:1]:  # the first only for the real-robot rates
         for k in range(s.n(10, 3)):
             first = h == TRACK_HEIGHTS[0] and k == 0
             cfg = EpisodeConfig.from_spec(track_spec(h, s.seed + k, TRACK_STEPS, control_hz=s.rate))
@@ -135,7 +130,7 @@ def measure(s: Settings, runs: Mapping[float, Sequence[Kept]]) -> Result:
     kept = ex.kept["fig10 example"]
     moments = kept["moments"]
     arena = make_arena("climbing-track", step=step)
-    table = {f"{h:.2f}": _height_row([_track_row(r) for r in rs], h, s.seed, control_hz) for h, rs in runs.items()}
+    table = {f"{h:.2f}": _height_row(rs, h, s.seed, control_hz) for h, rs in runs.items()}
     summary = {
         "step_m": step,
         "seed": s.seed,
@@ -169,19 +164,15 @@ def _json(v: Any) -> Any:
     return list(v) if isinstance(v, tuple) else v
 
 
-def _track_row(r: Kept) -> dict[str, Any]:
-    """A track run's summary (a dict) with its ``first_platform_step``."""
-    return {**r.summary.to_dict(), **r.kept["first_platform"]}
-
-
 def _seconds(k: int | None, control_hz: float) -> float | None:
     """Time (s) of control step ``k`` at ``control_hz`` Hz (None: it never happened)."""
     return None if k is None else k / control_hz
 
 
-def _height_row(runs: list[dict], h: float, seed: int, control_hz: float) -> dict:
-    """The outcome table's row of step height ``h`` (m) from its seeds' stored ``runs`` (seeds ``seed``, ...):
+def _height_row(kept: Sequence[Kept], h: float, seed: int, control_hz: float) -> dict:
+    """The outcome table's row of step height ``h`` (m) from its seeds' stored runs ``kept`` (seeds ``seed``, ...):
     successes, each run (steps and times in s) and the median time to the second platform."""
+    runs = [{**r.summary.to_dict(), **r.kept["first_platform"]} for r in kept]  # each with its first_platform_step
     ok = [track_success(r, h) for r in runs]
     done = [r["exit_step"] for r in runs if r["exit_step"] is not None]
     return {
@@ -324,8 +315,9 @@ def plot(res: Result) -> Figure:
     return fig
 
 
-def _claims(s: dict[str, Any], quick: bool) -> list[Claim]:
-    """The climbing track crossed: first step climbed, wall avoided, second step climbed."""
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """The climbing track crossed: first step climbed, wall avoided, second step climbed; at the real robot's control
+    rate also its times (:func:`~neurowalk.experiments.suites.real_robot.real_robot_claims`)."""
     row = s["table"][f"{s['step_m']:.2f}"]
     return [
         outcome(
@@ -333,11 +325,6 @@ def _claims(s: dict[str, Any], quick: bool) -> list[Claim]:
             "crossed",
             row["success"],
             row["seeds"],
-        )
+        ),
+        *real_robot_claims(s),
     ]
-
-
-def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
-    """The paper's results the figure shows; at the real robot's control rate also its times
-    (:func:`~neurowalk.experiments.suites.real_robot.real_robot_claims`)."""
-    return [*_claims(s, quick), *real_robot_claims(s)]

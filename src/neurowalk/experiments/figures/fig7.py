@@ -38,11 +38,6 @@ WARMUP = 300  # control steps before the delay lines are full and the gait is st
 SHOWN = 200  # control steps drawn (about 2.3 gait cycles; 20 s at 10 Hz)
 
 
-def measured_swing(angles: np.ndarray) -> np.ndarray:
-    """Swing phases from measured joint angles (CTr elevated; see gait.swing_mask_hysteresis)."""
-    return gait.swing_mask_hysteresis(angles)
-
-
 def keep_gait(ep: Episode) -> dict[str, Any]:
     """A constant-steer run's joint angles (T - :data:`WARMUP`, 19) rad and pose (T - :data:`WARMUP`, 3) after the
     warm-up."""
@@ -87,7 +82,7 @@ def measure(s: Settings, runs: Mapping[str, Sequence[Kept]]) -> Result:
         run = runs[name][0]
         done = run.summary.to_dict()
         angles, pose = run.kept["gait"]["angles"], run.kept["gait"]["pose"]
-        swing = measured_swing(angles)
+        swing = gait.swing_mask_hysteresis(angles)  # swing phases: CTr elevated
         ctr3 = angles[:, anatomy.CTR_INDICES[2]]
         fwd = (pose[-1, :2] - pose[0, :2]) @ np.array([np.cos(pose[0, 2]), np.sin(pose[0, 2])])
         yaw = np.unwrap(pose[:, 2])

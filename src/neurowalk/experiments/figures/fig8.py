@@ -185,8 +185,9 @@ def plot(res: Result) -> Figure:
     return fig
 
 
-def _claims(s: dict[str, Any], quick: bool) -> list[Claim]:
-    """The plastic network escapes the narrow passage; the static one stays trapped."""
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+    """The plastic network escapes the narrow passage; the static one stays trapped; at the real robot's control
+    rate also its times (:func:`~neurowalk.experiments.suites.real_robot.real_robot_claims`)."""
     p, st = s["counts"]["plastic"], s["counts"]["static"]
     return [
         outcome("plastic network escapes the narrow passage (Fig. 8)", "escaped", p["escaped"], p["seeds"]),
@@ -196,10 +197,5 @@ def _claims(s: dict[str, Any], quick: bool) -> list[Claim]:
             st["seeds"] - st["escaped"],
             st["seeds"],
         ),
+        *real_robot_claims(s),
     ]
-
-
-def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
-    """The paper's results the figure shows; at the real robot's control rate also its times
-    (:func:`~neurowalk.experiments.suites.real_robot.real_robot_claims`)."""
-    return [*_claims(s, quick), *real_robot_claims(s)]

@@ -128,13 +128,12 @@ def runs(s: Settings) -> Iterator[Plan]:
     """Each network's ``s.seeds`` seeds (10; quick: 3) from ``s.seed`` in the default geometry, then in each cell of
     the outcome map (labelled ``(network, cell)``), each with its path, the first one (the example) in full;
     :data:`STEPS` control steps each at most."""
-    steps = STEPS
     for c in dict.fromkeys([(1.0, 1.0), *_cells(s)]):  # first the default geometry, then the map's other cells
         for net in NETWORKS:
             for k in range(s.n(10, 3)):
                 first = k == 0 and c == (1.0, 1.0)
                 terms = (PATH, EXAMPLE) if first else (PATH,)
-                yield Plan((net, c), config(ARENA, _cell(*c), net, s.seed + k, steps), terms)
+                yield Plan((net, c), config(ARENA, _cell(*c), net, s.seed + k, STEPS), terms)
 
 
 def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
@@ -374,7 +373,7 @@ def plot(res: Result) -> Figure:
 
 def verdict_title(s: dict[str, Any]) -> str:
     """The picture's title: the counts, and the verdicts the report gives them (its judge's, the one rule)."""
-    plastic, static = _claims(s, bool(s.get("quick")))
+    plastic, static = claims(s, bool(s.get("quick")))[:2]
     p, st = s["counts"]["plastic"], s["counts"]["static"]
     return (
         f"Complex path (paper Fig. 9): got out of the path plastic {p['got_out']}/{p['seeds']}, static "
@@ -401,9 +400,10 @@ def still_in(st: dict[str, Any], hz: float, steps: int) -> int | None:
     return sum(r["out_time_s"] is None or r["out_time_s"] * hz > steps for r in runs)
 
 
-def _claims(s: dict[str, Any], quick: bool) -> list[Claim]:
+def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
     """The plastic network goes out of the complex path; the static one gets stuck in it, over the paper's window
-    (:data:`STUCK_WINDOW_STEPS`), with its share at every window of :data:`WINDOWS_STEPS` the runs cover."""
+    (:data:`STUCK_WINDOW_STEPS`), with its share at every window of :data:`WINDOWS_STEPS` the runs cover; at the real
+    robot's control rate also its times (:func:`~neurowalk.experiments.suites.real_robot.real_robot_claims`)."""
     p, st = s["counts"]["plastic"], s["counts"]["static"]
     hz = s.get("control_hz", SIM_HZ)
     timed = {**st, "duration_s": s.get("duration_s", 0.0)}
@@ -425,10 +425,5 @@ def _claims(s: dict[str, Any], quick: bool) -> list[Claim]:
     return [
         outcome_claim("plastic network goes out of the complex path (Fig. 9)", "out", p["got_out"], p["seeds"]),
         stuck,
+        *real_robot_claims(s),
     ]
-
-
-def claims(s: dict[str, Any], quick: bool) -> list[Claim]:
-    """The paper's results the figure shows; at the real robot's control rate also its times
-    (:func:`~neurowalk.experiments.suites.real_robot.real_robot_claims`)."""
-    return [*_claims(s, quick), *real_robot_claims(s)]
