@@ -140,23 +140,21 @@ def _counts(ok: list[bool], ok_cov: list[bool], classes: list[str | None] | None
     return out
 
 
+def _arm(runs: list[Sequence[Kept]], threshold: float, variant: str, params: dict[str, Any] | None) -> dict[str, Any]:
+    """One arm's :func:`_counts` from its ``runs`` (one per environment; coverage rule: ``threshold``), its variant
+    and params."""
+    sums = [rs[0].summary.to_dict() for rs in runs]
+    ok_cov = [r["coverage"] is not None and r["coverage"] >= threshold for r in sums]
+    counts = _counts([not r["trapped"] for r in sums], ok_cov, [failure_class(r) for r in sums])
+    return {**counts, "variant": variant, "params": params}
+
+
 def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
     """Each arm's counts; the two readings at every run length (the table's length among them, as arms)."""
     envs, duration, lengths = _setup(s)
     n = len(envs)
-    table: dict[str, dict[str, Any]] = {}
-    for name in arms():
-        threshold = coverage_threshold(duration)
-        sums = [runs[(name, i)][0].summary.to_dict() for i in range(n)]
-        table[name] = {
-            **_counts(
-                [not r["trapped"] for r in sums],
-                [r["coverage"] is not None and r["coverage"] >= threshold for r in sums],
-                [failure_class(r) for r in sums],
-            ),
-            "variant": arms()[name][0],
-            "params": arms()[name][1],
-        }
+    threshold = coverage_threshold(duration)
+    table = {name: _arm([runs[(name, i)] for i in range(n)], threshold, *arm) for name, arm in arms().items()}
     curve: dict[str, dict[str, Any]] = {}
     for variant in ("paper", "original"):
         kept = [runs[(f"{variant} (long)", i)][0].kept["run lengths"] for i in range(n)]
@@ -171,19 +169,10 @@ def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
                           "failure_classes_at_end": {c: [failure_class(r) for r in long_sums].count(c)
                                                      for c in FAILURE_CLASSES}}  # fmt: skip
     n_phys = QUICK_PHYSICS_ENVS if s.quick else PHYSICS_ENVS
-    physics: dict[str, dict[str, Any]] = {}
-    for name, (variant, params) in physics_arms().items():
-        sums = [runs[("physics", name, i)][0].summary.to_dict() for i in range(n_phys)]
-        threshold = coverage_threshold(duration)
-        physics[name] = {
-            **_counts(
-                [not r["trapped"] for r in sums],
-                [r["coverage"] is not None and r["coverage"] >= threshold for r in sums],
-                [failure_class(r) for r in sums],
-            ),
-            "variant": variant,
-            "params": params,
-        }
+    physics = {
+        name: _arm([runs[("physics", name, i)] for i in range(n_phys)], threshold, *arm)
+        for name, arm in physics_arms().items()
+    }
     summary = {
         "environments": n,
         "seed": s.seed,

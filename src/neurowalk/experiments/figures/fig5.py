@@ -93,19 +93,13 @@ def measure(s: Settings, runs: Mapping[Any, Sequence[Kept]]) -> Result:
     summary = res.summary
     summary["panels"] = PANELS
     runs, wedged = summary["runs"], summary["wedged"]
-    p, st, br = (runs[f"difficult ({n})"] for n in ("plastic", "static", "braitenberg"))
-    over = f"over_{WEDGED_LONG_S:g}s"
+    nets, over = ("plastic", "static", "braitenberg"), f"over_{WEDGED_LONG_S:g}s"
     summary["difficult_comparison"] = {
         "steps": summary["long_steps"],
-        "plastic_trapped": p["trapped"],
-        "static_trapped": st["trapped"],
-        "braitenberg_trapped": br["trapped"],
-        "plastic_coverage": p["coverage"],
-        "static_coverage": st["coverage"],
-        "braitenberg_coverage": br["coverage"],
-        "plastic_covers_more": p["coverage"] > st["coverage"],
-        **{f"{n}_wedged": wedged[f"difficult ({n})"]["periods"] for n in ("plastic", "static", "braitenberg")},
-        **{f"{n}_wedged_{over}": wedged[f"difficult ({n})"][over] for n in ("plastic", "static", "braitenberg")},
+        **{f"{n}_{k}": runs[f"difficult ({n})"][k] for k in ("trapped", "coverage") for n in nets},
+        "plastic_covers_more": runs["difficult (plastic)"]["coverage"] > runs["difficult (static)"]["coverage"],
+        **{f"{n}_wedged": wedged[f"difficult ({n})"]["periods"] for n in nets},
+        **{f"{n}_wedged_{over}": wedged[f"difficult ({n})"][over] for n in nets},
     }
     summary["fig5g"] = weights_over_run(res, "difficult (plastic)")
     summary["fig5f"], more = _exploration(res, planned, s)

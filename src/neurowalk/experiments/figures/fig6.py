@@ -85,13 +85,18 @@ def keep_blocked(ep: Episode) -> dict[str, Any]:
 BLOCKED = Term("blocked", keep_blocked)
 
 
-def specs(s: Settings) -> list[dict[str, Any]]:
-    """The sixteen run specs (ValueError where the body cannot run at the control rate: a surrogate runs at 10 Hz)."""
+def _env_specs(s: Settings, n: int) -> list[dict[str, Any]]:
+    """The run specs of the figure's network on its body in Table 2's first ``n`` environments."""
     body, hz = s.body or "surrogate", s.rate
-    check_rate(body, hz)
     steps = steps_for(QUICK_DURATION_S if s.quick else DURATION_S, hz)
     return [spec(e, "plastic", steps, body, variant=s.variant or "paper", size=s.size or SIZE, params=s.params,
-                 control_hz=hz) for e in environments(16, s.seed)]  # fmt: skip
+                 control_hz=hz) for e in environments(n, s.seed)]  # fmt: skip
+
+
+def specs(s: Settings) -> list[dict[str, Any]]:
+    """The sixteen run specs (ValueError where the body cannot run at the control rate: a surrogate runs at 10 Hz)."""
+    check_rate(s.body or "surrogate", s.rate)
+    return _env_specs(s, 16)
 
 
 def runs(s: Settings) -> Iterator[Plan]:
@@ -118,13 +123,9 @@ def trap_specs(s: Settings) -> list[dict[str, Any]]:
 def histogram_specs(s: Settings) -> list[dict[str, Any]]:
     """Table 2's first 1000 environments (quick: 100), the figure's network, for the measure's histogram: on a
     planar body only (none on a physics body: 1000 physics runs are a table of their own)."""
-    body, hz = s.body or "surrogate", s.rate
-    if body_info(body).physics:
+    if body_info(s.body or "surrogate").physics:
         return []
-    steps = steps_for(QUICK_DURATION_S if s.quick else DURATION_S, hz)
-    n = QUICK_HISTOGRAM_ENVS if s.quick else HISTOGRAM_ENVS
-    return [spec(e, "plastic", steps, body, variant=s.variant or "paper", size=s.size or SIZE, params=s.params,
-                 control_hz=hz) for e in environments(n, s.seed)]  # fmt: skip
+    return _env_specs(s, QUICK_HISTOGRAM_ENVS if s.quick else HISTOGRAM_ENVS)
 
 
 def trap_threshold(paths: list[np.ndarray], arena: ArenaSpec) -> tuple[float, list[float]]:

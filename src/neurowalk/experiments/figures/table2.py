@@ -157,7 +157,13 @@ def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
         "seed": s.seed,
         "boxes": list(BOXES),
         "box_size_m": s.size or SIZE,
-        **_rules(p["duration_s"], threshold),
+        "rule": RULE,  # the rules in words: success (not stuck; coverage), the failure classes, held up, the interval
+        "coverage_rule": coverage_rule(p["duration_s"]),
+        "coverage_threshold": threshold,
+        "coverage_cell_m": COVERAGE_CELL_M,
+        "failure_rule": FAILURE_RULE,
+        "held_up_rule": HELD_UP_RULE,
+        "interval": "Wilson score interval, 95%",
         "counts": counts,
         "environments": env_rows,
         "paper": {**PAPER, "success_rate": PAPER["success"] / PAPER["environments"], "success_rate_95ci": ci},
@@ -166,20 +172,6 @@ def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
         "surrogate_agreement": agreement,
     }
     return Result("table2", summary)
-
-
-def _rules(duration_s: float, threshold: float) -> dict[str, Any]:
-    """The table's rules in words: success (not stuck; the coverage rule of runs of ``duration_s`` s and its
-    ``threshold``), the failure classes, held up, and the interval."""
-    return {
-        "rule": RULE,
-        "coverage_rule": coverage_rule(duration_s),
-        "coverage_threshold": threshold,
-        "coverage_cell_m": COVERAGE_CELL_M,
-        "failure_rule": FAILURE_RULE,
-        "held_up_rule": HELD_UP_RULE,
-        "interval": "Wilson score interval, 95%",
-    }
 
 
 def _count(
