@@ -46,13 +46,13 @@ from neurowalk.experiments.suites.random_envs import (
     row_counts,
     spec,
 )
+from neurowalk.experiments.suites.random_envs_plot import rate_bars
 from neurowalk.experiments.suites.real_robot import PATH
 from neurowalk.experiments.suites.timing import steps_for
 from neurowalk.plotting import draw_arena
 from neurowalk.plotting.style import (
     FONT,
     BarCount,
-    bar_count,
     legend_outside,
     letter_panels,
     network_colour,
@@ -261,15 +261,10 @@ def plot(res: Result) -> Figure:
     counts: list[BarCount] = []
     for j, (ok_key, rate_key, ci_key, label, alpha, hatch) in enumerate(rules):
         dx = (j - (len(rules) - 1) / 2) * width
-        rate = np.array([r[rate_key] for r in rows_])
-        ci = np.array([r[ci_key] for r in rows_])
-        ax.bar(x + dx, rate, width, color=colours, alpha=alpha, hatch=hatch, edgecolor="k", lw=0.5)
+        rate, ci = np.array([r[rate_key] for r in rows_]), np.array([r[ci_key] for r in rows_])
+        texts = [f"{r[ok_key]}/{r['table2_environments']}" for r in rows_]
+        counts += rate_bars(ax, x + dx, rate, ci, texts, width, color=colours, alpha=alpha, hatch=hatch)
         handles.append(Patch(fc="0.5", ec="k", lw=0.5, alpha=alpha, hatch=hatch, label=label))
-        yerr = np.maximum(0.0, [rate - ci[:, 0], ci[:, 1] - rate])
-        ax.errorbar(x + dx, rate, yerr=yerr, fmt="none", c="k", capsize=3)
-        for i, r in enumerate(rows_):
-            text = f"{r[ok_key]}/{r['table2_environments']}"
-            counts.append(bar_count(ax, i + dx, text, float(rate[i]), float(ci[i, 0]), float(ci[i, 1])))
     ax.set_xticks(x, labels, fontsize=FONT["note"])
     ax.set(ylim=(0, 1.05), xlabel="body, network", ylabel="success (Wilson 95% interval)")
     ax.yaxis.set_major_formatter(PercentFormatter(1.0))

@@ -63,7 +63,6 @@ def measure(s: Settings, runs: Mapping[tuple, list]) -> Result:
             "runs": len(rs),
             "escaped": sum(bool(r.escaped) for r in rs),
         }
-    control_hz = s.rate
     summary = {
         "seeds": s.n(full=5, quick=QUICK_SEEDS),
         "first_seed": s.seed,
@@ -72,8 +71,8 @@ def measure(s: Settings, runs: Mapping[tuple, list]) -> Result:
         "gait": s.gait or "wave",
         "quick": s.quick,
         "steps": TRAP_STEPS,
-        "control_hz": control_hz,
-        "seconds": TRAP_STEPS / control_hz,
+        "control_hz": s.rate,
+        "seconds": TRAP_STEPS / s.rate,
         "sweeps": sizes(s),
         "counts": counts,
         "rule": "escape rate = runs that reached the exit region behind the trap's mouth / runs",

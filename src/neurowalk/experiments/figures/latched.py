@@ -107,12 +107,9 @@ def plot(res: Result) -> Figure:
             time_colorbar(path, ax)
         legend_outside(ax, side="below", ncol=3)
         ax.set_title(f"{env['n_boxes']} boxes, seed {env['seed']}: latched from {start:.0f} s")
-        axes[k, 1].plot(
-            t, out[:, 0], color=SIDE_COLOURS["left"], lw=LINE["thin"], label="O1 (left neuron → right legs)"
-        )
-        axes[k, 1].plot(
-            t, out[:, 1], color=SIDE_COLOURS["right"], lw=LINE["thin"], label="O2 (right neuron → left legs)"
-        )
+        for j, (side, legs) in enumerate((("left", "right"), ("right", "left"))):
+            label = f"O{j + 1} ({side} neuron → {legs} legs)"
+            axes[k, 1].plot(t, out[:, j], color=SIDE_COLOURS[side], lw=LINE["thin"], label=label)
         axes[k, 1].set(xlabel="time (s)", ylabel="steering O", ylim=(-1.1, 1.1), yticks=(-1, 0, 1), title="steering")
         axes[k, 2].plot(t, latch, c="k", lw=LINE["trace"], label="b_on + (q1 + q2)/2")
         axes[k, 2].axhline(s["threshold"], c="0.4", ls=":", label=f"{s['threshold']} (input weight): latch holds above")

@@ -45,9 +45,8 @@ QUICK_MAX_STEPS = 3000  # control steps of a quick run at most (STEP_S at 10 Hz;
 def _steps(s: Settings) -> tuple[float, int]:
     """Seconds and control steps per run: :data:`~neurowalk.experiments.suites.climbing.STEP_S` s at the control
     rate, at most :data:`QUICK_MAX_STEPS` control steps with ``quick``."""
-    control_hz = s.rate
-    seconds = quick_seconds(STEP_S, QUICK_MAX_STEPS, control_hz) if s.quick else STEP_S
-    return seconds, steps_for(seconds, control_hz)
+    seconds = quick_seconds(STEP_S, QUICK_MAX_STEPS, s.rate) if s.quick else STEP_S
+    return seconds, steps_for(seconds, s.rate)
 
 
 def runs(s: Settings) -> Iterator[Plan]:

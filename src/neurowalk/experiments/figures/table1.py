@@ -102,16 +102,15 @@ def _measured(run: Kept, control_hz: float) -> tuple[dict, np.ndarray]:
 
 def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
     """Each run's speed, turning rate and walking direction; the paths of the sign pairs."""
-    control_hz = s.rate
     signs, arrays = [], {}
     for i, (s1, s2) in enumerate(SIGNS):
-        m, arrays[f"path{i}"] = _measured(runs["signs", s1, s2][0], control_hz)
+        m, arrays[f"path{i}"] = _measured(runs["signs", s1, s2][0], s.rate)
         signs.append({"O1": s1, "O2": s2, **m, "paper": PAPER.get((s1, s2))})
-    speeds = [{"amplitude": a, **_measured(runs["amplitude", a][0], control_hz)[0]} for a in AMPLITUDES]
+    speeds = [{"amplitude": a, **_measured(runs["amplitude", a][0], s.rate)[0]} for a in AMPLITUDES]
     summary = {
         "steps": 450 if s.quick else 600,
         "warmup_steps": WARMUP,
-        "control_hz": control_hz,
+        "control_hz": s.rate,
         "seed": s.seed,
         "signs": signs,
         "amplitude": speeds,

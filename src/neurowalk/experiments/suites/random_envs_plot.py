@@ -45,6 +45,20 @@ def clutter_bins(lo: int, hi: int, n: int = CLUTTER_BINS) -> list[tuple[int, int
     return [(a, min(a + width - 1, hi)) for a in range(lo, hi + 1, width)]
 
 
+def rate_bars(
+    ax: Axes, x: np.ndarray, rate: np.ndarray, ci: np.ndarray, texts: list[str], width: float, **style: Any
+) -> list[BarCount]:
+    """Bars of the success rates ``rate`` at ``x`` (``style``: their colours, alpha, hatch), their Wilson 95%
+    intervals ``ci`` (n, 2) as error bars; returns their counts ``texts``, to be put in place once drawn."""
+    ax.bar(x, rate, width, edgecolor="k", lw=0.5, **style)
+    yerr = np.maximum(0.0, [rate - ci[:, 0], ci[:, 1] - rate])
+    ax.errorbar(x, rate, yerr=yerr, fmt="none", c="k", capsize=3)
+    return [
+        bar_count(ax, float(xi), t, float(r), float(lo), float(hi))
+        for xi, t, r, (lo, hi) in zip(x, texts, rate, ci, strict=True)
+    ]
+
+
 def _rates(ax: Axes, s: dict[str, Any], names: list[str], both: bool) -> list[BarCount]:
     """Success rate of each network under both rules (hatched: the coverage rule), Wilson 95% intervals, the paper's
     49/50 and its interval as a grey band; returns the bars' counts, to be put in place (at the bar's foot, or above
@@ -60,13 +74,8 @@ def _rates(ax: Axes, s: dict[str, Any], names: list[str], both: bool) -> list[Ba
         dx = (j - (len(rules) - 1) / 2) * width
         rate = np.array([s["counts"][c][rate_key] for c in names])
         ci = np.array([s["counts"][c][rate_key + "_95ci"] for c in names])
-        ax.bar(x + dx, rate, width, color=colours, alpha=alpha, hatch=hatch, edgecolor="k", lw=0.5)
-        yerr = np.maximum(0.0, [rate - ci[:, 0], ci[:, 1] - rate])
-        ax.errorbar(x + dx, rate, yerr=yerr, fmt="none", c="k", capsize=3)
-        for i, c in enumerate(names):
-            k = s["counts"][c]
-            label = f"{k[ok_key]}/{k['environments']}"
-            counts.append(bar_count(ax, i + dx, label, float(rate[i]), float(ci[i, 0]), float(ci[i, 1])))
+        texts = [f"{s['counts'][c][ok_key]}/{s['counts'][c]['environments']}" for c in names]
+        counts += rate_bars(ax, x + dx, rate, ci, texts, width, color=colours, alpha=alpha, hatch=hatch)
     handles = [Patch(fc="0.5", alpha=0.85, ec="k", lw=0.5, label="not stuck at the end")]
     if both:
         handles.append(Patch(fc="0.5", alpha=0.45, ec="k", lw=0.5, hatch="//", label="coverage rule"))

@@ -198,7 +198,6 @@ def run_record(
     """The head of a figure's summary: the arena and its ``geometry``, the seeds, the runs' length (``steps``
     control steps at the control rate of ``s``; ``timing``: further entries after ``duration_s``), the networks and
     the outcome ``rule``."""
-    control_hz = s.rate
     return {
         "arena": arena.name,
         "arena_opts": arena.options,
@@ -206,8 +205,8 @@ def run_record(
         "seed": s.seed,
         "seeds": seeds,
         "steps": steps,
-        "control_hz": float(control_hz),
-        "duration_s": steps / control_hz,
+        "control_hz": float(s.rate),
+        "duration_s": steps / s.rate,
         **timing,
         "variant": s.variant or "paper",
         "params": s.params,
