@@ -126,7 +126,6 @@ def measure(s: Settings, runs: Mapping[float, Sequence[Kept]]) -> Result:
     step = TRACK_HEIGHTS[0]
     ex = runs[step][0]
     control_hz, steps, n = ex.config.control_hz, ex.config.steps, len(runs[step])
-    seconds = steps / control_hz
     kept = ex.kept["fig10 example"]
     moments = kept["moments"]
     arena = make_arena("climbing-track", step=step)
@@ -136,7 +135,7 @@ def measure(s: Settings, runs: Mapping[float, Sequence[Kept]]) -> Result:
         "seed": s.seed,
         "steps": steps,
         "control_hz": float(control_hz),
-        "duration_s": seconds,
+        "duration_s": steps / control_hz,
         "variant": s.variant or "paper",
         "rule": TRACK_RULE,
         "moments": moments,

@@ -182,7 +182,6 @@ def _panel_b(p: SensoryParams, s: Settings, run: Kept) -> tuple[dict[str, Any], 
     inputs = rec["inputs"]
     tr = simulate(inputs, b0=PAPER_START[0], q0=PAPER_START[1], params=p)
     replay_diff = float(max(np.abs(tr.b - rec["b"]).max(), np.abs(tr.q - rec["q"]).max()))
-    episodes = rec["episodes"]
     arrays = {"b_t": rec["t"], "b_inputs": inputs, "b_outputs": tr.outputs, "b_b": tr.b, "b_q": tr.q}
     reflex = inputs > p.reflex_threshold
     db = np.diff(np.vstack([[PAPER_START[0]] * 2, tr.b]), axis=0)
@@ -199,7 +198,7 @@ def _panel_b(p: SensoryParams, s: Settings, run: Kept) -> tuple[dict[str, Any], 
         "duration_s": steps_b / control_hz,
         "start": {"b": PAPER_START[0], "q": PAPER_START[1]},
         "replay_max_abs_diff_from_run": replay_diff,
-        "episodes": episodes,
+        "episodes": rec["episodes"],
         "mean_db_per_step_reflex_on": growth,
         "mean_decay_per_step_reflex_off": decay,
         "growth_to_decay_ratio": growth / decay if decay > 0 else None,

@@ -154,9 +154,8 @@ def plot(res: Result) -> Figure:
         ex = s["example"][net]
         how = f"escaped at {ex['exit_step'] / s['control_hz']:.0f} s" if ex["escaped"] else "did not escape"
         axes = list(rows[row].subplots(1, N_SNAPSHOTS))
-        draw_strip(
-            axes, a[f"{net}/frames"], list(a[f"{net}/snapshot_t"]), f"{net}, seed {ex['seed']}: {how}", "AB"[row]
-        )
+        label = f"{net}, seed {ex['seed']}: {how}"
+        draw_strip(axes, a[f"{net}/frames"], list(a[f"{net}/snapshot_t"]), label, "AB"[row])
     grid = rows[2].add_gridspec(1, 2)
     for col, net in enumerate(NETWORKS):
         c = s["counts"][net]
