@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 
 from neurowalk.experiments import FIGURES, Plan, Result, Settings
+from neurowalk.experiments.figures import ablation
 from neurowalk.experiments.study import planned, resolve
 from neurowalk.experiments.study_runs import Kept
 from neurowalk.experiments.suites import long_runs
@@ -54,6 +55,13 @@ def kept_of(cfg: EpisodeConfig, names: list[str]) -> dict[str, Any]:
             out[name] = {"path": np.zeros((max(2, n // 10), 2)), "seen_step": None}
         elif name == "example":
             out[name] = {"t": np.arange(n) / cfg.control_hz, "qpos": np.zeros((n, 26)), **traces}
+        elif name == "run lengths":  # every length a long run keeps (ablation.keep_lengths), all successes
+            lengths = sorted({*ablation.LENGTHS_S, *ablation.QUICK_LENGTHS_S})
+            out[name] = {
+                "lengths_s": lengths,
+                "success": [True] * len(lengths),
+                "success_coverage": [True] * len(lengths),
+            }
         elif name == "latch":
             out[name] = {}  # what a run that does not end in a latched spin keeps
         else:

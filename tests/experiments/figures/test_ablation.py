@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from fake_runs import fake_measure
+from neurowalk.experiments import Settings
 from neurowalk.experiments.figures import ablation
 from neurowalk.experiments.suites.random_envs import coverage_threshold, environments, spec
 from neurowalk.neural.variants import CODE_OPTIONS, get_variant
@@ -35,8 +37,6 @@ def test_a_long_runs_prefix_is_the_shorter_run():
 
 
 def test_the_physics_arms_switch_the_start_weights_alone_on_amosii():
-    from neurowalk.experiments import Settings
-
     arms = ablation.physics_arms()
     assert set(arms) == {"paper", "original"} | {f"{v} {o}" for o in ablation.PHYSICS_OPTIONS
                                                  for v in ("paper +", "original -")}  # fmt: skip
@@ -45,3 +45,14 @@ def test_the_physics_arms_switch_the_start_weights_alone_on_amosii():
     assert len(physics) == len(arms) * ablation.QUICK_PHYSICS_ENVS
     assert {p.config.body for p in physics} == {"amosii"} and {p.config.steps for p in physics} == {5000}
     assert len(plans) - len(physics) == (len(ablation.arms()) + 2) * 100  # the surrogate's arms and long runs
+
+
+def test_fewer_environments_than_the_physics_arms_take_run_and_count_them_all():
+    """``--seeds 3``: the physics arms run the 3 environments given (5 when quick, 50 in full), and are counted so."""
+    for s, n in ((Settings(quick=True, seeds=3), 3), (Settings(quick=True, seeds=8), ablation.QUICK_PHYSICS_ENVS)):
+        configs, result = fake_measure("ablation", s)
+        assert sum(c.body == "amosii" for c in configs) == n * len(ablation.physics_arms())
+        physics = result.summary["physics"]
+        assert physics["environments"] == n
+        assert all(arm["environments"] == n for arm in physics["arms"].values())
+        assert result.summary["environments"] == s.seeds

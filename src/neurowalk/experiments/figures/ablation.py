@@ -106,6 +106,11 @@ def _setup(s: Settings) -> tuple[list[dict[str, Any]], float, tuple[float, ...]]
     return envs, (QUICK_DURATION_S if s.quick else DURATION_S), (QUICK_LENGTHS_S if s.quick else LENGTHS_S)
 
 
+def _physics_envs(s: Settings, envs: list[dict[str, Any]]) -> int:
+    """How many of the environments the physics arms run: the first 50 (quick 5), or all where fewer are given."""
+    return min(len(envs), QUICK_PHYSICS_ENVS if s.quick else PHYSICS_ENVS)
+
+
 def runs(s: Settings) -> Iterator[Plan]:
     """Every arm in every environment on the surrogate; the two readings' long runs."""
     envs, duration, lengths = _setup(s)
@@ -119,7 +124,7 @@ def runs(s: Settings) -> Iterator[Plan]:
             one = spec(e, "plastic", round(lengths[-1] * HZ), "surrogate", variant=variant)
             yield Plan((f"{variant} (long)", i), EpisodeConfig.from_spec(one), (LENGTHS,), fixed)
     for name, (variant, params) in physics_arms().items():
-        for i, e in enumerate(envs[: QUICK_PHYSICS_ENVS if s.quick else PHYSICS_ENVS]):
+        for i, e in enumerate(envs[: _physics_envs(s, envs)]):
             one = spec(e, "plastic", round(duration * HZ), "amosii", variant=variant, params=params)
             yield Plan(("physics", name, i), EpisodeConfig.from_spec(one), (), fixed)
 
@@ -168,7 +173,7 @@ def measure(s: Settings, runs: Mapping[tuple, Sequence[Kept]]) -> Result:
         table[variant] = {**at, "variant": variant, "params": None, "read_from": f"its {lengths[-1]:g} s runs",
                           "failure_classes_at_end": {c: [failure_class(r) for r in long_sums].count(c)
                                                      for c in FAILURE_CLASSES}}  # fmt: skip
-    n_phys = QUICK_PHYSICS_ENVS if s.quick else PHYSICS_ENVS
+    n_phys = _physics_envs(s, envs)
     physics = {
         name: _arm([runs[("physics", name, i)] for i in range(n_phys)], threshold, *arm)
         for name, arm in physics_arms().items()
