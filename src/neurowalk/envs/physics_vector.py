@@ -168,7 +168,7 @@ class ExplorePhysicsVectorEnv(VectorEnv):
         if restart.size:  # next-step autoreset: this step starts their new episode
             self._start(restart, [int(self.np_random.integers(2**62)) for _ in restart])
         self._sense()
-        count_cells(
+        off = count_cells(
             live,
             self.pose,
             self.origin,
@@ -183,7 +183,7 @@ class ExplorePhysicsVectorEnv(VectorEnv):
             STUCK_RADIUS,
             self.stuck,
         )
-        near_obstacles(
+        near = near_obstacles(
             live,
             self._geom_xpos,
             self._robot,
@@ -194,15 +194,16 @@ class ExplorePhysicsVectorEnv(VectorEnv):
             self._box_g,
             self._near,
         )
-        for i in live[self._near[live]]:  # only the copies within touching distance of a box
+        for i in live[self._near[live]] if near else ():  # only the copies within touching distance of a box
             self.contacts[i] += obstacle_contact(self.models[i], self.batch.get_data(int(i), self._data))
-        for i in live[self._outside[live]]:  # off the coverage grid (an unbounded arena): a set, as the single env
+        for i in live[self._outside[live]] if off else ():  # off the coverage grid (an unbounded arena): a set
             self._visit(int(i))
         truncated = self.ks >= self.max_steps  # (0 steps taken by the copies just started)
         reward = self.reward.copy()
-        reward[restart] = 0.0
-        self.done = truncated.copy()
-        return self.obs.copy(), reward, np.zeros(self.num_envs, dtype=bool), truncated, self._info()
+        if restart.size:
+            reward[restart] = 0.0
+        self.done = truncated
+        return self.obs.copy(), reward, np.zeros(self.num_envs, dtype=bool), truncated.copy(), self._info()
 
     # -- internals ---------------------------------------------------------------------------------------------
     def _arena(self, rng: np.random.Generator, n_boxes: int | None = None) -> ArenaSpec:

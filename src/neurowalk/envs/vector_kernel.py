@@ -166,8 +166,9 @@ def count_cells(
     ring: np.ndarray,
     radius: float,
     stuck: np.ndarray,
-) -> None:
-    """One step's bookkeeping of copies ``ids`` at their new ``pose`` (N, 3): step count, reward, coverage, stuck.
+) -> int:
+    """One step's bookkeeping of copies ``ids`` at their new ``pose`` (N, 3): step count, reward, coverage, stuck;
+    returns how many of them are off the grid.
 
     ``ks`` (N,) += 1; the grid cell (side ``cell`` m, corner ``origin`` (N, 2) m) of the trunk: if new in
     ``visited`` (N, gx, gy) bool, ``reward`` (N,) = cell^2 m^2 (else 0) and ``covered`` (N,) += 1 where ``free``;
@@ -176,6 +177,7 @@ def count_cells(
     their mean (:func:`~neurowalk.envs.task.within_disc`'s sums, oldest first).
     """
     gx, gy, w = visited.shape[1], visited.shape[2], ring.shape[1]
+    off = 0
     for i in ids:
         k = ks[i] + 1
         ks[i] = k
@@ -183,6 +185,7 @@ def count_cells(
         cx, cy = math.floor((x - origin[i, 0]) / cell), math.floor((y - origin[i, 1]) / cell)
         reward[i] = 0.0
         outside[i] = not (0 <= cx < gx and 0 <= cy < gy)
+        off += outside[i]
         if not outside[i] and not visited[i, cx, cy]:
             visited[i, cx, cy] = True
             reward[i] = cell * cell
@@ -193,6 +196,7 @@ def count_cells(
             ring[i, k % w, 0], ring[i, k % w, 1] = x, y
             if k + 1 >= w:
                 stuck[i] = _ring_within(ring[i], k, radius)
+    return off
 
 
 @jit
@@ -224,8 +228,9 @@ def near_obstacles(
     half: np.ndarray,
     grow: np.ndarray,
     out: np.ndarray,
-) -> None:
-    """``out[i]`` (bool) for copies ``ids``: some robot geom's bounding sphere reaches some obstacle.
+) -> int:
+    """``out[i]`` (bool) for copies ``ids``: some robot geom's bounding sphere reaches some obstacle; returns how
+    many do.
 
     ``geom_xpos`` (N, ngeom, 3) m; ``robot`` (N, R) the robot's geom ids, ``robot_r`` (N, R) their bounding radii
     plus margins (m). The (static) obstacles as boxes: ``centre`` (N, O, 3) m, ``frame`` (N, O, 9) their rotations
@@ -234,6 +239,7 @@ def near_obstacles(
     the two geoms come within their margin, so where this is False the copy touches no obstacle. One sphere around
     the whole robot is tested first; each geom only against the boxes that sphere reaches.
     """
+    count = 0
     for i in ids:
         g0 = robot[i, 0]
         cx, cy, cz = geom_xpos[i, g0, 0], geom_xpos[i, g0, 1], geom_xpos[i, g0, 2]
@@ -264,6 +270,8 @@ def near_obstacles(
             if near:
                 break
         out[i] = near
+        count += near
+    return count
 
 
 @jit
