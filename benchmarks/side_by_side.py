@@ -12,7 +12,7 @@ per second of
 Each side is one interpreter of its checkout (``PYTHONPATH=CHECKOUT/src``, its own numba cache) that builds the work,
 runs it once untimed (its kernels compiled or loaded), then times one repetition each time it is asked. A round asks
 both sides, one after the other (ABBA order over the rounds); only one runs at a time. The machine's speed drifts
-(on a shared 2-core machine by 20% over minutes: docs/benchmarks/side_by_side_paired.json), so a round's two
+(on a shared 2-core machine up to 2x over the run: docs/benchmarks/side_by_side_paired.json's repeats), so a round's two
 repetitions, seconds apart, are compared with each other: reported per measure are each side's median, the median of
 the rounds' ratios after / before, and a distribution-free 95% interval of that median (order statistics of the
 binomial), and every repeat. Run:
