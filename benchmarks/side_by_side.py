@@ -15,7 +15,9 @@ both sides, one after the other (ABBA order over the rounds); only one runs at a
 (on a shared 2-core machine up to 2x over the run: docs/benchmarks/side_by_side_paired.json's repeats), so a round's two
 repetitions, seconds apart, are compared with each other: reported per measure are each side's median, the median of
 the rounds' ratios after / before, and a distribution-free 95% interval of that median (order statistics of the
-binomial), and every repeat. Run:
+binomial), and every repeat. (side_by_side.json, side_by_side_long.json and side_by_side_physics_env.json in
+docs/benchmarks were measured before 0cb5293: a fresh interpreter a repetition, the ratio of the two sides'
+medians.) Run:
 ``python benchmarks/side_by_side.py --before /tmp/before --out docs/benchmarks/side_by_side.json``.
 """
 
